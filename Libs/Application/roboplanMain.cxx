@@ -1,0 +1,121 @@
+// `roboplan`: one executable. With a subcommand it runs headless (subcommands come from the
+// loaded modules, plus `modules`); without one, or with scene/data files, it opens the viewer.
+#include <cstdio>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+#include <vtkNew.h>
+
+#include "rpArgParser.h"
+#include "rpModuleManager.h"
+#include "vtkRPScene.h"
+
+#ifdef ROBOPLAN_HAVE_VIEWER
+#include "rpViewerApplication.h"
+#endif
+
+namespace {
+
+void PrintUsage(const rp::ModuleManager& manager) {
+  std::cout << "usage: roboplan [<scene or data files>...]     open the viewer\n"
+               "       roboplan <command> [arguments] [--json] [--help]\n\ncommands:\n";
+  std::printf("  %-18s %s\n", "modules", "list the loaded modules, their commands and load failures");
+  for (const auto& [module, command] : manager.GetAllCommands()) {
+    std::printf("  %-18s %s  [%s]\n", command.Name.c_str(), command.Summary.c_str(), module.c_str());
+  }
+  std::cout << "\nmodules are loaded from <prefix>/lib/roboplan-modules and $ROBOPLAN_MODULE_PATH\n";
+}
+
+void ReportFailures(const rp::ModuleManager& manager) {
+  for (const auto& failure : manager.GetFailures()) {
+    std::cerr << "roboplan: module not loaded: " << failure.Path << ": " << failure.Reason << "\n";
+  }
+}
+
+int ListModules(const rp::ModuleManager& manager, const std::vector<std::string>& args) {
+  rp::ArgParser parser("modules", "List the loaded modules, their commands and any module that failed to load.");
+  if (!parser.Parse(args)) {
+    if (parser.HelpRequested()) {
+      std::cout << parser.Usage();
+      return 0;
+    }
+    std::cerr << "roboplan modules: " << parser.Error() << "\n" << parser.Usage();
+    return 2;
+  }
+  if (parser.Json()) {
+    nlohmann::json doc;
+    doc["modules"] = nlohmann::json::array();
+    for (rp::Module* module : manager.GetModules()) {
+      nlohmann::json commands = nlohmann::json::array();
+      for (const auto& [owner, command] : manager.GetAllCommands()) {
+        if (owner == module->Name()) commands.push_back(command.Name);
+      }
+      doc["modules"].push_back({{"name", module->Name()}, {"title", module->Title()},
+                                {"dependencies", module->Dependencies()}, {"path", manager.GetModulePath(module->Name())},
+                                {"commands", commands}});
+    }
+    doc["failures"] = nlohmann::json::array();
+    for (const auto& failure : manager.GetFailures()) {
+      doc["failures"].push_back({{"path", failure.Path}, {"reason", failure.Reason}});
+    }
+    std::cout << doc.dump(2) << "\n";
+    return 0;
+  }
+  for (rp::Module* module : manager.GetModules()) {
+    std::cout << module->Name() << " — " << module->Title() << "\n    " << manager.GetModulePath(module->Name()) << "\n";
+    for (const auto& dependency : module->Dependencies()) std::cout << "    depends on " << dependency << "\n";
+  }
+  for (const auto& failure : manager.GetFailures()) {
+    std::cout << "FAILED " << failure.Path << "\n    " << failure.Reason << "\n";
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char* argv[]) {
+  std::vector<std::string> args(argv + 1, argv + argc);
+  vtkNew<vtkRPScene> scene;
+  rp::ModuleManager manager;
+  manager.LoadModules(rp::ModuleManager::DefaultSearchPaths(), scene);
+
+  const bool wantsViewer = args.empty() || (args[0].find('.') != std::string::npos && args[0][0] != '-');
+  if (wantsViewer) {
+#ifdef ROBOPLAN_HAVE_VIEWER
+    ReportFailures(manager);
+    return rp::RunViewer(argc, argv, manager, scene, args);
+#else
+    if (args.empty()) {
+      PrintUsage(manager);
+      std::cerr << "\nroboplan: this build has no viewer (configured with ROBOPLAN_BUILD_GUI=OFF)\n";
+      return 2;
+    }
+#endif
+  }
+  const std::string name = args.empty() ? "" : args[0];
+  const std::vector<std::string> rest(args.begin() + (args.empty() ? 0 : 1), args.end());
+  if (name == "--help" || name == "-h" || name == "help") {
+    PrintUsage(manager);
+    return 0;
+  }
+  if (name == "modules") return ListModules(manager, rest);
+  const rp::Command* command = manager.FindCommand(name);
+  if (!command) {
+    ReportFailures(manager);
+    std::cerr << "roboplan: unknown command '" << name << "'\n\n";
+    PrintUsage(manager);
+    return 2;
+  }
+  ReportFailures(manager);
+  rp::CommandContext context;
+  context.Arguments = rest;
+  context.Scene = scene;
+  try {
+    return command->Run(context);
+  } catch (const std::exception& e) {
+    std::cerr << "roboplan " << name << ": " << e.what() << "\n";
+    return 1;
+  }
+}

@@ -1,0 +1,21 @@
+#pragma once
+// Atomic file writes: write to a temporary file beside the target, fsync, then rename over it,
+// so a failed or interrupted save never destroys the last good file.
+#include <functional>
+#include <string>
+
+namespace rp {
+
+/// Writes `contents` to `path` atomically. Returns false and sets `error` on failure.
+bool WriteFileAtomically(const std::string& path, const std::string& contents, std::string& error);
+
+/// Calls `writer(temporaryPath)` (which must create the file and return true on success), then
+/// renames the temporary file over `path`. The temporary file is removed on failure.
+bool WriteAtomicallyWith(const std::string& path,
+                         const std::function<bool(const std::string& tempPath, std::string& error)>& writer,
+                         std::string& error);
+
+/// Reads a whole file. Returns false and sets `error` naming the file on failure.
+bool ReadFile(const std::string& path, std::string& contents, std::string& error);
+
+}  // namespace rp

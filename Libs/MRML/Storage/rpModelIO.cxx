@@ -1,0 +1,231 @@
+#include "rpModelIO.h"
+
+#include <vtkFieldData.h>
+#include <vtkNew.h>
+#include <vtkOBJReader.h>
+#include <vtkOBJWriter.h>
+#include <vtkPLYReader.h>
+#include <vtkPLYWriter.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkPolyDataReader.h>
+#include <vtkPolyDataWriter.h>
+#include <vtkSTLReader.h>
+#include <vtkSTLWriter.h>
+#include <vtkSmartPointer.h>
+#include <vtkStringArray.h>
+#include <vtkTransform.h>
+#include <vtkTransformPolyDataFilter.h>
+#include <vtkTriangleFilter.h>
+#include <vtkXMLPolyDataReader.h>
+#include <vtkXMLPolyDataWriter.h>
+
+#include <fstream>
+
+#include "rpAtomicFile.h"
+#include "rpNodeStorage.h"
+#include "vtkRPModelNode.h"
+
+// Coordinate system tag as 3D Slicer writes it: "SPACE=LPS" in the header of .vtk/.stl/.ply/.obj
+// files and a "SPACE" string array in the field data of .vtp files. Files without a tag are read
+// as LPS, as Slicer does by default.
+namespace rp {
+namespace {
+
+const char* const SpaceTag = "SPACE";
+
+vtkSmartPointer<vtkPolyData> FlipLPSRAS(vtkPolyData* input) {
+  vtkNew<vtkTransform> flip;
+  flip->Scale(-1, -1, 1);
+  vtkNew<vtkTransformPolyDataFilter> filter;
+  filter->SetTransform(flip);
+  filter->SetInputData(input);
+  filter->Update();
+  auto output = vtkSmartPointer<vtkPolyData>::New();
+  output->ShallowCopy(filter->GetOutput());
+  return output;
+}
+
+// "RAS", "LPS" or "" (no tag) from free text such as a file header.
+std::string SpaceFromText(const std::string& text) {
+  const auto at = text.find(std::string(SpaceTag) + "=");
+  if (at == std::string::npos) return {};
+  const std::string value = text.substr(at + 6, 3);
+  return (value == "RAS" || value == "LPS") ? value : std::string();
+}
+
+std::string ReadFirstBytes(const std::string& path, size_t count) {
+  std::ifstream in(path, std::ios::binary);
+  std::string head(count, '\0');
+  in.read(&head[0], static_cast<std::streamsize>(count));
+  head.resize(static_cast<size_t>(in.gcount()));
+  return head;
+}
+
+}  // namespace
+
+bool ReadModelFile(const std::string& path, vtkPolyData* output, std::string& error) {
+  if (!std::ifstream(path).good()) {
+    error = "cannot open model file '" + path + "'";
+    return false;
+  }
+  vtkSmartPointer<vtkPolyData> mesh;
+  std::string space;
+  if (HasExtension(path, ".vtp")) {
+    vtkNew<vtkXMLPolyDataReader> reader;
+    reader->SetFileName(path.c_str());
+    if (!reader->CanReadFile(path.c_str())) {
+      error = "'" + path + "' is not a VTK XML PolyData file";
+      return false;
+    }
+    reader->Update();
+    if (reader->GetErrorCode() != 0) {
+      error = "'" + path + "' is corrupt (VTK XML reader failed)";
+      return false;
+    }
+    mesh = reader->GetOutput();
+    if (auto* tag = vtkStringArray::SafeDownCast(mesh->GetFieldData()->GetAbstractArray(SpaceTag))) {
+      if (tag->GetNumberOfValues() > 0) space = tag->GetValue(0);
+    }
+  } else if (HasExtension(path, ".vtk")) {
+    vtkNew<vtkPolyDataReader> reader;
+    reader->SetFileName(path.c_str());
+    if (!reader->IsFilePolyData()) {
+      error = "'" + path + "' is not a legacy VTK polydata file";
+      return false;
+    }
+    reader->Update();
+    mesh = reader->GetOutput();
+    if (reader->GetHeader()) space = SpaceFromText(reader->GetHeader());
+  } else if (HasExtension(path, ".stl")) {
+    vtkNew<vtkSTLReader> reader;
+    reader->SetFileName(path.c_str());
+    reader->Update();
+    if (reader->GetErrorCode() != 0) {
+      error = "'" + path + "' is not a readable STL file";
+      return false;
+    }
+    mesh = reader->GetOutput();
+    space = SpaceFromText(ReadFirstBytes(path, 80));
+  } else if (HasExtension(path, ".ply")) {
+    vtkNew<vtkPLYReader> reader;
+    if (!reader->CanReadFile(path.c_str())) {
+      error = "'" + path + "' is not a PLY file";
+      return false;
+    }
+    reader->SetFileName(path.c_str());
+    reader->Update();
+    mesh = reader->GetOutput();
+    space = SpaceFromText(ReadFirstBytes(path, 1024));
+  } else if (HasExtension(path, ".obj")) {
+    vtkNew<vtkOBJReader> reader;
+    reader->SetFileName(path.c_str());
+    reader->Update();
+    mesh = reader->GetOutput();
+    space = SpaceFromText(ReadFirstBytes(path, 1024));
+  } else {
+    error = "'" + path + "': unknown model extension (use .vtp, .vtk, .stl, .ply, .obj)";
+    return false;
+  }
+  if (!mesh || mesh->GetNumberOfPoints() == 0) {
+    error = "'" + path + "' holds no points (empty or corrupt model file)";
+    return false;
+  }
+  vtkSmartPointer<vtkPolyData> ras = (space == "RAS") ? mesh : FlipLPSRAS(mesh);
+  ras->GetFieldData()->RemoveArray(SpaceTag);
+  output->ShallowCopy(ras);
+  return true;
+}
+
+bool WriteModelFile(const std::string& path, vtkPolyData* polyData, std::string& error) {
+  if (!polyData || polyData->GetNumberOfPoints() == 0) {
+    error = "cannot write '" + path + "': the model has no points";
+    return false;
+  }
+  vtkSmartPointer<vtkPolyData> lps = FlipLPSRAS(polyData);
+  const std::string header = "RoboPlan output. SPACE=LPS";
+  auto writeTo = [&](const std::string& target, std::string& err) -> bool {
+    int ok = 0;
+    if (HasExtension(path, ".vtp")) {
+      vtkNew<vtkStringArray> tag;
+      tag->SetName(SpaceTag);
+      tag->InsertNextValue("LPS");
+      lps->GetFieldData()->AddArray(tag);
+      vtkNew<vtkXMLPolyDataWriter> writer;
+      writer->SetInputData(lps);
+      writer->SetFileName(target.c_str());
+      writer->SetDataModeToAppended();
+      writer->SetCompressorTypeToZLib();
+      ok = writer->Write();
+    } else if (HasExtension(path, ".vtk")) {
+      vtkNew<vtkPolyDataWriter> writer;
+      writer->SetInputData(lps);
+      writer->SetFileName(target.c_str());
+      writer->SetFileVersion(42);  // readable by older VTK and most other software
+      writer->SetFileTypeToBinary();
+      writer->SetHeader(header.c_str());
+      ok = writer->Write();
+    } else if (HasExtension(path, ".stl") || HasExtension(path, ".ply")) {
+      vtkNew<vtkTriangleFilter> triangles;
+      triangles->SetInputData(lps);
+      if (HasExtension(path, ".stl")) {
+        vtkNew<vtkSTLWriter> writer;
+        writer->SetInputConnection(triangles->GetOutputPort());
+        writer->SetFileName(target.c_str());
+        writer->SetFileTypeToBinary();
+        writer->SetHeader(header.c_str());
+        ok = writer->Write();
+      } else {
+        vtkNew<vtkPLYWriter> writer;
+        writer->SetInputConnection(triangles->GetOutputPort());
+        writer->SetFileName(target.c_str());
+        writer->SetFileTypeToBinary();
+        writer->AddComment("SPACE=LPS");
+        ok = writer->Write();
+      }
+    } else if (HasExtension(path, ".obj")) {
+      vtkNew<vtkOBJWriter> writer;
+      writer->SetInputData(lps);
+      writer->SetFileName(target.c_str());
+      ok = writer->Write();
+      if (ok) {
+        // vtkOBJWriter has no comment option: prepend the coordinate system line.
+        std::string contents, readError;
+        if (!ReadFile(target, contents, readError)) return false;
+        std::ofstream out(target, std::ios::binary | std::ios::trunc);
+        out << "# " << header << "\n" << contents;
+        ok = out.good();
+      }
+    } else {
+      err = "unknown model extension (use .vtp, .vtk, .stl, .ply, .obj)";
+      return false;
+    }
+    if (!ok) err = "the VTK writer failed (disk full or no permission?)";
+    return ok != 0;
+  };
+  return WriteAtomicallyWith(path, writeTo, error);
+}
+
+namespace {
+class ModelStorage : public NodeStorage {
+ public:
+  std::string Description() const override { return "model (VTP/VTK/STL/PLY/OBJ)"; }
+  bool CanHandle(const vtkRPNode* node) const override {
+    return node && const_cast<vtkRPNode*>(node)->IsA("vtkRPModelNode");
+  }
+  std::vector<std::string> Extensions() const override { return {".vtp", ".vtk", ".stl", ".ply", ".obj"}; }
+  std::string NodeClassForFiles() const override { return "vtkRPModelNode"; }
+  bool Write(vtkRPNode* node, const std::string& path, std::string& error) const override {
+    return WriteModelFile(path, vtkRPModelNode::SafeDownCast(node)->GetPolyData(), error);
+  }
+  bool Read(vtkRPNode* node, const std::string& path, std::string& error) const override {
+    auto mesh = vtkSmartPointer<vtkPolyData>::New();
+    if (!ReadModelFile(path, mesh, error)) return false;
+    vtkRPModelNode::SafeDownCast(node)->SetPolyData(mesh);
+    return true;
+  }
+};
+const bool registered = RegisterNodeStorage(std::make_shared<ModelStorage>());
+}  // namespace
+
+}  // namespace rp

@@ -1,0 +1,108 @@
+#include "rpNodeStorage.h"
+
+#include <algorithm>
+#include <cctype>
+#include <mutex>
+
+#include "rpAtomicFile.h"
+#include "vtkRPNode.h"
+#include "vtkRPScalarVolumeNode.h"
+#include "vtkRPScene.h"
+
+namespace rp {
+namespace {
+// Storages register from static initializers of several files: a function-local registry
+// avoids the static initialization order problem.
+struct Registry {
+  std::mutex Mutex;
+  std::vector<std::shared_ptr<NodeStorage>> Storages;
+};
+Registry& GetRegistry() {
+  static Registry registry;
+  return registry;
+}
+
+std::string Lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return s;
+}
+
+std::string BaseNameWithoutExtension(const std::string& path, const NodeStorage& storage) {
+  const auto slash = path.find_last_of('/');
+  std::string base = slash == std::string::npos ? path : path.substr(slash + 1);
+  for (const auto& ext : storage.Extensions()) {
+    if (HasExtension(base, ext)) return base.substr(0, base.size() - ext.size());
+  }
+  return base;
+}
+}  // namespace
+
+bool HasExtension(const std::string& path, const std::string& extension) {
+  if (path.size() < extension.size()) return false;
+  return Lower(path.substr(path.size() - extension.size())) == Lower(extension);
+}
+
+bool RegisterNodeStorage(std::shared_ptr<NodeStorage> storage) {
+  Registry& registry = GetRegistry();
+  std::lock_guard<std::mutex> lock(registry.Mutex);
+  registry.Storages.push_back(std::move(storage));
+  return true;
+}
+
+std::vector<std::shared_ptr<NodeStorage>> GetNodeStorages() {
+  Registry& registry = GetRegistry();
+  std::lock_guard<std::mutex> lock(registry.Mutex);
+  return registry.Storages;
+}
+
+const NodeStorage* FindNodeStorage(const vtkRPNode* node) {
+  const NodeStorage* best = nullptr;
+  for (const auto& storage : GetNodeStorages()) {
+    if (storage->CanHandle(node) && (!best || storage->Priority() > best->Priority())) best = storage.get();
+  }
+  return best;
+}
+
+const NodeStorage* FindNodeStorageForFile(const std::string& path) {
+  const NodeStorage* best = nullptr;
+  size_t bestLength = 0;
+  for (const auto& storage : GetNodeStorages()) {
+    for (const auto& ext : storage->Extensions()) {
+      if (!HasExtension(path, ext)) continue;
+      // The longest matching extension wins (".seg.nrrd" over ".nrrd"), then priority.
+      if (!best || ext.size() > bestLength || (ext.size() == bestLength && storage->Priority() > best->Priority())) {
+        best = storage.get();
+        bestLength = ext.size();
+      }
+    }
+  }
+  return best;
+}
+
+vtkRPNode* LoadDataFile(vtkRPScene* scene, const std::string& path, std::string& error) {
+  const NodeStorage* storage = FindNodeStorageForFile(path);
+  if (!storage) {
+    error = "'" + path + "': no reader for this file type";
+    return nullptr;
+  }
+  vtkSmartPointer<vtkRPNode> node = scene->CreateNodeByClass(storage->NodeClassForFiles());
+  if (!node) {
+    error = "'" + path + "': node class " + storage->NodeClassForFiles() + " is not registered in the scene";
+    return nullptr;
+  }
+  if (!storage->Read(node, path, error)) return nullptr;
+  if (auto* volume = vtkRPScalarVolumeNode::SafeDownCast(node)) volume->SetWindowLevelFromScalarRange();
+  node->SetName(BaseNameWithoutExtension(path, *storage));
+  return scene->AddNode(node);
+}
+
+bool SaveDataFile(vtkRPNode* node, const std::string& path, std::string& error) {
+  const NodeStorage* storage = FindNodeStorageForFile(path);
+  if (!storage || !storage->CanHandle(node)) {
+    error = "'" + path + "': cannot save a " + node->GetClassName() + " in this format";
+    return false;
+  }
+  return storage->Write(node, path, error);
+}
+
+}  // namespace rp

@@ -1,0 +1,31 @@
+#pragma once
+// Volume files through ITK's ImageIO (NRRD .nrrd/.nhdr, NIfTI .nii/.nii.gz, MetaImage .mha/.mhd).
+// Files are LPS; the node is RAS: the conversion happens here, once.
+#include <map>
+#include <string>
+
+class vtkImageData;
+class vtkMatrix4x4;
+class vtkRPImageNode;
+
+namespace rp {
+
+/// Raw image with its geometry in RAS, plus the file's key/value metadata (NRRD `key:=value`).
+struct VolumeFileData {
+  vtkImageData* Image = nullptr;  // caller-owned output (origin 0, spacing 1)
+  vtkMatrix4x4* IJKToRAS = nullptr;  // caller-owned output
+  std::map<std::string, std::string> Metadata;
+};
+
+/// Reads a 3D scalar volume (2D images load as one slice). Multi-component images are refused.
+bool ReadVolumeFile(const std::string& path, VolumeFileData& data, std::string& error);
+/// Writes a 3D scalar volume with metadata; NRRD is written gzip-compressed.
+bool WriteVolumeFile(const std::string& path, vtkImageData* image, const vtkMatrix4x4* ijkToRAS,
+                     const std::map<std::string, std::string>& metadata, std::string& error,
+                     bool compress = true);
+
+/// Node-level helpers (image + IJKToRAS of a volume or segmentation node).
+bool ReadVolumeFile(const std::string& path, vtkRPImageNode* node, std::string& error);
+bool WriteVolumeFile(const std::string& path, vtkRPImageNode* node, std::string& error);
+
+}  // namespace rp

@@ -1,0 +1,136 @@
+#include "vtkRPFiducialListNode.h"
+
+#include <sstream>
+
+#include <vtkNew.h>
+#include <vtkMatrix4x4.h>
+#include <vtkObjectFactory.h>
+
+vtkStandardNewMacro(vtkRPFiducialListNode);
+
+vtkRPNode* vtkRPFiducialListNode::CreateNodeInstance() { return vtkRPFiducialListNode::New(); }
+
+void vtkRPFiducialListNode::PrintSelf(ostream& os, vtkIndent indent) {
+  this->Superclass::PrintSelf(os, indent);
+  for (const auto& p : this->Points) {
+    os << indent << p.Label << ": " << p.Position[0] << " " << p.Position[1] << " " << p.Position[2]
+       << (p.Selected ? "" : " (unselected)") << (p.Locked ? " (locked)" : "") << "\n";
+  }
+}
+
+std::string vtkRPFiducialListNode::NextPointID() {
+  std::string id;
+  bool taken = true;
+  while (taken) {
+    id = std::to_string(++this->LastPointNumber);
+    taken = false;
+    for (const auto& p : this->Points) taken |= (p.ID == id);
+  }
+  return id;
+}
+
+int vtkRPFiducialListNode::AddControlPoint(const double positionRAS[3], const std::string& label) {
+  ControlPoint p;
+  p.Label = label;
+  for (int i = 0; i < 3; ++i) p.Position[i] = positionRAS[i];
+  return this->AddControlPoint(p);
+}
+
+int vtkRPFiducialListNode::AddControlPoint(const ControlPoint& point) {
+  ControlPoint p = point;
+  if (p.ID.empty()) p.ID = this->NextPointID();
+  if (p.Label.empty()) {
+    p.Label = (this->GetName().empty() ? std::string("F") : this->GetName()) + "-" +
+              std::to_string(this->Points.size() + 1);
+  }
+  this->Points.push_back(p);
+  int index = static_cast<int>(this->Points.size() - 1);
+  this->InvokeEvent(PointAddedEvent, &index);
+  this->Modified();
+  return index;
+}
+
+bool vtkRPFiducialListNode::SetNthControlPointPosition(int n, const double positionRAS[3]) {
+  if (n < 0 || n >= this->GetNumberOfControlPoints()) return false;
+  ControlPoint& p = this->Points[static_cast<size_t>(n)];
+  if (p.Locked) return false;
+  if (p.Position[0] == positionRAS[0] && p.Position[1] == positionRAS[1] && p.Position[2] == positionRAS[2]) {
+    return true;
+  }
+  for (int i = 0; i < 3; ++i) p.Position[i] = positionRAS[i];
+  this->InvokeEvent(PointModifiedEvent, &n);
+  this->Modified();
+  return true;
+}
+
+void vtkRPFiducialListNode::GetNthControlPointPosition(int n, double positionRAS[3]) const {
+  const ControlPoint& p = this->GetNthControlPoint(n);
+  for (int i = 0; i < 3; ++i) positionRAS[i] = p.Position[i];
+}
+
+void vtkRPFiducialListNode::GetNthControlPointPositionWorld(int n, double positionWorld[3]) const {
+  vtkNew<vtkMatrix4x4> toWorld;
+  this->GetMatrixTransformToWorld(toWorld);
+  const ControlPoint& p = this->GetNthControlPoint(n);
+  const double in[4] = {p.Position[0], p.Position[1], p.Position[2], 1.0};
+  double out[4];
+  toWorld->MultiplyPoint(in, out);
+  for (int i = 0; i < 3; ++i) positionWorld[i] = out[i];
+}
+
+void vtkRPFiducialListNode::SetNthControlPointLabel(int n, const std::string& label) {
+  if (n < 0 || n >= this->GetNumberOfControlPoints()) return;
+  this->Points[static_cast<size_t>(n)].Label = label;
+  this->InvokeEvent(PointModifiedEvent, &n);
+  this->Modified();
+}
+
+void vtkRPFiducialListNode::SetNthControlPointSelected(int n, bool selected) {
+  if (n < 0 || n >= this->GetNumberOfControlPoints()) return;
+  this->Points[static_cast<size_t>(n)].Selected = selected;
+  this->InvokeEvent(PointModifiedEvent, &n);
+  this->Modified();
+}
+
+void vtkRPFiducialListNode::SetNthControlPointLocked(int n, bool locked) {
+  if (n < 0 || n >= this->GetNumberOfControlPoints()) return;
+  this->Points[static_cast<size_t>(n)].Locked = locked;
+  this->InvokeEvent(PointModifiedEvent, &n);
+  this->Modified();
+}
+
+void vtkRPFiducialListNode::RemoveNthControlPoint(int n) {
+  if (n < 0 || n >= this->GetNumberOfControlPoints()) return;
+  this->Points.erase(this->Points.begin() + n);
+  this->InvokeEvent(PointRemovedEvent, &n);
+  this->Modified();
+}
+
+void vtkRPFiducialListNode::RemoveAllControlPoints() {
+  const int previous = this->StartModify();
+  while (!this->Points.empty()) this->RemoveNthControlPoint(this->GetNumberOfControlPoints() - 1);
+  this->EndModify(previous);
+}
+
+int vtkRPFiducialListNode::GetControlPointIndexByLabel(const std::string& label) const {
+  for (size_t i = 0; i < this->Points.size(); ++i) {
+    if (this->Points[i].Label == label) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+void vtkRPFiducialListNode::WriteProperties(PropertyMap& properties) const {
+  this->Superclass::WriteProperties(properties);
+  std::ostringstream color;
+  color << this->Color[0] << " " << this->Color[1] << " " << this->Color[2];
+  properties["color"] = color.str();
+}
+
+void vtkRPFiducialListNode::ReadProperties(const PropertyMap& properties) {
+  this->Superclass::ReadProperties(properties);
+  if (auto it = properties.find("color"); it != properties.end()) {
+    std::istringstream ss(it->second);
+    double c[3];
+    if (ss >> c[0] >> c[1] >> c[2]) this->SetColor(c);
+  }
+}

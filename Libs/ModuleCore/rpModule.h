@@ -1,0 +1,67 @@
+#pragma once
+// The interface every run-time loadable module implements (the qSlicerAbstractModule of
+// RoboPlan). A module's shared object exports
+//     extern "C" rp::Module* roboplan_create_module();
+//     extern "C" int roboplan_module_abi_version();   // must return ROBOPLAN_MODULE_ABI_VERSION
+// (use ROBOPLAN_DECLARE_MODULE(ClassName) at the end of the plugin's .cxx).
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+class vtkRPScene;
+class vtkObject;
+class QWidget;
+
+#define ROBOPLAN_MODULE_ABI_VERSION 1
+
+namespace rp {
+
+/// What a CLI subcommand gets: its arguments (after the subcommand name) and where to print.
+struct CommandContext {
+  std::vector<std::string> Arguments;
+  vtkRPScene* Scene = nullptr;  // a scene the command may use (headless; owned by the host)
+};
+
+/// A `roboplan <name> ...` subcommand contributed by a module. Returns the process exit code:
+/// 0 success, 1 the work failed (message on stderr), 2 bad arguments.
+struct Command {
+  std::string Name;
+  std::string Summary;
+  std::function<int(CommandContext&)> Run;
+};
+
+class Module {
+ public:
+  virtual ~Module() = default;
+
+  /// Unique name, e.g. "LandmarkRegistration". Dependencies refer to it.
+  virtual std::string Name() const = 0;
+  /// Human title for menus and panels, e.g. "Landmark Registration".
+  virtual std::string Title() const { return this->Name(); }
+  /// Names of modules that must be loaded and set up first.
+  virtual std::vector<std::string> Dependencies() const { return {}; }
+
+  /// Called once, after the module's dependencies are set up: register node classes, storage,
+  /// create the logic and attach it to the scene.
+  virtual void Setup(vtkRPScene* scene) { (void)scene; }
+  /// The module's logic object (no Qt), or nullptr.
+  virtual vtkObject* Logic() { return nullptr; }
+  /// The module's Qt panel, or nullptr when the module has none or was built without the GUI.
+  virtual QWidget* CreatePanel(QWidget* parent) {
+    (void)parent;
+    return nullptr;
+  }
+  /// CLI subcommands this module contributes.
+  virtual std::vector<Command> Commands() { return {}; }
+};
+
+}  // namespace rp
+
+#define ROBOPLAN_DECLARE_MODULE(ClassName)                                               \
+  extern "C" __attribute__((visibility("default"))) rp::Module* roboplan_create_module() { \
+    return new ClassName();                                                              \
+  }                                                                                      \
+  extern "C" __attribute__((visibility("default"))) int roboplan_module_abi_version() {    \
+    return ROBOPLAN_MODULE_ABI_VERSION;                                                  \
+  }

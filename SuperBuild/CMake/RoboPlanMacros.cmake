@@ -1,0 +1,98 @@
+# Helpers shared by every RoboPlan target: warnings, sanitizers, tests, benchmarks, modules.
+
+# Warnings apply to our own targets only; VTK/ITK/Qt headers come in as SYSTEM includes.
+add_library(roboplan_warnings INTERFACE)
+target_compile_options(roboplan_warnings INTERFACE -Wall -Wextra)
+
+macro(roboplan_setup_sanitizer)
+  if(ROBOPLAN_SANITIZE STREQUAL "address")
+    add_compile_options(-fsanitize=address -fno-omit-frame-pointer)
+    add_link_options(-fsanitize=address)
+  elseif(ROBOPLAN_SANITIZE STREQUAL "undefined")
+    add_compile_options(-fsanitize=undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer)
+    add_link_options(-fsanitize=undefined)
+  elseif(ROBOPLAN_SANITIZE STREQUAL "thread")
+    add_compile_options(-fsanitize=thread -fno-omit-frame-pointer)
+    add_link_options(-fsanitize=thread)
+  elseif(NOT ROBOPLAN_SANITIZE STREQUAL "")
+    message(FATAL_ERROR "ROBOPLAN_SANITIZE must be address, undefined, thread or empty")
+  endif()
+endmacro()
+
+# roboplan_add_library(<name> [STATIC|SHARED] SOURCES ... [PUBLIC_LIBS ...] [PRIVATE_LIBS ...])
+# Include directory is the calling folder.
+function(roboplan_add_library name)
+  cmake_parse_arguments(A "STATIC;SHARED" "" "SOURCES;PUBLIC_LIBS;PRIVATE_LIBS" ${ARGN})
+  set(kind SHARED)
+  if(A_STATIC)
+    set(kind STATIC)
+  endif()
+  add_library(${name} ${kind} ${A_SOURCES})
+  target_include_directories(${name} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR} ${CMAKE_CURRENT_BINARY_DIR})
+  target_link_libraries(${name} PUBLIC ${A_PUBLIC_LIBS} PRIVATE roboplan_warnings ${A_PRIVATE_LIBS})
+endfunction()
+
+# roboplan_add_test(<name> SOURCES ... LIBS ... LABELS unit|integration|gui|stress
+#                   [TIMEOUT s] [ARGS ...] [ENVIRONMENT ...])
+# A GoogleTest executable registered as one ctest test. Tests labelled gui run under xvfb-run.
+function(roboplan_add_test name)
+  if(NOT ROBOPLAN_BUILD_TESTING)
+    return()
+  endif()
+  cmake_parse_arguments(A "" "TIMEOUT" "SOURCES;LIBS;LABELS;ARGS;ENVIRONMENT" ${ARGN})
+  add_executable(${name} ${A_SOURCES})
+  target_link_libraries(${name} PRIVATE roboplan_warnings ${A_LIBS} GTest::gtest GTest::gtest_main)
+  target_compile_definitions(${name} PRIVATE
+    ROBOPLAN_SHARED_DATA_DIR="${ROBOPLAN_SHARED_DATA_DIR}"
+    ROBOPLAN_RESOURCES_DIR="${ROBOPLAN_RESOURCES_DIR}"
+    ROBOPLAN_BINARY_DIR="${CMAKE_BINARY_DIR}"
+    ROBOPLAN_TEST_OUTPUT_DIR="${CMAKE_BINARY_DIR}/Testing/Temporary/${name}")
+  if(NOT A_LABELS)
+    set(A_LABELS unit)
+  endif()
+  set(cmd $<TARGET_FILE:${name}> ${A_ARGS})
+  if("gui" IN_LIST A_LABELS)
+    set(cmd xvfb-run -a -s "-screen 0 1920x1080x24" ${cmd})
+  endif()
+  add_test(NAME ${name} COMMAND ${cmd})
+  if(NOT A_TIMEOUT)
+    set(A_TIMEOUT 300)
+  endif()
+  set_tests_properties(${name} PROPERTIES LABELS "${A_LABELS}" TIMEOUT ${A_TIMEOUT})
+  if(A_ENVIRONMENT)
+    set_tests_properties(${name} PROPERTIES ENVIRONMENT "${A_ENVIRONMENT}")
+  endif()
+endfunction()
+
+# roboplan_add_benchmark(<name> SOURCES ... LIBS ...)
+# Google Benchmark executable in bin/. Run by hand (see README); not part of ctest.
+function(roboplan_add_benchmark name)
+  if(NOT ROBOPLAN_BUILD_BENCHMARKS)
+    return()
+  endif()
+  cmake_parse_arguments(A "" "" "SOURCES;LIBS" ${ARGN})
+  add_executable(${name} ${A_SOURCES})
+  target_link_libraries(${name} PRIVATE roboplan_warnings ${A_LIBS} benchmark::benchmark)
+  target_compile_definitions(${name} PRIVATE
+    ROBOPLAN_SHARED_DATA_DIR="${ROBOPLAN_SHARED_DATA_DIR}"
+    ROBOPLAN_RESOURCES_DIR="${ROBOPLAN_RESOURCES_DIR}")
+endfunction()
+
+# roboplan_add_module(<Name> SOURCES ... LIBS ...)
+# A run-time loadable module: a shared object lib/roboplan-modules/libRoboPlanModule<Name>.so that
+# exports roboplan_create_module() (see Libs/ModuleCore/rpModule.h).
+function(roboplan_add_module name)
+  cmake_parse_arguments(A "" "" "SOURCES;LIBS" ${ARGN})
+  set(target RoboPlanModule${name})
+  add_library(${target} MODULE ${A_SOURCES})
+  target_link_libraries(${target} PRIVATE roboplan_warnings RoboPlanModuleCore ${A_LIBS})
+  set_target_properties(${target} PROPERTIES
+    LIBRARY_OUTPUT_DIRECTORY ${ROBOPLAN_MODULE_OUTPUT_DIRECTORY}
+    BUILD_RPATH "$ORIGIN/..;${CMAKE_BINARY_DIR}/lib"
+    INSTALL_RPATH "$ORIGIN/..")
+  if(ROBOPLAN_BUILD_GUI)
+    target_compile_definitions(${target} PRIVATE ROBOPLAN_BUILD_GUI)
+  endif()
+  install(TARGETS ${target} LIBRARY DESTINATION ${ROBOPLAN_MODULE_DIR_NAME})
+  set_property(GLOBAL APPEND PROPERTY ROBOPLAN_MODULE_TARGETS ${target})
+endfunction()

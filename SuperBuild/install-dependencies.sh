@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# Installs the Debian packages RoboPlan builds on, only those missing, and says which.
+set -euo pipefail
+packages=(
+  build-essential cmake ninja-build ccache pkg-config
+  libvtk9-dev libvtk9-qt-dev           # VTK 9.1 (+ Qt widgets)
+  libinsighttoolkit5-dev               # ITK 5.2
+  libdcmtk-dev                         # DCMTK 3.6.7
+  qtbase5-dev                          # Qt 5.15
+  libeigen3-dev                        # Eigen 3.4
+  libopenigtlink-dev                   # OpenIGTLink 1.11
+  nlohmann-json3-dev                   # JSON for scene files, .mrk.json and --json output
+  libfftw3-dev libgdcm-tools           # referenced by ITK's and VTK's exported CMake targets
+  libgtest-dev libgmock-dev libbenchmark-dev
+  xvfb xauth libgl1-mesa-dri libglx-mesa0  # offscreen rendering with Mesa's software OpenGL
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "== dependencies: all ${#packages[@]} Debian packages present"
+  exit 0
+fi
+echo "== dependencies: installing ${missing[*]}"
+sudo_cmd=()
+[ "$(id -u)" -eq 0 ] || sudo_cmd=(sudo)
+export DEBIAN_FRONTEND=noninteractive
+"${sudo_cmd[@]}" apt-get update -q
+"${sudo_cmd[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"

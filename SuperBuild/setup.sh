@@ -1,0 +1,60 @@
+#!/usr/bin/env bash
+# RoboPlan set-up: installs what is missing from Debian's packages, then configures and builds
+# with Ninja and ccache. Idempotent: a second run installs nothing and builds incrementally.
+#
+#   SuperBuild/setup.sh [--build-dir DIR] [--type Release|Debug|RelWithDebInfo]
+#                       [--sanitize address|undefined|thread] [--no-gui] [--no-benchmarks]
+#                       [--test [ctest args...]] [--demo [demo args...]]
+set -euo pipefail
+src_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+build_dir="$src_dir/build"
+build_type=Release
+sanitize=""
+gui=ON
+benchmarks=ON
+action=build
+extra=()
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --build-dir) build_dir=$2; shift 2 ;;
+    --type) build_type=$2; shift 2 ;;
+    --sanitize) sanitize=$2; shift 2 ;;
+    --no-gui) gui=OFF; shift ;;
+    --no-benchmarks) benchmarks=OFF; shift ;;
+    --test) action=test; shift; extra=("$@"); break ;;
+    --demo) action=demo; shift; extra=("$@"); break ;;
+    -h|--help) sed -n 2,8p "$0"; exit 0 ;;
+    *) echo "setup.sh: unknown argument '$1' (try --help)" >&2; exit 2 ;;
+  esac
+done
+
+"$src_dir/SuperBuild/install-dependencies.sh"
+
+export CCACHE_DIR="${CCACHE_DIR:-$HOME/.cache/ccache}"
+jobs=$(nproc 2>/dev/null || echo 2)
+if [ ! -f "$build_dir/build.ninja" ] || [ "$src_dir/CMakeLists.txt" -nt "$build_dir/build.ninja" ] \
+   || ! grep -q "ROBOPLAN_SANITIZE:STRING=$sanitize\$" "$build_dir/CMakeCache.txt" 2>/dev/null; then
+  echo "== configure ($build_type, sanitize='${sanitize}', gui=$gui, benchmarks=$benchmarks) in $build_dir"
+  cmake -S "$src_dir" -B "$build_dir" -G Ninja \
+    -DCMAKE_BUILD_TYPE="$build_type" \
+    -DCMAKE_C_COMPILER_LAUNCHER=ccache -DCMAKE_CXX_COMPILER_LAUNCHER=ccache \
+    -DROBOPLAN_BUILD_GUI=$gui -DROBOPLAN_BUILD_BENCHMARKS=$benchmarks \
+    -DROBOPLAN_SANITIZE="$sanitize"
+fi
+echo "== build (-j$jobs)"
+cmake --build "$build_dir" -j "$jobs"
+
+case "$action" in
+  test)
+    echo "== test"
+    cd "$build_dir"
+    ctest --output-on-failure -j "$jobs" "${extra[@]}"
+    ;;
+  demo)
+    echo "== roboplan demo"
+    if [ -z "${DISPLAY:-}" ] && command -v xvfb-run >/dev/null; then
+      exec xvfb-run -a -s "-screen 0 1920x1080x24" "$build_dir/bin/roboplan" demo "${extra[@]}"
+    fi
+    exec "$build_dir/bin/roboplan" demo "${extra[@]}"
+    ;;
+esac
