@@ -4,6 +4,16 @@
 add_library(roboplan_warnings INTERFACE)
 target_compile_options(roboplan_warnings INTERFACE -Wall -Wextra)
 
+# VTK's object factories (OpenGL render window, context device, interactor style...) are
+# registered by autoinit definitions, which need the implementing modules linked. Executables,
+# modules and rendering libraries get all the VTK modules the project found.
+function(roboplan_vtk_autoinit target)
+  if(VTK_LIBRARIES)
+    target_link_libraries(${target} PRIVATE ${VTK_LIBRARIES})
+    vtk_module_autoinit(TARGETS ${target} MODULES ${VTK_LIBRARIES})
+  endif()
+endfunction()
+
 macro(roboplan_setup_sanitizer)
   if(ROBOPLAN_SANITIZE STREQUAL "address")
     add_compile_options(-fsanitize=address -fno-omit-frame-pointer)
@@ -30,6 +40,9 @@ function(roboplan_add_library name)
   add_library(${name} ${kind} ${A_SOURCES})
   target_include_directories(${name} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR} ${CMAKE_CURRENT_BINARY_DIR})
   target_link_libraries(${name} PUBLIC ${A_PUBLIC_LIBS} PRIVATE roboplan_warnings ${A_PRIVATE_LIBS})
+  if("${A_PUBLIC_LIBS};${A_PRIVATE_LIBS}" MATCHES "VTK::(Rendering|Charts|Views|GUISupport|Interaction)")
+    roboplan_vtk_autoinit(${name})
+  endif()
 endfunction()
 
 # roboplan_add_test(<name> SOURCES ... LIBS ... LABELS unit|integration|gui|stress
@@ -42,6 +55,7 @@ function(roboplan_add_test name)
   cmake_parse_arguments(A "" "TIMEOUT" "SOURCES;LIBS;LABELS;ARGS;ENVIRONMENT" ${ARGN})
   add_executable(${name} ${A_SOURCES})
   target_link_libraries(${name} PRIVATE roboplan_warnings ${A_LIBS} GTest::gtest GTest::gtest_main)
+  roboplan_vtk_autoinit(${name})
   target_compile_definitions(${name} PRIVATE
     ROBOPLAN_SHARED_DATA_DIR="${ROBOPLAN_SHARED_DATA_DIR}"
     ROBOPLAN_RESOURCES_DIR="${ROBOPLAN_RESOURCES_DIR}"
@@ -73,6 +87,7 @@ function(roboplan_add_benchmark name)
   cmake_parse_arguments(A "" "" "SOURCES;LIBS" ${ARGN})
   add_executable(${name} ${A_SOURCES})
   target_link_libraries(${name} PRIVATE roboplan_warnings ${A_LIBS} benchmark::benchmark)
+  roboplan_vtk_autoinit(${name})
   target_compile_definitions(${name} PRIVATE
     ROBOPLAN_SHARED_DATA_DIR="${ROBOPLAN_SHARED_DATA_DIR}"
     ROBOPLAN_RESOURCES_DIR="${ROBOPLAN_RESOURCES_DIR}")
@@ -86,6 +101,7 @@ function(roboplan_add_module name)
   set(target RoboPlanModule${name})
   add_library(${target} MODULE ${A_SOURCES})
   target_link_libraries(${target} PRIVATE roboplan_warnings RoboPlanModuleCore ${A_LIBS})
+  roboplan_vtk_autoinit(${target})
   set_target_properties(${target} PROPERTIES
     LIBRARY_OUTPUT_DIRECTORY ${ROBOPLAN_MODULE_OUTPUT_DIRECTORY}
     BUILD_RPATH "$ORIGIN/..;${CMAKE_BINARY_DIR}/lib"

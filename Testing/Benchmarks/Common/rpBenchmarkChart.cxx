@@ -1,0 +1,153 @@
+#include "rpBenchmarkChart.h"
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include <vtkAxis.h>
+#include <vtkChartLegend.h>
+#include <vtkChartXY.h>
+#include <vtkContextScene.h>
+#include <vtkContextView.h>
+#include <vtkDoubleArray.h>
+#include <vtkNew.h>
+#include <vtkPNGWriter.h>
+#include <vtkPen.h>
+#include <vtkPlot.h>
+#include <vtkPlotPoints.h>
+#include <vtkRenderWindow.h>
+#include <vtkRenderer.h>
+#include <vtkTable.h>
+#include <vtkTextProperty.h>
+#include <vtkWindowToImageFilter.h>
+
+namespace rp::bench {
+namespace {
+
+const unsigned char Palette[][3] = {{31, 119, 180}, {214, 39, 40}, {44, 160, 44}, {255, 127, 14},
+                                    {148, 103, 189}, {140, 86, 75}, {227, 119, 194}, {127, 127, 127}};
+
+bool Render(vtkContextView* view, const std::string& path, const ChartOptions& options, std::string& error) {
+  view->GetRenderWindow()->SetOffScreenRendering(1);
+  view->GetRenderWindow()->SetSize(options.Width, options.Height);
+  view->GetRenderer()->SetBackground(1, 1, 1);
+  view->GetRenderWindow()->Render();
+  vtkNew<vtkWindowToImageFilter> grab;
+  grab->SetInput(view->GetRenderWindow());
+  grab->ReadFrontBufferOff();
+  grab->Update();
+  vtkNew<vtkPNGWriter> writer;
+  writer->SetFileName(path.c_str());
+  writer->SetInputConnection(grab->GetOutputPort());
+  writer->Write();
+  if (writer->GetErrorCode() != 0 || !std::filesystem::exists(path)) {
+    error = "could not write chart '" + path + "'";
+    return false;
+  }
+  return true;
+}
+
+void StyleChart(vtkChartXY* chart, const ChartOptions& options) {
+  chart->SetTitle(options.Title);
+  chart->GetTitleProperties()->SetFontSize(18);
+  chart->GetAxis(vtkAxis::BOTTOM)->SetTitle(options.XLabel);
+  chart->GetAxis(vtkAxis::LEFT)->SetTitle(options.YLabel);
+  chart->GetAxis(vtkAxis::BOTTOM)->SetLogScale(options.LogX);
+  chart->GetAxis(vtkAxis::LEFT)->SetLogScale(options.LogY);
+  chart->SetShowLegend(true);
+  chart->GetLegend()->SetHorizontalAlignment(vtkChartLegend::RIGHT);
+  chart->GetLegend()->SetVerticalAlignment(vtkChartLegend::TOP);
+}
+
+}  // namespace
+
+bool WriteChartPNG(const std::string& path, const std::vector<Series>& series, const ChartOptions& options,
+                   std::string& error) {
+  vtkNew<vtkContextView> view;
+  vtkNew<vtkChartXY> chart;
+  view->GetScene()->AddItem(chart);
+  StyleChart(chart, options);
+  size_t index = 0;
+  for (const Series& s : series) {
+    if (s.X.size() != s.Y.size() || s.X.empty()) {
+      error = "series '" + s.Name + "' has no points or unequal X/Y lengths";
+      return false;
+    }
+    vtkNew<vtkTable> table;
+    vtkNew<vtkDoubleArray> x, y;
+    x->SetName("x");
+    y->SetName(s.Name.c_str());
+    table->AddColumn(x);
+    table->AddColumn(y);
+    table->SetNumberOfRows(static_cast<vtkIdType>(s.X.size()));
+    for (size_t i = 0; i < s.X.size(); ++i) {
+      table->SetValue(static_cast<vtkIdType>(i), 0, s.X[i]);
+      table->SetValue(static_cast<vtkIdType>(i), 1, s.Y[i]);
+    }
+    vtkPlot* plot = chart->AddPlot(s.Points ? vtkChart::POINTS : vtkChart::LINE);
+    plot->SetInputData(table, 0, 1);
+    const unsigned char* c = Palette[index++ % 8];
+    plot->SetColor(c[0], c[1], c[2], 255);
+    plot->SetWidth(2.0);
+    if (auto* points = vtkPlotPoints::SafeDownCast(plot)) points->SetMarkerStyle(vtkPlotPoints::CIRCLE);
+  }
+  return Render(view, path, options, error);
+}
+
+bool WriteHistogramPNG(const std::string& path, const std::vector<double>& binCenters,
+                       const std::vector<double>& counts, const ChartOptions& options, std::string& error) {
+  if (binCenters.size() != counts.size() || binCenters.empty()) {
+    error = "histogram has no bins or unequal lengths";
+    return false;
+  }
+  vtkNew<vtkContextView> view;
+  vtkNew<vtkChartXY> chart;
+  view->GetScene()->AddItem(chart);
+  StyleChart(chart, options);
+  chart->SetShowLegend(false);
+  vtkNew<vtkTable> table;
+  vtkNew<vtkDoubleArray> x, y;
+  x->SetName("bin");
+  y->SetName("count");
+  table->AddColumn(x);
+  table->AddColumn(y);
+  table->SetNumberOfRows(static_cast<vtkIdType>(counts.size()));
+  for (size_t i = 0; i < counts.size(); ++i) {
+    table->SetValue(static_cast<vtkIdType>(i), 0, binCenters[i]);
+    table->SetValue(static_cast<vtkIdType>(i), 1, counts[i]);
+  }
+  vtkPlot* bars = chart->AddPlot(vtkChart::BAR);
+  bars->SetInputData(table, 0, 1);
+  bars->SetColor(31, 119, 180, 255);
+  return Render(view, path, options, error);
+}
+
+bool WriteCSV(const std::string& path, const std::vector<std::string>& header,
+              const std::vector<std::vector<double>>& rows, std::string& error) {
+  std::ofstream out(path);
+  if (!out) {
+    error = "cannot write '" + path + "'";
+    return false;
+  }
+  for (size_t i = 0; i < header.size(); ++i) out << (i ? "," : "") << header[i];
+  out << "\n";
+  out.precision(10);
+  for (const auto& row : rows) {
+    if (row.size() != header.size()) {
+      error = "CSV row with " + std::to_string(row.size()) + " values, header has " + std::to_string(header.size());
+      return false;
+    }
+    for (size_t i = 0; i < row.size(); ++i) out << (i ? "," : "") << row[i];
+    out << "\n";
+  }
+  return out.good();
+}
+
+std::string OutputDirectory() {
+  const char* env = std::getenv("ROBOPLAN_BENCHMARK_OUTPUT");
+  const std::string dir = env && *env ? env : "benchmark-output";
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+}  // namespace rp::bench

@@ -1,0 +1,36 @@
+#pragma once
+// Figures and charts for benchmarks and reports: CSV tables and PNG line/scatter charts drawn
+// with VTK's chart classes in an offscreen window (needs an X display: run under xvfb-run).
+#include <string>
+#include <vector>
+
+namespace rp::bench {
+
+struct Series {
+  std::string Name;
+  std::vector<double> X, Y;
+  bool Points = false;  // scatter (true) or line with markers (false)
+};
+
+struct ChartOptions {
+  std::string Title, XLabel, YLabel;
+  bool LogX = false, LogY = false;
+  int Width = 900, Height = 600;
+};
+
+/// Draws the series into a PNG. Returns false and sets `error` on failure.
+bool WriteChartPNG(const std::string& path, const std::vector<Series>& series, const ChartOptions& options,
+                   std::string& error);
+
+/// Histogram as bars (bin centres in X, counts in Y).
+bool WriteHistogramPNG(const std::string& path, const std::vector<double>& binCenters,
+                       const std::vector<double>& counts, const ChartOptions& options, std::string& error);
+
+/// Writes a CSV with a header row; every row must have header.size() values.
+bool WriteCSV(const std::string& path, const std::vector<std::string>& header,
+              const std::vector<std::vector<double>>& rows, std::string& error);
+
+/// $ROBOPLAN_BENCHMARK_OUTPUT or ./benchmark-output (created).
+std::string OutputDirectory();
+
+}  // namespace rp::bench
