@@ -106,7 +106,8 @@ SceneLoadReport LoadScene(vtkRPScene* scene, const std::string& sceneFile) {
   const fs::path folder = fs::path(sceneFile).has_parent_path() ? fs::path(sceneFile).parent_path() : fs::path(".");
   std::vector<vtkSmartPointer<vtkRPNode>> loaded;
   std::set<std::string> skippedIDs;
-  for (const json& entry : document.value("nodes", json::array())) {
+  const json nodeEntries = document.value("nodes", json::array());
+  for (const json& entry : nodeEntries) {
     const std::string className = entry.value("class", "");
     const std::string name = entry.value("name", "");
     vtkSmartPointer<vtkRPNode> node = scene->CreateNodeByClass(className);
@@ -119,10 +120,10 @@ SceneLoadReport LoadScene(vtkRPScene* scene, const std::string& sceneFile) {
     node->SetName(name);
     try {
       node->ReadProperties(entry.value("properties", vtkRPNode::PropertyMap{}));
-      for (const auto& [key, value] : entry.value("attributes", std::map<std::string, std::string>{})) {
-        node->SetAttribute(key, value);
-      }
-      for (const auto& [role, ids] : entry.value("references", json::object()).items()) {
+      const auto attributes = entry.value("attributes", std::map<std::string, std::string>{});
+      for (const auto& [key, value] : attributes) node->SetAttribute(key, value);
+      const json references = entry.value("references", json::object());
+      for (const auto& [role, ids] : references.items()) {
         for (const auto& id : ids) node->AddNodeReferenceID(role, id.get<std::string>());
       }
     } catch (const std::exception& e) {

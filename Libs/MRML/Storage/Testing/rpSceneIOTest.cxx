@@ -1,0 +1,296 @@
+// Scene save/load round trips (bit-identical data), atomic saves, and scenes with missing or
+// corrupt data files.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include <vtkImageData.h>
+#include <vtkMatrix4x4.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkSphereSource.h>
+
+#include "rpAtomicFile.h"
+#include "rpNodeStorage.h"
+#include "rpSceneIO.h"
+#include "rpVolumeIO.h"
+#include "vtkRPFiducialListNode.h"
+#include "vtkRPLinearTransformNode.h"
+#include "vtkRPModelNode.h"
+#include "vtkRPScalarVolumeNode.h"
+#include "vtkRPScene.h"
+#include "vtkRPTrackedToolNode.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path TestDir(const std::string& name) {
+  const fs::path dir = fs::path(ROBOPLAN_TEST_OUTPUT_DIR) / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+// A CT-like volume with an oblique, LPS-flipped geometry and a deterministic pattern.
+vtkSmartPointer<vtkRPScalarVolumeNode> MakeVolume() {
+  auto volume = vtkSmartPointer<vtkRPScalarVolumeNode>::New();
+  volume->SetName("CT");
+  vtkNew<vtkImageData> image;
+  image->SetDimensions(7, 5, 4);
+  image->AllocateScalars(VTK_SHORT, 1);
+  auto* voxels = static_cast<short*>(image->GetScalarPointer());
+  for (int i = 0; i < 7 * 5 * 4; ++i) voxels[i] = static_cast<short>((i * 37) % 3001 - 1000);
+  volume->SetImageData(image);
+  const double c = std::cos(0.3), s = std::sin(0.3);
+  const double spacing[3] = {0.8, 0.8, 2.5}, origin[3] = {-12.5, 40.25, -7};
+  const double directions[3][3] = {{c, s, 0}, {-s, c, 0}, {0, 0, 1}};
+  volume->SetGeometry(spacing, origin, directions);
+  volume->SetWindowLevel(1500, 300);
+  return volume;
+}
+
+vtkSmartPointer<vtkRPModelNode> MakeModel() {
+  vtkNew<vtkSphereSource> sphere;
+  sphere->SetCenter(10, -20, 30);
+  sphere->SetRadius(15);
+  sphere->Update();
+  auto model = vtkSmartPointer<vtkRPModelNode>::New();
+  model->SetName("Femur");
+  model->SetPolyData(sphere->GetOutput());
+  model->SetColor(0.9, 0.85, 0.7);
+  model->SetOpacity(0.6);
+  model->SetTissueClass("bone");
+  model->SetHaptic(true);
+  return model;
+}
+
+}  // namespace
+
+TEST(VolumeIO, NrrdAndNiftiRoundTripsAreExact) {
+  const fs::path dir = TestDir("volumes");
+  auto volume = MakeVolume();
+  for (const std::string ext : {".nrrd", ".nii.gz", ".mha"}) {
+    const std::string path = (dir / ("ct" + ext)).string();
+    std::string error;
+    ASSERT_TRUE(rp::WriteVolumeFile(path, volume, error)) << error;
+    auto loaded = vtkSmartPointer<vtkRPScalarVolumeNode>::New();
+    ASSERT_TRUE(rp::ReadVolumeFile(path, loaded.GetPointer(), error)) << error;
+    int dims[3];
+    loaded->GetImageData()->GetDimensions(dims);
+    EXPECT_EQ(dims[0], 7);
+    EXPECT_EQ(dims[2], 4);
+    EXPECT_EQ(loaded->GetImageData()->GetScalarType(), VTK_SHORT);
+    EXPECT_EQ(std::memcmp(loaded->GetImageData()->GetScalarPointer(), volume->GetImageData()->GetScalarPointer(),
+                          7 * 5 * 4 * sizeof(short)),
+              0)
+        << ext;
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j)
+        EXPECT_NEAR(loaded->GetIJKToRASMatrix()->GetElement(i, j), volume->GetIJKToRASMatrix()->GetElement(i, j),
+                    1e-5)
+            << ext << " element " << i << "," << j;
+  }
+}
+
+TEST(VolumeIO, NrrdHeaderIsLPS) {
+  // A hand-written NRRD (as Slicer writes them): LPS space, origin and directions in LPS.
+  const fs::path dir = TestDir("nrrd-header");
+  const std::string path = (dir / "tiny.nrrd").string();
+  std::ofstream out(path, std::ios::binary);
+  out << "NRRD0004\ntype: unsigned char\ndimension: 3\nspace: left-posterior-superior\nsizes: 2 2 1\n"
+         "space directions: (2,0,0) (0,3,0) (0,0,4)\nkinds: domain domain domain\nendian: little\n"
+         "encoding: raw\nspace origin: (10,20,30)\n\n";
+  out.write("\x01\x02\x03\x04", 4);
+  out.close();
+  vtkNew<vtkImageData> image;
+  vtkNew<vtkMatrix4x4> ijkToRAS;
+  rp::VolumeFileData data;
+  data.Image = image;
+  data.IJKToRAS = ijkToRAS;
+  std::string error;
+  ASSERT_TRUE(rp::ReadVolumeFile(path, data, error)) << error;
+  // RAS = diag(-1,-1,1) · LPS.
+  EXPECT_DOUBLE_EQ(ijkToRAS->GetElement(0, 0), -2);
+  EXPECT_DOUBLE_EQ(ijkToRAS->GetElement(1, 1), -3);
+  EXPECT_DOUBLE_EQ(ijkToRAS->GetElement(2, 2), 4);
+  EXPECT_DOUBLE_EQ(ijkToRAS->GetElement(0, 3), -10);
+  EXPECT_DOUBLE_EQ(ijkToRAS->GetElement(1, 3), -20);
+  EXPECT_DOUBLE_EQ(ijkToRAS->GetElement(2, 3), 30);
+  EXPECT_EQ(*static_cast<unsigned char*>(image->GetScalarPointer(1, 1, 0)), 4);
+}
+
+TEST(VolumeIO, BadFilesGiveClearErrors) {
+  const fs::path dir = TestDir("bad-volumes");
+  std::string error;
+  auto node = MakeVolume();
+  EXPECT_FALSE(rp::ReadVolumeFile((dir / "missing.nrrd").string(), node.GetPointer(), error));
+  EXPECT_NE(error.find("missing.nrrd"), std::string::npos);
+  std::ofstream((dir / "truncated.nrrd").string()) << "NRRD0004\ntype: short\ndimension: 3\nsizes: 100 100 100\n"
+                                                      "encoding: raw\n\n\x01\x02";
+  EXPECT_FALSE(rp::ReadVolumeFile((dir / "truncated.nrrd").string(), node.GetPointer(), error));
+  EXPECT_NE(error.find("truncated.nrrd"), std::string::npos);
+  int dims[3];
+  node->GetImageData()->GetDimensions(dims);
+  EXPECT_EQ(dims[0], 7);  // the node kept its image
+  EXPECT_FALSE(rp::ReadVolumeFile((dir / "volume.xyz").string(), node.GetPointer(), error));
+}
+
+TEST(ModelIO, EveryFormatRoundTripsInRASAndWritesLPS) {
+  const fs::path dir = TestDir("models");
+  auto model = MakeModel();
+  for (const std::string ext : {".vtp", ".vtk", ".stl", ".ply", ".obj"}) {
+    const std::string path = (dir / ("femur" + ext)).string();
+    std::string error;
+    ASSERT_TRUE(rp::SaveDataFile(model, path, error)) << error;
+    vtkNew<vtkRPScene> scene;
+    auto* loaded = vtkRPModelNode::SafeDownCast(rp::LoadDataFile(scene, path, error));
+    ASSERT_NE(loaded, nullptr) << error;
+    double bounds[6];
+    loaded->GetPolyData()->GetBounds(bounds);
+    EXPECT_NEAR(0.5 * (bounds[0] + bounds[1]), 10, 1e-3) << ext;   // R stays R after LPS round trip
+    EXPECT_NEAR(0.5 * (bounds[2] + bounds[3]), -20, 1e-3) << ext;
+    EXPECT_NEAR(0.5 * (bounds[4] + bounds[5]), 30, 1e-3) << ext;
+    if (ext == ".stl" || ext == ".vtk" || ext == ".ply") {
+      // Slicer reads the coordinate system from the header comment.
+      std::ifstream in(path, std::ios::binary);
+      std::string head(1024, '\0');
+      in.read(&head[0], 1024);
+      EXPECT_NE(head.find("SPACE=LPS"), std::string::npos) << ext;
+    }
+  }
+}
+
+TEST(SceneIO, RoundTripOfEveryNodeTypeIsIdentical) {
+  const fs::path dir = TestDir("scene");
+  vtkNew<vtkRPScene> scene;
+  auto volume = MakeVolume();
+  auto model = MakeModel();
+  vtkNew<vtkRPLinearTransformNode> trackerToRAS;
+  trackerToRAS->SetName("TrackerToRAS");
+  const double m[16] = {0, -1, 0, 10.125, 1, 0, 0, -20.5, 0, 0, 1, 30.75, 0, 0, 0, 1};
+  trackerToRAS->SetMatrixTransformToParent(m);
+  vtkNew<vtkRPTrackedToolNode> stylus;
+  stylus->SetName("StylusToTracker");
+  stylus->SetStatus(vtkRPTrackedToolNode::StatusMissing);
+  stylus->SetTimestamp(12.5);
+  scene->AddNode(volume);
+  scene->AddNode(model);
+  scene->AddNode(trackerToRAS);
+  scene->AddNode(stylus);
+  ASSERT_TRUE(stylus->SetAndObserveTransformNodeID(trackerToRAS->GetID()));
+  ASSERT_TRUE(model->SetAndObserveTransformNodeID(trackerToRAS->GetID()));
+  model->SetAttribute("Haptic.Mesh", "coarse");
+
+  const std::string sceneFile = (dir / "knee.rpscene").string();
+  std::string error;
+  ASSERT_TRUE(rp::SaveScene(scene, sceneFile, error)) << error;
+
+  vtkNew<vtkRPScene> loaded;
+  const rp::SceneLoadReport report = rp::LoadScene(loaded, sceneFile);
+  ASSERT_TRUE(report.Ok) << report.Error;
+  EXPECT_TRUE(report.Problems.empty()) << report.Problems.front();
+  EXPECT_EQ(report.NodesLoaded, 4);
+
+  auto* v = vtkRPScalarVolumeNode::SafeDownCast(loaded->GetFirstNodeByName("CT"));
+  ASSERT_NE(v, nullptr);
+  EXPECT_EQ(std::memcmp(v->GetImageData()->GetScalarPointer(), volume->GetImageData()->GetScalarPointer(),
+                        7 * 5 * 4 * sizeof(short)),
+            0);
+  EXPECT_DOUBLE_EQ(v->GetWindow(), 1500);
+  EXPECT_DOUBLE_EQ(v->GetLevel(), 300);
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      EXPECT_NEAR(v->GetIJKToRASMatrix()->GetElement(i, j), volume->GetIJKToRASMatrix()->GetElement(i, j), 1e-12);
+
+  auto* mo = vtkRPModelNode::SafeDownCast(loaded->GetFirstNodeByName("Femur"));
+  ASSERT_NE(mo, nullptr);
+  ASSERT_EQ(mo->GetPolyData()->GetNumberOfPoints(), model->GetPolyData()->GetNumberOfPoints());
+  for (vtkIdType i = 0; i < mo->GetPolyData()->GetNumberOfPoints(); ++i) {
+    double a[3], b[3];
+    mo->GetPolyData()->GetPoint(i, a);
+    model->GetPolyData()->GetPoint(i, b);
+    ASSERT_EQ(a[0], b[0]);  // negation twice is exact in floating point
+    ASSERT_EQ(a[1], b[1]);
+    ASSERT_EQ(a[2], b[2]);
+  }
+  EXPECT_EQ(mo->GetTissueClass(), "bone");
+  EXPECT_TRUE(mo->GetHaptic());
+  EXPECT_DOUBLE_EQ(mo->GetOpacity(), 0.6);
+  EXPECT_EQ(mo->GetAttribute("Haptic.Mesh"), "coarse");
+
+  auto* t = vtkRPLinearTransformNode::SafeDownCast(loaded->GetFirstNodeByName("TrackerToRAS"));
+  ASSERT_NE(t, nullptr);
+  EXPECT_EQ(mo->GetParentTransformNode(), t);
+  for (int i = 0; i < 16; ++i) EXPECT_NEAR(t->GetMatrixTransformToParent()->GetElement(i / 4, i % 4), m[i], 1e-12);
+  auto* st = vtkRPTrackedToolNode::SafeDownCast(loaded->GetFirstNodeByName("StylusToTracker"));
+  ASSERT_NE(st, nullptr);
+  EXPECT_EQ(st->GetStatus(), vtkRPTrackedToolNode::StatusMissing);
+  EXPECT_DOUBLE_EQ(st->GetTimestamp(), 12.5);
+  EXPECT_EQ(st->GetParentTransformNode(), t);
+}
+
+TEST(SceneIO, MissingAndCorruptDataFilesAreReportedByNameAndTheRestLoads) {
+  const fs::path dir = TestDir("scene-damaged");
+  vtkNew<vtkRPScene> scene;
+  auto volume = MakeVolume();
+  auto model = MakeModel();
+  auto model2 = MakeModel();
+  model2->SetName("Tibia");
+  scene->AddNode(volume);
+  scene->AddNode(model);
+  scene->AddNode(model2);
+  const std::string sceneFile = (dir / "knee.rpscene").string();
+  std::string error;
+  ASSERT_TRUE(rp::SaveScene(scene, sceneFile, error)) << error;
+  fs::remove(dir / "CT.nrrd");
+  std::ofstream(dir / "Tibia.vtp", std::ios::trunc) << "<VTKFile type=\"PolyData\"> garbage";
+
+  vtkNew<vtkRPScene> loaded;
+  vtkNew<vtkRPModelNode> alreadyThere;
+  alreadyThere->SetName("Patella");
+  loaded->AddNode(alreadyThere);
+  const rp::SceneLoadReport report = rp::LoadScene(loaded, sceneFile);
+  ASSERT_TRUE(report.Ok);
+  EXPECT_EQ(report.NodesLoaded, 1);
+  ASSERT_EQ(report.Problems.size(), 2u);
+  EXPECT_NE(report.Problems[0].find("CT.nrrd"), std::string::npos);
+  EXPECT_NE(report.Problems[0].find("missing"), std::string::npos);
+  EXPECT_NE(report.Problems[1].find("Tibia.vtp"), std::string::npos);
+  EXPECT_NE(loaded->GetFirstNodeByName("Femur"), nullptr);
+  EXPECT_NE(loaded->GetFirstNodeByName("Patella"), nullptr);  // nothing already loaded is lost
+  EXPECT_EQ(loaded->GetNumberOfNodes(), 2);
+
+  // A scene file that is not a scene: refused, nothing changes.
+  std::ofstream(dir / "bad.rpscene") << "{\"format\": \"something else\"}";
+  const rp::SceneLoadReport bad = rp::LoadScene(loaded, (dir / "bad.rpscene").string());
+  EXPECT_FALSE(bad.Ok);
+  EXPECT_NE(bad.Error.find("not a RoboPlan scene"), std::string::npos);
+  EXPECT_EQ(loaded->GetNumberOfNodes(), 2);
+  std::ofstream(dir / "future.rpscene") << "{\"format\": \"RoboPlan scene\", \"version\": 99, \"nodes\": []}";
+  EXPECT_FALSE(rp::LoadScene(loaded, (dir / "future.rpscene").string()).Ok);
+}
+
+TEST(SceneIO, AFailedSaveKeepsTheLastGoodSceneFile) {
+  const fs::path dir = TestDir("scene-atomic");
+  vtkNew<vtkRPScene> scene;
+  scene->AddNode(MakeModel());
+  const std::string sceneFile = (dir / "knee.rpscene").string();
+  std::string error;
+  ASSERT_TRUE(rp::SaveScene(scene, sceneFile, error)) << error;
+  std::string before;
+  ASSERT_TRUE(rp::ReadFile(sceneFile, before, error));
+  // A model with no points cannot be written: the save fails before touching the scene file.
+  vtkNew<vtkRPModelNode> empty;
+  empty->SetName("Empty");
+  scene->AddNode(empty);
+  EXPECT_FALSE(rp::SaveScene(scene, sceneFile, error));
+  EXPECT_NE(error.find("Empty"), std::string::npos);
+  std::string after;
+  ASSERT_TRUE(rp::ReadFile(sceneFile, after, error));
+  EXPECT_EQ(before, after);
+}
