@@ -1,0 +1,81 @@
+#ifndef vtkRPNavigationLogic_h
+#define vtkRPNavigationLogic_h
+// Navigation (seed sections 3.3 and 4): follows a tool tip (a transform node whose origin is the
+// tip, e.g. StylusTipToStylus under StylusToTracker under TrackerToRAS, or the haptic proxy),
+// measures the distance from the tip to the nearest surface of chosen models, and flags it when
+// it falls under a warning distance. Results go onto the tool node as attributes
+// (Navigation.DistanceMM, Navigation.ClosestModel, Navigation.ClosestPointRAS,
+// Navigation.Warning) so the viewer shows them without knowing this module. Main thread only.
+#include <map>
+#include <string>
+#include <vector>
+
+#include <vtkObject.h>
+#include <vtkSmartPointer.h>
+
+class vtkRPScene;
+class vtkRPModelNode;
+class vtkRPTransformableNode;
+class vtkStaticCellLocator;
+class vtkCallbackCommand;
+
+class vtkRPNavigationLogic : public vtkObject {
+ public:
+  static vtkRPNavigationLogic* New();
+  vtkTypeMacro(vtkRPNavigationLogic, vtkObject);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  void SetScene(vtkRPScene* scene);
+  vtkRPScene* GetScene() const { return this->Scene; }
+
+  /// The tool whose origin is the tip. Observed: the logic updates when it moves.
+  void SetToolNodeID(const std::string& id);
+  const std::string& GetToolNodeID() const { return this->ToolNodeID; }
+  /// Models the distance is measured to (e.g. bone, a ligament).
+  void SetTargetModelNodeIDs(const std::vector<std::string>& ids);
+  vtkSetMacro(WarningDistance, double);
+  vtkGetMacro(WarningDistance, double);
+
+  struct Result {
+    bool Valid = false;            // a tool and at least one non-empty model
+    double TipRAS[3] = {0, 0, 0};
+    double DistanceMM = 0;         // signed: negative inside the closest model
+    double ClosestPointRAS[3] = {0, 0, 0};
+    std::string ClosestModelID;
+    bool Warning = false;          // |distance| under the warning distance (or inside)
+  };
+  /// Recomputes now (also called automatically when the tool moves).
+  Result Update();
+  const Result& GetLastResult() const { return this->Last; }
+
+  /// Tip position of any transformable node (origin of its frame in world RAS).
+  static void GetTipRAS(vtkRPTransformableNode* tool, double tipRAS[3]);
+
+ protected:
+  vtkRPNavigationLogic();
+  ~vtkRPNavigationLogic() override;
+
+ private:
+  vtkRPNavigationLogic(const vtkRPNavigationLogic&) = delete;
+  void operator=(const vtkRPNavigationLogic&) = delete;
+  static void OnToolMoved(vtkObject*, unsigned long, void* clientData, void*);
+  void ObserveTool();
+  vtkStaticCellLocator* LocatorFor(vtkRPModelNode* model);
+
+  vtkRPScene* Scene = nullptr;  // not owned
+  std::string ToolNodeID;
+  std::vector<std::string> TargetModelNodeIDs;
+  double WarningDistance = 3.0;
+  Result Last;
+  vtkSmartPointer<vtkCallbackCommand> ToolCallback;
+  vtkObject* ObservedTool = nullptr;
+  unsigned long ToolObserverTag = 0;
+  struct CachedLocator {
+    vtkSmartPointer<vtkStaticCellLocator> Locator;
+    vtkMTimeType PolyDataTime = 0;
+  };
+  std::map<std::string, CachedLocator> Locators;
+  bool Updating = false;
+};
+
+#endif
