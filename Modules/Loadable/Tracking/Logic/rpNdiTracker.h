@@ -1,0 +1,119 @@
+#pragma once
+// The NDI Combined API serial driver: one I/O thread that resets, probes and configures the
+// tracker, loads passive tool definitions, tracks (BX or TX polling at the frame rate) and
+// publishes each tool's newest pose into a ToolPoseTable. Unplug is detected and the whole
+// set-up repeated with back-off, without restarting the program.
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "rpNdiProtocol.h"
+#include "rpSerialTransport.h"
+#include "rpToolPose.h"
+
+namespace rp {
+
+class NdiTracker {
+ public:
+  struct Tool {
+    std::string Name;            // slot name in the pose table, e.g. "Stylus"
+    std::vector<uint8_t> Rom;    // passive tool definition (.rom bytes)
+  };
+
+  struct Options {
+    std::string Port;
+    std::vector<Tool> Tools;
+    bool Binary = true;                  // BX:0801 (else TX:0001)
+    int MaxBaud = 1228739;               // fastest COMM rate to try
+    int RateCode = -1;                   // IRATE 0=20 Hz 1=30 Hz 2=60 Hz; -1 leaves it
+    double PollHz = 60.0;
+    int CommandTimeoutMs = 5000;         // ordinary commands
+    int ProbeTimeoutMs = 150;            // INIT probe before a reset
+    int TrackingTimeoutMs = 100;         // TX/BX replies
+    int Retries = 3;                     // per command (PVWR chunks, TX/BX polls)
+    int MaxConsecutiveTimeouts = 10;     // then the device is considered gone
+    double ReconnectInitialSeconds = 0.1;
+    double ReconnectMaxSeconds = 2.0;
+    /// Makes the transport (tests inject one; default: MakeSerialTransport(Port)).
+    std::function<std::unique_ptr<SerialTransport>()> TransportFactory;
+  };
+
+  enum class State : int { Stopped = 0, Connecting, Configuring, Tracking, Disconnected };
+  static const char* StateName(State state);
+
+  struct Statistics {
+    uint64_t Frames = 0;          // tracking replies parsed
+    uint64_t CrcErrors = 0;
+    uint64_t Timeouts = 0;
+    uint64_t FrameGaps = 0;       // frames the tracker produced that we never saw
+    uint64_t DeviceErrors = 0;
+    uint64_t MalformedReplies = 0;
+    uint64_t Connections = 0;     // successful set-ups (1 + reconnects)
+    uint64_t Resets = 0;          // break or RESET used
+    double ThreadCpuSeconds = 0;  // CPU time of the I/O thread
+  };
+
+  explicit NdiTracker(Options options);
+  ~NdiTracker();
+
+  /// Starts the I/O thread (returns at once; watch GetState()).
+  void Start();
+  /// Stops tracking (TSTOP, PHF, COMM back to 9600) and joins the thread.
+  void Stop();
+
+  State GetState() const { return static_cast<State>(this->CurrentState.load(std::memory_order_acquire)); }
+  Statistics GetStatistics() const;
+  std::string LastError() const;
+  std::string FirmwareVersion() const;
+  int NegotiatedBaud() const { return this->Baud.load(); }
+  const ToolPoseTable& Poses() const { return this->Table; }
+
+ private:
+  void Run();
+  bool Connect();
+  bool Configure();
+  void TrackLoop();
+  void Shutdown();
+  bool Reset();
+  /// Sends a command and waits for its ASCII reply. Retries on timeout/CRC error (retries>0).
+  ndi::ParseResult Command(const char* name, const char* args, int timeoutMs, int retries);
+  /// Reads one frame into Frame/FrameLength. 0 ok, 1 timeout, -1 transport gone, 2 resync.
+  int ReadFrame(int timeoutMs);
+  void Fail(const std::string& message);
+  bool Sleep(double seconds);  // false when stop was requested
+  void SetState(State s) { this->CurrentState.store(static_cast<int>(s), std::memory_order_release); }
+  void UpdateCpu();
+
+  Options Opts;
+  std::unique_ptr<SerialTransport> Transport;
+  ToolPoseTable Table;
+  std::thread Thread;
+  std::atomic<bool> StopRequested{false};
+  std::atomic<int> CurrentState{0};
+  std::atomic<int> Baud{9600};
+
+  // statistics (written by the I/O thread)
+  std::atomic<uint64_t> Frames{0}, CrcErrors{0}, Timeouts{0}, FrameGaps{0}, DeviceErrors{0}, Malformed{0},
+      Connections{0}, Resets{0};
+  std::atomic<double> CpuSeconds{0};
+  mutable std::mutex TextMutex;  // error and version text (error path only)
+  std::string ErrorText, Version;
+
+  // I/O thread only
+  uint8_t Rx[16384];
+  size_t RxLength = 0;
+  size_t FrameLength = 0;  // the frame at Rx[0..FrameLength)
+  const char* Payload = nullptr;
+  size_t PayloadLength = 0;
+  int HandleSlot[256];
+  uint32_t LastFrame[256];
+  std::vector<uint8_t> Handles;
+  ndi::TrackingReply Reply;
+};
+
+}  // namespace rp

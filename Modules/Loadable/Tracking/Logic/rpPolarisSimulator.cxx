@@ -1,0 +1,559 @@
+#include "rpPolarisSimulator.h"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+#include "rpNdiProtocol.h"
+#include "rpSerialTransport.h"
+#include "rpToolPose.h"
+
+namespace rp {
+
+namespace {
+void PutU16(uint8_t* p, uint16_t v) {
+  p[0] = static_cast<uint8_t>(v);
+  p[1] = static_cast<uint8_t>(v >> 8);
+}
+void PutU32(uint8_t* p, uint32_t v) {
+  for (int i = 0; i < 4; ++i) p[i] = static_cast<uint8_t>(v >> (8 * i));
+}
+void PutF32(uint8_t* p, double v) {
+  const float f = static_cast<float>(v);
+  uint32_t bits;
+  std::memcpy(&bits, &f, 4);
+  PutU32(p, bits);
+}
+// "+12345" style fixed-width signed decimal.
+void PutSigned(std::string& out, double value, int digits) {
+  long v = std::lround(value);
+  const long limit = static_cast<long>(std::pow(10, digits)) - 1;
+  if (v > limit) v = limit;
+  if (v < -limit) v = -limit;
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%c%0*ld", v < 0 ? '-' : '+', digits, v < 0 ? -v : v);
+  out += buffer;
+}
+void PutHex(std::string& out, uint32_t v, int digits) {
+  char buffer[12];
+  ndi::WriteHex(buffer, v, digits);
+  out.append(buffer, static_cast<size_t>(digits));
+}
+}  // namespace
+
+PolarisSimulator::PolarisSimulator() : PolarisSimulator(Options()) {}
+PolarisSimulator::PolarisSimulator(Options options) : Opts(std::move(options)), Rng(Opts.Seed) {}
+PolarisSimulator::~PolarisSimulator() { this->Stop(); }
+
+void PolarisSimulator::AddTool(const ToolDefinition& tool) {
+  auto runtime = std::make_unique<ToolRuntime>();
+  runtime->Definition = tool;
+  if (runtime->Definition.Rom.empty()) runtime->Definition.Rom = rom::Build(tool.PartNumber, tool.Markers);
+  this->Tools.push_back(std::move(runtime));
+}
+
+double PolarisSimulator::Now() const { return SteadySeconds() - this->StartTime; }
+
+bool PolarisSimulator::OpenPty(std::string& error) {
+  int master;
+  std::string slave;
+  if (!OpenPseudoTerminal(master, slave, error)) return false;
+  // Keep one slave descriptor open ourselves: a master without any slave reads EIO at once.
+  const int keep = ::open(slave.c_str(), O_RDWR | O_NOCTTY | O_CLOEXEC | O_NONBLOCK);
+  if (keep < 0) {
+    error = "cannot open pty slave " + slave;
+    ::close(master);
+    return false;
+  }
+  {
+    std::lock_guard<std::mutex> lock(this->PtyMutex);
+    this->MasterFd = master;
+    this->KeepSlaveFd = keep;
+    this->Slave = slave;
+  }
+  if (!this->Opts.LinkPath.empty()) {
+    // Re-point the link atomically so a host re-opening the path finds the new pty.
+    const std::string tmp = this->Opts.LinkPath + ".tmp";
+    ::unlink(tmp.c_str());
+    if (::symlink(slave.c_str(), tmp.c_str()) != 0 || ::rename(tmp.c_str(), this->Opts.LinkPath.c_str()) != 0) {
+      error = "cannot create link " + this->Opts.LinkPath + " -> " + slave;
+      return false;
+    }
+  }
+  return true;
+}
+
+void PolarisSimulator::ClosePty() {
+  std::lock_guard<std::mutex> lock(this->PtyMutex);
+  if (this->MasterFd >= 0) ::close(this->MasterFd);
+  if (this->KeepSlaveFd >= 0) ::close(this->KeepSlaveFd);
+  this->MasterFd = this->KeepSlaveFd = -1;
+}
+
+bool PolarisSimulator::Start(std::string& error) {
+  this->Stop();
+  this->StartTime = SteadySeconds();
+  this->PowerOnReset();
+  this->Rate = this->Opts.FrameRate;
+  if (!this->OpenPty(error)) return false;
+  if (!this->Opts.LinkPath.empty()) {
+    const std::string socketPath = this->Opts.LinkPath + ".break";
+    ::unlink(socketPath.c_str());
+    this->BreakSocketFd = ::socket(AF_UNIX, SOCK_DGRAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
+    sockaddr_un addr{};
+    addr.sun_family = AF_UNIX;
+    std::strncpy(addr.sun_path, socketPath.c_str(), sizeof addr.sun_path - 1);
+    if (this->BreakSocketFd < 0 || socketPath.size() >= sizeof addr.sun_path ||
+        ::bind(this->BreakSocketFd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
+      error = "cannot bind break socket " + socketPath;
+      this->ClosePty();
+      return false;
+    }
+  }
+  this->StopRequested = false;
+  this->Unplugged = false;
+  this->Thread = std::thread([this] { this->Run(); });
+  return true;
+}
+
+void PolarisSimulator::Stop() {
+  if (this->Thread.joinable()) {
+    this->StopRequested = true;
+    this->Thread.join();
+  }
+  this->ClosePty();
+  if (this->BreakSocketFd >= 0) {
+    ::close(this->BreakSocketFd);
+    this->BreakSocketFd = -1;
+    ::unlink((this->Opts.LinkPath + ".break").c_str());
+  }
+  if (!this->Opts.LinkPath.empty()) ::unlink(this->Opts.LinkPath.c_str());
+}
+
+std::string PolarisSimulator::SlavePath() const {
+  std::lock_guard<std::mutex> lock(this->PtyMutex);
+  return this->Slave;
+}
+
+std::string PolarisSimulator::PortPath() const {
+  return this->Opts.LinkPath.empty() ? this->SlavePath() : this->Opts.LinkPath;
+}
+
+void PolarisSimulator::Unplug() {
+  this->Unplugged = true;
+  // The thread stops touching the fds within one poll period; close them under the lock.
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  this->ClosePty();
+}
+
+bool PolarisSimulator::Replug(std::string& error) {
+  if (!this->OpenPty(error)) return false;
+  this->BreakPending = false;
+  this->Unplugged = false;  // the thread resets the device state when it sees the new pty
+  return true;
+}
+
+void PolarisSimulator::SetOccluded(const std::string& toolName, bool occluded) {
+  for (auto& t : this->Tools)
+    if (t->Definition.Name == toolName) t->Occluded = occluded;
+}
+
+void PolarisSimulator::SetOutOfVolume(const std::string& toolName, bool outOfVolume) {
+  for (auto& t : this->Tools)
+    if (t->Definition.Name == toolName) t->OutOfVolume = outOfVolume;
+}
+
+PolarisSimulator::Counters PolarisSimulator::GetCounters() const {
+  std::lock_guard<std::mutex> lock(this->CountersMutex);
+  return this->Count;
+}
+
+bool PolarisSimulator::TruePose(const std::string& toolName, double t, double m[16]) const {
+  for (auto& tool : this->Tools) {
+    if (tool->Definition.Name == toolName) {
+      EvaluateTrajectory(tool->Definition, t, m);
+      return true;
+    }
+  }
+  return false;
+}
+
+void PolarisSimulator::PowerOnReset() {
+  this->Handles.clear();
+  this->Input.clear();
+  this->Initialized = false;
+  this->Tracking = false;
+  this->Baud = 9600;
+  this->Rate = this->Opts.FrameRate;
+  std::lock_guard<std::mutex> lock(this->CountersMutex);
+  this->Count.Baud = 9600;
+  this->Count.Tracking = false;
+  this->Count.LoadedTools = 0;
+}
+
+void PolarisSimulator::Run() {
+  bool wasUnplugged = false;
+  char buffer[4096];
+  while (!this->StopRequested) {
+    if (this->Unplugged) {
+      wasUnplugged = true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      continue;
+    }
+    if (wasUnplugged) {  // a replugged device starts from power-on
+      wasUnplugged = false;
+      this->PowerOnReset();
+    }
+    if (this->BreakPending.exchange(false)) {
+      {
+        std::lock_guard<std::mutex> lock(this->CountersMutex);
+        ++this->Count.Breaks;
+      }
+      if (this->Opts.AcceptBreak) {
+        this->PowerOnReset();
+        this->Reply("RESET");
+      }
+    }
+    int master;
+    {
+      std::lock_guard<std::mutex> lock(this->PtyMutex);
+      master = this->MasterFd;
+    }
+    if (master < 0) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      continue;
+    }
+    pollfd fds[2] = {{master, POLLIN, 0}, {this->BreakSocketFd, POLLIN, 0}};
+    const int ready = ::poll(fds, this->BreakSocketFd >= 0 ? 2 : 1, 5);
+    if (ready <= 0 || this->Unplugged) continue;
+    if (this->BreakSocketFd >= 0 && (fds[1].revents & POLLIN)) {
+      char message[64];
+      while (::recv(this->BreakSocketFd, message, sizeof message, 0) > 0) this->BreakPending = true;
+    }
+    if (fds[0].revents & POLLIN) {
+      const ssize_t n = ::read(master, buffer, sizeof buffer);
+      if (n > 0) this->Input.append(buffer, static_cast<size_t>(n));
+      if (this->Input.size() > 65536) this->Input.clear();  // garbage: nobody sends this much
+      size_t cr;
+      while ((cr = this->Input.find('\r')) != std::string::npos) {
+        const std::string line = this->Input.substr(0, cr);
+        this->Input.erase(0, cr + 1);
+        this->HandleCommand(line.data(), line.size());
+      }
+    }
+  }
+}
+
+void PolarisSimulator::SendRaw(uint8_t* data, size_t length, bool ascii) {
+  if (this->Drops > 0) {
+    --this->Drops;
+    return;
+  }
+  if (this->CrcFaults > 0) {
+    --this->CrcFaults;
+    // Corrupt the checksum itself: the payload stays plausible, only the CRC can tell.
+    if (ascii) data[length - 2] = data[length - 2] == '0' ? '1' : '0';
+    else data[length - 1] ^= 0x5A;
+  }
+  const int delay = this->DelayMs;
+  if (delay > 0) std::this_thread::sleep_for(std::chrono::milliseconds(delay));
+  std::lock_guard<std::mutex> lock(this->PtyMutex);
+  if (this->MasterFd < 0 || this->Unplugged) return;
+  size_t done = 0;
+  while (done < length) {
+    const ssize_t n = ::write(this->MasterFd, data + done, length - done);
+    if (n <= 0) return;  // host not reading: a real device drops it too
+    done += static_cast<size_t>(n);
+  }
+}
+
+void PolarisSimulator::Reply(const char* payload) {
+  std::string text(payload);
+  char crc[4];
+  ndi::WriteHex(crc, ndi::Crc16(text.data(), text.size()), 4);
+  text.append(crc, 4);
+  text += '\r';
+  this->SendRaw(reinterpret_cast<uint8_t*>(&text[0]), text.size(), true);
+}
+
+void PolarisSimulator::ReplyError(int code) {
+  char text[8] = "ERROR";
+  ndi::WriteHex(text + 5, static_cast<uint32_t>(code), 2);
+  text[7] = '\0';
+  this->Reply(text);
+}
+
+void PolarisSimulator::ReplyBinary(const uint8_t* body, size_t length) {
+  std::vector<uint8_t> frame(length + 8);
+  frame[0] = 0xC4;
+  frame[1] = 0xA5;
+  PutU16(&frame[2], static_cast<uint16_t>(length));
+  PutU16(&frame[4], ndi::Crc16(frame.data(), 4));
+  std::memcpy(&frame[6], body, length);
+  PutU16(&frame[6 + length], ndi::Crc16(body, length));
+  this->SendRaw(frame.data(), frame.size(), false);
+}
+
+PolarisSimulator::Handle* PolarisSimulator::FindHandle(const char* hex) {
+  uint32_t number;
+  if (!ndi::ParseHex(hex, 2, number)) return nullptr;
+  for (auto& h : this->Handles)
+    if (h.Number == static_cast<int>(number)) return &h;
+  return nullptr;
+}
+
+uint32_t PolarisSimulator::CurrentFrame() const {
+  return static_cast<uint32_t>(std::floor((this->Now() - this->TrackingStart) * this->Rate)) + 1;
+}
+
+void PolarisSimulator::HandleCommand(const char* line, size_t length) {
+  {
+    std::lock_guard<std::mutex> lock(this->CountersMutex);
+    ++this->Count.Commands;
+  }
+  std::string text(line, length);
+  // Strip stray line feeds some hosts send.
+  while (!text.empty() && (text.front() == '\n')) text.erase(0, 1);
+  const size_t separator = text.find_first_of(": ");
+  const std::string name = text.substr(0, separator);
+  std::string args;
+  if (separator != std::string::npos && text[separator] == ':') {
+    // "NAME:args" + CRC: the device checks the CRC only after a colon.
+    if (text.size() < separator + 5) return this->ReplyError(0x04);
+    const std::string crcText = text.substr(text.size() - 4);
+    uint32_t crc;
+    if (!ndi::ParseHex(crcText.c_str(), 4, crc) || ndi::Crc16(text.data(), text.size() - 4) != crc) {
+      std::lock_guard<std::mutex> lock(this->CountersMutex);
+      ++this->Count.CrcErrorsSeen;
+      return this->ReplyError(0x04);
+    }
+    args = text.substr(separator + 1, text.size() - 4 - separator - 1);
+  } else if (separator != std::string::npos) {
+    args = text.substr(separator + 1);
+  }
+
+  if (name == "RESET") {
+    this->PowerOnReset();
+    std::lock_guard<std::mutex> lock(this->CountersMutex);
+    ++this->Count.Resets;
+  }
+  if (name == "RESET") return this->Reply("RESET");
+  if (name == "INIT") {
+    this->Initialized = true;
+    return this->Reply("OKAY");
+  }
+  if (name == "GETINFO") return this->ReplyError(0x01);  // Spectra/Vicra: old API
+  if (name == "VER") return this->Reply("Polaris Spectra (RoboPlan simulator)\nFreeze Tag: 1.0\nCombined Firmware Revision: 006");
+  if (name == "COMM") {
+    static const int kBauds[] = {9600, 14400, 19200, 38400, 57600, 115200, 921600, 1228739};
+    if (args.size() != 5) return this->ReplyError(0x07);
+    const char code = args[0];
+    int baud = 0;
+    if (code >= '0' && code <= '7') baud = kBauds[code - '0'];
+    else if (code == 'A') baud = 230400;
+    else return this->ReplyError(0x06);
+    this->Reply("OKAY");
+    this->Baud = baud;  // a pty has no baud rate: only the state changes
+    std::lock_guard<std::mutex> lock(this->CountersMutex);
+    this->Count.Baud = baud;
+    return;
+  }
+  if (!this->Initialized) return this->ReplyError(0x10);
+  if (name == "IRATE") {
+    if (args == "0") this->Rate = 20;
+    else if (args == "1") this->Rate = 30;
+    else if (args == "2") this->Rate = 60;
+    else return this->ReplyError(0x23);
+    return this->Reply("OKAY");
+  }
+  if (name == "VSEL" || name == "BEEP" || name == "LED") return this->Reply(name == "BEEP" ? "1" : "OKAY");
+  if (name == "PHSR") {
+    std::string out;
+    std::vector<const Handle*> listed;
+    for (const auto& h : this->Handles) {
+      if (args == "02" && (h.Initialized)) continue;
+      if (args == "03" && (!h.Initialized || h.Enabled)) continue;
+      if (args == "04" && !h.Enabled) continue;
+      listed.push_back(&h);
+    }
+    PutHex(out, static_cast<uint32_t>(listed.size()), 2);
+    for (const Handle* h : listed) {
+      PutHex(out, static_cast<uint32_t>(h->Number), 2);
+      PutHex(out, (h->Initialized ? 0x10u : 0u) | (h->Enabled ? 0x20u : 0u) | 0x01u, 3);
+    }
+    return this->Reply(out.c_str());
+  }
+  if (name == "PHRQ") {
+    if (this->Handles.size() >= 12) return this->ReplyError(0x2D);
+    int number = 0x0A;
+    for (const auto& h : this->Handles) number = std::max(number, h.Number + 1);
+    Handle h;
+    h.Number = number;
+    this->Handles.push_back(h);
+    std::string out;
+    PutHex(out, static_cast<uint32_t>(number), 2);
+    return this->Reply(out.c_str());
+  }
+  if (name == "PHF" || name == "PVWR" || name == "PINIT" || name == "PHINF" || name == "PENA" || name == "PDIS") {
+    if (args.size() < 2) return this->ReplyError(0x07);
+    Handle* h = this->FindHandle(args.c_str());
+    if (!h) return this->ReplyError(0x2B);
+    if (name == "PHF") {
+      this->Handles.erase(this->Handles.begin() + (h - this->Handles.data()));
+      return this->Reply("OKAY");
+    }
+    if (name == "PVWR") {
+      uint32_t address;
+      if (args.size() != 2 + 4 + 128 || !ndi::ParseHex(args.c_str() + 2, 4, address)) return this->ReplyError(0x07);
+      if (address % 64 != 0 || address > 0x3C0) return this->ReplyError(0x23);
+      for (int i = 0; i < 64; ++i) {
+        uint32_t byte;
+        if (!ndi::ParseHex(args.c_str() + 6 + 2 * i, 2, byte)) return this->ReplyError(0x01);
+        h->Rom[address + static_cast<uint32_t>(i)] = static_cast<uint8_t>(byte);
+      }
+      h->ChunksWritten = static_cast<uint16_t>(h->ChunksWritten | (1u << (address / 64)));
+      return this->Reply("OKAY");
+    }
+    if (name == "PINIT") {
+      std::string error;
+      if (!rom::Validate(h->Rom, error)) return this->ReplyError(0x40);
+      h->Tool = -1;
+      for (size_t t = 0; t < this->Tools.size(); ++t) {
+        const auto& rom = this->Tools[t]->Definition.Rom;
+        if (std::equal(rom.begin(), rom.end(), h->Rom.begin())) h->Tool = static_cast<int>(t);
+      }
+      h->Initialized = true;
+      std::lock_guard<std::mutex> lock(this->CountersMutex);
+      ++this->Count.LoadedTools;
+      return this->Reply("OKAY");
+    }
+    if (name == "PHINF") {
+      std::string out = "0A000000";  // passive tool
+      std::string part = h->Tool >= 0 ? this->Tools[static_cast<size_t>(h->Tool)]->Definition.PartNumber : "UNKNOWN";
+      part.resize(12, ' ');
+      out += part;
+      out += "000";
+      out += "00000001";
+      PutHex(out, (h->Initialized ? 0x10u : 0u) | (h->Enabled ? 0x20u : 0u) | 0x01u, 2);
+      return this->Reply(out.c_str());
+    }
+    if (name == "PENA") {
+      if (!h->Initialized) return this->ReplyError(0x0E);
+      h->Enabled = true;
+      return this->Reply("OKAY");
+    }
+    h->Enabled = false;  // PDIS
+    return this->Reply("OKAY");
+  }
+  if (name == "TSTART") {
+    this->Tracking = true;
+    this->TrackingStart = this->Now();
+    std::lock_guard<std::mutex> lock(this->CountersMutex);
+    this->Count.Tracking = true;
+    return this->Reply("OKAY");
+  }
+  if (name == "TSTOP") {
+    this->Tracking = false;
+    std::lock_guard<std::mutex> lock(this->CountersMutex);
+    this->Count.Tracking = false;
+    return this->Reply("OKAY");
+  }
+  if (name == "TX" || name == "BX") {
+    if (!this->Tracking) return this->ReplyError(0x0C);
+    this->BuildTracking(name == "BX");
+    std::lock_guard<std::mutex> lock(this->CountersMutex);
+    ++this->Count.TrackingReplies;
+    return;
+  }
+  this->ReplyError(0x01);
+}
+
+void PolarisSimulator::BuildTracking(bool binary) {
+  const uint32_t frame = this->CurrentFrame();
+  const double t = (frame - 1) / this->Rate + this->TrackingStart;
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  std::string text;
+  uint8_t body[2048];
+  size_t n = 0;
+  int count = 0;
+  for (const auto& h : this->Handles)
+    if (h.Initialized) ++count;
+  PutHex(text, static_cast<uint32_t>(count), 2);
+  body[n++] = static_cast<uint8_t>(count);
+  for (auto& h : this->Handles) {
+    if (!h.Initialized) continue;
+    PutHex(text, static_cast<uint32_t>(h.Number), 2);
+    body[n++] = static_cast<uint8_t>(h.Number);
+    if (!h.Enabled) {
+      text += "DISABLED\n";
+      body[n++] = 0x04;
+      continue;
+    }
+    uint32_t port = ndi::PortOccupied | ndi::PortInitialized | ndi::PortEnabled;
+    const ToolRuntime* tool = h.Tool >= 0 ? this->Tools[static_cast<size_t>(h.Tool)].get() : nullptr;
+    if (!tool || tool->Occluded) {
+      text += "MISSING";
+      PutHex(text, port, 8);
+      PutHex(text, frame, 8);
+      text += '\n';
+      body[n++] = 0x02;
+      PutU32(body + n, port);
+      PutU32(body + n + 4, frame);
+      n += 8;
+      continue;
+    }
+    double m[16];
+    EvaluateTrajectory(tool->Definition, t, m);
+    ToolPose pose;
+    pose.FromMatrix(m);
+    const double sigmaT = this->Opts.NoiseMm, sigmaR = this->Opts.NoiseDeg * M_PI / 180.0;
+    if (sigmaT > 0)
+      for (double& v : pose.Translation) v += sigmaT * gauss(this->Rng);
+    if (sigmaR > 0) {
+      for (int k = 1; k < 4; ++k) pose.Quaternion[k] += 0.5 * sigmaR * gauss(this->Rng);
+      double norm = 0;
+      for (double q : pose.Quaternion) norm += q * q;
+      for (double& q : pose.Quaternion) q /= std::sqrt(norm);
+    }
+    if (pose.Quaternion[0] < 0)
+      for (double& q : pose.Quaternion) q = -q;
+    double d2 = 0;
+    for (int k = 0; k < 3; ++k) d2 += std::pow(pose.Translation[k] - this->Opts.VolumeCenter[k], 2);
+    if (tool->OutOfVolume || std::sqrt(d2) > this->Opts.VolumeRadius) port |= ndi::PortOutOfVolume;
+    const double error = 0.12 + 0.02 * std::abs(gauss(this->Rng));
+    for (double q : pose.Quaternion) PutSigned(text, q * 1e4, 5);
+    for (double v : pose.Translation) PutSigned(text, v * 100, 6);
+    PutSigned(text, error * 1e4, 5);
+    PutHex(text, port, 8);
+    PutHex(text, frame, 8);
+    text += '\n';
+    body[n++] = 0x01;
+    for (double q : pose.Quaternion) {
+      PutF32(body + n, q);
+      n += 4;
+    }
+    for (double v : pose.Translation) {
+      PutF32(body + n, v);
+      n += 4;
+    }
+    PutF32(body + n, error);
+    n += 4;
+    PutU32(body + n, port);
+    PutU32(body + n + 4, frame);
+    n += 8;
+  }
+  PutHex(text, 0, 4);
+  PutU16(body + n, 0);
+  n += 2;
+  if (binary) this->ReplyBinary(body, n);
+  else this->Reply(text.c_str());
+}
+
+}  // namespace rp

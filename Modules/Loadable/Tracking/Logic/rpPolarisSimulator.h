@@ -1,0 +1,116 @@
+#pragma once
+// A simulated NDI Polaris speaking the Combined API on a pseudo-terminal, for tests, demos and
+// the `roboplan polaris-sim` command. Tools follow scripted trajectories with measurement
+// noise; faults (occlusion, out of volume, CRC errors, slow and dropped replies, unplug) are
+// injected through thread-safe calls. The serial break arrives out of band (DeliverBreak(), or
+// a datagram on the unix socket `<link>.break` when a link path is given).
+#include <atomic>
+#include <cstdint>
+#include <mutex>
+#include <random>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "rpToolDefinition.h"
+
+namespace rp {
+
+class PolarisSimulator {
+ public:
+  struct Options {
+    double FrameRate = 60.0;        // 20 (Vicra) or 60 (Spectra); IRATE can change it
+    double NoiseMm = 0.0;           // translation noise, standard deviation (mm)
+    double NoiseDeg = 0.0;          // rotation noise, standard deviation (deg)
+    double VolumeRadius = 1200.0;   // out of volume beyond this distance from VolumeCenter
+    double VolumeCenter[3] = {0, 0, -1500};
+    std::string LinkPath;           // symlink to the pty (kept across replug) + "<link>.break" socket
+    uint32_t Seed = 1;
+    bool AcceptBreak = true;        // false: ignore breaks (host must use the RESET command)
+  };
+
+  struct Counters {
+    uint64_t Commands = 0, Breaks = 0, Resets = 0, TrackingReplies = 0, CrcErrorsSeen = 0;
+    int Baud = 9600;
+    bool Tracking = false;
+    int LoadedTools = 0;
+  };
+
+  PolarisSimulator();
+  explicit PolarisSimulator(Options options);
+  ~PolarisSimulator();
+
+  void AddTool(const ToolDefinition& tool);
+  bool Start(std::string& error);
+  void Stop();
+  /// Path a driver opens: the link when one was given, the pty slave otherwise.
+  std::string PortPath() const;
+  std::string SlavePath() const;
+
+  // ---- fault injection (any thread)
+  void SetOccluded(const std::string& toolName, bool occluded);
+  void SetOutOfVolume(const std::string& toolName, bool outOfVolume);
+  void CorruptNextReplies(int count) { this->CrcFaults += count; }
+  void DropNextReplies(int count) { this->Drops += count; }
+  void SetReplyDelay(int milliseconds) { this->DelayMs = milliseconds; }
+  void DeliverBreak() { this->BreakPending = true; }
+  /// Pulls the cable: closes the pty (the host reads EIO).
+  void Unplug();
+  /// Plugs it back: a new pty (the link, when given, is re-pointed) in power-on state.
+  bool Replug(std::string& error);
+
+  Counters GetCounters() const;
+  /// The tool's true pose (no noise) at time t since start, row-major 4x4 ToolToTracker.
+  bool TruePose(const std::string& toolName, double t, double m[16]) const;
+  double Now() const;  // seconds since Start
+
+ private:
+  struct Handle {
+    int Number = 0;
+    std::vector<uint8_t> Rom = std::vector<uint8_t>(1024, 0);
+    uint16_t ChunksWritten = 0;
+    bool Initialized = false, Enabled = false;
+    int Tool = -1;  // index into Tools, -1 for an unknown definition
+    uint32_t LastFrame = 0;
+  };
+  struct ToolRuntime {
+    ToolDefinition Definition;
+    std::atomic<bool> Occluded{false}, OutOfVolume{false};
+  };
+
+  void Run();
+  bool OpenPty(std::string& error);
+  void ClosePty();
+  void PowerOnReset();
+  void HandleCommand(const char* line, size_t length);
+  void Reply(const char* payload);
+  void ReplyError(int code);
+  void ReplyBinary(const uint8_t* body, size_t length);
+  void SendRaw(uint8_t* data, size_t length, bool asciiCrcAt);
+  void BuildTracking(bool binary);
+  Handle* FindHandle(const char* hex);
+  uint32_t CurrentFrame() const;
+
+  Options Opts;
+  std::vector<std::unique_ptr<ToolRuntime>> Tools;
+  std::thread Thread;
+  std::atomic<bool> StopRequested{false}, BreakPending{false}, Unplugged{false};
+  std::atomic<int> CrcFaults{0}, Drops{0}, DelayMs{0};
+  mutable std::mutex PtyMutex;  // guards the fds and paths against Unplug/Replug (not hot)
+  int MasterFd = -1, KeepSlaveFd = -1, BreakSocketFd = -1;
+  std::string Slave;
+  double StartTime = 0;
+
+  // device state (simulator thread only, Counters mirrored under CountersMutex)
+  std::vector<Handle> Handles;
+  std::string Input;
+  bool Initialized = false, Tracking = false;
+  double TrackingStart = 0;
+  double Rate = 60;
+  int Baud = 9600;
+  std::mt19937 Rng;
+  mutable std::mutex CountersMutex;
+  Counters Count;
+};
+
+}  // namespace rp

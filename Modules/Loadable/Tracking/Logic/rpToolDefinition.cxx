@@ -1,0 +1,177 @@
+#include "rpToolDefinition.h"
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+
+namespace rp {
+
+namespace rom {
+
+namespace {
+void PutF32(std::vector<uint8_t>& b, size_t at, double v) {
+  const float f = static_cast<float>(v);
+  uint32_t bits;
+  std::memcpy(&bits, &f, 4);
+  for (int i = 0; i < 4; ++i) b[at + i] = static_cast<uint8_t>(bits >> (8 * i));
+}
+uint16_t Checksum(const std::vector<uint8_t>& b) {
+  uint32_t sum = 0;
+  for (size_t i = 6; i < b.size(); ++i) sum += b[i];
+  return static_cast<uint16_t>(sum & 0xFFFF);
+}
+}  // namespace
+
+std::vector<uint8_t> Build(const std::string& partNumber, const std::vector<std::array<double, 3>>& markers) {
+  std::vector<uint8_t> b(Size, 0);
+  std::memcpy(b.data(), "NDI\0", 4);
+  std::memcpy(b.data() + 8, partNumber.data(), std::min<size_t>(partNumber.size(), 20));
+  const size_t count = std::min<size_t>(markers.size(), 20);
+  b[28] = static_cast<uint8_t>(count);
+  for (size_t m = 0; m < count; ++m)
+    for (int k = 0; k < 3; ++k) PutF32(b, 72 + 12 * m + 4 * k, markers[m][k]);
+  for (size_t m = 0; m < count; ++m) PutF32(b, 312 + 12 * m + 8, 1.0);  // normals face the camera (+z)
+  const uint16_t sum = Checksum(b);
+  b[4] = static_cast<uint8_t>(sum & 0xFF);
+  b[5] = static_cast<uint8_t>(sum >> 8);
+  return b;
+}
+
+bool Validate(const std::vector<uint8_t>& bytes, std::string& error) {
+  if (bytes.size() < 72) {
+    error = "tool definition too short (" + std::to_string(bytes.size()) + " bytes)";
+    return false;
+  }
+  if (bytes.size() > 1024) {
+    error = "tool definition larger than 1024 bytes";
+    return false;
+  }
+  if (std::memcmp(bytes.data(), "NDI", 3) != 0) {
+    error = "not an NDI tool definition (no \"NDI\" signature)";
+    return false;
+  }
+  const uint16_t stored = static_cast<uint16_t>(bytes[4] | (bytes[5] << 8));
+  if (stored != Checksum(bytes)) {
+    error = "tool definition checksum mismatch";
+    return false;
+  }
+  return true;
+}
+
+std::string PartNumber(const std::vector<uint8_t>& bytes) {
+  if (bytes.size() < 28) return {};
+  const char* p = reinterpret_cast<const char*>(bytes.data() + 8);
+  return std::string(p, strnlen(p, 20));
+}
+
+int MarkerCount(const std::vector<uint8_t>& bytes) { return bytes.size() > 28 ? bytes[28] : 0; }
+
+}  // namespace rom
+
+std::vector<uint8_t> ReadBinaryFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error("cannot open " + path);
+  return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+ToolDefinition ReadToolDefinition(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("cannot open tool definition " + path);
+  nlohmann::json j;
+  try {
+    in >> j;
+    ToolDefinition t;
+    t.Name = j.at("name").get<std::string>();
+    t.PartNumber = j.value("partNumber", t.Name);
+    for (const auto& m : j.at("markers")) t.Markers.push_back({m.at(0).get<double>(), m.at(1).get<double>(), m.at(2).get<double>()});
+    if (j.contains("tipOffset"))
+      for (int k = 0; k < 3; ++k) t.TipOffset[k] = j["tipOffset"].at(k).get<double>();
+    if (j.contains("trajectory")) {
+      const auto& tj = j["trajectory"];
+      const std::string kind = tj.value("type", "static");
+      if (kind == "static") t.Motion.Type = Trajectory::Static;
+      else if (kind == "pivot") t.Motion.Type = Trajectory::Pivot;
+      else if (kind == "circle") t.Motion.Type = Trajectory::Circle;
+      else throw std::runtime_error("unknown trajectory type '" + kind + "'");
+      if (tj.contains("center"))
+        for (int k = 0; k < 3; ++k) t.Motion.Center[k] = tj["center"].at(k).get<double>();
+      if (tj.contains("eulerDeg"))
+        for (int k = 0; k < 3; ++k) t.Motion.Euler[k] = tj["eulerDeg"].at(k).get<double>();
+      t.Motion.Radius = tj.value("radius", 0.0);
+      t.Motion.ConeAngleDeg = tj.value("coneAngleDeg", 25.0);
+      t.Motion.PeriodSeconds = tj.value("periodSeconds", 4.0);
+    }
+    t.Rom = rom::Build(t.PartNumber, t.Markers);
+    return t;
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error("bad tool definition " + path + ": " + e.what());
+  }
+}
+
+namespace {
+void Multiply3(const double a[9], const double b[9], double out[9]) {
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) out[3 * r + c] = a[3 * r] * b[c] + a[3 * r + 1] * b[3 + c] + a[3 * r + 2] * b[6 + c];
+}
+void RotZ(double a, double m[9]) {
+  const double c = std::cos(a), s = std::sin(a);
+  const double r[9] = {c, -s, 0, s, c, 0, 0, 0, 1};
+  std::memcpy(m, r, sizeof r);
+}
+void RotY(double a, double m[9]) {
+  const double c = std::cos(a), s = std::sin(a);
+  const double r[9] = {c, 0, s, 0, 1, 0, -s, 0, c};
+  std::memcpy(m, r, sizeof r);
+}
+void RotX(double a, double m[9]) {
+  const double c = std::cos(a), s = std::sin(a);
+  const double r[9] = {1, 0, 0, 0, c, -s, 0, s, c};
+  std::memcpy(m, r, sizeof r);
+}
+}  // namespace
+
+void EvaluateTrajectory(const ToolDefinition& tool, double t, double m[16]) {
+  const Trajectory& tr = tool.Motion;
+  const double deg = M_PI / 180.0;
+  double R[9], a[9], b[9], c[9], tmp[9];
+  RotZ(tr.Euler[0] * deg, a);
+  RotY(tr.Euler[1] * deg, b);
+  RotX(tr.Euler[2] * deg, c);
+  Multiply3(a, b, tmp);
+  Multiply3(tmp, c, R);
+  double p[3] = {tr.Center[0], tr.Center[1], tr.Center[2]};
+  const double phase = tr.PeriodSeconds > 0 ? 2 * M_PI * t / tr.PeriodSeconds : 0.0;
+  if (tr.Type == Trajectory::Circle) {
+    p[0] += tr.Radius * std::cos(phase);
+    p[1] += tr.Radius * std::sin(phase);
+  } else if (tr.Type == Trajectory::Pivot) {
+    // The stylus swings around its tip on a cone, and also nods so the pivot is well posed.
+    const double tilt = tr.ConeAngleDeg * deg * (0.6 + 0.4 * std::sin(0.37 * phase));
+    double rz[9], ry[9], rzi[9], spin[9];
+    RotZ(phase, rz);
+    RotY(tilt, ry);
+    RotZ(-phase + 0.5 * std::sin(0.23 * phase), rzi);
+    Multiply3(rz, ry, tmp);
+    Multiply3(tmp, rzi, spin);
+    // Base orientation: stylus pointing down at the pivot (tip offset along -z of the tool).
+    Multiply3(spin, R, tmp);
+    std::memcpy(R, tmp, sizeof R);
+    // ToolToTracker * tip = pivot  →  translation = pivot − R·tip.
+    for (int r = 0; r < 3; ++r)
+      p[r] -= R[3 * r] * tool.TipOffset[0] + R[3 * r + 1] * tool.TipOffset[1] + R[3 * r + 2] * tool.TipOffset[2];
+  }
+  for (int r = 0; r < 3; ++r) {
+    m[4 * r] = R[3 * r];
+    m[4 * r + 1] = R[3 * r + 1];
+    m[4 * r + 2] = R[3 * r + 2];
+    m[4 * r + 3] = p[r];
+  }
+  m[12] = m[13] = m[14] = 0;
+  m[15] = 1;
+}
+
+}  // namespace rp
