@@ -1,0 +1,455 @@
+#include "rpSegmentationIO.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <map>
+#include <set>
+#include <sstream>
+#include <vector>
+
+#include <itkMetaDataObject.h>
+#include <itkNrrdImageIO.h>
+#include <vtkDataArray.h>
+#include <vtkImageData.h>
+#include <vtkMatrix4x4.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkSmartPointer.h>
+
+#include "rpNodeStorage.h"
+#include "rpVolumeIO.h"
+#include "vtkRPSegmentationNode.h"
+
+// Slicer's .seg.nrrd: a labelmap NRRD (3-D single layer, or 4-D "list domain domain domain"
+// with one layer per list entry) plus key/value fields per segment. Slicer's reader
+// (vtkMRMLSegmentationStorageNode) keys segments by their index N in "Segment<N>_*".
+namespace rp {
+namespace {
+
+const char* const TissueTag = "RoboPlan.TissueClass";
+
+std::string Trim(const std::string& s) {
+  const auto begin = s.find_first_not_of(" \t\r\n");
+  if (begin == std::string::npos) return {};
+  const auto end = s.find_last_not_of(" \t\r\n");
+  return s.substr(begin, end - begin + 1);
+}
+
+bool ParseInt(const std::string& text, long& value) {
+  const std::string t = Trim(text);
+  if (t.empty()) return false;
+  char* end = nullptr;
+  value = std::strtol(t.c_str(), &end, 10);
+  return end && *end == '\0';
+}
+
+bool ParseDoubles(const std::string& text, std::vector<double>& values) {
+  std::istringstream in(text);
+  values.clear();
+  std::string token;
+  while (in >> token) {
+    char* end = nullptr;
+    const double v = std::strtod(token.c_str(), &end);
+    if (!end || *end != '\0' || !std::isfinite(v)) return false;
+    values.push_back(v);
+  }
+  return true;
+}
+
+// "key1:value1|key2:value2|" (Slicer's tag list).
+std::map<std::string, std::string> ParseTags(const std::string& text) {
+  std::map<std::string, std::string> tags;
+  std::istringstream in(text);
+  std::string item;
+  while (std::getline(in, item, '|')) {
+    if (item.empty()) continue;
+    const auto colon = item.find(':');
+    if (colon == std::string::npos) {
+      tags[item] = "";
+    } else {
+      tags[item.substr(0, colon)] = item.substr(colon + 1);
+    }
+  }
+  return tags;
+}
+
+std::string FormatDouble(double v) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof(buffer), "%.6g", v);
+  return buffer;
+}
+
+// Slicer's default conversion parameters (name|value|description, joined by '&'), written so
+// Slicer offers the same surface options when it loads our files.
+const char* const DefaultConversionParameters =
+    "Collapse labelmaps|1|Merge the labelmaps into as few shared labelmaps as possible 1 = created labelmaps will "
+    "be shared if possible without overwriting each other.&Compute surface normals|1|Compute surface normals. 1 "
+    "(default) = surface normals are computed. 0 = surface normals are not computed (slightly faster but produces "
+    "less smooth surface display).&Crop to reference image geometry|0|Crop the model to the extent of reference "
+    "geometry. 0 (default) = created labelmap will contain the entire model. 1 = created labelmap extent will be "
+    "within reference image extent.&Decimation factor|0.0|Desired reduction in the total number of polygons. "
+    "Range: 0.0 (no decimation) to 1.0 (as much simplification as possible). Value of 0.8 typically reduces data "
+    "set size by 80% without losing too much details.&Default slice thickness|0.0|Default thickness for contours "
+    "if slice spacing cannot be calculated.&End capping|1|Create a closed surface by adding caps at the end of "
+    "the segment.&Fractional labelmap oversampling factor|1|Determines the oversampling of the reference image "
+    "geometry.&Joint smoothing|0|Perform joint smoothing.&Oversampling factor|1|Determines the oversampling of "
+    "the reference image geometry.&Smoothing factor|0.5|Smoothing factor. Range: 0.0 (no smoothing) to 1.0 "
+    "(strong smoothing).&Threshold fraction|0.5|Determines the threshold that the closed surface is created at "
+    "as a fractional value between 0 and 1.";
+
+template <typename T>
+void ComputeExtents(const T* voxels, const int dims[3], std::map<long, std::array<int, 6>>& extents) {
+  for (int k = 0; k < dims[2]; ++k) {
+    for (int j = 0; j < dims[1]; ++j) {
+      const T* row = voxels + (static_cast<size_t>(k) * dims[1] + j) * dims[0];
+      for (int i = 0; i < dims[0]; ++i) {
+        if (row[i] == 0) continue;
+        auto it = extents.find(static_cast<long>(row[i]));
+        if (it == extents.end()) {
+          extents[static_cast<long>(row[i])] = {i, i, j, j, k, k};
+          continue;
+        }
+        auto& e = it->second;
+        e[0] = std::min(e[0], i), e[1] = std::max(e[1], i);
+        e[2] = std::min(e[2], j), e[3] = std::max(e[3], j);
+        e[4] = std::min(e[4], k), e[5] = std::max(e[5], k);
+      }
+    }
+  }
+}
+
+bool IsIntegerType(int vtkType) {
+  switch (vtkType) {
+    case VTK_UNSIGNED_CHAR: case VTK_SIGNED_CHAR: case VTK_CHAR: case VTK_SHORT: case VTK_UNSIGNED_SHORT:
+    case VTK_INT: case VTK_UNSIGNED_INT: case VTK_LONG: case VTK_UNSIGNED_LONG: case VTK_LONG_LONG:
+    case VTK_UNSIGNED_LONG_LONG:
+      return true;
+    default:
+      return false;
+  }
+}
+
+struct FileSegment {
+  vtkRPSegmentationNode::Segment Segment;
+  int Layer = 0;
+};
+
+// Segments described by the header, in index order. `error` names the first malformed key.
+bool ParseSegments(const std::string& path, const std::map<std::string, std::string>& metadata,
+                   std::vector<FileSegment>& segments, std::string& error) {
+  std::set<long> indices;
+  for (const auto& [key, value] : metadata) {
+    if (key.rfind("Segment", 0) != 0) continue;
+    const auto underscore = key.find('_');
+    if (underscore == std::string::npos || underscore == 7) continue;
+    long index = 0;
+    if (!ParseInt(key.substr(7, underscore - 7), index) || index < 0) continue;
+    indices.insert(index);
+  }
+  auto get = [&](long index, const std::string& field, std::string& value) {
+    auto it = metadata.find("Segment" + std::to_string(index) + "_" + field);
+    if (it == metadata.end()) return false;
+    value = it->second;
+    return true;
+  };
+  std::set<std::string> ids;
+  for (long index : indices) {
+    FileSegment fs;
+    auto& s = fs.Segment;
+    const std::string prefix = "Segment" + std::to_string(index) + "_";
+    if (!get(index, "ID", s.ID) || Trim(s.ID).empty()) {
+      error = "'" + path + "': " + prefix + "ID is missing or empty";
+      return false;
+    }
+    if (!ids.insert(s.ID).second) {
+      error = "'" + path + "': segment ID '" + s.ID + "' appears twice";
+      return false;
+    }
+    if (!get(index, "Name", s.Name)) s.Name = s.ID;
+    std::string text;
+    long value = 1;
+    // Files written before Slicer 4.11 have no label value: segment N is label N+1.
+    if (get(index, "LabelValue", text)) {
+      if (!ParseInt(text, value) || value <= 0) {
+        error = "'" + path + "': " + prefix + "LabelValue '" + text + "' is not a positive integer";
+        return false;
+      }
+    } else {
+      value = index + 1;
+    }
+    s.LabelValue = static_cast<int>(value);
+    long layer = 0;
+    if (get(index, "Layer", text) && (!ParseInt(text, layer) || layer < 0)) {
+      error = "'" + path + "': " + prefix + "Layer '" + text + "' is not a non-negative integer";
+      return false;
+    }
+    fs.Layer = static_cast<int>(layer);
+    if (get(index, "Color", text)) {
+      std::vector<double> rgb;
+      if (!ParseDoubles(text, rgb) || rgb.size() != 3) {
+        error = "'" + path + "': " + prefix + "Color '" + text + "' is not three numbers";
+        return false;
+      }
+      for (int c = 0; c < 3; ++c) s.Color[c] = std::clamp(rgb[static_cast<size_t>(c)], 0.0, 1.0);
+    }
+    if (get(index, "Tags", text)) {
+      const auto tags = ParseTags(text);
+      auto it = tags.find(TissueTag);
+      if (it != tags.end()) s.TissueClass = it->second;
+    }
+    segments.push_back(fs);
+  }
+  return true;
+}
+
+// Reads a 4-D multi-layer file (ITK sees the "list" axis as pixel components) into one labelmap
+// per layer.
+bool ReadLayers(const std::string& path, std::vector<vtkSmartPointer<vtkImageData>>& layers, vtkMatrix4x4* ijkToRAS,
+                std::map<std::string, std::string>& metadata, std::string& error) {
+  try {
+    auto io = itk::NrrdImageIO::New();
+    if (!io->CanReadFile(path.c_str())) {
+      error = "'" + path + "': cannot be read as NRRD";
+      return false;
+    }
+    io->SetFileName(path);
+    io->ReadImageInformation();
+    const unsigned int dimension = io->GetNumberOfDimensions();
+    const unsigned int components = io->GetNumberOfComponents();
+    if (dimension != 3 || components < 1) {
+      error = "'" + path + "': a segmentation must be a 3-D labelmap or a 4-D list of labelmaps";
+      return false;
+    }
+    int vtkType = -1;
+    switch (io->GetComponentType()) {
+      case itk::IOComponentEnum::UCHAR: vtkType = VTK_UNSIGNED_CHAR; break;
+      case itk::IOComponentEnum::CHAR: vtkType = VTK_SIGNED_CHAR; break;
+      case itk::IOComponentEnum::USHORT: vtkType = VTK_UNSIGNED_SHORT; break;
+      case itk::IOComponentEnum::SHORT: vtkType = VTK_SHORT; break;
+      case itk::IOComponentEnum::UINT: vtkType = VTK_UNSIGNED_INT; break;
+      case itk::IOComponentEnum::INT: vtkType = VTK_INT; break;
+      default:
+        error = "'" + path + "': labelmap voxels must be 8-, 16- or 32-bit integers, not " +
+                io->GetComponentTypeAsString(io->GetComponentType());
+        return false;
+    }
+    int dims[3];
+    vtkNew<vtkMatrix4x4> ijkToLPS;
+    for (unsigned int axis = 0; axis < 3; ++axis) {
+      dims[axis] = static_cast<int>(io->GetDimensions(axis));
+      const std::vector<double> direction = io->GetDirection(axis);
+      for (unsigned int row = 0; row < 3; ++row) {
+        ijkToLPS->SetElement(static_cast<int>(row), static_cast<int>(axis),
+                             direction.at(row) * io->GetSpacing(axis));
+      }
+      ijkToLPS->SetElement(static_cast<int>(axis), 3, io->GetOrigin(axis));
+    }
+    vtkNew<vtkImageData> interleaved;
+    interleaved->SetDimensions(dims);
+    interleaved->AllocateScalars(vtkType, static_cast<int>(components));
+    itk::ImageIORegion region(3);
+    for (unsigned int axis = 0; axis < 3; ++axis) {
+      region.SetIndex(axis, 0);
+      region.SetSize(axis, static_cast<itk::SizeValueType>(dims[axis]));
+    }
+    io->SetIORegion(region);
+    io->Read(interleaved->GetScalarPointer());
+    layers.clear();
+    const vtkIdType count = interleaved->GetNumberOfPoints();
+    vtkDataArray* source = interleaved->GetPointData()->GetScalars();
+    for (unsigned int c = 0; c < components; ++c) {
+      auto layer = vtkSmartPointer<vtkImageData>::New();
+      layer->SetDimensions(dims);
+      layer->AllocateScalars(vtkType, 1);
+      vtkDataArray* target = layer->GetPointData()->GetScalars();
+      for (vtkIdType n = 0; n < count; ++n) target->SetComponent(n, 0, source->GetComponent(n, static_cast<int>(c)));
+      layers.push_back(layer);
+    }
+    metadata.clear();
+    const itk::MetaDataDictionary& dictionary = io->GetMetaDataDictionary();
+    for (const auto& key : dictionary.GetKeys()) {
+      std::string value;
+      if (itk::ExposeMetaData<std::string>(dictionary, key, value)) metadata[key] = value;
+    }
+    for (int row = 0; row < 2; ++row)
+      for (int col = 0; col < 4; ++col) ijkToLPS->SetElement(row, col, -ijkToLPS->GetElement(row, col));
+    ijkToRAS->DeepCopy(ijkToLPS);
+    return true;
+  } catch (const itk::ExceptionObject& e) {
+    error = "'" + path + "': " + e.GetDescription();
+  } catch (const std::exception& e) {
+    error = "'" + path + "': " + e.what();
+  }
+  return false;
+}
+
+}  // namespace
+
+bool WriteSegmentationFile(const std::string& path, vtkRPSegmentationNode* node, std::string& error) {
+  if (!node) {
+    error = "cannot write '" + path + "': no segmentation given";
+    return false;
+  }
+  vtkImageData* image = node->GetImageData();
+  if (!image || !image->GetPointData()->GetScalars() || image->GetNumberOfPoints() == 0) {
+    error = "cannot write '" + path + "': segmentation '" + node->GetName() +
+            "' has no labelmap";
+    return false;
+  }
+  if (!IsIntegerType(image->GetScalarType()) || image->GetNumberOfScalarComponents() != 1) {
+    error = "cannot write '" + path + "': the labelmap must hold one integer label per voxel";
+    return false;
+  }
+  int dims[3];
+  image->GetDimensions(dims);
+  std::map<long, std::array<int, 6>> extents;
+  switch (image->GetScalarType()) {
+    vtkTemplateMacro(ComputeExtents(static_cast<const VTK_TT*>(image->GetScalarPointer()), dims, extents));
+  }
+  std::map<std::string, std::string> metadata;
+  std::set<int> labels;
+  for (int n = 0; n < node->GetNumberOfSegments(); ++n) {
+    const auto& s = node->GetNthSegment(n);
+    if (!labels.insert(s.LabelValue).second) {
+      error = "cannot write '" + path + "': two segments share label value " + std::to_string(s.LabelValue);
+      return false;
+    }
+    const std::string prefix = "Segment" + std::to_string(n) + "_";
+    metadata[prefix + "ID"] = s.ID;
+    metadata[prefix + "Name"] = s.Name;
+    metadata[prefix + "NameAutoGenerated"] = "0";
+    metadata[prefix + "Color"] = FormatDouble(s.Color[0]) + " " + FormatDouble(s.Color[1]) + " " + FormatDouble(s.Color[2]);
+    metadata[prefix + "ColorAutoGenerated"] = "0";
+    metadata[prefix + "LabelValue"] = std::to_string(s.LabelValue);
+    metadata[prefix + "Layer"] = "0";
+    auto it = extents.find(s.LabelValue);
+    if (it == extents.end()) {
+      metadata[prefix + "Extent"] = "0 -1 0 -1 0 -1";  // Slicer's empty extent
+    } else {
+      const auto& e = it->second;
+      metadata[prefix + "Extent"] = std::to_string(e[0]) + " " + std::to_string(e[1]) + " " + std::to_string(e[2]) +
+                                    " " + std::to_string(e[3]) + " " + std::to_string(e[4]) + " " + std::to_string(e[5]);
+    }
+    std::string tags = "Segmentation.Status:inprogress|";
+    if (!s.TissueClass.empty()) tags += std::string(TissueTag) + ":" + s.TissueClass + "|";
+    metadata[prefix + "Tags"] = tags;
+  }
+  metadata["Segmentation_MasterRepresentation"] = "Binary labelmap";
+  metadata["Segmentation_ContainedRepresentationNames"] = "Binary labelmap|";
+  metadata["Segmentation_ConversionParameters"] = DefaultConversionParameters;
+  metadata["Segmentation_ReferenceImageExtentOffset"] = "0 0 0";
+  return WriteVolumeFile(path, image, node->GetIJKToRASMatrix(), metadata, error);
+}
+
+bool ReadSegmentationFile(const std::string& path, vtkRPSegmentationNode* node, std::string& error) {
+  if (!node) {
+    error = "cannot read '" + path + "': no segmentation node given";
+    return false;
+  }
+  // Read everything into temporaries first: the node stays as it was on failure.
+  auto image = vtkSmartPointer<vtkImageData>::New();
+  vtkNew<vtkMatrix4x4> ijkToRAS;
+  VolumeFileData data;
+  data.Image = image;
+  data.IJKToRAS = ijkToRAS;
+  std::vector<vtkSmartPointer<vtkImageData>> layers;
+  std::map<std::string, std::string> metadata;
+  std::string volumeError;
+  if (ReadVolumeFile(path, data, volumeError)) {
+    layers.push_back(image);
+    metadata = data.Metadata;
+  } else if (volumeError.find("components per voxel") != std::string::npos ||
+             volumeError.find("4-D") != std::string::npos) {
+    if (!ReadLayers(path, layers, ijkToRAS, metadata, error)) return false;
+  } else {
+    error = volumeError;
+    return false;
+  }
+  for (const auto& layer : layers) {
+    if (!IsIntegerType(layer->GetScalarType())) {
+      error = "'" + path + "': a segmentation labelmap must have integer voxels, not " +
+              std::string(layer->GetScalarTypeAsString());
+      return false;
+    }
+  }
+  std::vector<FileSegment> segments;
+  if (!ParseSegments(path, metadata, segments, error)) return false;
+  if (segments.empty() && metadata.find("Segmentation_MasterRepresentation") == metadata.end() &&
+      metadata.find("Segmentation_SourceRepresentation") == metadata.end()) {
+    error = "'" + path + "': no Segment<N>_ID keys: not a Slicer segmentation file";
+    return false;
+  }
+  for (const auto& fs : segments) {
+    if (fs.Layer >= static_cast<int>(layers.size())) {
+      error = "'" + path + "': segment '" + fs.Segment.ID + "' is on layer " + std::to_string(fs.Layer) + " but the file has " +
+              std::to_string(layers.size()) + " layer(s)";
+      return false;
+    }
+  }
+
+  vtkSmartPointer<vtkImageData> labelmap = layers.front();
+  std::vector<vtkRPSegmentationNode::Segment> result;
+  if (layers.size() == 1) {
+    for (const auto& fs : segments) result.push_back(fs.Segment);
+  } else {
+    // Several layers: merge into one labelmap with a fresh label per segment. Where segments of
+    // different layers overlap, the later layer wins (our node holds one label per voxel).
+    const int type = segments.size() < 256 ? VTK_UNSIGNED_CHAR : VTK_UNSIGNED_SHORT;
+    labelmap = vtkSmartPointer<vtkImageData>::New();
+    labelmap->SetDimensions(layers.front()->GetDimensions());
+    labelmap->AllocateScalars(type, 1);
+    vtkDataArray* target = labelmap->GetPointData()->GetScalars();
+    target->Fill(0);
+    const vtkIdType count = labelmap->GetNumberOfPoints();
+    int nextLabel = 1;
+    for (size_t l = 0; l < layers.size(); ++l) {
+      std::map<long, int> remap;
+      for (const auto& fs : segments) {
+        if (fs.Layer != static_cast<int>(l)) continue;
+        auto s = fs.Segment;
+        remap[s.LabelValue] = nextLabel;
+        s.LabelValue = nextLabel++;
+        result.push_back(s);
+      }
+      vtkDataArray* source = layers[l]->GetPointData()->GetScalars();
+      for (vtkIdType n = 0; n < count; ++n) {
+        const long value = static_cast<long>(source->GetComponent(n, 0));
+        if (value == 0) continue;
+        auto it = remap.find(value);
+        if (it != remap.end()) target->SetComponent(n, 0, it->second);
+      }
+    }
+  }
+  const int previous = node->StartModify();
+  node->SetImageData(labelmap);
+  node->SetIJKToRASMatrix(ijkToRAS);
+  node->RemoveAllSegments();
+  for (const auto& s : result) node->SetSegment(s);
+  node->EndModify(previous);
+  return true;
+}
+
+namespace {
+class SegmentationStorage : public NodeStorage {
+ public:
+  std::string Description() const override { return "segmentation (Slicer .seg.nrrd)"; }
+  bool CanHandle(const vtkRPNode* node) const override {
+    return node && const_cast<vtkRPNode*>(node)->IsA("vtkRPSegmentationNode");
+  }
+  std::vector<std::string> Extensions() const override { return {".seg.nrrd"}; }
+  std::string NodeClassForFiles() const override { return "vtkRPSegmentationNode"; }
+  int Priority() const override { return 10; }
+  bool Write(vtkRPNode* node, const std::string& path, std::string& error) const override {
+    return WriteSegmentationFile(path, vtkRPSegmentationNode::SafeDownCast(node), error);
+  }
+  bool Read(vtkRPNode* node, const std::string& path, std::string& error) const override {
+    return ReadSegmentationFile(path, vtkRPSegmentationNode::SafeDownCast(node), error);
+  }
+};
+const bool registered = RegisterNodeStorage(std::make_shared<SegmentationStorage>());
+}  // namespace
+
+}  // namespace rp
