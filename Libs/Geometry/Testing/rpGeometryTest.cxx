@@ -1,0 +1,143 @@
+// BVH queries against brute force and closed forms; queries must not allocate.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "rpAllocationCounter.h"
+#include "rpBVH.h"
+
+namespace {
+rp::ClosestPointHit BruteClosest(const rp::TriangleMesh& m, const rp::Vec3& p) {
+  rp::ClosestPointHit best;
+  best.Distance2 = HUGE_VAL;
+  for (size_t i = 0; i < m.Triangles.size(); ++i) {
+    const auto& t = m.Triangles[i];
+    double bary[3];
+    const rp::Vec3 q = rp::BVH::ClosestPointOnTriangle(p, m.Points[t[0]], m.Points[t[1]], m.Points[t[2]], bary);
+    const double d2 = rp::Norm2(q - p);
+    if (d2 < best.Distance2) {
+      best.Distance2 = d2;
+      best.Point = q;
+      best.Triangle = static_cast<uint32_t>(i);
+    }
+  }
+  return best;
+}
+}  // namespace
+
+TEST(TriangleMesh, SphereIsClosedWithOutwardNormals) {
+  const rp::TriangleMesh m = rp::shapes::Sphere({1, 2, 3}, 10, 3);
+  ASSERT_EQ(m.Triangles.size(), 20u * 64u);
+  EXPECT_EQ(m.Points.size(), 10u * 64u + 2u);  // Euler: V = F/2 + 2
+  for (size_t i = 0; i < m.Triangles.size(); ++i) {
+    const auto& t = m.Triangles[i];
+    const rp::Vec3 c = (m.Points[t[0]] + m.Points[t[1]] + m.Points[t[2]]) / 3.0 - rp::Vec3{1, 2, 3};
+    EXPECT_GT(rp::Dot(m.FaceNormals[i], rp::Normalized(c)), 0.99);
+  }
+  for (size_t i = 0; i < m.Points.size(); ++i)  // vertex normals of an icosphere are radial
+    EXPECT_NEAR(rp::Dot(m.VertexNormals[i], rp::Normalized(m.Points[i] - rp::Vec3{1, 2, 3})), 1.0, 1e-3);
+  std::string error;
+  EXPECT_TRUE(m.Validate(error)) << error;
+}
+
+TEST(TriangleMesh, BoxNormalsPointOut) {
+  const rp::TriangleMesh m = rp::shapes::Box({0, 0, 0}, {2, 4, 6});
+  for (size_t i = 0; i < m.Triangles.size(); ++i) {
+    const auto& t = m.Triangles[i];
+    const rp::Vec3 c = (m.Points[t[0]] + m.Points[t[1]] + m.Points[t[2]]) / 3.0 - rp::Vec3{1, 2, 3};
+    EXPECT_GT(rp::Dot(m.FaceNormals[i], c), 0.0) << "triangle " << i;
+  }
+}
+
+TEST(TriangleMesh, ValidateNamesTheProblem) {
+  rp::TriangleMesh m = rp::shapes::Box({0, 0, 0}, {1, 1, 1});
+  m.Triangles[3][1] = 99;
+  std::string error;
+  EXPECT_FALSE(m.Validate(error));
+  EXPECT_NE(error.find("triangle 3"), std::string::npos) << error;
+  m = rp::shapes::Box({0, 0, 0}, {1, 1, 1});
+  m.Points[2].y = std::nan("");
+  EXPECT_FALSE(m.Validate(error));
+  EXPECT_NE(error.find("point 2"), std::string::npos) << error;
+}
+
+TEST(BVH, ClosestPointMatchesBruteForceAndSphereDistance) {
+  const rp::Vec3 c{5, -3, 2};
+  const double r = 20;
+  const rp::TriangleMesh m = rp::shapes::Sphere(c, r, 4);
+  rp::BVH bvh;
+  bvh.Build(m);
+  ASSERT_EQ(bvh.NumberOfTriangles(), m.Triangles.size());
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-40, 40);
+  // Chord sagitta bounds the distance error of a tessellated sphere: r(1-cos(edge/2r)).
+  const double edge = r * 1.1071 / 16;  // icosahedron edge angle / 2^4 subdivisions
+  const double sagitta = r * (1 - std::cos(edge / (2 * r))) * 2;
+  for (int i = 0; i < 300; ++i) {
+    const rp::Vec3 p = c + rp::Vec3{u(rng), u(rng), u(rng)};
+    rp::ClosestPointHit hit;
+    ASSERT_TRUE(bvh.ClosestPoint(p, HUGE_VAL, hit));
+    const rp::ClosestPointHit brute = BruteClosest(m, p);
+    EXPECT_NEAR(hit.Distance2, brute.Distance2, 1e-9 * (1 + brute.Distance2));
+    EXPECT_NEAR(std::sqrt(hit.Distance2), std::fabs(rp::Norm(p - c) - r), sagitta + 0.05);
+    const auto& t = m.Triangles[hit.Triangle];
+    const rp::Vec3 q = m.Points[t[0]] * hit.Barycentric[0] + m.Points[t[1]] * hit.Barycentric[1] +
+                       m.Points[t[2]] * hit.Barycentric[2];
+    EXPECT_NEAR(rp::Norm(q - hit.Point), 0.0, 1e-9);
+  }
+  rp::ClosestPointHit hit;
+  EXPECT_FALSE(bvh.ClosestPoint(c + rp::Vec3{0, 0, 2 * r}, 5.0, hit));  // nothing within 5 mm
+  EXPECT_TRUE(bvh.ClosestPoint(c + rp::Vec3{0, 0, r + 4}, 5.0, hit));
+}
+
+TEST(BVH, SegmentFirstHitFrontAndBack) {
+  const rp::TriangleMesh m = rp::shapes::Box({-10, -10, -1}, {10, 10, 0});  // 1 mm sheet
+  rp::BVH bvh;
+  bvh.Build(m);
+  rp::SegmentHit hit;
+  ASSERT_TRUE(bvh.FirstHit({1, 2, 5}, {1, 2, -5}, rp::BVH::Faces::FrontOnly, hit));
+  EXPECT_NEAR(hit.T, 0.5, 1e-12);
+  EXPECT_NEAR(hit.Point.z, 0.0, 1e-12);
+  EXPECT_NEAR(m.FaceNormals[hit.Triangle].z, 1.0, 1e-12);
+  // From inside going down: the bottom face is an exit (back face) for FrontOnly.
+  EXPECT_FALSE(bvh.FirstHit({1, 2, -0.5}, {1, 2, -5}, rp::BVH::Faces::FrontOnly, hit));
+  ASSERT_TRUE(bvh.FirstHit({1, 2, -0.5}, {1, 2, -5}, rp::BVH::Faces::Both, hit));
+  EXPECT_NEAR(hit.Point.z, -1.0, 1e-12);
+  // Through a shared edge (the diagonal of the top face) still hits.
+  EXPECT_TRUE(bvh.FirstHit({3, 3, 1}, {3, 3, -0.5}, rp::BVH::Faces::FrontOnly, hit));
+  EXPECT_TRUE(bvh.FirstHit({-3, 3, 1}, {-3, 3, -0.5}, rp::BVH::Faces::FrontOnly, hit));
+  EXPECT_FALSE(bvh.FirstHit({11, 0, 1}, {11, 0, -5}, rp::BVH::Faces::Both, hit));
+}
+
+TEST(BVH, QueriesDoNotAllocate) {
+  const rp::TriangleMesh m = rp::shapes::Sphere({0, 0, 0}, 10, 5);
+  rp::BVH bvh;
+  bvh.Build(m);
+  rp::ClosestPointHit c;
+  rp::SegmentHit s;
+  const uint64_t before = rp::alloc::ThreadAllocations();
+  int hits = 0;
+  for (int i = 0; i < 1000; ++i) {
+    const double a = 0.01 * i;
+    hits += bvh.ClosestPoint({15 * std::cos(a), 15 * std::sin(a), 0.01 * i - 5}, HUGE_VAL, c);
+    hits += bvh.FirstHit({0, 0, 0}, {20 * std::cos(a), 20 * std::sin(a), 3}, rp::BVH::Faces::Both, s);
+  }
+  EXPECT_EQ(rp::alloc::ThreadAllocations(), before);
+  EXPECT_EQ(hits, 2000);
+  // The counter itself works: a vector allocates.
+  std::vector<int> v(10);
+  EXPECT_GT(rp::alloc::ThreadAllocations(), before);
+}
+
+TEST(BVH, EmptyAndDegenerateMeshes) {
+  rp::BVH bvh;
+  rp::TriangleMesh m;
+  bvh.Build(m);
+  rp::ClosestPointHit c;
+  EXPECT_FALSE(bvh.ClosestPoint({0, 0, 0}, HUGE_VAL, c));
+  m.Points = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}};
+  m.Triangles = {{0, 1, 2}};  // zero area: skipped
+  bvh.Build(m);
+  EXPECT_TRUE(bvh.Empty());
+}

@@ -1,0 +1,227 @@
+#include "rpBVH.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace rp {
+
+namespace {
+inline double BoxDistance2(const Vec3& p, const Vec3& lo, const Vec3& hi) noexcept {
+  double d2 = 0;
+  for (int i = 0; i < 3; ++i) {
+    const double v = p[i];
+    if (v < lo[i]) d2 += (lo[i] - v) * (lo[i] - v);
+    else if (v > hi[i]) d2 += (v - hi[i]) * (v - hi[i]);
+  }
+  return d2;
+}
+
+// Slab test: does the segment origin + t*dir, t in [0, tMax], touch the box?
+inline bool SegmentTouchesBox(const Vec3& origin, const Vec3& invDir, double tMax, const Vec3& lo,
+                              const Vec3& hi) noexcept {
+  double t0 = 0, t1 = tMax;
+  for (int i = 0; i < 3; ++i) {
+    double tNear = (lo[i] - origin[i]) * invDir[i];
+    double tFar = (hi[i] - origin[i]) * invDir[i];
+    if (std::isnan(tNear) || std::isnan(tFar)) {  // 0 * inf: origin on the slab and parallel
+      if (origin[i] < lo[i] || origin[i] > hi[i]) return false;
+      continue;
+    }
+    if (tNear > tFar) std::swap(tNear, tFar);
+    t0 = tNear > t0 ? tNear : t0;
+    t1 = tFar < t1 ? tFar : t1;
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+}  // namespace
+
+Vec3 BVH::ClosestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c,
+                                 double bary[3]) noexcept {
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = Dot(ab, ap), d2 = Dot(ac, ap);
+  if (d1 <= 0 && d2 <= 0) { bary[0] = 1; bary[1] = 0; bary[2] = 0; return a; }
+  const Vec3 bp = p - b;
+  const double d3 = Dot(ab, bp), d4 = Dot(ac, bp);
+  if (d3 >= 0 && d4 <= d3) { bary[0] = 0; bary[1] = 1; bary[2] = 0; return b; }
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+    const double v = d1 / (d1 - d3);
+    bary[0] = 1 - v; bary[1] = v; bary[2] = 0;
+    return a + ab * v;
+  }
+  const Vec3 cp = p - c;
+  const double d5 = Dot(ab, cp), d6 = Dot(ac, cp);
+  if (d6 >= 0 && d5 <= d6) { bary[0] = 0; bary[1] = 0; bary[2] = 1; return c; }
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+    const double w = d2 / (d2 - d6);
+    bary[0] = 1 - w; bary[1] = 0; bary[2] = w;
+    return a + ac * w;
+  }
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+    const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    bary[0] = 0; bary[1] = 1 - w; bary[2] = w;
+    return b + (c - b) * w;
+  }
+  const double denom = 1.0 / (va + vb + vc);
+  const double v = vb * denom, w = vc * denom;
+  bary[0] = 1 - v - w; bary[1] = v; bary[2] = w;
+  return a + ab * v + ac * w;
+}
+
+void BVH::Build(const TriangleMesh& mesh, int leafSize) {
+  this->Nodes.clear();
+  this->Tris.clear();
+  std::vector<Tri> all;
+  all.reserve(mesh.Triangles.size());
+  for (size_t i = 0; i < mesh.Triangles.size(); ++i) {
+    const auto& t = mesh.Triangles[i];
+    Tri tri{mesh.Points[t[0]], mesh.Points[t[1]], mesh.Points[t[2]], {}, static_cast<uint32_t>(i)};
+    tri.Normal = Cross(tri.B - tri.A, tri.C - tri.A);
+    if (Norm2(tri.Normal) > 0) all.push_back(tri);
+  }
+  if (all.empty()) return;
+  std::vector<Vec3> centroids(all.size());
+  std::vector<uint32_t> order(all.size());
+  for (size_t i = 0; i < all.size(); ++i) {
+    centroids[i] = (all[i].A + all[i].B + all[i].C) / 3.0;
+    order[i] = static_cast<uint32_t>(i);
+  }
+  this->Nodes.reserve(2 * all.size() / std::max(1, leafSize) + 16);
+  this->Tris.reserve(all.size());
+  this->BuildRange(order, centroids, all, 0, static_cast<uint32_t>(all.size()), 0, std::max(1, leafSize));
+}
+
+uint32_t BVH::BuildRange(std::vector<uint32_t>& order, const std::vector<Vec3>& centroids,
+                         const std::vector<Tri>& all, uint32_t begin, uint32_t end, int depth, int leafSize) {
+  const uint32_t index = static_cast<uint32_t>(this->Nodes.size());
+  this->Nodes.emplace_back();
+  Vec3 lo{HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  Vec3 clo = lo, chi = hi;
+  for (uint32_t i = begin; i < end; ++i) {
+    const Tri& t = all[order[i]];
+    lo = Min(lo, Min(t.A, Min(t.B, t.C)));
+    hi = Max(hi, Max(t.A, Max(t.B, t.C)));
+    clo = Min(clo, centroids[order[i]]);
+    chi = Max(chi, centroids[order[i]]);
+  }
+  this->Nodes[index].Lo = lo;
+  this->Nodes[index].Hi = hi;
+  const uint32_t count = end - begin;
+  const Vec3 extent = chi - clo;
+  // Leaves: few triangles, coincident centroids, or the traversal stack limit.
+  if (count <= static_cast<uint32_t>(leafSize) || depth >= MaxDepth - 2 ||
+      (extent.x <= 0 && extent.y <= 0 && extent.z <= 0)) {
+    this->Nodes[index].First = static_cast<uint32_t>(this->Tris.size());
+    this->Nodes[index].Count = count;
+    for (uint32_t i = begin; i < end; ++i) this->Tris.push_back(all[order[i]]);
+    return index;
+  }
+  const int axis = (extent.x >= extent.y && extent.x >= extent.z) ? 0 : (extent.y >= extent.z ? 1 : 2);
+  const uint32_t mid = begin + count / 2;
+  std::nth_element(order.begin() + begin, order.begin() + mid, order.begin() + end,
+                   [&](uint32_t a, uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
+  this->BuildRange(order, centroids, all, begin, mid, depth + 1, leafSize);
+  const uint32_t right = this->BuildRange(order, centroids, all, mid, end, depth + 1, leafSize);
+  this->Nodes[index].First = right;
+  this->Nodes[index].Count = 0;
+  return index;
+}
+
+bool BVH::ClosestPoint(const Vec3& p, double maxDistance, ClosestPointHit& hit) const noexcept {
+  if (this->Nodes.empty()) return false;
+  double best2 = std::isfinite(maxDistance) ? maxDistance * maxDistance : std::numeric_limits<double>::infinity();
+  bool found = false;
+  uint32_t stack[MaxDepth];
+  int top = 0;
+  if (BoxDistance2(p, this->Nodes[0].Lo, this->Nodes[0].Hi) > best2) return false;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& node = this->Nodes[stack[--top]];
+    if (BoxDistance2(p, node.Lo, node.Hi) > best2) continue;
+    if (node.Count > 0) {
+      for (uint32_t i = node.First; i < node.First + node.Count; ++i) {
+        const Tri& t = this->Tris[i];
+        double bary[3];
+        const Vec3 q = ClosestPointOnTriangle(p, t.A, t.B, t.C, bary);
+        const double d2 = Norm2(q - p);
+        if (d2 <= best2) {
+          best2 = d2;
+          found = true;
+          hit.Point = q;
+          hit.Distance2 = d2;
+          hit.Triangle = t.Source;
+          hit.Barycentric[0] = bary[0]; hit.Barycentric[1] = bary[1]; hit.Barycentric[2] = bary[2];
+        }
+      }
+      continue;
+    }
+    // Visit the nearer child first: push it last.
+    const uint32_t left = static_cast<uint32_t>(&node - this->Nodes.data()) + 1, right = node.First;
+    const double dl = BoxDistance2(p, this->Nodes[left].Lo, this->Nodes[left].Hi);
+    const double dr = BoxDistance2(p, this->Nodes[right].Lo, this->Nodes[right].Hi);
+    if (dl <= dr) {
+      if (dr <= best2) stack[top++] = right;
+      if (dl <= best2) stack[top++] = left;
+    } else {
+      if (dl <= best2) stack[top++] = left;
+      if (dr <= best2) stack[top++] = right;
+    }
+  }
+  return found;
+}
+
+bool BVH::FirstHit(const Vec3& a, const Vec3& b, Faces faces, SegmentHit& hit) const noexcept {
+  if (this->Nodes.empty()) return false;
+  const Vec3 dir = b - a;
+  if (Norm2(dir) == 0) return false;
+  const Vec3 invDir{1.0 / dir.x, 1.0 / dir.y, 1.0 / dir.z};
+  double bestT = 1.0;
+  bool found = false;
+  uint32_t stack[MaxDepth];
+  int top = 0;
+  stack[top++] = 0;
+  // Barycentric tolerance: a segment through a shared edge must not slip between two triangles.
+  constexpr double edgeTolerance = 1e-9;
+  while (top > 0) {
+    const uint32_t nodeIndex = stack[--top];
+    const Node& node = this->Nodes[nodeIndex];
+    if (!SegmentTouchesBox(a, invDir, bestT, node.Lo, node.Hi)) continue;
+    if (node.Count > 0) {
+      for (uint32_t i = node.First; i < node.First + node.Count; ++i) {
+        const Tri& t = this->Tris[i];
+        const double approach = Dot(dir, t.Normal);
+        if (faces == Faces::FrontOnly && approach >= 0) continue;
+        // Möller–Trumbore.
+        const Vec3 e1 = t.B - t.A, e2 = t.C - t.A;
+        const Vec3 pv = Cross(dir, e2);
+        const double det = Dot(e1, pv);
+        if (det == 0) continue;
+        const double inv = 1.0 / det;
+        const Vec3 tv = a - t.A;
+        const double u = Dot(tv, pv) * inv;
+        if (u < -edgeTolerance || u > 1 + edgeTolerance) continue;
+        const Vec3 qv = Cross(tv, e1);
+        const double v = Dot(dir, qv) * inv;
+        if (v < -edgeTolerance || u + v > 1 + edgeTolerance) continue;
+        const double s = Dot(e2, qv) * inv;
+        if (s < 0 || s > bestT) continue;
+        bestT = s;
+        found = true;
+        hit.T = s;
+        hit.Point = a + dir * s;
+        hit.Triangle = t.Source;
+        hit.Barycentric[0] = 1 - u - v; hit.Barycentric[1] = u; hit.Barycentric[2] = v;
+      }
+      continue;
+    }
+    stack[top++] = node.First;
+    stack[top++] = nodeIndex + 1;
+  }
+  return found;
+}
+
+}  // namespace rp

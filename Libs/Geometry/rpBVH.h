@@ -1,0 +1,67 @@
+#pragma once
+// Bounding-volume hierarchy (axis-aligned boxes) over a triangle mesh, for the haptic servo loop:
+// closest point and first hit along a segment. Built once (allocates); queries are const,
+// thread-safe, noexcept and never allocate (fixed-size traversal stack).
+#include <cstdint>
+#include <vector>
+
+#include "rpTriangleMesh.h"
+
+namespace rp {
+
+struct ClosestPointHit {
+  Vec3 Point;              // closest point on the surface
+  double Distance2 = 0;    // squared distance to the query
+  uint32_t Triangle = 0;   // index in the source mesh
+  double Barycentric[3] = {0, 0, 0};
+};
+
+struct SegmentHit {
+  Vec3 Point;
+  double T = 0;            // fraction along the segment, in [0,1]
+  uint32_t Triangle = 0;   // index in the source mesh
+  double Barycentric[3] = {0, 0, 0};
+};
+
+class BVH {
+ public:
+  /// Builds over `mesh` (keeps its own copy of the triangle corners; `mesh` may go away).
+  /// Degenerate (zero-area) triangles are skipped.
+  void Build(const TriangleMesh& mesh, int maxTrianglesPerLeaf = 4);
+  bool Empty() const { return this->Nodes.empty(); }
+  size_t NumberOfTriangles() const { return this->Tris.size(); }
+  size_t NumberOfNodes() const { return this->Nodes.size(); }
+
+  /// Closest surface point within `maxDistance` (infinity for no limit). False when none.
+  bool ClosestPoint(const Vec3& query, double maxDistance, ClosestPointHit& hit) const noexcept;
+
+  enum class Faces { Both, FrontOnly };
+  /// First triangle crossed by the segment a→b (smallest T). With FrontOnly, triangles whose
+  /// normal points along the segment (exits of a closed surface) are ignored.
+  bool FirstHit(const Vec3& a, const Vec3& b, Faces faces, SegmentHit& hit) const noexcept;
+
+  /// Closest point on triangle (a,b,c) to p, with barycentric weights (Ericson, RTCD 5.1.5).
+  static Vec3 ClosestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c,
+                                     double bary[3]) noexcept;
+
+  static constexpr int MaxDepth = 64;
+
+ private:
+  struct Node {
+    Vec3 Lo, Hi;
+    uint32_t First = 0;  // leaf: first triangle; inner: index of the right child (left = this+1)
+    uint32_t Count = 0;  // leaf: number of triangles; inner: 0
+  };
+  struct Tri {
+    Vec3 A, B, C;
+    Vec3 Normal;  // unnormalized (B-A)x(C-A)
+    uint32_t Source;
+  };
+  uint32_t BuildRange(std::vector<uint32_t>& order, const std::vector<Vec3>& centroids,
+                      const std::vector<Tri>& all, uint32_t begin, uint32_t end, int depth, int leafSize);
+
+  std::vector<Node> Nodes;
+  std::vector<Tri> Tris;  // in leaf order
+};
+
+}  // namespace rp

@@ -1,0 +1,137 @@
+// Servo loop start/stop and timing statistics, histogram percentiles, SPSC ring.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <thread>
+
+#include "rpAllocationCounter.h"
+#include "rpServoLoop.h"
+#include "rpSpscRing.h"
+
+namespace {
+class CountingTask : public rp::ServoTask {
+ public:
+  void ServoStarted() noexcept override { Started.store(true); }
+  void Tick(const rp::TickInfo& tick) noexcept override {
+    LastIndex.store(tick.Index, std::memory_order_relaxed);
+    LastTime.store(tick.Time, std::memory_order_relaxed);
+    Count.fetch_add(1, std::memory_order_relaxed);
+    if (Allocations0 == 0) Allocations0 = rp::alloc::ThreadAllocations() + 1;
+    AllocationsInTicks = rp::alloc::ThreadAllocations() + 1 - Allocations0;
+  }
+  void ServoStopping() noexcept override { Stopped.store(true); }
+  std::atomic<bool> Started{false}, Stopped{false};
+  std::atomic<uint64_t> Count{0}, LastIndex{0};
+  std::atomic<double> LastTime{0};
+  uint64_t Allocations0 = 0, AllocationsInTicks = 0;  // servo thread only until joined
+};
+}  // namespace
+
+TEST(TimingHistogram, PercentilesOfKnownSamples) {
+  rp::TimingHistogram h(1000, 100);  // 1 µs bins
+  for (int i = 1; i <= 100; ++i) h.Record(i * 1000 - 500);  // 0.5, 1.5, ..., 99.5 µs
+  const rp::TimingStats s = h.Stats();
+  EXPECT_EQ(s.Count, 100u);
+  EXPECT_NEAR(s.P50Us, 50.0, 1e-9);
+  EXPECT_NEAR(s.P99Us, 99.0, 1e-9);
+  EXPECT_NEAR(s.MaxUs, 99.5, 1e-9);
+  EXPECT_NEAR(s.MinUs, 0.5, 1e-9);
+  EXPECT_NEAR(s.MeanUs, 50.0, 1e-9);
+  h.Record(5'000'000);  // beyond the last bin: max is exact
+  EXPECT_NEAR(h.Stats().MaxUs, 5000.0, 1e-9);
+}
+
+TEST(ServoLoop, StartsTicksAtRateAndStopsCleanly) {
+  CountingTask task;
+  rp::ServoLoop loop;
+  rp::ServoLoop::Options options;
+  options.RateHz = 1000;
+  std::string error;
+  ASSERT_TRUE(loop.Start(&task, options, error)) << error;
+  EXPECT_FALSE(loop.Start(&task, options, error));  // already running
+  EXPECT_NE(error.find("already running"), std::string::npos);
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  loop.Stop();
+  loop.Stop();  // idempotent
+  EXPECT_TRUE(task.Started.load());
+  EXPECT_TRUE(task.Stopped.load());
+  const rp::ServoStats s = loop.Stats();
+  EXPECT_EQ(s.Ticks, task.Count.load());
+  // 300 ms at 1 kHz: about 300 ticks (generous bounds: shared 2-core CI machine, sanitizers).
+  EXPECT_GT(s.Ticks, 150u);
+  EXPECT_LT(s.Ticks, 320u);
+  // Absolute schedule: the scheduled time is Index * Period exactly.
+  EXPECT_NEAR(task.LastTime.load(), task.LastIndex.load() * 1e-3, 1e-9);
+  EXPECT_GT(s.Period.Count, 100u);
+  EXPECT_NEAR(s.Period.MeanUs, 1000.0, 300.0);
+  EXPECT_EQ(task.AllocationsInTicks, 0u);
+  EXPECT_FALSE(loop.PriorityNote().empty());
+  // Restartable.
+  loop.ResetStats();
+  ASSERT_TRUE(loop.Start(&task, options, error)) << error;
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  loop.Stop();
+  EXPECT_GT(loop.Stats().Ticks, 10u);
+}
+
+TEST(ServoLoop, RejectsBadOptions) {
+  CountingTask task;
+  rp::ServoLoop loop;
+  rp::ServoLoop::Options options;
+  options.RateHz = 0;
+  std::string error;
+  EXPECT_FALSE(loop.Start(&task, options, error));
+  EXPECT_NE(error.find("rate"), std::string::npos);
+  EXPECT_FALSE(loop.Start(nullptr, rp::ServoLoop::Options{}, error));
+}
+
+TEST(ServoLoop, OverrunsAreCountedAndSkippedPeriodsMissed) {
+  class SlowTask : public rp::ServoTask {
+   public:
+    void Tick(const rp::TickInfo& tick) noexcept override {
+      if (tick.Index == 5) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      if (tick.PreviousOverran) SawOverrun.store(true);
+    }
+    std::atomic<bool> SawOverrun{false};
+  } task;
+  rp::ServoLoop loop;
+  std::string error;
+  ASSERT_TRUE(loop.Start(&task, rp::ServoLoop::Options{}, error));
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  loop.Stop();
+  EXPECT_GE(loop.Stats().Overruns, 1u);
+  EXPECT_GE(loop.Stats().MissedDeadlines, 3u);  // ~4 periods skipped
+  EXPECT_TRUE(task.SawOverrun.load());
+}
+
+TEST(SpscRing, OrderAndDropWhenFull) {
+  rp::SpscRing<int, 4> ring;
+  for (int i = 0; i < 4; ++i) EXPECT_TRUE(ring.TryPush(i));
+  EXPECT_FALSE(ring.TryPush(99));
+  EXPECT_EQ(ring.DroppedCount(), 1u);
+  int v;
+  for (int i = 0; i < 4; ++i) {
+    ASSERT_TRUE(ring.TryPop(v));
+    EXPECT_EQ(v, i);
+  }
+  EXPECT_FALSE(ring.TryPop(v));
+}
+
+TEST(SpscRing, TwoThreadsDeliverEverythingInOrder) {
+  static rp::SpscRing<uint64_t, 256> ring;
+  constexpr uint64_t n = 100000;
+  std::thread producer([] {
+    for (uint64_t i = 0; i < n;) {
+      if (ring.TryPush(i)) ++i;
+    }
+  });
+  uint64_t expected = 0, v;
+  while (expected < n) {
+    if (ring.TryPop(v)) {
+      ASSERT_EQ(v, expected);
+      ++expected;
+    }
+  }
+  producer.join();
+}

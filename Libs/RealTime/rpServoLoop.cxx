@@ -1,0 +1,145 @@
+#include "rpServoLoop.h"
+
+#include <pthread.h>
+#include <sched.h>
+#include <time.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+namespace rp {
+
+namespace {
+int64_t NowNs() noexcept {
+  timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<int64_t>(ts.tv_sec) * 1000000000LL + ts.tv_nsec;
+}
+void SleepUntilNs(int64_t deadline) noexcept {
+  timespec ts;
+  ts.tv_sec = deadline / 1000000000LL;
+  ts.tv_nsec = deadline % 1000000000LL;
+  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
+  }
+}
+std::atomic<bool> priorityNoteShown{false};
+}  // namespace
+
+ServoLoop::ServoLoop() = default;
+
+ServoLoop::~ServoLoop() { this->Stop(); }
+
+bool ServoLoop::Start(ServoTask* task, const Options& options, std::string& error) {
+  if (this->Thread.joinable()) {
+    error = "servo loop: already running";
+    return false;
+  }
+  if (task == nullptr) {
+    error = "servo loop: no task";
+    return false;
+  }
+  if (!(options.RateHz >= 1.0 && options.RateHz <= 100000.0)) {
+    error = "servo loop: rate " + std::to_string(options.RateHz) + " Hz is outside [1, 100000]";
+    return false;
+  }
+  this->StopRequested.store(false);
+  this->StartState.store(0);
+  this->GotRealTime.store(false);
+  this->Thread = std::thread(&ServoLoop::Run, this, task, options);
+  // Wait until the thread knows its scheduling class, so the note is accurate.
+  while (this->StartState.load(std::memory_order_acquire) == 0) std::this_thread::yield();
+  if (options.RequestRealTimePriority && !this->GotRealTime.load()) {
+    this->Note = "real-time priority (SCHED_FIFO " + std::to_string(options.Priority) +
+                 ") not permitted here; the servo loop runs at normal priority";
+    if (!priorityNoteShown.exchange(true)) std::fprintf(stderr, "[servo] %s\n", this->Note.c_str());
+  } else {
+    this->Note = options.RequestRealTimePriority ? "SCHED_FIFO" : "normal priority (not requested)";
+  }
+  return true;
+}
+
+void ServoLoop::Stop() {
+  if (!this->Thread.joinable()) return;
+  this->StopRequested.store(true, std::memory_order_release);
+  this->Thread.join();
+}
+
+void ServoLoop::Run(ServoTask* task, Options options) noexcept {
+  if (options.RequestRealTimePriority) {
+    sched_param param{};
+    param.sched_priority = options.Priority;
+    this->GotRealTime.store(pthread_setschedparam(pthread_self(), SCHED_FIFO, &param) == 0);
+  }
+  if (options.CpuAffinity >= 0) {
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    CPU_SET(options.CpuAffinity, &set);
+    pthread_setaffinity_np(pthread_self(), sizeof(set), &set);
+  }
+  this->StartState.store(1, std::memory_order_release);
+
+  const int64_t period = static_cast<int64_t>(std::llround(1e9 / options.RateHz));
+  const int64_t missThreshold = static_cast<int64_t>(options.MissThresholdS * 1e9);
+  task->ServoStarted();
+  const int64_t origin = NowNs() + period;
+  int64_t deadline = origin;
+  int64_t lastStart = 0;
+  TickInfo info;
+  info.Period = static_cast<double>(period) * 1e-9;
+  while (!this->StopRequested.load(std::memory_order_acquire)) {
+    SleepUntilNs(deadline);
+    const int64_t start = NowNs();
+    info.LatenessNs = start - deadline;
+    info.Time = static_cast<double>(deadline - origin) * 1e-9;
+    if (lastStart != 0) this->PeriodHist.Record(start - lastStart);
+    this->LatenessHist.Record(info.LatenessNs);
+    if (info.LatenessNs > missThreshold) this->Missed.fetch_add(1, std::memory_order_relaxed);
+    lastStart = start;
+
+    task->Tick(info);
+
+    const int64_t end = NowNs();
+    const int64_t compute = end - start;
+    this->ComputeHist.Record(compute);
+    info.PreviousComputeNs = compute;
+    info.PreviousOverran = compute > period;
+    if (info.PreviousOverran) this->Overruns.fetch_add(1, std::memory_order_relaxed);
+    ++info.Index;
+    this->Ticks.fetch_add(1, std::memory_order_relaxed);
+    deadline += period;
+    // Fell more than a period behind: skip the lost periods (counted as missed) instead of
+    // firing a burst of late ticks.
+    while (deadline + period < end) {
+      deadline += period;
+      ++info.Index;
+      this->Missed.fetch_add(1, std::memory_order_relaxed);
+    }
+  }
+  task->ServoStopping();
+}
+
+ServoStats ServoLoop::Stats() const {
+  ServoStats s;
+  s.Period = this->PeriodHist.Stats();
+  s.Compute = this->ComputeHist.Stats();
+  s.Lateness = this->LatenessHist.Stats();
+  s.Ticks = this->Ticks.load(std::memory_order_relaxed);
+  s.MissedDeadlines = this->Missed.load(std::memory_order_relaxed);
+  s.Overruns = this->Overruns.load(std::memory_order_relaxed);
+  s.RealTimePriority = this->GotRealTime.load(std::memory_order_relaxed);
+  return s;
+}
+
+void ServoLoop::ResetStats() {
+  if (this->Thread.joinable()) return;
+  this->PeriodHist.Reset();
+  this->ComputeHist.Reset();
+  this->LatenessHist.Reset();
+  this->Ticks.store(0);
+  this->Missed.store(0);
+  this->Overruns.store(0);
+}
+
+}  // namespace rp

@@ -1,0 +1,86 @@
+#pragma once
+// A fixed-rate servo thread (e.g. the 1 kHz haptic loop) on an absolute-time schedule: it sleeps
+// until each period's deadline (clock_nanosleep TIMER_ABSTIME on CLOCK_MONOTONIC) so errors do not
+// accumulate, asks for SCHED_FIFO when the system permits, and measures every period, every
+// tick's compute time and the wake-up lateness. The loop itself never allocates, locks or logs.
+#include <atomic>
+#include <cstdint>
+#include <string>
+#include <thread>
+
+#include "rpTimingHistogram.h"
+
+namespace rp {
+
+struct TickInfo {
+  uint64_t Index = 0;        // 0 for the first tick
+  double Time = 0;           // scheduled time of this tick since start (s): Index * Period
+  double Period = 0.001;     // s
+  int64_t LatenessNs = 0;    // how late the thread woke after the deadline
+  int64_t PreviousComputeNs = 0;
+  bool PreviousOverran = false;  // the previous tick's compute took longer than the period
+};
+
+/// The work done each period. Tick() must not allocate, lock or block.
+class ServoTask {
+ public:
+  virtual ~ServoTask() = default;
+  virtual void ServoStarted() noexcept {}
+  virtual void Tick(const TickInfo& tick) noexcept = 0;
+  virtual void ServoStopping() noexcept {}
+};
+
+struct ServoStats {
+  TimingStats Period, Compute, Lateness;
+  uint64_t Ticks = 0;
+  uint64_t MissedDeadlines = 0;  // woke more than MissThreshold late, or a period was skipped
+  uint64_t Overruns = 0;         // compute longer than one period
+  bool RealTimePriority = false;
+};
+
+class ServoLoop {
+ public:
+  struct Options {
+    double RateHz = 1000.0;
+    bool RequestRealTimePriority = true;
+    int Priority = 80;              // SCHED_FIFO priority when permitted
+    double MissThresholdS = 0.5e-3; // lateness counted as a missed deadline
+    int CpuAffinity = -1;           // pin to this CPU when >= 0
+  };
+
+  ServoLoop();
+  ~ServoLoop();  // stops the thread
+  ServoLoop(const ServoLoop&) = delete;
+  ServoLoop& operator=(const ServoLoop&) = delete;
+
+  /// Starts the thread (the task must outlive Stop()). Returns false (error says why) when
+  /// already running or the options are invalid. Says once on stderr when real-time priority
+  /// was not granted.
+  bool Start(ServoTask* task, const Options& options, std::string& error);
+  /// Asks the thread to finish its current tick and joins it. Safe to call twice.
+  void Stop();
+  bool Running() const { return this->Thread.joinable(); }
+  /// Whether SCHED_FIFO was granted (valid after Start returned true), and why not.
+  bool RealTimePriority() const { return this->GotRealTime.load(std::memory_order_acquire); }
+  const std::string& PriorityNote() const { return this->Note; }
+
+  ServoStats Stats() const;
+  const TimingHistogram& PeriodHistogram() const { return this->PeriodHist; }
+  const TimingHistogram& ComputeHistogram() const { return this->ComputeHist; }
+  void ResetStats();  // only while stopped
+
+ private:
+  void Run(ServoTask* task, Options options) noexcept;
+
+  std::thread Thread;
+  std::atomic<bool> StopRequested{false};
+  std::atomic<int> StartState{0};  // 0 starting, 1 running
+  std::atomic<bool> GotRealTime{false};
+  std::atomic<uint64_t> Ticks{0}, Missed{0}, Overruns{0};
+  std::string Note;
+  TimingHistogram PeriodHist{1000, 20000};    // 1 µs bins to 20 ms
+  TimingHistogram ComputeHist{100, 20000};    // 0.1 µs bins to 2 ms
+  TimingHistogram LatenessHist{1000, 20000};  // 1 µs bins to 20 ms
+};
+
+}  // namespace rp
