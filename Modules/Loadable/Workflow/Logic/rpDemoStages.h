@@ -1,0 +1,48 @@
+#pragma once
+// The stages of the main job and the state they pass along. Each stage reads what earlier
+// stages put in DemoState, adds nodes to the scene, figures and pictures to the report, and
+// throws std::runtime_error with a message naming the problem when it cannot go on.
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <vtkSmartPointer.h>
+
+#include "rpDemo.h"
+
+class vtkRPScene;
+class vtkRPScalarVolumeNode;
+class vtkRPSegmentationNode;
+class vtkMatrix4x4;
+
+namespace rp {
+
+class Report;
+class StageRunner;
+struct KneePhantom;
+
+struct DemoState {
+  DemoOptions Options;
+  std::string Output;  // absolute output folder
+  rp::Report* Report = nullptr;
+  rp::StageRunner* Runner = nullptr;
+  vtkSmartPointer<vtkRPScene> Scene;
+  std::shared_ptr<KneePhantom> Phantom;  // null with --data (no ground truth)
+  vtkRPScalarVolumeNode* CT = nullptr;   // nodes in the scene
+  vtkRPScalarVolumeNode* MR = nullptr;
+  vtkRPSegmentationNode* Segmentation = nullptr;
+  std::vector<std::string> BoneModelIDs, HapticModelIDs, DisplayModelIDs;
+  std::string TrackerToRASID, StylusTipToStylusID, StylusToTrackerID;
+  bool HasGroundTruth() const { return static_cast<bool>(this->Phantom); }
+};
+
+struct DemoStage {
+  std::string Name;
+  std::function<void(DemoState&)> Run;
+};
+
+/// The stages in order.
+std::vector<DemoStage> DemoStages();
+
+}  // namespace rp

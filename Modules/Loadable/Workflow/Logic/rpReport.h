@@ -1,0 +1,65 @@
+#pragma once
+// The main job's report: a self-contained HTML page (report.html) with the run's stages, every
+// figure beside its target (pass/fail/not scored), and the pictures (PNG files in the same
+// folder: screenshots, force plots, timing histograms, speed-against-accuracy charts).
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace rp {
+
+class Report {
+ public:
+  enum class Verdict { Pass, Fail, NotScored };
+
+  struct Figure {
+    std::string Stage;     // e.g. "CT↔MR registration"
+    std::string Name;      // e.g. "RMS error at the bone surface"
+    double Value = 0;
+    std::string Unit;      // e.g. "mm"
+    std::string Target;    // human text, e.g. "< 1 mm"
+    Verdict Result = Verdict::NotScored;
+    std::string Note;      // why not scored, or detail
+  };
+  struct Picture {
+    std::string Stage, File, Caption;  // File relative to the report folder
+  };
+  struct StageRecord {
+    std::string Name;
+    double Seconds = 0;
+    bool Ok = true;
+    std::string Message;
+  };
+
+  explicit Report(std::string title) : Title(std::move(title)) {}
+
+  /// A figure checked against a target: value < maximum (or > minimum) passes.
+  void AddFigureBelow(const std::string& stage, const std::string& name, double value, const std::string& unit,
+                      double maximum, const std::string& note = "");
+  void AddFigureAbove(const std::string& stage, const std::string& name, double value, const std::string& unit,
+                      double minimum, const std::string& note = "");
+  /// A figure with no target, or one that cannot be scored (e.g. no ground truth).
+  void AddFigure(const std::string& stage, const std::string& name, double value, const std::string& unit,
+                 const std::string& note = "");
+  void AddNotScored(const std::string& stage, const std::string& name, const std::string& why);
+  void AddPicture(const std::string& stage, const std::string& file, const std::string& caption);
+  void AddStage(const StageRecord& stage) { this->Stages.push_back(stage); }
+  void AddNote(const std::string& text) { this->Notes.push_back(text); }
+
+  const std::vector<Figure>& GetFigures() const { return this->Figures; }
+  const std::vector<StageRecord>& GetStages() const { return this->Stages; }
+  int CountFailed() const;
+
+  std::string ToHtml() const;
+  /// Writes report.html atomically. Returns false with `error`.
+  bool Write(const std::string& path, std::string& error) const;
+
+ private:
+  std::string Title;
+  std::vector<Figure> Figures;
+  std::vector<Picture> Pictures;
+  std::vector<StageRecord> Stages;
+  std::vector<std::string> Notes;
+};
+
+}  // namespace rp
