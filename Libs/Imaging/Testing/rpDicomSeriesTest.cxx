@@ -1,0 +1,387 @@
+// DICOM in and out on real files (shared/data) and on series written here, including the bad
+// series the reader must refuse with a clear message.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include <dcmtk/config/osconfig.h>
+#include <dcmtk/dcmdata/dcrleerg.h>
+#include <dcmtk/dcmdata/dctk.h>
+#include <dcmtk/dcmjpeg/djencode.h>
+#include <dcmtk/dcmjpeg/djrplol.h>
+#include <dcmtk/dcmjpls/djencode.h>
+
+#include <vtkDataArray.h>
+#include <vtkPointData.h>
+
+#include "rpDicomSeries.h"
+#include "rpDicomWriter.h"
+#include "rpKneePhantom.h"
+#include "rpVolumeIO.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kData = ROBOPLAN_SHARED_DATA_DIR;
+
+fs::path Scratch(const std::string& name) {
+  const fs::path dir = fs::path(ROBOPLAN_TEST_OUTPUT_DIR) / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+double Voxel(const rp::ImageVolume& v, int i, int j, int k) {
+  int dims[3];
+  v.Image->GetDimensions(dims);
+  return v.Image->GetPointData()->GetScalars()->GetComponent((size_t(k) * dims[1] + j) * dims[0] + i, 0);
+}
+
+void ExpectSameVolume(const rp::ImageVolume& a, const rp::ImageVolume& b, double matrixTolerance) {
+  int da[3], db[3];
+  a.Image->GetDimensions(da);
+  b.Image->GetDimensions(db);
+  ASSERT_EQ(da[0], db[0]);
+  ASSERT_EQ(da[1], db[1]);
+  ASSERT_EQ(da[2], db[2]);
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c)
+      EXPECT_NEAR(a.IJKToRAS->GetElement(r, c), b.IJKToRAS->GetElement(r, c), matrixTolerance) << r << "," << c;
+  vtkDataArray* sa = a.Image->GetPointData()->GetScalars();
+  vtkDataArray* sb = b.Image->GetPointData()->GetScalars();
+  vtkIdType differing = 0;
+  for (vtkIdType i = 0; i < sa->GetNumberOfTuples(); ++i) differing += sa->GetComponent(i, 0) != sb->GetComponent(i, 0);
+  EXPECT_EQ(differing, 0);
+}
+
+rp::ImageVolume SmallCT() {
+  rp::KneePhantomOptions options;
+  options.CTDimensions = {24, 20, 8};
+  options.CTSpacing = {6.0, 7.0, 12.0};
+  options.GenerateMR = false;
+  options.GenerateLabels = false;
+  rp::KneePhantom phantom;
+  std::string error;
+  EXPECT_TRUE(rp::GenerateKneePhantom(options, phantom, error)) << error;
+  return phantom.CT;
+}
+
+// Rewrites one tag of a written file (to build broken series).
+void Patch(const fs::path& file, const DcmTagKey& tag, const std::string& value) {
+  DcmFileFormat f;
+  ASSERT_TRUE(f.loadFile(file.c_str()).good());
+  ASSERT_TRUE(f.getDataset()->putAndInsertString(tag, value.c_str()).good());
+  ASSERT_TRUE(f.saveFile(file.c_str(), EXS_LittleEndianExplicit).good());
+}
+
+}  // namespace
+
+// The 3-slice GE CT. Expected values read independently with gdcmdump / gdcmraw:
+// IPP z = -126.69 (01), -127.69 (02), -128.69 (03) → sorted k = 03, 02, 01; IOP identity;
+// pixel spacing 0.810547; slope 1, intercept -1024; window 40/400. Stored values:
+// 03.dcm (256,256)=890 (200,250)=1112 (300,200)=1003 (0,0)=-2000; 02.dcm (200,250)=1124;
+// 01.dcm (256,256)=879 (300,200)=1061.
+TEST(DicomSeries, GeCtThreeSlices) {
+  rp::DicomScanResult scan;
+  std::string error;
+  ASSERT_TRUE(rp::ScanDicom(kData + "/dicom/ct-3slice", scan, error)) << error;
+  ASSERT_EQ(scan.Series.size(), 1u);
+  EXPECT_EQ(scan.NonDicomFiles, 1);  // LICENSE.txt, skipped and counted
+  const rp::DicomSeriesInfo& s = scan.Series[0];
+  EXPECT_EQ(s.Modality, "CT");
+  EXPECT_EQ(s.Files.size(), 3u);
+  EXPECT_EQ(s.Columns, 512);
+  EXPECT_EQ(s.Rows, 512);
+  EXPECT_NEAR(s.SliceSpacing, 1.0, 1e-5);
+  EXPECT_TRUE(s.Problem.empty()) << s.Problem;
+
+  rp::ImageVolume v;
+  ASSERT_TRUE(rp::ReadDicomSeries(s, v, error)) << error;
+  int dims[3];
+  v.Image->GetDimensions(dims);
+  EXPECT_EQ(dims[0], 512);
+  EXPECT_EQ(dims[1], 512);
+  EXPECT_EQ(dims[2], 3);
+  EXPECT_EQ(v.Image->GetScalarType(), VTK_SHORT);
+  double spacing[3];
+  v.GetSpacing(spacing);
+  EXPECT_NEAR(spacing[0], 0.810547, 1e-6);
+  EXPECT_NEAR(spacing[1], 0.810547, 1e-6);
+  EXPECT_NEAR(spacing[2], 1.0, 1e-5);
+  // LPS origin (-235.199997, -226.800003, -128.690002) → RAS (235.199997, 226.800003, -128.690002)
+  EXPECT_NEAR(v.IJKToRAS->GetElement(0, 3), 235.199997, 1e-5);
+  EXPECT_NEAR(v.IJKToRAS->GetElement(1, 3), 226.800003, 1e-5);
+  EXPECT_NEAR(v.IJKToRAS->GetElement(2, 3), -128.690002, 1e-5);
+  // Directions: i → -R (L), j → -A (P), k → +S.
+  EXPECT_NEAR(v.IJKToRAS->GetElement(0, 0), -0.810547, 1e-6);
+  EXPECT_NEAR(v.IJKToRAS->GetElement(1, 1), -0.810547, 1e-6);
+  EXPECT_NEAR(v.IJKToRAS->GetElement(2, 2), 1.0, 1e-5);
+  EXPECT_NEAR(v.IJKToRAS->GetElement(0, 1), 0.0, 1e-12);
+  EXPECT_NEAR(v.IJKToRAS->GetElement(2, 0), 0.0, 1e-12);
+  // HU = stored - 1024.
+  EXPECT_EQ(Voxel(v, 256, 256, 0), 890 - 1024);
+  EXPECT_EQ(Voxel(v, 200, 250, 0), 1112 - 1024);
+  EXPECT_EQ(Voxel(v, 300, 200, 0), 1003 - 1024);
+  EXPECT_EQ(Voxel(v, 0, 0, 0), -2000 - 1024);
+  EXPECT_EQ(Voxel(v, 200, 250, 1), 1124 - 1024);
+  EXPECT_EQ(Voxel(v, 256, 256, 2), 879 - 1024);
+  EXPECT_EQ(Voxel(v, 300, 200, 2), 1061 - 1024);
+  EXPECT_DOUBLE_EQ(v.Level, 40.0);
+  EXPECT_DOUBLE_EQ(v.Window, 400.0);
+}
+
+// The Pac-Man pair. Tags (gdcmdump): IOP 0\-1\0\1\0\0, IPP -63\0\k, pixel spacing 1\1,
+// 128 slices 1 mm apart. By the DICOM standard LPS(i,j,k) = (-63 + j, -i, k), i.e.
+// RAS(i,j,k) = (63 - j, i, k). The NIfTI twin (float64, sform_code 2, identity srow) stores
+// the same array transposed: nifti(a=j, b=i, c=k) == dicom(i, j, k) for every voxel.
+// FINDING: the two files do not describe the same physical geometry. The NIfTI says
+// RAS(a,b,c) = (a, b, c) = (j, i, k); the DICOM tags say (63 - j, i, k): A/P and S/I agree,
+// R/L is mirrored about x = 31.5 (the DICOM writer, pydicom-based, wrote a column direction
+// +L with the origin at -63 where +R/origin 0 would match the NIfTI; its PatientOrientation
+// "L\R" is inconsistent with its own IOP too). The reader follows the standard, so this test
+// pins both: voxels identical up to the transpose, y/z identical, x mirrored.
+TEST(DicomSeries, PacmanMatchesItsNiftiTwin) {
+  rp::ImageVolume dicom;
+  std::string error;
+  std::vector<std::string> warnings;
+  ASSERT_TRUE(rp::ReadDicomVolume(kData + "/dicom/pacsman-mr", dicom, error, "", {}, &warnings)) << error;
+  EXPECT_EQ(dicom.Modality, "MR");
+  rp::ImageVolume nifti;
+  nifti.Image = vtkSmartPointer<vtkImageData>::New();
+  rp::VolumeFileData data;
+  data.Image = nifti.Image;
+  data.IJKToRAS = nifti.IJKToRAS;
+  ASSERT_TRUE(rp::ReadVolumeFile(kData + "/pacsman.nii.gz", data, error)) << error;
+  int dd[3], nd[3];
+  dicom.Image->GetDimensions(dd);
+  nifti.Image->GetDimensions(nd);
+  ASSERT_EQ(dd[0], 128);
+  ASSERT_EQ(dd[1], 128);
+  ASSERT_EQ(dd[2], 128);
+  ASSERT_EQ(nd[0], 128);
+  ASSERT_EQ(nd[1], 128);
+  ASSERT_EQ(nd[2], 128);
+  const double expected[3][4] = {{0, -1, 0, 63}, {1, 0, 0, 0}, {0, 0, 1, 0}};
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 4; ++c) EXPECT_NEAR(dicom.IJKToRAS->GetElement(r, c), expected[r][c], 1e-9) << r << c;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) EXPECT_NEAR(nifti.IJKToRAS->GetElement(r, c), r == c ? 1.0 : 0.0, 1e-9);
+  long differing = 0, nonzero = 0;
+  for (int k = 0; k < 128; ++k)
+    for (int j = 0; j < 128; ++j)
+      for (int i = 0; i < 128; ++i) {
+        const double d = Voxel(dicom, i, j, k);
+        differing += d != Voxel(nifti, j, i, k);
+        nonzero += d != 0.0;
+      }
+  EXPECT_EQ(differing, 0);
+  EXPECT_GT(nonzero, 100000);
+  // Physical positions of corresponding voxels: y, z agree; x mirrored (x_dicom = 63 - x_nifti).
+  for (int probe = 0; probe < 50; ++probe) {
+    const int i = (probe * 37) % 128, j = (probe * 59) % 128, k = (probe * 23) % 128;
+    const double ijkD[3] = {double(i), double(j), double(k)}, ijkN[3] = {double(j), double(i), double(k)};
+    double rasD[3], rasN[3];
+    dicom.IndexToRAS(ijkD, rasD);
+    nifti.IndexToRAS(ijkN, rasN);
+    EXPECT_NEAR(rasD[1], rasN[1], 1e-9);
+    EXPECT_NEAR(rasD[2], rasN[2], 1e-9);
+    EXPECT_NEAR(rasD[0], 63.0 - rasN[0], 1e-9);
+  }
+}
+
+TEST(DicomSeries, WrittenPhantomReadsBackIdentical) {
+  rp::KneePhantomOptions options;
+  options.GenerateLabels = false;
+  rp::KneePhantom phantom;
+  std::string error;
+  ASSERT_TRUE(rp::GenerateKneePhantom(options, phantom, error)) << error;
+  for (const rp::ImageVolume* volume : {&phantom.CT, &phantom.MR}) {
+    const fs::path dir = Scratch("roundtrip-" + volume->Modality);
+    rp::DicomWriteOptions w;
+    w.Modality = volume->Modality;
+    rp::DicomWriteResult written;
+    ASSERT_TRUE(rp::WriteDicomSeries(*volume, dir.string(), w, error, &written)) << error;
+    EXPECT_EQ(written.MaxQuantizationError, 0.0);
+    rp::DicomScanResult scan;
+    ASSERT_TRUE(rp::ScanDicom(dir.string(), scan, error)) << error;
+    ASSERT_EQ(scan.Series.size(), 1u);
+    EXPECT_EQ(scan.Series[0].SeriesInstanceUID, written.SeriesInstanceUID);
+    EXPECT_EQ(scan.Series[0].Modality, volume->Modality);
+    rp::ImageVolume back;
+    ASSERT_TRUE(rp::ReadDicomSeries(scan.Series[0], back, error)) << error;
+    ExpectSameVolume(*volume, back, 1e-6);
+    EXPECT_DOUBLE_EQ(back.Window, volume->Window);
+    // Valid SOP class and instance UIDs.
+    DcmFileFormat f;
+    ASSERT_TRUE(f.loadFile(scan.Series[0].Files[0].c_str()).good());
+    OFString sopClass, sopInstance;
+    f.getDataset()->findAndGetOFString(DCM_SOPClassUID, sopClass);
+    f.getDataset()->findAndGetOFString(DCM_SOPInstanceUID, sopInstance);
+    EXPECT_EQ(std::string(sopClass.c_str()), volume->Modality == "CT" ? UID_CTImageStorage : UID_MRImageStorage);
+    EXPECT_GT(sopInstance.length(), 10u);
+    EXPECT_LE(sopInstance.length(), 64u);
+    EXPECT_EQ(sopInstance.find_first_not_of("0123456789."), OFString_npos);
+  }
+}
+
+TEST(DicomSeries, CompressedAndHeaderlessFilesDecode) {
+  const rp::ImageVolume ct = SmallCT();
+  const fs::path dir = Scratch("compressed");
+  std::string error;
+  ASSERT_TRUE(rp::WriteDicomSeries(ct, dir.string(), {}, error)) << error;
+  DJEncoderRegistration::registerCodecs();
+  DJLSEncoderRegistration::registerCodecs();
+  DcmRLEEncoderRegistration::registerCodecs();
+  // Re-encode: slices 1-2 JPEG lossless (process 14 SV1), 3-4 JPEG-LS lossless, 5-6 RLE,
+  // 7 as a bare dataset without the Part-10 header.
+  int index = 0;
+  std::vector<fs::path> files;
+  for (const auto& e : fs::directory_iterator(dir)) files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  for (const fs::path& file : files) {
+    DcmFileFormat f;
+    ASSERT_TRUE(f.loadFile(file.c_str()).good());
+    DcmDataset* ds = f.getDataset();
+    E_TransferSyntax xfer = EXS_LittleEndianExplicit;
+    if (index == 1 || index == 2) xfer = EXS_JPEGProcess14SV1;
+    if (index == 3 || index == 4) xfer = EXS_JPEGLSLossless;
+    if (index == 5 || index == 6) xfer = EXS_RLELossless;
+    if (xfer != EXS_LittleEndianExplicit) {
+      DJ_RPLossless params;
+      ASSERT_TRUE(ds->chooseRepresentation(xfer, &params).good()) << index;
+      ASSERT_TRUE(ds->canWriteXfer(xfer)) << index;
+      ASSERT_TRUE(f.saveFile(file.c_str(), xfer).good());
+    } else if (index == 7) {
+      ASSERT_TRUE(ds->saveFile(file.c_str(), EXS_LittleEndianImplicit).good());
+    }
+    ++index;
+  }
+  DcmRLEEncoderRegistration::cleanup();
+  DJLSEncoderRegistration::cleanup();
+  DJEncoderRegistration::cleanup();
+  rp::ImageVolume back;
+  ASSERT_TRUE(rp::ReadDicomVolume(dir.string(), back, error)) << error;
+  ExpectSameVolume(ct, back, 1e-6);
+}
+
+TEST(DicomSeries, BadSeriesGetClearMessages) {
+  const rp::ImageVolume ct = SmallCT();  // 8 slices, 12 mm apart
+  std::string error;
+  auto writeSeries = [&](const std::string& name) {
+    const fs::path dir = Scratch(name);
+    EXPECT_TRUE(rp::WriteDicomSeries(ct, dir.string(), {}, error)) << error;
+    return dir;
+  };
+  rp::ImageVolume untouched = SmallCT();
+  rp::ImageVolume v = untouched;
+
+  {  // A missing slice: refused by default, naming where; loaded with the true geometry on request.
+    const fs::path dir = writeSeries("missing");
+    fs::remove(dir / "IM00004.dcm");
+    std::ofstream(dir / "notes.txt") << "not a DICOM file\n";
+    rp::DicomScanResult scan;
+    ASSERT_TRUE(rp::ScanDicom(dir.string(), scan, error));
+    EXPECT_EQ(scan.NonDicomFiles, 1);
+    ASSERT_EQ(scan.Series.size(), 1u);
+    EXPECT_NE(scan.Series[0].Problem.find("1 missing slice"), std::string::npos) << scan.Series[0].Problem;
+    EXPECT_FALSE(rp::ReadDicomSeries(scan.Series[0], v, error));
+    EXPECT_NE(error.find("missing slice"), std::string::npos) << error;
+    EXPECT_NE(error.find("IM00003.dcm"), std::string::npos) << error;
+    EXPECT_NE(error.find("IM00005.dcm"), std::string::npos) << error;
+    EXPECT_EQ(v.Image, untouched.Image);  // nothing replaced on failure
+    rp::DicomReadOptions resample;
+    resample.ResampleIrregularSpacing = true;
+    std::vector<std::string> warnings;
+    rp::ImageVolume r;
+    ASSERT_TRUE(rp::ReadDicomSeries(scan.Series[0], r, error, resample, &warnings)) << error;
+    ASSERT_FALSE(warnings.empty());
+    int dims[3];
+    r.Image->GetDimensions(dims);
+    EXPECT_EQ(dims[2], 8);  // the gap is filled: same extent, same spacing
+    for (int c = 0; c < 4; ++c)
+      for (int row = 0; row < 3; ++row)
+        EXPECT_NEAR(r.IJKToRAS->GetElement(row, c), ct.IJKToRAS->GetElement(row, c), 1e-6);
+    EXPECT_DOUBLE_EQ(Voxel(r, 12, 10, 2), Voxel(ct, 12, 10, 2));  // real slices unchanged
+    EXPECT_NEAR(Voxel(r, 12, 10, 3), 0.5 * (Voxel(ct, 12, 10, 2) + Voxel(ct, 12, 10, 4)), 1e-3);
+  }
+  {  // Uneven spacing.
+    const fs::path dir = writeSeries("uneven");
+    DcmFileFormat f;
+    ASSERT_TRUE(f.loadFile((dir / "IM00005.dcm").c_str()).good());
+    Float64 z = 0;
+    f.getDataset()->findAndGetFloat64(DCM_ImagePositionPatient, z, 2);
+    // Move slice 5 by 3 mm along z (x, y kept exactly).
+    OFString x, y;
+    f.getDataset()->findAndGetOFString(DCM_ImagePositionPatient, x, 0);
+    f.getDataset()->findAndGetOFString(DCM_ImagePositionPatient, y, 1);
+    Patch(dir / "IM00005.dcm", DCM_ImagePositionPatient,
+          std::string(x.c_str()) + "\\" + y.c_str() + "\\" + std::to_string(z + 3.0));
+    EXPECT_FALSE(rp::ReadDicomVolume(dir.string(), v, error));
+    EXPECT_NE(error.find("uneven slice spacing"), std::string::npos) << error;
+    EXPECT_NE(error.find("IM00005.dcm"), std::string::npos) << error;
+  }
+  {  // Gantry tilt: positions shift along y as z increases (a 20 degree tilt).
+    const fs::path dir = writeSeries("tilt");
+    for (int k = 0; k < 8; ++k) {
+      char name[32];
+      std::snprintf(name, sizeof name, "IM%05d.dcm", k + 1);
+      DcmFileFormat f;
+      ASSERT_TRUE(f.loadFile((dir / name).c_str()).good());
+      Float64 p[3];
+      for (int a = 0; a < 3; ++a) f.getDataset()->findAndGetFloat64(DCM_ImagePositionPatient, p[a], a);
+      Patch(dir / name, DCM_ImagePositionPatient,
+            std::to_string(p[0]) + "\\" + std::to_string(p[1] + k * 12.0 * std::tan(20 * M_PI / 180)) + "\\" +
+                std::to_string(p[2]));
+    }
+    EXPECT_FALSE(rp::ReadDicomVolume(dir.string(), v, error));
+    EXPECT_NE(error.find("gantry tilt of 20.0 degrees"), std::string::npos) << error;
+  }
+  {  // Mixed orientations and mixed sizes.
+    const fs::path dir = writeSeries("mixed-orientation");
+    Patch(dir / "IM00003.dcm", DCM_ImageOrientationPatient, "1\\0\\0\\0\\0.9\\0.43588989");
+    EXPECT_FALSE(rp::ReadDicomVolume(dir.string(), v, error));
+    EXPECT_NE(error.find("mixed orientations"), std::string::npos) << error;
+    const fs::path dir2 = writeSeries("mixed-size");
+    DcmFileFormat f;
+    ASSERT_TRUE(f.loadFile((dir2 / "IM00006.dcm").c_str()).good());
+    f.getDataset()->putAndInsertUint16(DCM_Rows, 10);
+    ASSERT_TRUE(f.saveFile((dir2 / "IM00006.dcm").c_str(), EXS_LittleEndianExplicit).good());
+    EXPECT_FALSE(rp::ReadDicomVolume(dir2.string(), v, error));
+    EXPECT_NE(error.find("mixed image sizes"), std::string::npos) << error;
+    EXPECT_NE(error.find("IM00006.dcm"), std::string::npos) << error;
+  }
+  {  // A truncated file is named.
+    const fs::path dir = writeSeries("truncated");
+    const fs::path file = dir / "IM00002.dcm";
+    const auto size = fs::file_size(file);
+    fs::resize_file(file, size / 2);
+    EXPECT_FALSE(rp::ReadDicomVolume(dir.string(), v, error));
+    EXPECT_NE(error.find("IM00002.dcm"), std::string::npos) << error;
+  }
+  {  // JPEG 2000: a clear error (DCMTK 3.6.7 has no codec). The file claims J2K in its meta header.
+    const fs::path dir = writeSeries("j2k");
+    for (const auto& e : fs::directory_iterator(dir)) {
+      DcmFileFormat f;
+      ASSERT_TRUE(f.loadFile(e.path().c_str()).good());
+      f.getMetaInfo()->putAndInsertString(DCM_TransferSyntaxUID, UID_JPEG2000LosslessOnlyTransferSyntax);
+      ASSERT_TRUE(f.saveFile(e.path().c_str(), EXS_LittleEndianExplicit, EET_UndefinedLength, EGL_recalcGL,
+                             EPD_noChange, 0, 0, EWM_dontUpdateMeta)
+                      .good());
+    }
+    EXPECT_FALSE(rp::ReadDicomVolume(dir.string(), v, error));
+    EXPECT_NE(error.find("JPEG 2000"), std::string::npos) << error;
+  }
+  {  // A folder with no DICOM at all.
+    const fs::path dir = Scratch("empty");
+    std::ofstream(dir / "a.txt") << "hello";
+    EXPECT_FALSE(rp::ReadDicomVolume(dir.string(), v, error));
+    EXPECT_NE(error.find("no DICOM image series"), std::string::npos) << error;
+    EXPECT_FALSE(rp::ReadDicomVolume((dir / "nope").string(), v, error));
+    EXPECT_NE(error.find("no such file"), std::string::npos) << error;
+  }
+  EXPECT_EQ(v.Image, untouched.Image);
+}

@@ -1,0 +1,686 @@
+#include "rpDicomSeries.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <mutex>
+#include <sstream>
+
+#include <dcmtk/config/osconfig.h>
+#include <dcmtk/dcmdata/dcdicdir.h>
+#include <dcmtk/dcmdata/dcrledrg.h>
+#include <dcmtk/dcmdata/dctk.h>
+#include <dcmtk/dcmjpeg/djdecode.h>
+#include <dcmtk/dcmjpls/djdecode.h>
+#include <dcmtk/oflog/oflog.h>
+
+#include "rpDicomCommon.h"
+
+namespace fs = std::filesystem;
+
+namespace rp {
+
+void InitializeDcmtk() {
+  static std::once_flag once;
+  std::call_once(once, []() {
+    DJDecoderRegistration::registerCodecs();
+    DJLSDecoderRegistration::registerCodecs();
+    DcmRLEDecoderRegistration::registerCodecs();
+    // DCMTK logs parser warnings on stderr; our messages say what went wrong instead.
+    OFLog::configure(OFLogger::FATAL_LOG_LEVEL);
+  });
+}
+
+namespace {
+
+enum class FileKind { Image, NonImage, NotDicom, Corrupt };
+
+struct SliceHeader {
+  std::string File;
+  std::string SeriesUID, StudyUID, Modality, Description, PatientName, SeriesNumber, TransferSyntax;
+  std::string Photometric;
+  int Rows = 0, Columns = 0, Frames = 1, Samples = 1;
+  int BitsAllocated = 16, BitsStored = 16, PixelRepresentation = 0;
+  bool HasPosition = false, HasOrientation = false, HasPixelSpacing = false, HasWindow = false;
+  double Position[3] = {0, 0, 0};
+  double Orientation[6] = {1, 0, 0, 0, 1, 0};
+  double PixelSpacing[2] = {1, 1};
+  double Slope = 1.0, Intercept = 0.0;
+  double WindowCenter = 0.0, WindowWidth = 0.0;
+  double SliceThickness = 0.0, SpacingBetweenSlices = 0.0;
+};
+
+bool HasPart10Preamble(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char buffer[132];
+  if (!in.read(buffer, 132)) return false;
+  return std::memcmp(buffer + 128, "DICM", 4) == 0;
+}
+
+std::string GetString(DcmItem* item, const DcmTagKey& tag) {
+  OFString value;
+  if (item->findAndGetOFStringArray(tag, value).good()) {
+    std::string s = value.c_str();
+    while (!s.empty() && (s.back() == ' ' || s.back() == '\0')) s.pop_back();
+    return s;
+  }
+  return "";
+}
+
+bool GetDoubles(DcmItem* item, const DcmTagKey& tag, double* values, int count) {
+  for (int i = 0; i < count; ++i) {
+    Float64 v = 0;
+    if (item->findAndGetFloat64(tag, v, static_cast<unsigned long>(i)).bad()) return false;
+    values[i] = v;
+  }
+  return true;
+}
+
+int GetInt(DcmItem* item, const DcmTagKey& tag, int fallback) {
+  Uint16 u = 0;
+  if (item->findAndGetUint16(tag, u).good()) return u;
+  Sint32 s = 0;
+  if (item->findAndGetSint32(tag, s).good()) return s;
+  const std::string text = GetString(item, tag);
+  if (!text.empty()) {
+    try {
+      return std::stoi(text);
+    } catch (...) {
+    }
+  }
+  return fallback;
+}
+
+void ReadHeader(DcmFileFormat& format, SliceHeader& h) {
+  DcmDataset* ds = format.getDataset();
+  h.SeriesUID = GetString(ds, DCM_SeriesInstanceUID);
+  h.StudyUID = GetString(ds, DCM_StudyInstanceUID);
+  h.Modality = GetString(ds, DCM_Modality);
+  h.Description = GetString(ds, DCM_SeriesDescription);
+  h.PatientName = GetString(ds, DCM_PatientName);
+  h.SeriesNumber = GetString(ds, DCM_SeriesNumber);
+  h.Photometric = GetString(ds, DCM_PhotometricInterpretation);
+  h.TransferSyntax = GetString(format.getMetaInfo(), DCM_TransferSyntaxUID);
+  if (h.TransferSyntax.empty()) h.TransferSyntax = DcmXfer(ds->getOriginalXfer()).getXferID();
+  h.Rows = GetInt(ds, DCM_Rows, 0);
+  h.Columns = GetInt(ds, DCM_Columns, 0);
+  h.Frames = GetInt(ds, DCM_NumberOfFrames, 1);
+  h.Samples = GetInt(ds, DCM_SamplesPerPixel, 1);
+  h.BitsAllocated = GetInt(ds, DCM_BitsAllocated, 16);
+  h.BitsStored = GetInt(ds, DCM_BitsStored, h.BitsAllocated);
+  h.PixelRepresentation = GetInt(ds, DCM_PixelRepresentation, 0);
+  h.HasPosition = GetDoubles(ds, DCM_ImagePositionPatient, h.Position, 3);
+  h.HasOrientation = GetDoubles(ds, DCM_ImageOrientationPatient, h.Orientation, 6);
+  h.HasPixelSpacing = GetDoubles(ds, DCM_PixelSpacing, h.PixelSpacing, 2);
+  if (!GetDoubles(ds, DCM_RescaleSlope, &h.Slope, 1) || h.Slope == 0.0) h.Slope = 1.0;
+  if (!GetDoubles(ds, DCM_RescaleIntercept, &h.Intercept, 1)) h.Intercept = 0.0;
+  h.HasWindow = GetDoubles(ds, DCM_WindowCenter, &h.WindowCenter, 1) &&
+                GetDoubles(ds, DCM_WindowWidth, &h.WindowWidth, 1) && h.WindowWidth > 0.0;
+  GetDoubles(ds, DCM_SliceThickness, &h.SliceThickness, 1);
+  GetDoubles(ds, DCM_SpacingBetweenSlices, &h.SpacingBetweenSlices, 1);
+}
+
+// Loads a file (only up to the pixel data when `headerOnly`) and classifies it.
+FileKind LoadFile(const std::string& path, DcmFileFormat& format, SliceHeader& h, std::string& reason,
+                  bool headerOnly) {
+  const bool part10 = HasPart10Preamble(path);
+  OFCondition status =
+      headerOnly ? format.loadFileUntilTag(path.c_str(), EXS_Unknown, EGL_noChange, DCM_MaxReadLength,
+                                           ERM_autoDetect, DCM_PixelData)
+                 : format.loadFile(path.c_str(), EXS_Unknown, EGL_noChange, DCM_MaxReadLength, ERM_autoDetect);
+  DcmDataset* ds = format.getDataset();
+  const bool looksDicom = part10 || ds->tagExists(DCM_SOPClassUID) || ds->tagExists(DCM_StudyInstanceUID) ||
+                          ds->tagExists(DCM_SeriesInstanceUID);
+  if (status.bad()) {
+    if (!looksDicom) return FileKind::NotDicom;
+    reason = std::string("corrupt or truncated DICOM (") + status.text() + ")";
+    h.File = path;
+    h.SeriesUID = GetString(ds, DCM_SeriesInstanceUID);  // may survive in a truncated file
+    return FileKind::Corrupt;
+  }
+  if (!looksDicom) return FileKind::NotDicom;
+  h.File = path;
+  ReadHeader(format, h);
+  if (h.Rows <= 0 || h.Columns <= 0) return FileKind::NonImage;
+  if (!headerOnly && !ds->tagExists(DCM_PixelData)) {
+    reason = "no pixel data (truncated file?)";
+    return FileKind::Corrupt;
+  }
+  return FileKind::Image;
+}
+
+void Cross(const double a[3], const double b[3], double c[3]) {
+  c[0] = a[1] * b[2] - a[2] * b[1];
+  c[1] = a[2] * b[0] - a[0] * b[2];
+  c[2] = a[0] * b[1] - a[1] * b[0];
+}
+double Dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+std::string Fmt(double v, int precision = 2) {
+  std::ostringstream s;
+  s.setf(std::ios::fixed);
+  s.precision(precision);
+  s << v;
+  return s.str();
+}
+
+std::string Name(const std::string& path) { return fs::path(path).filename().string(); }
+
+bool IsJpeg2000(const std::string& ts) {
+  return ts == "1.2.840.10008.1.2.4.90" || ts == "1.2.840.10008.1.2.4.91" || ts == "1.2.840.10008.1.2.4.92" ||
+         ts == "1.2.840.10008.1.2.4.93";
+}
+
+// Slice order and spacing of a series from its headers.
+struct SeriesGeometry {
+  std::vector<size_t> Order;         // header indices sorted along the normal
+  std::vector<double> Positions;     // sorted positions along the normal
+  double Normal[3] = {0, 0, 1};
+  double Spacing = 1.0;              // median gap
+  double MinGap = 1.0;
+  bool Irregular = false;            // missing slice / uneven spacing
+  std::string IrregularMessage;
+  std::string Problem;               // refused outright
+};
+
+SeriesGeometry AnalyzeGeometry(const std::vector<SliceHeader>& headers, double tolerance) {
+  SeriesGeometry g;
+  if (headers.empty()) {
+    g.Problem = "no image files";
+    return g;
+  }
+  const SliceHeader& first = headers.front();
+  for (const SliceHeader& h : headers) {
+    if (h.Samples != 1) {
+      g.Problem = "colour images (" + std::to_string(h.Samples) + " samples per pixel) are not supported (" +
+                  Name(h.File) + ")";
+      return g;
+    }
+    if (h.Frames > 1) {
+      g.Problem = "multi-frame images (" + std::to_string(h.Frames) + " frames in " + Name(h.File) +
+                  ") are not supported";
+      return g;
+    }
+    if (IsJpeg2000(h.TransferSyntax)) {
+      g.Problem = "JPEG 2000 compressed (transfer syntax " + h.TransferSyntax +
+                  ") cannot be decoded: DCMTK 3.6.7 has no JPEG 2000 codec; decompress the series first "
+                  "(e.g. gdcmconv --raw)";
+      return g;
+    }
+    if (h.Rows != first.Rows || h.Columns != first.Columns) {
+      g.Problem = "mixed image sizes in one series: " + Name(first.File) + " is " + std::to_string(first.Columns) +
+                  "x" + std::to_string(first.Rows) + ", " + Name(h.File) + " is " + std::to_string(h.Columns) +
+                  "x" + std::to_string(h.Rows);
+      return g;
+    }
+    if (h.HasOrientation != first.HasOrientation) {
+      g.Problem = "ImageOrientationPatient missing in some files (" + Name(h.HasOrientation ? first.File : h.File) + ")";
+      return g;
+    }
+    for (int i = 0; i < 6; ++i) {
+      if (std::abs(h.Orientation[i] - first.Orientation[i]) > 1e-3) {
+        g.Problem = "mixed orientations in one series: " + Name(first.File) + " and " + Name(h.File) +
+                    " have different ImageOrientationPatient";
+        return g;
+      }
+    }
+    if (std::abs(h.PixelSpacing[0] - first.PixelSpacing[0]) > 1e-4 ||
+        std::abs(h.PixelSpacing[1] - first.PixelSpacing[1]) > 1e-4) {
+      g.Problem = "mixed pixel spacings in one series (" + Name(first.File) + ", " + Name(h.File) + ")";
+      return g;
+    }
+    if (headers.size() > 1 && !h.HasPosition) {
+      g.Problem = "ImagePositionPatient missing in " + Name(h.File) + ": slices cannot be ordered";
+      return g;
+    }
+  }
+  double row[3] = {first.Orientation[0], first.Orientation[1], first.Orientation[2]};
+  double col[3] = {first.Orientation[3], first.Orientation[4], first.Orientation[5]};
+  Cross(row, col, g.Normal);
+  const double n = std::sqrt(Dot3(g.Normal, g.Normal));
+  if (n < 1e-3) {
+    g.Problem = "degenerate ImageOrientationPatient in " + Name(first.File);
+    return g;
+  }
+  for (double& v : g.Normal) v /= n;
+
+  g.Order.resize(headers.size());
+  for (size_t i = 0; i < headers.size(); ++i) g.Order[i] = i;
+  std::vector<double> along(headers.size());
+  for (size_t i = 0; i < headers.size(); ++i) along[i] = Dot3(headers[i].Position, g.Normal);
+  std::stable_sort(g.Order.begin(), g.Order.end(), [&](size_t a, size_t b) { return along[a] < along[b]; });
+  for (size_t i : g.Order) g.Positions.push_back(along[i]);
+
+  if (headers.size() == 1) {
+    g.Spacing = first.SpacingBetweenSlices > 0 ? first.SpacingBetweenSlices
+                                               : (first.SliceThickness > 0 ? first.SliceThickness : 1.0);
+    g.MinGap = g.Spacing;
+    return g;
+  }
+  std::vector<double> gaps;
+  for (size_t k = 1; k < g.Positions.size(); ++k) {
+    const double gap = g.Positions[k] - g.Positions[k - 1];
+    if (gap < 1e-4) {
+      g.Problem = "two slices at the same position " + Fmt(g.Positions[k], 3) + " mm (" +
+                  Name(headers[g.Order[k - 1]].File) + ", " + Name(headers[g.Order[k]].File) +
+                  "): several acquisitions, echoes or time points in one series are not supported";
+      return g;
+    }
+    gaps.push_back(gap);
+  }
+  // Gantry tilt: positions must move along the normal only.
+  const SliceHeader& h0 = headers[g.Order.front()];
+  const SliceHeader& hn = headers[g.Order.back()];
+  double d[3] = {hn.Position[0] - h0.Position[0], hn.Position[1] - h0.Position[1], hn.Position[2] - h0.Position[2]};
+  const double axial = Dot3(d, g.Normal);
+  double lateral[3] = {d[0] - axial * g.Normal[0], d[1] - axial * g.Normal[1], d[2] - axial * g.Normal[2]};
+  const double lateralLength = std::sqrt(Dot3(lateral, lateral));
+  if (lateralLength > 0.01 + 1e-3 * std::abs(axial)) {
+    const double degrees = std::atan2(lateralLength, std::abs(axial)) * 180.0 / M_PI;
+    g.Problem = "gantry tilt of " + Fmt(degrees, 1) +
+                " degrees (slice positions do not follow the slice normal) is not supported";
+    return g;
+  }
+  std::vector<double> sorted = gaps;
+  std::sort(sorted.begin(), sorted.end());
+  g.Spacing = sorted[sorted.size() / 2];
+  g.MinGap = sorted.front();
+  for (size_t k = 0; k < gaps.size(); ++k) {
+    if (std::abs(gaps[k] - g.Spacing) > std::max(1e-3, tolerance * g.Spacing)) {
+      const long multiple = std::lround(gaps[k] / g.Spacing);
+      const bool missing = multiple >= 2 && std::abs(gaps[k] - multiple * g.Spacing) < std::max(1e-3, tolerance * g.Spacing);
+      std::string where = "between positions " + Fmt(g.Positions[k]) + " mm (" + Name(headers[g.Order[k]].File) +
+                          ") and " + Fmt(g.Positions[k + 1]) + " mm (" + Name(headers[g.Order[k + 1]].File) +
+                          "): gap " + Fmt(gaps[k]) + " mm, expected " + Fmt(g.Spacing) + " mm";
+      g.Irregular = true;
+      g.IrregularMessage = missing ? std::to_string(multiple - 1) + " missing slice(s) " + where
+                                   : "uneven slice spacing " + where;
+      break;
+    }
+  }
+  return g;
+}
+
+// Raw stored value → modality value, for one pixel.
+template <typename Raw>
+inline double StoredValue(Raw raw, int bitsStored, bool isSigned) {
+  long v = static_cast<long>(raw);
+  if (bitsStored < static_cast<int>(8 * sizeof(Raw))) {
+    const unsigned long mask = (1UL << bitsStored) - 1UL;
+    unsigned long u = static_cast<unsigned long>(static_cast<std::make_unsigned_t<Raw>>(raw)) & mask;
+    if (isSigned && (u & (1UL << (bitsStored - 1)))) {
+      v = static_cast<long>(u) - static_cast<long>(1UL << bitsStored);
+    } else {
+      v = static_cast<long>(u);
+    }
+  }
+  return static_cast<double>(v);
+}
+
+bool DecodeSlice(const SliceHeader& h, DcmFileFormat& format, std::vector<double>& out, std::string& error) {
+  DcmDataset* ds = format.getDataset();
+  if (IsJpeg2000(h.TransferSyntax)) {
+    error = Name(h.File) + ": JPEG 2000 compressed (transfer syntax " + h.TransferSyntax +
+            ") cannot be decoded: DCMTK 3.6.7 has no JPEG 2000 codec";
+    return false;
+  }
+  if (DcmXfer(ds->getOriginalXfer()).isEncapsulated()) {
+    OFCondition c = ds->chooseRepresentation(EXS_LittleEndianExplicit, nullptr);
+    if (c.bad() || !ds->canWriteXfer(EXS_LittleEndianExplicit)) {
+      error = Name(h.File) + ": cannot decompress pixel data (transfer syntax " + h.TransferSyntax + ", " +
+              c.text() + ")";
+      return false;
+    }
+  }
+  DcmElement* element = nullptr;
+  if (ds->findAndGetElement(DCM_PixelData, element).bad() || !element) {
+    error = Name(h.File) + ": no pixel data";
+    return false;
+  }
+  const size_t count = static_cast<size_t>(h.Rows) * h.Columns;
+  out.resize(count);
+  const bool isSigned = h.PixelRepresentation == 1;
+  if (h.BitsAllocated == 16) {
+    Uint16* data = nullptr;
+    if (element->getUint16Array(data).bad() || !data || element->getLength() < count * 2) {
+      error = Name(h.File) + ": pixel data shorter than " + std::to_string(h.Columns) + "x" +
+              std::to_string(h.Rows) + " 16-bit pixels (truncated file)";
+      return false;
+    }
+    if (isSigned) {
+      const Sint16* s = reinterpret_cast<const Sint16*>(data);
+      for (size_t i = 0; i < count; ++i) out[i] = StoredValue(s[i], h.BitsStored, true);
+    } else {
+      for (size_t i = 0; i < count; ++i) out[i] = StoredValue(data[i], h.BitsStored, false);
+    }
+  } else if (h.BitsAllocated == 8) {
+    Uint8* data = nullptr;
+    if (element->getUint8Array(data).bad() || !data || element->getLength() < count) {
+      error = Name(h.File) + ": pixel data shorter than " + std::to_string(h.Columns) + "x" +
+              std::to_string(h.Rows) + " 8-bit pixels (truncated file)";
+      return false;
+    }
+    for (size_t i = 0; i < count; ++i)
+      out[i] = isSigned ? StoredValue(static_cast<Sint8>(data[i]), h.BitsStored, true)
+                        : StoredValue(data[i], h.BitsStored, false);
+  } else if (h.BitsAllocated == 32) {
+    Uint32* data = nullptr;
+    if (element->getUint32Array(data).bad() || !data || element->getLength() < count * 4) {
+      error = Name(h.File) + ": pixel data shorter than expected (truncated file)";
+      return false;
+    }
+    for (size_t i = 0; i < count; ++i)
+      out[i] = isSigned ? static_cast<double>(static_cast<Sint32>(data[i])) : static_cast<double>(data[i]);
+  } else {
+    error = Name(h.File) + ": " + std::to_string(h.BitsAllocated) + " bits allocated is not supported";
+    return false;
+  }
+  for (double& v : out) v = v * h.Slope + h.Intercept;
+  return true;
+}
+
+}  // namespace
+
+bool ScanDicom(const std::string& path, DicomScanResult& result, std::string& error, const ProgressCallback& progress) {
+  InitializeDcmtk();
+  result = DicomScanResult();
+  std::vector<std::string> files;
+  std::error_code ec;
+  const fs::path root(path);
+  if (fs::is_directory(root, ec)) {
+    for (fs::recursive_directory_iterator it(root, fs::directory_options::skip_permission_denied, ec), end;
+         !ec && it != end; it.increment(ec)) {
+      if (it->is_regular_file(ec)) files.push_back(it->path().string());
+    }
+    if (ec) {
+      error = "cannot list folder " + path + ": " + ec.message();
+      return false;
+    }
+    std::sort(files.begin(), files.end());
+  } else if (fs::is_regular_file(root, ec)) {
+    // A DICOMDIR: read its image records; any other file is scanned on its own.
+    DcmFileFormat probe;
+    bool isDicomDir = false;
+    if (probe.loadFileUntilTag(path.c_str(), EXS_Unknown, EGL_noChange, DCM_MaxReadLength, ERM_autoDetect,
+                               DCM_PixelData)
+            .good()) {
+      isDicomDir = GetString(probe.getMetaInfo(), DCM_MediaStorageSOPClassUID) == UID_MediaStorageDirectoryStorage;
+    }
+    if (isDicomDir) {
+      DcmDicomDir dir(path.c_str());
+      if (dir.error().bad()) {
+        error = "cannot read DICOMDIR " + path + ": " + dir.error().text();
+        return false;
+      }
+      const fs::path base = root.parent_path();
+      std::vector<DcmDirectoryRecord*> stack = {&dir.getRootRecord()};
+      while (!stack.empty()) {
+        DcmDirectoryRecord* record = stack.back();
+        stack.pop_back();
+        for (unsigned long i = 0; i < record->cardSub(); ++i) {
+          DcmDirectoryRecord* sub = record->getSub(i);
+          if (!sub) continue;
+          const std::string id = GetString(sub, DCM_ReferencedFileID);
+          if (!id.empty()) {
+            std::string relative = id;
+            std::replace(relative.begin(), relative.end(), '\\', '/');
+            files.push_back((base / relative).string());
+          }
+          stack.push_back(sub);
+        }
+      }
+    } else {
+      files.push_back(path);
+    }
+  } else {
+    error = "no such file or folder: " + path;
+    return false;
+  }
+
+  std::map<std::string, std::vector<SliceHeader>> bySeries;
+  std::map<std::string, std::vector<std::string>> corruptBySeries;
+  std::vector<std::string> seriesOrder;
+  for (size_t f = 0; f < files.size(); ++f) {
+    ++result.FilesExamined;
+    DcmFileFormat format;
+    SliceHeader h;
+    std::string reason;
+    switch (LoadFile(files[f], format, h, reason, true)) {
+      case FileKind::NotDicom: ++result.NonDicomFiles; break;
+      case FileKind::NonImage: ++result.NonImageDicomFiles; break;
+      case FileKind::Corrupt:
+        result.CorruptFiles.push_back(files[f] + ": " + reason);
+        if (!h.SeriesUID.empty()) corruptBySeries[h.SeriesUID].push_back(files[f] + ": " + reason);
+        break;
+      case FileKind::Image:
+        if (h.SeriesUID.empty()) h.SeriesUID = "(no SeriesInstanceUID)";
+        if (!bySeries.count(h.SeriesUID)) seriesOrder.push_back(h.SeriesUID);
+        bySeries[h.SeriesUID].push_back(std::move(h));
+        break;
+    }
+    if (progress && (f % 16 == 0 || f + 1 == files.size())) progress(double(f + 1) / files.size(), "scanning");
+  }
+  for (const std::string& uid : seriesOrder) {
+    const auto& headers = bySeries[uid];
+    DicomSeriesInfo info;
+    const SliceHeader& h = headers.front();
+    info.SeriesInstanceUID = uid;
+    info.StudyInstanceUID = h.StudyUID;
+    info.Modality = h.Modality;
+    info.SeriesDescription = h.Description;
+    info.PatientName = h.PatientName;
+    info.SeriesNumber = h.SeriesNumber;
+    info.TransferSyntaxUID = h.TransferSyntax;
+    info.Columns = h.Columns;
+    info.Rows = h.Rows;
+    info.PixelSpacing[0] = h.PixelSpacing[0];
+    info.PixelSpacing[1] = h.PixelSpacing[1];
+    for (const auto& s : headers) info.Files.push_back(s.File);
+    const SeriesGeometry g = AnalyzeGeometry(headers, DicomReadOptions().SpacingTolerance);
+    info.SliceSpacing = g.Problem.empty() ? g.Spacing : 0.0;
+    info.Problem = !g.Problem.empty() ? g.Problem : g.IrregularMessage;
+    info.CorruptFiles = corruptBySeries[uid];
+    if (!info.CorruptFiles.empty()) info.Problem = "corrupt or truncated file " + info.CorruptFiles.front();
+    result.Series.push_back(std::move(info));
+  }
+  return true;
+}
+
+bool ReadDicomSeries(const DicomSeriesInfo& series, ImageVolume& volume, std::string& error,
+                     const DicomReadOptions& options, std::vector<std::string>* warnings,
+                     const ProgressCallback& progress) {
+  InitializeDcmtk();
+  try {
+    if (series.Files.empty()) {
+      error = "DICOM series " + series.SeriesInstanceUID + " has no files";
+      return false;
+    }
+    if (!series.CorruptFiles.empty()) {
+      error = "DICOM series " + series.SeriesInstanceUID + ": corrupt or truncated file " + series.CorruptFiles.front();
+      return false;
+    }
+    // Headers first (cheap): refuse bad geometry before decoding any pixels.
+    std::vector<SliceHeader> headers;
+    for (const std::string& file : series.Files) {
+      DcmFileFormat format;
+      SliceHeader h;
+      std::string reason;
+      const FileKind kind = LoadFile(file, format, h, reason, true);
+      if (kind != FileKind::Image) {
+        error = file + ": " + (kind == FileKind::Corrupt ? reason : std::string("not a DICOM image"));
+        return false;
+      }
+      headers.push_back(std::move(h));
+    }
+    const SeriesGeometry g = AnalyzeGeometry(headers, options.SpacingTolerance);
+    if (!g.Problem.empty()) {
+      error = "DICOM series " + series.SeriesInstanceUID + ": " + g.Problem;
+      return false;
+    }
+    if (g.Irregular && !options.ResampleIrregularSpacing) {
+      error = "DICOM series " + series.SeriesInstanceUID + ": " + g.IrregularMessage +
+              " (refused; allow resampling to load it with its true geometry)";
+      return false;
+    }
+
+    // Decode every slice in geometric order.
+    const int cols = headers.front().Columns, rows = headers.front().Rows;
+    const size_t sliceSize = static_cast<size_t>(cols) * rows;
+    std::vector<std::vector<double>> slices(headers.size());
+    bool integral = true;
+    double lo = std::numeric_limits<double>::max(), hi = -lo;
+    for (size_t k = 0; k < g.Order.size(); ++k) {
+      const SliceHeader& h = headers[g.Order[k]];
+      DcmFileFormat format;
+      SliceHeader full;
+      std::string reason;
+      if (LoadFile(h.File, format, full, reason, false) != FileKind::Image) {
+        error = h.File + ": " + (reason.empty() ? "cannot be read" : reason);
+        return false;
+      }
+      if (!DecodeSlice(full, format, slices[k], error)) {
+        error = h.File + ": " + error;
+        return false;
+      }
+      integral = integral && full.Slope == std::floor(full.Slope) && full.Intercept == std::floor(full.Intercept);
+      for (double v : slices[k]) {
+        lo = std::min(lo, v);
+        hi = std::max(hi, v);
+      }
+      if (progress) progress(double(k + 1) / g.Order.size(), "reading DICOM");
+    }
+
+    // Output grid: the slices themselves, or a regular resampling for irregular series.
+    std::vector<double> outPositions;
+    double spacing = g.Spacing;
+    if (g.Irregular) {
+      spacing = g.MinGap;
+      const double length = g.Positions.back() - g.Positions.front();
+      const int n = static_cast<int>(std::lround(length / spacing)) + 1;
+      spacing = n > 1 ? length / (n - 1) : spacing;
+      for (int k = 0; k < n; ++k) outPositions.push_back(g.Positions.front() + k * spacing);
+      integral = false;
+      if (warnings)
+        warnings->push_back(g.IrregularMessage + "; resampled to " + std::to_string(n) + " slices " + Fmt(spacing, 3) +
+                            " mm apart by linear interpolation along the slice normal");
+    } else {
+      outPositions = g.Positions;
+    }
+    const int depth = static_cast<int>(outPositions.size());
+
+    int scalarType = VTK_FLOAT;
+    if (integral) {
+      if (lo >= -32768 && hi <= 32767) scalarType = VTK_SHORT;
+      else if (lo >= 0 && hi <= 65535) scalarType = VTK_UNSIGNED_SHORT;
+      else if (lo >= -2147483648.0 && hi <= 2147483647.0) scalarType = VTK_INT;
+    }
+    auto image = vtkSmartPointer<vtkImageData>::New();
+    image->SetDimensions(cols, rows, depth);
+    image->AllocateScalars(scalarType, 1);
+    auto store = [&](size_t index, double v) {
+      switch (scalarType) {
+        case VTK_SHORT: static_cast<short*>(image->GetScalarPointer())[index] = static_cast<short>(v); break;
+        case VTK_UNSIGNED_SHORT:
+          static_cast<unsigned short*>(image->GetScalarPointer())[index] = static_cast<unsigned short>(v);
+          break;
+        case VTK_INT: static_cast<int*>(image->GetScalarPointer())[index] = static_cast<int>(v); break;
+        default: static_cast<float*>(image->GetScalarPointer())[index] = static_cast<float>(v); break;
+      }
+    };
+    size_t below = 0;
+    for (int k = 0; k < depth; ++k) {
+      const double p = outPositions[k];
+      while (below + 2 < g.Positions.size() && g.Positions[below + 1] <= p) ++below;
+      size_t a = below, b = std::min(below + 1, g.Positions.size() - 1);
+      double t = 0.0;
+      if (g.Irregular && b != a) t = std::clamp((p - g.Positions[a]) / (g.Positions[b] - g.Positions[a]), 0.0, 1.0);
+      if (!g.Irregular) {
+        a = static_cast<size_t>(k);
+        t = 0.0;
+      }
+      for (size_t i = 0; i < sliceSize; ++i) {
+        const double v = t == 0.0 ? slices[a][i] : (1.0 - t) * slices[a][i] + t * slices[b][i];
+        store(static_cast<size_t>(k) * sliceSize + i, v);
+      }
+    }
+
+    // Geometry: i along a row (IOP row direction, column spacing), j down the columns, k along
+    // the normal. LPS from DICOM → RAS by negating x and y.
+    const SliceHeader& h0 = headers[g.Order.front()];
+    double lps[3][3] = {{h0.Orientation[0], h0.Orientation[1], h0.Orientation[2]},
+                        {h0.Orientation[3], h0.Orientation[4], h0.Orientation[5]},
+                        {g.Normal[0], g.Normal[1], g.Normal[2]}};
+    for (int c = 0; c < 2; ++c) {
+      const double n = std::sqrt(Dot3(lps[c], lps[c]));
+      for (double& v : lps[c]) v /= n;
+    }
+    const double spacings[3] = {h0.PixelSpacing[1], h0.PixelSpacing[0], spacing};
+    // Origin: the first slice's position, moved onto the resampled first position if needed.
+    double origin[3] = {h0.Position[0], h0.Position[1], h0.Position[2]};
+    const double shift = outPositions.front() - g.Positions.front();
+    for (int r = 0; r < 3; ++r) origin[r] += shift * g.Normal[r];
+    ImageVolume result;
+    result.Image = image;
+    for (int c = 0; c < 3; ++c) {
+      for (int r = 0; r < 3; ++r) {
+        const double sign = r < 2 ? -1.0 : 1.0;
+        result.IJKToRAS->SetElement(r, c, sign * lps[c][r] * spacings[c]);
+      }
+    }
+    for (int r = 0; r < 3; ++r) result.IJKToRAS->SetElement(r, 3, (r < 2 ? -1.0 : 1.0) * origin[r]);
+    if (h0.HasWindow) {
+      result.Window = h0.WindowWidth;
+      result.Level = h0.WindowCenter;
+    }
+    result.Modality = h0.Modality;
+    result.Description = h0.Description;
+    if (warnings && h0.Photometric == "MONOCHROME1")
+      warnings->push_back("MONOCHROME1 series: values are kept as stored (low = white on the scanner display)");
+    volume = result;
+    return true;
+  } catch (const std::bad_alloc&) {
+    error = "DICOM series " + series.SeriesInstanceUID + ": out of memory";
+  } catch (const std::exception& e) {
+    error = "DICOM series " + series.SeriesInstanceUID + ": " + e.what();
+  }
+  return false;
+}
+
+bool ReadDicomVolume(const std::string& path, ImageVolume& volume, std::string& error, const std::string& seriesUID,
+                     const DicomReadOptions& options, std::vector<std::string>* warnings,
+                     const ProgressCallback& progress) {
+  DicomScanResult scan;
+  if (!ScanDicom(path, scan, error)) return false;
+  const DicomSeriesInfo* chosen = nullptr;
+  for (const auto& s : scan.Series) {
+    if (seriesUID.empty() || s.SeriesInstanceUID == seriesUID) {
+      if (chosen && seriesUID.empty()) {
+        error = path + " holds " + std::to_string(scan.Series.size()) + " DICOM series: choose one by SeriesInstanceUID";
+        return false;
+      }
+      chosen = &s;
+    }
+  }
+  if (!chosen) {
+    error = seriesUID.empty() ? "no DICOM image series in " + path + " (" + std::to_string(scan.FilesExamined) +
+                                    " files examined, " + std::to_string(scan.NonDicomFiles) + " not DICOM" +
+                                    (scan.CorruptFiles.empty() ? "" : ", corrupt: " + scan.CorruptFiles.front()) + ")"
+                              : "no series " + seriesUID + " in " + path;
+    return false;
+  }
+  if (warnings) {
+    if (scan.NonDicomFiles > 0)
+      warnings->push_back(std::to_string(scan.NonDicomFiles) + " non-DICOM file(s) skipped");
+    for (const auto& c : scan.CorruptFiles) warnings->push_back("skipped " + c);
+  }
+  if (ReadDicomSeries(*chosen, volume, error, options, warnings, progress)) return true;
+  if (!scan.CorruptFiles.empty() && chosen->CorruptFiles.empty())
+    error += " (also skipped as corrupt or truncated: " + scan.CorruptFiles.front() + ")";
+  return false;
+}
+
+}  // namespace rp
