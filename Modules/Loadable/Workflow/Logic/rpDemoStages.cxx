@@ -10,6 +10,7 @@
 #include "rpImageVolume.h"
 #include "rpKneePhantom.h"
 #include "rpReport.h"
+#include "rpVolumeIO.h"
 #include "rpStageRunner.h"
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
@@ -44,6 +45,11 @@ void GeneratePhantom(DemoState& state) {
     throw std::runtime_error("knee phantom: " + error);
   }
   state.Phantom = phantom;
+  // The ground-truth labelmap is kept beside the scene for scoring (not a scene node).
+  if (!WriteVolumeFile((fs::path(state.Output) / "ground-truth-labels.nrrd").string(), phantom->Labels.Image,
+                       phantom->Labels.IJKToRAS, {}, error)) {
+    throw std::runtime_error(error);
+  }
   int dims[3];
   phantom->CT.Image->GetDimensions(dims);
   double spacing[3];
