@@ -1,0 +1,240 @@
+// NDI serial driver against the Polaris simulator on a pseudo-terminal: set-up (reset by break
+// and by the RESET command), tool loading, tracking (BX and TX), occlusion, out of volume, a CRC
+// fault, a dropped reply, unplug and replug.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <thread>
+
+#include "rpNdiTracker.h"
+#include "rpPolarisSimulator.h"
+#include "rpToolDefinition.h"
+
+using namespace rp;
+
+namespace {
+
+bool WaitFor(const std::function<bool()>& condition, double seconds) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  while (std::chrono::steady_clock::now() < end) {
+    if (condition()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  return condition();
+}
+
+std::string OutputDir() {
+  const std::string dir = ROBOPLAN_TEST_OUTPUT_DIR;
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+ToolDefinition Tool(const std::string& name) {
+  return ReadToolDefinition(std::string(ROBOPLAN_RESOURCES_DIR) + "/Tools/" + name + ".json");
+}
+
+struct Rig {
+  explicit Rig(const std::string& link, PolarisSimulator::Options options = {}, bool binary = true) {
+    options.LinkPath = OutputDir() + "/" + link;
+    options.FrameRate = 60;
+    Stylus = Tool("Stylus");
+    Reference = Tool("Reference");
+    Sim = std::make_unique<PolarisSimulator>(options);
+    Sim->AddTool(Stylus);
+    Sim->AddTool(Reference);
+    std::string error;
+    Started = Sim->Start(error);
+    EXPECT_TRUE(Started) << error;
+    NdiTracker::Options o;
+    o.Port = Sim->PortPath();
+    o.Tools = {{"Stylus", Stylus.Rom}, {"Reference", Reference.Rom}};
+    o.Binary = binary;
+    o.CommandTimeoutMs = 1000;
+    o.TrackingTimeoutMs = 100;
+    o.ReconnectInitialSeconds = 0.05;
+    o.ReconnectMaxSeconds = 0.4;
+    TrackerOptions = o;
+  }
+  void StartTracker() {
+    Tracker = std::make_unique<NdiTracker>(TrackerOptions);
+    Tracker->Start();
+  }
+  bool WaitTracking(double seconds = 5) {
+    return WaitFor([&] { return Tracker->GetState() == NdiTracker::State::Tracking && Tracker->GetStatistics().Frames > 5; }, seconds);
+  }
+  ToolPose Newest(const char* name, uint64_t* count = nullptr) {
+    const int slot = Tracker->Poses().Find(name, std::strlen(name));
+    ToolPose pose;
+    const uint64_t n = slot >= 0 ? Tracker->Poses().Read(slot, pose) : 0;
+    if (count) *count = n;
+    return pose;
+  }
+  ToolState NewestState(const char* name) { return Newest(name).State; }
+
+  ToolDefinition Stylus, Reference;
+  std::unique_ptr<PolarisSimulator> Sim;
+  NdiTracker::Options TrackerOptions;
+  std::unique_ptr<NdiTracker> Tracker;
+  bool Started = false;
+};
+
+// Tip of the stylus in tracker coordinates from a tracked pose.
+void TipPosition(const ToolPose& pose, const std::array<double, 3>& tip, double out[3]) {
+  double m[16];
+  pose.ToMatrix(m);
+  for (int r = 0; r < 3; ++r) out[r] = m[4 * r] * tip[0] + m[4 * r + 1] * tip[1] + m[4 * r + 2] * tip[2] + m[4 * r + 3];
+}
+
+}  // namespace
+
+TEST(NdiDriver, TracksSimulatedToolsWithBx) {
+  Rig rig("bx");
+  ASSERT_TRUE(rig.Started);
+  rig.StartTracker();
+  ASSERT_TRUE(rig.WaitTracking()) << rig.Tracker->LastError();
+  const auto counters = rig.Sim->GetCounters();
+  EXPECT_EQ(counters.Baud, 1228739);  // fastest COMM rate negotiated
+  EXPECT_EQ(counters.LoadedTools, 2);
+  EXPECT_TRUE(counters.Tracking);
+  EXPECT_EQ(rig.Tracker->NegotiatedBaud(), 1228739);
+  EXPECT_NE(rig.Tracker->FirmwareVersion().find("Polaris"), std::string::npos);
+
+  // The static reference: exactly its scripted pose (float precision of BX).
+  const ToolPose reference = rig.Newest("Reference");
+  ASSERT_EQ(reference.State, ToolState::OK);
+  double truth[16], got[16];
+  rig.Sim->TruePose("Reference", 0, truth);
+  reference.ToMatrix(got);
+  for (int i = 0; i < 12; ++i) EXPECT_NEAR(got[i], truth[i], i % 4 == 3 ? 1e-3 : 1e-6) << i;
+  EXPECT_GT(reference.Error, 0.1);
+  EXPECT_LT(reference.Error, 0.3);
+
+  // The pivoting stylus keeps its tip on the pivot point in every frame.
+  for (int k = 0; k < 5; ++k) {
+    const ToolPose stylus = rig.Newest("Stylus");
+    ASSERT_EQ(stylus.State, ToolState::OK);
+    double tip[3];
+    TipPosition(stylus, rig.Stylus.TipOffset, tip);
+    for (int r = 0; r < 3; ++r) EXPECT_NEAR(tip[r], rig.Stylus.Motion.Center[r], 0.01);
+    std::this_thread::sleep_for(std::chrono::milliseconds(30));
+  }
+  // Frame numbers advance at the camera rate (60 Hz) and polling keeps up.
+  const uint32_t f0 = rig.Newest("Stylus").Frame;
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  const uint32_t f1 = rig.Newest("Stylus").Frame;
+  EXPECT_NEAR(static_cast<double>(f1 - f0), 30.0, 6.0);
+  rig.Tracker->Stop();
+  EXPECT_EQ(rig.Tracker->GetState(), NdiTracker::State::Stopped);
+  EXPECT_FALSE(rig.Sim->GetCounters().Tracking);  // TSTOP was sent
+  EXPECT_EQ(rig.Sim->GetCounters().Baud, 9600);   // and COMM back to 9600
+}
+
+TEST(NdiDriver, TracksWithTextTxReplies) {
+  Rig rig("tx", {}, /*binary=*/false);
+  ASSERT_TRUE(rig.Started);
+  rig.StartTracker();
+  ASSERT_TRUE(rig.WaitTracking()) << rig.Tracker->LastError();
+  const ToolPose stylus = rig.Newest("Stylus");
+  ASSERT_EQ(stylus.State, ToolState::OK);
+  double tip[3];
+  TipPosition(stylus, rig.Stylus.TipOffset, tip);
+  // TX quantises the quaternion to 1e-4 (160 mm lever: ~0.05 mm) and positions to 0.01 mm.
+  for (int r = 0; r < 3; ++r) EXPECT_NEAR(tip[r], rig.Stylus.Motion.Center[r], 0.1);
+  EXPECT_EQ(rig.Tracker->GetStatistics().MalformedReplies, 0u);
+}
+
+TEST(NdiDriver, ResetByBreakWhenTheProbeFails) {
+  Rig rig("break");
+  ASSERT_TRUE(rig.Started);
+  rig.Sim->DropNextReplies(1);  // the INIT probe goes unanswered (device at another baud)
+  rig.StartTracker();
+  ASSERT_TRUE(rig.WaitTracking()) << rig.Tracker->LastError();
+  EXPECT_EQ(rig.Tracker->GetStatistics().Resets, 1u);
+  EXPECT_EQ(rig.Sim->GetCounters().Breaks, 1u);   // delivered out of band (the .break socket)
+  EXPECT_EQ(rig.Sim->GetCounters().Resets, 0u);   // no RESET command was needed
+}
+
+TEST(NdiDriver, ResetCommandWhenNoBreakArrives) {
+  PolarisSimulator::Options options;
+  options.AcceptBreak = false;
+  Rig rig("nobreak", options);
+  ASSERT_TRUE(rig.Started);
+  rig.Sim->DropNextReplies(1);
+  rig.StartTracker();
+  ASSERT_TRUE(rig.WaitTracking(8)) << rig.Tracker->LastError();
+  EXPECT_EQ(rig.Sim->GetCounters().Resets, 1u);
+}
+
+TEST(NdiDriver, OcclusionOutOfVolumeCrcFaultDroppedReply) {
+  Rig rig("faults");
+  ASSERT_TRUE(rig.Started);
+  rig.StartTracker();
+  ASSERT_TRUE(rig.WaitTracking()) << rig.Tracker->LastError();
+
+  rig.Sim->SetOccluded("Stylus", true);
+  EXPECT_TRUE(WaitFor([&] { return rig.NewestState("Stylus") == ToolState::Missing; }, 1));
+  EXPECT_EQ(rig.NewestState("Reference"), ToolState::OK);
+  rig.Sim->SetOccluded("Stylus", false);
+  EXPECT_TRUE(WaitFor([&] { return rig.NewestState("Stylus") == ToolState::OK; }, 1));
+
+  rig.Sim->SetOutOfVolume("Reference", true);
+  EXPECT_TRUE(WaitFor([&] { return rig.NewestState("Reference") == ToolState::OutOfVolume; }, 1));
+  rig.Sim->SetOutOfVolume("Reference", false);
+  EXPECT_TRUE(WaitFor([&] { return rig.NewestState("Reference") == ToolState::OK; }, 1));
+
+  const auto before = rig.Tracker->GetStatistics();
+  rig.Sim->CorruptNextReplies(1);
+  EXPECT_TRUE(WaitFor([&] { return rig.Tracker->GetStatistics().CrcErrors == before.CrcErrors + 1; }, 1));
+  rig.Sim->DropNextReplies(1);
+  EXPECT_TRUE(WaitFor([&] { return rig.Tracker->GetStatistics().Timeouts == before.Timeouts + 1; }, 1));
+  // The lost poll shows up as skipped camera frames, and tracking carries on.
+  uint64_t n0 = 0, n1 = 0;
+  rig.Newest("Stylus", &n0);
+  EXPECT_TRUE(WaitFor([&] { rig.Newest("Stylus", &n1); return n1 > n0 + 10; }, 2));
+  const auto after = rig.Tracker->GetStatistics();
+  EXPECT_GE(after.FrameGaps, before.FrameGaps + 3);  // ~100 ms at 60 Hz went missing
+  EXPECT_EQ(rig.Tracker->GetState(), NdiTracker::State::Tracking);
+  EXPECT_EQ(after.Connections, 1u);
+}
+
+TEST(NdiDriver, UnplugAndReplugReconnects) {
+  Rig rig("unplug");
+  ASSERT_TRUE(rig.Started);
+  rig.StartTracker();
+  ASSERT_TRUE(rig.WaitTracking()) << rig.Tracker->LastError();
+  rig.Sim->Unplug();
+  EXPECT_TRUE(WaitFor([&] { return rig.Tracker->GetState() != NdiTracker::State::Tracking; }, 1));
+  EXPECT_NE(rig.Tracker->LastError().find("unplugged"), std::string::npos) << rig.Tracker->LastError();
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));  // a few failed reconnects (back-off)
+  uint64_t before = 0;
+  rig.Newest("Stylus", &before);
+  std::string error;
+  ASSERT_TRUE(rig.Sim->Replug(error)) << error;
+  EXPECT_TRUE(WaitFor([&] { return rig.Tracker->GetStatistics().Connections == 2; }, 5)) << rig.Tracker->LastError();
+  uint64_t after = 0;
+  EXPECT_TRUE(WaitFor([&] { rig.Newest("Stylus", &after); return after > before + 10; }, 2));
+  EXPECT_EQ(rig.Sim->GetCounters().LoadedTools, 2);  // tools loaded again on the new link
+}
+
+TEST(NdiDriver, BadRomAndBadPortGiveClearErrors) {
+  Rig rig("badrom");
+  ASSERT_TRUE(rig.Started);
+  std::vector<uint8_t> garbage(752, 0x42);
+  rig.TrackerOptions.Tools.push_back({"Broken", garbage});
+  rig.StartTracker();
+  ASSERT_TRUE(rig.WaitTracking()) << rig.Tracker->LastError();
+  EXPECT_NE(rig.Tracker->LastError().find("Broken: not an NDI tool definition"), std::string::npos) << rig.Tracker->LastError();
+  EXPECT_EQ(rig.NewestState("Stylus"), ToolState::OK);
+
+  NdiTracker::Options o;
+  o.Port = OutputDir() + "/no-such-port";
+  o.ReconnectInitialSeconds = 0.05;
+  NdiTracker absent(o);
+  absent.Start();
+  EXPECT_TRUE(WaitFor([&] { return absent.GetState() == NdiTracker::State::Disconnected; }, 1));
+  EXPECT_NE(absent.LastError().find("cannot open"), std::string::npos) << absent.LastError();
+  absent.Stop();
+}
