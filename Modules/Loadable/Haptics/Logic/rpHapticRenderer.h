@@ -1,0 +1,79 @@
+#pragma once
+// Force for a multi-point tool (seed eq. 1–6): one god-object proxy per tool point (tip plus
+// points along the shaft), a spring-damper per contact with the contacted tissue's k_i, b_i
+//     F_i = k_i (x_proxy,i − x_hip,i) + b_i (v_proxy,i − v_hip,i)          (eq. 1–3)
+// summed over contacts (eq. 4–5), gains limited to the device's passive region, a passivity
+// observer, and the clamp of eq. 6 that keeps the direction: |F| > Fmax → F·Fmax/|F|.
+// (The damping term opposes the HIP's motion relative to the proxy: the seed's eq. 2 writes
+// −b·Δv with Δv = v_proxy − v_probe, which would inject energy; we use the dissipative sign.)
+// Not thread-aware: the servo task owns one. Update() never allocates.
+#include "rpGodObjectProxy.h"
+#include "rpHapticDevice.h"
+#include "rpPassivityObserver.h"
+#include "rpStability.h"
+
+namespace rp {
+
+constexpr int MaxToolPoints = 8;
+
+struct RendererOptions {
+  bool Friction = true;
+  bool ForceShading = true;
+  bool LimitGains = true;         // Colgate-Schenkel + nominal device limits
+  bool PassivityControl = true;
+  double Period = 0.001;          // s
+  double WorkspaceScale = 1.0;    // scene mm per device mm
+};
+
+struct PointContact {
+  Vec3 Hip, Proxy, Force;
+  bool InContact = false;
+  int Planes = 0;
+  uint16_t Label = 0;
+  double Depth = 0;  // |proxy − HIP| along the contact normal (mm)
+};
+
+struct RenderOutput {
+  Vec3 Force;           // after gain limits, passivity control and the clamp (N, scene frame)
+  Vec3 UnclampedForce;  // eq. 4 result before the clamp
+  bool Clamped = false;
+  int Contacts = 0;
+  int PrimaryPoint = -1;  // the deepest contact
+  GainLimits Gains;
+  double ObservedEnergy = 0, AddedDamping = 0;
+  int NumberOfPoints = 0;
+  PointContact Points[MaxToolPoints];
+};
+
+class HapticRenderer {
+ public:
+  HapticRenderer();
+  /// Tool points in the stylus frame (mm); point 0 is the tip (the HIP). At most MaxToolPoints.
+  bool SetToolPoints(const Vec3* points, int count);
+  void SetOptions(const RendererOptions& options) { this->Options = options; }
+  const RendererOptions& GetOptions() const { return this->Options; }
+  void SetDevice(const DeviceInfo& device);
+  void SetScene(const HapticScene* scene) noexcept { this->Scene = scene; }
+  /// Puts every proxy on its HIP (no contact) for this stylus pose (scene frame).
+  void Reset(const Pose& stylusToScene) noexcept;
+  /// One servo tick: stylus pose in the scene frame.
+  const RenderOutput& Update(const Pose& stylusToScene) noexcept;
+  const RenderOutput& Output() const { return this->Out; }
+
+ private:
+  RendererOptions Options;
+  DeviceInfo Device;
+  double MaxForce = 3.3;
+  const HapticScene* Scene = nullptr;
+  int PointCount = 1;
+  Vec3 ToolPoints[MaxToolPoints];
+  GodObjectProxy Proxies[MaxToolPoints];
+  Vec3 LastHip[MaxToolPoints], LastProxy[MaxToolPoints];
+  bool Initialized = false;
+  bool WasInContact = false;
+  Vec3 LastTip;
+  PassivityObserver Observer;
+  RenderOutput Out;
+};
+
+}  // namespace rp

@@ -1,0 +1,58 @@
+#pragma once
+// The immutable collision world of the servo loop: all haptic meshes merged into one triangle
+// mesh (label = material index), its BVH and the materials. Built on the main thread (or any
+// non-servo thread), then handed to the servo thread through a SceneExchange without locks.
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "rpBVH.h"
+#include "rpMaterial.h"
+#include "rpTriangleMesh.h"
+
+namespace rp {
+
+struct HapticMeshInput {
+  std::string Name;         // model name, for messages
+  std::string TissueClass;  // looked up in the material table
+  TriangleMesh Mesh;        // RAS, mm
+};
+
+struct HapticScene {
+  TriangleMesh Mesh;  // merged; Labels index Materials
+  BVH Tree;
+  std::vector<Material> Materials;
+  std::vector<std::string> MeshNames;  // one per input mesh
+  uint64_t Version = 0;
+
+  /// Merges the meshes, looks up their materials (empty/unknown tissue class: the table's
+  /// default, reported in `warnings`) and builds the BVH. Returns nullptr and names the
+  /// problem for invalid meshes.
+  static std::unique_ptr<HapticScene> Build(const std::vector<HapticMeshInput>& meshes, const MaterialTable& table,
+                                            std::vector<std::string>& warnings, std::string& error);
+  const Material& MaterialOf(uint32_t triangle) const { return this->Materials[this->Mesh.Label(triangle)]; }
+};
+
+/// Hands new scenes to the servo thread: the owner Publish()es (any number of times); the servo
+/// thread Acquire()s at the start of a tick (wait-free: two atomic exchanges, no allocation, no
+/// free); the owner deletes scenes the servo thread retired in Collect(). At most one scene is
+/// retired at a time, so the servo thread keeps using its current scene until Collect() ran.
+class SceneExchange {
+ public:
+  ~SceneExchange();
+  void Publish(std::unique_ptr<HapticScene> scene);  // owner thread
+  void Collect();                                    // owner thread: frees retired scenes
+  /// Servo thread: the scene to use this tick (may be nullptr: no scene yet).
+  const HapticScene* Acquire() noexcept;
+  /// Owner thread, servo stopped: deletes everything.
+  void Clear();
+
+ private:
+  std::atomic<HapticScene*> Pending{nullptr};
+  std::atomic<HapticScene*> Retired{nullptr};
+  std::atomic<HapticScene*> Current{nullptr};  // written by the servo thread only (atomic for Clear)
+};
+
+}  // namespace rp

@@ -1,0 +1,104 @@
+#include "rpHapticServo.h"
+
+#include <algorithm>
+
+namespace rp {
+
+HapticServo::HapticServo(HapticDevice& device) : Device(device) { this->Render.SetDevice(device.Info()); }
+
+void HapticServo::ServoStarted() noexcept {
+  this->First = true;
+  this->Trips = 0;
+  this->Device.WriteForce(Vec3{});
+}
+
+void HapticServo::ServoStopping() noexcept { this->Device.WriteForce(Vec3{}); }
+
+void HapticServo::Tick(const TickInfo& tick) noexcept {
+  HapticState& s = this->Scratch;
+  s.Time = tick.Time;
+  s.Tick = tick.Index;
+  this->Render.SetScene(this->SceneSlots.Acquire());
+  DeviceToScene xf;
+  if (this->Transform.Read(xf) == 0) xf = DeviceToScene{};
+
+  DeviceState device;
+  const bool ok = this->Device.Read(tick.Time, device);
+  s.DeviceError = !ok;
+  if (this->First) this->RampStart = tick.Time;
+  // Watchdog: an overrun or a device error zeroes the force and restarts the ramp.
+  if (!ok || tick.PreviousOverran) {
+    ++this->Trips;
+    this->RampStart = tick.Time;
+    this->Device.WriteForce(Vec3{});
+    s.Force = Vec3{};
+    s.RampScale = 0;
+    s.WatchdogTrips = this->Trips;
+    this->State.Publish(s);
+    if (this->LogEnabled.load(std::memory_order_relaxed)) {
+      HapticLogRecord r;
+      r.Time = tick.Time;
+      r.Hip = s.Hip;
+      r.Proxy = s.Proxy;
+      r.TickComputeUs = static_cast<float>(tick.PreviousComputeNs * 1e-3);
+      r.Flags = 1;
+      this->Log.TryPush(r);
+    }
+    return;
+  }
+
+  Pose stylus;
+  const double scale = xf.Scale > 0 ? xf.Scale : 1.0;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)
+      stylus.R[3 * r + c] = xf.DeviceToRAS.R[3 * r] * device.StylusToDevice.R[c] +
+                            xf.DeviceToRAS.R[3 * r + 1] * device.StylusToDevice.R[3 + c] +
+                            xf.DeviceToRAS.R[3 * r + 2] * device.StylusToDevice.R[6 + c];
+  stylus.T = xf.DeviceToRAS.Apply(device.StylusToDevice.T * scale);
+
+  RendererOptions options = this->Render.GetOptions();
+  options.WorkspaceScale = scale;
+  options.Period = tick.Period;
+  this->Render.SetOptions(options);
+  if (this->First) {
+    this->Render.Reset(stylus);
+    this->First = false;
+  }
+  const RenderOutput& out = this->Render.Update(stylus);
+  const double ramp = this->RampSeconds > 0 ? std::min(1.0, (tick.Time - this->RampStart) / this->RampSeconds) : 1.0;
+  const Vec3 force = out.Force * ramp;
+  this->Device.WriteForce(xf.DeviceToRAS.RotateInverse(force));
+
+  s.Hip = out.Points[0].Hip;
+  s.Proxy = out.Points[0].Proxy;
+  s.Force = force;
+  s.Stylus = stylus;
+  s.Contacts = out.Contacts;
+  s.Label = out.PrimaryPoint >= 0 ? out.Points[out.PrimaryPoint].Label : -1;
+  s.RampScale = ramp;
+  s.WatchdogTrips = this->Trips;
+  s.Clamped = out.Clamped;
+  s.ObservedEnergy = out.ObservedEnergy;
+  s.StiffnessScale = out.Gains.StiffnessScale;
+  s.Buttons = device.Buttons;
+  s.NumberOfPoints = out.NumberOfPoints;
+  for (int i = 0; i < out.NumberOfPoints; ++i) {
+    s.Hips[i] = out.Points[i].Hip;
+    s.Proxies[i] = out.Points[i].Proxy;
+  }
+  this->State.Publish(s);
+  if (this->LogEnabled.load(std::memory_order_relaxed)) {
+    HapticLogRecord r;
+    r.Time = tick.Time;
+    r.Hip = s.Hip;
+    r.Proxy = s.Proxy;
+    r.Force = force;
+    r.Label = s.Label;
+    r.Contacts = s.Contacts;
+    r.TickComputeUs = static_cast<float>(tick.PreviousComputeNs * 1e-3);
+    r.Flags = out.Clamped ? 2u : 0u;
+    this->Log.TryPush(r);
+  }
+}
+
+}  // namespace rp

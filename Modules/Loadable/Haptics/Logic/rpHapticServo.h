@@ -1,0 +1,88 @@
+#pragma once
+// The haptic servo task (runs inside rp::ServoLoop at 1 kHz): reads the device, maps the stylus
+// into the scene (HapticDeviceToRAS with workspace scaling), renders the force, ramps it in on
+// start, and a watchdog zeroes it when a tick overran or the device reported an error. It
+// publishes its state for the main thread (LatestValue) and log records for a writer thread
+// (SPSC ring). It never touches a scene node, never allocates, locks or logs in Tick().
+#include <atomic>
+
+#include "rpHapticRenderer.h"
+#include "rpLatestValue.h"
+#include "rpServoLoop.h"
+#include "rpSpscRing.h"
+
+namespace rp {
+
+/// Device frame → scene (RAS): scene = R·(Scale·device) + T.
+struct DeviceToScene {
+  Pose DeviceToRAS;
+  double Scale = 1.0;
+};
+
+/// What the main thread shows at display rate (copied into nodes by the scene bridge).
+struct HapticState {
+  double Time = 0;
+  uint64_t Tick = 0;
+  Vec3 Hip, Proxy, Force;  // tip, scene frame; force in N on the hand
+  Pose Stylus;             // stylus pose in the scene
+  int32_t Contacts = 0;
+  int32_t Label = -1;      // material index of the deepest contact, -1 none
+  double RampScale = 0;
+  uint32_t WatchdogTrips = 0;
+  bool DeviceError = false;
+  bool Clamped = false;
+  double ObservedEnergy = 0;
+  double StiffnessScale = 1;
+  uint32_t Buttons = 0;
+  int32_t NumberOfPoints = 0;
+  Vec3 Hips[MaxToolPoints], Proxies[MaxToolPoints];
+};
+
+/// One line of the session log.
+struct HapticLogRecord {
+  double Time = 0;
+  Vec3 Hip, Proxy, Force;
+  int32_t Label = -1;
+  int32_t Contacts = 0;
+  float TickComputeUs = 0;  // the previous tick's compute time
+  uint32_t Flags = 0;       // 1: watchdog tripped, 2: clamped
+};
+using HapticLogRing = SpscRing<HapticLogRecord, 8192>;
+
+class HapticServo : public ServoTask {
+ public:
+  explicit HapticServo(HapticDevice& device);
+
+  /// Configure while stopped.
+  HapticRenderer& Renderer() { return this->Render; }
+  void SetRampSeconds(double seconds) { this->RampSeconds = seconds; }
+  void EnableLog(bool enable) { this->LogEnabled.store(enable); }
+
+  /// Any time, from the owner thread.
+  SceneExchange& Scenes() { return this->SceneSlots; }
+  void SetDeviceToScene(const DeviceToScene& transform) { this->Transform.Publish(transform); }
+  /// Latest published state; false when no tick ran yet.
+  bool ReadState(HapticState& state) const { return this->State.Read(state) != 0; }
+  HapticLogRing& LogRing() { return this->Log; }
+
+  void ServoStarted() noexcept override;
+  void Tick(const TickInfo& tick) noexcept override;
+  void ServoStopping() noexcept override;
+
+ private:
+  HapticDevice& Device;
+  HapticRenderer Render;
+  SceneExchange SceneSlots;
+  LatestValue<DeviceToScene> Transform;
+  LatestValue<HapticState> State;
+  HapticLogRing Log;
+  std::atomic<bool> LogEnabled{false};
+  double RampSeconds = 0.5;
+  // Servo thread only:
+  double RampStart = 0;
+  bool First = true;
+  uint32_t Trips = 0;
+  HapticState Scratch;
+};
+
+}  // namespace rp

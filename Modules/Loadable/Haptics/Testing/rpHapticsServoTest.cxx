@@ -1,0 +1,211 @@
+// The haptic servo task: no allocation on the hot path, watchdog, force ramp, scene swap while
+// running, thread start/stop (run this one under ThreadSanitizer too), session log.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <fstream>
+#include <thread>
+
+#include "rpAllocationCounter.h"
+#include "rpHapticsTestScenes.h"
+#include "rpSessionLog.h"
+#include "rpSimulatedDevice.h"
+
+using rp::Vec3;
+
+namespace {
+std::unique_ptr<rp::HapticScene> BoneSlab(double top = 0) {
+  return rptest::Scene({{"slab", "bone", rp::shapes::Box({-40, -40, top - 20}, {40, 40, top})}},
+                       rp::MaterialTable::Defaults());
+}
+// Down into the slab, a sideways sweep (friction), and back up, repeated.
+std::shared_ptr<rp::WaypointTrajectory> Probe() {
+  auto path = std::make_shared<rp::WaypointTrajectory>();
+  std::string error;
+  std::vector<double> t;
+  std::vector<Vec3> p;
+  for (int cycle = 0; cycle < 20; ++cycle) {
+    const double t0 = cycle * 0.4;
+    t.insert(t.end(), {t0, t0 + 0.1, t0 + 0.2, t0 + 0.3});
+    p.insert(p.end(), {{0, 0, 5}, {0, 0, -1}, {10, 5, -1.5}, {10, 5, 5}});
+  }
+  EXPECT_TRUE(path->Set(t, p, error)) << error;
+  return path;
+}
+void Configure(rp::HapticServo& servo) {
+  const Vec3 points[3] = {{0, 0, 0}, {0, 0, 15}, {0, 0, 30}};
+  servo.Renderer().SetToolPoints(points, 3);
+  servo.SetRampSeconds(0.05);
+}
+}  // namespace
+
+TEST(HapticServo, TickDoesNotAllocate) {
+  rp::SimulatedDevice device;
+  device.SetTrajectory(Probe());
+  rp::HapticServo servo(device);
+  Configure(servo);
+  servo.EnableLog(true);
+  servo.Scenes().Publish(BoneSlab());
+  rp::TickInfo tick;
+  servo.ServoStarted();
+  // Warm up (first contact, first scene acquisition), then count.
+  for (int i = 0; i < 10; ++i, ++tick.Index) {
+    tick.Time = tick.Index * 1e-3;
+    servo.Tick(tick);
+  }
+  // A new scene arrives while running: swapping it in must not allocate or free either.
+  servo.Scenes().Publish(BoneSlab(0.5));
+  const uint64_t before = rp::alloc::ThreadAllocations();
+  int contacts = 0;
+  rp::HapticState state;
+  for (int i = 0; i < 3000; ++i, ++tick.Index) {
+    tick.Time = tick.Index * 1e-3;
+    servo.Tick(tick);
+    servo.ReadState(state);
+    contacts += state.Contacts > 0;
+  }
+  EXPECT_EQ(rp::alloc::ThreadAllocations(), before);
+  EXPECT_GT(contacts, 1000);  // the hot path really rendered contacts
+  rp::HapticLogRecord r;
+  int records = 0;
+  while (servo.LogRing().TryPop(r)) ++records;
+  EXPECT_GT(records, 3000);
+}
+
+TEST(HapticServo, ForceRampsInAndWatchdogZeroesIt) {
+  rp::SimulatedDevice device;
+  // Hold the stylus 1 mm inside the slab from the start.
+  device.SetTrajectory(rp::WaypointTrajectory::Line({0, 0, 5}, {0, 0, -1}, 1000.0));
+  rp::HapticServo servo(device);
+  servo.SetRampSeconds(0.1);
+  rp::RendererOptions o;
+  o.PassivityControl = false;
+  servo.Renderer().SetOptions(o);
+  servo.Scenes().Publish(BoneSlab());
+  servo.ServoStarted();
+  rp::TickInfo tick;
+  rp::HapticState s;
+  auto run = [&](int n) {
+    for (int i = 0; i < n; ++i, ++tick.Index) {
+      tick.Time = tick.Index * 1e-3;
+      servo.Tick(tick);
+    }
+    servo.ReadState(s);
+  };
+  run(51);  // t = 0.05 s: half the ramp
+  const double full = 2.0 * (1 + rp::GodObjectProxy::Gap);
+  EXPECT_NEAR(s.RampScale, 0.5, 1e-9);
+  EXPECT_NEAR(s.Force.z, 0.5 * full, 1e-6);
+  run(100);
+  EXPECT_NEAR(s.Force.z, full, 1e-6);
+  EXPECT_NEAR(device.LastForce().z, full, 1e-6);
+  // A device error: force zero at once, trip counted.
+  device.InjectFault(true);
+  run(1);
+  EXPECT_TRUE(s.DeviceError);
+  EXPECT_EQ(s.WatchdogTrips, 1u);
+  EXPECT_EQ(rp::Norm(device.LastForce()), 0.0);
+  device.InjectFault(false);
+  run(1);
+  EXPECT_LT(s.Force.z, 0.05 * full);  // ramps in again
+  // An overrun tick: same.
+  tick.PreviousOverran = true;
+  run(1);
+  tick.PreviousOverran = false;
+  EXPECT_EQ(s.WatchdogTrips, 2u);
+  EXPECT_EQ(rp::Norm(device.LastForce()), 0.0);
+  run(200);
+  EXPECT_NEAR(s.Force.z, full, 1e-6);
+}
+
+TEST(HapticServo, DeviceToSceneTransformAndWorkspaceScale) {
+  rp::SimulatedDevice device;
+  device.SetTrajectory(rp::WaypointTrajectory::Line({0, 0, 10}, {0, 0, 1}, 1000.0));
+  rp::HapticServo servo(device);
+  servo.SetRampSeconds(0);
+  rp::RendererOptions o;
+  o.PassivityControl = false;
+  o.LimitGains = false;
+  servo.Renderer().SetOptions(o);
+  servo.Scenes().Publish(BoneSlab(100));  // slab top at z = 100 in RAS
+  // RAS = Rx(90°)·(2·device) + (0,0,100): device (x,y,z) -> RAS (2x, -2z, 2y + 100).
+  rp::DeviceToScene xf;
+  xf.Scale = 2;
+  const double r[9] = {1, 0, 0, 0, 0, -1, 0, 1, 0};
+  std::copy(r, r + 9, xf.DeviceToRAS.R);
+  xf.DeviceToRAS.T = {0, 0, 100};
+  servo.SetDeviceToScene(xf);
+  servo.ServoStarted();
+  rp::TickInfo tick;
+  for (int i = 0; i < 50; ++i, ++tick.Index) {
+    tick.Time = tick.Index * 1e-3;
+    servo.Tick(tick);
+  }
+  rp::HapticState s;
+  ASSERT_TRUE(servo.ReadState(s));
+  // Device (0,0,1) -> scaled (0,0,2) -> rotated (0,-2,0) -> (0,-2,100): on the slab's top
+  // plane z = 100, not inside: no contact.
+  EXPECT_NEAR(s.Hip.y, -2.0, 1e-9);
+  EXPECT_NEAR(s.Hip.z, 100.0, 1e-9);
+  // Now device y = -0.5 (RAS z = 100 - 2 * 0.5): 1 mm deep; RAS +z is device +y.
+  device.SetTrajectory(nullptr);
+  rp::Pose manual;
+  manual.T = {0, -0.5, 0};
+  device.SetManualPose(manual);
+  for (int i = 0; i < 100; ++i, ++tick.Index) {
+    tick.Time = tick.Index * 1e-3;
+    servo.Tick(tick);
+  }
+  ASSERT_TRUE(servo.ReadState(s));
+  EXPECT_NEAR(s.Hip.z, 99.0, 1e-9);
+  ASSERT_EQ(s.Contacts, 1);
+  EXPECT_NEAR(s.Force.z, 2.0 * (1 + rp::GodObjectProxy::Gap), 1e-6);
+  EXPECT_NEAR(device.LastForce().y, s.Force.z, 1e-9);
+  EXPECT_NEAR(device.LastForce().z, 0.0, 1e-9);
+}
+
+TEST(HapticServo, RunsInItsThreadWhileTheMainThreadSwapsScenesAndReads) {
+  rp::SimulatedDevice device;
+  device.SetTrajectory(Probe());
+  rp::HapticServo servo(device);
+  Configure(servo);
+  servo.EnableLog(true);
+  servo.Scenes().Publish(BoneSlab());
+  const std::string dir = ROBOPLAN_TEST_OUTPUT_DIR;
+  ASSERT_EQ(std::system(("mkdir -p '" + dir + "'").c_str()), 0);
+  rp::SessionLogWriter writer;
+  std::string error;
+  std::vector<std::string> names;
+  const rp::MaterialTable table = rp::MaterialTable::Defaults();
+  for (const auto& m : table.Materials()) names.push_back(m.Tissue);
+  ASSERT_TRUE(writer.Start(servo.LogRing(), dir + "/session.csv", names, error)) << error;
+
+  rp::ServoLoop loop;
+  ASSERT_TRUE(loop.Start(&servo, rp::ServoLoop::Options{}, error)) << error;
+  rp::HapticState s;
+  int contactsSeen = 0;
+  for (int frame = 0; frame < 15; ++frame) {  // ~30 Hz "display" for 0.5 s
+    std::this_thread::sleep_for(std::chrono::milliseconds(33));
+    if (servo.ReadState(s) && s.Contacts > 0) ++contactsSeen;
+    if (frame % 5 == 4) servo.Scenes().Publish(BoneSlab(frame * 0.01));
+    servo.Scenes().Collect();
+  }
+  loop.Stop();
+  writer.Stop();
+  const rp::ServoStats stats = loop.Stats();
+  EXPECT_GT(stats.Ticks, 200u);
+  EXPECT_GT(contactsSeen, 0);
+  EXPECT_EQ(rp::Norm(device.LastForce()), 0.0);  // zero force after stop
+  EXPECT_GE(writer.RecordsWritten() + servo.LogRing().DroppedCount(), stats.Ticks);
+  std::ifstream log(dir + "/session.csv");
+  std::string header, line;
+  std::getline(log, header);
+  EXPECT_EQ(header.rfind("time_s,hip_x", 0), 0u);
+  int lines = 0, bone = 0;
+  while (std::getline(log, line)) {
+    ++lines;
+    bone += line.find(",bone,") != std::string::npos;
+  }
+  EXPECT_EQ(static_cast<uint64_t>(lines), writer.RecordsWritten());
+  EXPECT_GT(bone, 0);
+}
