@@ -1,11 +1,36 @@
-// Tracking module plugin: CLI commands `track`, `pivot`, `polaris-sim`.
+// Tracking module plugin: NDI Polaris tool poses into the scene through a direct serial link or
+// OpenIGTLink. CLI: `roboplan track`, `roboplan pivot`, `roboplan polaris-sim`.
+#include <iostream>
+
+#include <vtkSmartPointer.h>
+
 #include "rpModule.h"
+#include "rpTrackingCommands.h"
+#include "vtkRPTrackingLogic.h"
 
 namespace {
 class TrackingModule : public rp::Module {
  public:
   std::string Name() const override { return "Tracking"; }
   std::string Title() const override { return "Tracking"; }
+  void Setup(vtkRPScene* scene) override {
+    this->LogicObject = vtkSmartPointer<vtkRPTrackingLogic>::New();
+    this->LogicObject->SetScene(scene);
+  }
+  vtkObject* Logic() override { return this->LogicObject; }
+  std::vector<rp::Command> Commands() override {
+    return {
+        {"track", "track tools through --serial <port> (NDI) or --igtl <host:port>; rate, latency, status per tool",
+         [](rp::CommandContext& c) { return rp::RunTrackCommand(c.Arguments, c.Scene, std::cout, std::cerr); }},
+        {"pivot", "pivot calibration (StylusTipToStylus, RMSE) from a tracking recording",
+         [](rp::CommandContext& c) { return rp::RunPivotCommand(c.Arguments, std::cout, std::cerr); }},
+        {"polaris-sim", "a simulated NDI Polaris on a pseudo-terminal (prints the port to open)",
+         [](rp::CommandContext& c) { return rp::RunPolarisSimCommand(c.Arguments, std::cout, std::cerr); }},
+    };
+  }
+
+ private:
+  vtkSmartPointer<vtkRPTrackingLogic> LogicObject;
 };
 }  // namespace
 

@@ -172,7 +172,8 @@ void IgtlServer::SendPoses(double now) {
   std::vector<std::pair<int, ToolPose>> all;
   for (int i = 0; i < count; ++i) {
     const auto& s = this->Reader.Poll(this->Source, i);
-    if (s.Valid) all.push_back({i, s.Pose});
+    // TDATA/QTDATA carry no status: only tools with a valid pose go in (as PLUS does).
+    if (s.Valid && (s.Pose.State == ToolState::OK || s.Pose.State == ToolState::OutOfVolume)) all.push_back({i, s.Pose});
     if (s.Fresh) fresh.push_back({i, s.Pose});
   }
   for (Client& c : this->Connections) {

@@ -1,0 +1,148 @@
+#include "rpTrackingRecording.h"
+
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "rpAtomicFile.h"
+
+namespace rp {
+
+namespace {
+const char* kMagic = "# RoboPlan tracking recording 1";
+
+ToolState ParseState(const std::string& s) {
+  if (s == "OK") return ToolState::OK;
+  if (s == "OUT_OF_VOLUME") return ToolState::OutOfVolume;
+  if (s == "DISABLED") return ToolState::Disabled;
+  return ToolState::Missing;
+}
+
+void FormatLine(char* out, size_t size, const char* tool, double time, const ToolPose& p) {
+  std::snprintf(out, size, "%.6f %s %s %.9f %.9f %.9f %.9f %.6f %.6f %.6f %.6f %u\n", time, tool, ToolStateName(p.State),
+                p.Quaternion[0], p.Quaternion[1], p.Quaternion[2], p.Quaternion[3], p.Translation[0], p.Translation[1],
+                p.Translation[2], p.Error, p.Frame);
+}
+}  // namespace
+
+int Recording::ToolIndex(const std::string& name) const {
+  for (size_t i = 0; i < this->Tools.size(); ++i)
+    if (this->Tools[i] == name) return static_cast<int>(i);
+  return -1;
+}
+
+std::vector<ToolPose> Recording::PosesOf(const std::string& name) const {
+  std::vector<ToolPose> out;
+  const int index = this->ToolIndex(name);
+  for (const Sample& s : this->Samples)
+    if (s.Tool == index) out.push_back(s.Pose);
+  return out;
+}
+
+Recording Recording::Read(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("cannot open recording " + path);
+  std::string line;
+  if (!std::getline(in, line) || line.rfind(kMagic, 0) != 0)
+    throw std::runtime_error(path + " is not a RoboPlan tracking recording (missing '" + kMagic + "' header)");
+  Recording r;
+  int number = 1;
+  while (std::getline(in, line)) {
+    ++number;
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream fields(line);
+    Sample s;
+    std::string tool, state;
+    ToolPose& p = s.Pose;
+    if (!(fields >> s.Time >> tool >> state >> p.Quaternion[0] >> p.Quaternion[1] >> p.Quaternion[2] >> p.Quaternion[3] >>
+          p.Translation[0] >> p.Translation[1] >> p.Translation[2] >> p.Error >> p.Frame))
+      throw std::runtime_error(path + ":" + std::to_string(number) + ": expected 12 fields (time tool state qw qx qy qz tx ty tz error frame)");
+    p.State = ParseState(state);
+    p.Timestamp = s.Time;
+    s.Tool = r.ToolIndex(tool);
+    if (s.Tool < 0) {
+      r.Tools.push_back(tool);
+      s.Tool = static_cast<int>(r.Tools.size()) - 1;
+    }
+    r.Samples.push_back(s);
+  }
+  return r;
+}
+
+void Recording::Write(const std::string& path) const {
+  std::string text = std::string(kMagic) + "\n";
+  char line[512];
+  for (const Sample& s : this->Samples) {
+    FormatLine(line, sizeof line, this->Tools.at(static_cast<size_t>(s.Tool)).c_str(), s.Time, s.Pose);
+    text += line;
+  }
+  std::string error;
+  if (!WriteFileAtomically(path, text, error)) throw std::runtime_error("cannot write recording " + path + ": " + error);
+}
+
+RecordingWriter::~RecordingWriter() { this->Close(); }
+
+bool RecordingWriter::Open(const std::string& path, std::string& error) {
+  this->Close();
+  this->File = std::fopen(path.c_str(), "w");
+  if (!this->File) {
+    error = "cannot write recording " + path + ": " + std::strerror(errno);
+    return false;
+  }
+  std::fprintf(this->File, "%s\n", kMagic);
+  return true;
+}
+
+void RecordingWriter::Add(const char* tool, double time, const ToolPose& pose) {
+  if (!this->File) return;
+  char line[512];
+  FormatLine(line, sizeof line, tool, time, pose);
+  std::fputs(line, this->File);
+  ++this->Written;
+}
+
+void RecordingWriter::Close() {
+  if (this->File) std::fclose(this->File);
+  this->File = nullptr;
+}
+
+RecordingPlayer::RecordingPlayer(const Recording& recording, double speed, bool loop)
+    : Source(recording), Speed(speed > 0 ? speed : 1.0), Loop(loop) {
+  for (const std::string& name : recording.Tools) this->Slots.push_back(this->Table.FindOrAdd(name.c_str()));
+}
+
+RecordingPlayer::~RecordingPlayer() { this->Stop(); }
+
+void RecordingPlayer::Start() {
+  if (this->Thread.joinable()) return;
+  this->StopRequested = false;
+  this->Done = false;
+  this->Thread = std::thread([this] {
+    do {
+      if (this->Source.Samples.empty()) break;
+      const double t0 = this->Source.Samples.front().Time;
+      const double start = SteadySeconds();
+      for (const auto& s : this->Source.Samples) {
+        if (this->StopRequested) break;
+        const double due = start + (s.Time - t0) / this->Speed;
+        const double wait = due - SteadySeconds();
+        if (wait > 0) std::this_thread::sleep_for(std::chrono::duration<double>(wait));
+        ToolPose p = s.Pose;
+        p.ReceiveTime = SteadySeconds();
+        const int slot = this->Slots[static_cast<size_t>(s.Tool)];
+        if (slot >= 0) this->Table.Publish(slot, p);
+      }
+    } while (this->Loop && !this->StopRequested);
+    this->Done = true;
+  });
+}
+
+void RecordingPlayer::Stop() {
+  this->StopRequested = true;
+  if (this->Thread.joinable()) this->Thread.join();
+}
+
+}  // namespace rp
