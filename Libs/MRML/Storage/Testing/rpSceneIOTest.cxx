@@ -23,6 +23,7 @@
 #include "vtkRPModelNode.h"
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
+#include "vtkRPSegmentationNode.h"
 #include "vtkRPTrackedToolNode.h"
 
 namespace fs = std::filesystem;
@@ -185,6 +186,36 @@ TEST(SceneIO, RoundTripOfEveryNodeTypeIsIdentical) {
   ASSERT_TRUE(stylus->SetAndObserveTransformNodeID(trackerToRAS->GetID()));
   ASSERT_TRUE(model->SetAndObserveTransformNodeID(trackerToRAS->GetID()));
   model->SetAttribute("Haptic.Mesh", "coarse");
+  vtkNew<vtkRPFiducialListNode> fiducials;
+  fiducials->SetName("ImageLandmarks");
+  const double p1[3] = {12.25, -3.5, 40.125}, p2[3] = {-7, 8, 9};
+  fiducials->AddControlPoint(p1, "medial epicondyle");
+  fiducials->AddControlPoint(p2, "tibial tuberosity");
+  fiducials->SetNthControlPointSelected(1, false);
+  scene->AddNode(fiducials);
+  vtkNew<vtkRPSegmentationNode> segmentation;
+  segmentation->SetName("Bones");
+  vtkNew<vtkImageData> labels;
+  labels->SetDimensions(6, 5, 4);
+  labels->AllocateScalars(VTK_UNSIGNED_CHAR, 1);
+  auto* l = static_cast<unsigned char*>(labels->GetScalarPointer());
+  for (int i = 0; i < 6 * 5 * 4; ++i) l[i] = static_cast<unsigned char>(i % 3);
+  segmentation->SetImageData(labels);
+  segmentation->SetIJKToRASMatrix(volume->GetIJKToRASMatrix());
+  vtkRPSegmentationNode::Segment femur;
+  femur.ID = "femur";
+  femur.Name = "Femur";
+  femur.LabelValue = 1;
+  femur.TissueClass = "bone";
+  femur.Color[0] = 0.9;
+  segmentation->SetSegment(femur);
+  vtkRPSegmentationNode::Segment acl;
+  acl.ID = "acl";
+  acl.Name = "ACL";
+  acl.LabelValue = 2;
+  acl.TissueClass = "ligament";
+  segmentation->SetSegment(acl);
+  scene->AddNode(segmentation);
 
   const std::string sceneFile = (dir / "knee.rpscene").string();
   std::string error;
@@ -194,7 +225,12 @@ TEST(SceneIO, RoundTripOfEveryNodeTypeIsIdentical) {
   const rp::SceneLoadReport report = rp::LoadScene(loaded, sceneFile);
   ASSERT_TRUE(report.Ok) << report.Error;
   EXPECT_TRUE(report.Problems.empty()) << report.Problems.front();
-  EXPECT_EQ(report.NodesLoaded, 4);
+  EXPECT_EQ(report.NodesLoaded, 6);
+  // One data file per node, in the formats Slicer reads.
+  for (const char* file : {"CT.nrrd", "Femur.vtp", "TrackerToRAS.tfm", "StylusToTracker.tfm",
+                           "ImageLandmarks.mrk.json", "Bones.seg.nrrd"}) {
+    EXPECT_TRUE(fs::exists(dir / file)) << file;
+  }
 
   auto* v = vtkRPScalarVolumeNode::SafeDownCast(loaded->GetFirstNodeByName("CT"));
   ASSERT_NE(v, nullptr);
@@ -232,6 +268,30 @@ TEST(SceneIO, RoundTripOfEveryNodeTypeIsIdentical) {
   EXPECT_EQ(st->GetStatus(), vtkRPTrackedToolNode::StatusMissing);
   EXPECT_DOUBLE_EQ(st->GetTimestamp(), 12.5);
   EXPECT_EQ(st->GetParentTransformNode(), t);
+
+  auto* f = vtkRPFiducialListNode::SafeDownCast(loaded->GetFirstNodeByName("ImageLandmarks"));
+  ASSERT_NE(f, nullptr);
+  ASSERT_EQ(f->GetNumberOfControlPoints(), 2);
+  EXPECT_EQ(f->GetNthControlPoint(0).Label, "medial epicondyle");
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(f->GetNthControlPoint(0).Position[i], p1[i]);
+  EXPECT_FALSE(f->GetNthControlPoint(1).Selected);
+
+  auto* sg = vtkRPSegmentationNode::SafeDownCast(loaded->GetFirstNodeByName("Bones"));
+  ASSERT_NE(sg, nullptr);
+  ASSERT_EQ(sg->GetNumberOfSegments(), 2);
+  ASSERT_NE(sg->GetSegmentByID("acl"), nullptr);
+  EXPECT_EQ(sg->GetSegmentByID("acl")->TissueClass, "ligament");
+  EXPECT_EQ(sg->GetSegmentByID("acl")->LabelValue, 2);
+  int dims[3];
+  sg->GetImageData()->GetDimensions(dims);
+  ASSERT_EQ(dims[0] * dims[1] * dims[2], 6 * 5 * 4);
+  // The file may store the labelmap cropped to the segments' extent; compare by RAS position.
+  for (int k = 0; k < 4; ++k)
+    for (int j = 0; j < 5; ++j)
+      for (int i = 0; i < 6; ++i) {
+        EXPECT_EQ(*static_cast<unsigned char*>(sg->GetImageData()->GetScalarPointer(i, j, k)),
+                  *static_cast<unsigned char*>(labels->GetScalarPointer(i, j, k)));
+      }
 }
 
 TEST(SceneIO, MissingAndCorruptDataFilesAreReportedByNameAndTheRestLoads) {
