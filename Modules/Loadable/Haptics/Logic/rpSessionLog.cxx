@@ -10,12 +10,12 @@ bool SessionLogWriter::Start(HapticLogRing& ring, const std::string& path, std::
     error = "session log: already writing";
     return false;
   }
-  this->File = std::fopen(path.c_str(), "w");
-  if (this->File == nullptr) {
+  this->File = path.empty() ? nullptr : std::fopen(path.c_str(), "w");
+  if (!path.empty() && this->File == nullptr) {
     error = "session log: cannot write '" + path + "'";
     return false;
   }
-  std::fprintf(this->File,
+  if (this->File) std::fprintf(this->File,
                "time_s,hip_x,hip_y,hip_z,proxy_x,proxy_y,proxy_z,force_x,force_y,force_z,tissue,contacts,"
                "tick_us,watchdog,clamped\n");
   this->Ring = &ring;
@@ -31,13 +31,15 @@ bool SessionLogWriter::Drain() {
   bool any = false;
   while (this->Ring->TryPop(r)) {
     any = true;
+    if (this->OnRecord) this->OnRecord(r);
+    this->Written.fetch_add(1);
+    if (this->File == nullptr) continue;
     const char* tissue = (r.Label >= 0 && static_cast<size_t>(r.Label) < this->Names.size())
                              ? this->Names[static_cast<size_t>(r.Label)].c_str()
                              : "";
     std::fprintf(this->File, "%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.5f,%.5f,%.5f,%s,%d,%.2f,%d,%d\n", r.Time, r.Hip.x,
                  r.Hip.y, r.Hip.z, r.Proxy.x, r.Proxy.y, r.Proxy.z, r.Force.x, r.Force.y, r.Force.z, tissue,
                  r.Contacts, static_cast<double>(r.TickComputeUs), (r.Flags & 1u) ? 1 : 0, (r.Flags & 2u) ? 1 : 0);
-    this->Written.fetch_add(1);
   }
   return any;
 }
@@ -53,7 +55,7 @@ void SessionLogWriter::Stop() {
   if (!this->Thread.joinable()) return;
   this->StopRequested.store(true);
   this->Thread.join();
-  std::fclose(this->File);
+  if (this->File) std::fclose(this->File);
   this->File = nullptr;
 }
 

@@ -3,6 +3,7 @@
 // its own thread, draining the servo's SPSC ring, so file IO never reaches the servo thread.
 #include <atomic>
 #include <cstdio>
+#include <functional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -14,7 +15,10 @@ namespace rp {
 class SessionLogWriter {
  public:
   ~SessionLogWriter() { this->Stop(); }
-  /// Opens `path` and starts draining `ring`. `labelNames` maps material index → tissue name.
+  /// Called on the writer thread for every record (e.g. statistics); set before Start.
+  std::function<void(const HapticLogRecord&)> OnRecord;
+  /// Opens `path` (empty: no file, records only go to OnRecord) and starts draining `ring`.
+  /// `labelNames` maps material index → tissue name.
   bool Start(HapticLogRing& ring, const std::string& path, std::vector<std::string> labelNames, std::string& error);
   /// Drains what is left, closes the file, joins the thread.
   void Stop();

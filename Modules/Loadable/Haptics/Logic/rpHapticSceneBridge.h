@@ -1,0 +1,45 @@
+#pragma once
+// The bridge between the scene (main thread, VTK nodes) and the haptic servo loop (plain C++):
+//  - haptic meshes come from model nodes flagged Haptic, in RAS, with their TissueClass;
+//  - the device-to-scene transform comes from the transform node named HapticDeviceToRAS
+//    (a uniform scale in its matrix is the workspace scale);
+//  - the servo's published state is copied into tool nodes at display rate, each inside one
+//    StartModify/EndModify. The servo thread never touches a node.
+#include <string>
+#include <vector>
+
+#include <vtkSmartPointer.h>
+
+#include "rpHapticServo.h"
+
+class vtkMatrix4x4;
+class vtkPolyData;
+class vtkRPScene;
+
+namespace rp {
+
+constexpr const char* HapticDeviceToRASName = "HapticDeviceToRAS";
+constexpr const char* HapticInterfacePointName = "HapticInterfacePoint";  // tool node: HIP pose in RAS
+constexpr const char* HapticProxyName = "HapticProxy";  // tool node: proxy; attributes Force, Tissue, Contact
+
+/// Triangles of `polyData` (polygons fan-triangulated, strips split; lines and vertices
+/// ignored), points mapped by `toWorld` (may be null). False names the problem.
+bool PolyDataToTriangleMesh(vtkPolyData* polyData, vtkMatrix4x4* toWorld, TriangleMesh& mesh, std::string& error);
+
+/// A vtkPolyData (points + triangles) of a mesh, e.g. to put an analytic shape into a model node.
+vtkSmartPointer<vtkPolyData> TriangleMeshToPolyData(const TriangleMesh& mesh);
+
+/// The haptic models of the scene. Models without polygons are skipped with a warning.
+std::vector<HapticMeshInput> CollectHapticMeshes(vtkRPScene* scene, std::vector<std::string>& warnings);
+
+/// A number that changes whenever a haptic model, its mesh or its transforms change.
+unsigned long HapticMeshesSignature(vtkRPScene* scene);
+
+/// Reads the HapticDeviceToRAS node; false (and identity) when the scene has none.
+bool ReadDeviceToScene(vtkRPScene* scene, DeviceToScene& transform);
+
+/// Copies the state into the HapticInterfacePoint and HapticProxy tool nodes (created when
+/// missing). `labelNames[i]` is material i's tissue name.
+void UpdateToolNodes(vtkRPScene* scene, const HapticState& state, const std::vector<std::string>& labelNames);
+
+}  // namespace rp

@@ -1,0 +1,94 @@
+#include "rpHapticSession.h"
+
+namespace rp {
+
+HapticSession::HapticSession(HapticDevice& device) : Device(device) {}
+
+HapticSession::~HapticSession() { this->Stop(); }
+
+bool HapticSession::Start(vtkRPScene* scene, const Options& options, std::string& error) {
+  if (this->Loop.Running()) {
+    error = "haptics: already running";
+    return false;
+  }
+  this->Scene = scene;
+  this->Settings = options;
+  this->WarningList.clear();
+  this->Names.clear();
+  for (const Material& m : options.Materials.Materials()) this->Names.push_back(m.Tissue);
+  if (!this->Device.Open(error)) return false;
+  this->Task = std::make_unique<HapticServo>(this->Device);
+  HapticRenderer& renderer = this->Task->Renderer();
+  renderer.SetOptions(options.Renderer);
+  if (options.ToolPoints.empty() || !renderer.SetToolPoints(options.ToolPoints.data(), static_cast<int>(options.ToolPoints.size()))) {
+    error = "haptics: a tool needs 1 to " + std::to_string(MaxToolPoints) + " points";
+    return false;
+  }
+  this->Task->SetRampSeconds(options.RampSeconds);
+  DeviceToScene xf;
+  ReadDeviceToScene(scene, xf);
+  this->Task->SetDeviceToScene(xf);
+  auto built = HapticScene::Build(CollectHapticMeshes(scene, this->WarningList), options.Materials, this->WarningList, error);
+  if (!built) return false;
+  this->Triangles = built->Tree.NumberOfTriangles();
+  this->Task->Scenes().Publish(std::move(built));
+  this->Builds.fetch_add(1);
+  this->Signature = HapticMeshesSignature(scene);
+  if (!options.LogPath.empty() || this->Writer.OnRecord) {
+    this->Task->EnableLog(true);
+    if (!this->Writer.Start(this->Task->LogRing(), options.LogPath, this->Names, error)) return false;
+  }
+  if (!this->Loop.Start(this->Task.get(), options.Loop, error)) {
+    this->Writer.Stop();
+    return false;
+  }
+  return true;
+}
+
+void HapticSession::StartRebuild() {
+  // Meshes are read here (VTK, main thread); the BVH is built on a worker.
+  auto meshes = std::make_shared<std::vector<HapticMeshInput>>(CollectHapticMeshes(this->Scene, this->WarningList));
+  this->BuildDone.store(false);
+  this->Builder = std::thread([this, meshes] {
+    std::vector<std::string> warnings;
+    std::string error;
+    this->Built = HapticScene::Build(*meshes, this->Settings.Materials, warnings, error);
+    this->BuildDone.store(true, std::memory_order_release);
+  });
+}
+
+bool HapticSession::Update() {
+  if (!this->Task) return false;
+  this->Task->Scenes().Collect();
+  if (this->Builder.joinable() && this->BuildDone.load(std::memory_order_acquire)) {
+    this->Builder.join();
+    if (this->Built) {
+      this->Triangles = this->Built->Tree.NumberOfTriangles();
+      this->Task->Scenes().Publish(std::move(this->Built));
+      this->Builds.fetch_add(1);
+    }
+  }
+  const unsigned long signature = HapticMeshesSignature(this->Scene);
+  if (signature != this->Signature && !this->Builder.joinable()) {
+    this->Signature = signature;
+    this->StartRebuild();
+  }
+  DeviceToScene xf;
+  ReadDeviceToScene(this->Scene, xf);
+  this->Task->SetDeviceToScene(xf);
+  HapticState state;
+  if (!this->Task->ReadState(state)) return false;
+  UpdateToolNodes(this->Scene, state, this->Names);
+  return true;
+}
+
+void HapticSession::Stop() {
+  this->Loop.Stop();
+  this->Writer.Stop();
+  if (this->Builder.joinable()) this->Builder.join();
+  this->Built.reset();
+  if (this->Task) this->Task->Scenes().Clear();
+  this->Device.Close();
+}
+
+}  // namespace rp
