@@ -102,6 +102,10 @@ int main(int argc, char* argv[]) {
   }
   if (name == "modules") return ListModules(manager, rest);
   const rp::Command* command = manager.FindCommand(name);
+#ifdef ROBOPLAN_HAVE_VIEWER
+  static const std::vector<rp::Command> viewerCommands = rp::ViewerCommands();  // e.g. `screenshot`
+  for (const auto& builtIn : viewerCommands) command = !command && builtIn.Name == name ? &builtIn : command;
+#endif
   if (!command) {
     ReportFailures(manager);
     std::cerr << "roboplan: unknown command '" << name << "'\n\n";

@@ -1,0 +1,169 @@
+#include "rpViewerApplication.h"
+
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+
+#include <unistd.h>
+
+#include <QApplication>
+#include <QSurfaceFormat>
+#include <QVTKOpenGLNativeWidget.h>
+#include <nlohmann/json.hpp>
+
+#include "rpArgParser.h"
+#include "rpModuleManager.h"
+#include "rpNodeStorage.h"
+#include "rpSceneIO.h"
+#include "rpScreenshot.h"
+#include "rpViewerMainWindow.h"
+#include "vtkRPScene.h"
+#include "vtkRPViewState.h"
+
+namespace rp {
+
+bool LoadSceneOrDataFile(vtkRPScene* scene, const std::string& path, std::string& error,
+                         std::vector<std::string>* warnings) {
+  if (HasExtension(path, SceneFileExtension)) {
+    SceneLoadReport report = LoadScene(scene, path);
+    if (!report.Ok) {
+      error = report.Error;
+      return false;
+    }
+    if (warnings) warnings->insert(warnings->end(), report.Problems.begin(), report.Problems.end());
+    return true;
+  }
+  return LoadDataFile(scene, path, error) != nullptr;
+}
+
+int RunViewer(int argc, char* argv[], ModuleManager& manager, vtkRPScene* scene, const std::vector<std::string>& files) {
+  QSurfaceFormat::setDefaultFormat(QVTKOpenGLNativeWidget::defaultFormat());
+  QApplication application(argc, argv);
+  QApplication::setOrganizationName("RoboPlan");
+  QApplication::setApplicationName("roboplan");
+  ViewerMainWindow window(&manager, scene);
+  for (const std::string& file : files) {
+    QString error;
+    if (!window.LoadFile(QString::fromStdString(file), &error)) {
+      std::cerr << "roboplan: " << error.toStdString() << "\n";
+    }
+  }
+  window.resize(1400, 900);
+  window.show();
+  return QApplication::exec();
+}
+
+namespace {
+
+bool ParseSize(const std::string& text, int& width, int& height) {
+  const size_t x = text.find('x');
+  if (x == std::string::npos) return false;
+  try {
+    size_t used = 0;
+    width = std::stoi(text.substr(0, x), &used);
+    if (used != x) return false;
+    const std::string rest = text.substr(x + 1);
+    height = std::stoi(rest, &used);
+    return used == rest.size();
+  } catch (...) {
+    return false;
+  }
+}
+
+// Offscreen rendering here needs an X display (Debian's VTK renders through GLX). Without one,
+// run this command again under xvfb-run, so `roboplan screenshot` works on a headless machine.
+bool ReexecUnderXvfb(const std::vector<std::string>& arguments) {
+  if (std::getenv("DISPLAY") || std::getenv("ROBOPLAN_NO_XVFB_REEXEC")) return false;
+  char self[4096];
+  const ssize_t length = readlink("/proc/self/exe", self, sizeof(self) - 1);
+  if (length <= 0) return false;
+  self[length] = '\0';
+  setenv("ROBOPLAN_NO_XVFB_REEXEC", "1", 1);
+  std::vector<std::string> command = {"xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", self, "screenshot"};
+  command.insert(command.end(), arguments.begin(), arguments.end());
+  std::vector<char*> argv;
+  for (auto& argument : command) argv.push_back(argument.data());
+  argv.push_back(nullptr);
+  execvp("xvfb-run", argv.data());
+  return false;  // exec failed: fall through and report the missing display
+}
+
+int RunScreenshot(CommandContext& context) {
+  ArgParser parser("screenshot", "Render a scene headless (offscreen) into one PNG: the views of a layout.");
+  parser.Positional("files", "scene (*.rpscene) or data files to load", true, true)
+      .Option("out", "png", "output PNG file")
+      .Option("layout", "name", "4up | 3d | axial | sagittal | coronal", std::string("4up"))
+      .Option("size", "WxH", "image size in pixels", std::string("800x800"))
+      .Option("slice-point", "R,A,S", "where the slices cut (default: centre of the first volume)");
+  if (!parser.Parse(context.Arguments)) {
+    if (parser.HelpRequested()) {
+      std::cout << parser.Usage();
+      return 0;
+    }
+    std::cerr << "roboplan screenshot: " << parser.Error() << "\n" << parser.Usage();
+    return 2;
+  }
+  ScreenshotOptions options;
+  if (!parser.Has("out")) {
+    std::cerr << "roboplan screenshot: --out is required\n" << parser.Usage();
+    return 2;
+  }
+  options.Layout = vtkRPViewState::GetLayoutFromString(parser.Get("layout"));
+  if (options.Layout < 0) {
+    std::cerr << "roboplan screenshot: unknown layout '" << parser.Get("layout") << "' (4up, 3d, axial, sagittal, coronal)\n";
+    return 2;
+  }
+  if (!ParseSize(parser.Get("size"), options.Width, options.Height) || options.Width < 16 || options.Height < 16 ||
+      options.Width > 8192 || options.Height > 8192) {
+    std::cerr << "roboplan screenshot: --size must be WxH with 16..8192 pixels, got '" << parser.Get("size") << "'\n";
+    return 2;
+  }
+  if (parser.Has("slice-point")) {
+    try {
+      std::vector<double> point = parser.GetDoubles("slice-point", 3);
+      options.HasSlicePoint = true;
+      for (int i = 0; i < 3; ++i) options.SlicePointRAS[i] = point[static_cast<size_t>(i)];
+    } catch (const std::exception& e) {
+      std::cerr << "roboplan screenshot: " << e.what() << "\n";
+      return 2;
+    }
+  }
+  if (ReexecUnderXvfb(context.Arguments)) return 1;
+
+  vtkRPScene* scene = context.Scene;
+  for (const std::string& file : parser.GetAll("files")) {
+    std::string error;
+    std::vector<std::string> warnings;
+    if (!LoadSceneOrDataFile(scene, file, error, &warnings)) {
+      std::cerr << "roboplan screenshot: " << error << "\n";
+      return 1;
+    }
+    for (const std::string& warning : warnings) std::cerr << "roboplan screenshot: warning: " << warning << "\n";
+  }
+  if (!std::getenv("DISPLAY")) {
+    std::cerr << "roboplan screenshot: no X display for offscreen rendering and xvfb-run is not available\n";
+    return 1;
+  }
+  std::string error;
+  if (!SaveScreenshot(scene, parser.Get("out"), options, error)) {
+    std::cerr << "roboplan screenshot: " << error << "\n";
+    return 1;
+  }
+  if (parser.Json()) {
+    nlohmann::json doc = {{"out", parser.Get("out")}, {"width", options.Width}, {"height", options.Height},
+                          {"layout", vtkRPViewState::GetLayoutAsString(options.Layout)}, {"nodes", scene->GetNumberOfNodes()}};
+    std::cout << doc.dump(2) << "\n";
+  } else {
+    std::cerr << "wrote " << parser.Get("out") << " (" << options.Width << "x" << options.Height << ", "
+              << vtkRPViewState::GetLayoutAsString(options.Layout) << ")\n";
+  }
+  return 0;
+}
+
+}  // namespace
+
+std::vector<rp::Command> ViewerCommands() {
+  return {{"screenshot", "render scene/data files headless into a PNG (4up, 3d or one slice view)", &RunScreenshot}};
+}
+
+}  // namespace rp

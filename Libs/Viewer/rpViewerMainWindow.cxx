@@ -1,0 +1,444 @@
+#include "rpViewerMainWindow.h"
+
+#include <QAction>
+#include <QActionGroup>
+#include <QApplication>
+#include <QComboBox>
+#include <QDockWidget>
+#include <QFileDialog>
+#include <QFileInfo>
+#include <QGridLayout>
+#include <QHeaderView>
+#include <QInputDialog>
+#include <QLabel>
+#include <QMenuBar>
+#include <QMessageBox>
+#include <QSettings>
+#include <QSlider>
+#include <QStatusBar>
+#include <QToolBar>
+#include <QToolBox>
+#include <QTreeWidget>
+#include <QVBoxLayout>
+#include <QVTKOpenGLNativeWidget.h>
+
+#include <vtkCallbackCommand.h>
+#include <vtkGenericOpenGLRenderWindow.h>
+#include <vtkRenderWindowInteractor.h>
+
+#include "rpModuleManager.h"
+#include "rpNodeStorage.h"
+#include "rpSceneIO.h"
+#include "rpView.h"
+#include "rpViewController.h"
+#include "rpViewerApplication.h"
+#include "vtkRPModelNode.h"
+#include "vtkRPScalarVolumeNode.h"
+#include "vtkRPScene.h"
+#include "vtkRPSliceInteractorStyle.h"
+#include "vtkRPViewState.h"
+
+#ifdef ROBOPLAN_VIEWER_HAVE_DICOM
+#include "rpDicomSeries.h"
+#include "rpImageVolume.h"
+#endif
+
+namespace rp {
+
+namespace {
+constexpr int RefreshIntervalMs = 33;  // ~30 Hz
+constexpr int MaxRecentFiles = 8;
+const char* const RecentFilesKey = "recentFiles";
+}  // namespace
+
+ViewerMainWindow::ViewerMainWindow(ModuleManager* manager, vtkRPScene* scene, QWidget* parent)
+    : QMainWindow(parent), Scene(scene), Controller(std::make_unique<ViewController>(scene)) {
+  this->setWindowTitle("RoboPlan");
+  this->BuildViews();
+  this->BuildPanels(manager);
+  this->BuildMenus();
+
+  this->SceneCallback = vtkSmartPointer<vtkCallbackCommand>::New();
+  this->SceneCallback->SetClientData(this);
+  this->SceneCallback->SetCallback(&ViewerMainWindow::OnSceneChanged);
+  for (unsigned long event : {vtkRPScene::NodeAddedEvent, vtkRPScene::NodeRemovedEvent}) {
+    this->SceneTags.push_back(scene->AddObserver(event, this->SceneCallback));
+  }
+  this->SceneTags.push_back(this->Controller->GetViewState()->AddObserver(vtkCommand::ModifiedEvent, this->SceneCallback));
+
+  // Render at display rate, only what changed; the timer never waits on anything.
+  connect(&this->RenderTimer, &QTimer::timeout, this, [this]() {
+    if (this->DataPanelDirty) this->RefreshDataPanel();
+    this->RenderPendingViews();
+  });
+  this->RenderTimer.start(RefreshIntervalMs);
+  this->statusBar()->showMessage("Click: set the slice point · drag: window/level · wheel: slice · right drag: zoom · middle drag: pan");
+}
+
+ViewerMainWindow::~ViewerMainWindow() {
+  this->RenderTimer.stop();
+  for (unsigned long tag : this->SceneTags) {
+    this->Scene->RemoveObserver(tag);
+    this->Controller->GetViewState()->RemoveObserver(tag);
+  }
+  // Views leave their render windows before the widgets go.
+  for (int kind = 0; kind < 4; ++kind) this->Controller->GetView(static_cast<ViewKind>(kind))->DetachFromRenderWindow();
+}
+
+void ViewerMainWindow::OnSceneChanged(vtkObject*, unsigned long, void* clientData, void*) {
+  static_cast<ViewerMainWindow*>(clientData)->DataPanelDirty = true;
+}
+
+void ViewerMainWindow::BuildViews() {
+  this->ViewArea = new QWidget(this);
+  auto* grid = new QGridLayout(this->ViewArea);
+  grid->setContentsMargins(0, 0, 0, 0);
+  grid->setSpacing(2);
+  const int rows[4] = {0, 1, 1, 0}, columns[4] = {0, 0, 1, 1};  // axial, sagittal, coronal, 3D
+  const double full[4] = {0, 0, 1, 1};
+  for (int kind = 0; kind < 4; ++kind) {
+    auto* widget = new QVTKOpenGLNativeWidget(this->ViewArea);
+    widget->setObjectName(QString("%1View").arg(GetViewName(static_cast<ViewKind>(kind))));
+    widget->setMinimumSize(120, 120);
+    vtkNew<vtkGenericOpenGLRenderWindow> window;
+    window->SetMultiSamples(0);
+    widget->setRenderWindow(window);
+    View* view = this->Controller->GetView(static_cast<ViewKind>(kind));
+    view->AttachToRenderWindow(window, full);
+    if (view->IsSlice()) {
+      vtkNew<vtkRPSliceInteractorStyle> style;
+      style->SetController(this->Controller.get(), view->GetKind());
+      widget->interactor()->SetInteractorStyle(style);
+    } else {
+      vtkNew<vtkRPThreeDInteractorStyle> style;
+      style->SetController(this->Controller.get());
+      widget->interactor()->SetInteractorStyle(style);
+    }
+    grid->addWidget(widget, rows[kind], columns[kind]);
+    this->ViewWidgets[static_cast<size_t>(kind)] = widget;
+  }
+  this->setCentralWidget(this->ViewArea);
+  this->SetViewLayout(vtkRPViewState::LayoutFourUp);
+}
+
+void ViewerMainWindow::SetViewLayout(int layout) {
+  this->Controller->GetViewState()->SetLayout(layout);
+  for (int kind = 0; kind < 4; ++kind) {
+    bool visible = true;
+    switch (layout) {
+      case vtkRPViewState::LayoutOneUp3D: visible = kind == int(ViewKind::ThreeD); break;
+      case vtkRPViewState::LayoutOneUpAxial: visible = kind == int(ViewKind::Axial); break;
+      case vtkRPViewState::LayoutOneUpSagittal: visible = kind == int(ViewKind::Sagittal); break;
+      case vtkRPViewState::LayoutOneUpCoronal: visible = kind == int(ViewKind::Coronal); break;
+      default: break;
+    }
+    this->ViewWidgets[static_cast<size_t>(kind)]->setVisible(visible);
+    this->Controller->GetView(static_cast<ViewKind>(kind))->RequestRender();
+  }
+}
+
+int ViewerMainWindow::RenderPendingViews() {
+  int rendered = 0;
+  for (int kind = 0; kind < 4; ++kind) {
+    View* view = this->Controller->GetView(static_cast<ViewKind>(kind));
+    QVTKOpenGLNativeWidget* widget = this->ViewWidgets[static_cast<size_t>(kind)];
+    if (!view->NeedsRender() || !widget->isVisible()) continue;
+    view->MarkRendered();
+    widget->renderWindow()->Render();
+    ++rendered;
+  }
+  return rendered;
+}
+
+void ViewerMainWindow::BuildMenus() {
+  QMenu* file = this->menuBar()->addMenu("&File");
+  QAction* dicom = file->addAction("Load &DICOM folder...", this, &ViewerMainWindow::OpenDicomFolder);
+#ifndef ROBOPLAN_VIEWER_HAVE_DICOM
+  dicom->setEnabled(false);
+  dicom->setToolTip("This build has no DICOM reader (Libs/Imaging's rpDicomSeries was not available)");
+#else
+  (void)dicom;
+#endif
+  file->addAction("&Load data (volume, segmentation, model, fiducials, transform)...", this,
+                  &ViewerMainWindow::OpenDataFiles, QKeySequence::Open);
+  file->addAction("Load &scene...", this, &ViewerMainWindow::OpenScene);
+  file->addAction("&Save scene as...", this, &ViewerMainWindow::SaveSceneAs, QKeySequence::SaveAs);
+  this->RecentMenu = file->addMenu("&Recent files");
+  this->RebuildRecentMenu();
+  file->addSeparator();
+  file->addAction("&Close scene", this, &ViewerMainWindow::CloseScene);
+  file->addAction("&Quit", this, &QWidget::close, QKeySequence::Quit);
+
+  QToolBar* toolbar = this->addToolBar("Views");
+  toolbar->setObjectName("ViewsToolBar");
+  QMenu* viewMenu = this->menuBar()->addMenu("&View");
+  auto* layouts = new QActionGroup(this);
+  const std::pair<const char*, int> layoutActions[] = {{"4-up", vtkRPViewState::LayoutFourUp},
+                                                       {"3D", vtkRPViewState::LayoutOneUp3D},
+                                                       {"Axial", vtkRPViewState::LayoutOneUpAxial},
+                                                       {"Sagittal", vtkRPViewState::LayoutOneUpSagittal},
+                                                       {"Coronal", vtkRPViewState::LayoutOneUpCoronal}};
+  for (const auto& [name, layout] : layoutActions) {
+    QAction* action = viewMenu->addAction(name);
+    action->setCheckable(true);
+    action->setChecked(layout == vtkRPViewState::LayoutFourUp);
+    action->setObjectName(QString("layout_%1").arg(vtkRPViewState::GetLayoutAsString(layout)));
+    layouts->addAction(action);
+    toolbar->addAction(action);
+    const int chosen = layout;
+    connect(action, &QAction::triggered, this, [this, chosen]() { this->SetViewLayout(chosen); });
+  }
+  toolbar->addSeparator();
+  QAction* reset = viewMenu->addAction("&Reset views", this, [this]() { this->Controller->ResetViews(); });
+  toolbar->addAction(reset);
+  this->PlaceFiducialAction = toolbar->addAction("Place fiducials");
+  this->PlaceFiducialAction->setObjectName("placeFiducials");
+  this->PlaceFiducialAction->setCheckable(true);
+  this->PlaceFiducialAction->setToolTip("Clicks in the slice views add points to the active fiducial list");
+  connect(this->PlaceFiducialAction, &QAction::toggled, this, [this](bool on) {
+    this->Controller->GetViewState()->SetInteractionMode(on ? vtkRPViewState::ModePlaceFiducial
+                                                            : vtkRPViewState::ModeNavigate);
+  });
+  auto* presets = new QComboBox(toolbar);
+  presets->setObjectName("windowLevelPresets");
+  presets->addItems({"Window/level preset...", "CT bone", "CT soft tissue", "MR"});
+  connect(presets, QOverload<int>::of(&QComboBox::activated), this, [this, presets](int index) {
+    if (index == 1) this->Controller->ApplyWindowLevelPreset(WindowLevelPreset::CTBone);
+    if (index == 2) this->Controller->ApplyWindowLevelPreset(WindowLevelPreset::CTSoftTissue);
+    if (index == 3) this->Controller->ApplyWindowLevelPreset(WindowLevelPreset::MR);
+    presets->setCurrentIndex(0);
+  });
+  toolbar->addWidget(presets);
+}
+
+void ViewerMainWindow::BuildPanels(ModuleManager* manager) {
+  auto* dock = new QDockWidget("Modules", this);
+  dock->setObjectName("ModulesDock");
+  dock->setFeatures(QDockWidget::DockWidgetMovable | QDockWidget::DockWidgetFloatable);
+  this->Panels = new QToolBox(dock);
+  this->Panels->addItem(this->BuildDataPanel(), "Data");
+  if (manager) {
+    for (Module* module : manager->GetModules()) {
+      QWidget* panel = module->CreatePanel(this->Panels);
+      if (panel) this->Panels->addItem(panel, QString::fromStdString(module->Title()));
+    }
+  }
+  dock->setWidget(this->Panels);
+  dock->setMinimumWidth(300);
+  this->addDockWidget(Qt::LeftDockWidgetArea, dock);
+}
+
+QWidget* ViewerMainWindow::BuildDataPanel() {
+  auto* panel = new QWidget;
+  auto* layout = new QVBoxLayout(panel);
+  this->DataTree = new QTreeWidget(panel);
+  this->DataTree->setObjectName("dataTree");
+  this->DataTree->setHeaderLabels({"Node", "Type"});
+  this->DataTree->header()->setSectionResizeMode(QHeaderView::ResizeToContents);
+  layout->addWidget(this->DataTree);
+  // A model's check box is its visibility.
+  connect(this->DataTree, &QTreeWidget::itemChanged, this, [this](QTreeWidgetItem* item, int) {
+    if (this->UpdatingPanel) return;
+    auto* model = vtkRPModelNode::SafeDownCast(this->Scene->GetNodeByID(item->data(0, Qt::UserRole).toString().toStdString()));
+    if (model) model->SetVisibility(item->checkState(0) == Qt::Checked);
+  });
+
+  layout->addWidget(new QLabel("Background volume"));
+  this->BackgroundCombo = new QComboBox(panel);
+  this->BackgroundCombo->setObjectName("backgroundVolume");
+  layout->addWidget(this->BackgroundCombo);
+  layout->addWidget(new QLabel("Foreground volume (over the background)"));
+  this->ForegroundCombo = new QComboBox(panel);
+  this->ForegroundCombo->setObjectName("foregroundVolume");
+  layout->addWidget(this->ForegroundCombo);
+  this->OpacitySlider = new QSlider(Qt::Horizontal, panel);
+  this->OpacitySlider->setObjectName("foregroundOpacity");
+  this->OpacitySlider->setRange(0, 100);
+  this->OpacitySlider->setValue(50);
+  layout->addWidget(this->OpacitySlider);
+  auto choose = [this](QComboBox* combo, bool background) {
+    if (this->UpdatingPanel) return;
+    const std::string id = combo->currentData().toString().toStdString();
+    vtkRPViewState* state = this->Controller->GetViewState();
+    if (background) {
+      state->SetBackgroundVolumeID(id);
+      this->Controller->ResetCameras();
+    } else {
+      state->SetForegroundVolumeID(id);
+    }
+  };
+  connect(this->BackgroundCombo, QOverload<int>::of(&QComboBox::activated), this,
+          [this, choose]() { choose(this->BackgroundCombo, true); });
+  connect(this->ForegroundCombo, QOverload<int>::of(&QComboBox::activated), this,
+          [this, choose]() { choose(this->ForegroundCombo, false); });
+  connect(this->OpacitySlider, &QSlider::valueChanged, this,
+          [this](int value) { this->Controller->GetViewState()->SetForegroundOpacity(value / 100.0); });
+  return panel;
+}
+
+void ViewerMainWindow::RefreshDataPanel() {
+  this->DataPanelDirty = false;
+  this->UpdatingPanel = true;
+  this->DataTree->clear();
+  for (vtkRPNode* node : this->Scene->GetNodes()) {
+    auto* item = new QTreeWidgetItem(this->DataTree);
+    item->setText(0, QString::fromStdString(node->GetName()));
+    item->setText(1, QString::fromStdString(node->GetNodeTagName()));
+    item->setData(0, Qt::UserRole, QString::fromStdString(node->GetID()));
+    if (auto* model = vtkRPModelNode::SafeDownCast(node)) {
+      item->setFlags(item->flags() | Qt::ItemIsUserCheckable);
+      item->setCheckState(0, model->GetVisibility() ? Qt::Checked : Qt::Unchecked);
+    }
+  }
+  this->RefreshVolumeCombos();
+  this->UpdatingPanel = false;
+}
+
+void ViewerMainWindow::RefreshVolumeCombos() {
+  vtkRPViewState* state = this->Controller->GetViewState();
+  for (QComboBox* combo : {this->BackgroundCombo, this->ForegroundCombo}) {
+    const std::string selected = combo == this->BackgroundCombo ? state->GetBackgroundVolumeID() : state->GetForegroundVolumeID();
+    combo->clear();
+    combo->addItem("(none)", QString());
+    for (vtkRPNode* node : this->Scene->GetNodesByClass("vtkRPScalarVolumeNode")) {
+      combo->addItem(QString::fromStdString(node->GetName()), QString::fromStdString(node->GetID()));
+      if (node->GetID() == selected) combo->setCurrentIndex(combo->count() - 1);
+    }
+  }
+  this->OpacitySlider->setValue(static_cast<int>(state->GetForegroundOpacity() * 100.0 + 0.5));
+}
+
+bool ViewerMainWindow::LoadFile(const QString& path, QString* error) {
+  std::string message;
+  std::vector<std::string> warnings;
+  QApplication::setOverrideCursor(Qt::WaitCursor);
+  const bool ok = LoadSceneOrDataFile(this->Scene, path.toStdString(), message, &warnings);
+  QApplication::restoreOverrideCursor();
+  if (!ok) {
+    if (error) *error = QString::fromStdString(message);
+    return false;
+  }
+  if (HasExtension(path.toStdString(), SceneFileExtension)) this->Controller->ResetViews();
+  for (const std::string& warning : warnings) this->statusBar()->showMessage(QString::fromStdString(warning), 10000);
+  this->AddRecentFile(QFileInfo(path).absoluteFilePath());
+  return true;
+}
+
+void ViewerMainWindow::ShowProblem(const QString& title, const QString& text) {
+  QMessageBox::warning(this, title, text);
+}
+
+void ViewerMainWindow::OpenDataFiles() {
+  const QStringList files = QFileDialog::getOpenFileNames(
+      this, "Load data", QString(),
+      "Data (*.nrrd *.nhdr *.nii *.nii.gz *.mha *.mhd *.seg.nrrd *.vtp *.vtk *.stl *.ply *.obj *.mrk.json *.fcsv "
+      "*.tfm *.txt *.h5);;All files (*)");
+  for (const QString& file : files) {
+    QString error;
+    if (!this->LoadFile(file, &error)) this->ShowProblem("Load data", error);
+  }
+}
+
+void ViewerMainWindow::OpenScene() {
+  const QString file = QFileDialog::getOpenFileName(this, "Load scene", QString(), "RoboPlan scene (*.rpscene)");
+  if (file.isEmpty()) return;
+  QString error;
+  if (!this->LoadFile(file, &error)) this->ShowProblem("Load scene", error);
+}
+
+void ViewerMainWindow::SaveSceneAs() {
+  QString file = QFileDialog::getSaveFileName(this, "Save scene", QString(), "RoboPlan scene (*.rpscene)");
+  if (file.isEmpty()) return;
+  if (!file.endsWith(SceneFileExtension)) file += SceneFileExtension;
+  std::string error;
+  if (!SaveScene(this->Scene, file.toStdString(), error)) {
+    this->ShowProblem("Save scene", QString::fromStdString(error));
+    return;
+  }
+  this->AddRecentFile(file);
+  this->statusBar()->showMessage("Saved " + file, 5000);
+}
+
+void ViewerMainWindow::CloseScene() {
+  this->Scene->Clear();
+  this->Controller->ResetViews();
+}
+
+void ViewerMainWindow::OpenDicomFolder() {
+#ifdef ROBOPLAN_VIEWER_HAVE_DICOM
+  const QString folder = QFileDialog::getExistingDirectory(this, "Load DICOM folder");
+  if (folder.isEmpty()) return;
+  QApplication::setOverrideCursor(Qt::WaitCursor);
+  DicomScanResult scan;
+  std::string error;
+  const bool scanned = ScanDicom(folder.toStdString(), scan, error);
+  QApplication::restoreOverrideCursor();
+  if (!scanned || scan.Series.empty()) {
+    this->ShowProblem("Load DICOM", scanned ? "No DICOM image series in " + folder : QString::fromStdString(error));
+    return;
+  }
+  // The series picker: one line per series, problems shown.
+  QStringList names;
+  for (const DicomSeriesInfo& series : scan.Series) {
+    QString line = QString("%1 %2 — %3 (%4 files, %5x%6)")
+                       .arg(QString::fromStdString(series.Modality), QString::fromStdString(series.SeriesNumber),
+                            QString::fromStdString(series.SeriesDescription))
+                       .arg(series.Files.size())
+                       .arg(series.Columns)
+                       .arg(series.Rows);
+    if (!series.Problem.empty()) line += " [" + QString::fromStdString(series.Problem) + "]";
+    names << line;
+  }
+  int index = 0;
+  if (names.size() > 1) {
+    bool ok = false;
+    const QString chosen = QInputDialog::getItem(this, "Load DICOM", "Series:", names, 0, false, &ok);
+    if (!ok) return;
+    index = names.indexOf(chosen);
+  }
+  const DicomSeriesInfo& series = scan.Series[static_cast<size_t>(index)];
+  ImageVolume volume;
+  std::vector<std::string> warnings;
+  QApplication::setOverrideCursor(Qt::WaitCursor);
+  const bool read = ReadDicomSeries(series, volume, error, {}, &warnings);
+  QApplication::restoreOverrideCursor();
+  if (!read) {
+    this->ShowProblem("Load DICOM", QString::fromStdString(error));
+    return;
+  }
+  vtkNew<vtkRPScalarVolumeNode> node;
+  node->SetName(series.SeriesDescription.empty() ? series.Modality : series.SeriesDescription);
+  CopyToNode(volume, node);
+  if (volume.Window <= 0) node->SetWindowLevelFromScalarRange();
+  this->Scene->AddNode(node);
+  for (const std::string& warning : warnings) this->statusBar()->showMessage(QString::fromStdString(warning), 10000);
+#endif
+}
+
+QStringList ViewerMainWindow::RecentFiles() {
+  return QSettings().value(RecentFilesKey).toStringList();
+}
+
+void ViewerMainWindow::AddRecentFile(const QString& path) {
+  QStringList files = RecentFiles();
+  files.removeAll(path);
+  files.prepend(path);
+  while (files.size() > MaxRecentFiles) files.removeLast();
+  QSettings().setValue(RecentFilesKey, files);
+  this->RebuildRecentMenu();
+}
+
+void ViewerMainWindow::RebuildRecentMenu() {
+  if (!this->RecentMenu) return;
+  this->RecentMenu->clear();
+  const QStringList files = RecentFiles();
+  for (const QString& file : files) {
+    this->RecentMenu->addAction(file, this, [this, file]() {
+      QString error;
+      if (!this->LoadFile(file, &error)) this->ShowProblem("Load", error);
+    });
+  }
+  this->RecentMenu->setEnabled(!files.isEmpty());
+}
+
+}  // namespace rp

@@ -1,0 +1,93 @@
+#pragma once
+// The main window: the views in a layout (4-up, one-up 3D, one-up slice), the module panels on
+// the left (from the loaded modules, plus the viewer's own Data panel), the File menu (DICOM
+// folder, data files, scenes, recent files) and a 30 Hz timer that renders only the views whose
+// content changed. Nothing here waits on another thread.
+#include <array>
+#include <memory>
+
+#include <QMainWindow>
+#include <QPointer>
+#include <QString>
+#include <QTimer>
+
+#include <vtkSmartPointer.h>
+
+#include "rpSliceGeometry.h"
+
+class QAction;
+class QComboBox;
+class QMenu;
+class QSlider;
+class QToolBox;
+class QTreeWidget;
+class QTreeWidgetItem;
+class QVTKOpenGLNativeWidget;
+class QWidget;
+class vtkCallbackCommand;
+class vtkObject;
+class vtkRPScene;
+
+namespace rp {
+
+class ModuleManager;
+class ViewController;
+
+class ViewerMainWindow : public QMainWindow {
+  Q_OBJECT
+
+ public:
+  ViewerMainWindow(ModuleManager* manager, vtkRPScene* scene, QWidget* parent = nullptr);
+  ~ViewerMainWindow() override;
+
+  ViewController* GetController() const { return this->Controller.get(); }
+  QVTKOpenGLNativeWidget* GetViewWidget(ViewKind kind) const { return this->ViewWidgets[static_cast<size_t>(kind)]; }
+  QToolBox* GetPanelBox() const { return this->Panels; }
+  QTreeWidget* GetDataTree() const { return this->DataTree; }
+
+  /// Loads a scene or data file; adds it to the recent files. False with a message on failure
+  /// (nothing already loaded is lost).
+  bool LoadFile(const QString& path, QString* error = nullptr);
+  void SetViewLayout(int layout);
+  /// Renders the views that asked for it; returns how many were rendered.
+  int RenderPendingViews();
+  static QStringList RecentFiles();
+
+ public slots:
+  void OpenDataFiles();
+  void OpenScene();
+  void SaveSceneAs();
+  void OpenDicomFolder();
+  void CloseScene();
+
+ private:
+  static void OnSceneChanged(vtkObject*, unsigned long, void* clientData, void*);
+  void BuildViews();
+  void BuildMenus();
+  void BuildPanels(ModuleManager* manager);
+  QWidget* BuildDataPanel();
+  void RefreshDataPanel();
+  void RefreshVolumeCombos();
+  void AddRecentFile(const QString& path);
+  void RebuildRecentMenu();
+  void ShowProblem(const QString& title, const QString& text);
+
+  vtkRPScene* Scene;
+  std::unique_ptr<ViewController> Controller;
+  std::array<QVTKOpenGLNativeWidget*, 4> ViewWidgets{};
+  QWidget* ViewArea = nullptr;
+  QToolBox* Panels = nullptr;
+  QTreeWidget* DataTree = nullptr;
+  QComboBox* BackgroundCombo = nullptr;
+  QComboBox* ForegroundCombo = nullptr;
+  QSlider* OpacitySlider = nullptr;
+  QMenu* RecentMenu = nullptr;
+  QAction* PlaceFiducialAction = nullptr;
+  QTimer RenderTimer;
+  vtkSmartPointer<vtkCallbackCommand> SceneCallback;
+  std::vector<unsigned long> SceneTags;
+  bool DataPanelDirty = true;
+  bool UpdatingPanel = false;
+};
+
+}  // namespace rp

@@ -1,0 +1,76 @@
+#ifndef vtkRPSliceInteractorStyle_h
+#define vtkRPSliceInteractorStyle_h
+// Mouse and keys in a slice view (and the 3D view's keys):
+//   left click            set the slice point (other views follow) / place a fiducial
+//   left drag             window/level (right = wider window, up = higher level)
+//   wheel, Up/Down, PgUp/PgDn   move the slice by one step
+//   right drag, Ctrl+wheel      zoom;   middle drag, Shift+left drag   pan
+//   r                     reset the view;  1/2/3  CT bone / CT soft tissue / MR presets
+#include <vtkInteractorStyle.h>
+#include <vtkInteractorStyleTrackballCamera.h>
+
+#include "rpSliceGeometry.h"
+
+namespace rp {
+class ViewController;
+}
+
+class vtkRPSliceInteractorStyle : public vtkInteractorStyle {
+ public:
+  static vtkRPSliceInteractorStyle* New();
+  vtkTypeMacro(vtkRPSliceInteractorStyle, vtkInteractorStyle);
+
+  void SetController(rp::ViewController* controller, rp::ViewKind kind) {
+    this->Controller = controller;
+    this->Kind = kind;
+  }
+
+  void OnLeftButtonDown() override;
+  void OnLeftButtonUp() override;
+  void OnMiddleButtonDown() override;
+  void OnMiddleButtonUp() override;
+  void OnRightButtonDown() override;
+  void OnRightButtonUp() override;
+  void OnMouseMove() override;
+  void OnMouseWheelForward() override;
+  void OnMouseWheelBackward() override;
+  void OnKeyPress() override;
+  void OnChar() override {}  // no VTK default keys (e.g. 'e'/'q' would exit the application)
+
+ protected:
+  vtkRPSliceInteractorStyle() = default;
+  ~vtkRPSliceInteractorStyle() override = default;
+
+ private:
+  vtkRPSliceInteractorStyle(const vtkRPSliceInteractorStyle&) = delete;
+  void operator=(const vtkRPSliceInteractorStyle&) = delete;
+  enum Action { None, LeftPending, WindowLevel, Panning, Zooming };
+  void Wheel(int steps);
+  void Finish();
+
+  rp::ViewController* Controller = nullptr;
+  rp::ViewKind Kind = rp::ViewKind::Axial;
+  Action Current = None;
+  int Press[2] = {0, 0};
+  int Last[2] = {0, 0};
+};
+
+/// 3D view: trackball camera; 'r' resets the camera; VTK's default keys are off.
+class vtkRPThreeDInteractorStyle : public vtkInteractorStyleTrackballCamera {
+ public:
+  static vtkRPThreeDInteractorStyle* New();
+  vtkTypeMacro(vtkRPThreeDInteractorStyle, vtkInteractorStyleTrackballCamera);
+  void SetController(rp::ViewController* controller) { this->Controller = controller; }
+  void OnChar() override;
+
+ protected:
+  vtkRPThreeDInteractorStyle() = default;
+  ~vtkRPThreeDInteractorStyle() override = default;
+
+ private:
+  vtkRPThreeDInteractorStyle(const vtkRPThreeDInteractorStyle&) = delete;
+  void operator=(const vtkRPThreeDInteractorStyle&) = delete;
+  rp::ViewController* Controller = nullptr;
+};
+
+#endif

@@ -1,0 +1,305 @@
+// Displayable managers and the view controller without Qt: nodes added appear, modified update,
+// removed disappear; slices follow the slice point and a tracked tool; outlines match the
+// analytic cut of a sphere.
+#include <cmath>
+
+#include <gtest/gtest.h>
+#include <vtkActor.h>
+#include <vtkImageActor.h>
+#include <vtkImageData.h>
+#include <vtkMatrix4x4.h>
+#include <vtkNew.h>
+#include <vtkPolyData.h>
+#include <vtkProperty.h>
+
+#include "rpSliceReslicer.h"
+#include "rpView.h"
+#include "rpViewController.h"
+#include "rpViewerTestScene.h"
+#include "vtkRPFiducialDisplayableManager.h"
+#include "vtkRPFiducialListNode.h"
+#include "vtkRPLinearTransformNode.h"
+#include "vtkRPModelDisplayableManager.h"
+#include "vtkRPModelNode.h"
+#include "vtkRPModelSliceDisplayableManager.h"
+#include "vtkRPScalarVolumeNode.h"
+#include "vtkRPScene.h"
+#include "vtkRPToolDisplayableManager.h"
+#include "vtkRPTrackedToolNode.h"
+#include "vtkRPViewState.h"
+#include "vtkRPVolumeSliceDisplayableManager.h"
+
+using namespace rp;
+
+namespace {
+
+// RGBA of the re-sliced image at a RAS point on the slice plane.
+void SampleSlice(SliceReslicer* reslicer, const double ras[3], unsigned char rgba[4]) {
+  vtkImageData* image = reslicer->GetActor()->GetInput();
+  reslicer->GetActor()->Update();
+  vtkNew<vtkMatrix4x4> rasToSlice;
+  vtkMatrix4x4::Invert(reslicer->GetSliceToRAS(), rasToSlice);
+  double in[4] = {ras[0], ras[1], ras[2], 1}, slice[4];
+  rasToSlice->MultiplyPoint(in, slice);
+  int ijk[3];
+  double pcoords[3];
+  ASSERT_TRUE(image->ComputeStructuredCoordinates(slice, ijk, pcoords)) << "point outside the slice image";
+  const double spacing = reslicer->GetPixelSpacing();
+  double origin[3];
+  image->GetOrigin(origin);
+  const int i = static_cast<int>(std::lround((slice[0] - origin[0]) / spacing));
+  const int j = static_cast<int>(std::lround((slice[1] - origin[1]) / spacing));
+  auto* pixel = static_cast<unsigned char*>(image->GetScalarPointer(i, j, 0));
+  for (int c = 0; c < 4; ++c) rgba[c] = pixel[c];
+}
+
+}  // namespace
+
+TEST(ViewerDisplayableManagers, VolumeSlicesFollowTheSlicePointAndWindowLevel) {
+  vtkNew<vtkRPScene> scene;
+  ViewController controller(scene);
+  auto volume = test::MakeVolume();
+  scene->AddNode(volume);
+  // First volume: background, slices centred on it.
+  EXPECT_EQ(controller.GetViewState()->GetBackgroundVolumeID(), volume->GetID());
+  double point[3];
+  controller.GetSlicePointRAS(point);
+  for (int a = 0; a < 3; ++a) EXPECT_NEAR(point[a], test::Center[a], 1e-9);
+
+  auto* axialManager = controller.GetView(ViewKind::Axial)->GetDisplayableManager<vtkRPVolumeSliceDisplayableManager>();
+  ASSERT_NE(axialManager, nullptr);
+  ASSERT_EQ(axialManager->GetNumberOfReslicers(), 1);
+  SliceReslicer* axial = axialManager->GetReslicer(0);
+  EXPECT_TRUE(axial->GetActor()->GetVisibility());
+  // The plane passes through the slice point: SliceToRAS translation is the S offset.
+  EXPECT_NEAR(axial->GetSliceToRAS()->GetElement(2, 3), test::Center[2], 1e-9);
+
+  // Window 2000 / level 500 (-500..1500): the ball (1000 HU) is 0.75 of the way → ~191;
+  // soft tissue at the centre slice (k = 15.5 → 102 HU) → (102 + 500) / 2000 → ~77.
+  unsigned char rgba[4];
+  SampleSlice(axial, test::Center, rgba);
+  EXPECT_NEAR(rgba[0], 0.75 * 255, 1.5);
+  EXPECT_EQ(rgba[3], 255);
+  const double tissue[3] = {test::Center[0] + 40, test::Center[1] + 30, test::Center[2]};
+  SampleSlice(axial, tissue, rgba);
+  const double hu = 40 + 4 * 15.5;  // linear interpolation between slices 15 and 16
+  EXPECT_NEAR(rgba[0], (hu + 500) / 2000.0 * 255, 2.0);
+
+  // Window/level live in the node: changing it updates the slices.
+  volume->SetWindowLevel(200, 1000);  // 900..1100: the ball mid-grey, tissue black
+  SampleSlice(axial, test::Center, rgba);
+  EXPECT_NEAR(rgba[0], 0.5 * 255, 1.5);
+  SampleSlice(axial, tissue, rgba);
+  EXPECT_EQ(rgba[0], 0);
+
+  // Presets.
+  EXPECT_TRUE(controller.ApplyWindowLevelPreset(WindowLevelPreset::CTBone));
+  EXPECT_DOUBLE_EQ(volume->GetWindow(), 1000);
+  EXPECT_DOUBLE_EQ(volume->GetLevel(), 400);
+  EXPECT_TRUE(controller.ApplyWindowLevelPreset(WindowLevelPreset::CTSoftTissue));
+  EXPECT_DOUBLE_EQ(volume->GetWindow(), 400);
+  EXPECT_DOUBLE_EQ(volume->GetLevel(), 40);
+  EXPECT_TRUE(controller.ApplyWindowLevelPreset(WindowLevelPreset::MR));
+  EXPECT_GT(volume->GetWindow(), 0);
+  EXPECT_LE(volume->GetLevel(), 1000);
+
+  // Moving the slice point moves the sagittal plane to the new R.
+  const double moved[3] = {test::Center[0] + 12, test::Center[1] - 6, test::Center[2] + 5};
+  controller.SetSlicePointRAS(moved);
+  SliceReslicer* sagittal = controller.GetView(ViewKind::Sagittal)->GetDisplayableManager<vtkRPVolumeSliceDisplayableManager>()->GetReslicer(0);
+  EXPECT_NEAR(sagittal->GetSliceToRAS()->GetElement(0, 3), moved[0], 1e-9);
+  EXPECT_NEAR(controller.GetView(ViewKind::Coronal)->GetSliceOffset(), moved[1], 1e-9);
+  // Scrolling: one step is the smallest spacing (2 mm).
+  controller.MoveSlice(ViewKind::Axial, 3);
+  controller.GetSlicePointRAS(point);
+  EXPECT_NEAR(point[2], moved[2] + 3 * 2.0, 1e-9);
+
+  // 3D: three slices in RAS.
+  auto* threeD = controller.GetView(ViewKind::ThreeD)->GetDisplayableManager<vtkRPVolumeSliceDisplayableManager>();
+  ASSERT_EQ(threeD->GetNumberOfReslicers(), 3);
+  EXPECT_TRUE(threeD->GetReslicer(0)->GetActor()->GetVisibility());
+
+  // Removed: the background is cleared and the slices disappear.
+  scene->RemoveNode(volume);
+  EXPECT_EQ(controller.GetViewState()->GetBackgroundVolumeID(), "");
+  EXPECT_EQ(axialManager->GetNumberOfDisplayedNodes(), 0);
+}
+
+TEST(ViewerDisplayableManagers, ForegroundBlendsOverBackground) {
+  vtkNew<vtkRPScene> scene;
+  ViewController controller(scene);
+  auto ct = test::MakeVolume();
+  scene->AddNode(ct);
+  auto mr = test::MakeVolume();
+  mr->SetName("MR");
+  mr->SetWindowLevel(1, 2000);  // everything at or below 2000 is black in the MR
+  scene->AddNode(mr);
+  EXPECT_EQ(controller.GetViewState()->GetForegroundVolumeID(), mr->GetID());
+  controller.GetViewState()->SetForegroundOpacity(0.5);
+  ct->SetWindowLevel(1, 0);  // everything above 0 is white in the CT
+  SliceReslicer* axial = controller.GetView(ViewKind::Axial)->GetDisplayableManager<vtkRPVolumeSliceDisplayableManager>()->GetReslicer(0);
+  unsigned char rgba[4];
+  SampleSlice(axial, test::Center, rgba);
+  EXPECT_NEAR(rgba[0], 127.5, 1.5);  // white under black at 50 %
+  controller.GetViewState()->SetForegroundOpacity(0.0);
+  SampleSlice(axial, test::Center, rgba);
+  EXPECT_EQ(rgba[0], 255);
+}
+
+TEST(ViewerDisplayableManagers, ModelsAppearUpdateAndDisappear) {
+  vtkNew<vtkRPScene> scene;
+  ViewController controller(scene);
+  auto* models = controller.GetView(ViewKind::ThreeD)->GetDisplayableManager<vtkRPModelDisplayableManager>();
+  View* axialView = controller.GetView(ViewKind::Axial);
+  auto* outlines = axialView->GetDisplayableManager<vtkRPModelSliceDisplayableManager>();
+  ASSERT_NE(models, nullptr);
+  ASSERT_NE(outlines, nullptr);
+  auto model = test::MakeSphereModel();
+  scene->AddNode(model);
+  vtkActor* actor = models->GetActor(model);
+  ASSERT_NE(actor, nullptr);
+  EXPECT_TRUE(actor->GetVisibility());
+  EXPECT_DOUBLE_EQ(actor->GetProperty()->GetColor()[0], 0.9);
+
+  // Axial outline through the sphere at S = 20 + 12: a circle of radius sqrt(20² − 12²) = 16
+  // around (ModelCenter R, A).
+  const double point[3] = {0, 0, test::ModelCenter[2] + 12};
+  controller.SetSlicePointRAS(point);
+  vtkPolyData* outline = outlines->GetOutline(model);
+  ASSERT_NE(outline, nullptr);
+  ASSERT_GT(outline->GetNumberOfPoints(), 32);
+  for (vtkIdType i = 0; i < outline->GetNumberOfPoints(); ++i) {
+    double p[3];
+    outline->GetPoint(i, p);
+    EXPECT_NEAR(p[2], point[2], 1e-6);
+    EXPECT_NEAR(std::hypot(p[0] - test::ModelCenter[0], p[1] - test::ModelCenter[1]), 16.0, 0.1);
+  }
+
+  // Modified: colour, opacity, visibility, transform.
+  axialView->MarkRendered();
+  controller.GetView(ViewKind::ThreeD)->MarkRendered();
+  model->SetColor(0.2, 0.4, 0.6);
+  model->SetOpacity(0.5);
+  EXPECT_TRUE(axialView->NeedsRender());
+  EXPECT_TRUE(controller.GetView(ViewKind::ThreeD)->NeedsRender());
+  EXPECT_DOUBLE_EQ(actor->GetProperty()->GetColor()[2], 0.6);
+  EXPECT_DOUBLE_EQ(actor->GetProperty()->GetOpacity(), 0.5);
+  model->SetVisibility(false);
+  EXPECT_FALSE(actor->GetVisibility());
+  EXPECT_EQ(outlines->GetOutline(model), nullptr);
+  model->SetVisibility(true);
+
+  // Under a transform moving it 10 mm up: the actor follows and the outline radius becomes
+  // sqrt(20² − 2²) at the same slice.
+  vtkNew<vtkRPLinearTransformNode> lift;
+  scene->AddNode(lift);
+  ASSERT_TRUE(model->SetAndObserveTransformNodeID(lift->GetID()));
+  vtkNew<vtkMatrix4x4> up;
+  up->SetElement(2, 3, 10.0);
+  lift->SetMatrixTransformToParent(up);
+  EXPECT_DOUBLE_EQ(actor->GetUserMatrix()->GetElement(2, 3), 10.0);
+  outline = outlines->GetOutline(model);
+  ASSERT_NE(outline, nullptr);
+  vtkMatrix4x4* toWorld = up;
+  for (vtkIdType i = 0; i < outline->GetNumberOfPoints(); i += 7) {
+    double local[4] = {0, 0, 0, 1}, world[4];
+    outline->GetPoint(i, local);
+    toWorld->MultiplyPoint(local, world);
+    EXPECT_NEAR(world[2], point[2], 1e-6);
+    EXPECT_NEAR(std::hypot(world[0] - test::ModelCenter[0], world[1] - test::ModelCenter[1]), std::sqrt(400.0 - 4.0), 0.1);
+  }
+
+  // Removed: gone from every view.
+  scene->RemoveNode(model);
+  EXPECT_EQ(models->GetActor(model), nullptr);
+  EXPECT_EQ(models->GetNumberOfDisplayedNodes(), 0);
+  EXPECT_EQ(outlines->GetNumberOfDisplayedNodes(), 0);
+}
+
+TEST(ViewerDisplayableManagers, FiducialsShowOnTheirSliceAndIn3D) {
+  vtkNew<vtkRPScene> scene;
+  ViewController controller(scene);
+  scene->AddNode(test::MakeVolume());
+  const double onSlice[3] = {test::Center[0] + 5, test::Center[1] + 3, test::Center[2]};
+  vtkRPFiducialListNode* list = controller.PlaceFiducial(onSlice);
+  ASSERT_NE(list, nullptr);
+  EXPECT_EQ(list->GetNumberOfControlPoints(), 1);
+  EXPECT_EQ(controller.GetViewState()->GetActiveFiducialListID(), list->GetID());
+  auto* axial = controller.GetView(ViewKind::Axial)->GetDisplayableManager<vtkRPFiducialDisplayableManager>();
+  auto* threeD = controller.GetView(ViewKind::ThreeD)->GetDisplayableManager<vtkRPFiducialDisplayableManager>();
+  EXPECT_EQ(axial->GetNumberOfDrawnPoints(list), 1);
+  EXPECT_EQ(threeD->GetNumberOfDrawnPoints(list), 1);
+  controller.MoveSlice(ViewKind::Axial, 5);  // 10 mm away: not on this slice any more
+  EXPECT_EQ(axial->GetNumberOfDrawnPoints(list), 0);
+  EXPECT_EQ(threeD->GetNumberOfDrawnPoints(list), 1);
+  const double second[3] = {1, 2, 3};
+  controller.PlaceFiducial(second);
+  EXPECT_EQ(list->GetNumberOfControlPoints(), 2);
+  EXPECT_EQ(threeD->GetNumberOfDrawnPoints(list), 2);
+  scene->RemoveNode(list);
+  EXPECT_EQ(threeD->GetNumberOfDisplayedNodes(), 0);
+}
+
+TEST(ViewerDisplayableManagers, ToolsAreDrawnAndSlicesFollowTheTip) {
+  vtkNew<vtkRPScene> scene;
+  ViewController controller(scene);
+  scene->AddNode(test::MakeVolume());
+  vtkNew<vtkRPLinearTransformNode> trackerToRAS;
+  trackerToRAS->SetName("TrackerToRAS");
+  scene->AddNode(trackerToRAS);
+  vtkNew<vtkRPTrackedToolNode> stylus;
+  stylus->SetName("StylusToTracker");
+  scene->AddNode(stylus);
+  ASSERT_TRUE(stylus->SetAndObserveTransformNodeID(trackerToRAS->GetID()));
+  stylus->SetStatus(vtkRPTrackedToolNode::StatusOK);
+
+  auto* tools = controller.GetView(ViewKind::ThreeD)->GetDisplayableManager<vtkRPToolDisplayableManager>();
+  auto* sliceTools = controller.GetView(ViewKind::Coronal)->GetDisplayableManager<vtkRPToolDisplayableManager>();
+  ASSERT_NE(tools->GetGlyphActor(stylus), nullptr);
+  ASSERT_NE(sliceTools->GetGlyphActor(stylus), nullptr);
+  EXPECT_EQ(tools->GetGlyphActor(trackerToRAS), nullptr);  // plain transform: no glyph
+  EXPECT_EQ(tools->GetForceActor(stylus), nullptr);
+
+  controller.SetFollowTransformNodeID(stylus->GetID());
+  vtkNew<vtkMatrix4x4> pose;
+  pose->SetElement(0, 3, 4.0);
+  pose->SetElement(1, 3, -7.0);
+  pose->SetElement(2, 3, 12.0);
+  stylus->SetMatrixTransformToParent(pose);
+  double point[3];
+  controller.GetSlicePointRAS(point);
+  EXPECT_DOUBLE_EQ(point[0], 4.0);
+  EXPECT_DOUBLE_EQ(point[1], -7.0);
+  EXPECT_DOUBLE_EQ(point[2], 12.0);
+  EXPECT_DOUBLE_EQ(tools->GetGlyphActor(stylus)->GetUserMatrix()->GetElement(1, 3), -7.0);
+
+  // A parent moving (registration updated) moves the tip and the slices.
+  vtkNew<vtkMatrix4x4> shift;
+  shift->SetElement(2, 3, 100.0);
+  trackerToRAS->SetMatrixTransformToParent(shift);
+  controller.GetSlicePointRAS(point);
+  EXPECT_DOUBLE_EQ(point[2], 112.0);
+  EXPECT_DOUBLE_EQ(tools->GetGlyphActor(stylus)->GetUserMatrix()->GetElement(2, 3), 112.0);
+
+  // Force arrow from attributes: 2 N along +R at 10 mm/N → a 20 mm arrow from the tip.
+  stylus->SetAttribute("Viewer.Force", "2,0,0");
+  vtkActor* arrow = tools->GetForceActor(stylus);
+  ASSERT_NE(arrow, nullptr);
+  EXPECT_NEAR(arrow->GetUserMatrix()->GetElement(0, 0), 20.0, 1e-9);
+  EXPECT_NEAR(arrow->GetUserMatrix()->GetElement(2, 3), 112.0, 1e-9);
+  stylus->SetAttribute("Viewer.Force", "0,0,0");
+  EXPECT_EQ(tools->GetForceActor(stylus), nullptr);
+
+  // A proxy sphere on any transform node through the attribute.
+  trackerToRAS->SetAttribute("Viewer.Glyph", "sphere");
+  EXPECT_NE(tools->GetGlyphActor(trackerToRAS), nullptr);
+
+  // A tool the tracker lost is drawn faded.
+  stylus->SetStatus(vtkRPTrackedToolNode::StatusMissing);
+  EXPECT_LT(tools->GetGlyphActor(stylus)->GetProperty()->GetOpacity(), 1.0);
+
+  // Removing the followed node stops following and removes the glyph.
+  scene->RemoveNode(stylus);
+  EXPECT_EQ(controller.GetFollowTransformNodeID(), "");
+  EXPECT_EQ(tools->GetGlyphActor(stylus), nullptr);
+}

@@ -1,0 +1,197 @@
+// Scripted GUI test of the main window (QTest under Xvfb): load a synthetic volume and model
+// from files, click in a slice view and check the other views moved to the clicked point,
+// scroll, change window/level by dragging, toggle the model, place a fiducial by click, switch
+// layouts, and check that only views whose content changed are rendered.
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <QAction>
+#include <QApplication>
+#include <QSettings>
+#include <QSurfaceFormat>
+#include <QTest>
+#include <QTreeWidget>
+#include <QVTKOpenGLNativeWidget.h>
+#include <QWheelEvent>
+#include <vtkActor.h>
+#include <vtkCamera.h>
+#include <vtkRenderer.h>
+
+#include "rpNodeStorage.h"
+#include "rpView.h"
+#include "rpViewController.h"
+#include "rpViewerMainWindow.h"
+#include "rpViewerTestScene.h"
+#include "vtkRPFiducialListNode.h"
+#include "vtkRPModelDisplayableManager.h"
+#include "vtkRPModelNode.h"
+#include "vtkRPScalarVolumeNode.h"
+#include "vtkRPScene.h"
+#include "vtkRPViewState.h"
+
+using namespace rp;
+
+namespace {
+
+QApplication& Application() {
+  static int argc = 1;
+  static char name[] = "rpViewerMainWindowTest";
+  static char* argv[] = {name, nullptr};
+  static QApplication* application = [] {
+    QSurfaceFormat::setDefaultFormat(QVTKOpenGLNativeWidget::defaultFormat());
+    auto* app = new QApplication(argc, argv);
+    QApplication::setOrganizationName("RoboPlanTest");
+    QApplication::setApplicationName("rpViewerMainWindowTest");
+    return app;
+  }();
+  return *application;
+}
+
+QPoint Center(QWidget* widget) { return QPoint(widget->width() / 2, widget->height() / 2); }
+
+// Size of one screen pixel in mm in a slice view (parallel projection).
+double PixelSize(View* view, QWidget* widget) {
+  return 2.0 * view->GetRenderer()->GetActiveCamera()->GetParallelScale() / widget->height();
+}
+
+void Drag(QWidget* widget, QPoint from, QPoint to) {
+  QTest::mousePress(widget, Qt::LeftButton, Qt::NoModifier, from);
+  QMouseEvent move(QEvent::MouseMove, to, widget->mapToGlobal(to), Qt::NoButton, Qt::LeftButton, Qt::NoModifier);
+  QApplication::sendEvent(widget, &move);
+  QTest::mouseRelease(widget, Qt::LeftButton, Qt::NoModifier, to);
+}
+
+}  // namespace
+
+TEST(ViewerMainWindow, ScriptedSession) {
+  Application();
+  QSettings().clear();
+  vtkNew<vtkRPScene> scene;
+  ViewerMainWindow window(nullptr, scene);
+  window.resize(1100, 800);
+  window.show();
+  ASSERT_TRUE(QTest::qWaitForWindowExposed(&window));
+
+  // Load data files the way a user does.
+  const std::filesystem::path dir = ROBOPLAN_TEST_OUTPUT_DIR;
+  std::filesystem::create_directories(dir);
+  std::string error;
+  ASSERT_TRUE(SaveDataFile(test::MakeVolume(), (dir / "ct.nrrd").string(), error)) << error;
+  ASSERT_TRUE(SaveDataFile(test::MakeSphereModel(), (dir / "femur.vtp").string(), error)) << error;
+  QString message;
+  ASSERT_TRUE(window.LoadFile(QString::fromStdString((dir / "ct.nrrd").string()), &message)) << message.toStdString();
+  ASSERT_TRUE(window.LoadFile(QString::fromStdString((dir / "femur.vtp").string()), &message)) << message.toStdString();
+  EXPECT_FALSE(window.LoadFile(QString::fromStdString((dir / "missing.nrrd").string()), &message));
+  EXPECT_FALSE(message.isEmpty());
+  EXPECT_EQ(scene->GetNumberOfNodes(), 2);
+  EXPECT_EQ(ViewerMainWindow::RecentFiles().size(), 2);
+  EXPECT_TRUE(ViewerMainWindow::RecentFiles().front().endsWith("femur.vtp"));
+  QTest::qWait(120);  // the 30 Hz timer renders and refreshes the Data panel
+
+  ViewController* controller = window.GetController();
+  vtkRPViewState* state = controller->GetViewState();
+  auto* volume = controller->GetBackgroundVolume();
+  ASSERT_NE(volume, nullptr);
+  auto* model = vtkRPModelNode::SafeDownCast(scene->GetNodesByClass("vtkRPModelNode").at(0));
+  ASSERT_NE(model, nullptr);
+
+  // Nothing changed since the last tick: nothing to render.
+  EXPECT_EQ(window.RenderPendingViews(), 0);
+
+  // Click in the axial view's centre: the point under it is the volume centre (camera fit);
+  // sagittal and coronal move there, the axial slice stays.
+  const double start[3] = {test::Center[0] + 15, test::Center[1] - 10, test::Center[2] + 5};
+  controller->SetSlicePointRAS(start);
+  QVTKOpenGLNativeWidget* axial = window.GetViewWidget(ViewKind::Axial);
+  View* axialView = controller->GetView(ViewKind::Axial);
+  const double pixel = PixelSize(axialView, axial);
+  QTest::mouseClick(axial, Qt::LeftButton, Qt::NoModifier, Center(axial));
+  double point[3];
+  controller->GetSlicePointRAS(point);
+  EXPECT_NEAR(point[0], test::Center[0], 1.5 * pixel);
+  EXPECT_NEAR(point[1], test::Center[1], 1.5 * pixel);
+  EXPECT_DOUBLE_EQ(point[2], start[2]);
+  EXPECT_DOUBLE_EQ(controller->GetView(ViewKind::Sagittal)->GetSliceOffset(), point[0]);
+  EXPECT_DOUBLE_EQ(controller->GetView(ViewKind::Coronal)->GetSliceOffset(), point[1]);
+  EXPECT_GE(window.RenderPendingViews(), 3);  // the three slice views (crosshair) at least
+
+  // Click 40 pixels right of the centre in the axial view: patient left (R decreases).
+  QTest::mouseClick(axial, Qt::LeftButton, Qt::NoModifier, Center(axial) + QPoint(40, 0));
+  controller->GetSlicePointRAS(point);
+  EXPECT_NEAR(point[0], test::Center[0] - 40 * pixel, 1.5 * pixel);
+
+  // Scroll one notch in the axial view: up one step (2 mm) along S.
+  QWheelEvent wheel(QPointF(Center(axial)), QPointF(axial->mapToGlobal(Center(axial))), QPoint(), QPoint(0, 120),
+                    Qt::NoButton, Qt::NoModifier, Qt::NoScrollPhase, false);
+  QApplication::sendEvent(axial, &wheel);
+  double scrolled[3];
+  controller->GetSlicePointRAS(scrolled);
+  EXPECT_DOUBLE_EQ(scrolled[2], point[2] + 2.0);
+
+  // Window/level by dragging 60 pixels right in the sagittal view: the window widens by
+  // 60 × (scalar range / 500); the level stays.
+  QVTKOpenGLNativeWidget* sagittal = window.GetViewWidget(ViewKind::Sagittal);
+  double range[2];
+  volume->GetImageData()->GetScalarRange(range);
+  const double window0 = volume->GetWindow(), level0 = volume->GetLevel();
+  Drag(sagittal, Center(sagittal), Center(sagittal) + QPoint(60, 0));
+  EXPECT_NEAR(volume->GetWindow(), window0 + 60 * (range[1] - range[0]) / 500.0, 1e-9);
+  EXPECT_DOUBLE_EQ(volume->GetLevel(), level0);
+  // The drag did not move the slices.
+  controller->GetSlicePointRAS(point);
+  EXPECT_DOUBLE_EQ(point[2], scrolled[2]);
+
+  // Toggle the model from the Data panel.
+  QList<QTreeWidgetItem*> items = window.GetDataTree()->findItems(QString::fromStdString(model->GetName()), Qt::MatchExactly);
+  ASSERT_EQ(items.size(), 1);
+  auto* models = controller->GetView(ViewKind::ThreeD)->GetDisplayableManager<vtkRPModelDisplayableManager>();
+  EXPECT_TRUE(models->GetActor(model)->GetVisibility());
+  items[0]->setCheckState(0, Qt::Unchecked);
+  EXPECT_FALSE(model->GetVisibility());
+  EXPECT_FALSE(models->GetActor(model)->GetVisibility());
+  EXPECT_TRUE(controller->GetView(ViewKind::ThreeD)->NeedsRender());
+  items[0]->setCheckState(0, Qt::Checked);
+  EXPECT_TRUE(model->GetVisibility());
+  EXPECT_TRUE(models->GetActor(model)->GetVisibility());
+
+  // Place a fiducial by clicking the coronal view's centre: it lands at the volume centre's R
+  // and S, on the current coronal slice (A).
+  window.findChild<QAction*>("placeFiducials")->trigger();
+  EXPECT_EQ(state->GetInteractionMode(), vtkRPViewState::ModePlaceFiducial);
+  QVTKOpenGLNativeWidget* coronal = window.GetViewWidget(ViewKind::Coronal);
+  const double coronalPixel = PixelSize(controller->GetView(ViewKind::Coronal), coronal);
+  double before[3];
+  controller->GetSlicePointRAS(before);
+  QTest::mouseClick(coronal, Qt::LeftButton, Qt::NoModifier, Center(coronal));
+  auto lists = scene->GetNodesByClass("vtkRPFiducialListNode");
+  ASSERT_EQ(lists.size(), 1u);
+  auto* list = vtkRPFiducialListNode::SafeDownCast(lists[0]);
+  ASSERT_EQ(list->GetNumberOfControlPoints(), 1);
+  double placed[3];
+  list->GetNthControlPointPositionWorld(0, placed);
+  EXPECT_NEAR(placed[0], test::Center[0], 1.5 * coronalPixel);
+  EXPECT_NEAR(placed[1], before[1], 1e-9);
+  EXPECT_NEAR(placed[2], test::Center[2], 1.5 * coronalPixel);
+  double after[3];
+  controller->GetSlicePointRAS(after);
+  EXPECT_DOUBLE_EQ(after[0], before[0]);  // placing does not navigate
+  window.findChild<QAction*>("placeFiducials")->trigger();
+  EXPECT_EQ(state->GetInteractionMode(), vtkRPViewState::ModeNavigate);
+
+  // Layouts.
+  window.findChild<QAction*>("layout_3d")->trigger();
+  QTest::qWait(50);
+  EXPECT_FALSE(axial->isVisible());
+  EXPECT_TRUE(window.GetViewWidget(ViewKind::ThreeD)->isVisible());
+  window.findChild<QAction*>("layout_axial")->trigger();
+  QTest::qWait(50);
+  EXPECT_TRUE(axial->isVisible());
+  EXPECT_FALSE(window.GetViewWidget(ViewKind::ThreeD)->isVisible());
+  window.findChild<QAction*>("layout_4up")->trigger();
+  QTest::qWait(50);
+  EXPECT_TRUE(sagittal->isVisible());
+  EXPECT_TRUE(window.GetViewWidget(ViewKind::ThreeD)->isVisible());
+  QSettings().clear();
+}

@@ -1,0 +1,176 @@
+// Screenshot regression: known scenes (synthetic CT + sphere model) rendered offscreen and
+// compared with reference PNGs (Baseline/) with a tolerance; plus analytic checks on the pixels
+// (the ball's grey from window/level, radiological orientation and scale of the outline).
+// Regenerate the references with ROBOPLAN_UPDATE_BASELINES=1 (then look at them).
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkPNGReader.h>
+#include <vtkPNGWriter.h>
+
+#include "rpScreenshot.h"
+#include "rpViewController.h"
+#include "rpViewerTestScene.h"
+#include "vtkRPScalarVolumeNode.h"
+#include "vtkRPScene.h"
+#include "vtkRPViewState.h"
+
+using namespace rp;
+
+namespace {
+
+std::string BaselineDir() {
+  const char* dir = std::getenv("ROBOPLAN_VIEWER_BASELINE_DIR");
+  return dir ? dir : ROBOPLAN_RESOURCES_DIR "/../Testing/GUI/Baseline";
+}
+
+void WritePng(vtkImageData* image, const std::string& path) {
+  vtkNew<vtkPNGWriter> writer;
+  writer->SetFileName(path.c_str());
+  writer->SetInputData(image);
+  writer->Write();
+}
+
+const unsigned char* Pixel(vtkImageData* image, int x, int y) {  // y from the bottom (VTK)
+  return static_cast<const unsigned char*>(image->GetScalarPointer(x, y, 0));
+}
+
+// Compares with the reference: fails when more than 0.5 % of the pixels differ by more than 48
+// in any channel or the mean absolute difference exceeds 1.5 (Mesa versions may move edges).
+void CompareWithBaseline(vtkImageData* image, const std::string& name) {
+  std::filesystem::create_directories(ROBOPLAN_TEST_OUTPUT_DIR);
+  WritePng(image, std::string(ROBOPLAN_TEST_OUTPUT_DIR) + "/" + name);
+  const std::string reference = BaselineDir() + "/" + name;
+  if (std::getenv("ROBOPLAN_UPDATE_BASELINES")) {
+    WritePng(image, reference);
+    GTEST_SKIP() << "wrote baseline " << reference;
+  }
+  ASSERT_TRUE(std::filesystem::exists(reference)) << "missing baseline " << reference;
+  vtkNew<vtkPNGReader> reader;
+  reader->SetFileName(reference.c_str());
+  reader->Update();
+  vtkImageData* expected = reader->GetOutput();
+  int dims[3], expectedDims[3];
+  image->GetDimensions(dims);
+  expected->GetDimensions(expectedDims);
+  ASSERT_EQ(dims[0], expectedDims[0]);
+  ASSERT_EQ(dims[1], expectedDims[1]);
+  const int components = std::min(image->GetNumberOfScalarComponents(), expected->GetNumberOfScalarComponents());
+  ASSERT_GE(components, 3);
+  long differing = 0;
+  double sum = 0;
+  for (int y = 0; y < dims[1]; ++y) {
+    for (int x = 0; x < dims[0]; ++x) {
+      const auto* a = Pixel(image, x, y);
+      const auto* b = static_cast<const unsigned char*>(expected->GetScalarPointer(x, y, 0));
+      int worst = 0;
+      for (int c = 0; c < 3; ++c) {
+        const int d = std::abs(int(a[c]) - int(b[c]));
+        worst = std::max(worst, d);
+        sum += d;
+      }
+      if (worst > 48) ++differing;
+    }
+  }
+  const double pixels = double(dims[0]) * dims[1];
+  EXPECT_LE(differing / pixels, 0.005) << name << ": " << differing << " pixels differ (see " << ROBOPLAN_TEST_OUTPUT_DIR << ")";
+  EXPECT_LE(sum / (3 * pixels), 1.5) << name << ": mean difference too large";
+}
+
+}  // namespace
+
+TEST(ViewerScreenshot, AxialSliceMatchesWindowLevelOrientationAndScale) {
+  vtkNew<vtkRPScene> scene;
+  test::AddVolumeAndModel(scene);
+  ViewController controller(scene);
+  ScreenshotOptions options;
+  options.Width = options.Height = 160;
+  options.Layout = vtkRPViewState::LayoutOneUpAxial;
+  vtkNew<vtkImageData> image;
+  std::string error;
+  ASSERT_TRUE(RenderViews(controller, options, image, error)) << error;
+
+  // Camera fit: the volume's R extent (voxel centres) with 5 % margin over 160 pixels.
+  double bounds[6];
+  controller.GetBackgroundVolume()->GetRASBounds(bounds);
+  const double halfWidth = 1.05 * 0.5 * std::max(bounds[1] - bounds[0], bounds[3] - bounds[2]);
+  const double mmPerPixel = 2 * halfWidth / 160.0;
+  const double cx = 80, cy = 80;  // the volume centre is at the view centre
+
+  // Inside the ball (off the crosshair): 1000 HU at W 2000 / L 500 → 0.75 × 255.
+  const unsigned char* ball = Pixel(image, 86, 86);
+  EXPECT_NEAR(ball[0], 191, 3);
+  EXPECT_EQ(ball[0], ball[1]);
+  // Outside the volume (beyond the 5 % margin at the left edge): black.
+  EXPECT_LE(Pixel(image, 1, 70)[0], 2);
+
+  // The sphere model's outline (R centre +8 mm, radius 20) in the row 6 pixels above the
+  // centre: patient right is on screen left (radiological), so its leftmost pixel is at
+  // cx − (8 + chord) / mm-per-pixel.
+  const int row = 86;
+  const double dy = (row - cy) * mmPerPixel;
+  const double halfChord = std::sqrt(test::SphereRadius * test::SphereRadius - dy * dy);
+  const double offsetR = test::ModelCenter[0] - test::Center[0];
+  int first = -1, last = -1;
+  for (int x = 0; x < 160; ++x) {
+    const unsigned char* p = Pixel(image, x, row);
+    const bool outlineColour = p[0] > 180 && p[2] + 30 < p[0];  // yellowish, not grey
+    if (outlineColour) {
+      if (first < 0) first = x;
+      last = x;
+    }
+  }
+  ASSERT_GE(first, 0) << "no outline found";
+  EXPECT_NEAR(first, cx - (offsetR + halfChord) / mmPerPixel, 2.0);
+  EXPECT_NEAR(last, cx + (halfChord - offsetR) / mmPerPixel, 2.0);
+
+  CompareWithBaseline(image, "axial_160.png");
+}
+
+TEST(ViewerScreenshot, FourUpMatchesBaseline) {
+  vtkNew<vtkRPScene> scene;
+  test::AddVolumeAndModel(scene);
+  ViewController controller(scene);
+  ScreenshotOptions options;
+  options.Width = options.Height = 320;
+  vtkNew<vtkImageData> image;
+  std::string error;
+  ASSERT_TRUE(RenderViews(controller, options, image, error)) << error;
+  int dims[3];
+  image->GetDimensions(dims);
+  EXPECT_EQ(dims[0], 320);
+  EXPECT_EQ(dims[1], 320);
+  // The 3D view (top right) has its gradient background, not black.
+  const unsigned char* corner = Pixel(image, 318, 318);
+  EXPECT_GT(corner[2], 100);
+  CompareWithBaseline(image, "fourup_320.png");
+}
+
+TEST(ViewerScreenshot, SaveScreenshotWritesAPngAndRefusesBadSizes) {
+  vtkNew<vtkRPScene> scene;
+  test::AddVolumeAndModel(scene);
+  std::filesystem::create_directories(ROBOPLAN_TEST_OUTPUT_DIR);
+  const std::string path = std::string(ROBOPLAN_TEST_OUTPUT_DIR) + "/coronal.png";
+  ScreenshotOptions options;
+  options.Width = 64;
+  options.Height = 48;
+  options.Layout = vtkRPViewState::LayoutOneUpCoronal;
+  std::string error;
+  ASSERT_TRUE(SaveScreenshot(scene, path, options, error)) << error;
+  vtkNew<vtkPNGReader> reader;
+  reader->SetFileName(path.c_str());
+  reader->Update();
+  int dims[3];
+  reader->GetOutput()->GetDimensions(dims);
+  EXPECT_EQ(dims[0], 64);
+  EXPECT_EQ(dims[1], 48);
+  options.Width = 4;
+  EXPECT_FALSE(SaveScreenshot(scene, path, options, error));
+  EXPECT_NE(error.find("size"), std::string::npos);
+}
