@@ -1,0 +1,477 @@
+// Tracking benchmarks.
+//  * Parsers (Google Benchmark): NDI BX/TX replies; an OpenIGTLink TRANSFORM decoded by our
+//    non-allocating parser vs the OpenIGTLink library's Unpack (what Slicer's connector does).
+//  * Ingestion on loopback, 10 tools, against a sender built with the OpenIGTLink library:
+//    throughput (flood) and sender-to-buffer latency at 20,000 TRANSFORM/s (paced), for our
+//    client and for the library's own receive loop (ClientSocket + MessageHeader + Unpack(CRC)).
+//  * Serial polling at 60 Hz against the simulator: CPU of the driver thread, BX vs TX.
+// Figures (JSON, CSV) and charts (PNG, needs a display: xvfb-run) go to
+// $ROBOPLAN_BENCHMARK_OUTPUT or ./benchmark-output.
+#include <benchmark/benchmark.h>
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <iostream>
+#include <thread>
+
+#include <igtlClientSocket.h>
+#include <igtlMessageHeader.h>
+#include <igtlServerSocket.h>
+#include <igtlTransformMessage.h>
+#include <nlohmann/json.hpp>
+
+#include "rpBenchmarkChart.h"
+#include "rpIgtlClient.h"
+#include "rpIgtlProtocol.h"
+#include "rpNdiProtocol.h"
+#include "rpNdiTracker.h"
+#include "rpPolarisSimulator.h"
+#include "rpToolDefinition.h"
+
+using namespace rp;
+
+namespace {
+
+constexpr int kTools = 10;
+
+std::vector<uint8_t> BxReply(int tools) {
+  std::vector<uint8_t> body = {static_cast<uint8_t>(tools)};
+  auto put = [&](uint32_t v) {
+    for (int i = 0; i < 4; ++i) body.push_back(static_cast<uint8_t>(v >> (8 * i)));
+  };
+  for (int t = 0; t < tools; ++t) {
+    body.push_back(static_cast<uint8_t>(0x0A + t));
+    body.push_back(0x01);
+    for (float f : {1.f, 0.f, 0.f, 0.f, 10.f, 20.f, -1500.f, 0.1f}) {
+      uint32_t bits;
+      std::memcpy(&bits, &f, 4);
+      put(bits);
+    }
+    put(0x31);
+    put(1234);
+  }
+  body.push_back(0);
+  body.push_back(0);
+  std::vector<uint8_t> f = {0xC4, 0xA5, static_cast<uint8_t>(body.size()), static_cast<uint8_t>(body.size() >> 8)};
+  const uint16_t h = ndi::Crc16(f.data(), 4);
+  f.push_back(static_cast<uint8_t>(h));
+  f.push_back(static_cast<uint8_t>(h >> 8));
+  f.insert(f.end(), body.begin(), body.end());
+  const uint16_t c = ndi::Crc16(body.data(), body.size());
+  f.push_back(static_cast<uint8_t>(c));
+  f.push_back(static_cast<uint8_t>(c >> 8));
+  return f;
+}
+
+std::string TxReply(int tools) {
+  std::string p;
+  char b[16];
+  std::snprintf(b, sizeof b, "%02X", tools);
+  p += b;
+  for (int t = 0; t < tools; ++t) {
+    std::snprintf(b, sizeof b, "%02X", 0x0A + t);
+    p += b;
+    p += "+10000+00000+00000+00000+001000-002050-150025+01234000000310000001A\n";
+  }
+  p += "0000";
+  char crc[4];
+  ndi::WriteHex(crc, ndi::Crc16(p.data(), p.size()), 4);
+  return p + std::string(crc, 4) + "\r";
+}
+
+void BM_NdiParseBx(benchmark::State& state) {
+  const auto frame = BxReply(static_cast<int>(state.range(0)));
+  ndi::TrackingReply reply;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(ndi::ParseBx(frame.data(), frame.size(), reply));
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_NdiParseBx)->Arg(3)->Arg(10);
+
+void BM_NdiParseTx(benchmark::State& state) {
+  const auto frame = TxReply(static_cast<int>(state.range(0)));
+  ndi::TrackingReply reply;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(ndi::ParseTx(reinterpret_cast<const uint8_t*>(frame.data()), frame.size(), reply));
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_NdiParseTx)->Arg(3)->Arg(10);
+
+std::vector<uint8_t> LibraryTransform(const char* name, double timestamp) {
+  auto msg = ::igtl::TransformMessage::New();
+  msg->SetDeviceName(name);
+  ::igtl::Matrix4x4 m;
+  ::igtl::IdentityMatrix(m);
+  m[0][3] = 12.5f;
+  m[2][3] = -1500.f;
+  msg->SetMatrix(m);
+  const double whole = std::floor(timestamp);
+  msg->SetTimeStamp(static_cast<unsigned int>(whole), static_cast<unsigned int>((timestamp - whole) * 4294967296.0));
+  msg->Pack();
+  const uint8_t* p = static_cast<const uint8_t*>(msg->GetPackPointer());
+  return std::vector<uint8_t>(p, p + msg->GetPackSize());
+}
+
+void BM_IgtlTransformOurs(benchmark::State& state) {
+  const auto bytes = LibraryTransform("StylusToTracker", 1.0);
+  for (auto _ : state) {
+    rp::igtl::Header h;
+    rp::igtl::ParseHeader(bytes.data(), h, 1 << 20);
+    const bool crcOk = rp::igtl::Crc64(bytes.data() + 58, h.BodySize) == h.Crc;
+    double m[16];
+    rp::igtl::DecodeTransform(bytes.data() + 58, h.BodySize, m);
+    ToolPose p;
+    p.FromMatrix(m);
+    benchmark::DoNotOptimize(crcOk);
+    benchmark::DoNotOptimize(p);
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_IgtlTransformOurs);
+
+void BM_IgtlTransformLibrary(benchmark::State& state) {
+  const auto bytes = LibraryTransform("StylusToTracker", 1.0);
+  for (auto _ : state) {
+    auto header = ::igtl::MessageHeader::New();
+    header->InitPack();
+    std::memcpy(header->GetPackPointer(), bytes.data(), 58);
+    header->Unpack();
+    auto msg = ::igtl::TransformMessage::New();
+    msg->SetMessageHeader(header);
+    msg->AllocatePack();
+    std::memcpy(msg->GetPackBodyPointer(), bytes.data() + 58, 48);
+    msg->Unpack(1);
+    ::igtl::Matrix4x4 m;
+    msg->GetMatrix(m);
+    benchmark::DoNotOptimize(m);
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_IgtlTransformLibrary);
+
+// ---------------------------------------------------------------- loopback ingestion
+
+int FreePort() {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
+  socklen_t len = sizeof a;
+  getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
+  ::close(fd);
+  return ntohs(a.sin_port);
+}
+
+// The sender: a peer built with the OpenIGTLink library. Flood (pre-packed batches of one
+// message per tool) then paced at `rate` messages/s with fresh timestamps.
+struct Sender {
+  std::atomic<int> Phase{0};  // 0 wait, 1 flood, 2 paced, 3 done
+  std::atomic<uint64_t> Sent{0};
+  double Rate = 20000;
+  double FloodSeconds = 2, PacedSeconds = 2;
+  int Port = FreePort();
+  std::thread Thread;
+  ::igtl::ServerSocket::Pointer Server = ::igtl::ServerSocket::New();
+
+  void Start() {
+    Server->CreateServer(Port);
+    Thread = std::thread([this] {
+      ::igtl::ClientSocket::Pointer s;
+      for (int i = 0; i < 100 && !(s = Server->WaitForConnection(50)); ++i) {
+      }
+      if (!s) return;
+      char names[kTools][20];
+      for (int t = 0; t < kTools; ++t) std::snprintf(names[t], sizeof names[t], "Tool%dToTracker", t);
+      while (Phase == 0) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      std::vector<uint8_t> batch;
+      for (int t = 0; t < kTools; ++t) {
+        const auto m = LibraryTransform(names[t], WallSeconds());
+        batch.insert(batch.end(), m.begin(), m.end());
+      }
+      const double floodEnd = SteadySeconds() + FloodSeconds;
+      while (SteadySeconds() < floodEnd) {
+        if (!s->Send(batch.data(), static_cast<int>(batch.size()))) return;
+        Sent += kTools;
+      }
+      Phase = 2;
+      std::this_thread::sleep_for(std::chrono::milliseconds(300));  // drain
+      const double period = kTools / Rate;
+      double next = SteadySeconds();
+      const double pacedEnd = next + PacedSeconds;
+      while (next < pacedEnd) {
+        const double wait = next - SteadySeconds();  // sleep, not spin: the receiver needs the core
+        if (wait > 0) std::this_thread::sleep_for(std::chrono::duration<double>(wait));
+        batch.clear();
+        for (int t = 0; t < kTools; ++t) {
+          const auto m = LibraryTransform(names[t], WallSeconds());
+          batch.insert(batch.end(), m.begin(), m.end());
+        }
+        if (!s->Send(batch.data(), static_cast<int>(batch.size()))) return;
+        Sent += kTools;
+        next += period;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(300));
+      Phase = 3;
+      s->CloseSocket();
+    });
+  }
+  ~Sender() {
+    if (Thread.joinable()) Thread.join();
+    Server->CloseSocket();
+  }
+};
+
+struct IngestionResult {
+  std::string Receiver;
+  double ThroughputPerSecond = 0;
+  double P50 = 0, P99 = 0, P999 = 0, Max = 0;
+  uint64_t Received = 0, Sent = 0, CrcErrors = 0, DisplayDropped = 0;
+  std::vector<uint64_t> Histogram;
+};
+
+// Waits until `count()` reaches `target` (or 5 s); returns the time it took from `start`.
+double Drain(const std::function<uint64_t()>& count, uint64_t target, double start) {
+  const double deadline = SteadySeconds() + 5;
+  while (count() < target && SteadySeconds() < deadline) std::this_thread::sleep_for(std::chrono::microseconds(200));
+  return SteadySeconds() - start;
+}
+
+IngestionResult RunOurClient() {
+  Sender sender;
+  sender.Start();
+  IgtlClient::Options o;
+  o.Port = sender.Port;
+  IgtlClient client(o);
+  client.Start();
+  while (!client.Connected()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  IngestionResult r;
+  r.Receiver = "RoboPlan IgtlClient";
+  auto count = [&] { return client.GetStatistics().Poses; };
+  // A "display" reading at 60 Hz, as the main thread would: keeps the newest pose per tool.
+  std::atomic<bool> displayStop{false};
+  ToolPoseReader reader;
+  std::thread display([&] {
+    while (!displayStop) {
+      for (int i = 0; i < client.Poses().Count(); ++i) reader.Poll(client.Poses(), i);
+      std::this_thread::sleep_for(std::chrono::milliseconds(16));
+    }
+  });
+  const double start = SteadySeconds();
+  sender.Phase = 1;
+  while (sender.Phase == 1) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  const uint64_t flooded = sender.Sent;
+  const double seconds = Drain(count, flooded, start);
+  r.ThroughputPerSecond = static_cast<double>(count()) / seconds;
+  client.EnableLatency(true);
+  while (sender.Phase != 3) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  client.EnableLatency(false);
+  displayStop = true;
+  display.join();
+  r.Sent = sender.Sent;
+  r.Received = count();
+  r.CrcErrors = client.GetStatistics().CrcErrors;
+  for (int i = 0; i < client.Poses().Count(); ++i) r.DisplayDropped += reader.Last(i).Dropped;
+  r.Histogram = client.LatencyHistogram();
+  client.Stop();
+  return r;
+}
+
+IngestionResult RunLibraryLoop() {
+  Sender sender;
+  sender.Start();
+  auto socket = ::igtl::ClientSocket::New();
+  while (socket->ConnectToServer("127.0.0.1", sender.Port) != 0) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  IngestionResult r;
+  r.Receiver = "OpenIGTLink library loop";
+  std::atomic<uint64_t> received{0}, crcErrors{0};
+  std::atomic<bool> measure{false};
+  std::vector<uint64_t> histogram(IgtlClient::LatencyBins, 0);
+  std::thread loop([&] {
+    auto header = ::igtl::MessageHeader::New();
+    auto msg = ::igtl::TransformMessage::New();
+    for (;;) {
+      header->InitPack();
+      if (socket->Receive(header->GetPackPointer(), header->GetPackSize()) != header->GetPackSize()) return;
+      header->Unpack();
+      msg->SetMessageHeader(header);
+      msg->AllocatePack();
+      if (socket->Receive(msg->GetPackBodyPointer(), msg->GetPackBodySize()) != msg->GetPackBodySize()) return;
+      if (!(msg->Unpack(1) & ::igtl::MessageHeader::UNPACK_BODY)) {
+        ++crcErrors;
+        continue;
+      }
+      ::igtl::Matrix4x4 m;
+      msg->GetMatrix(m);
+      benchmark::DoNotOptimize(m);
+      if (measure) {
+        unsigned int sec = 0, frac = 0;
+        header->GetTimeStamp(&sec, &frac);
+        const double latency = WallSeconds() - (sec + frac / 4294967296.0);
+        long bin = static_cast<long>(latency * 1e6);
+        bin = std::max(0L, std::min<long>(bin, IgtlClient::LatencyBins - 1));
+        ++histogram[static_cast<size_t>(bin)];
+      }
+      ++received;
+    }
+  });
+  const double start = SteadySeconds();
+  sender.Phase = 1;
+  while (sender.Phase == 1) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  const double seconds = Drain([&] { return received.load(); }, sender.Sent, start);
+  r.ThroughputPerSecond = static_cast<double>(received) / seconds;
+  measure = true;
+  while (sender.Phase != 3) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  loop.join();  // the sender closed: Receive fails and the loop ends
+  r.Sent = sender.Sent;
+  r.Received = received;
+  r.CrcErrors = crcErrors;
+  r.Histogram = histogram;
+  return r;
+}
+
+void Summarise(IngestionResult& r) {
+  r.P50 = IgtlClient::HistogramPercentile(r.Histogram, 0.50);
+  r.P99 = IgtlClient::HistogramPercentile(r.Histogram, 0.99);
+  r.P999 = IgtlClient::HistogramPercentile(r.Histogram, 0.999);
+  r.Max = IgtlClient::HistogramPercentile(r.Histogram, 1.0);
+}
+
+// ---------------------------------------------------------------- serial polling CPU
+
+struct SerialResult {
+  std::string Mode;
+  double Seconds = 0, CpuSeconds = 0, CorePercent = 0, FramesPerSecond = 0;
+  uint64_t Frames = 0, Gaps = 0, CrcErrors = 0, Timeouts = 0;
+};
+
+SerialResult RunSerial(bool binary, double seconds) {
+  PolarisSimulator::Options so;
+  so.FrameRate = 60;
+  so.NoiseMm = 0.05;
+  PolarisSimulator sim(so);
+  std::vector<NdiTracker::Tool> tools;
+  for (const char* name : {"Stylus", "Reference", "Pointer"}) {
+    const auto d = ReadToolDefinition(std::string(ROBOPLAN_RESOURCES_DIR) + "/Tools/" + name + ".json");
+    sim.AddTool(d);
+    tools.push_back({d.Name, d.Rom});
+  }
+  std::string error;
+  if (!sim.Start(error)) throw std::runtime_error(error);
+  NdiTracker::Options o;
+  o.Port = sim.PortPath();
+  o.Tools = tools;
+  o.Binary = binary;
+  o.PollHz = 60;
+  NdiTracker tracker(o);
+  tracker.Start();
+  while (tracker.GetState() != NdiTracker::State::Tracking) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  const auto before = tracker.GetStatistics();
+  const double start = SteadySeconds();
+  std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
+  const auto after = tracker.GetStatistics();
+  SerialResult r;
+  r.Mode = binary ? "BX:0801 (binary)" : "TX:0001 (text)";
+  r.Seconds = SteadySeconds() - start;
+  r.CpuSeconds = after.ThreadCpuSeconds - before.ThreadCpuSeconds;
+  r.CorePercent = 100.0 * r.CpuSeconds / r.Seconds;
+  r.Frames = after.Frames - before.Frames;
+  r.FramesPerSecond = static_cast<double>(r.Frames) / r.Seconds;
+  r.Gaps = after.FrameGaps - before.FrameGaps;
+  r.CrcErrors = after.CrcErrors - before.CrcErrors;
+  r.Timeouts = after.Timeouts - before.Timeouts;
+  tracker.Stop();
+  sim.Stop();
+  return r;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+
+  const std::string dir = bench::OutputDirectory();
+  nlohmann::json doc;
+  IngestionResult ours = RunOurClient();
+  IngestionResult library = RunLibraryLoop();
+  std::vector<bench::Series> cdf;
+  for (IngestionResult* r : {&ours, &library}) {
+    Summarise(*r);
+    doc["ingestion"].push_back({{"receiver", r->Receiver},
+                                {"tools", kTools},
+                                {"throughputMsgPerSecond", r->ThroughputPerSecond},
+                                {"pacedRateMsgPerSecond", 20000},
+                                {"latencyP50Ms", r->P50 * 1e3},
+                                {"latencyP99Ms", r->P99 * 1e3},
+                                {"latencyP999Ms", r->P999 * 1e3},
+                                {"latencyMaxMs", r->Max * 1e3},
+                                {"sent", r->Sent},
+                                {"received", r->Received},
+                                {"crcErrors", r->CrcErrors},
+                                {"displayDroppedAt60Hz", r->DisplayDropped}});
+    std::cout << r->Receiver << ": " << r->ThroughputPerSecond << " TRANSFORM/s (flood), at 20000/s: p50 "
+              << r->P50 * 1e3 << " ms, p99 " << r->P99 * 1e3 << " ms, p99.9 " << r->P999 * 1e3 << " ms; received "
+              << r->Received << "/" << r->Sent << "\n";
+    bench::Series s;
+    s.Name = r->Receiver;
+    uint64_t total = 0, running = 0;
+    for (uint64_t c : r->Histogram) total += c;
+    for (size_t i = 0; i < r->Histogram.size() && total; ++i) {
+      if (!r->Histogram[i]) continue;
+      running += r->Histogram[i];
+      s.X.push_back((static_cast<double>(i) + 1) * 1e-3);
+      s.Y.push_back(100.0 * static_cast<double>(running) / static_cast<double>(total));
+    }
+    cdf.push_back(s);
+  }
+  std::vector<SerialResult> serial = {RunSerial(true, 5), RunSerial(false, 5)};
+  for (const auto& s : serial) {
+    doc["serial"].push_back({{"mode", s.Mode}, {"seconds", s.Seconds}, {"threadCpuSeconds", s.CpuSeconds},
+                             {"corePercent", s.CorePercent}, {"framesPerSecond", s.FramesPerSecond},
+                             {"frameGaps", s.Gaps}, {"crcErrors", s.CrcErrors}, {"timeouts", s.Timeouts}});
+    std::cout << "serial " << s.Mode << " at 60 Hz: " << s.CorePercent << " % of a core, " << s.FramesPerSecond
+              << " replies/s, gaps " << s.Gaps << "\n";
+  }
+  {
+    std::ofstream f(dir + "/tracking_benchmark.json");
+    f << doc.dump(2) << "\n";
+  }
+  std::string error;
+  std::vector<std::vector<double>> rows;
+  for (size_t i = 0; i < ours.Histogram.size(); ++i)
+    if (ours.Histogram[i] || library.Histogram[i])
+      rows.push_back({static_cast<double>(i + 1), static_cast<double>(ours.Histogram[i]), static_cast<double>(library.Histogram[i])});
+  if (!bench::WriteCSV(dir + "/tracking_latency_histogram.csv", {"latency_us", "roboplan_count", "library_count"}, rows, error))
+    std::cerr << error << "\n";
+  rows.clear();
+  for (const auto& r : {ours, library})
+    rows.push_back({r.ThroughputPerSecond, r.P50 * 1e3, r.P99 * 1e3, r.P999 * 1e3});
+  bench::WriteCSV(dir + "/tracking_ingestion.csv", {"throughput_msg_per_s", "p50_ms", "p99_ms", "p999_ms"}, rows, error);
+  rows.clear();
+  for (const auto& s : serial) rows.push_back({s.CorePercent, s.FramesPerSecond, static_cast<double>(s.Gaps)});
+  bench::WriteCSV(dir + "/tracking_serial_cpu.csv", {"core_percent", "replies_per_s", "frame_gaps"}, rows, error);
+  bench::ChartOptions chart;
+  chart.Title = "OpenIGTLink TRANSFORM latency, sender to buffer (20,000 msg/s, 10 tools, loopback)";
+  chart.XLabel = "latency (ms)";
+  chart.YLabel = "messages at or below (%)";
+  chart.LogX = true;
+  if (!bench::WriteChartPNG(dir + "/tracking_latency_cdf.png", cdf, chart, error))
+    std::cerr << "chart: " << error << " (run under xvfb-run for PNG charts)\n";
+  std::cout << "figures in " << dir << "\n";
+  return 0;
+}
