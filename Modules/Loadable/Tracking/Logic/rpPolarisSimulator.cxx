@@ -359,11 +359,12 @@ void PolarisSimulator::HandleCommand(const char* line, size_t length) {
     if (code >= '0' && code <= '7') baud = kBauds[code - '0'];
     else if (code == 'A') baud = 230400;
     else return this->ReplyError(0x06);
-    this->Reply("OKAY");
     this->Baud = baud;  // a pty has no baud rate: only the state changes
-    std::lock_guard<std::mutex> lock(this->CountersMutex);
-    this->Count.Baud = baud;
-    return;
+    {
+      std::lock_guard<std::mutex> lock(this->CountersMutex);
+      this->Count.Baud = baud;
+    }
+    return this->Reply("OKAY");
   }
   if (!this->Initialized) return this->ReplyError(0x10);
   if (name == "IRATE") {
@@ -467,10 +468,11 @@ void PolarisSimulator::HandleCommand(const char* line, size_t length) {
   }
   if (name == "TX" || name == "BX") {
     if (!this->Tracking) return this->ReplyError(0x0C);
-    this->BuildTracking(name == "BX");
-    std::lock_guard<std::mutex> lock(this->CountersMutex);
-    ++this->Count.TrackingReplies;
-    return;
+    {
+      std::lock_guard<std::mutex> lock(this->CountersMutex);
+      ++this->Count.TrackingReplies;
+    }
+    return this->BuildTracking(name == "BX");
   }
   this->ReplyError(0x01);
 }
