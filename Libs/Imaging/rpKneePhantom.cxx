@@ -50,8 +50,39 @@ double Subtract(double a, double b) { return std::max(a, -b); }
 
 constexpr double kCortical = 2.0;
 constexpr double kCartilage = 2.5;
-constexpr double kBodyRadius = 62.0, kSkin = 2.0, kFat = 8.0;
-const V3 kBodyAxis = {0.0, -4.0, 0.0};
+// The leg's cross-section: an ellipse (wider medio-laterally), skin 2 mm, and subcutaneous fat
+// down to an inner ellipse that is off-centre (thicker fat posteriorly and medially), so the
+// outline alone does not look the same after a rotation about the leg's axis.
+constexpr double kSkin = 2.0;
+const V3 kBodyCentre = {0.0, -4.0, 0.0};
+constexpr double kBodyRx = 64.0, kBodyRy = 56.0;
+const V3 kMuscleCentre = {2.0, -1.0, 0.0};
+constexpr double kMuscleRx = 54.0, kMuscleRy = 44.0;
+
+// 2D ellipse (infinite along z): first-order distance, exact on the curve.
+double EllipticCylinder(V3 p, V3 c, double rx, double ry) {
+  const double x = p.x - c.x, y = p.y - c.y;
+  const double k0 = std::hypot(x / rx, y / ry);
+  const double k1 = std::hypot(x / (rx * rx), y / (ry * ry));
+  if (k1 < 1e-12) return -std::min(rx, ry);
+  return k0 * (k0 - 1.0) / k1;
+}
+// The leg is not a cylinder: the thigh is wider than the knee and the calf bulges below it
+// (this also tells a registration where along the leg it is).
+double LegScale(double z) {
+  return 1.0 + 0.10 * std::tanh((z - 20.0) / 50.0) + 0.08 * std::exp(-((z + 90.0) / 40.0) * ((z + 90.0) / 40.0));
+}
+double Body(V3 p) {
+  const double s = LegScale(p.z);
+  return EllipticCylinder(p, kBodyCentre, kBodyRx * s, kBodyRy * s);
+}
+double MuscleCompartment(V3 p) {
+  const double s = LegScale(p.z);
+  return EllipticCylinder(p, kMuscleCentre, kMuscleRx * s, kMuscleRy * s);
+}
+// Fat pads: popliteal (behind the knee) and infrapatellar (Hoffa's, in front of the joint).
+double PoplitealFat(V3 p) { return Ellipsoid(p, {0, -32, 8}, {18, 11, 42}); }
+double HoffaFat(V3 p) { return Ellipsoid(p, {0, 21, -7}, {14, 7, 8}); }
 
 double Femur(V3 p) {
   const double shaft = Capsule(p, {0, -2, 40}, {0, -2, 400}, 14.0);
@@ -84,7 +115,6 @@ double ACL(V3 p) { return Capsule(p, {10, -14, 8}, {-4, 8, -6}, 4.0); }
 double PCL(V3 p) { return Capsule(p, {-9, 2, 8}, {0, -20, -10}, 5.0); }
 double MCL(V3 p) { return Capsule(p, {-44, -6, 22}, {-41, -2, -50}, 2.5); }
 double LCL(V3 p) { return Capsule(p, {44, -8, 20}, {36, -20, -40}, 2.5); }
-double BodyRadius(V3 p) { return std::hypot(p.x - kBodyAxis.x, p.y - kBodyAxis.y); }
 
 struct StructureBox {
   double b[6];
@@ -104,7 +134,7 @@ StructureBox BoxOf(KneeStructure s) {
     case KneeStructure::PCL: return {{-16, 7, -27, 9, -17, 15}};
     case KneeStructure::MCL: return {{-48, -37, -10, 2, -54, 26}};
     case KneeStructure::LCL: return {{31, 48, -24, -4, -44, 24}};
-    case KneeStructure::Body: return {{-64, 64, -68, 60, -160, 160}};
+    case KneeStructure::Body: return {{-80, 80, -75, 70, -160, 160}};
   }
   return {{0, 0, 0, 0, 0, 0}};
 }
@@ -156,7 +186,7 @@ double KneeModel::SignedDistance(KneeStructure structure, const double ras[3]) c
     case KneeStructure::PCL: return PCL(p);
     case KneeStructure::MCL: return MCL(p);
     case KneeStructure::LCL: return LCL(p);
-    case KneeStructure::Body: return BodyRadius(p) - kBodyRadius;
+    case KneeStructure::Body: return Body(p);
   }
   return 1e9;
 }
@@ -174,14 +204,17 @@ KneeLabel Classify(V3 p, double* boundary) {
     if (boundary) *boundary = nearest;
     return label;
   };
-  const double r = BodyRadius(p);
-  track(r - kBodyRadius);
-  if (r > kBodyRadius) return finish(KneeBackground);
-  // Bones, cartilage and ligaments only live near the knee axis: skip them in the outer shell.
-  const double innerExtent = r - 50.0;
-  if (innerExtent > 0.0) {
-    track(innerExtent);
-  } else {
+  const double body = track(Body(p));
+  if (body > 0.0) return finish(KneeBackground);
+  if (body > -kSkin) {
+    track(body + kSkin);
+    return finish(KneeSkin);
+  }
+  track(body + kSkin);
+  // Bones, cartilage, ligaments and fat pads live inside the muscle compartment only.
+  const double compartment = track(MuscleCompartment(p));
+  if (compartment > 0.0) return finish(KneeFat);
+  {
     struct Bone {
       double d;
       KneeLabel cortical, trabecular;
@@ -212,10 +245,7 @@ KneeLabel Classify(V3 p, double* boundary) {
       if (track(ligaments[i]) < 0.0) return finish(ligamentLabels[i]);
     }
   }
-  track(r - (kBodyRadius - kSkin));
-  track(r - (kBodyRadius - kSkin - kFat));
-  if (r > kBodyRadius - kSkin) return finish(KneeSkin);
-  if (r > kBodyRadius - kSkin - kFat) return finish(KneeFat);
+  if (track(PoplitealFat(p)) < 0.0 || track(HoffaFat(p)) < 0.0) return finish(KneeFat);
   return finish(KneeMuscle);
 }
 }  // namespace

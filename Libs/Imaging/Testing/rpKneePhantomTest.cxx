@@ -2,7 +2,7 @@
 // with the analytic model, MR pose = the recorded CT-to-MR transform.
 #include <gtest/gtest.h>
 
-#include <chrono>
+#include <ctime>
 #include <cmath>
 #include <cstring>
 
@@ -21,8 +21,8 @@ TEST(KneePhantom, AnalyticModelHasTheAnatomy) {
   // Points whose tissue follows from the construction (joint line z = 0, +y anterior).
   const double femurMarrow[3] = {0, -2, 80}, tibiaMarrow[3] = {0, -2, -80};
   const double femurCortex[3] = {13.0, -2, 80};  // shaft radius 14, cortex 2 mm
-  const double patella[3] = {0, 28, 30}, air[3] = {0, 70, 0}, skin[3] = {61, -4, 0};
-  const double fat[3] = {55, -4, 0}, muscle[3] = {-30, -30, 100};
+  const double patella[3] = {0, 28, 30}, air[3] = {0, 70, 0}, skin[3] = {60.6, -4, 0};
+  const double fat[3] = {57, -4, 0}, muscle[3] = {-30, -30, 100};
   const double fibula[3] = {32.5, -21, -120};
   EXPECT_EQ(model.LabelAt(femurMarrow), rp::KneeFemurTrabecular);
   EXPECT_EQ(model.LabelAt(femurCortex), rp::KneeFemurCortical);
@@ -73,15 +73,16 @@ TEST(KneePhantom, SmallPhantomIsFastDeterministicAndConsistent) {
   rp::KneePhantomOptions options;
   rp::KneePhantom a, b;
   std::string error;
-  const auto start = std::chrono::steady_clock::now();
+  // CPU time (both threads): the wall clock depends on what else the machine runs.
+  const std::clock_t start = std::clock();
   double lastFraction = -1.0;
   bool monotonic = true;
   ASSERT_TRUE(rp::GenerateKneePhantom(options, a, error, [&](double f, const std::string&) {
     monotonic = monotonic && f >= lastFraction;
     lastFraction = f;
   })) << error;
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  EXPECT_LT(seconds, 2.0);
+  const double cpuSeconds = double(std::clock() - start) / CLOCKS_PER_SEC;
+  EXPECT_LT(cpuSeconds, 2.0);
   EXPECT_TRUE(monotonic);
   EXPECT_DOUBLE_EQ(lastFraction, 1.0);
   ASSERT_TRUE(rp::GenerateKneePhantom(options, b, error)) << error;
@@ -145,7 +146,7 @@ TEST(KneePhantom, SmallPhantomIsFastDeterministicAndConsistent) {
     return double(*static_cast<unsigned short*>(a.MR.Image->GetScalarPointer(
         int(std::lround(p[0])), int(std::lround(p[1])), int(std::lround(p[2])))));
   };
-  const double marrow[3] = {0, -2, 60}, muscle[3] = {-40, -30, 40};
+  const double marrow[3] = {0, -2, 60}, muscle[3] = {-30, -25, 40};
   EXPECT_NEAR(mrValueAtAnatomy(marrow), 720 * 0.93, 70);
   EXPECT_NEAR(mrValueAtAnatomy(muscle), 350 * 0.95, 60);
 }
