@@ -232,6 +232,7 @@ bool NdiTracker::Connect() {
 bool NdiTracker::Configure() {
   const int timeout = this->Opts.CommandTimeoutMs, retries = this->Opts.Retries;
   ndi::ParseResult r = this->Command("GETINFO", "Features.Firmware.Version", timeout, retries);
+  if (r.Code == ndi::ParseCode::DeviceError) --this->DeviceErrors;  // expected on Spectra/Vicra: old API
   if (!r.Ok()) r = this->Command("VER", "0", timeout, retries);
   if (!r.Ok()) return this->Fail(Describe("VER", r)), false;
   {

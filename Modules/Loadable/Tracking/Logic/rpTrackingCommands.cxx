@@ -11,6 +11,7 @@
 
 #include "rpArgParser.h"
 #include "rpIgtlClient.h"
+#include "rpIgtlServer.h"
 #include "rpNdiTracker.h"
 #include "rpPivotCalibration.h"
 #include "rpPolarisSimulator.h"
@@ -74,18 +75,39 @@ int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std
       .Option("record", "FILE", "record every pose to a file (replay, `roboplan pivot`)")
       .Option("stale", "S", "seconds without data before a tool is stale", std::string("0.5"))
       .Option("reference", "NAME", "reference tool: also report <Tool>ToReference")
+      .Option("rate", "HZ", "serial: camera frame rate via IRATE (20, 30 or 60) and poll rate", std::string("60"))
+      .Option("serve", "PORT", "also stream the poses as OpenIGTLink TRANSFORMs (PLUS style) on 127.0.0.1:PORT")
+      .Option("request", "KIND", "igtl: ask the server to stream 'tdata' or 'qtdata' (STT_)")
+      .Option("header-version", "V", "igtl: header version we send, 1 or 2 (v3 framing)", std::string("2"))
       .Flag("text", "serial: poll TX (text) instead of BX (binary)");
   if (!parser.Parse(args)) return BadArguments(parser, err);
   if (parser.Has("serial") == parser.Has("igtl")) {
     err << "roboplan track: give exactly one of --serial <port> or --igtl <host:port>\n" << parser.Usage();
     return 2;
   }
-  double seconds, stale;
+  double seconds, stale, rate;
+  long headerVersion, servePort = -1;
   try {
     seconds = parser.GetDouble("seconds");
     stale = parser.GetDouble("stale");
+    rate = parser.GetDouble("rate");
+    headerVersion = parser.GetInt("header-version");
+    if (parser.Has("serve")) servePort = parser.GetInt("serve");
   } catch (const std::exception& e) {
     err << "roboplan track: " << e.what() << "\n";
+    return 2;
+  }
+  if (rate != 20 && rate != 30 && rate != 60) {
+    err << "roboplan track: --rate must be 20, 30 or 60\n";
+    return 2;
+  }
+  if (headerVersion != 1 && headerVersion != 2) {
+    err << "roboplan track: --header-version must be 1 or 2\n";
+    return 2;
+  }
+  const std::string request = parser.Get("request");
+  if (!request.empty() && request != "tdata" && request != "qtdata") {
+    err << "roboplan track: --request must be tdata or qtdata\n";
     return 2;
   }
   const bool json = parser.Json();
@@ -97,6 +119,8 @@ int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std
     NdiTracker::Options o;
     o.Port = parser.Get("serial");
     o.Binary = !parser.Has("text");
+    o.PollHz = rate;
+    o.RateCode = rate == 20 ? 0 : rate == 30 ? 1 : 2;
     std::vector<std::string> roms = parser.GetAll("rom");
     if (roms.empty()) {
       err << "roboplan track: --serial needs at least one --rom <file> (tool definitions to load)\n";
@@ -127,9 +151,26 @@ int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std
       err << "roboplan track: --igtl expects HOST:PORT, got '" << target << "'\n";
       return 2;
     }
+    o.HeaderVersion = static_cast<uint16_t>(headerVersion);
+    o.RequestTrackingData = request == "tdata";
+    o.RequestQuaternionData = request == "qtdata";
     igtlClient = std::make_unique<IgtlClient>(o);
     table = &igtlClient->Poses();
     igtlClient->Start();
+  }
+
+  std::unique_ptr<IgtlServer> server;
+  if (servePort >= 0) {
+    IgtlServer::Options so;
+    so.Port = static_cast<int>(servePort);
+    so.Suffix = suffix.empty() ? "" : "ToTracker";
+    server = std::make_unique<IgtlServer>(*table, so);
+    std::string error;
+    if (!server->Start(error)) {
+      err << "roboplan track: " << error << "\n";
+      return 1;
+    }
+    err << "track: serving OpenIGTLink on 127.0.0.1:" << server->Port() << "\n";
   }
 
   vtkNew<vtkRPScene> ownScene;
@@ -199,6 +240,10 @@ int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std
     igtlClient->Stop();
   }
   doc["lastError"] = lastError;
+  if (server) {
+    doc["served"] = {{"port", server->Port()}, {"messagesSent", server->MessagesSent()}};
+    server->Stop();
+  }
   doc["tools"] = nlohmann::json::array();
   uint64_t total = 0;
   for (const auto& t : logic->GetToolStatistics()) {

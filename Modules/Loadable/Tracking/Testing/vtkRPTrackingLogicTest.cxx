@@ -6,6 +6,9 @@
 #include <atomic>
 #include <chrono>
 #include <filesystem>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
 #include <sstream>
 #include <thread>
 
@@ -256,6 +259,49 @@ TEST(TrackingLogic, TrackAndPivotCommandsOnTheSimulator) {
   EXPECT_EQ(RunTrackCommand({"--seconds", "1"}, nullptr, bout, berr), 2);
   EXPECT_NE(berr.str().find("exactly one of --serial"), std::string::npos);
   EXPECT_EQ(RunTrackCommand({"--igtl", "localhost"}, nullptr, bout, berr), 2);
+  stop = true;
+  simThread.join();
+}
+
+TEST(TrackingLogic, TrackCommandAt20HzServingOpenIGTLink) {
+  const std::string link = OutputDir() + "/cli20";
+  std::atomic<bool> stop{false};
+  std::ostringstream simOut, simErr;
+  std::thread simThread([&] { RunPolarisSimCommand({"--port-link", link, "--rate", "60"}, simOut, simErr, &stop); });
+  ASSERT_TRUE(WaitFor([&] { return std::filesystem::exists(link + ".break"); }, 3));
+  // A free loopback port for --serve.
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
+  socklen_t len = sizeof a;
+  getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
+  ::close(fd);
+  const int port = ntohs(a.sin_port);
+  IgtlClient::Options co;
+  co.Port = port;
+  co.ReconnectInitialSeconds = 0.05;
+  co.ReconnectMaxSeconds = 0.1;
+  IgtlClient client(co);
+  client.Start();
+  const std::string rom = std::string(ROBOPLAN_RESOURCES_DIR) + "/Tools/Stylus.rom";  // a plain .rom file
+  std::ostringstream out, err;
+  ASSERT_EQ(RunTrackCommand({"--serial", link, "--rom", rom, "--rate", "20", "--seconds", "1.5", "--serve",
+                             std::to_string(port), "--json"},
+                            nullptr, out, err),
+            0)
+      << err.str();
+  // IRATE 2 -> 0: the simulated camera now runs at 20 Hz and the driver polls at 20 Hz.
+  const std::string json = out.str();
+  const size_t at = json.find("\"rateHz\"");
+  ASSERT_NE(at, std::string::npos) << json;
+  const double rate = std::stod(json.substr(json.find(':', at) + 1));
+  EXPECT_NEAR(rate, 20.0, 3.0) << json;
+  EXPECT_NE(json.find("\"name\": \"StylusToTracker\""), std::string::npos);  // named after Stylus.rom
+  EXPECT_GT(client.GetStatistics().Poses, 10u) << client.LastError();
+  EXPECT_GE(client.Poses().Find("StylusToTracker", 15), 0);
+  client.Stop();
   stop = true;
   simThread.join();
 }
