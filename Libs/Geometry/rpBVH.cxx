@@ -84,29 +84,28 @@ void BVH::Build(const TriangleMesh& mesh, int leafSize) {
     if (Norm2(tri.Normal) > 0) all.push_back(tri);
   }
   if (all.empty()) return;
-  std::vector<Vec3> centroids(all.size());
-  std::vector<uint32_t> order(all.size());
+  std::vector<BuildItem> items(all.size());
   for (size_t i = 0; i < all.size(); ++i) {
-    centroids[i] = (all[i].A + all[i].B + all[i].C) / 3.0;
-    order[i] = static_cast<uint32_t>(i);
+    const Tri& t = all[i];
+    items[i] = {Min(t.A, Min(t.B, t.C)), Max(t.A, Max(t.B, t.C)), (t.A + t.B + t.C) / 3.0, static_cast<uint32_t>(i)};
   }
   this->Nodes.reserve(2 * all.size() / std::max(1, leafSize) + 16);
   this->Tris.reserve(all.size());
-  this->BuildRange(order, centroids, all, 0, static_cast<uint32_t>(all.size()), 0, std::max(1, leafSize));
+  this->BuildRange(items, all, 0, static_cast<uint32_t>(all.size()), 0, std::max(1, leafSize));
 }
 
-uint32_t BVH::BuildRange(std::vector<uint32_t>& order, const std::vector<Vec3>& centroids,
-                         const std::vector<Tri>& all, uint32_t begin, uint32_t end, int depth, int leafSize) {
+uint32_t BVH::BuildRange(std::vector<BuildItem>& items, const std::vector<Tri>& all, uint32_t begin, uint32_t end,
+                         int depth, int leafSize) {
   const uint32_t index = static_cast<uint32_t>(this->Nodes.size());
   this->Nodes.emplace_back();
   Vec3 lo{HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
   Vec3 clo = lo, chi = hi;
   for (uint32_t i = begin; i < end; ++i) {
-    const Tri& t = all[order[i]];
-    lo = Min(lo, Min(t.A, Min(t.B, t.C)));
-    hi = Max(hi, Max(t.A, Max(t.B, t.C)));
-    clo = Min(clo, centroids[order[i]]);
-    chi = Max(chi, centroids[order[i]]);
+    const BuildItem& item = items[i];
+    lo = Min(lo, item.Lo);
+    hi = Max(hi, item.Hi);
+    clo = Min(clo, item.Centroid);
+    chi = Max(chi, item.Centroid);
   }
   this->Nodes[index].Lo = lo;
   this->Nodes[index].Hi = hi;
@@ -117,15 +116,15 @@ uint32_t BVH::BuildRange(std::vector<uint32_t>& order, const std::vector<Vec3>& 
       (extent.x <= 0 && extent.y <= 0 && extent.z <= 0)) {
     this->Nodes[index].First = static_cast<uint32_t>(this->Tris.size());
     this->Nodes[index].Count = count;
-    for (uint32_t i = begin; i < end; ++i) this->Tris.push_back(all[order[i]]);
+    for (uint32_t i = begin; i < end; ++i) this->Tris.push_back(all[items[i].Index]);
     return index;
   }
   const int axis = (extent.x >= extent.y && extent.x >= extent.z) ? 0 : (extent.y >= extent.z ? 1 : 2);
   const uint32_t mid = begin + count / 2;
-  std::nth_element(order.begin() + begin, order.begin() + mid, order.begin() + end,
-                   [&](uint32_t a, uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
-  this->BuildRange(order, centroids, all, begin, mid, depth + 1, leafSize);
-  const uint32_t right = this->BuildRange(order, centroids, all, mid, end, depth + 1, leafSize);
+  std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end,
+                   [axis](const BuildItem& a, const BuildItem& b) { return a.Centroid[axis] < b.Centroid[axis]; });
+  this->BuildRange(items, all, begin, mid, depth + 1, leafSize);
+  const uint32_t right = this->BuildRange(items, all, mid, end, depth + 1, leafSize);
   this->Nodes[index].First = right;
   this->Nodes[index].Count = 0;
   return index;

@@ -57,8 +57,12 @@ class BVH {
     Vec3 Normal;  // unnormalized (B-A)x(C-A)
     uint32_t Source;
   };
-  uint32_t BuildRange(std::vector<uint32_t>& order, const std::vector<Vec3>& centroids,
-                      const std::vector<Tri>& all, uint32_t begin, uint32_t end, int depth, int leafSize);
+  struct BuildItem {  // compact, partitioned in place: the build walks memory sequentially
+    Vec3 Lo, Hi, Centroid;
+    uint32_t Index;
+  };
+  uint32_t BuildRange(std::vector<BuildItem>& items, const std::vector<Tri>& all, uint32_t begin, uint32_t end,
+                      int depth, int leafSize);
 
   std::vector<Node> Nodes;
   std::vector<Tri> Tris;  // in leaf order

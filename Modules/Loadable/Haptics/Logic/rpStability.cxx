@@ -19,7 +19,11 @@ GainLimits LimitGains(double k, double b, const DeviceInfo& device, double perio
   if (device.PhysicalDamping > 0) bAllowed = std::min(bAllowed, 0.5 * device.PhysicalDamping);
   bAllowed = std::max(0.0, bAllowed);
   const double kDevice = k * scale;
-  const double kAllowed = std::min(kDevice, PassiveStiffnessLimit(device, period, bAllowed));
+  // Stay 10 % inside the passive bound: at the bound itself a wall is only marginally stable
+  // (a sustained oscillation in the benchmark's simulated device).
+  double kAllowed = std::min(kDevice, device.NominalMaxStiffness);
+  if (device.PhysicalDamping > 0 && period > 0)
+    kAllowed = std::min(kAllowed, PassiveSafetyFraction * 2.0 * (device.PhysicalDamping - bAllowed) / period);
   g.StiffnessScale = kDevice > 0 ? kAllowed / kDevice : 1.0;
   g.DampingScale = b > 0 ? bAllowed / b : 1.0;
   g.Stiffness = kAllowed;

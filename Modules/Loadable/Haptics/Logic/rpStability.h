@@ -15,13 +15,17 @@ struct GainLimits {
   double Margin = 0;          // b − (K·T/2 + |B|), N·s/mm (≥ 0: passive); 0 when b unknown
 };
 
+/// LimitGains keeps the summed stiffness at this fraction of the passive bound.
+constexpr double PassiveSafetyFraction = 0.9;
+
 /// Largest stiffness the Colgate-Schenkel condition allows for damping B (0 when b ≤ |B|).
 /// With an unknown physical damping (b ≤ 0) only the device's nominal limit applies.
 double PassiveStiffnessLimit(const DeviceInfo& device, double period, double damping);
 
 /// Scales summed contact gains into the device's passive region. `workspaceScale` multiplies
 /// stiffness as the device feels it (a scene mm per device mm scales K by that factor).
-/// Virtual damping gets at most half the physical damping budget; stiffness the rest.
+/// Virtual damping gets at most half the physical damping budget; stiffness the rest, times
+/// PassiveSafetyFraction.
 GainLimits LimitGains(double summedStiffness, double summedDamping, const DeviceInfo& device, double period,
                       double workspaceScale = 1.0);
 

@@ -316,19 +316,21 @@ TEST(Stability, ColgateSchenkelLimits) {
   EXPECT_NEAR(rp::PassiveStiffnessLimit(device, 0.001, 0.0), 4.0, 1e-12);
   EXPECT_EQ(rp::PassiveStiffnessLimit(device, 0.001, 0.003), 0.0);
   rp::GainLimits g = rp::LimitGains(6, 0.004, device, 0.001);
+  const double f = rp::PassiveSafetyFraction;
   EXPECT_NEAR(g.Damping, 0.001, 1e-15);
-  EXPECT_NEAR(g.Stiffness, 2.0, 1e-12);
-  EXPECT_NEAR(g.StiffnessScale, 2.0 / 6, 1e-12);
+  EXPECT_NEAR(g.Stiffness, 2.0 * f, 1e-12);
+  EXPECT_NEAR(g.StiffnessScale, 2.0 * f / 6, 1e-12);
   EXPECT_NEAR(g.DampingScale, 0.25, 1e-12);
-  EXPECT_NEAR(g.Margin, 0.0, 1e-15);
+  EXPECT_NEAR(g.Margin, 0.002 - (2.0 * f * 0.0005 + 0.001), 1e-15);
+  EXPECT_GT(g.Margin, 0.0);
   // Slower servo: half the rate halves the passive stiffness.
-  EXPECT_NEAR(rp::LimitGains(6, 0.004, device, 0.002).Stiffness, 1.0, 1e-12);
+  EXPECT_NEAR(rp::LimitGains(6, 0.004, device, 0.002).Stiffness, 1.0 * f, 1e-12);
   // Workspace scaling multiplies the stiffness the device feels.
   g = rp::LimitGains(1.5, 0, device, 0.001, 2.0);
   EXPECT_NEAR(g.Stiffness, 3.0, 1e-12);
   EXPECT_NEAR(g.StiffnessScale, 1.0, 1e-12);
   g = rp::LimitGains(3, 0, device, 0.001, 2.0);
-  EXPECT_NEAR(g.StiffnessScale, 4.0 / 6.0, 1e-12);
+  EXPECT_NEAR(g.StiffnessScale, 4.0 * f / 6.0, 1e-12);
   EXPECT_GT(rp::LimitGains(1, 0, device, 0.001).Margin, 0.0);
 }
 
