@@ -22,6 +22,7 @@
 #include "vtkRPModelSliceDisplayableManager.h"
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
+#include "vtkRPSegmentationSliceDisplayableManager.h"
 #include "vtkRPToolDisplayableManager.h"
 #include "vtkRPViewState.h"
 #include "vtkRPVolumeSliceDisplayableManager.h"
@@ -43,6 +44,7 @@ View::View(ViewKind kind, vtkRPScene* scene, vtkRPViewState* state) : Kind(kind)
     this->Renderer->SetBackground(0, 0, 0);
     this->Renderer->GetActiveCamera()->ParallelProjectionOn();
     this->Managers.push_back(vtkSmartPointer<vtkRPVolumeSliceDisplayableManager>::New());
+    this->Managers.push_back(vtkSmartPointer<vtkRPSegmentationSliceDisplayableManager>::New());
     this->Managers.push_back(vtkSmartPointer<vtkRPModelSliceDisplayableManager>::New());
   } else {
     this->Renderer->SetBackground(0.76, 0.76, 0.90);

@@ -191,6 +191,13 @@ void ViewerMainWindow::BuildMenus() {
   toolbar->addSeparator();
   QAction* reset = viewMenu->addAction("&Reset views", this, [this]() { this->Controller->ResetViews(); });
   toolbar->addAction(reset);
+  QAction* slicesIn3D = viewMenu->addAction("Slices in 3D");
+  slicesIn3D->setObjectName("slicesIn3D");
+  slicesIn3D->setCheckable(true);
+  slicesIn3D->setChecked(this->Controller->GetViewState()->GetSlicesVisibleIn3D());
+  connect(slicesIn3D, &QAction::toggled, this,
+          [this](bool on) { this->Controller->GetViewState()->SetSlicesVisibleIn3D(on); });
+  toolbar->addAction(slicesIn3D);
   this->PlaceFiducialAction = toolbar->addAction("Place fiducials");
   this->PlaceFiducialAction->setObjectName("placeFiducials");
   this->PlaceFiducialAction->setCheckable(true);

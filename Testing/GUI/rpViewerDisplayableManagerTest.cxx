@@ -24,6 +24,8 @@
 #include "vtkRPModelSliceDisplayableManager.h"
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
+#include "vtkRPSegmentationNode.h"
+#include "vtkRPSegmentationSliceDisplayableManager.h"
 #include "vtkRPToolDisplayableManager.h"
 #include "vtkRPTrackedToolNode.h"
 #include "vtkRPViewState.h"
@@ -302,4 +304,58 @@ TEST(ViewerDisplayableManagers, ToolsAreDrawnAndSlicesFollowTheTip) {
   scene->RemoveNode(stylus);
   EXPECT_EQ(controller.GetFollowTransformNodeID(), "");
   EXPECT_EQ(tools->GetGlyphActor(stylus), nullptr);
+}
+
+TEST(ViewerDisplayableManagers, SegmentationsOverlayTheSlicesInSegmentColours) {
+  vtkNew<vtkRPScene> scene;
+  ViewController controller(scene);
+  scene->AddNode(test::MakeVolume());
+  // Labelmap 20^3 at 1 mm from RAS (0, 0, 0): label 2 in the box i, j, k in [5, 9].
+  vtkNew<vtkImageData> labels;
+  labels->SetDimensions(20, 20, 20);
+  labels->AllocateScalars(VTK_UNSIGNED_CHAR, 1);
+  auto* voxels = static_cast<unsigned char*>(labels->GetScalarPointer());
+  for (int k = 0; k < 20; ++k)
+    for (int j = 0; j < 20; ++j)
+      for (int i = 0; i < 20; ++i) *voxels++ = (i >= 5 && i <= 9 && j >= 5 && j <= 9 && k >= 5 && k <= 9) ? 2 : 0;
+  vtkNew<vtkRPSegmentationNode> segmentation;
+  segmentation->SetImageData(labels);
+  vtkRPSegmentationNode::Segment bone;
+  bone.ID = "bone";
+  bone.Name = "Bone";
+  bone.LabelValue = 2;
+  bone.Color[0] = 1;
+  bone.Color[1] = 0;
+  bone.Color[2] = 0;
+  segmentation->SetSegment(bone);
+  scene->AddNode(segmentation);
+  auto* overlays = controller.GetView(ViewKind::Axial)->GetDisplayableManager<vtkRPSegmentationSliceDisplayableManager>();
+  ASSERT_NE(overlays, nullptr);
+  const double inside[3] = {7, 7, 7};
+  controller.SetSlicePointRAS(inside);
+  vtkImageData* overlay = overlays->GetOverlay(segmentation);
+  ASSERT_NE(overlay, nullptr);
+  // Axial screen x is patient left (-R): pixel i is at R = -(origin + i).
+  auto sample = [&](double r, double a) {
+    double origin[3], spacing[3];
+    overlay->GetOrigin(origin);
+    overlay->GetSpacing(spacing);
+    const int i = static_cast<int>(std::lround((-r - origin[0]) / spacing[0]));
+    const int j = static_cast<int>(std::lround((a - origin[1]) / spacing[1]));
+    return static_cast<unsigned char*>(overlay->GetScalarPointer(i, j, 0));
+  };
+  unsigned char* p = sample(7, 7);
+  EXPECT_EQ(p[0], 255);
+  EXPECT_EQ(p[1], 0);
+  EXPECT_EQ(p[3], 255);
+  EXPECT_EQ(sample(2, 7)[3], 0);   // label 0: transparent
+  EXPECT_EQ(sample(7, 12)[3], 0);
+  // Off the box along S: nothing on this slice.
+  const double above[3] = {7, 7, 12};
+  controller.SetSlicePointRAS(above);
+  overlay = overlays->GetOverlay(segmentation);
+  ASSERT_NE(overlay, nullptr);
+  EXPECT_EQ(sample(7, 7)[3], 0);
+  scene->RemoveNode(segmentation);
+  EXPECT_EQ(overlays->GetOverlay(segmentation), nullptr);
 }

@@ -193,5 +193,8 @@ TEST(ViewerMainWindow, ScriptedSession) {
   QTest::qWait(50);
   EXPECT_TRUE(sagittal->isVisible());
   EXPECT_TRUE(window.GetViewWidget(ViewKind::ThreeD)->isVisible());
+  // A picture of the session for people reading the test output.
+  QTest::qWait(100);
+  window.grab().save(QString::fromStdString((dir / "mainwindow.png").string()));
   QSettings().clear();
 }
