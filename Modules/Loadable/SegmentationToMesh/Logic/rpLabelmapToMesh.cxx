@@ -1,0 +1,773 @@
+#include "rpLabelmapToMesh.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <unordered_map>
+
+#include <vtkCellArray.h>
+#include <vtkDiscreteFlyingEdges3D.h>
+#include <vtkFloatArray.h>
+#include <vtkFlyingEdges3D.h>
+#include <vtkIdList.h>
+#include <vtkImageData.h>
+#include <vtkMatrix4x4.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkPolyDataNormals.h>
+#include <vtkQuadricDecimation.h>
+#include <vtkSMPTools.h>
+#include <vtkSmartPointer.h>
+#include <vtkStaticCellLocator.h>
+#include <vtkTriangleFilter.h>
+#include <vtkUnsignedCharArray.h>
+#include <vtkWindowedSincPolyDataFilter.h>
+
+namespace rp {
+
+bool ParseMeshMethod(const std::string& text, MeshMethod& method) {
+  if (text == "gaussian") method = MeshMethod::Gaussian;
+  else if (text == "sinc") method = MeshMethod::WindowedSinc;
+  else if (text == "slicer") method = MeshMethod::SlicerDefault;
+  else if (text == "discrete" || text == "none") method = MeshMethod::Discrete;
+  else return false;
+  return true;
+}
+
+const char* MeshMethodName(MeshMethod method) {
+  switch (method) {
+    case MeshMethod::Gaussian: return "gaussian";
+    case MeshMethod::WindowedSinc: return "sinc";
+    case MeshMethod::SlicerDefault: return "slicer";
+    case MeshMethod::Discrete: return "discrete";
+  }
+  return "?";
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// How far from the 0.5 level the constraint puts voxel-centre samples (see GaussianResample).
+constexpr float ConstraintMargin = 0.01f;
+
+struct LabelBounds {
+  int Lo[3] = {0, 0, 0}, Hi[3] = {-1, -1, -1};
+  long Count = 0;
+  bool Empty() const { return this->Count == 0; }
+};
+
+template <typename T>
+void FindBounds(const T* voxels, const int dims[3], long label, LabelBounds& b) {
+  const T value = static_cast<T>(label);
+  int lo[3] = {dims[0], dims[1], dims[2]}, hi[3] = {-1, -1, -1};
+  long count = 0;
+  for (int k = 0; k < dims[2]; ++k) {
+    for (int j = 0; j < dims[1]; ++j) {
+      const T* row = voxels + (static_cast<size_t>(k) * dims[1] + j) * dims[0];
+      int first = -1, last = -1;
+      for (int i = 0; i < dims[0]; ++i) {
+        if (row[i] != value) continue;
+        if (first < 0) first = i;
+        last = i;
+        ++count;
+      }
+      if (first < 0) continue;
+      lo[0] = std::min(lo[0], first), hi[0] = std::max(hi[0], last);
+      lo[1] = std::min(lo[1], j), hi[1] = std::max(hi[1], j);
+      lo[2] = std::min(lo[2], k), hi[2] = std::max(hi[2], k);
+    }
+  }
+  b.Count = count;
+  for (int a = 0; a < 3; ++a) b.Lo[a] = lo[a], b.Hi[a] = hi[a];
+}
+
+bool IntegerScalars(vtkImageData* image) {
+  switch (image->GetScalarType()) {
+    case VTK_UNSIGNED_CHAR: case VTK_SIGNED_CHAR: case VTK_CHAR: case VTK_SHORT: case VTK_UNSIGNED_SHORT:
+    case VTK_INT: case VTK_UNSIGNED_INT: case VTK_LONG: case VTK_UNSIGNED_LONG: case VTK_LONG_LONG:
+    case VTK_UNSIGNED_LONG_LONG:
+      return true;
+    default:
+      return false;
+  }
+}
+
+// Binary mask (1 = label) of the crop box [lo - pad, hi + pad] (voxels outside the image are 0).
+template <typename T>
+void ExtractMask(const T* voxels, const int dims[3], long label, const int start[3], const int size[3],
+                 unsigned char* mask) {
+  const T value = static_cast<T>(label);
+  vtkSMPTools::For(0, size[2], [&](vtkIdType k0, vtkIdType k1) {
+    for (vtkIdType kk = k0; kk < k1; ++kk) {
+      const int k = start[2] + static_cast<int>(kk);
+      for (int jj = 0; jj < size[1]; ++jj) {
+        unsigned char* out = mask + (static_cast<size_t>(kk) * size[1] + jj) * size[0];
+        const int j = start[1] + jj;
+        if (k < 0 || k >= dims[2] || j < 0 || j >= dims[1]) {
+          std::fill(out, out + size[0], 0);
+          continue;
+        }
+        const T* row = voxels + (static_cast<size_t>(k) * dims[1] + j) * dims[0];
+        for (int ii = 0; ii < size[0]; ++ii) {
+          const int i = start[0] + ii;
+          out[ii] = (i >= 0 && i < dims[0] && row[i] == value) ? 1 : 0;
+        }
+      }
+    }
+  });
+}
+
+// 1-D resampling weights: output o sits at input position start + o * step.
+struct Kernel1D {
+  std::vector<int> First, Count;   // first input index (relative to the input range) and tap count
+  std::vector<size_t> Offset;      // into Weights
+  std::vector<float> Weights;
+};
+
+Kernel1D MakeKernel(double start, double step, int outputCount, int inputCount, double sigma) {
+  Kernel1D kernel;
+  const double radius = 3.0 * sigma;
+  for (int o = 0; o < outputCount; ++o) {
+    const double p = start + o * step;
+    const int k0 = static_cast<int>(std::ceil(p - radius)), k1 = static_cast<int>(std::floor(p + radius));
+    double norm = 0;
+    for (int k = k0; k <= k1; ++k) norm += std::exp(-0.5 * (p - k) * (p - k) / (sigma * sigma));
+    const int first = std::max(k0, 0), last = std::min(k1, inputCount - 1);
+    kernel.First.push_back(first);
+    kernel.Count.push_back(std::max(0, last - first + 1));
+    kernel.Offset.push_back(kernel.Weights.size());
+    for (int k = first; k <= last; ++k) {
+      kernel.Weights.push_back(static_cast<float>(std::exp(-0.5 * (p - k) * (p - k) / (sigma * sigma)) / norm));
+    }
+  }
+  return kernel;
+}
+
+// Separable Gaussian resampling of the bounding box of `label` onto the contour grid.
+// Input range per axis = the label's bounds (the mask is zero elsewhere).
+template <typename T>
+void GaussianResample(const T* voxels, const int dims[3], long label, const LabelBounds& b, const double gridStart[3],
+                      const double step[3], const int outDims[3], const double sigma[3], float* field) {
+  const T value = static_cast<T>(label);
+  int inDims[3];
+  for (int a = 0; a < 3; ++a) inDims[a] = b.Hi[a] - b.Lo[a] + 1;
+  Kernel1D kx = MakeKernel(gridStart[0] - b.Lo[0], step[0], outDims[0], inDims[0], sigma[0]);
+  Kernel1D ky = MakeKernel(gridStart[1] - b.Lo[1], step[1], outDims[1], inDims[1], sigma[1]);
+  Kernel1D kz = MakeKernel(gridStart[2] - b.Lo[2], step[2], outDims[2], inDims[2], sigma[2]);
+
+  // Pass x: mask rows (inDims y, z) → A[outX x inY x inZ].
+  const size_t nxo = static_cast<size_t>(outDims[0]);
+  std::vector<float> A(nxo * inDims[1] * inDims[2]);
+  vtkSMPTools::For(0, static_cast<vtkIdType>(inDims[1]) * inDims[2], [&](vtkIdType r0, vtkIdType r1) {
+    std::vector<float> row(static_cast<size_t>(inDims[0]));
+    for (vtkIdType r = r0; r < r1; ++r) {
+      const int jj = static_cast<int>(r % inDims[1]), kk = static_cast<int>(r / inDims[1]);
+      const T* in = voxels + (static_cast<size_t>(b.Lo[2] + kk) * dims[1] + (b.Lo[1] + jj)) * dims[0] + b.Lo[0];
+      bool any = false;
+      for (int i = 0; i < inDims[0]; ++i) {
+        row[static_cast<size_t>(i)] = in[i] == value ? 1.0f : 0.0f;
+        any = any || in[i] == value;
+      }
+      float* out = A.data() + static_cast<size_t>(r) * nxo;
+      if (!any) {
+        std::fill(out, out + nxo, 0.0f);
+        continue;
+      }
+      for (size_t o = 0; o < nxo; ++o) {
+        const float* w = kx.Weights.data() + kx.Offset[o];
+        const float* x = row.data() + kx.First[o];
+        float sum = 0;
+        for (int t = 0; t < kx.Count[o]; ++t) sum += w[t] * x[t];
+        out[o] = sum;
+      }
+    }
+  });
+  // Pass y: A → B[outX x outY x inZ].
+  const size_t nyo = static_cast<size_t>(outDims[1]);
+  std::vector<float> B(nxo * nyo * inDims[2]);
+  vtkSMPTools::For(0, static_cast<vtkIdType>(inDims[2]) * outDims[1], [&](vtkIdType r0, vtkIdType r1) {
+    for (vtkIdType r = r0; r < r1; ++r) {
+      const size_t oy = static_cast<size_t>(r % outDims[1]), kk = static_cast<size_t>(r / outDims[1]);
+      float* out = B.data() + (kk * nyo + oy) * nxo;
+      std::fill(out, out + nxo, 0.0f);
+      const float* w = ky.Weights.data() + ky.Offset[oy];
+      for (int t = 0; t < ky.Count[oy]; ++t) {
+        const float* in = A.data() + (kk * inDims[1] + static_cast<size_t>(ky.First[oy] + t)) * nxo;
+        const float wt = w[t];
+        for (size_t x = 0; x < nxo; ++x) out[x] += wt * in[x];
+      }
+    }
+  });
+  std::vector<float>().swap(A);
+  // Pass z: B → field[outX x outY x outZ].
+  const size_t plane = nxo * nyo;
+  vtkSMPTools::For(0, outDims[2], [&](vtkIdType z0, vtkIdType z1) {
+    for (vtkIdType oz = z0; oz < z1; ++oz) {
+      float* out = field + static_cast<size_t>(oz) * plane;
+      std::fill(out, out + plane, 0.0f);
+      const float* w = kz.Weights.data() + kz.Offset[static_cast<size_t>(oz)];
+      for (int t = 0; t < kz.Count[static_cast<size_t>(oz)]; ++t) {
+        const float* in = B.data() + static_cast<size_t>(kz.First[static_cast<size_t>(oz)] + t) * plane;
+        const float wt = w[t];
+        for (size_t x = 0; x < plane; ++x) out[x] += wt * in[x];
+      }
+    }
+  });
+  // Constrain the field at samples that sit on voxel centres: labelled voxels stay inside the
+  // surface, others outside. The blur smooths staircases; the constraint keeps one-voxel
+  // structures (a single voxel, a one-voxel-thin plate) that a blur alone would erase.
+  auto onCentre = [](double p) { return std::abs(p - std::round(p)) < 1e-6; };
+  constexpr int NotCentre = std::numeric_limits<int>::min();
+  std::vector<int> centre[3];
+  for (int a = 0; a < 3; ++a) {
+    centre[a].assign(static_cast<size_t>(outDims[a]), NotCentre);
+    for (int o = 0; o < outDims[a]; ++o) {
+      const double p = gridStart[a] + o * step[a];
+      if (onCentre(p)) centre[a][static_cast<size_t>(o)] = static_cast<int>(std::lround(p));
+    }
+  }
+  const float high = 0.5f + ConstraintMargin, low = 0.5f - ConstraintMargin;
+  vtkSMPTools::For(0, outDims[2], [&](vtkIdType z0, vtkIdType z1) {
+    for (vtkIdType oz = z0; oz < z1; ++oz) {
+      const int k = centre[2][static_cast<size_t>(oz)];
+      if (k == NotCentre) continue;
+      for (int oy = 0; oy < outDims[1]; ++oy) {
+        const int j = centre[1][static_cast<size_t>(oy)];
+        if (j == NotCentre) continue;
+        float* out = field + static_cast<size_t>(oz) * plane + static_cast<size_t>(oy) * nxo;
+        const bool rowInside = k >= 0 && k < dims[2] && j >= 0 && j < dims[1];
+        const T* row = rowInside ? voxels + (static_cast<size_t>(k) * dims[1] + j) * dims[0] : nullptr;
+        for (size_t ox = 0; ox < nxo; ++ox) {
+          const int i = centre[0][ox];
+          if (i == NotCentre) continue;
+          const bool inside = row && i >= 0 && i < dims[0] && row[i] == value;
+          out[ox] = inside ? std::max(out[ox], high) : std::min(out[ox], low);
+        }
+      }
+    }
+  });
+}
+
+// Points (grid index p) → RAS: ras = M * (start + p * step). Normals given as gradients in grid
+// coordinates (may be null) go through the inverse transpose and are normalized.
+void GridToRAS(vtkPolyData* mesh, const vtkMatrix4x4* ijkToRAS, const double start[3], const double step[3],
+               bool haveGridNormals) {
+  double m[3][4], nm[3][3];
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 4; ++c) m[r][c] = ijkToRAS->GetElement(r, c);
+  vtkNew<vtkMatrix4x4> inverse;
+  vtkMatrix4x4::Invert(const_cast<vtkMatrix4x4*>(ijkToRAS), inverse);
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) nm[r][c] = inverse->GetElement(c, r) / step[c];  // (M^-T) * diag(1/step)
+  vtkPoints* points = mesh->GetPoints();
+  vtkDataArray* normals = haveGridNormals ? mesh->GetPointData()->GetNormals() : nullptr;
+  vtkSMPTools::For(0, mesh->GetNumberOfPoints(), [&](vtkIdType p0, vtkIdType p1) {
+    double p[3], q[3], n[3];
+    for (vtkIdType id = p0; id < p1; ++id) {
+      points->GetPoint(id, p);
+      for (int a = 0; a < 3; ++a) p[a] = start[a] + p[a] * step[a];
+      for (int r = 0; r < 3; ++r) q[r] = m[r][0] * p[0] + m[r][1] * p[1] + m[r][2] * p[2] + m[r][3];
+      points->SetPoint(id, q);
+      if (!normals) continue;
+      normals->GetTuple(id, p);
+      for (int r = 0; r < 3; ++r) n[r] = nm[r][0] * p[0] + nm[r][1] * p[1] + nm[r][2] * p[2];
+      const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+      if (len > 0) n[0] /= len, n[1] /= len, n[2] /= len;
+      normals->SetTuple(id, n);
+    }
+  });
+}
+
+// Area-weighted vertex normals (outward for an outward-oriented mesh).
+void ComputeVertexNormals(vtkPolyData* mesh) {
+  const vtkIdType np = mesh->GetNumberOfPoints();
+  std::vector<double> acc(static_cast<size_t>(np) * 3, 0.0);
+  vtkCellArray* polys = mesh->GetPolys();
+  vtkPoints* points = mesh->GetPoints();
+  vtkIdType n;
+  const vtkIdType* ids;
+  double a[3], b[3], c[3];
+  for (polys->InitTraversal(); polys->GetNextCell(n, ids);) {
+    if (n != 3) continue;
+    points->GetPoint(ids[0], a), points->GetPoint(ids[1], b), points->GetPoint(ids[2], c);
+    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    const double f[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+    for (int t = 0; t < 3; ++t)
+      for (int d = 0; d < 3; ++d) acc[static_cast<size_t>(ids[t]) * 3 + d] += f[d];
+  }
+  vtkNew<vtkFloatArray> normals;
+  normals->SetName("Normals");
+  normals->SetNumberOfComponents(3);
+  normals->SetNumberOfTuples(np);
+  for (vtkIdType id = 0; id < np; ++id) {
+    double* v = &acc[static_cast<size_t>(id) * 3];
+    const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if (len > 0) v[0] /= len, v[1] /= len, v[2] /= len;
+    normals->SetTuple(id, v);
+  }
+  mesh->GetPointData()->SetNormals(normals);
+}
+
+// Makes triangles and normals point outward (positive enclosed volume).
+void OrientOutward(vtkPolyData* mesh) {
+  double volume = 0, area = 0;
+  MeshVolumeAndArea(mesh, volume, area);
+  if (volume < 0) {
+    vtkCellArray* polys = mesh->GetPolys();
+    vtkNew<vtkCellArray> flipped;
+    flipped->AllocateExact(polys->GetNumberOfCells(), polys->GetNumberOfConnectivityIds());
+    vtkIdType n;
+    const vtkIdType* ids;
+    std::vector<vtkIdType> reversed;
+    for (polys->InitTraversal(); polys->GetNextCell(n, ids);) {
+      reversed.assign(ids, ids + n);
+      std::reverse(reversed.begin(), reversed.end());
+      flipped->InsertNextCell(n, reversed.data());
+    }
+    mesh->SetPolys(flipped);
+  }
+  // Normals must agree with the (now outward) triangles: compare with face normals in bulk.
+  vtkDataArray* normals = mesh->GetPointData()->GetNormals();
+  if (!normals) return;
+  double agreement = 0;
+  vtkCellArray* polys = mesh->GetPolys();
+  vtkPoints* points = mesh->GetPoints();
+  vtkIdType n;
+  const vtkIdType* ids;
+  double a[3], b[3], c[3], nv[3];
+  for (polys->InitTraversal(); polys->GetNextCell(n, ids);) {
+    if (n != 3) continue;
+    points->GetPoint(ids[0], a), points->GetPoint(ids[1], b), points->GetPoint(ids[2], c);
+    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    const double f[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+    normals->GetTuple(ids[0], nv);
+    agreement += f[0] * nv[0] + f[1] * nv[1] + f[2] * nv[2];
+  }
+  if (agreement < 0) {
+    for (vtkIdType id = 0; id < normals->GetNumberOfTuples(); ++id) {
+      normals->GetTuple(id, nv);
+      nv[0] = -nv[0], nv[1] = -nv[1], nv[2] = -nv[2];
+      normals->SetTuple(id, nv);
+    }
+  }
+}
+
+// Moves vertices along their normals so the enclosed volume becomes `targetVolume`. The
+// first-order offset (dV / area) misses the curvature term, so it iterates a few times.
+double CorrectVolume(vtkPolyData* mesh, double targetVolume) {
+  double volume = 0, area = 0;
+  MeshVolumeAndArea(mesh, volume, area);
+  vtkDataArray* normals = mesh->GetPointData()->GetNormals();
+  if (area <= 0 || !normals) return 0;
+  double total = 0;
+  for (int pass = 0; pass < 8 && std::abs(targetVolume - volume) > 1e-5 * targetVolume; ++pass) {
+    const double offset = (targetVolume - volume) / area;
+    vtkPoints* points = mesh->GetPoints();
+    double p[3], n[3];
+    for (vtkIdType id = 0; id < mesh->GetNumberOfPoints(); ++id) {
+      points->GetPoint(id, p);
+      normals->GetTuple(id, n);
+      for (int a = 0; a < 3; ++a) p[a] += offset * n[a];
+      points->SetPoint(id, p);
+    }
+    points->Modified();
+    total += offset;
+    MeshVolumeAndArea(mesh, volume, area);
+  }
+  return total;
+}
+
+void FillStats(vtkPolyData* mesh, MeshStats& stats) {
+  stats.Triangles = mesh->GetNumberOfPolys();
+  stats.Points = mesh->GetNumberOfPoints();
+  MeshVolumeAndArea(mesh, stats.MeshVolumeMm3, stats.AreaMm2);
+  stats.VolumeErrorPercent =
+      stats.LabelVolumeMm3 > 0 ? 100.0 * (stats.MeshVolumeMm3 - stats.LabelVolumeMm3) / stats.LabelVolumeMm3 : 0.0;
+  CountBadEdges(mesh, stats.BoundaryEdges, stats.NonManifoldEdges);
+  stats.Watertight = stats.Triangles > 0 && stats.BoundaryEdges == 0 && stats.NonManifoldEdges == 0;
+}
+
+double Determinant3(const vtkMatrix4x4* m) {
+  double a[3][3];
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) a[r][c] = m->GetElement(r, c);
+  return a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
+         a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
+}
+
+bool GaussianMesh(vtkImageData* labelmap, const vtkMatrix4x4* ijkToRAS, int label, const LabelBounds& b,
+                  const MeshOptions& options, vtkPolyData* output, MeshStats& stats, std::string& error,
+                  const ProgressCallback& progress) {
+  int dims[3];
+  labelmap->GetDimensions(dims);
+  double sigma[3], start[3], step[3];
+  int outDims[3];
+  for (int a = 0; a < 3; ++a) {
+    step[a] = std::max(0.25, options.GridStep[a]);
+    sigma[a] = std::max({options.Sigma, 0.4 * step[a], 0.2});
+    const double pad = std::ceil(3.0 * sigma[a]) + step[a];
+    start[a] = b.Lo[a] - pad;
+    outDims[a] = static_cast<int>(std::ceil((b.Hi[a] + pad - start[a]) / step[a])) + 1;
+    stats.GridStep[a] = step[a];
+  }
+  const double cells = static_cast<double>(outDims[0]) * outDims[1] * outDims[2];
+  if (cells > 1.5e9) {
+    error = "contour grid of " + std::to_string(static_cast<long long>(cells)) + " samples is too large; raise the grid step";
+    return false;
+  }
+  if (progress) progress(0.1, "resampling");
+  vtkNew<vtkImageData> field;
+  field->SetDimensions(outDims);
+  field->AllocateScalars(VTK_FLOAT, 1);
+  float* f = static_cast<float*>(field->GetScalarPointer());
+  switch (labelmap->GetScalarType()) {
+    vtkTemplateMacro(GaussianResample(static_cast<const VTK_TT*>(labelmap->GetScalarPointer()), dims, label, b, start,
+                                      step, outDims, sigma, f));
+  }
+  if (progress) progress(0.4, "contouring");
+  vtkNew<vtkFlyingEdges3D> contour;
+  contour->SetInputData(field);
+  contour->SetValue(0, 0.5);
+  contour->ComputeNormalsOn();
+  contour->ComputeGradientsOff();
+  contour->ComputeScalarsOff();
+  contour->Update();
+  output->ShallowCopy(contour->GetOutput());
+  if (output->GetNumberOfPolys() == 0) {
+    error = "the smoothed segment has no surface at the 0.5 level (structures thinner than the smoothing; "
+            "lower the smoothing or the grid step)";
+    return false;
+  }
+  if (progress) progress(0.7, "mapping to RAS");
+  GridToRAS(output, ijkToRAS, start, step, true);
+  OrientOutward(output);
+  return true;
+}
+
+bool DiscreteMesh(vtkImageData* labelmap, const vtkMatrix4x4* ijkToRAS, int label, const LabelBounds& b,
+                  const MeshOptions& options, vtkPolyData* output, MeshStats& stats, std::string& error,
+                  const ProgressCallback& progress) {
+  int dims[3], start[3], size[3];
+  labelmap->GetDimensions(dims);
+  for (int a = 0; a < 3; ++a) {
+    start[a] = b.Lo[a] - 1;
+    size[a] = b.Hi[a] - b.Lo[a] + 3;
+  }
+  vtkNew<vtkImageData> mask;
+  mask->SetDimensions(size);
+  mask->AllocateScalars(VTK_UNSIGNED_CHAR, 1);
+  switch (labelmap->GetScalarType()) {
+    vtkTemplateMacro(ExtractMask(static_cast<const VTK_TT*>(labelmap->GetScalarPointer()), dims, label, start, size,
+                                 static_cast<unsigned char*>(mask->GetScalarPointer())));
+  }
+  if (progress) progress(0.2, "contouring");
+  vtkNew<vtkDiscreteFlyingEdges3D> contour;
+  contour->SetInputData(mask);
+  contour->SetValue(0, 1);
+  contour->ComputeNormalsOff();
+  contour->ComputeGradientsOff();
+  contour->ComputeScalarsOff();
+  contour->Update();
+  vtkSmartPointer<vtkPolyData> mesh = contour->GetOutput();
+  if (mesh->GetNumberOfPolys() == 0) {
+    error = "discrete contouring gave no triangles";
+    return false;
+  }
+  if (options.Method == MeshMethod::WindowedSinc || options.Method == MeshMethod::SlicerDefault) {
+    if (progress) progress(0.4, "smoothing");
+    vtkNew<vtkWindowedSincPolyDataFilter> smoother;
+    smoother->SetInputData(mesh);
+    smoother->SetNumberOfIterations(options.SincIterations);
+    smoother->SetPassBand(options.SincPassBand);
+    smoother->BoundarySmoothingOff();
+    smoother->FeatureEdgeSmoothingOff();
+    smoother->NonManifoldSmoothingOn();
+    smoother->NormalizeCoordinatesOn();
+    smoother->Update();
+    // On tiny meshes (a few voxels) the sinc filter can collapse or explode the surface.
+    double before = 0, after = 0, area = 0;
+    MeshVolumeAndArea(mesh, before, area);
+    MeshVolumeAndArea(smoother->GetOutput(), after, area);
+    if (std::isfinite(after) && std::abs(after) > 0.5 * std::abs(before) && std::abs(after) < 2.0 * std::abs(before)) {
+      mesh = smoother->GetOutput();
+    } else {
+      stats.Warnings.push_back("windowed sinc collapsed the surface (too few voxels): kept the unsmoothed surface");
+    }
+  }
+  output->ShallowCopy(mesh);
+  // Own the points before moving them (the filter output may share them).
+  vtkNew<vtkPoints> points;
+  points->DeepCopy(mesh->GetPoints());
+  output->SetPoints(points);
+  const double origin[3] = {static_cast<double>(start[0]), static_cast<double>(start[1]), static_cast<double>(start[2])};
+  const double unit[3] = {1, 1, 1};
+  if (progress) progress(0.7, "mapping to RAS");
+  GridToRAS(output, ijkToRAS, origin, unit, false);
+  if (options.Method == MeshMethod::SlicerDefault) {
+    vtkNew<vtkPolyDataNormals> normals;
+    normals->SetInputData(output);
+    normals->ConsistencyOn();
+    normals->SplittingOff();
+    normals->Update();
+    output->ShallowCopy(normals->GetOutput());
+  } else {
+    OrientOutward(output);
+    ComputeVertexNormals(output);
+  }
+  return true;
+}
+
+void Decimate(vtkPolyData* mesh, double fraction, MeshStats& stats) {
+  if (fraction <= 0) return;
+  vtkNew<vtkQuadricDecimation> decimate;
+  decimate->SetInputData(mesh);
+  decimate->SetTargetReduction(std::min(fraction, 0.99));
+  decimate->VolumePreservationOn();
+  decimate->Update();
+  vtkNew<vtkPolyData> result;
+  result->ShallowCopy(decimate->GetOutput());
+  long boundary = 0, nonManifold = 0;
+  CountBadEdges(result, boundary, nonManifold);
+  if (boundary || nonManifold || result->GetNumberOfPolys() == 0) {
+    stats.Warnings.push_back("quadric decimation broke watertightness (" + std::to_string(boundary) + " boundary, " +
+                             std::to_string(nonManifold) + " non-manifold edges); kept the undecimated mesh");
+    return;
+  }
+  result->GetPointData()->Initialize();
+  ComputeVertexNormals(result);
+  mesh->ShallowCopy(result);
+}
+
+}  // namespace
+
+void CountBadEdges(vtkPolyData* mesh, long& boundaryEdges, long& nonManifoldEdges) {
+  boundaryEdges = nonManifoldEdges = 0;
+  std::unordered_map<uint64_t, int> edges;
+  edges.reserve(static_cast<size_t>(mesh->GetNumberOfPolys()) * 2);
+  vtkCellArray* polys = mesh->GetPolys();
+  vtkIdType n;
+  const vtkIdType* ids;
+  for (polys->InitTraversal(); polys->GetNextCell(n, ids);) {
+    for (vtkIdType e = 0; e < n; ++e) {
+      uint64_t a = static_cast<uint64_t>(ids[e]), c = static_cast<uint64_t>(ids[(e + 1) % n]);
+      if (a > c) std::swap(a, c);
+      ++edges[(a << 32) | c];
+    }
+  }
+  for (const auto& [key, count] : edges) {
+    if (count == 1) ++boundaryEdges;
+    else if (count > 2) ++nonManifoldEdges;
+  }
+}
+
+void MeshVolumeAndArea(vtkPolyData* mesh, double& volume, double& area) {
+  volume = area = 0;
+  vtkPoints* points = mesh->GetPoints();
+  if (!points) return;
+  vtkCellArray* polys = mesh->GetPolys();
+  vtkIdType n;
+  const vtkIdType* ids;
+  double a[3], b[3], c[3];
+  for (polys->InitTraversal(); polys->GetNextCell(n, ids);) {
+    for (vtkIdType t = 1; t + 1 < n; ++t) {
+      points->GetPoint(ids[0], a), points->GetPoint(ids[t], b), points->GetPoint(ids[t + 1], c);
+      volume += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+                 a[2] * (b[0] * c[1] - b[1] * c[0])) / 6.0;
+      const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+      const double f[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+      area += 0.5 * std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+    }
+  }
+}
+
+bool LabelmapToMesh(vtkImageData* labelmap, const vtkMatrix4x4* ijkToRAS, int label, const MeshOptions& options,
+                    vtkPolyData* output, MeshStats& stats, std::string& error, const ProgressCallback& progress) {
+  const auto t0 = Clock::now();
+  stats = MeshStats();
+  stats.Label = label;
+  output->Initialize();
+  if (!labelmap || !labelmap->GetPointData()->GetScalars() || labelmap->GetNumberOfPoints() == 0) {
+    error = "the segmentation has no labelmap";
+    return false;
+  }
+  if (!IntegerScalars(labelmap) || labelmap->GetNumberOfScalarComponents() != 1) {
+    error = "the labelmap must hold one integer label per voxel";
+    return false;
+  }
+  if (!ijkToRAS || std::abs(Determinant3(ijkToRAS)) < 1e-12) {
+    error = "the labelmap's IJK-to-RAS matrix is missing or singular";
+    return false;
+  }
+  if (options.Sigma < 0 || options.GridStep[0] <= 0 || options.GridStep[1] <= 0 || options.GridStep[2] <= 0 ||
+      options.DecimationFraction < 0 || options.DecimationFraction >= 1) {
+    error = "invalid mesh options (sigma >= 0, grid step > 0, decimation in [0, 1))";
+    return false;
+  }
+  int dims[3];
+  labelmap->GetDimensions(dims);
+  LabelBounds b;
+  switch (labelmap->GetScalarType()) {
+    vtkTemplateMacro(FindBounds(static_cast<const VTK_TT*>(labelmap->GetScalarPointer()), dims, label, b));
+  }
+  stats.LabelVoxels = b.Count;
+  const double voxelVolume = std::abs(Determinant3(ijkToRAS));
+  stats.LabelVolumeMm3 = static_cast<double>(b.Count) * voxelVolume;
+  if (b.Empty()) {
+    error = "segment with label " + std::to_string(label) + " is empty (no voxels)";
+    return false;
+  }
+  for (int a = 0; a < 3; ++a) stats.TouchesBorder = stats.TouchesBorder || b.Lo[a] == 0 || b.Hi[a] == dims[a] - 1;
+  if (stats.TouchesBorder) stats.Warnings.push_back("segment touches the volume border: closed by padding (flat cap)");
+
+  bool ok = false;
+  if (options.Method == MeshMethod::Gaussian) {
+    ok = GaussianMesh(labelmap, ijkToRAS, label, b, options, output, stats, error, progress);
+    double volume = 0, area = 0;
+    if (ok) MeshVolumeAndArea(output, volume, area);
+    if (!ok || volume < 0.5 * stats.LabelVolumeMm3) {
+      // Should not happen with the voxel-centre constraint; kept as a safety net.
+      stats.Warnings.push_back("gaussian surface failed (" + (ok ? "lost half the volume" : error) +
+                               "): used the discrete surface");
+      MeshOptions fallback = options;
+      fallback.Method = MeshMethod::Discrete;
+      error.clear();
+      ok = DiscreteMesh(labelmap, ijkToRAS, label, b, fallback, output, stats, error, progress);
+    }
+  } else {
+    ok = DiscreteMesh(labelmap, ijkToRAS, label, b, options, output, stats, error, progress);
+  }
+  if (!ok) {
+    output->Initialize();
+    return false;
+  }
+  if (options.DecimationFraction > 0) {
+    if (progress) progress(0.8, "decimating");
+    Decimate(output, options.DecimationFraction, stats);
+  }
+  if (options.CorrectVolume && options.Method != MeshMethod::SlicerDefault) {
+    double volume = 0, area = 0;
+    MeshVolumeAndArea(output, volume, area);
+    const double mismatch = std::abs(volume - stats.LabelVolumeMm3) / stats.LabelVolumeMm3;
+    // The offset that would fix the volume. More than half a voxel means the mesh lacks whole
+    // structures below the smoothing scale (noise specks, pinholes): a global offset would
+    // distort the rest, so the mismatch is reported instead.
+    double minSpacing = 1e300;
+    for (int a = 0; a < 3; ++a) {
+      double len = 0;
+      for (int r = 0; r < 3; ++r) len += ijkToRAS->GetElement(r, a) * ijkToRAS->GetElement(r, a);
+      minSpacing = std::min(minSpacing, std::sqrt(len));
+    }
+    const double offset = area > 0 ? std::abs(stats.LabelVolumeMm3 - volume) / area : 0.0;
+    if (offset > 0.5 * minSpacing && stats.LabelVoxels > 64) {
+      stats.Warnings.push_back("mesh volume differs from the labelmap by " +
+                               std::to_string(static_cast<int>(std::round(100 * mismatch))) +
+                               " % (noise or structures below the smoothing scale): volume not corrected; "
+                               "clean the segment first (keep largest, fill holes, opening)");
+    } else {
+      if (progress) progress(0.9, "volume correction");
+      stats.VolumeCorrectionMm = CorrectVolume(output, stats.LabelVolumeMm3);
+    }
+  }
+  FillStats(output, stats);
+  if (!stats.Watertight) {
+    stats.Warnings.push_back("mesh is not watertight: " + std::to_string(stats.BoundaryEdges) + " boundary and " +
+                             std::to_string(stats.NonManifoldEdges) + " non-manifold edges");
+  }
+  stats.Seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  if (progress) progress(1.0, "done");
+  return true;
+}
+
+namespace {
+// Largest distance from `mesh` vertices (and a subsample of `reference` vertices) to the other.
+double MaxDeviation(vtkPolyData* mesh, vtkPolyData* reference) {
+  auto oneWay = [](vtkPolyData* from, vtkPolyData* to) {
+    vtkNew<vtkStaticCellLocator> locator;
+    locator->SetDataSet(to);
+    locator->BuildLocator();
+    const vtkIdType n = from->GetNumberOfPoints();
+    const vtkIdType stride = std::max<vtkIdType>(1, n / 20000);
+    double worst = 0, p[3], closest[3], d2;
+    vtkIdType cell;
+    int sub;
+    for (vtkIdType id = 0; id < n; id += stride) {
+      from->GetPoint(id, p);
+      locator->FindClosestPoint(p, closest, cell, sub, d2);
+      worst = std::max(worst, std::sqrt(d2));
+    }
+    return worst;
+  };
+  return std::max(oneWay(mesh, reference), oneWay(reference, mesh));
+}
+}  // namespace
+
+bool LabelmapToMeshLOD(vtkImageData* labelmap, const vtkMatrix4x4* ijkToRAS, int label, MeshOptions options,
+                       const LevelOfDetail& lod, vtkPolyData* output, MeshStats& stats, std::string& error,
+                       const ProgressCallback& progress) {
+  if (lod.TargetTriangles <= 0 && lod.MaxErrorMm <= 0) {
+    return LabelmapToMesh(labelmap, ijkToRAS, label, options, output, stats, error, progress);
+  }
+  if (options.Method != MeshMethod::Gaussian) {
+    // Only the gaussian method has a grid step to search: meet a triangle target by decimation.
+    if (!LabelmapToMesh(labelmap, ijkToRAS, label, options, output, stats, error, progress)) return false;
+    if (lod.TargetTriangles > 0 && stats.Triangles > lod.TargetTriangles) {
+      options.DecimationFraction = 1.0 - static_cast<double>(lod.TargetTriangles) / stats.Triangles;
+      return LabelmapToMesh(labelmap, ijkToRAS, label, options, output, stats, error, progress);
+    }
+    return true;
+  }
+  const double baseStep[3] = {options.GridStep[0], options.GridStep[1], options.GridStep[2]};
+  vtkNew<vtkPolyData> reference;
+  MeshStats referenceStats;
+  if (!LabelmapToMesh(labelmap, ijkToRAS, label, options, reference, referenceStats, error)) return false;
+  double factor = 1.0;
+  if (lod.TargetTriangles > 0) {
+    long triangles = referenceStats.Triangles;
+    // Triangle count scales with 1 / step²: a few secant steps land close to the target.
+    for (int iteration = 0; iteration < 6 && triangles > lod.TargetTriangles; ++iteration) {
+      factor *= std::sqrt(static_cast<double>(triangles) / lod.TargetTriangles) * 1.03;
+      MeshOptions trial = options;
+      for (int a = 0; a < 3; ++a) trial.GridStep[a] = baseStep[a] * factor;
+      vtkNew<vtkPolyData> mesh;
+      MeshStats s;
+      if (!LabelmapToMesh(labelmap, ijkToRAS, label, trial, mesh, s, error)) break;
+      triangles = s.Triangles;
+    }
+  }
+  if (lod.MaxErrorMm > 0 && lod.TargetTriangles <= 0) {
+    // Coarsen while the deviation from the full-resolution surface stays within the target.
+    double best = 1.0;
+    for (double trialFactor = best * 1.3; trialFactor < 64; trialFactor *= 1.3) {
+      MeshOptions trial = options;
+      for (int a = 0; a < 3; ++a) trial.GridStep[a] = baseStep[a] * trialFactor;
+      vtkNew<vtkPolyData> mesh;
+      MeshStats s;
+      if (!LabelmapToMesh(labelmap, ijkToRAS, label, trial, mesh, s, error)) break;
+      if (MaxDeviation(mesh, reference) > lod.MaxErrorMm) break;
+      best = trialFactor;
+    }
+    factor = best;
+  }
+  MeshOptions final = options;
+  for (int a = 0; a < 3; ++a) final.GridStep[a] = baseStep[a] * factor;
+  if (!LabelmapToMesh(labelmap, ijkToRAS, label, final, output, stats, error, progress)) return false;
+  if (lod.TargetTriangles > 0 && stats.Triangles > lod.TargetTriangles) {
+    final.DecimationFraction = 1.0 - static_cast<double>(lod.TargetTriangles) / stats.Triangles;
+    if (!LabelmapToMesh(labelmap, ijkToRAS, label, final, output, stats, error, progress)) return false;
+  }
+  if (lod.MaxErrorMm > 0) {
+    const double deviation = MaxDeviation(output, reference);
+    if (deviation > lod.MaxErrorMm) {
+      stats.Warnings.push_back("level of detail deviates " + std::to_string(deviation) + " mm from the full surface (target " +
+                               std::to_string(lod.MaxErrorMm) + " mm)");
+    }
+  }
+  return true;
+}
+
+}  // namespace rp

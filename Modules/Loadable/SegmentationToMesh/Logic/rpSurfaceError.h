@@ -1,0 +1,31 @@
+#pragma once
+// Scores a mesh against a known surface (analytic solid or phantom): mesh → truth distances from
+// a signed distance function at area-weighted triangle samples, truth → mesh distances from
+// points on the true surface, and the mean / RMS / Hausdorff of both.
+#include <array>
+#include <functional>
+#include <vector>
+
+class vtkPolyData;
+
+namespace rp {
+
+using SignedDistanceFunction = std::function<double(const double ras[3])>;
+
+struct SurfaceError {
+  double MeanMm = 0;          // symmetric mean: (mesh→truth + truth→mesh) / 2
+  double MeshToTruthMeanMm = 0;
+  double TruthToMeshMeanMm = 0;
+  double RmsMm = 0;
+  double HausdorffMm = 0;     // max of both directions
+  double SignedMeanMm = 0;    // mesh→truth signed (> 0 = mesh outside the truth)
+};
+
+/// `truthPoints` lie on the true surface. `sdf` may be null: then only truth → mesh is used for
+/// the mean, and the Hausdorff distance of that direction. With `clipBounds` (xmin, xmax, ymin,
+/// ...), mesh samples and truth points outside the box are ignored (e.g. caps where a structure
+/// leaves the field of view).
+SurfaceError CompareToSurface(vtkPolyData* mesh, const SignedDistanceFunction& sdf,
+                              const std::vector<std::array<double, 3>>& truthPoints, const double* clipBounds = nullptr);
+
+}  // namespace rp
