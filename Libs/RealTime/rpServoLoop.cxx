@@ -24,6 +24,19 @@ void SleepUntilNs(int64_t deadline) noexcept {
   while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
   }
 }
+// Sleeps until `deadline - spin`, then busy-waits to the deadline.
+void WaitUntilNs(int64_t deadline, int64_t spin) noexcept {
+  if (spin <= 0) {
+    SleepUntilNs(deadline);
+    return;
+  }
+  SleepUntilNs(deadline - spin);
+  while (NowNs() < deadline) {
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#endif
+  }
+}
 std::atomic<bool> priorityNoteShown{false};
 }  // namespace
 
@@ -38,6 +51,10 @@ bool ServoLoop::Start(ServoTask* task, const Options& options, std::string& erro
   }
   if (task == nullptr) {
     error = "servo loop: no task";
+    return false;
+  }
+  if (!(options.SpinUs >= 0 && options.SpinUs < 1e6 / options.RateHz)) {
+    error = "servo loop: spin " + std::to_string(options.SpinUs) + " us must be >= 0 and shorter than the period";
     return false;
   }
   if (!(options.RateHz >= 1.0 && options.RateHz <= 100000.0)) {
@@ -82,6 +99,7 @@ void ServoLoop::Run(ServoTask* task, Options options) noexcept {
 
   const int64_t period = static_cast<int64_t>(std::llround(1e9 / options.RateHz));
   const int64_t missThreshold = static_cast<int64_t>(options.MissThresholdS * 1e9);
+  const int64_t spin = static_cast<int64_t>(options.SpinUs * 1e3);
   task->ServoStarted();
   const int64_t origin = NowNs() + period;
   int64_t deadline = origin;
@@ -89,7 +107,7 @@ void ServoLoop::Run(ServoTask* task, Options options) noexcept {
   TickInfo info;
   info.Period = static_cast<double>(period) * 1e-9;
   while (!this->StopRequested.load(std::memory_order_acquire)) {
-    SleepUntilNs(deadline);
+    WaitUntilNs(deadline, spin);
     const int64_t start = NowNs();
     info.LatenessNs = start - deadline;
     info.Time = static_cast<double>(deadline - origin) * 1e-9;

@@ -46,6 +46,8 @@ class ServoLoop {
     int Priority = 80;              // SCHED_FIFO priority when permitted
     double MissThresholdS = 0.5e-3; // lateness counted as a missed deadline
     int CpuAffinity = -1;           // pin to this CPU when >= 0
+    double SpinUs = 0;              // sleep until this long before the deadline, then spin:
+                                    // trades CPU for a smaller timer wake-up latency
   };
 
   ServoLoop();

@@ -67,12 +67,17 @@ TEST(ServoLoop, StartsTicksAtRateAndStopsCleanly) {
   EXPECT_NEAR(s.Period.MeanUs, 1000.0, 300.0);
   EXPECT_EQ(task.AllocationsInTicks, 0u);
   EXPECT_FALSE(loop.PriorityNote().empty());
-  // Restartable.
+  // Restartable, here with the sleep-then-spin wait.
   loop.ResetStats();
+  options.SpinUs = 100;
   ASSERT_TRUE(loop.Start(&task, options, error)) << error;
-  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
   loop.Stop();
-  EXPECT_GT(loop.Stats().Ticks, 10u);
+  EXPECT_GT(loop.Stats().Ticks, 50u);
+  EXPECT_NEAR(loop.Stats().Period.MeanUs, 1000.0, 300.0);
+  options.SpinUs = 1000;  // a whole period: refused
+  EXPECT_FALSE(loop.Start(&task, options, error));
+  EXPECT_NE(error.find("spin"), std::string::npos);
 }
 
 TEST(ServoLoop, RejectsBadOptions) {

@@ -4,7 +4,8 @@
 //  * Per-tick compute of the full renderer (god-object, friction, shading, gain limits,
 //    passivity, clamp) on that mesh: distribution (p50/p99/max), 1 and 3 tool points.
 //  * Servo period jitter at 1 kHz for ROBOPLAN_HAPTICS_JITTER_SECONDS (default 60) while a busy
-//    thread loads the other core: period histogram, missed deadlines.
+//    thread loads the other core, sleeping to the deadline and sleeping + 100 µs spin:
+//    period histograms, missed deadlines.
 //  * Stiffness against penetration error and stability: a device (mass, own damping) pushed
 //    with 2 N onto a sampled virtual wall, simulated in continuous time; Colgate margin.
 // Figures (JSON, CSV) and charts (PNG, needs a display: xvfb-run) go to
@@ -264,7 +265,7 @@ nlohmann::json PerTickDistributions(const std::string& out) {
   return doc;
 }
 
-nlohmann::json Jitter(const std::string& out, double seconds) {
+nlohmann::json Jitter(const std::string& out, double seconds, double spinUs) {
   rp::SimulatedDevice device;
   auto path = std::make_shared<rp::WaypointTrajectory>();
   std::vector<double> t;
@@ -293,13 +294,15 @@ nlohmann::json Jitter(const std::string& out, double seconds) {
   rp::ServoLoop loop;
   rp::ServoLoop::Options options;
   options.CpuAffinity = 0;
+  options.SpinUs = spinUs;
   if (!loop.Start(&servo, options, error)) {
     std::cerr << error << "\n";
     stop = true;
     busy.join();
     return {};
   }
-  std::cerr << "[haptics-bench] servo jitter run: " << seconds << " s at 1 kHz (" << loop.PriorityNote() << ")\n";
+  std::cerr << "[haptics-bench] servo jitter run: " << seconds << " s at 1 kHz, spin " << spinUs << " us ("
+            << loop.PriorityNote() << ")\n";
   std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
   loop.Stop();
   stop = true;
@@ -335,12 +338,15 @@ nlohmann::json Jitter(const std::string& out, double seconds) {
   o.XLabel = "period (us)";
   o.YLabel = "ticks";
   o.LogY = true;
-  if (!rp::bench::WriteHistogramPNG(out + "/haptics_period_histogram.png", centers, counts, o, error))
+  o.Title += spinUs > 0 ? " (sleep + " + std::to_string(static_cast<int>(spinUs)) + " us spin)" : " (sleep only)";
+  const std::string png = out + "/haptics_period_histogram" + (spinUs > 0 ? "_spin" : "") + ".png";
+  if (!rp::bench::WriteHistogramPNG(png, centers, counts, o, error))
     std::cerr << "[haptics-bench] chart: " << error << "\n";
   auto stats = [](const rp::TimingStats& t) {
     return nlohmann::json{{"p50Us", t.P50Us}, {"p99Us", t.P99Us}, {"p999Us", t.P999Us}, {"maxUs", t.MaxUs}, {"meanUs", t.MeanUs}};
   };
   return {{"seconds", seconds},
+          {"spinUs", spinUs},
           {"ticks", s.Ticks},
           {"realTimePriority", s.RealTimePriority},
           {"period", stats(s.Period)},
@@ -471,7 +477,10 @@ int main(int argc, char** argv) {
   nlohmann::json doc;
   doc["perTick"] = PerTickDistributions(out);
   doc["stiffnessSweep"] = StiffnessSweep(out);
-  if (seconds > 0) doc["jitter"] = Jitter(out, seconds);
+  if (seconds > 0) {
+    doc["jitter"] = Jitter(out, seconds, 0);
+    doc["jitterSpin"] = Jitter(out, seconds, 100);
+  }
   std::ofstream(out + "/haptics_benchmark.json") << doc.dump(2) << "\n";
   std::cout << doc.dump(2) << "\n";
   benchmark::Shutdown();
