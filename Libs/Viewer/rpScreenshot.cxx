@@ -79,6 +79,11 @@ bool RenderViews(ViewController& controller, const ScreenshotOptions& options, v
 
 bool SaveScreenshot(vtkRPScene* scene, const std::string& pngPath, const ScreenshotOptions& options, std::string& error) {
   ViewController controller(scene);
+  return SaveScreenshot(controller, pngPath, options, error);
+}
+
+bool SaveScreenshot(ViewController& controller, const std::string& pngPath, const ScreenshotOptions& options,
+                    std::string& error) {
   vtkNew<vtkImageData> image;
   if (!RenderViews(controller, options, image, error)) return false;
   return WriteAtomicallyWith(

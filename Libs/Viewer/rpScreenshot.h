@@ -25,5 +25,8 @@ bool GetLayoutViewport(int layout, int viewKind, double viewport[4]);
 bool RenderViews(ViewController& controller, const ScreenshotOptions& options, vtkImageData* image, std::string& error);
 /// Renders the scene (with a fresh controller: slices centred on the first volume) to a PNG.
 bool SaveScreenshot(vtkRPScene* scene, const std::string& pngPath, const ScreenshotOptions& options, std::string& error);
+/// Same with the caller's controller (its view state, e.g. the slice point, is used and kept).
+bool SaveScreenshot(ViewController& controller, const std::string& pngPath, const ScreenshotOptions& options,
+                    std::string& error);
 
 }  // namespace rp

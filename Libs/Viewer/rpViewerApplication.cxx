@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
 
 #include <unistd.h>
@@ -10,13 +11,21 @@
 #include <QSurfaceFormat>
 #include <QVTKOpenGLNativeWidget.h>
 #include <nlohmann/json.hpp>
+#include <vtkNew.h>
+
+#ifdef ROBOPLAN_VIEWER_HAVE_DICOM
+#include "rpDicomSeries.h"
+#include "rpImageVolume.h"
+#endif
 
 #include "rpArgParser.h"
 #include "rpModuleManager.h"
 #include "rpNodeStorage.h"
 #include "rpSceneIO.h"
 #include "rpScreenshot.h"
+#include "rpViewController.h"
 #include "rpViewerMainWindow.h"
+#include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
 #include "vtkRPViewState.h"
 
@@ -24,6 +33,24 @@ namespace rp {
 
 bool LoadSceneOrDataFile(vtkRPScene* scene, const std::string& path, std::string& error,
                          std::vector<std::string>* warnings) {
+  if (std::filesystem::is_directory(path)) {
+#ifdef ROBOPLAN_VIEWER_HAVE_DICOM
+    // A folder is a DICOM series (the only one in it).
+    ImageVolume volume;
+    std::vector<std::string> notes;
+    if (!ReadDicomVolume(path, volume, error, "", {}, &notes)) return false;
+    vtkNew<vtkRPScalarVolumeNode> node;
+    node->SetName(volume.Description.empty() ? std::filesystem::path(path).filename().string() : volume.Description);
+    CopyToNode(volume, node);
+    if (volume.Window <= 0) node->SetWindowLevelFromScalarRange();
+    scene->AddNode(node);
+    if (warnings) warnings->insert(warnings->end(), notes.begin(), notes.end());
+    return true;
+#else
+    error = path + ": is a folder, and this build has no DICOM reader";
+    return false;
+#endif
+  }
   if (HasExtension(path, SceneFileExtension)) {
     SceneLoadReport report = LoadScene(scene, path);
     if (!report.Ok) {
@@ -90,7 +117,7 @@ bool ReexecUnderXvfb(const std::vector<std::string>& arguments) {
 
 int RunScreenshot(CommandContext& context) {
   ArgParser parser("screenshot", "Render a scene headless (offscreen) into one PNG: the views of a layout.");
-  parser.Positional("files", "scene (*.rpscene) or data files to load", true, true)
+  parser.Positional("files", "scene (*.rpscene), data files or DICOM series folders to load", true, true)
       .Option("out", "png", "output PNG file")
       .Option("layout", "name", "4up | 3d | axial | sagittal | coronal", std::string("4up"))
       .Option("size", "WxH", "image size in pixels", std::string("800x800"))
@@ -145,13 +172,23 @@ int RunScreenshot(CommandContext& context) {
     return 1;
   }
   std::string error;
-  if (!SaveScreenshot(scene, parser.Get("out"), options, error)) {
+  ViewController controller(scene);
+  if (!SaveScreenshot(controller, parser.Get("out"), options, error)) {
     std::cerr << "roboplan screenshot: " << error << "\n";
     return 1;
   }
   if (parser.Json()) {
     nlohmann::json doc = {{"out", parser.Get("out")}, {"width", options.Width}, {"height", options.Height},
                           {"layout", vtkRPViewState::GetLayoutAsString(options.Layout)}, {"nodes", scene->GetNumberOfNodes()}};
+    double point[3];
+    controller.GetSlicePointRAS(point);
+    doc["slicePointRAS"] = {point[0], point[1], point[2]};
+    if (vtkRPScalarVolumeNode* background = controller.GetBackgroundVolume()) {
+      double bounds[6];
+      background->GetRASBounds(bounds);
+      doc["background"] = {{"name", background->GetName()}, {"rasBounds", bounds},
+                           {"window", background->GetWindow()}, {"level", background->GetLevel()}};
+    }
     std::cout << doc.dump(2) << "\n";
   } else {
     std::cerr << "wrote " << parser.Get("out") << " (" << options.Width << "x" << options.Height << ", "

@@ -1,7 +1,7 @@
 #pragma once
 // Entry points of the viewer for the `roboplan` executable:
 //  - RunViewer: the Qt main window on the scene, with the files given on the command line loaded;
-//  - ViewerCommands: `roboplan screenshot <scene or data files...> --out <png>
+//  - ViewerCommands: `roboplan screenshot <scene/data files, DICOM folders...> --out <png>
 //    [--layout 4up|3d|axial|sagittal|coronal] [--size WxH] [--slice-point R,A,S]` (headless).
 #include <string>
 #include <vector>
@@ -18,7 +18,7 @@ int RunViewer(int argc, char* argv[], ModuleManager& manager, vtkRPScene* scene,
 
 std::vector<rp::Command> ViewerCommands();
 
-/// Loads a scene file (*.rpscene) or a data file into the scene. Problems that did not stop the
+/// Loads a scene file (*.rpscene), a data file or a DICOM series folder into the scene. Problems that did not stop the
 /// load (e.g. one missing data file of a scene) go to `warnings`. False with `error` on failure.
 bool LoadSceneOrDataFile(vtkRPScene* scene, const std::string& path, std::string& error,
                          std::vector<std::string>* warnings = nullptr);
