@@ -7,6 +7,9 @@
 #include "rpModule.h"
 #include "rpTrackingCommands.h"
 #include "vtkRPTrackingLogic.h"
+#ifdef ROBOPLAN_BUILD_GUI
+#include "qRPTrackingPanel.h"
+#endif
 
 namespace {
 class TrackingModule : public rp::Module {
@@ -18,6 +21,14 @@ class TrackingModule : public rp::Module {
     this->LogicObject->SetScene(scene);
   }
   vtkObject* Logic() override { return this->LogicObject; }
+  QWidget* CreatePanel(QWidget* parent) override {
+#ifdef ROBOPLAN_BUILD_GUI
+    return new qRPTrackingPanel(this->LogicObject, parent);
+#else
+    (void)parent;
+    return nullptr;
+#endif
+  }
   std::vector<rp::Command> Commands() override {
     return {
         {"track", "track tools through --serial <port> (NDI) or --igtl <host:port>; rate, latency, status per tool",
