@@ -1,0 +1,34 @@
+// libFuzzer target: NDI reply framing and the TX, BX and PHSR parsers on arbitrary bytes.
+// Build with -DROBOPLAN_BUILD_FUZZERS=ON and clang; run: rpNdiReplyFuzzer -max_total_time=60
+#include <cstdint>
+#include <cstring>
+#include <memory>
+
+#include "rpNdiProtocol.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  using namespace rp::ndi;
+  size_t offset = 0;
+  // Walk the stream as the driver does: frame, parse, resynchronise on garbage.
+  while (offset < size) {
+    size_t length = 0;
+    const ParseResult framing = FindFrame(data + offset, size - offset, length);
+    if (framing.Code == ParseCode::Incomplete) break;
+    if (!framing.Ok()) {
+      ++offset;
+      continue;
+    }
+    TrackingReply reply;
+    ParseBx(data + offset, length, reply);
+    ParseTx(data + offset, length, reply);
+    const char* payload;
+    size_t payloadLength;
+    if (CheckAsciiReply(data + offset, length, payload, payloadLength).Ok()) {
+      uint8_t handles[MaxHandles];
+      int count;
+      ParsePhsr(payload, payloadLength, handles, MaxHandles, count);
+    }
+    offset += length;
+  }
+  return 0;
+}
