@@ -263,6 +263,14 @@ QWidget* ViewerMainWindow::BuildDataPanel() {
   this->OpacitySlider->setRange(0, 100);
   this->OpacitySlider->setValue(50);
   layout->addWidget(this->OpacitySlider);
+  layout->addWidget(new QLabel("Slices follow the tip of"));
+  this->FollowCombo = new QComboBox(panel);
+  this->FollowCombo->setObjectName("followTransform");
+  this->FollowCombo->setToolTip("Re-slice at a tracked tool's (or any transform's) origin as it moves");
+  layout->addWidget(this->FollowCombo);
+  connect(this->FollowCombo, QOverload<int>::of(&QComboBox::activated), this, [this]() {
+    if (!this->UpdatingPanel) this->Controller->SetFollowTransformNodeID(this->FollowCombo->currentData().toString().toStdString());
+  });
   auto choose = [this](QComboBox* combo, bool background) {
     if (this->UpdatingPanel) return;
     const std::string id = combo->currentData().toString().toStdString();
@@ -313,6 +321,12 @@ void ViewerMainWindow::RefreshVolumeCombos() {
     }
   }
   this->OpacitySlider->setValue(static_cast<int>(state->GetForegroundOpacity() * 100.0 + 0.5));
+  this->FollowCombo->clear();
+  this->FollowCombo->addItem("(nothing)", QString());
+  for (vtkRPNode* node : this->Scene->GetNodesByClass("vtkRPLinearTransformNode")) {
+    this->FollowCombo->addItem(QString::fromStdString(node->GetName()), QString::fromStdString(node->GetID()));
+    if (node->GetID() == this->Controller->GetFollowTransformNodeID()) this->FollowCombo->setCurrentIndex(this->FollowCombo->count() - 1);
+  }
 }
 
 bool ViewerMainWindow::LoadFile(const QString& path, QString* error) {

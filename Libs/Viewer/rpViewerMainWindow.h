@@ -81,6 +81,7 @@ class ViewerMainWindow : public QMainWindow {
   QComboBox* BackgroundCombo = nullptr;
   QComboBox* ForegroundCombo = nullptr;
   QSlider* OpacitySlider = nullptr;
+  QComboBox* FollowCombo = nullptr;
   QMenu* RecentMenu = nullptr;
   QAction* PlaceFiducialAction = nullptr;
   QTimer RenderTimer;

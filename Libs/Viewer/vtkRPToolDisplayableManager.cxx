@@ -47,9 +47,17 @@ double NumberAttribute(vtkRPNode* node, const char* key, double fallback) {
   return values.size() == 1 && std::isfinite(values[0]) && values[0] > 0 ? values[0] : fallback;
 }
 
+// The force shown: "Viewer.Force", else the haptic proxy's own "Force" attribute.
+std::string ForceText(vtkRPNode* node) {
+  return node->HasAttribute("Viewer.Force") ? node->GetAttribute("Viewer.Force") : node->GetAttribute("Force");
+}
+
 std::string GlyphKind(vtkRPNode* node) {
   std::string kind = node->GetAttribute("Viewer.Glyph");
-  if (kind.empty() && vtkRPTrackedToolNode::SafeDownCast(node)) kind = "stylus";
+  if (kind.empty() && vtkRPTrackedToolNode::SafeDownCast(node)) {
+    // A tool node that carries a force is the haptic proxy (god object): a sphere at its centre.
+    kind = node->HasAttribute("Force") ? "sphere" : "stylus";
+  }
   return kind;
 }
 
@@ -205,7 +213,7 @@ void vtkRPToolDisplayableManager::UpdateDisplay(vtkRPNode* node) {
   display.GlyphActor->GetProperty()->SetOpacity(opacity);
 
   // Force arrow from the node's origin, in RAS.
-  std::vector<double> force = ParseNumbers(node->GetAttribute("Viewer.Force"));
+  std::vector<double> force = ParseNumbers(ForceText(node));
   const double magnitude = force.size() == 3 ? std::sqrt(force[0] * force[0] + force[1] * force[1] + force[2] * force[2]) : 0.0;
   if (magnitude > 1e-9 && std::isfinite(magnitude)) {
     const double length = magnitude * NumberAttribute(node, "Viewer.ForceScale", 10.0);

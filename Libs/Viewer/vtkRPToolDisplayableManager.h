@@ -2,14 +2,16 @@
 #define vtkRPToolDisplayableManager_h
 // Tools and other transform nodes with a glyph, drawn in every view (projected in slice views):
 //  - vtkRPTrackedToolNode: a stylus by default (tip at the node's origin, shaft along its +Z),
-//    dimmed when the tracker does not report it OK;
+//    dimmed when the tracker does not report it OK; a sphere when the node has a "Force"
+//    attribute (the Haptics module's HapticProxy node), with that force as an arrow;
 //  - any linear transform node with the attribute "Viewer.Glyph" = stylus | sphere | axes | none.
 // Attributes read (all optional):
 //  "Viewer.Glyph"        glyph kind (above)
 //  "Viewer.GlyphLength"  stylus length / axes length, mm (default 80 / 30)
 //  "Viewer.GlyphRadius"  sphere radius (e.g. the haptic proxy), mm (default 2)
 //  "Viewer.Color"        "r,g,b" in 0..1
-//  "Viewer.Force"        "fx,fy,fz" newtons in RAS: an arrow from the node's origin
+//  "Viewer.Force"        "fx,fy,fz" newtons in RAS: an arrow from the node's origin ("Force" is
+//                        used when this is absent)
 //  "Viewer.ForceScale"   mm of arrow per newton (default 10)
 #include <map>
 #include <memory>

@@ -7,6 +7,7 @@
 #include <vtkActor.h>
 #include <vtkImageActor.h>
 #include <vtkImageData.h>
+#include <vtkMapper.h>
 #include <vtkMatrix4x4.h>
 #include <vtkNew.h>
 #include <vtkPolyData.h>
@@ -295,6 +296,19 @@ TEST(ViewerDisplayableManagers, ToolsAreDrawnAndSlicesFollowTheTip) {
   // A proxy sphere on any transform node through the attribute.
   trackerToRAS->SetAttribute("Viewer.Glyph", "sphere");
   EXPECT_NE(tools->GetGlyphActor(trackerToRAS), nullptr);
+
+  // The Haptics module's proxy: a tool node with a "Force" attribute → sphere + arrow.
+  vtkNew<vtkRPTrackedToolNode> proxy;
+  proxy->SetName("HapticProxy");
+  proxy->SetAttribute("Force", "0,0,-1.5");
+  scene->AddNode(proxy);
+  vtkActor* proxyArrow = tools->GetForceActor(proxy);
+  ASSERT_NE(proxyArrow, nullptr);
+  EXPECT_NEAR(proxyArrow->GetUserMatrix()->GetElement(2, 0), -15.0, 1e-9);  // 1.5 N × 10 mm/N, along −S
+  ASSERT_NE(tools->GetGlyphActor(proxy), nullptr);
+  double proxyBounds[6];
+  tools->GetGlyphActor(proxy)->GetMapper()->GetBounds(proxyBounds);
+  EXPECT_NEAR(proxyBounds[5] - proxyBounds[4], 4.0, 0.1);  // a 2 mm sphere, not an 80 mm stylus
 
   // A tool the tracker lost is drawn faded.
   stylus->SetStatus(vtkRPTrackedToolNode::StatusMissing);

@@ -17,9 +17,11 @@
 #include <vtkPNGWriter.h>
 #include <vtkRenderWindow.h>
 
+#include "rpNodeStorage.h"
 #include "rpScreenshot.h"
 #include "rpView.h"
 #include "rpViewController.h"
+#include "rpViewerApplication.h"
 #include "rpViewerTestScene.h"
 #include "vtkRPModelNode.h"
 #include "vtkRPScalarVolumeNode.h"
@@ -224,4 +226,38 @@ TEST(ViewerScreenshot, FourViewFrameFitsTheDisplayRate) {
   // load 10, pipeline updates ~5 ms of it); a real GPU renders the frame in a few ms.
   EXPECT_LT(ms, 300.0);
   for (int kind = 0; kind < 4; ++kind) controller.GetView(static_cast<ViewKind>(kind))->DetachFromRenderWindow();
+}
+
+// `roboplan screenshot` as the executable runs it: exit 0 with a PNG, 1 on a bad file, 2 on bad
+// arguments.
+TEST(ViewerScreenshot, CommandExitCodes) {
+  std::vector<Command> commands = ViewerCommands();
+  ASSERT_EQ(commands.size(), 1u);
+  EXPECT_EQ(commands[0].Name, "screenshot");
+  const std::string dir = ROBOPLAN_TEST_OUTPUT_DIR;
+  std::filesystem::create_directories(dir);
+  std::string error;
+  ASSERT_TRUE(SaveDataFile(test::MakeVolume(), dir + "/ct.nrrd", error)) << error;
+  auto run = [&](std::vector<std::string> arguments) {
+    vtkNew<vtkRPScene> scene;
+    CommandContext context;
+    context.Arguments = std::move(arguments);
+    context.Scene = scene;
+    return commands[0].Run(context);
+  };
+  const std::string out = dir + "/cli.png";
+  std::filesystem::remove(out);
+  EXPECT_EQ(run({dir + "/ct.nrrd", "--out", out, "--layout", "sagittal", "--size", "96x64"}), 0);
+  vtkNew<vtkPNGReader> reader;
+  reader->SetFileName(out.c_str());
+  reader->Update();
+  int dims[3];
+  reader->GetOutput()->GetDimensions(dims);
+  EXPECT_EQ(dims[0], 96);
+  EXPECT_EQ(dims[1], 64);
+  EXPECT_EQ(run({dir + "/missing.nrrd", "--out", out}), 1);
+  EXPECT_EQ(run({dir + "/ct.nrrd", "--out", out, "--layout", "5up"}), 2);
+  EXPECT_EQ(run({dir + "/ct.nrrd", "--out", out, "--size", "big"}), 2);
+  EXPECT_EQ(run({dir + "/ct.nrrd"}), 2);  // no --out
+  EXPECT_EQ(run({dir + "/ct.nrrd", "--out", out, "--slice-point", "1,2"}), 2);
 }
