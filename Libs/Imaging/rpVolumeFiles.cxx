@@ -1,0 +1,60 @@
+#include "rpVolumeFiles.h"
+
+#include <algorithm>
+#include <filesystem>
+
+#include "rpVolumeIO.h"
+
+namespace rp {
+
+bool IsVolumeFileName(const std::string& path) {
+  std::string lower = path;
+  std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
+  for (const char* ext : {".nrrd", ".nhdr", ".nii", ".nii.gz", ".mha", ".mhd"}) {
+    const std::string e = ext;
+    if (lower.size() > e.size() && lower.compare(lower.size() - e.size(), e.size(), e) == 0) return true;
+  }
+  return false;
+}
+
+bool ReadVolume(const std::string& path, ImageVolume& volume, std::string& error, const VolumeReadOptions& options,
+                std::vector<std::string>* warnings, const ProgressCallback& progress) {
+  if (!IsVolumeFileName(path)) {
+    return ReadDicomVolume(path, volume, error, options.SeriesInstanceUID, options.Dicom, warnings, progress);
+  }
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    error = "no such volume file: " + path;
+    return false;
+  }
+  ImageVolume result;
+  result.Image = vtkSmartPointer<vtkImageData>::New();
+  VolumeFileData data;
+  data.Image = result.Image;
+  data.IJKToRAS = result.IJKToRAS;
+  if (!ReadVolumeFile(path, data, error)) return false;
+  if (result.Empty()) {
+    error = path + ": the volume is empty";
+    return false;
+  }
+  result.Description = std::filesystem::path(path).filename().string();
+  if (progress) progress(1.0, "read");
+  volume = result;
+  return true;
+}
+
+bool WriteVolume(const std::string& path, const ImageVolume& volume, std::string& error, const DicomWriteOptions& dicom,
+                 const ProgressCallback& progress) {
+  if (volume.Empty()) {
+    error = "nothing to write: the volume is empty";
+    return false;
+  }
+  if (IsVolumeFileName(path)) {
+    const bool ok = WriteVolumeFile(path, volume.Image, volume.IJKToRAS, {}, error);
+    if (ok && progress) progress(1.0, "written");
+    return ok;
+  }
+  return WriteDicomSeries(volume, path, dicom, error, nullptr, progress);
+}
+
+}  // namespace rp

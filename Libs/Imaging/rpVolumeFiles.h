@@ -1,0 +1,32 @@
+#pragma once
+// One entry point for volume files of every format RoboPlan reads and writes: DICOM series
+// (a folder, a DICOMDIR or one .dcm file; DCMTK) and NRRD / NIfTI / MetaImage (ITK, through
+// rpVolumeIO). Everything is RAS here; the formats' LPS is converted at their boundary.
+#include <string>
+#include <vector>
+
+#include "rpDicomSeries.h"
+#include "rpDicomWriter.h"
+#include "rpImageVolume.h"
+#include "rpProgress.h"
+
+namespace rp {
+
+/// True for names ITK's volume IO handles (.nrrd .nhdr .nii .nii.gz .mha .mhd).
+bool IsVolumeFileName(const std::string& path);
+
+struct VolumeReadOptions {
+  std::string SeriesInstanceUID;  // DICOM: which series when the folder holds several
+  DicomReadOptions Dicom;
+};
+
+/// Reads a volume; `volume` is only assigned on success.
+bool ReadVolume(const std::string& path, ImageVolume& volume, std::string& error,
+                const VolumeReadOptions& options = {}, std::vector<std::string>* warnings = nullptr,
+                const ProgressCallback& progress = nullptr);
+
+/// Writes a volume: a volume file name → that format; anything else → a DICOM series folder.
+bool WriteVolume(const std::string& path, const ImageVolume& volume, std::string& error,
+                 const DicomWriteOptions& dicom = {}, const ProgressCallback& progress = nullptr);
+
+}  // namespace rp

@@ -1,0 +1,446 @@
+#include "rpVolumesCommands.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+#include <vtkMatrix4x4.h>
+#include <vtkNew.h>
+
+#include "rpArgParser.h"
+#include "rpKneePhantom.h"
+#include "rpProgress.h"
+#include "rpTransformIO.h"
+#include "rpVolumeFiles.h"
+#include "rpVolumeIO.h"
+#include "rpVolumeRegistration.h"
+
+namespace fs = std::filesystem;
+
+namespace rp {
+namespace {
+
+// Parses; returns -1 to continue, or the exit code (help: 0, bad arguments: 2).
+int Parse(ArgParser& parser, const std::vector<std::string>& arguments, std::ostream& out, std::ostream& err,
+          const std::string& name) {
+  if (parser.Parse(arguments)) return -1;
+  if (parser.HelpRequested()) {
+    out << parser.Usage();
+    return 0;
+  }
+  err << "roboplan " << name << ": " << parser.Error() << "\n\n" << parser.Usage();
+  return 2;
+}
+
+std::string Fixed(double v, int digits = 3) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.*f", digits, v);
+  return buffer;
+}
+
+nlohmann::json MatrixJson(const vtkMatrix4x4* m) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (int r = 0; r < 4; ++r) {
+    nlohmann::json row = nlohmann::json::array();
+    for (int c = 0; c < 4; ++c) row.push_back(m->GetElement(r, c));
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+nlohmann::json VolumeJson(const ImageVolume& v) {
+  int dims[3];
+  v.Image->GetDimensions(dims);
+  double spacing[3];
+  v.GetSpacing(spacing);
+  double range[2];
+  v.Image->GetScalarRange(range);
+  return {{"dimensions", {dims[0], dims[1], dims[2]}},
+          {"spacing", {spacing[0], spacing[1], spacing[2]}},
+          {"ijkToRAS", MatrixJson(v.IJKToRAS)},
+          {"scalarType", v.Image->GetScalarTypeAsString()},
+          {"scalarRange", {range[0], range[1]}},
+          {"modality", v.Modality},
+          {"window", v.Window},
+          {"level", v.Level}};
+}
+
+std::string SizeText(const ImageVolume& v) {
+  int dims[3];
+  v.Image->GetDimensions(dims);
+  double spacing[3];
+  v.GetSpacing(spacing);
+  return std::to_string(dims[0]) + "x" + std::to_string(dims[1]) + "x" + std::to_string(dims[2]) + " voxels, " +
+         Fixed(spacing[0]) + " x " + Fixed(spacing[1]) + " x " + Fixed(spacing[2]) + " mm";
+}
+
+// Registration progress lines without the per-iteration metric (one line per percent).
+ProgressCallback Quieter(TerminalProgress& progress) {
+  return [&progress](double f, const std::string& m) { progress.Report(f, m.substr(0, m.find(" MI "))); };
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+int RunDicomCommand(const std::vector<std::string>& arguments, std::ostream& out, std::ostream& err) {
+  ArgParser parser("dicom",
+                   "List the DICOM image series in a folder (searched recursively) or a DICOMDIR: "
+                   "UID, modality, description, size, spacing, and why a series cannot be loaded. "
+                   "Non-DICOM files are skipped and counted; corrupt files are named.");
+  parser.Positional("folder", "folder, DICOMDIR or single DICOM file");
+  if (const int code = Parse(parser, arguments, out, err, "dicom"); code >= 0) return code;
+  TerminalProgress progress("dicom", parser.Json());
+  DicomScanResult scan;
+  std::string error;
+  if (!ScanDicom(parser.Get("folder"), scan, error, progress.Callback())) {
+    err << "roboplan dicom: " << error << "\n";
+    return 1;
+  }
+  if (parser.Json()) {
+    nlohmann::json doc;
+    doc["ok"] = !scan.Series.empty();
+    doc["filesExamined"] = scan.FilesExamined;
+    doc["nonDicomFiles"] = scan.NonDicomFiles;
+    doc["nonImageDicomFiles"] = scan.NonImageDicomFiles;
+    doc["corruptFiles"] = scan.CorruptFiles;
+    doc["series"] = nlohmann::json::array();
+    for (const auto& s : scan.Series) {
+      doc["series"].push_back({{"seriesInstanceUID", s.SeriesInstanceUID},
+                               {"studyInstanceUID", s.StudyInstanceUID},
+                               {"modality", s.Modality},
+                               {"description", s.SeriesDescription},
+                               {"seriesNumber", s.SeriesNumber},
+                               {"patientName", s.PatientName},
+                               {"size", {s.Columns, s.Rows, s.Files.size()}},
+                               {"spacing", {s.PixelSpacing[1], s.PixelSpacing[0], s.SliceSpacing}},
+                               {"transferSyntaxUID", s.TransferSyntaxUID},
+                               {"files", s.Files.size()},
+                               {"loadable", s.Problem.empty()},
+                               {"problem", s.Problem}});
+    }
+    out << doc.dump(2) << "\n";
+  } else {
+    out << scan.Series.size() << " series in " << parser.Get("folder") << " (" << scan.FilesExamined
+        << " files examined, " << scan.NonDicomFiles << " not DICOM, " << scan.NonImageDicomFiles
+        << " DICOM without images, " << scan.CorruptFiles.size() << " corrupt)\n";
+    int index = 1;
+    for (const auto& s : scan.Series) {
+      out << "  " << index++ << ". " << (s.Modality.empty() ? "??" : s.Modality) << "  \""
+          << s.SeriesDescription << "\"  " << s.Columns << "x" << s.Rows << "x" << s.Files.size() << "  "
+          << Fixed(s.PixelSpacing[1]) << " x " << Fixed(s.PixelSpacing[0]) << " x " << Fixed(s.SliceSpacing)
+          << " mm\n     " << s.SeriesInstanceUID << "\n";
+      if (!s.Problem.empty()) out << "     cannot load as is: " << s.Problem << "\n";
+    }
+    for (const auto& c : scan.CorruptFiles) out << "  corrupt: " << c << "\n";
+  }
+  if (scan.Series.empty()) {
+    err << "roboplan dicom: no DICOM image series in " << parser.Get("folder") << "\n";
+    return 1;
+  }
+  return 0;
+}
+
+// ---------------------------------------------------------------------------------------------
+int RunConvertCommand(const std::vector<std::string>& arguments, std::ostream& out, std::ostream& err) {
+  ArgParser parser("convert",
+                   "Convert a volume between DICOM series (folder, DICOMDIR or file), NRRD (.nrrd/.nhdr), "
+                   "NIfTI (.nii/.nii.gz) and MetaImage (.mha/.mhd). An output name without one of those "
+                   "extensions is a folder that receives a DICOM series (CT or MR Image Storage). "
+                   "Geometry (IJK-to-RAS, direction cosines) and voxel values are kept.");
+  parser.Positional("in", "input volume or DICOM folder")
+      .Positional("out", "output volume file, or a folder for a DICOM series")
+      .Option("series", "uid", "DICOM input: the SeriesInstanceUID to convert when there are several")
+      .Option("modality", "CT|MR", "DICOM output: the modality (default: the input's, else CT)")
+      .Flag("resample-irregular",
+            "DICOM input: load a series with a missing slice or uneven spacing by resampling it onto a "
+            "regular grid along the slice normal (refused otherwise)");
+  if (const int code = Parse(parser, arguments, out, err, "convert"); code >= 0) return code;
+  const std::string modality = parser.Get("modality");
+  if (!modality.empty() && modality != "CT" && modality != "MR") {
+    err << "roboplan convert: --modality must be CT or MR\n";
+    return 2;
+  }
+  TerminalProgress progress("convert", parser.Json());
+  VolumeReadOptions readOptions;
+  readOptions.SeriesInstanceUID = parser.Get("series");
+  readOptions.Dicom.ResampleIrregularSpacing = parser.Has("resample-irregular");
+  ImageVolume volume;
+  std::vector<std::string> warnings;
+  std::string error;
+  if (!ReadVolume(parser.Get("in"), volume, error, readOptions, &warnings, progress.Callback())) {
+    err << "roboplan convert: " << error << "\n";
+    return 1;
+  }
+  DicomWriteOptions dicom;
+  dicom.Modality = !modality.empty() ? modality : (volume.Modality == "MR" ? "MR" : "CT");
+  dicom.SeriesDescription = volume.Description;
+  if (!WriteVolume(parser.Get("out"), volume, error, dicom, progress.Callback())) {
+    err << "roboplan convert: " << error << "\n";
+    return 1;
+  }
+  if (parser.Json()) {
+    nlohmann::json doc = VolumeJson(volume);
+    doc["ok"] = true;
+    doc["input"] = parser.Get("in");
+    doc["output"] = parser.Get("out");
+    doc["outputFormat"] = IsVolumeFileName(parser.Get("out")) ? "volume file" : "DICOM series";
+    doc["warnings"] = warnings;
+    out << doc.dump(2) << "\n";
+  } else {
+    for (const auto& w : warnings) err << "roboplan convert: warning: " << w << "\n";
+    out << "wrote " << parser.Get("out") << " (" << SizeText(volume) << ")\n";
+  }
+  return 0;
+}
+
+// ---------------------------------------------------------------------------------------------
+int RunPhantomCommand(const std::vector<std::string>& arguments, std::ostream& out, std::ostream& err) {
+  ArgParser parser("phantom",
+                   "Write the built-in knee phantom: <out>/CT and <out>/MR as DICOM series (the MR is a "
+                   "proton-density-like volume with 1.7 mm slices, in another pose), <out>/labels.nrrd "
+                   "(ground-truth labelmap on the CT grid), <out>/MRToCT-truth.tfm (the true transform "
+                   "that puts the MR onto the CT: ITK LPS 'from parent', as Slicer writes it) and "
+                   "<out>/phantom.json (tissues, labels, HU, the CT-to-MR matrix).");
+  parser.Option("out", "dir", "output folder (created)")
+      .Option("size", "small|full", "small: CT 96x96x64 (tests); full: CT 512x512x300 (benchmarks)", "small")
+      .Option("seed", "n", "noise seed (same seed, same volumes)", "1")
+      .Option("format", "dicom|nrrd", "volume format of CT and MR", "dicom");
+  if (const int code = Parse(parser, arguments, out, err, "phantom"); code >= 0) return code;
+  const std::string dir = parser.Get("out"), size = parser.Get("size"), format = parser.Get("format");
+  if (dir.empty()) {
+    err << "roboplan phantom: --out <dir> is required\n";
+    return 2;
+  }
+  if (size != "small" && size != "full") {
+    err << "roboplan phantom: --size must be small or full, not '" << size << "'\n";
+    return 2;
+  }
+  if (format != "dicom" && format != "nrrd") {
+    err << "roboplan phantom: --format must be dicom or nrrd\n";
+    return 2;
+  }
+  KneePhantomOptions options;
+  options.Size = size == "full" ? KneePhantomSize::Full : KneePhantomSize::Small;
+  try {
+    const long seed = parser.GetInt("seed");
+    if (seed < 0 || seed > 0xffffffffL) throw std::invalid_argument("--seed must be in 0..4294967295");
+    options.Seed = static_cast<uint32_t>(seed);
+  } catch (const std::invalid_argument& e) {
+    err << "roboplan phantom: " << e.what() << "\n";
+    return 2;
+  }
+  TerminalProgress progress("phantom", parser.Json());
+  const auto start = std::chrono::steady_clock::now();
+  KneePhantom phantom;
+  std::string error;
+  if (!GenerateKneePhantom(options, phantom, error, progress.Callback())) {
+    err << "roboplan phantom: " << error << "\n";
+    return 1;
+  }
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (!fs::is_directory(dir)) {
+    err << "roboplan phantom: cannot create " << dir << "\n";
+    return 1;
+  }
+  const fs::path root(dir);
+  const std::string ctPath = (root / (format == "dicom" ? "CT" : "ct.nrrd")).string();
+  const std::string mrPath = (root / (format == "dicom" ? "MR" : "mr.nrrd")).string();
+  DicomWriteOptions ctOptions, mrOptions;
+  ctOptions.Modality = "CT";
+  ctOptions.SeriesDescription = phantom.CT.Description;
+  ctOptions.SeriesNumber = 1;
+  mrOptions.Modality = "MR";
+  mrOptions.SeriesDescription = phantom.MR.Description;
+  mrOptions.SeriesNumber = 2;
+  mrOptions.PatientName = ctOptions.PatientName;
+  mrOptions.PatientID = ctOptions.PatientID;
+  if (format == "dicom") {
+    for (const char* sub : {"CT", "MR"}) fs::remove_all(root / sub, ec);  // no stale slices
+  }
+  if (!WriteVolume(ctPath, phantom.CT, error, ctOptions, progress.Callback()) ||
+      !WriteVolume(mrPath, phantom.MR, error, mrOptions, progress.Callback()) ||
+      !WriteVolumeFile((root / "labels.nrrd").string(), phantom.Labels.Image, phantom.Labels.IJKToRAS, {}, error)) {
+    err << "roboplan phantom: " << error << "\n";
+    return 1;
+  }
+  vtkNew<vtkMatrix4x4> mrToCT;
+  vtkMatrix4x4::Invert(phantom.CTToMR, mrToCT);
+  if (!WriteTransformFile((root / "MRToCT-truth.tfm").string(), mrToCT, error)) {
+    err << "roboplan phantom: " << error << "\n";
+    return 1;
+  }
+  nlohmann::json doc;
+  doc["ok"] = true;
+  doc["size"] = size;
+  doc["seed"] = options.Seed;
+  doc["ct"] = VolumeJson(phantom.CT);
+  doc["ct"]["path"] = ctPath;
+  doc["mr"] = VolumeJson(phantom.MR);
+  doc["mr"]["path"] = mrPath;
+  doc["labels"] = VolumeJson(phantom.Labels);
+  doc["labels"]["path"] = (root / "labels.nrrd").string();
+  doc["ctToMR"] = MatrixJson(phantom.CTToMR);
+  doc["mrToCTTransformFile"] = (root / "MRToCT-truth.tfm").string();
+  doc["tissues"] = nlohmann::json::array();
+  for (const auto& t : KneeTissues())
+    doc["tissues"].push_back({{"label", t.Label},
+                              {"name", t.Name},
+                              {"class", t.Class},
+                              {"ctHU", t.CTHounsfield},
+                              {"mrIntensity", t.MRIntensity},
+                              {"color", t.Color}});
+  doc["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  {
+    std::ofstream file(root / "phantom.json");
+    file << doc.dump(2) << "\n";
+    if (!file) {
+      err << "roboplan phantom: cannot write " << (root / "phantom.json").string() << "\n";
+      return 1;
+    }
+  }
+  if (parser.Json()) {
+    out << doc.dump(2) << "\n";
+  } else {
+    out << "knee phantom (" << size << ") written to " << dir << "\n  CT: " << ctPath << " (" << SizeText(phantom.CT)
+        << ")\n  MR: " << mrPath << " (" << SizeText(phantom.MR) << ")\n  labels: labels.nrrd, truth: MRToCT-truth.tfm, "
+        << "phantom.json\n";
+  }
+  return 0;
+}
+
+// ---------------------------------------------------------------------------------------------
+int RunRegisterVolumesCommand(const std::vector<std::string>& arguments, std::ostream& out, std::ostream& err) {
+  ArgParser parser(
+      "register-volumes",
+      "Rigid registration of a moving volume (e.g. MR) onto a fixed one (e.g. CT) by Mattes mutual "
+      "information (ITK v4, versor rigid, multi-resolution). Writes the transform that puts the moving "
+      "volume onto the fixed one (its 'to parent', MovingToFixed) as an ITK transform file (LPS, 'from "
+      "parent', as Slicer). When the optimizer does not converge the command exits 1 and does not "
+      "write --out.");
+  parser.Positional("fixed", "fixed volume (file or DICOM folder)")
+      .Positional("moving", "moving volume (file or DICOM folder)")
+      .Option("out", "transform", "transform file to write (.tfm, .txt, .h5)")
+      .Option("initial", "transform", "start from this MovingToFixed transform file (default: identity)")
+      .Flag("centre", "start by aligning the volumes' geometric centres (ignored with --initial)")
+      .Option("levels", "f1,f2,...", "shrink factor per resolution level", "4,2,1")
+      .Option("iterations", "n", "maximum iterations per level", "200")
+      .Option("sampling", "fraction", "fraction of fixed voxels sampled by the metric", "0.1")
+      .Option("bins", "n", "histogram bins of the mutual information", "32")
+      .Option("truth", "transform",
+              "a known MovingToFixed transform file (e.g. the phantom's MRToCT-truth.tfm): report the RMS "
+              "difference over the fixed volume's central region");
+  if (const int code = Parse(parser, arguments, out, err, "register-volumes"); code >= 0) return code;
+  const std::string outPath = parser.Get("out");
+  if (outPath.empty()) {
+    err << "roboplan register-volumes: --out <transform> is required\n";
+    return 2;
+  }
+  RigidRegistrationOptions options;
+  try {
+    options.ShrinkFactors.clear();
+    options.SmoothingSigmasMM.clear();
+    for (double f : parser.GetDoubles("levels")) {
+      if (f < 1 || f > 64 || f != std::floor(f)) throw std::invalid_argument("--levels: integers in 1..64");
+      options.ShrinkFactors.push_back(static_cast<unsigned>(f));
+    }
+    const long iterations = parser.GetInt("iterations"), bins = parser.GetInt("bins");
+    if (iterations < 1 || iterations > 100000) throw std::invalid_argument("--iterations must be in 1..100000");
+    if (bins < 5 || bins > 1024) throw std::invalid_argument("--bins must be in 5..1024");
+    options.MaxIterationsPerLevel = static_cast<unsigned>(iterations);
+    options.HistogramBins = static_cast<unsigned>(bins);
+    options.SamplingFraction = parser.GetDouble("sampling");
+    if (!(options.SamplingFraction > 0 && options.SamplingFraction <= 1))
+      throw std::invalid_argument("--sampling must be in (0, 1]");
+  } catch (const std::invalid_argument& e) {
+    err << "roboplan register-volumes: " << e.what() << "\n";
+    return 2;
+  }
+  if (options.ShrinkFactors.empty()) {
+    err << "roboplan register-volumes: --levels needs at least one level\n";
+    return 2;
+  }
+  TerminalProgress progress("register", parser.Json());
+  ImageVolume fixed, moving;
+  std::string error;
+  if (!ReadVolume(parser.Get("fixed"), fixed, error) || !ReadVolume(parser.Get("moving"), moving, error)) {
+    err << "roboplan register-volumes: " << error << "\n";
+    return 1;
+  }
+  double fixedSpacing[3];
+  fixed.GetSpacing(fixedSpacing);
+  for (unsigned f : options.ShrinkFactors)
+    options.SmoothingSigmasMM.push_back(f > 1 ? 0.5 * f * std::max({fixedSpacing[0], fixedSpacing[1], fixedSpacing[2]}) : 0.0);
+  options.MinimumStepMM = 0.02;
+  if (parser.Has("initial")) {
+    vtkNew<vtkMatrix4x4> movingToFixed;
+    if (!ReadTransformFile(parser.Get("initial"), movingToFixed, error)) {
+      err << "roboplan register-volumes: " << error << "\n";
+      return 1;
+    }
+    options.InitialFixedToMoving = vtkSmartPointer<vtkMatrix4x4>::New();
+    vtkMatrix4x4::Invert(movingToFixed, options.InitialFixedToMoving);
+  } else {
+    options.InitializeByGeometryCentres = parser.Has("centre");
+  }
+  vtkNew<vtkMatrix4x4> truth;
+  const bool haveTruth = parser.Has("truth");
+  if (haveTruth && !ReadTransformFile(parser.Get("truth"), truth, error)) {
+    err << "roboplan register-volumes: " << error << "\n";
+    return 1;
+  }
+  RigidRegistrationResult result;
+  if (!RegisterVolumesRigid(fixed, moving, options, result, error, Quieter(progress))) {
+    err << "roboplan register-volumes: " << error << "\n";
+    return 1;
+  }
+  // Error against the truth: RMS over a 5x5x5 grid spanning the central half of the fixed volume.
+  double truthRMS = -1.0;
+  if (haveTruth) {
+    int dims[3];
+    fixed.Image->GetDimensions(dims);
+    std::vector<std::array<double, 3>> points;
+    for (int a = 0; a < 5; ++a)
+      for (int b = 0; b < 5; ++b)
+        for (int c = 0; c < 5; ++c) {
+          const double ijk[3] = {(0.25 + 0.125 * a) * (dims[0] - 1), (0.25 + 0.125 * b) * (dims[1] - 1),
+                                 (0.25 + 0.125 * c) * (dims[2] - 1)};
+          std::array<double, 3> ras;
+          fixed.IndexToRAS(ijk, ras.data());
+          points.push_back(ras);
+        }
+    truthRMS = TransformRMSDifference(result.MovingToFixed, truth, points);
+  }
+  bool written = false;
+  if (result.Converged) {
+    written = WriteTransformFile(outPath, result.MovingToFixed, error);
+    if (!written) err << "roboplan register-volumes: " << error << "\n";
+  } else {
+    err << "roboplan register-volumes: did not converge (" << result.StopReason << "); " << outPath
+        << " not written\n";
+  }
+  if (parser.Json()) {
+    nlohmann::json doc;
+    doc["ok"] = result.Converged && written;
+    doc["converged"] = result.Converged;
+    doc["stopReason"] = result.StopReason;
+    doc["finalMetric"] = result.FinalMetric;
+    doc["iterations"] = result.Iterations;
+    doc["seconds"] = result.Seconds;
+    doc["movingToFixed"] = MatrixJson(result.MovingToFixed);
+    doc["output"] = written ? nlohmann::json(outPath) : nlohmann::json();
+    if (haveTruth) doc["rmsToTruthMM"] = truthRMS;
+    out << doc.dump(2) << "\n";
+  } else if (result.Converged) {
+    out << "converged in " << result.Iterations << " iterations, " << Fixed(result.Seconds, 2) << " s, MI "
+        << Fixed(result.FinalMetric, 4) << (written ? "; wrote " + outPath : std::string()) << "\n";
+    if (haveTruth) out << "RMS difference to the truth (central region of the fixed volume): " << Fixed(truthRMS) << " mm\n";
+  }
+  return result.Converged && written ? 0 : 1;
+}
+
+}  // namespace rp
