@@ -123,7 +123,8 @@ int RunHaptics(rp::CommandContext& context) {
       .Option("materials", "file.json", "tissue material table (default: Resources/Materials/materials.json)")
       .Option("tool-points", "n", "points along the shaft (tip + n-1 every 10 mm)", "1")
       .Option("log", "file.csv", "write the session log (time, HIP, proxy, force, tissue, tick time)")
-      .Option("rate", "Hz", "servo rate", "1000");
+      .Option("rate", "Hz", "servo rate", "1000")
+      .Option("spin", "us", "busy-wait this long before each deadline (smaller jitter, more CPU)", "100");
   if (!parser.Parse(context.Arguments)) {
     if (parser.HelpRequested()) {
       std::cout << parser.Usage();
@@ -132,11 +133,12 @@ int RunHaptics(rp::CommandContext& context) {
     std::cerr << "roboplan haptics: " << parser.Error() << "\n\n" << parser.Usage();
     return 2;
   }
-  double seconds = -1, rate = 1000;
+  double seconds = -1, rate = 1000, spin = 100;
   long toolPoints = 1;
   try {
     if (parser.Has("seconds")) seconds = parser.GetDouble("seconds");
     rate = parser.GetDouble("rate");
+    spin = parser.GetDouble("spin");
     toolPoints = parser.GetInt("tool-points");
   } catch (const std::exception& e) {
     std::cerr << "roboplan haptics: " << e.what() << "\n";
@@ -228,6 +230,7 @@ int RunHaptics(rp::CommandContext& context) {
   }
   options.LogPath = parser.Get("log");
   options.Loop.RateHz = rate;
+  options.Loop.SpinUs = spin;
   options.RampSeconds = 0.2;
   // Statistics from every tick's record, gathered on the log writer thread.
   struct ForceStats {
