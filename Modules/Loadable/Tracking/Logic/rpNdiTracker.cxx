@@ -51,6 +51,7 @@ NdiTracker::Statistics NdiTracker::GetStatistics() const {
   s.MalformedReplies = this->Malformed;
   s.Connections = this->Connections;
   s.Resets = this->Resets;
+  s.LateReplies = this->LateReplies;
   s.ThreadCpuSeconds = this->CpuSeconds;
   return s;
 }
@@ -123,6 +124,7 @@ int NdiTracker::ReadFrame(int timeoutMs) {
     this->FrameLength = 0;
   }
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeoutMs);
+  bool triedRead = false;
   for (;;) {
     size_t length = 0;
     const ndi::ParseResult r = ndi::FindFrame(this->Rx, this->RxLength, length);
@@ -138,8 +140,12 @@ int NdiTracker::ReadFrame(int timeoutMs) {
       ++this->Malformed;
       continue;
     }
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now()).count();
-    if (left <= 0) return 1;
+    auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now()).count();
+    if (left <= 0) {
+      if (triedRead) return 1;
+      left = 0;  // still look once at what is already there
+    }
+    triedRead = true;
     const long n = this->Transport->Read(this->Rx + this->RxLength, sizeof this->Rx - this->RxLength, static_cast<int>(left));
     if (n < 0) return -1;
     this->RxLength += static_cast<size_t>(n);
@@ -336,6 +342,56 @@ bool NdiTracker::Configure() {
   return true;
 }
 
+bool NdiTracker::ProcessTrackingFrame(uint32_t& lastFrame) {
+  const ndi::ParseResult r = this->Opts.Binary ? ndi::ParseBx(this->Rx, this->FrameLength, this->Reply)
+                                               : ndi::ParseTx(this->Rx, this->FrameLength, this->Reply);
+  if (r.Code == ndi::ParseCode::BadCrc) {
+    ++this->CrcErrors;
+    return true;
+  }
+  if (r.Code == ndi::ParseCode::DeviceError) {
+    ++this->DeviceErrors;
+    if (r.DeviceError == 0x0C || r.DeviceError == 0x10) {  // reset under us: set up again
+      this->Fail("tracker left tracking mode (ERROR" + std::to_string(r.DeviceError) + "), reconfiguring");
+      return false;
+    }
+    return true;
+  }
+  if (!r.Ok()) {
+    ++this->Malformed;
+    return true;
+  }
+  ++this->Frames;
+  const double now = SteadySeconds();
+  uint32_t frame = 0;
+  for (int i = 0; i < this->Reply.Count; ++i) frame = std::max(frame, this->Reply.Handles[i].Frame);
+  if (frame != 0 && lastFrame != 0 && frame > lastFrame + 1) this->FrameGaps += frame - lastFrame - 1;
+  if (frame != 0 && frame <= lastFrame) return true;  // polled faster than the camera: nothing new
+  if (frame != 0) lastFrame = frame;
+  for (int i = 0; i < this->Reply.Count; ++i) {
+    const ndi::HandleReport& h = this->Reply.Handles[i];
+    const int slot = this->HandleSlot[h.Handle];
+    if (slot < 0) continue;
+    ToolPose pose;
+    pose.Timestamp = now;
+    pose.ReceiveTime = now;
+    pose.Frame = h.Frame;
+    pose.PortStatus = h.PortStatus;
+    switch (h.State) {
+      case ndi::HandleState::Valid: pose.State = h.OutOfVolume() ? ToolState::OutOfVolume : ToolState::OK; break;
+      case ndi::HandleState::Missing: pose.State = ToolState::Missing; break;
+      default: pose.State = ToolState::Disabled; break;
+    }
+    if (h.State == ndi::HandleState::Valid) {
+      std::copy(h.Quaternion, h.Quaternion + 4, pose.Quaternion);
+      std::copy(h.Translation, h.Translation + 3, pose.Translation);
+      pose.Error = h.Error;
+    }
+    this->Table.Publish(slot, pose);
+  }
+  return true;
+}
+
 void NdiTracker::TrackLoop() {
   char command[32];
   const size_t length = this->Opts.Binary ? ndi::FormatCommand(command, sizeof command, "BX", "0801")
@@ -347,7 +403,14 @@ void NdiTracker::TrackLoop() {
   uint32_t lastFrame = 0;
   uint64_t polls = 0;
   while (!this->StopRequested) {
-    if (!this->Transport->Write(command, length)) {
+    // Replies that came late (a slow device, after we timed out) are still good data: take them
+    // now, so that the reply read next belongs to the poll sent next.
+    int pending;
+    while ((pending = this->ReadFrame(0)) == 0) {
+      ++this->LateReplies;
+      if (!this->ProcessTrackingFrame(lastFrame)) return;
+    }
+    if (pending < 0 || !this->Transport->Write(command, length)) {
       this->Fail("tracker unplugged: " + this->Transport->LastError());
       return;
     }
@@ -357,56 +420,14 @@ void NdiTracker::TrackLoop() {
       return;
     }
     if (read == 1) {
-      ++this->Timeouts;
-      this->RxLength = 0;
+      ++this->Timeouts;  // keep any partial reply: its rest may still come
       if (++consecutiveTimeouts >= this->Opts.MaxConsecutiveTimeouts) {
         this->Fail("tracker stopped answering (" + std::to_string(consecutiveTimeouts) + " timeouts)");
         return;
       }
     } else {
       consecutiveTimeouts = 0;
-      const ndi::ParseResult r = this->Opts.Binary ? ndi::ParseBx(this->Rx, this->FrameLength, this->Reply)
-                                                   : ndi::ParseTx(this->Rx, this->FrameLength, this->Reply);
-      if (r.Code == ndi::ParseCode::BadCrc) {
-        ++this->CrcErrors;
-      } else if (r.Code == ndi::ParseCode::DeviceError) {
-        ++this->DeviceErrors;
-        if (r.DeviceError == 0x0C || r.DeviceError == 0x10) {  // reset under us: set up again
-          this->Fail("tracker left tracking mode (ERROR" + std::to_string(r.DeviceError) + "), reconfiguring");
-          return;
-        }
-      } else if (!r.Ok()) {
-        ++this->Malformed;
-      } else {
-        ++this->Frames;
-        const double now = SteadySeconds();
-        uint32_t frame = 0;
-        for (int i = 0; i < this->Reply.Count; ++i) frame = std::max(frame, this->Reply.Handles[i].Frame);
-        if (frame != 0 && lastFrame != 0 && frame > lastFrame + 1) this->FrameGaps += frame - lastFrame - 1;
-        const bool repeated = frame != 0 && frame == lastFrame;  // polled faster than the camera
-        if (frame != 0) lastFrame = frame;
-        for (int i = 0; i < this->Reply.Count && !repeated; ++i) {
-          const ndi::HandleReport& h = this->Reply.Handles[i];
-          const int slot = this->HandleSlot[h.Handle];
-          if (slot < 0) continue;
-          ToolPose pose;
-          pose.Timestamp = now;
-          pose.ReceiveTime = now;
-          pose.Frame = h.Frame;
-          pose.PortStatus = h.PortStatus;
-          switch (h.State) {
-            case ndi::HandleState::Valid: pose.State = h.OutOfVolume() ? ToolState::OutOfVolume : ToolState::OK; break;
-            case ndi::HandleState::Missing: pose.State = ToolState::Missing; break;
-            default: pose.State = ToolState::Disabled; break;
-          }
-          if (h.State == ndi::HandleState::Valid) {
-            std::copy(h.Quaternion, h.Quaternion + 4, pose.Quaternion);
-            std::copy(h.Translation, h.Translation + 3, pose.Translation);
-            pose.Error = h.Error;
-          }
-          this->Table.Publish(slot, pose);
-        }
-      }
+      if (!this->ProcessTrackingFrame(lastFrame)) return;
     }
     if (++polls % 32 == 0) this->UpdateCpu();
     next += period;

@@ -55,6 +55,7 @@ class NdiTracker {
     uint64_t MalformedReplies = 0;
     uint64_t Connections = 0;     // successful set-ups (1 + reconnects)
     uint64_t Resets = 0;          // break or RESET used
+    uint64_t LateReplies = 0;     // replies that arrived after their poll timed out (still used)
     double ThreadCpuSeconds = 0;  // CPU time of the I/O thread
   };
 
@@ -78,6 +79,8 @@ class NdiTracker {
   bool Connect();
   bool Configure();
   void TrackLoop();
+  /// Parses the frame in Rx and publishes its poses. False: the device must be set up again.
+  bool ProcessTrackingFrame(uint32_t& lastFrame);
   void Shutdown();
   bool Reset();
   /// Sends a command and waits for its ASCII reply. Retries on timeout/CRC error (retries>0).
@@ -99,7 +102,7 @@ class NdiTracker {
 
   // statistics (written by the I/O thread)
   std::atomic<uint64_t> Frames{0}, CrcErrors{0}, Timeouts{0}, FrameGaps{0}, DeviceErrors{0}, Malformed{0},
-      Connections{0}, Resets{0};
+      Connections{0}, Resets{0}, LateReplies{0};
   std::atomic<double> CpuSeconds{0};
   mutable std::mutex TextMutex;  // error and version text (error path only)
   std::string ErrorText, Version;

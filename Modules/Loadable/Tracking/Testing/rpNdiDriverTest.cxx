@@ -238,3 +238,36 @@ TEST(NdiDriver, BadRomAndBadPortGiveClearErrors) {
   EXPECT_NE(absent.LastError().find("cannot open"), std::string::npos) << absent.LastError();
   absent.Stop();
 }
+
+TEST(NdiDriver, SlowRepliesAreWaitedForOrTakenLate) {
+  Rig rig("slow");
+  ASSERT_TRUE(rig.Started);
+  rig.StartTracker();
+  ASSERT_TRUE(rig.WaitTracking()) << rig.Tracker->LastError();
+  const auto before = rig.Tracker->GetStatistics();
+  // Slower than usual but inside the 100 ms reply timeout: no timeouts, fewer replies.
+  rig.Sim->SetReplyDelay(40);
+  std::this_thread::sleep_for(std::chrono::milliseconds(400));
+  const auto slow = rig.Tracker->GetStatistics();
+  EXPECT_EQ(slow.Timeouts, before.Timeouts);
+  EXPECT_GT(slow.Frames, before.Frames + 4);
+  // Slower than the timeout: polls time out and pile up in the device; once it is fast again
+  // the backlog of late replies is taken (still valid data) before the next poll.
+  rig.Sim->SetReplyDelay(130);
+  std::this_thread::sleep_for(std::chrono::milliseconds(700));
+  rig.Sim->SetReplyDelay(0);
+  EXPECT_TRUE(WaitFor([&] { return rig.Tracker->GetStatistics().LateReplies >= 1; }, 3));
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  const auto after = rig.Tracker->GetStatistics();
+  EXPECT_GT(after.Timeouts, slow.Timeouts);
+  EXPECT_EQ(after.Connections, 1u);  // never lost the device
+  EXPECT_EQ(rig.Tracker->GetState(), NdiTracker::State::Tracking);
+  // Back in step: one reply per poll, the newest pose is at most a frame or two old.
+  uint64_t n0 = 0, n1 = 0;
+  const uint32_t f0 = rig.Newest("Stylus", &n0).Frame;
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  const uint32_t f1 = rig.Newest("Stylus", &n1).Frame;
+  EXPECT_NEAR(static_cast<double>(f1 - f0), 30.0, 6.0);
+  EXPECT_NEAR(static_cast<double>(n1 - n0), 30.0, 6.0);
+  EXPECT_EQ(rig.Tracker->GetStatistics().LateReplies, after.LateReplies);  // no more late ones
+}
