@@ -148,6 +148,10 @@ int RunHaptics(rp::CommandContext& context) {
     std::cerr << "roboplan haptics: --seconds must be in (0, 3600]\n";
     return 2;
   }
+  if (!(rate >= 1 && rate <= 100000) || !(spin >= 0 && spin < 1e6 / rate)) {
+    std::cerr << "roboplan haptics: --rate must be in [1, 100000] Hz and --spin in [0, period)\n";
+    return 2;
+  }
   if (toolPoints < 1 || toolPoints > rp::MaxToolPoints) {
     std::cerr << "roboplan haptics: --tool-points must be 1.." << rp::MaxToolPoints << "\n";
     return 2;
