@@ -4,7 +4,11 @@
 #include <cmath>
 #include <cstdio>
 
+#include <numeric>
+
 #include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+#include <Eigen/LU>
 #include <Eigen/SVD>
 
 namespace rp {
@@ -23,7 +27,8 @@ bool AllFinite(const PointList& points) {
   return true;
 }
 
-// First pair of points closer than `fraction` of the set's RMS radius, or {-1,-1}.
+// First pair of points closer than `fraction` of the set's RMS radius, or {-1,-1}. Sorted by
+// x and swept, so it stays cheap for large sets.
 std::pair<int, int> FindCoincident(const PointList& points, double fraction) {
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   for (const auto& p : points) centroid += p;
@@ -31,11 +36,23 @@ std::pair<int, int> FindCoincident(const PointList& points, double fraction) {
   double meanSquare = 0;
   for (const auto& p : points) meanSquare += (p - centroid).squaredNorm();
   meanSquare /= static_cast<double>(points.size());
-  const double limit2 = fraction * fraction * meanSquare;
-  for (size_t i = 0; i < points.size(); ++i)
-    for (size_t j = i + 1; j < points.size(); ++j)
-      if ((points[i] - points[j]).squaredNorm() <= limit2) return {static_cast<int>(i), static_cast<int>(j)};
-  return {-1, -1};
+  const double limit = fraction * std::sqrt(meanSquare);
+  std::vector<int> order(points.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return points[static_cast<size_t>(a)].x() < points[static_cast<size_t>(b)].x(); });
+  std::pair<int, int> found{-1, -1};
+  for (size_t i = 0; i < order.size(); ++i) {
+    const Eigen::Vector3d& p = points[static_cast<size_t>(order[i])];
+    for (size_t j = i + 1; j < order.size(); ++j) {
+      const Eigen::Vector3d& q = points[static_cast<size_t>(order[j])];
+      if (q.x() - p.x() > limit) break;
+      if ((p - q).norm() <= limit) {
+        const std::pair<int, int> pair{std::min(order[i], order[j]), std::max(order[i], order[j])};
+        if (found.first < 0 || pair < found) found = pair;  // report the lowest indices
+      }
+    }
+  }
+  return found;
 }
 
 }  // namespace
@@ -67,8 +84,119 @@ SimilarityTransform SimilarityTransform::Compose(const SimilarityTransform& othe
   return result;
 }
 
+namespace {
+
+// One pass over the pairs, relative to the first pair (so coordinates far from the origin,
+// as a tracker's ~1 m, lose nothing to cancellation): weighted centroids, the cross-covariance
+// M = Σ w (p − p̄)(q − q̄)ᵀ and the spreads Σ w |p − p̄|², Σ w |q − q̄|².
+template <bool Weighted>
+bool AccumulateT(const Eigen::Vector3d* from, const Eigen::Vector3d* to, const double* weights, size_t n,
+                 Eigen::Vector3d& fromCentroid, Eigen::Vector3d& toCentroid, Eigen::Matrix3d& m, double& fromSpread,
+                 double& toSpread) {
+  if (n == 0) return false;
+  const Eigen::Vector3d p0 = from[0], q0 = to[0];
+  double total = 0;
+  Eigen::Vector3d sa = Eigen::Vector3d::Zero(), sb = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d sab = Eigen::Matrix3d::Zero();
+  double saa = 0, sbb = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const double w = Weighted ? weights[i] : 1.0;
+    const Eigen::Vector3d a = from[i] - p0, b = to[i] - q0;
+    const Eigen::Vector3d wa = w * a;
+    total += w;
+    sa += wa;
+    sb += w * b;
+    sab.noalias() += wa * b.transpose();
+    saa += wa.dot(a);
+    sbb += w * b.squaredNorm();
+  }
+  if (!(total > 0)) return false;
+  const Eigen::Vector3d ca = sa / total, cb = sb / total;
+  m = sab - total * ca * cb.transpose();
+  fromSpread = saa - total * ca.squaredNorm();
+  toSpread = sbb - total * cb.squaredNorm();
+  fromCentroid = p0 + ca;
+  toCentroid = q0 + cb;
+  return fromSpread > 0;
+}
+
+bool Accumulate(const Eigen::Vector3d* from, const Eigen::Vector3d* to, const double* weights, size_t n,
+                Eigen::Vector3d& fromCentroid, Eigen::Vector3d& toCentroid, Eigen::Matrix3d& m, double& fromSpread,
+                double& toSpread) {
+  return weights ? AccumulateT<true>(from, to, weights, n, fromCentroid, toCentroid, m, fromSpread, toSpread)
+                 : AccumulateT<false>(from, to, weights, n, fromCentroid, toCentroid, m, fromSpread, toSpread);
+}
+
+double Det3(double a, double b, double c, double d, double e, double f, double g, double h, double i) {
+  return a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g);
+}
+
+}  // namespace
+
 bool SolvePairedPoints(const Eigen::Vector3d* from, const Eigen::Vector3d* to, const double* weights, size_t n,
                        RegistrationMode mode, SimilarityTransform& result) {
+  Eigen::Vector3d fromCentroid, toCentroid;
+  Eigen::Matrix3d m;
+  double fromSpread, toSpread;
+  if (!Accumulate(from, to, weights, n, fromCentroid, toCentroid, m, fromSpread, toSpread)) return false;
+  const double sxx = m(0, 0), sxy = m(0, 1), sxz = m(0, 2), syx = m(1, 0), syy = m(1, 1), syz = m(1, 2),
+               szx = m(2, 0), szy = m(2, 1), szz = m(2, 2);
+  // Horn's key matrix: its top eigenvector is the quaternion of the best rotation p → q.
+  Eigen::Matrix4d k;
+  k << sxx + syy + szz, syz - szy, szx - sxz, sxy - syx,  //
+      syz - szy, sxx - syy - szz, sxy + syx, szx + sxz,   //
+      szx - sxz, sxy + syx, -sxx + syy - szz, syz + szy,  //
+      sxy - syx, szx + sxz, syz + szy, -sxx - syy + szz;
+  // Characteristic polynomial λ⁴ + c2 λ² + c1 λ + c0 (K is traceless); Newton from the upper
+  // bound (|p|² + |q|²)/2 descends monotonically onto the largest root.
+  const double c2 = -2.0 * m.squaredNorm();
+  const double c1 = -8.0 * m.determinant();
+  const double c0 = k.determinant();
+  double lambda = 0.5 * (fromSpread + toSpread);
+  for (int iteration = 0; iteration < 50; ++iteration) {
+    const double l2 = lambda * lambda;
+    const double p = (l2 + c2) * l2 + c1 * lambda + c0;
+    const double dp = 2.0 * (2.0 * l2 + c2) * lambda + c1;
+    if (dp == 0) break;
+    const double step = p / dp;
+    lambda -= step;
+    if (std::abs(step) <= 1e-15 * std::abs(lambda)) break;
+  }
+  // The quaternion spans the null space of A = K − λI: the column of adj(A) with the largest
+  // diagonal cofactor (the most accurate one; adj(A) ∝ v·vᵀ).
+  const Eigen::Matrix4d a = k - lambda * Eigen::Matrix4d::Identity();
+  static constexpr int kOthers[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
+  auto minor = [&a](int row, int col) {
+    const int* r = kOthers[row];
+    const int* c = kOthers[col];
+    return Det3(a(r[0], c[0]), a(r[0], c[1]), a(r[0], c[2]), a(r[1], c[0]), a(r[1], c[1]), a(r[1], c[2]),
+                a(r[2], c[0]), a(r[2], c[1]), a(r[2], c[2]));
+  };
+  int best = 0;
+  double bestCofactor = -1;
+  for (int j = 0; j < 4; ++j) {
+    const double cofactor = std::abs(minor(j, j));
+    if (cofactor > bestCofactor) {
+      bestCofactor = cofactor;
+      best = j;
+    }
+  }
+  Eigen::Vector4d v;
+  for (int i = 0; i < 4; ++i) v[i] = ((i + best) % 2 ? -1.0 : 1.0) * minor(best, i);
+  const double norm = v.norm();
+  if (!(norm > 0) || !std::isfinite(norm)) {
+    // Every cofactor vanished: only for degenerate (collinear) sets. Fall back to the SVD.
+    return SolvePairedPointsSVD(from, to, weights, n, mode, result);
+  }
+  v /= norm;
+  result.Rotation = Eigen::Quaterniond(v[0], v[1], v[2], v[3]).toRotationMatrix();
+  result.Scale = mode == RegistrationMode::Similarity ? lambda / fromSpread : 1.0;
+  result.Translation = toCentroid - result.Scale * (result.Rotation * fromCentroid);
+  return true;
+}
+
+bool SolvePairedPointsSVD(const Eigen::Vector3d* from, const Eigen::Vector3d* to, const double* weights, size_t n,
+                          RegistrationMode mode, SimilarityTransform& result) {
   double totalWeight = 0;
   Eigen::Vector3d fromCentroid = Eigen::Vector3d::Zero(), toCentroid = Eigen::Vector3d::Zero();
   for (size_t i = 0; i < n; ++i) {
@@ -109,7 +237,8 @@ Eigen::Vector3d CentredSingularValues(const PointList& points) {
   centroid /= static_cast<double>(points.size());
   Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
   for (const auto& p : points) scatter.noalias() += (p - centroid) * (p - centroid).transpose();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(scatter, Eigen::EigenvaluesOnly);
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen;
+  eigen.computeDirect(scatter, Eigen::EigenvaluesOnly);  // closed form: enough for a ratio test
   Eigen::Vector3d s = eigen.eigenvalues().cwiseMax(0.0).cwiseSqrt();  // ascending
   return Eigen::Vector3d(s[2], s[1], s[0]);
 }

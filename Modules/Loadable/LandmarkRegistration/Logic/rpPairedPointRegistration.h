@@ -1,8 +1,9 @@
 #pragma once
 // Paired-point registration (seed eq. 7): the rigid (or similarity) transform that maps "from"
 // points (e.g. landmarks digitized with a tracked stylus) onto "to" points (the same landmarks
-// picked in the image), by least squares (Horn 1987 / Umeyama 1991, SVD with the determinant
-// correction, so the result is always a proper rotation, never a reflection). Double precision,
+// picked in the image), by least squares (Horn 1987's unit quaternion, so the result is always a
+// proper rotation, never a reflection; equal to Umeyama 1991's SVD with the determinant
+// correction). Double precision,
 // optional per-pair weights. Degenerate inputs are refused with a message that says what to fix.
 #include <limits>
 #include <string>
@@ -59,8 +60,17 @@ PairedPointResult RegisterPairedPoints(const PointList& from, const PointList& t
 
 /// The solver alone, without validation (for leave-one-out, ICP and benchmarks): n pairs,
 /// weights may be null. Returns false only when the weighted spread of `from` is zero.
+/// Horn's quaternion formulation solved as in QCP (Theobald 2005): the largest eigenvalue of
+/// the 4x4 key matrix by Newton's method on its characteristic polynomial, the quaternion from
+/// the adjugate of (K − λI). A unit quaternion is always a proper rotation, and the largest
+/// eigenvalue is σ1 + σ2 + sign(det)·σ3, exactly Umeyama's reflection-corrected optimum.
 bool SolvePairedPoints(const Eigen::Vector3d* from, const Eigen::Vector3d* to, const double* weights, size_t n,
                        RegistrationMode mode, SimilarityTransform& result);
+
+/// The textbook solver (Arun/Umeyama: 3x3 SVD with the determinant correction), kept as the
+/// reference the fast one is tested against.
+bool SolvePairedPointsSVD(const Eigen::Vector3d* from, const Eigen::Vector3d* to, const double* weights, size_t n,
+                          RegistrationMode mode, SimilarityTransform& result);
 
 /// Singular values (descending) of the centred points, i.e. the RMS spreads along the principal
 /// axes times sqrt(n).

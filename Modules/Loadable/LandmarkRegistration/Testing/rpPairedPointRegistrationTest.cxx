@@ -79,6 +79,40 @@ TEST(PairedPoint, ExactRecoveryOfRandomRigidAndSimilarityTransforms) {
   }
 }
 
+TEST(PairedPoint, QuaternionSolverMatchesTheSVDReference) {
+  // Noisy, mirrored, planar and weighted problems: the fast solver gives Umeyama's answer.
+  std::mt19937 rng(11);
+  std::normal_distribution<double> noise(0, 2.0);
+  std::uniform_real_distribution<double> weight(0.1, 3.0);
+  double worstAngle = 0, worstShift = 0, worstScale = 0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    const int n = 3 + trial % 20;
+    PointList from = RandomPoints(rng, n, 70);
+    if (trial % 7 == 0)
+      for (auto& p : from) p.z() = 0;
+    const SimilarityTransform truth = RandomTransform(rng, trial % 2 == 1);
+    PointList to = Apply(truth, from);
+    for (auto& q : to) q += Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
+    if (trial % 5 == 0)
+      for (auto& q : to) q.x() = -q.x();  // a reflection to be corrected
+    std::vector<double> w;
+    if (trial % 3 == 0)
+      for (int i = 0; i < n; ++i) w.push_back(weight(rng));
+    const RegistrationMode mode = trial % 2 ? RegistrationMode::Similarity : RegistrationMode::Rigid;
+    SimilarityTransform fast, reference;
+    ASSERT_TRUE(rp::SolvePairedPoints(from.data(), to.data(), w.empty() ? nullptr : w.data(), from.size(), mode, fast));
+    ASSERT_TRUE(
+        rp::SolvePairedPointsSVD(from.data(), to.data(), w.empty() ? nullptr : w.data(), from.size(), mode, reference));
+    EXPECT_NEAR(fast.Rotation.determinant(), 1.0, 1e-12);
+    worstAngle = std::max(worstAngle, rp::RotationDifferenceDegrees(fast.Rotation, reference.Rotation));
+    worstShift = std::max(worstShift, (fast.Translation - reference.Translation).norm());
+    worstScale = std::max(worstScale, std::abs(fast.Scale - reference.Scale));
+  }
+  EXPECT_LT(worstAngle, 1e-8);
+  EXPECT_LT(worstShift, 1e-7);
+  EXPECT_LT(worstScale, 1e-10);
+}
+
 TEST(PairedPoint, WeightsSelectThePairsThatCount) {
   std::mt19937 rng(2);
   const SimilarityTransform truth = RandomTransform(rng, false);
