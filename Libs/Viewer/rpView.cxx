@@ -221,7 +221,7 @@ void View::ResetCamera() {
     this->CameraInitialized = true;
     this->UpdateSliceCamera();
   } else {
-    // Seen from the front, head up: the 3D view users expect for a patient.
+    // Seen from the front (slightly oblique), head up.
     this->Renderer->ResetCamera();  // sets a distance that fits what is visible
     double visible[6];
     this->Renderer->ComputeVisiblePropBounds(visible);
@@ -234,6 +234,10 @@ void View::ResetCamera() {
     camera->SetFocalPoint(center);
     camera->SetPosition(center[0], center[1] + distance, center[2]);
     camera->SetViewUp(0, 0, 1);
+    // A little from the patient's right and above, so all three slices and the models show.
+    camera->Azimuth(-30);
+    camera->Elevation(20);
+    camera->OrthogonalizeViewUp();
     this->Renderer->ResetCameraClippingRange();
   }
   this->RequestRender();

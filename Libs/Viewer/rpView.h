@@ -55,7 +55,7 @@ class View {
   void SetRenderRequestCallback(std::function<void()> callback) { this->OnRenderRequest = std::move(callback); }
 
   /// Slice views: fit the background volume (or a 250 mm field) around the slice point.
-  /// 3D: fit everything visible, seen from the front (anterior), head up.
+  /// 3D: fit everything visible, seen from the front (a little from the right and above), head up.
   void ResetCamera();
   /// Slice views: the RAS point on the slice plane under a display pixel (VTK display
   /// coordinates: origin bottom-left of the window). False for 3D or when outside the viewport.

@@ -5,6 +5,8 @@
 #include <QApplication>
 #include <QComboBox>
 #include <QDockWidget>
+#include <QDragEnterEvent>
+#include <QDropEvent>
 #include <QFileDialog>
 #include <QFileInfo>
 #include <QGridLayout>
@@ -13,12 +15,14 @@
 #include <QLabel>
 #include <QMenuBar>
 #include <QMessageBox>
+#include <QMimeData>
 #include <QSettings>
 #include <QSlider>
 #include <QStatusBar>
 #include <QToolBar>
 #include <QToolBox>
 #include <QTreeWidget>
+#include <QUrl>
 #include <QVBoxLayout>
 #include <QVTKOpenGLNativeWidget.h>
 
@@ -64,23 +68,32 @@ ViewerMainWindow::ViewerMainWindow(ModuleManager* manager, vtkRPScene* scene, QW
   for (unsigned long event : {vtkRPScene::NodeAddedEvent, vtkRPScene::NodeRemovedEvent}) {
     this->SceneTags.push_back(scene->AddObserver(event, this->SceneCallback));
   }
-  this->SceneTags.push_back(this->Controller->GetViewState()->AddObserver(vtkCommand::ModifiedEvent, this->SceneCallback));
 
   // Render at display rate, only what changed; the timer never waits on anything.
   connect(&this->RenderTimer, &QTimer::timeout, this, [this]() {
-    if (this->DataPanelDirty) this->RefreshDataPanel();
+    if (this->DataPanelDirty) {
+      this->RefreshDataPanel();
+    } else {
+      // Layers or the followed node changed from elsewhere (the slice point does not matter here).
+      vtkRPViewState* state = this->Controller->GetViewState();
+      const std::string layers = state->GetBackgroundVolumeID() + "|" + state->GetForegroundVolumeID() + "|" +
+                                 this->Controller->GetFollowTransformNodeID();
+      if (layers != this->ShownLayers) {
+        this->UpdatingPanel = true;
+        this->RefreshVolumeCombos();
+        this->UpdatingPanel = false;
+      }
+    }
     this->RenderPendingViews();
   });
   this->RenderTimer.start(RefreshIntervalMs);
+  this->setAcceptDrops(true);
   this->statusBar()->showMessage("Click: set the slice point · drag: window/level · wheel: slice · right drag: zoom · middle drag: pan");
 }
 
 ViewerMainWindow::~ViewerMainWindow() {
   this->RenderTimer.stop();
-  for (unsigned long tag : this->SceneTags) {
-    this->Scene->RemoveObserver(tag);
-    this->Controller->GetViewState()->RemoveObserver(tag);
-  }
+  for (unsigned long tag : this->SceneTags) this->Scene->RemoveObserver(tag);
   // Views leave their render windows before the widgets go.
   for (int kind = 0; kind < 4; ++kind) this->Controller->GetView(static_cast<ViewKind>(kind))->DetachFromRenderWindow();
 }
@@ -287,7 +300,9 @@ QWidget* ViewerMainWindow::BuildDataPanel() {
   connect(this->ForegroundCombo, QOverload<int>::of(&QComboBox::activated), this,
           [this, choose]() { choose(this->ForegroundCombo, false); });
   connect(this->OpacitySlider, &QSlider::valueChanged, this,
-          [this](int value) { this->Controller->GetViewState()->SetForegroundOpacity(value / 100.0); });
+          [this](int value) {
+            if (!this->UpdatingPanel) this->Controller->GetViewState()->SetForegroundOpacity(value / 100.0);
+          });
   return panel;
 }
 
@@ -311,6 +326,8 @@ void ViewerMainWindow::RefreshDataPanel() {
 
 void ViewerMainWindow::RefreshVolumeCombos() {
   vtkRPViewState* state = this->Controller->GetViewState();
+  this->ShownLayers = state->GetBackgroundVolumeID() + "|" + state->GetForegroundVolumeID() + "|" +
+                      this->Controller->GetFollowTransformNodeID();
   for (QComboBox* combo : {this->BackgroundCombo, this->ForegroundCombo}) {
     const std::string selected = combo == this->BackgroundCombo ? state->GetBackgroundVolumeID() : state->GetForegroundVolumeID();
     combo->clear();
@@ -434,6 +451,19 @@ void ViewerMainWindow::OpenDicomFolder() {
   this->Scene->AddNode(node);
   for (const std::string& warning : warnings) this->statusBar()->showMessage(QString::fromStdString(warning), 10000);
 #endif
+}
+
+void ViewerMainWindow::dragEnterEvent(QDragEnterEvent* event) {
+  if (event->mimeData()->hasUrls()) event->acceptProposedAction();
+}
+
+void ViewerMainWindow::dropEvent(QDropEvent* event) {
+  for (const QUrl& url : event->mimeData()->urls()) {
+    if (!url.isLocalFile()) continue;
+    QString error;
+    if (!this->LoadFile(url.toLocalFile(), &error)) this->ShowProblem("Load", error);
+  }
+  event->acceptProposedAction();
 }
 
 QStringList ViewerMainWindow::RecentFiles() {

@@ -5,6 +5,7 @@
 // content changed. Nothing here waits on another thread.
 #include <array>
 #include <memory>
+#include <string>
 
 #include <QMainWindow>
 #include <QPointer>
@@ -17,6 +18,8 @@
 
 class QAction;
 class QComboBox;
+class QDragEnterEvent;
+class QDropEvent;
 class QMenu;
 class QSlider;
 class QToolBox;
@@ -60,6 +63,11 @@ class ViewerMainWindow : public QMainWindow {
   void OpenDicomFolder();
   void CloseScene();
 
+ protected:
+  /// Files dropped on the window load like File > Load.
+  void dragEnterEvent(QDragEnterEvent* event) override;
+  void dropEvent(QDropEvent* event) override;
+
  private:
   static void OnSceneChanged(vtkObject*, unsigned long, void* clientData, void*);
   void BuildViews();
@@ -87,6 +95,7 @@ class ViewerMainWindow : public QMainWindow {
   QTimer RenderTimer;
   vtkSmartPointer<vtkCallbackCommand> SceneCallback;
   std::vector<unsigned long> SceneTags;
+  std::string ShownLayers;  // background|foreground|followed as the combos show them
   bool DataPanelDirty = true;
   bool UpdatingPanel = false;
 };
