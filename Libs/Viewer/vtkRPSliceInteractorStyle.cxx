@@ -113,6 +113,10 @@ void vtkRPSliceInteractorStyle::OnKeyPress() {
     this->Controller->MoveSlice(this->Kind, 1);
   } else if (key == "Down" || key == "Next") {
     this->Controller->MoveSlice(this->Kind, -1);
+  } else if (key == "plus" || key == "equal" || key == "KP_Add") {
+    this->Controller->GetView(this->Kind)->Zoom(1.2);
+  } else if (key == "minus" || key == "KP_Subtract") {
+    this->Controller->GetView(this->Kind)->Zoom(1.0 / 1.2);
   } else if (key == "r" || key == "R") {
     this->Controller->GetView(this->Kind)->ResetCamera();
   } else if (key == "1") {
@@ -125,10 +129,31 @@ void vtkRPSliceInteractorStyle::OnKeyPress() {
 }
 
 void vtkRPThreeDInteractorStyle::OnChar() {
-  if (!this->Interactor) return;
+  if (!this->Interactor || !this->Controller) return;
   const char key = this->Interactor->GetKeyCode();
-  if ((key == 'r' || key == 'R') && this->Controller) {
-    this->Controller->GetView(rp::ViewKind::ThreeD)->ResetCamera();
-    this->Interactor->Render();
+  rp::View* view = this->Controller->GetView(rp::ViewKind::ThreeD);
+  if (key == 'r' || key == 'R') {
+    view->ResetCamera();
+  } else if (key == '+' || key == '=') {
+    view->Zoom(1.2);
+  } else if (key == '-') {
+    view->Zoom(1.0 / 1.2);
   }
+  view->RequestRender();
+}
+
+void vtkRPThreeDInteractorStyle::OnKeyPress() {
+  if (!this->Interactor || !this->Controller) return;
+  const std::string key = this->Interactor->GetKeySym() ? this->Interactor->GetKeySym() : "";
+  rp::View* view = this->Controller->GetView(rp::ViewKind::ThreeD);
+  vtkCamera* camera = view->GetRenderer()->GetActiveCamera();
+  // Arrow keys rotate the camera around the focal point by 5 degrees.
+  if (key == "Left") camera->Azimuth(-5);
+  else if (key == "Right") camera->Azimuth(5);
+  else if (key == "Up") camera->Elevation(5);
+  else if (key == "Down") camera->Elevation(-5);
+  else return;
+  camera->OrthogonalizeViewUp();
+  view->GetRenderer()->ResetCameraClippingRange();
+  view->RequestRender();
 }

@@ -5,7 +5,9 @@
 //   left drag             window/level (right = wider window, up = higher level)
 //   wheel, Up/Down, PgUp/PgDn   move the slice by one step
 //   right drag, Ctrl+wheel      zoom;   middle drag, Shift+left drag   pan
+//   +/-                   zoom in/out
 //   r                     reset the view;  1/2/3  CT bone / CT soft tissue / MR presets
+// 3D view: trackball mouse; arrow keys rotate 5°, +/- zoom, r resets.
 #include <vtkInteractorStyle.h>
 #include <vtkInteractorStyleTrackballCamera.h>
 
@@ -55,13 +57,14 @@ class vtkRPSliceInteractorStyle : public vtkInteractorStyle {
   int Last[2] = {0, 0};
 };
 
-/// 3D view: trackball camera; 'r' resets the camera; VTK's default keys are off.
+/// 3D view: trackball camera; arrows rotate, +/- zoom, 'r' resets; VTK's default keys are off.
 class vtkRPThreeDInteractorStyle : public vtkInteractorStyleTrackballCamera {
  public:
   static vtkRPThreeDInteractorStyle* New();
   vtkTypeMacro(vtkRPThreeDInteractorStyle, vtkInteractorStyleTrackballCamera);
   void SetController(rp::ViewController* controller) { this->Controller = controller; }
   void OnChar() override;
+  void OnKeyPress() override;
 
  protected:
   vtkRPThreeDInteractorStyle() = default;

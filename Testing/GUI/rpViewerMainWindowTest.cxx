@@ -130,6 +130,17 @@ TEST(ViewerMainWindow, ScriptedSession) {
   controller->GetSlicePointRAS(scrolled);
   EXPECT_DOUBLE_EQ(scrolled[2], point[2] + 2.0);
 
+  // Keyboard: Down moves the axial slice one step back, + zooms in by 1.2.
+  axial->setFocus();
+  QTest::keyClick(axial, Qt::Key_Down);
+  controller->GetSlicePointRAS(scrolled);
+  EXPECT_DOUBLE_EQ(scrolled[2], point[2]);
+  const double scale = axialView->GetRenderer()->GetActiveCamera()->GetParallelScale();
+  QTest::keyClick(axial, Qt::Key_Plus);
+  EXPECT_NEAR(axialView->GetRenderer()->GetActiveCamera()->GetParallelScale(), scale / 1.2, 1e-9);
+  QTest::keyClick(axial, Qt::Key_Minus);
+  EXPECT_NEAR(axialView->GetRenderer()->GetActiveCamera()->GetParallelScale(), scale, 1e-9);
+
   // Window/level by dragging 60 pixels right in the sagittal view: the window widens by
   // 60 × (scalar range / 500); the level stays.
   QVTKOpenGLNativeWidget* sagittal = window.GetViewWidget(ViewKind::Sagittal);
