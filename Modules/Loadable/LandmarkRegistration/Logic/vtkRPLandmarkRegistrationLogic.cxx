@@ -195,7 +195,39 @@ void vtkRPLandmarkRegistrationLogic::WriteAttributes(const std::vector<int>& fro
   std::string warnings;
   for (const auto& w : a.Warnings) warnings += (warnings.empty() ? "" : " | ") + w;
   node->SetAttribute("Registration.Warnings", warnings);
+  node->SetAttribute("Registration.Method", "landmarks");
+  for (const char* key : {"Registration.ICP.InlierRMS", "Registration.ICP.AllRMS", "Registration.ICP.Inliers",
+                          "Registration.ICP.Iterations"})
+    node->RemoveAttribute(key);
   node->EndModify(previous);
+}
+
+bool vtkRPLandmarkRegistrationLogic::RefineWithSurfaceICP(vtkRPFiducialListNode* surfacePoints, vtkPolyData* model,
+                                                          const rp::SurfaceICPOptions& options) {
+  this->LastICP = rp::SurfaceICPResult();
+  if (!this->Output || !surfacePoints || !this->Last.Accepted) {
+    this->LastICP.Error = "ICP refines an accepted landmark registration: register the landmarks first";
+    return false;
+  }
+  rp::PointList digitized;
+  for (const auto& p : surfacePoints->GetControlPoints())
+    if (p.Selected) digitized.emplace_back(p.Position);
+  this->LastICP = rp::RefineWithSurfaceICP(digitized, model, this->Last.Solution.Transform, options);
+  if (!this->LastICP.Ok) return false;
+  vtkRPLinearTransformNode* node = this->Output;
+  const int previous = node->StartModify();
+  const Eigen::Matrix4d m = this->LastICP.Transform.Matrix();
+  double elements[16];
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) elements[4 * i + j] = m(i, j);
+  node->SetMatrixTransformToParent(elements);
+  node->SetAttribute("Registration.Method", "landmarks+ICP");
+  node->SetAttribute("Registration.ICP.InlierRMS", Number(this->LastICP.InlierRMS));
+  node->SetAttribute("Registration.ICP.AllRMS", Number(this->LastICP.AllRMS));
+  node->SetAttribute("Registration.ICP.Inliers", std::to_string(this->LastICP.Inliers));
+  node->SetAttribute("Registration.ICP.Iterations", std::to_string(this->LastICP.Iterations));
+  node->EndModify(previous);
+  return true;
 }
 
 double vtkRPLandmarkRegistrationLogic::UpdatePredictedTREMap(vtkPolyData* model) const {

@@ -19,10 +19,14 @@
 //   (largest at a "to" fiducial), Registration.Target ("r a s" when set)
 //   Registration.Suspects     1-based pair numbers flagged by leave-one-out, space separated
 //   Registration.Warnings     warnings joined by " | "
+// After RefineWithSurfaceICP (optional), also Registration.Method "landmarks+ICP" and
+// Registration.ICP.InlierRMS / AllRMS / Inliers / Iterations: a surface distance, reported apart
+// from FRE. A landmark recompute (a point moved) replaces the refined result and drops these.
 #include <vtkObject.h>
 #include <vtkSmartPointer.h>
 
 #include "rpRegistrationAccuracy.h"
+#include "rpSurfaceICP.h"
 #include "vtkRPFiducialListNode.h"
 #include "vtkRPLinearTransformNode.h"
 
@@ -63,6 +67,13 @@ class vtkRPLandmarkRegistrationLogic : public vtkObject {
   const rp::RegistrationAssessment& GetLastAssessment() const { return this->Last; }
   int GetNumberOfUpdates() const { return this->NumberOfUpdates; }
 
+  /// Refines the current (accepted) registration by trimmed rigid ICP of points digitized on the
+  /// patient's surface (in the "from" space, their own coordinates) to `model` (in the "to"
+  /// space). Sets the output matrix and the ICP attributes when it succeeds.
+  bool RefineWithSurfaceICP(vtkRPFiducialListNode* surfacePoints, vtkPolyData* model,
+                            const rp::SurfaceICPOptions& options = {});
+  const rp::SurfaceICPResult& GetLastICPResult() const { return this->LastICP; }
+
   /// Adds the predicted TRE array ("PredictedTRE", mm per point) to a model in the "to" space,
   /// from the current "to" fiducials and FLE. Returns the largest value, NaN if not possible.
   double UpdatePredictedTREMap(vtkPolyData* model) const;
@@ -87,6 +98,7 @@ class vtkRPLandmarkRegistrationLogic : public vtkObject {
   vtkSmartPointer<vtkCallbackCommand> Callback;
   rp::AssessmentOptions Options;
   rp::RegistrationAssessment Last;
+  rp::SurfaceICPResult LastICP;
   bool AutoUpdate = true;
   bool Updating = false;
   int NumberOfUpdates = 0;

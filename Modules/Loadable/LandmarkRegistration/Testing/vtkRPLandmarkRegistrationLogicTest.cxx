@@ -11,6 +11,7 @@
 #include <vtkMatrix4x4.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
+#include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkSphereSource.h>
 
@@ -141,6 +142,60 @@ TEST(LandmarkRegistrationLogic, PredictedTREMapOnAModel) {
   const double largest = logic->UpdatePredictedTREMap(sphere->GetOutput());
   ASSERT_NE(sphere->GetOutput()->GetPointData()->GetArray("PredictedTRE"), nullptr);
   EXPECT_GT(largest, 0.25 / std::sqrt(5.0));  // above the TRE at the centroid, FLE/sqrt(N)
+}
+
+TEST(LandmarkRegistrationLogic, SurfaceICPRefinesTheLandmarkResult) {
+  // Landmarks with 1 mm errors give a rough TrackerToRAS; 300 points digitized on an ellipsoid
+  // "bone" (exact, in tracker coordinates) refine it to the truth.
+  vtkNew<vtkRPFiducialListNode> tracker, image, surface;
+  FillLists(tracker, image);
+  const double shifts[5][3] = {{1, 0, 0}, {0, -1, 0}, {0, 0, 1}, {-1, 0, 0}, {0, 1, -1}};
+  for (int i = 0; i < 5; ++i) {
+    double p[3];
+    image->GetNthControlPointPosition(i, p);
+    for (int k = 0; k < 3; ++k) p[k] += shifts[i][k];
+    image->SetNthControlPointPosition(i, p);
+  }
+  vtkNew<vtkSphereSource> sphere;
+  sphere->SetThetaResolution(60);
+  sphere->SetPhiResolution(40);
+  sphere->SetRadius(1);
+  sphere->Update();
+  vtkNew<vtkPolyData> bone;
+  bone->DeepCopy(sphere->GetOutput());
+  for (vtkIdType i = 0; i < bone->GetNumberOfPoints(); ++i) {
+    double p[3];
+    bone->GetPoint(i, p);
+    bone->GetPoints()->SetPoint(i, 55 * p[0] + 5, 35 * p[1] - 3, 25 * p[2] + 8);
+  }
+  const Eigen::Matrix4d inverse = TrackerToRAS().inverse();
+  for (vtkIdType i = 0; i < bone->GetNumberOfPoints(); i += 7) {
+    double p[3];
+    bone->GetPoint(i, p);
+    const Eigen::Vector4d t = inverse * Eigen::Vector4d(p[0], p[1], p[2], 1);
+    const double q[3] = {t[0], t[1], t[2]};
+    surface->AddControlPoint(q);
+  }
+  vtkNew<vtkRPLinearTransformNode> output;
+  vtkNew<vtkRPLandmarkRegistrationLogic> logic;
+  logic->SetFromFiducials(tracker);
+  logic->SetToFiducials(image);
+  logic->SetOutputTransform(output);
+  ASSERT_EQ(output->GetAttribute("Registration.Status"), "accepted");
+  EXPECT_GT(std::stod(output->GetAttribute("Registration.FRE")), 0.3);
+  rp::SurfaceICPOptions options;
+  options.InlierFraction = 1.0;
+  ASSERT_TRUE(logic->RefineWithSurfaceICP(surface, bone, options)) << logic->GetLastICPResult().Error;
+  ExpectMatrix(output->GetMatrixTransformToParent(), TrackerToRAS(), 1e-3);
+  EXPECT_EQ(output->GetAttribute("Registration.Method"), "landmarks+ICP");
+  EXPECT_LT(std::stod(output->GetAttribute("Registration.ICP.InlierRMS")), 1e-3);
+  // A landmark moves: the landmark result replaces the refined one.
+  double p[3];
+  image->GetNthControlPointPosition(0, p);
+  p[0] += 0.1;
+  image->SetNthControlPointPosition(0, p);
+  EXPECT_EQ(output->GetAttribute("Registration.Method"), "landmarks");
+  EXPECT_FALSE(output->HasAttribute("Registration.ICP.InlierRMS"));
 }
 
 std::string WriteLists(const std::string& name, bool fcsv, bool moveOnePoint) {
