@@ -97,7 +97,7 @@ int RunMesh(rp::CommandContext& context) {
       .Option("max-fraction", "f", "refuse a segment covering more than this fraction of the volume (leak)", "0.9")
       .Option("segment", "id", "mesh only these segments (repeatable)")
       .Option("mesh-method", "gaussian|sinc|slicer|discrete", "surface method", "gaussian")
-      .Option("smoothing", "sigma", "gaussian smoothing sigma in voxels", "0.55")
+      .Option("smoothing", "sigma", "gaussian smoothing sigma in voxels", "1.0")
       .Option("passband", "f", "windowed sinc pass band (sinc, slicer)", "0.01")
       .Option("sinc-iterations", "n", "windowed sinc iterations (sinc, slicer)", "20")
       .Option("grid-step", "s|sx,sy,sz", "gaussian contour grid step in voxels (>1 = coarser mesh)", "1")

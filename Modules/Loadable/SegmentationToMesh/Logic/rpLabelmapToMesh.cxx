@@ -5,7 +5,6 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <unordered_map>
 
 #include <vtkCellArray.h>
 #include <vtkDiscreteFlyingEdges3D.h>
@@ -20,6 +19,7 @@
 #include <vtkPolyData.h>
 #include <vtkPolyDataNormals.h>
 #include <vtkQuadricDecimation.h>
+#include <vtkSMPThreadLocal.h>
 #include <vtkSMPTools.h>
 #include <vtkSmartPointer.h>
 #include <vtkStaticCellLocator.h>
@@ -547,8 +547,9 @@ void Decimate(vtkPolyData* mesh, double fraction, MeshStats& stats) {
 
 void CountBadEdges(vtkPolyData* mesh, long& boundaryEdges, long& nonManifoldEdges) {
   boundaryEdges = nonManifoldEdges = 0;
-  std::unordered_map<uint64_t, int> edges;
-  edges.reserve(static_cast<size_t>(mesh->GetNumberOfPolys()) * 2);
+  // Every edge key once per triangle side, sorted: a run of 2 is a manifold edge.
+  std::vector<uint64_t> edges;
+  edges.reserve(static_cast<size_t>(mesh->GetPolys()->GetNumberOfConnectivityIds()));
   vtkCellArray* polys = mesh->GetPolys();
   vtkIdType n;
   const vtkIdType* ids;
@@ -556,33 +557,44 @@ void CountBadEdges(vtkPolyData* mesh, long& boundaryEdges, long& nonManifoldEdge
     for (vtkIdType e = 0; e < n; ++e) {
       uint64_t a = static_cast<uint64_t>(ids[e]), c = static_cast<uint64_t>(ids[(e + 1) % n]);
       if (a > c) std::swap(a, c);
-      ++edges[(a << 32) | c];
+      edges.push_back((a << 32) | c);
     }
   }
-  for (const auto& [key, count] : edges) {
-    if (count == 1) ++boundaryEdges;
-    else if (count > 2) ++nonManifoldEdges;
+  vtkSMPTools::Sort(edges.begin(), edges.end());
+  for (size_t i = 0; i < edges.size();) {
+    size_t j = i + 1;
+    while (j < edges.size() && edges[j] == edges[i]) ++j;
+    if (j - i == 1) ++boundaryEdges;
+    else if (j - i > 2) ++nonManifoldEdges;
+    i = j;
   }
 }
 
 void MeshVolumeAndArea(vtkPolyData* mesh, double& volume, double& area) {
   volume = area = 0;
   vtkPoints* points = mesh->GetPoints();
-  if (!points) return;
   vtkCellArray* polys = mesh->GetPolys();
-  vtkIdType n;
-  const vtkIdType* ids;
-  double a[3], b[3], c[3];
-  for (polys->InitTraversal(); polys->GetNextCell(n, ids);) {
-    for (vtkIdType t = 1; t + 1 < n; ++t) {
-      points->GetPoint(ids[0], a), points->GetPoint(ids[t], b), points->GetPoint(ids[t + 1], c);
-      volume += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
-                 a[2] * (b[0] * c[1] - b[1] * c[0])) / 6.0;
-      const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-      const double f[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
-      area += 0.5 * std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+  if (!points || !polys || polys->GetNumberOfCells() == 0) return;
+  // Triangle fans of every polygon, summed in parallel (meshes have millions of triangles).
+  vtkSMPThreadLocal<std::array<double, 2>> sums(std::array<double, 2>{0.0, 0.0});
+  vtkSMPTools::For(0, polys->GetNumberOfCells(), [&](vtkIdType c0, vtkIdType c1) {
+    auto& local = sums.Local();
+    vtkNew<vtkIdList> cell;
+    double a[3], b[3], c[3];
+    for (vtkIdType cellId = c0; cellId < c1; ++cellId) {
+      polys->GetCellAtId(cellId, cell);
+      const vtkIdType n = cell->GetNumberOfIds();
+      for (vtkIdType t = 1; t + 1 < n; ++t) {
+        points->GetPoint(cell->GetId(0), a), points->GetPoint(cell->GetId(t), b), points->GetPoint(cell->GetId(t + 1), c);
+        local[0] += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+                     a[2] * (b[0] * c[1] - b[1] * c[0])) / 6.0;
+        const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+        const double f[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+        local[1] += 0.5 * std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+      }
     }
-  }
+  });
+  for (const auto& local : sums) volume += local[0], area += local[1];
 }
 
 bool LabelmapToMesh(vtkImageData* labelmap, const vtkMatrix4x4* ijkToRAS, int label, const MeshOptions& options,
