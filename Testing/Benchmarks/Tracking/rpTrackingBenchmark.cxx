@@ -238,8 +238,9 @@ struct IngestionResult {
   std::string Receiver;
   double ThroughputPerSecond = 0;
   double P50 = 0, P99 = 0, P999 = 0, Max = 0;
+  double SocketP50 = -1, SocketP99 = -1, SocketP999 = -1;  // kernel receive -> buffer (ours only)
   uint64_t Received = 0, Sent = 0, CrcErrors = 0, DisplayDropped = 0;
-  std::vector<uint64_t> Histogram;
+  std::vector<uint64_t> Histogram, SocketHistogram;
 };
 
 // Waits until `count()` reaches `target` (or 5 s); returns the time it took from `start`.
@@ -285,6 +286,7 @@ IngestionResult RunOurClient() {
   r.CrcErrors = client.GetStatistics().CrcErrors;
   for (int i = 0; i < client.Poses().Count(); ++i) r.DisplayDropped += reader.Last(i).Dropped;
   r.Histogram = client.LatencyHistogram();
+  r.SocketHistogram = client.SocketLatencyHistogram();
   client.Stop();
   return r;
 }
@@ -347,6 +349,11 @@ void Summarise(IngestionResult& r) {
   r.P99 = IgtlClient::HistogramPercentile(r.Histogram, 0.99);
   r.P999 = IgtlClient::HistogramPercentile(r.Histogram, 0.999);
   r.Max = IgtlClient::HistogramPercentile(r.Histogram, 1.0);
+  if (!r.SocketHistogram.empty()) {
+    r.SocketP50 = IgtlClient::HistogramPercentile(r.SocketHistogram, 0.50);
+    r.SocketP99 = IgtlClient::HistogramPercentile(r.SocketHistogram, 0.99);
+    r.SocketP999 = IgtlClient::HistogramPercentile(r.SocketHistogram, 0.999);
+  }
 }
 
 // ---------------------------------------------------------------- serial polling CPU
@@ -420,15 +427,22 @@ int main(int argc, char** argv) {
                                 {"latencyP99Ms", r->P99 * 1e3},
                                 {"latencyP999Ms", r->P999 * 1e3},
                                 {"latencyMaxMs", r->Max * 1e3},
+                                {"socketToBufferP50Ms", r->SocketP50 * 1e3},
+                                {"socketToBufferP99Ms", r->SocketP99 * 1e3},
+                                {"socketToBufferP999Ms", r->SocketP999 * 1e3},
                                 {"sent", r->Sent},
                                 {"received", r->Received},
                                 {"crcErrors", r->CrcErrors},
                                 {"displayDroppedAt60Hz", r->DisplayDropped}});
     std::cout << r->Receiver << ": " << r->ThroughputPerSecond << " TRANSFORM/s (flood), at 20000/s: p50 "
               << r->P50 * 1e3 << " ms, p99 " << r->P99 * 1e3 << " ms, p99.9 " << r->P999 * 1e3 << " ms; received "
-              << r->Received << "/" << r->Sent << "\n";
+              << r->Received << "/" << r->Sent;
+    if (r->SocketP99 >= 0)
+      std::cout << "; socket-to-buffer p50 " << r->SocketP50 * 1e3 << " ms, p99 " << r->SocketP99 * 1e3 << " ms, p99.9 "
+                << r->SocketP999 * 1e3 << " ms";
+    std::cout << "\n";
     bench::Series s;
-    s.Name = r->Receiver;
+    s.Name = r->Receiver + ", sender to buffer";
     uint64_t total = 0, running = 0;
     for (uint64_t c : r->Histogram) total += c;
     for (size_t i = 0; i < r->Histogram.size() && total; ++i) {
@@ -466,7 +480,20 @@ int main(int argc, char** argv) {
   for (const auto& s : serial) rows.push_back({s.CorePercent, s.FramesPerSecond, static_cast<double>(s.Gaps)});
   bench::WriteCSV(dir + "/tracking_serial_cpu.csv", {"core_percent", "replies_per_s", "frame_gaps"}, rows, error);
   bench::ChartOptions chart;
-  chart.Title = "OpenIGTLink TRANSFORM latency, sender to buffer (20,000 msg/s, 10 tools, loopback)";
+  {
+    bench::Series s;
+    s.Name = "RoboPlan IgtlClient, kernel receive to buffer";
+    uint64_t total = 0, running = 0;
+    for (uint64_t c : ours.SocketHistogram) total += c;
+    for (size_t i = 0; i < ours.SocketHistogram.size() && total; ++i) {
+      if (!ours.SocketHistogram[i]) continue;
+      running += ours.SocketHistogram[i];
+      s.X.push_back((static_cast<double>(i) + 1) * 1e-3);
+      s.Y.push_back(100.0 * static_cast<double>(running) / static_cast<double>(total));
+    }
+    cdf.push_back(s);
+  }
+  chart.Title = "OpenIGTLink TRANSFORM latency (20,000 msg/s, 10 tools, loopback)";
   chart.XLabel = "latency (ms)";
   chart.YLabel = "messages at or below (%)";
   chart.LogX = true;

@@ -6,6 +6,8 @@
 #include <netinet/tcp.h>
 #include <poll.h>
 #include <sys/socket.h>
+#include <sys/uio.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -48,8 +50,13 @@ ToolState StateFromMetadata(const igtl::Body& body) {
 }  // namespace
 
 IgtlClient::IgtlClient(Options options)
-    : Opts(std::move(options)), Histogram(new std::atomic<uint64_t>[LatencyBins]) {
-  for (int i = 0; i < LatencyBins; ++i) this->Histogram[i].store(0, std::memory_order_relaxed);
+    : Opts(std::move(options)),
+      Histogram(new std::atomic<uint64_t>[LatencyBins]),
+      SocketHistogram(new std::atomic<uint64_t>[LatencyBins]) {
+  for (int i = 0; i < LatencyBins; ++i) {
+    this->Histogram[i].store(0, std::memory_order_relaxed);
+    this->SocketHistogram[i].store(0, std::memory_order_relaxed);
+  }
   this->Buffer.resize(1u << 20);
 }
 
@@ -93,6 +100,12 @@ std::string IgtlClient::LastError() const {
 void IgtlClient::Fail(const std::string& message) {
   std::lock_guard<std::mutex> lock(this->TextMutex);
   this->ErrorText = message;
+}
+
+std::vector<uint64_t> IgtlClient::SocketLatencyHistogram() const {
+  std::vector<uint64_t> h(LatencyBins);
+  for (int i = 0; i < LatencyBins; ++i) h[static_cast<size_t>(i)] = this->SocketHistogram[i].load(std::memory_order_relaxed);
+  return h;
 }
 
 std::vector<uint64_t> IgtlClient::LatencyHistogram() const {
@@ -180,6 +193,7 @@ int IgtlClient::ConnectOnce() {
   }
   const int one = 1;
   setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+  setsockopt(fd, SOL_SOCKET, SO_TIMESTAMPNS, &one, sizeof one);  // kernel receive time (latency figures)
   return fd;
 }
 
@@ -232,7 +246,21 @@ void IgtlClient::Session(int fd) {
         end -= begin;
         begin = 0;
       }
-      const ssize_t n = ::recv(fd, buffer + end, capacity - end, 0);
+      iovec io{buffer + end, capacity - end};
+      alignas(cmsghdr) char control[CMSG_SPACE(sizeof(timespec))];
+      msghdr message{};
+      message.msg_iov = &io;
+      message.msg_iovlen = 1;
+      message.msg_control = control;
+      message.msg_controllen = sizeof control;
+      const ssize_t n = ::recvmsg(fd, &message, 0);
+      for (cmsghdr* c = CMSG_FIRSTHDR(&message); n > 0 && c; c = CMSG_NXTHDR(&message, c)) {
+        if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_TIMESTAMPNS) {
+          timespec ts;
+          std::memcpy(&ts, CMSG_DATA(c), sizeof ts);
+          this->LastKernelReceive = static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+        }
+      }
       if (n == 0) {
         this->Fail(end > begin || skipRemaining ? "peer closed the connection in the middle of a message (truncated)"
                                                 : "peer closed the connection");
@@ -323,11 +351,14 @@ void IgtlClient::PublishPose(const char* name, size_t nameLength, const ToolPose
   this->Table.Publish(slot, pose);
   ++this->PosesCount;
   if (this->MeasureLatency.load(std::memory_order_relaxed)) {
-    const double latency = WallSeconds() - pose.Timestamp;
-    long bin = static_cast<long>(latency * 1e6);
-    if (bin < 0) bin = 0;
-    if (bin >= LatencyBins) bin = LatencyBins - 1;
-    this->Histogram[bin].fetch_add(1, std::memory_order_relaxed);
+    const double now = WallSeconds();
+    auto bin = [](double latency) {
+      const long b = static_cast<long>(latency * 1e6);
+      return b < 0 ? 0L : (b >= LatencyBins ? static_cast<long>(LatencyBins - 1) : b);
+    };
+    this->Histogram[bin(now - pose.Timestamp)].fetch_add(1, std::memory_order_relaxed);
+    if (this->LastKernelReceive > 0)
+      this->SocketHistogram[bin(now - this->LastKernelReceive)].fetch_add(1, std::memory_order_relaxed);
   }
 }
 

@@ -53,6 +53,9 @@ class IgtlClient {
   /// meaningful when both ends share a clock, e.g. loopback): histogram of 1 µs bins, 0-20 ms.
   static constexpr int LatencyBins = 20000;
   std::vector<uint64_t> LatencyHistogram() const;
+  /// Socket-to-buffer: from the kernel's receive timestamp of the bytes (SO_TIMESTAMPNS) to
+  /// the pose being in the buffer (scheduling of this thread + parsing), same bins.
+  std::vector<uint64_t> SocketLatencyHistogram() const;
   static double HistogramPercentile(const std::vector<uint64_t>& histogram, double p);
   void EnableLatency(bool on) { this->MeasureLatency = on; }
 
@@ -74,7 +77,8 @@ class IgtlClient {
   std::atomic<uint64_t> Messages{0}, PosesCount{0}, CrcErrors{0}, Malformed{0}, Oversized{0}, Skipped{0},
       StatusMessages{0}, RtsMessages{0}, KeepAlives{0}, Connections{0}, Attempts{0};
   std::atomic<int> LastRts{-1}, LastStatus{-1};
-  std::unique_ptr<std::atomic<uint64_t>[]> Histogram;
+  std::unique_ptr<std::atomic<uint64_t>[]> Histogram, SocketHistogram;
+  double LastKernelReceive = 0;  // I/O thread only: wall time the kernel got the last bytes
   mutable std::mutex TextMutex;  // error text only (error path)
   std::string ErrorText;
   std::vector<uint8_t> Buffer;   // I/O thread only; sized once
