@@ -8,6 +8,7 @@
 #include <fstream>
 
 #include <dcmtk/config/osconfig.h>
+#include <dcmtk/dcmdata/dcddirif.h>
 #include <dcmtk/dcmdata/dcrleerg.h>
 #include <dcmtk/dcmdata/dctk.h>
 #include <dcmtk/dcmjpeg/djencode.h>
@@ -384,4 +385,38 @@ TEST(DicomSeries, BadSeriesGetClearMessages) {
     EXPECT_NE(error.find("no such file"), std::string::npos) << error;
   }
   EXPECT_EQ(v.Image, untouched.Image);
+}
+
+TEST(DicomSeries, DicomdirListsItsSeries) {
+  const rp::ImageVolume ct = SmallCT();
+  const fs::path root = Scratch("dicomdir");
+  const fs::path series = root / "DICOM" / "SERIES1";
+  std::string error;
+  ASSERT_TRUE(rp::WriteDicomSeries(ct, series.string(), {}, error)) << error;
+  // DICOM file IDs: upper case, no extension.
+  std::vector<std::string> ids;
+  for (const auto& e : fs::directory_iterator(series)) {
+    const std::string id = e.path().stem().string();
+    fs::rename(e.path(), series / id);
+    ids.push_back(id);
+  }
+  std::ofstream(root / "README.TXT") << "not DICOM";
+  DicomDirInterface dir;
+  ASSERT_TRUE(dir.createNewDicomDir(DicomDirInterface::AP_GeneralPurpose, (root / "DICOMDIR").c_str()).good());
+  for (const auto& id : ids) ASSERT_TRUE(dir.addDicomFile(("DICOM/SERIES1/" + id).c_str(), root.c_str()).good()) << id;
+  ASSERT_TRUE(dir.writeDicomDir().good());
+
+  rp::DicomScanResult scan;
+  ASSERT_TRUE(rp::ScanDicom((root / "DICOMDIR").string(), scan, error)) << error;
+  ASSERT_EQ(scan.Series.size(), 1u);
+  EXPECT_EQ(scan.FilesExamined, 8);  // only the referenced images, not README.TXT
+  EXPECT_EQ(scan.Series[0].Files.size(), 8u);
+  rp::ImageVolume back;
+  ASSERT_TRUE(rp::ReadDicomVolume((root / "DICOMDIR").string(), back, error)) << error;
+  ExpectSameVolume(ct, back, 1e-6);
+  // Scanning the folder instead finds the same series and counts the DICOMDIR as non-image.
+  ASSERT_TRUE(rp::ScanDicom(root.string(), scan, error)) << error;
+  ASSERT_EQ(scan.Series.size(), 1u);
+  EXPECT_EQ(scan.NonImageDicomFiles, 1);
+  EXPECT_EQ(scan.NonDicomFiles, 1);
 }

@@ -1,0 +1,221 @@
+// Volumes benchmarks, each against the way a user would otherwise do it, in the same run:
+//  - reading a DICOM series: RoboPlan's DCMTK reader vs ITK's GDCM series reader
+//    (itk::ImageSeriesReader + GDCMImageIO + GDCMSeriesFileNames), same files, same voxels;
+//  - CT-MR registration on the knee phantom: multi-resolution (ours) vs the same ITK v4
+//    components at a single resolution, from starts up to 30 degrees / 40 mm off: final error at
+//    the bone surface and time (capture range);
+//  - phantom generation, small and full.
+// Figures (CSV, JSON) and charts (PNG) go to $ROBOPLAN_BENCHMARK_OUTPUT (./benchmark-output).
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include <itkGDCMImageIO.h>
+#include <itkGDCMSeriesFileNames.h>
+#include <itkImage.h>
+#include <itkImageSeriesReader.h>
+#include <nlohmann/json.hpp>
+#include <vtkTransform.h>
+
+#include "rpBenchmarkChart.h"
+#include "rpDicomSeries.h"
+#include "rpDicomWriter.h"
+#include "rpKneePhantom.h"
+#include "rpVolumeRegistration.h"
+
+namespace fs = std::filesystem;
+using namespace rp;
+
+namespace {
+
+struct Case {
+  int n;  // in-plane size; slices = n / 2
+  fs::path dir;
+  long voxels;
+};
+std::vector<Case>& Cases() {
+  static std::vector<Case> cases;
+  return cases;
+}
+
+void PrepareCases() {
+  const fs::path root = fs::path(bench::OutputDirectory()) / "dicom-series";
+  for (int n : {64, 128, 256, 512}) {
+    KneePhantomOptions options;
+    options.CTDimensions = {n, n, n / 2};
+    const double s = 153.6 / n;
+    options.CTSpacing = {s, s, 2.0 * s};
+    options.GenerateMR = false;
+    options.GenerateLabels = false;
+    KneePhantom phantom;
+    std::string error;
+    if (!GenerateKneePhantom(options, phantom, error)) throw std::runtime_error(error);
+    const fs::path dir = root / ("ct" + std::to_string(n));
+    fs::remove_all(dir);
+    if (!WriteDicomSeries(phantom.CT, dir.string(), {}, error)) throw std::runtime_error(error);
+    Cases().push_back({n, dir, long(n) * n * (n / 2)});
+  }
+}
+
+double ReadOurs(const fs::path& dir) {
+  ImageVolume v;
+  std::string error;
+  if (!ReadDicomVolume(dir.string(), v, error)) throw std::runtime_error(error);
+  return v.Image->GetScalarComponentAsDouble(1, 1, 1, 0);
+}
+
+double ReadItk(const fs::path& dir) {
+  using ImageType = itk::Image<short, 3>;
+  auto names = itk::GDCMSeriesFileNames::New();
+  names->SetDirectory(dir.string());
+  const auto uids = names->GetSeriesUIDs();
+  auto reader = itk::ImageSeriesReader<ImageType>::New();
+  reader->SetImageIO(itk::GDCMImageIO::New());
+  reader->SetFileNames(names->GetFileNames(uids.front()));
+  reader->Update();
+  ImageType::IndexType index = {{1, 1, 1}};
+  return reader->GetOutput()->GetPixel(index);
+}
+
+void BM_ReadDicomRoboPlan(benchmark::State& state) {
+  const Case& c = Cases()[state.range(0)];
+  for (auto _ : state) benchmark::DoNotOptimize(ReadOurs(c.dir));
+  state.counters["voxels"] = double(c.voxels);
+}
+void BM_ReadDicomITKGDCM(benchmark::State& state) {
+  const Case& c = Cases()[state.range(0)];
+  for (auto _ : state) benchmark::DoNotOptimize(ReadItk(c.dir));
+  state.counters["voxels"] = double(c.voxels);
+}
+BENCHMARK(BM_ReadDicomRoboPlan)->DenseRange(0, 3)->Unit(benchmark::kMillisecond)->MinTime(0.5);
+BENCHMARK(BM_ReadDicomITKGDCM)->DenseRange(0, 3)->Unit(benchmark::kMillisecond)->MinTime(0.5);
+
+double Seconds(const std::function<void()>& f) {
+  const auto t0 = std::chrono::steady_clock::now();
+  f();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  PrepareCases();
+  benchmark::Initialize(&argc, argv);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  const std::string dir = bench::OutputDirectory();
+  std::string error;
+  nlohmann::json figures;
+
+  // ---- DICOM read: same files, both readers, timed here for the chart (median of 3).
+  bench::Series ours{"RoboPlan (DCMTK)", {}, {}}, itk{"ITK ImageSeriesReader + GDCM", {}, {}};
+  std::vector<std::vector<double>> readRows;
+  for (const Case& c : Cases()) {
+    double a = 1e9, b = 1e9;
+    for (int r = 0; r < 3; ++r) {
+      a = std::min(a, Seconds([&] { ReadOurs(c.dir); }));
+      b = std::min(b, Seconds([&] { ReadItk(c.dir); }));
+    }
+    ours.X.push_back(c.voxels / 1e6);
+    ours.Y.push_back(a * 1e3);
+    itk.X.push_back(c.voxels / 1e6);
+    itk.Y.push_back(b * 1e3);
+    readRows.push_back({double(c.voxels), a * 1e3, b * 1e3, b / a});
+    figures["dicomRead"].push_back({{"voxels", c.voxels}, {"roboplanMs", a * 1e3}, {"itkGdcmMs", b * 1e3}});
+  }
+  bench::WriteCSV(dir + "/volumes_dicom_read.csv", {"voxels", "roboplan_ms", "itk_gdcm_ms", "itk_over_roboplan"},
+                  readRows, error);
+  bench::ChartOptions readChart;
+  readChart.Title = "Reading a CT DICOM series (one file per slice)";
+  readChart.XLabel = "million voxels";
+  readChart.YLabel = "time (ms, best of 3)";
+  readChart.LogX = readChart.LogY = true;
+  if (!bench::WriteChartPNG(dir + "/volumes_dicom_read.png", {ours, itk}, readChart, error))
+    std::fprintf(stderr, "chart: %s\n", error.c_str());
+
+  // ---- Registration capture range: multi-resolution vs single resolution, same starts.
+  KneePhantomOptions options;
+  options.GenerateLabels = false;
+  KneePhantom phantom;
+  if (!GenerateKneePhantom(options, phantom, error)) return 1;
+  const double bounds[6] = {-75, 75, -75, 75, -78, 78};
+  std::vector<std::array<double, 3>> surface;
+  for (auto s : {KneeStructure::Femur, KneeStructure::Tibia, KneeStructure::Patella, KneeStructure::Fibula}) {
+    const auto p = phantom.Model->SurfacePoints(s, 500, bounds);
+    surface.insert(surface.end(), p.begin(), p.end());
+  }
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  bench::Series multi{"multi-resolution 4-2-1 (RoboPlan)", {}, {}, true},
+      single{"single resolution (ITK v4, same metric/optimizer)", {}, {}, true};
+  std::vector<std::vector<double>> regRows;
+  for (int trial = 0; trial < 10; ++trial) {
+    const double angle = 3.0 * trial, shift = 4.0 * trial;  // up to 27 degrees, 36 mm
+    double axis[3] = {unit(rng), unit(rng), unit(rng)}, dir3[3] = {unit(rng), unit(rng), unit(rng)};
+    const double dn = std::sqrt(dir3[0] * dir3[0] + dir3[1] * dir3[1] + dir3[2] * dir3[2]);
+    vtkNew<vtkTransform> start;
+    start->PostMultiply();
+    start->RotateWXYZ(angle, axis);
+    start->Translate(shift * dir3[0] / dn, shift * dir3[1] / dn, shift * dir3[2] / dn);
+    start->Concatenate(phantom.CTToMR);
+    RigidRegistrationOptions o;
+    o.InitialFixedToMoving = vtkSmartPointer<vtkMatrix4x4>::New();
+    o.InitialFixedToMoving->DeepCopy(start->GetMatrix());
+    o.SamplingFraction = 0.1;
+    o.SmoothingSigmasMM = {3.0, 1.5, 0.0};
+    o.MinimumStepMM = 0.02;
+    const double startError = TransformRMSDifference(o.InitialFixedToMoving, phantom.CTToMR, surface);
+    RigidRegistrationResult a, b;
+    RegisterVolumesRigid(phantom.CT, phantom.MR, o, a, error);
+    RigidRegistrationOptions s1 = o;
+    s1.ShrinkFactors = {1};
+    s1.SmoothingSigmasMM = {0.0};
+    RegisterVolumesRigid(phantom.CT, phantom.MR, s1, b, error);
+    const double ea = TransformRMSDifference(a.FixedToMoving, phantom.CTToMR, surface);
+    const double eb = TransformRMSDifference(b.FixedToMoving, phantom.CTToMR, surface);
+    multi.X.push_back(startError);
+    multi.Y.push_back(std::max(ea, 1e-3));
+    single.X.push_back(startError);
+    single.Y.push_back(std::max(eb, 1e-3));
+    regRows.push_back({angle, shift, startError, ea, a.Seconds, double(a.Converged), eb, b.Seconds, double(b.Converged)});
+    figures["registration"].push_back({{"startDegrees", angle},
+                                       {"startMM", shift},
+                                       {"startRMS", startError},
+                                       {"multiResRMS", ea},
+                                       {"multiResSeconds", a.Seconds},
+                                       {"multiResConverged", a.Converged},
+                                       {"singleResRMS", eb},
+                                       {"singleResSeconds", b.Seconds},
+                                       {"singleResConverged", b.Converged}});
+    std::printf("start %5.1f deg %5.1f mm (%6.2f mm RMS): multi %.3f mm %.2f s | single %.3f mm %.2f s\n", angle, shift,
+                startError, ea, a.Seconds, eb, b.Seconds);
+  }
+  bench::WriteCSV(dir + "/volumes_registration.csv",
+                  {"start_deg", "start_mm", "start_rms_mm", "multi_rms_mm", "multi_s", "multi_converged",
+                   "single_rms_mm", "single_s", "single_converged"},
+                  regRows, error);
+  bench::ChartOptions regChart;
+  regChart.Title = "CT-MR registration on the knee phantom: error at the bone surface";
+  regChart.XLabel = "start error (mm RMS at the bone surface)";
+  regChart.YLabel = "final error (mm RMS)";
+  regChart.LogY = true;
+  if (!bench::WriteChartPNG(dir + "/volumes_registration.png", {multi, single}, regChart, error))
+    std::fprintf(stderr, "chart: %s\n", error.c_str());
+
+  // ---- Phantom generation.
+  for (auto size : {KneePhantomSize::Small, KneePhantomSize::Full}) {
+    KneePhantomOptions p;
+    p.Size = size;
+    KneePhantom out;
+    const double t = Seconds([&] { GenerateKneePhantom(p, out, error); });
+    figures["phantom"][size == KneePhantomSize::Small ? "smallSeconds" : "fullSeconds"] = t;
+    std::printf("phantom %s: %.2f s\n", size == KneePhantomSize::Small ? "small" : "full", t);
+  }
+  std::ofstream(dir + "/volumes_benchmark.json") << figures.dump(2) << "\n";
+  return 0;
+}
