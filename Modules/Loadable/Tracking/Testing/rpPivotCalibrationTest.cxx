@@ -8,6 +8,7 @@
 #include <fstream>
 #include <random>
 #include <sstream>
+#include <thread>
 
 #include "rpPivotCalibration.h"
 #include "rpToolDefinition.h"
@@ -146,4 +147,31 @@ TEST(PivotCalibration, RecordingRoundTripAndPivotCommand) {
   std::ostringstream out5, err5;
   EXPECT_EQ(RunPivotCommand({OutputDir() + "/bad.rec"}, out5, err5), 1);
   EXPECT_NE(err5.str().find("bad.rec:2: expected 12 fields"), std::string::npos) << err5.str();
+}
+
+TEST(TrackingRecording, ReplayPublishesAtTheRecordedPace) {
+  Recording rec;
+  rec.Tools = {"Stylus", "Reference"};
+  for (int i = 0; i < 60; ++i) {  // one second at 60 Hz
+    Recording::Sample s;
+    s.Time = 5.0 + i / 60.0;
+    s.Tool = i % 2;
+    s.Pose.State = ToolState::OK;
+    s.Pose.Translation[0] = i;
+    s.Pose.Frame = static_cast<uint32_t>(i);
+    rec.Samples.push_back(s);
+  }
+  RecordingPlayer player(rec, /*speed=*/4.0);
+  const double start = SteadySeconds();
+  player.Start();
+  while (!player.Finished() && SteadySeconds() - start < 5) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  const double elapsed = SteadySeconds() - start;
+  ASSERT_TRUE(player.Finished());
+  EXPECT_NEAR(elapsed, (59 / 60.0) / 4.0, 0.1);  // 4x speed
+  ASSERT_EQ(player.Poses().Count(), 2);
+  ToolPose last;
+  EXPECT_EQ(player.Poses().Read(0, last), 30u);  // every Stylus pose published
+  EXPECT_DOUBLE_EQ(last.Translation[0], 58.0);
+  EXPECT_EQ(player.Poses().Read(1, last), 30u);
+  EXPECT_DOUBLE_EQ(last.Translation[0], 59.0);
 }
