@@ -72,59 +72,91 @@ Vec3 BVH::ClosestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, co
   return a + ab * v + ac * w;
 }
 
+namespace {
+// 21 bits per axis interleaved into a 63-bit Morton code.
+inline uint64_t SpreadBits(uint64_t v) noexcept {
+  v &= 0x1fffff;
+  v = (v | v << 32) & 0x1f00000000ffffULL;
+  v = (v | v << 16) & 0x1f0000ff0000ffULL;
+  v = (v | v << 8) & 0x100f00f00f00f00fULL;
+  v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+  v = (v | v << 2) & 0x1249249249249249ULL;
+  return v;
+}
+}  // namespace
+
 void BVH::Build(const TriangleMesh& mesh, int leafSize) {
   this->Nodes.clear();
   this->Tris.clear();
   std::vector<Tri> all;
   all.reserve(mesh.Triangles.size());
+  Vec3 lo{HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
   for (size_t i = 0; i < mesh.Triangles.size(); ++i) {
     const auto& t = mesh.Triangles[i];
     Tri tri{mesh.Points[t[0]], mesh.Points[t[1]], mesh.Points[t[2]], {}, static_cast<uint32_t>(i)};
     tri.Normal = Cross(tri.B - tri.A, tri.C - tri.A);
-    if (Norm2(tri.Normal) > 0) all.push_back(tri);
+    if (Norm2(tri.Normal) == 0) continue;
+    const Vec3 c = (tri.A + tri.B + tri.C) / 3.0;
+    lo = Min(lo, c);
+    hi = Max(hi, c);
+    all.push_back(tri);
   }
   if (all.empty()) return;
-  std::vector<BuildItem> items(all.size());
+  // Sort along the Z-order curve of the centroids.
+  const Vec3 extent = hi - lo;
+  const double cells = static_cast<double>((1u << 21) - 1);
+  const Vec3 scale{extent.x > 0 ? cells / extent.x : 0, extent.y > 0 ? cells / extent.y : 0,
+                   extent.z > 0 ? cells / extent.z : 0};
+  std::vector<std::pair<uint64_t, uint32_t>> keys(all.size());
   for (size_t i = 0; i < all.size(); ++i) {
-    const Tri& t = all[i];
-    items[i] = {Min(t.A, Min(t.B, t.C)), Max(t.A, Max(t.B, t.C)), (t.A + t.B + t.C) / 3.0, static_cast<uint32_t>(i)};
+    const Vec3 c = (all[i].A + all[i].B + all[i].C) / 3.0 - lo;
+    keys[i] = {SpreadBits(static_cast<uint64_t>(c.x * scale.x)) | SpreadBits(static_cast<uint64_t>(c.y * scale.y)) << 1 |
+                   SpreadBits(static_cast<uint64_t>(c.z * scale.z)) << 2,
+               static_cast<uint32_t>(i)};
   }
-  this->Nodes.reserve(2 * all.size() / std::max(1, leafSize) + 16);
-  this->Tris.reserve(all.size());
-  this->BuildRange(items, all, 0, static_cast<uint32_t>(all.size()), 0, std::max(1, leafSize));
+  std::sort(keys.begin(), keys.end());
+  this->Tris.resize(all.size());
+  std::vector<uint64_t> codes(all.size());
+  for (size_t i = 0; i < keys.size(); ++i) {
+    this->Tris[i] = all[keys[i].second];
+    codes[i] = keys[i].first;
+  }
+  leafSize = std::max(1, leafSize);
+  this->Nodes.reserve(2 * all.size() + 1);
+  this->BuildRange(codes, 0, static_cast<uint32_t>(this->Tris.size()), 0, leafSize);
 }
 
-uint32_t BVH::BuildRange(std::vector<BuildItem>& items, const std::vector<Tri>& all, uint32_t begin, uint32_t end,
-                         int depth, int leafSize) {
+uint32_t BVH::BuildRange(const std::vector<uint64_t>& codes, uint32_t begin, uint32_t end, int depth, int leafSize) {
   const uint32_t index = static_cast<uint32_t>(this->Nodes.size());
   this->Nodes.emplace_back();
-  Vec3 lo{HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-  Vec3 clo = lo, chi = hi;
-  for (uint32_t i = begin; i < end; ++i) {
-    const BuildItem& item = items[i];
-    lo = Min(lo, item.Lo);
-    hi = Max(hi, item.Hi);
-    clo = Min(clo, item.Centroid);
-    chi = Max(chi, item.Centroid);
-  }
-  this->Nodes[index].Lo = lo;
-  this->Nodes[index].Hi = hi;
   const uint32_t count = end - begin;
-  const Vec3 extent = chi - clo;
-  // Leaves: few triangles, coincident centroids, or the traversal stack limit.
-  if (count <= static_cast<uint32_t>(leafSize) || depth >= MaxDepth - 2 ||
-      (extent.x <= 0 && extent.y <= 0 && extent.z <= 0)) {
-    this->Nodes[index].First = static_cast<uint32_t>(this->Tris.size());
+  if (count <= static_cast<uint32_t>(leafSize) || depth >= MaxDepth - 2) {  // the stack bounds the depth
+    Vec3 lo{HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+    for (uint32_t i = begin; i < end; ++i) {
+      const Tri& t = this->Tris[i];
+      lo = Min(lo, Min(t.A, Min(t.B, t.C)));
+      hi = Max(hi, Max(t.A, Max(t.B, t.C)));
+    }
+    this->Nodes[index].Lo = lo;
+    this->Nodes[index].Hi = hi;
+    this->Nodes[index].First = begin;
     this->Nodes[index].Count = count;
-    for (uint32_t i = begin; i < end; ++i) this->Tris.push_back(all[items[i].Index]);
     return index;
   }
-  const int axis = (extent.x >= extent.y && extent.x >= extent.z) ? 0 : (extent.y >= extent.z ? 1 : 2);
-  const uint32_t mid = begin + count / 2;
-  std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end,
-                   [axis](const BuildItem& a, const BuildItem& b) { return a.Centroid[axis] < b.Centroid[axis]; });
-  this->BuildRange(items, all, begin, mid, depth + 1, leafSize);
-  const uint32_t right = this->BuildRange(items, all, mid, end, depth + 1, leafSize);
+  // Split where the highest bit that differs between the first and last code flips; equal codes
+  // (or a deep tree, to respect the traversal stack) split in the middle.
+  uint32_t mid = begin + count / 2;
+  const uint64_t first = codes[begin], last = codes[end - 1];
+  if (first != last && depth < MaxDepth / 2) {
+    const int bit = 63 - __builtin_clzll(first ^ last);
+    const uint64_t mask = ~0ULL << bit;  // codes with this prefix bit set go right
+    const uint64_t pivot = (first & mask) | (1ULL << bit);
+    mid = static_cast<uint32_t>(std::lower_bound(codes.begin() + begin, codes.begin() + end, pivot) - codes.begin());
+  }
+  const uint32_t left = this->BuildRange(codes, begin, mid, depth + 1, leafSize);
+  const uint32_t right = this->BuildRange(codes, mid, end, depth + 1, leafSize);
+  this->Nodes[index].Lo = Min(this->Nodes[left].Lo, this->Nodes[right].Lo);
+  this->Nodes[index].Hi = Max(this->Nodes[left].Hi, this->Nodes[right].Hi);
   this->Nodes[index].First = right;
   this->Nodes[index].Count = 0;
   return index;
