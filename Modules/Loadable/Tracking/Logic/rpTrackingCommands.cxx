@@ -70,6 +70,8 @@ int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std
   ArgParser parser("roboplan track", "Track tools through a serial NDI link or OpenIGTLink; print rate, latency and status per tool.");
   parser.Option("serial", "PORT", "serial port of an NDI Polaris (or a polaris-sim link)")
       .Option("igtl", "HOST:PORT", "OpenIGTLink server (e.g. PLUS at 127.0.0.1:18944)")
+      .Option("replay", "FILE", "replay a recording (from --record) as if it were a tracker")
+      .Option("speed", "X", "replay speed factor", std::string("1"))
       .Option("rom", "FILE", "passive tool definition (.rom, or a Resources/Tools .json); repeatable")
       .Option("seconds", "N", "how long to track", std::string("5"))
       .Option("record", "FILE", "record every pose to a file (replay, `roboplan pivot`)")
@@ -81,8 +83,8 @@ int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std
       .Option("header-version", "V", "igtl: header version we send, 1 or 2 (v3 framing)", std::string("2"))
       .Flag("text", "serial: poll TX (text) instead of BX (binary)");
   if (!parser.Parse(args)) return BadArguments(parser, err);
-  if (parser.Has("serial") == parser.Has("igtl")) {
-    err << "roboplan track: give exactly one of --serial <port> or --igtl <host:port>\n" << parser.Usage();
+  if (int(parser.Has("serial")) + int(parser.Has("igtl")) + int(parser.Has("replay")) != 1) {
+    err << "roboplan track: give exactly one of --serial <port>, --igtl <host:port> or --replay <file>\n" << parser.Usage();
     return 2;
   }
   double seconds, stale, rate;
@@ -113,6 +115,8 @@ int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std
   const bool json = parser.Json();
   std::unique_ptr<NdiTracker> serial;
   std::unique_ptr<IgtlClient> igtlClient;
+  std::unique_ptr<Recording> replayed;
+  std::unique_ptr<RecordingPlayer> player;
   const ToolPoseTable* table = nullptr;
   std::string suffix;
   if (parser.Has("serial")) {
@@ -138,6 +142,22 @@ int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std
     table = &serial->Poses();
     suffix = "ToTracker";
     serial->Start();
+  } else if (parser.Has("replay")) {
+    double speed;
+    try {
+      speed = parser.GetDouble("speed");
+      replayed = std::make_unique<Recording>(Recording::Read(parser.Get("replay")));
+    } catch (const std::invalid_argument& e) {
+      err << "roboplan track: " << e.what() << "\n";
+      return 2;
+    } catch (const std::exception& e) {
+      err << "roboplan track: " << e.what() << "\n";
+      return 1;
+    }
+    player = std::make_unique<RecordingPlayer>(*replayed, speed);
+    table = &player->Poses();
+    suffix = "ToTracker";
+    player->Start();
   } else {
     const std::string target = parser.Get("igtl");
     const size_t colon = target.rfind(':');
@@ -207,7 +227,9 @@ int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std
     }
     if (tick++ % 4 == 0) {
       logic->UpdateNodes(now);
-      std::string status = serial ? NdiTracker::StateName(serial->GetState()) : (igtlClient->Connected() ? "connected" : "connecting");
+      std::string status = serial ? NdiTracker::StateName(serial->GetState())
+                           : player ? (player->Finished() ? "replay finished" : "replaying")
+                                    : (igtlClient->Connected() ? "connected" : "connecting");
       for (const auto& t : logic->GetToolStatistics())
         status += " | " + t.NodeName + " " + vtkRPTrackedToolNode::GetStatusAsString(t.Status);
       progress.Report((now - start) / seconds, status);
@@ -221,7 +243,7 @@ int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std
 
   nlohmann::json doc;
   doc["seconds"] = elapsed;
-  doc["source"] = serial ? "serial" : "igtl";
+  doc["source"] = serial ? "serial" : player ? "replay" : "igtl";
   std::string lastError;
   if (serial) {
     const auto s = serial->GetStatistics();
@@ -231,6 +253,9 @@ int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std
                      {"connections", s.Connections}, {"resets", s.Resets}};
     lastError = serial->LastError();
     serial->Stop();
+  } else if (player) {
+    doc["device"] = {{"recording", parser.Get("replay")}, {"samples", replayed->Samples.size()}, {"finished", player->Finished()}};
+    player->Stop();
   } else {
     const auto s = igtlClient->GetStatistics();
     doc["device"] = {{"connected", igtlClient->Connected()}, {"messages", s.Messages}, {"crcErrors", s.CrcErrors},

@@ -254,6 +254,12 @@ TEST(TrackingLogic, TrackAndPivotCommandsOnTheSimulator) {
     values >> v;
     EXPECT_NEAR(v, stylus.TipOffset[static_cast<size_t>(k)], 0.5) << k;
   }
+  // The recording replays as a tracker (4x speed: the 2 s session in 0.5 s).
+  std::ostringstream rout, rerr;
+  ASSERT_EQ(RunTrackCommand({"--replay", recording, "--speed", "4", "--seconds", "1", "--json"}, nullptr, rout, rerr), 0)
+      << rerr.str();
+  EXPECT_NE(rout.str().find("\"finished\": true"), std::string::npos) << rout.str();
+  EXPECT_NE(rout.str().find("\"StylusToTracker\""), std::string::npos);
   // Bad arguments.
   std::ostringstream bout, berr;
   EXPECT_EQ(RunTrackCommand({"--seconds", "1"}, nullptr, bout, berr), 2);
