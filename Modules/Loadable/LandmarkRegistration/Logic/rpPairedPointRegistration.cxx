@@ -131,6 +131,24 @@ double Det3(double a, double b, double c, double d, double e, double f, double g
   return a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g);
 }
 
+constexpr int kOthers[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
+
+// Determinant of `a` without row `row` and column `col`.
+inline double Minor(const Eigen::Matrix4d& a, int row, int col) {
+  const int* r = kOthers[row];
+  const int* c = kOthers[col];
+  return Det3(a(r[0], c[0]), a(r[0], c[1]), a(r[0], c[2]), a(r[1], c[0]), a(r[1], c[1]), a(r[1], c[2]),
+              a(r[2], c[0]), a(r[2], c[1]), a(r[2], c[2]));
+}
+
+// Column J of adj(a) (indices known at compile time: the common case costs four 3x3 minors).
+template <int J>
+Eigen::Vector4d AdjugateColumn(const Eigen::Matrix4d& a) {
+  Eigen::Vector4d v;
+  for (int i = 0; i < 4; ++i) v[i] = ((i + J) % 2 ? -1.0 : 1.0) * Minor(a, J, i);
+  return v;
+}
+
 }  // namespace
 
 bool SolvePairedPoints(const Eigen::Vector3d* from, const Eigen::Vector3d* to, const double* weights, size_t n,
@@ -162,27 +180,30 @@ bool SolvePairedPoints(const Eigen::Vector3d* from, const Eigen::Vector3d* to, c
     lambda -= step;
     if (std::abs(step) <= 1e-15 * std::abs(lambda)) break;
   }
-  // The quaternion spans the null space of A = K − λI: the column of adj(A) with the largest
-  // diagonal cofactor (the most accurate one; adj(A) ∝ v·vᵀ).
+  // The quaternion v spans the null space of A = K − λI, and adj(A) = −P'(λ)·v·vᵀ (the trace of
+  // the adjugate is the derivative of the characteristic polynomial). A column j of adj(A) gives
+  // v accurately when v_j² = |adj(A)_jj / P'(λ)| is not small: try the first column (w, the
+  // usual case), else the column with the largest diagonal cofactor.
   const Eigen::Matrix4d a = k - lambda * Eigen::Matrix4d::Identity();
-  static constexpr int kOthers[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
-  auto minor = [&a](int row, int col) {
-    const int* r = kOthers[row];
-    const int* c = kOthers[col];
-    return Det3(a(r[0], c[0]), a(r[0], c[1]), a(r[0], c[2]), a(r[1], c[0]), a(r[1], c[1]), a(r[1], c[2]),
-                a(r[2], c[0]), a(r[2], c[1]), a(r[2], c[2]));
-  };
-  int best = 0;
-  double bestCofactor = -1;
-  for (int j = 0; j < 4; ++j) {
-    const double cofactor = std::abs(minor(j, j));
-    if (cofactor > bestCofactor) {
-      bestCofactor = cofactor;
-      best = j;
+  const double derivative = std::abs(2.0 * (2.0 * lambda * lambda + c2) * lambda + c1);
+  Eigen::Vector4d v = AdjugateColumn<0>(a);
+  if (!(std::abs(v[0]) > 0.1 * derivative)) {
+    int best = 0;
+    double bestCofactor = std::abs(v[0]);
+    for (int j = 1; j < 4; ++j) {
+      const double cofactor = std::abs(Minor(a, j, j));
+      if (cofactor > bestCofactor) {
+        bestCofactor = cofactor;
+        best = j;
+      }
+    }
+    switch (best) {
+      case 1: v = AdjugateColumn<1>(a); break;
+      case 2: v = AdjugateColumn<2>(a); break;
+      case 3: v = AdjugateColumn<3>(a); break;
+      default: break;
     }
   }
-  Eigen::Vector4d v;
-  for (int i = 0; i < 4; ++i) v[i] = ((i + best) % 2 ? -1.0 : 1.0) * minor(best, i);
   const double norm = v.norm();
   if (!(norm > 0) || !std::isfinite(norm)) {
     // Every cofactor vanished: only for degenerate (collinear) sets. Fall back to the SVD.

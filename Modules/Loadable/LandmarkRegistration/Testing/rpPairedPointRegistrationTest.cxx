@@ -87,12 +87,18 @@ TEST(PairedPoint, QuaternionSolverMatchesTheSVDReference) {
   double worstAngle = 0, worstShift = 0, worstScale = 0;
   for (int trial = 0; trial < 2000; ++trial) {
     const int n = 3 + trial % 20;
-    PointList from = RandomPoints(rng, n, 70);
-    if (trial % 7 == 0)
-      for (auto& p : from) p.z() = 0;
-    const SimilarityTransform truth = RandomTransform(rng, trial % 2 == 1);
+    PointList from;
+    do {  // sets the registration accepts (not nearly collinear), some of them planar
+      from = RandomPoints(rng, n, 70);
+      if (trial % 7 == 0)
+        for (auto& p : from) p.z() = 0;
+    } while (rp::CentredSingularValues(from)[1] < 0.05 * rp::CentredSingularValues(from)[0]);
+    SimilarityTransform truth = RandomTransform(rng, trial % 2 == 1);
+    if (trial % 11 == 0)  // half turns: the quaternion's w is 0, its first adjugate column vanishes
+      truth.Rotation = Eigen::AngleAxisd(M_PI, RandomRotation(rng).col(0)).toRotationMatrix();
     PointList to = Apply(truth, from);
-    for (auto& q : to) q += Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
+    if (trial % 13 != 0)  // and some exact problems
+      for (auto& q : to) q += Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
     if (trial % 5 == 0)
       for (auto& q : to) q.x() = -q.x();  // a reflection to be corrected
     std::vector<double> w;
