@@ -141,3 +141,53 @@ TEST(BVH, EmptyAndDegenerateMeshes) {
   bvh.Build(m);
   EXPECT_TRUE(bvh.Empty());
 }
+
+TEST(BVH, RandomTriangleSoupMatchesBruteForce) {
+  // Triangles of very different sizes, overlapping, some coincident centroids: the builder and
+  // both queries must still agree with a scan over every triangle.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-50, 50), s(0.01, 8);
+  rp::TriangleMesh m;
+  for (int i = 0; i < 3000; ++i) {
+    const rp::Vec3 c{u(rng), u(rng), i % 10 == 0 ? 0.0 : u(rng)};
+    const double size = s(rng);
+    const int32_t base = static_cast<int32_t>(m.Points.size());
+    m.Points.push_back(c + rp::Vec3{u(rng), u(rng), u(rng)} * (size / 50));
+    m.Points.push_back(c + rp::Vec3{u(rng), u(rng), u(rng)} * (size / 50));
+    m.Points.push_back(c + rp::Vec3{u(rng), u(rng), u(rng)} * (size / 50));
+    m.Triangles.push_back({base, base + 1, base + 2});
+  }
+  for (int i = 0; i < 50; ++i) {  // identical copies: equal Morton codes
+    m.Triangles.push_back(m.Triangles[0]);
+  }
+  rp::BVH bvh;
+  bvh.Build(m);
+  for (int q = 0; q < 200; ++q) {
+    const rp::Vec3 p{u(rng), u(rng), u(rng)};
+    rp::ClosestPointHit hit;
+    ASSERT_TRUE(bvh.ClosestPoint(p, HUGE_VAL, hit));
+    EXPECT_NEAR(hit.Distance2, BruteClosest(m, p).Distance2, 1e-9);
+    const rp::Vec3 a{u(rng), u(rng), u(rng)}, b{u(rng), u(rng), u(rng)};
+    double bestT = 2;
+    for (const auto& t : m.Triangles) {
+      // Brute-force segment test (Möller–Trumbore) for the reference.
+      const rp::Vec3 e1 = m.Points[t[1]] - m.Points[t[0]], e2 = m.Points[t[2]] - m.Points[t[0]], d = b - a;
+      const rp::Vec3 pv = rp::Cross(d, e2);
+      const double det = rp::Dot(e1, pv);
+      if (det == 0) continue;
+      const rp::Vec3 tv = a - m.Points[t[0]];
+      const double uu = rp::Dot(tv, pv) / det;
+      if (uu < 0 || uu > 1) continue;
+      const rp::Vec3 qv = rp::Cross(tv, e1);
+      const double vv = rp::Dot(d, qv) / det, tt = rp::Dot(e2, qv) / det;
+      if (vv < 0 || uu + vv > 1 || tt < 0 || tt > 1) continue;
+      bestT = std::min(bestT, tt);
+    }
+    rp::SegmentHit sh;
+    const bool found = bvh.FirstHit(a, b, rp::BVH::Faces::Both, sh);
+    EXPECT_EQ(found, bestT <= 1) << "query " << q;
+    if (found && bestT <= 1) {
+      EXPECT_NEAR(sh.T, bestT, 1e-9);
+    }
+  }
+}
