@@ -118,6 +118,21 @@ TEST(TransformIO, CentreOfRotationAndScale) {
   ExpectMatrix(m, {0.5, 0, 0, 1, 0, 0.5, 0, 2, 0, 0, 0.5, -3}, 1e-12);
 }
 
+TEST(TransformIO, CompositeOfLinearTransforms) {
+  // ITK applies a composite's last transform first: T(x) = Affine(Translation(x)).
+  // Translation (1,2,3) then Rz(90°): fromParentLPS = [Rz | Rz·(1,2,3)] = [Rz | (-2,1,3)].
+  // RAS: [Rz | (2,-1,3)]; inverse [Rzᵀ | -Rzᵀ(2,-1,3)] = [Rzᵀ | (1,2,-3)].
+  const std::string text =
+      "#Insight Transform File V1.0\n#Transform 0\nTransform: CompositeTransform_double_3_3\n"
+      "#Transform 1\nTransform: AffineTransform_double_3_3\nParameters: 0 -1 0 1 0 0 0 0 1 0 0 0\n"
+      "FixedParameters: 0 0 0\n"
+      "#Transform 2\nTransform: TranslationTransform_double_3_3\nParameters: 1 2 3\nFixedParameters: \n";
+  vtkNew<vtkMatrix4x4> m;
+  std::string error;
+  ASSERT_TRUE(rp::ReadTransformFile(WriteText("composite.tfm", text), m, error)) << error;
+  ExpectMatrix(m, {0, 1, 0, 1, -1, 0, 0, 2, 0, 0, 1, -3}, 1e-12);
+}
+
 vtkSmartPointer<vtkMatrix4x4> RandomRigid(std::mt19937& rng) {
   std::uniform_real_distribution<double> angle(-180, 180), shift(-200, 200), axis(-1, 1);
   vtkNew<vtkTransform> t;
