@@ -64,26 +64,39 @@ struct LabelBounds {
 template <typename T>
 void FindBounds(const T* voxels, const int dims[3], long label, LabelBounds& b) {
   const T value = static_cast<T>(label);
-  int lo[3] = {dims[0], dims[1], dims[2]}, hi[3] = {-1, -1, -1};
-  long count = 0;
-  for (int k = 0; k < dims[2]; ++k) {
-    for (int j = 0; j < dims[1]; ++j) {
-      const T* row = voxels + (static_cast<size_t>(k) * dims[1] + j) * dims[0];
-      int first = -1, last = -1;
-      for (int i = 0; i < dims[0]; ++i) {
-        if (row[i] != value) continue;
-        if (first < 0) first = i;
-        last = i;
-        ++count;
+  struct Local {
+    int Lo[3] = {std::numeric_limits<int>::max(), std::numeric_limits<int>::max(), std::numeric_limits<int>::max()};
+    int Hi[3] = {-1, -1, -1};
+    long Count = 0;
+  };
+  vtkSMPThreadLocal<Local> locals;
+  vtkSMPTools::For(0, dims[2], [&](vtkIdType k0, vtkIdType k1) {
+    Local& l = locals.Local();
+    for (vtkIdType kk = k0; kk < k1; ++kk) {
+      const int k = static_cast<int>(kk);
+      for (int j = 0; j < dims[1]; ++j) {
+        const T* row = voxels + (static_cast<size_t>(k) * dims[1] + j) * dims[0];
+        int first = -1, last = -1;
+        for (int i = 0; i < dims[0]; ++i) {
+          if (row[i] != value) continue;
+          if (first < 0) first = i;
+          last = i;
+          ++l.Count;
+        }
+        if (first < 0) continue;
+        l.Lo[0] = std::min(l.Lo[0], first), l.Hi[0] = std::max(l.Hi[0], last);
+        l.Lo[1] = std::min(l.Lo[1], j), l.Hi[1] = std::max(l.Hi[1], j);
+        l.Lo[2] = std::min(l.Lo[2], k), l.Hi[2] = std::max(l.Hi[2], k);
       }
-      if (first < 0) continue;
-      lo[0] = std::min(lo[0], first), hi[0] = std::max(hi[0], last);
-      lo[1] = std::min(lo[1], j), hi[1] = std::max(hi[1], j);
-      lo[2] = std::min(lo[2], k), hi[2] = std::max(hi[2], k);
     }
+  });
+  LabelBounds result;
+  for (int a = 0; a < 3; ++a) result.Lo[a] = std::numeric_limits<int>::max(), result.Hi[a] = -1;
+  for (const Local& l : locals) {
+    result.Count += l.Count;
+    for (int a = 0; a < 3; ++a) result.Lo[a] = std::min(result.Lo[a], l.Lo[a]), result.Hi[a] = std::max(result.Hi[a], l.Hi[a]);
   }
-  b.Count = count;
-  for (int a = 0; a < 3; ++a) b.Lo[a] = lo[a], b.Hi[a] = hi[a];
+  b = result;
 }
 
 bool IntegerScalars(vtkImageData* image) {

@@ -1,6 +1,7 @@
 #include "rpSegmentationEditor.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 
@@ -21,6 +22,7 @@
 #include <vtkMatrix4x4.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
+#include <vtkSMPTools.h>
 #include <vtkSmartPointer.h>
 
 #include "vtkRPImageNode.h"
@@ -145,27 +147,45 @@ T ClampTo(double v) {
 double LabelMax(vtkImageData* labelmap) { return labelmap->GetScalarTypeMax(); }
 
 // Writes a mask over `box` into the segment `target`: the segment's old voxels are replaced.
+// Returns the segment's voxel count afterwards. One pass over the box (parallel over slices),
+// plus clearing the label outside the box when the box is not the whole image.
 template <typename L>
-void WriteLabels(L* labels, const int dims[3], const Box& box, const unsigned char* mask, L label, bool overwrite) {
-  // Clear the segment everywhere (it may extend beyond the box), then paint the box.
-  const size_t total = static_cast<size_t>(dims[0]) * dims[1] * dims[2];
-  for (size_t n = 0; n < total; ++n)
-    if (labels[n] == label) labels[n] = 0;
-  for (int k = 0; k < box.Size[2]; ++k) {
-    for (int j = 0; j < box.Size[1]; ++j) {
-      const unsigned char* m = mask + (static_cast<size_t>(k) * box.Size[1] + j) * box.Size[0];
-      L* row = labels + (static_cast<size_t>(box.Start[2] + k) * dims[1] + box.Start[1] + j) * dims[0] + box.Start[0];
-      for (int i = 0; i < box.Size[0]; ++i) {
-        if (m[i] && (row[i] == 0 || overwrite)) row[i] = label;
-      }
-    }
+long WriteLabels(L* labels, const int dims[3], const Box& box, const unsigned char* mask, L label, bool overwrite) {
+  const bool whole = box.Start[0] == 0 && box.Start[1] == 0 && box.Start[2] == 0 && box.Size[0] == dims[0] &&
+                     box.Size[1] == dims[1] && box.Size[2] == dims[2];
+  if (!whole) {
+    vtkSMPTools::For(0, dims[2], [&](vtkIdType k0, vtkIdType k1) {
+      for (vtkIdType k = k0; k < k1; ++k)
+        for (int j = 0; j < dims[1]; ++j) {
+          L* row = labels + (static_cast<size_t>(k) * dims[1] + j) * dims[0];
+          const bool rowInBox = k >= box.Start[2] && k < box.Start[2] + box.Size[2] && j >= box.Start[1] &&
+                                j < box.Start[1] + box.Size[1];
+          for (int i = 0; i < dims[0]; ++i) {
+            if (row[i] != label) continue;
+            if (rowInBox && i >= box.Start[0] && i < box.Start[0] + box.Size[0]) continue;  // the box pass decides
+            row[i] = 0;
+          }
+        }
+    });
   }
-}
-
-template <typename L>
-long CountLabel(const L* labels, size_t total, L label) {
-  long count = 0;
-  for (size_t n = 0; n < total; ++n) count += labels[n] == label;
+  std::atomic<long> count{0};
+  vtkSMPTools::For(0, box.Size[2], [&](vtkIdType k0, vtkIdType k1) {
+    long local = 0;
+    for (vtkIdType k = k0; k < k1; ++k)
+      for (int j = 0; j < box.Size[1]; ++j) {
+        const unsigned char* m = mask + (static_cast<size_t>(k) * box.Size[1] + j) * box.Size[0];
+        L* row = labels + (static_cast<size_t>(box.Start[2] + k) * dims[1] + box.Start[1] + j) * dims[0] + box.Start[0];
+        for (int i = 0; i < box.Size[0]; ++i) {
+          if (m[i]) {
+            if (row[i] == 0 || row[i] == label || overwrite) row[i] = label;
+          } else if (row[i] == label) {
+            row[i] = 0;
+          }
+          local += row[i] == label;
+        }
+      }
+    count += local;
+  });
   return count;
 }
 
@@ -179,8 +199,13 @@ bool WriteSegment(vtkRPSegmentationNode* segmentation, const SegmentTarget& targ
   int dims[3];
   Dimensions(labelmap, dims);
   const size_t total = static_cast<size_t>(dims[0]) * dims[1] * dims[2];
-  long selected = 0;
-  for (size_t n = 0; n < box.Count(); ++n) selected += mask[n] != 0;
+  std::atomic<long> selectedCount{0};
+  vtkSMPTools::For(0, static_cast<vtkIdType>(box.Count()), [&](vtkIdType n0, vtkIdType n1) {
+    long local = 0;
+    for (vtkIdType n = n0; n < n1; ++n) local += mask[n] != 0;
+    selectedCount += local;
+  });
+  const long selected = selectedCount;
   const double fraction = static_cast<double>(selected) / static_cast<double>(total);
   if (fraction > target.MaxFraction) {
     error = "segment '" + target.ID + "' would cover " + std::to_string(static_cast<int>(std::round(100 * fraction))) +
@@ -195,10 +220,8 @@ bool WriteSegment(vtkRPSegmentationNode* segmentation, const SegmentTarget& targ
     return false;
   }
   switch (labelmap->GetScalarType()) {
-    vtkTemplateMacro(WriteLabels(static_cast<VTK_TT*>(labelmap->GetScalarPointer()), dims, box, mask,
-                                 static_cast<VTK_TT>(label), target.Overwrite);
-                     result.Voxels = CountLabel(static_cast<const VTK_TT*>(labelmap->GetScalarPointer()), total,
-                                                static_cast<VTK_TT>(label)));
+    vtkTemplateMacro(result.Voxels = WriteLabels(static_cast<VTK_TT*>(labelmap->GetScalarPointer()), dims, box, mask,
+                                                 static_cast<VTK_TT>(label), target.Overwrite));
   }
   vtkRPSegmentationNode::Segment s;
   if (existing) s = *existing;
