@@ -8,7 +8,10 @@
 #include <vtkMatrix4x4.h>
 #include <vtkNew.h>
 
+#include <vtkPolyData.h>
+
 #include "rpArgParser.h"
+#include "rpModelIO.h"
 #include "rpNodeStorage.h"
 #include "rpTransformIO.h"
 #include "vtkRPFiducialListNode.h"
@@ -29,7 +32,10 @@ const char* const Summary =
     "When the registration is rejected (FRE above --fre-threshold) or refused (fewer than 3 pairs, "
     "unequal counts, coincident or nearly collinear points) the command exits 1 with the reason and "
     "does NOT write --out: an existing file there is left as it was, so a stale-but-good transform is "
-    "never silently replaced by a bad one. --json still prints the full result.";
+    "never silently replaced by a bad one. --json still prints the full result.\n"
+    "Optional refinement: --icp-points (points digitized on the patient's surface, same space as <from>) "
+    "and --icp-model (the surface, e.g. the bone model, in the <to> space) run a trimmed rigid ICP from "
+    "the accepted landmark result; its residual is a surface distance, reported apart from FRE.";
 
 std::string Fixed(double value, int digits = 3) {
   if (!std::isfinite(value)) return "n/a";
@@ -62,7 +68,10 @@ int RunRegisterCommand(const std::vector<std::string>& arguments, std::ostream& 
               "prior RMS fiducial localization error for the predicted TRE: the tracker's specification "
               "(0.25 mm for a Polaris) plus the picking error in the image, added in quadrature",
               "0.25")
-      .Option("target", "r,a,s", "point (in the <to> space, RAS) where the TRE is predicted");
+      .Option("target", "r,a,s", "point (in the <to> space, RAS) where the TRE is predicted")
+      .Option("icp-points", "fiducials", "surface points digitized in the <from> space (.mrk.json or .fcsv)")
+      .Option("icp-model", "model", "surface model in the <to> space (.vtp, .vtk, .stl, .ply, .obj)")
+      .Option("icp-inliers", "fraction", "fraction of the surface points kept by the trimmed ICP", "0.9");
   if (!parser.Parse(arguments)) {
     if (parser.HelpRequested()) {
       out << parser.Usage();
@@ -91,6 +100,17 @@ int RunRegisterCommand(const std::vector<std::string>& arguments, std::ostream& 
     err << "roboplan register: " << e.what() << "\n";
     return 2;
   }
+  double inliers = 0.9;
+  try {
+    inliers = parser.GetDouble("icp-inliers");
+  } catch (const std::invalid_argument& e) {
+    err << "roboplan register: " << e.what() << "\n";
+    return 2;
+  }
+  if (parser.Has("icp-points") != parser.Has("icp-model") || !(inliers > 0 && inliers <= 1)) {
+    err << "roboplan register: --icp-points and --icp-model go together, and --icp-inliers must be in (0, 1]\n";
+    return 2;
+  }
   if (!std::isfinite(threshold) || threshold < 0 || !std::isfinite(fle) || fle < 0) {
     err << "roboplan register: --fre-threshold and --fle must be finite and not negative\n";
     return 2;
@@ -100,6 +120,16 @@ int RunRegisterCommand(const std::vector<std::string>& arguments, std::ostream& 
   std::string error;
   for (auto [path, list] : {std::pair{parser.Get("from"), from.GetPointer()}, std::pair{parser.Get("to"), to.GetPointer()}}) {
     if (!LoadFiducials(path, list, error)) {
+      err << "roboplan register: " << error << "\n";
+      return 1;
+    }
+  }
+  vtkNew<vtkRPFiducialListNode> surfacePoints;
+  vtkNew<vtkPolyData> surface;
+  const bool icp = parser.Has("icp-points");
+  if (icp) {
+    if (!LoadFiducials(parser.Get("icp-points"), surfacePoints, error) ||
+        !ReadModelFile(parser.Get("icp-model"), surface, error)) {
       err << "roboplan register: " << error << "\n";
       return 1;
     }
@@ -116,9 +146,17 @@ int RunRegisterCommand(const std::vector<std::string>& arguments, std::ostream& 
   if (!target.empty()) logic->SetTarget(target.data());
   const bool accepted = logic->Update();
   const RegistrationAssessment& a = logic->GetLastAssessment();
+  bool icpOk = true;
+  if (accepted && icp) {
+    SurfaceICPOptions icpOptions;
+    icpOptions.InlierFraction = inliers;
+    icpOk = logic->RefineWithSurfaceICP(surfacePoints, surface, icpOptions);
+    if (!icpOk) err << "roboplan register: ICP refinement failed: " << logic->GetLastICPResult().Error << "\n";
+  }
+  const SurfaceICPResult& icpResult = logic->GetLastICPResult();
 
   bool written = false;
-  if (accepted) {
+  if (accepted && icpOk) {
     written = WriteTransformFile(outPath, output->GetMatrixTransformToParent(), error);
     if (!written) {
       err << "roboplan register: " << error << "\n";
@@ -161,8 +199,15 @@ int RunRegisterCommand(const std::vector<std::string>& arguments, std::ostream& 
       suspects.push_back({{"index", s.Index}, {"leaveOneOut", s.LeaveOneOut}, {"expected", s.Expected}, {"reason", s.Reason}});
     doc["suspects"] = suspects;
     doc["warnings"] = a.Warnings;
+    if (icp && accepted) {
+      doc["icp"] = {{"ok", icpResult.Ok},           {"error", icpResult.Error},
+                    {"inlierRmsMM", icpResult.InlierRMS}, {"allRmsMM", icpResult.AllRMS},
+                    {"inliers", icpResult.Inliers},   {"points", surfacePoints->GetNumberOfControlPoints()},
+                    {"iterations", icpResult.Iterations}};
+    }
     if (a.Solution.Ok) {
-      const Eigen::Matrix4d m = a.Solution.Transform.Matrix();
+      const SimilarityTransform& chosen = icp && icpResult.Ok ? icpResult.Transform : a.Solution.Transform;
+      const Eigen::Matrix4d m = chosen.Matrix();
       const Eigen::Matrix4d mt = m.transpose();
       doc["matrixToParentRAS"] = std::vector<double>(mt.data(), mt.data() + 16);  // row-major
       doc["scale"] = a.Solution.Transform.Scale;
@@ -190,13 +235,19 @@ int RunRegisterCommand(const std::vector<std::string>& arguments, std::ostream& 
       }
     }
     for (const auto& w : a.Warnings) out << "  warning: " << w << "\n";
+    if (icp && icpResult.Ok) {
+      out << "  ICP refinement: " << icpResult.Iterations << " iterations, surface distance RMS "
+          << Fixed(icpResult.InlierRMS) << " mm over the " << icpResult.Inliers << " kept of "
+          << surfacePoints->GetNumberOfControlPoints() << " points (" << Fixed(icpResult.AllRMS)
+          << " mm over all; a surface fit, not FRE)\n";
+    }
     if (written) out << "wrote " << outPath << "\n";
   }
   if (!accepted) {
     err << "roboplan register: " << a.Reason << " (" << outPath << " not written)\n";
     return 1;
   }
-  return written ? 0 : 1;
+  return written && icpOk ? 0 : 1;
 }
 
 }  // namespace rp

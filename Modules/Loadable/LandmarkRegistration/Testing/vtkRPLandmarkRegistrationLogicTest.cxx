@@ -16,6 +16,7 @@
 #include <vtkSphereSource.h>
 
 #include "rpMarkupsIO.h"
+#include "rpModelIO.h"
 #include "rpRegisterCommand.h"
 #include "rpTransformIO.h"
 #include "vtkRPFiducialListNode.h"
@@ -144,24 +145,13 @@ TEST(LandmarkRegistrationLogic, PredictedTREMapOnAModel) {
   EXPECT_GT(largest, 0.25 / std::sqrt(5.0));  // above the TRE at the centroid, FLE/sqrt(N)
 }
 
-TEST(LandmarkRegistrationLogic, SurfaceICPRefinesTheLandmarkResult) {
-  // Landmarks with 1 mm errors give a rough TrackerToRAS; 300 points digitized on an ellipsoid
-  // "bone" (exact, in tracker coordinates) refine it to the truth.
-  vtkNew<vtkRPFiducialListNode> tracker, image, surface;
-  FillLists(tracker, image);
-  const double shifts[5][3] = {{1, 0, 0}, {0, -1, 0}, {0, 0, 1}, {-1, 0, 0}, {0, 1, -1}};
-  for (int i = 0; i < 5; ++i) {
-    double p[3];
-    image->GetNthControlPointPosition(i, p);
-    for (int k = 0; k < 3; ++k) p[k] += shifts[i][k];
-    image->SetNthControlPointPosition(i, p);
-  }
+// An ellipsoid "bone" in RAS and every 7th of its vertices as points digitized in tracker space.
+void MakeBone(vtkPolyData* bone, vtkRPFiducialListNode* surface) {
   vtkNew<vtkSphereSource> sphere;
   sphere->SetThetaResolution(60);
   sphere->SetPhiResolution(40);
   sphere->SetRadius(1);
   sphere->Update();
-  vtkNew<vtkPolyData> bone;
   bone->DeepCopy(sphere->GetOutput());
   for (vtkIdType i = 0; i < bone->GetNumberOfPoints(); ++i) {
     double p[3];
@@ -176,6 +166,22 @@ TEST(LandmarkRegistrationLogic, SurfaceICPRefinesTheLandmarkResult) {
     const double q[3] = {t[0], t[1], t[2]};
     surface->AddControlPoint(q);
   }
+}
+
+TEST(LandmarkRegistrationLogic, SurfaceICPRefinesTheLandmarkResult) {
+  // Landmarks with 1 mm errors give a rough TrackerToRAS; 300 points digitized on an ellipsoid
+  // "bone" (exact, in tracker coordinates) refine it to the truth.
+  vtkNew<vtkRPFiducialListNode> tracker, image, surface;
+  FillLists(tracker, image);
+  const double shifts[5][3] = {{1, 0, 0}, {0, -1, 0}, {0, 0, 1}, {-1, 0, 0}, {0, 1, -1}};
+  for (int i = 0; i < 5; ++i) {
+    double p[3];
+    image->GetNthControlPointPosition(i, p);
+    for (int k = 0; k < 3; ++k) p[k] += shifts[i][k];
+    image->SetNthControlPointPosition(i, p);
+  }
+  vtkNew<vtkPolyData> bone;
+  MakeBone(bone, surface);
   vtkNew<vtkRPLinearTransformNode> output;
   vtkNew<vtkRPLandmarkRegistrationLogic> logic;
   logic->SetFromFiducials(tracker);
@@ -274,6 +280,41 @@ TEST(RegisterCommand, RejectsWithoutWritingAndReportsJson) {
       << err;
   EXPECT_TRUE(std::filesystem::exists(outPath));
   EXPECT_FALSE(nlohmann::json::parse(out)["warnings"].empty());
+}
+
+TEST(RegisterCommand, SurfaceICPRefinement) {
+  // Landmarks off by 1 mm; the bone surface (written as Slicer would, LPS .vtp) fixes it.
+  vtkNew<vtkRPFiducialListNode> tracker, image, surface;
+  FillLists(tracker, image);
+  double p[3];
+  image->GetNthControlPointPosition(0, p);
+  p[1] += 1.5;
+  image->SetNthControlPointPosition(0, p);
+  vtkNew<vtkPolyData> bone;
+  MakeBone(bone, surface);
+  const std::string base = OutputDir() + "/cli_icp";
+  std::string error;
+  ASSERT_TRUE(rp::WriteMarkupsJson(base + "_tracker.mrk.json", tracker, error)) << error;
+  ASSERT_TRUE(rp::WriteMarkupsJson(base + "_image.mrk.json", image, error)) << error;
+  ASSERT_TRUE(rp::WriteFcsv(base + "_surface.fcsv", surface, error)) << error;
+  ASSERT_TRUE(rp::WriteModelFile(base + "_bone.vtp", bone, error)) << error;
+  std::string out, err;
+  ASSERT_EQ(RunCommand({base + "_tracker.mrk.json", base + "_image.mrk.json", "--out", base + ".h5", "--icp-points",
+                        base + "_surface.fcsv", "--icp-model", base + "_bone.vtp", "--icp-inliers", "1", "--json"},
+                       out, err),
+            0)
+      << err;
+  const auto doc = nlohmann::json::parse(out);
+  EXPECT_EQ(doc["icp"]["ok"], true);
+  EXPECT_LT(doc["icp"]["inlierRmsMM"].get<double>(), 1e-3);
+  EXPECT_GT(doc["fre"].get<double>(), 0.3);  // the landmark fit is reported as it was
+  vtkNew<vtkMatrix4x4> m;
+  ASSERT_TRUE(rp::ReadTransformFile(base + ".h5", m, error)) << error;
+  ExpectMatrix(m, TrackerToRAS(), 1e-3);
+  EXPECT_EQ(RunCommand({base + "_tracker.mrk.json", base + "_image.mrk.json", "--out", base + ".tfm", "--icp-points",
+                        base + "_surface.fcsv"},
+                       out, err),
+            2);
 }
 
 TEST(RegisterCommand, BadArgumentsAndFiles) {
