@@ -18,6 +18,11 @@
 #include "rpImageVolume.h"
 #include "rpKneePhantom.h"
 #include "rpReport.h"
+#include "rpSegmentationEditor.h"
+#include "rpSegmentationToModels.h"
+#include "rpSurfaceError.h"
+#include "vtkRPModelNode.h"
+#include "vtkRPSegmentationNode.h"
 #include "rpVolumeIO.h"
 #include "rpVolumeRegistration.h"
 #include "vtkRPLinearTransformNode.h"
@@ -193,6 +198,176 @@ void RegisterCTAndMR(DemoState& state) {
   }
 }
 
+// ---- Stage: bones and soft tissues segmented on the CT and meshed (display + haptic LoD)
+struct BoneTruth {
+  const char* ID;
+  const char* Name;
+  KneeStructure Structure;
+  KneeLabel Cortical, Trabecular;
+};
+const BoneTruth Bones[] = {{"femur", "Femur", KneeStructure::Femur, KneeFemurCortical, KneeFemurTrabecular},
+                           {"tibia", "Tibia", KneeStructure::Tibia, KneeTibiaCortical, KneeTibiaTrabecular},
+                           {"fibula", "Fibula", KneeStructure::Fibula, KneeFibulaCortical, KneeFibulaTrabecular},
+                           {"patella", "Patella", KneeStructure::Patella, KneePatellaCortical, KneePatellaTrabecular}};
+
+// Dice of one segment's voxels against a set of truth labels (same grid).
+double Dice(vtkImageData* labels, int label, vtkImageData* truth, KneeLabel a, KneeLabel b) {
+  const auto* l = static_cast<const unsigned char*>(labels->GetScalarPointer());
+  const auto* t = static_cast<const unsigned char*>(truth->GetScalarPointer());
+  long both = 0, segmented = 0, expected = 0;
+  for (vtkIdType i = 0; i < labels->GetNumberOfPoints(); ++i) {
+    const bool s = l[i] == label, e = t[i] == a || t[i] == b;
+    both += s && e;
+    segmented += s;
+    expected += e;
+  }
+  return segmented + expected ? 2.0 * both / double(segmented + expected) : 0.0;
+}
+
+// A voxel of `label` in the truth labelmap nearest the label's centroid: the seed a user would click.
+bool SeedForLabel(const ImageVolume& truth, KneeLabel label, std::array<double, 3>& seedRAS) {
+  int dims[3];
+  truth.Image->GetDimensions(dims);
+  const auto* t = static_cast<const unsigned char*>(truth.Image->GetScalarPointer());
+  double sum[3] = {0, 0, 0};
+  long count = 0;
+  for (int k = 0; k < dims[2]; ++k)
+    for (int j = 0; j < dims[1]; ++j)
+      for (int i = 0; i < dims[0]; ++i)
+        if (t[(long(k) * dims[1] + j) * dims[0] + i] == label) sum[0] += i, sum[1] += j, sum[2] += k, ++count;
+  if (!count) return false;
+  double best = 1e300, bestIJK[3] = {0, 0, 0};
+  for (int k = 0; k < dims[2]; ++k)
+    for (int j = 0; j < dims[1]; ++j)
+      for (int i = 0; i < dims[0]; ++i)
+        if (t[(long(k) * dims[1] + j) * dims[0] + i] == label) {
+          const double d = std::pow(i - sum[0] / count, 2) + std::pow(j - sum[1] / count, 2) + std::pow(k - sum[2] / count, 2);
+          if (d < best) best = d, bestIJK[0] = i, bestIJK[1] = j, bestIJK[2] = k;
+        }
+  truth.IndexToRAS(bestIJK, seedRAS.data());
+  return true;
+}
+
+void SegmentAndMesh(DemoState& state) {
+  const std::string stage = "Segmentation and meshing";
+  std::string error;
+  vtkNew<vtkRPSegmentationNode> segmentation;
+  segmentation->SetName("KneeSegmentation");
+  if (!SegmentationEditor::InitializeFromVolume(state.CT, segmentation, error)) throw std::runtime_error(error);
+  const ThresholdPreset* bone = FindThresholdPreset("bone");
+  const ThresholdPreset* softPreset = FindThresholdPreset("soft-tissue");
+  const ThresholdPreset* fat = FindThresholdPreset("fat");
+  if (!bone || !softPreset || !fat) throw std::runtime_error("threshold presets bone/soft-tissue/fat missing");
+  EditResult edit;
+  std::vector<std::string> boneIDs;
+  if (state.HasGroundTruth()) {
+    // Region growing from one seed per bone (the click a user makes), bone preset thresholds.
+    for (const BoneTruth& b : Bones) {
+      std::array<double, 3> seed;
+      if (!SeedForLabel(state.Phantom->Labels, b.Trabecular, seed)) continue;
+      SegmentTarget target;
+      target.ID = b.ID;
+      target.Name = b.Name;
+      target.TissueClass = "bone";
+      target.Color = {bone->Color[0], bone->Color[1], bone->Color[2]};
+      target.MaxFraction = 0.3;
+      if (!SegmentationEditor::RegionGrow(state.CT, segmentation, target, {seed}, bone->Lower, bone->Upper, edit,
+                                          error)) {
+        throw std::runtime_error(std::string(b.Name) + ": " + error);
+      }
+      if (!SegmentationEditor::ApplyMorphology(segmentation, b.ID, Morphology::FillHoles, 1.0, edit, error)) {
+        throw std::runtime_error(std::string(b.Name) + ": " + error);
+      }
+      boneIDs.push_back(b.ID);
+    }
+  } else {
+    // A user's CT: the bone preset, then one segment per connected bone (largest first).
+    SegmentTarget target{"bone", "Bone", "bone", {bone->Color[0], bone->Color[1], bone->Color[2]}, false, 0.5};
+    if (!SegmentationEditor::Threshold(state.CT, segmentation, target, bone->Lower, bone->Upper, edit, error) ||
+        !SegmentationEditor::SplitComponents(segmentation, "bone", 4, 500, edit, error)) {
+      throw std::runtime_error(error);
+    }
+    boneIDs = edit.SegmentIDs;
+  }
+  state.Runner->Progress(0.3, "soft tissue and fat");
+  SegmentTarget softTarget{"soft-tissue", "Soft tissue", softPreset->TissueClass,
+                           {softPreset->Color[0], softPreset->Color[1], softPreset->Color[2]}, false, 0.9};
+  SegmentTarget fatTarget{"fat", "Fat", fat->TissueClass, {fat->Color[0], fat->Color[1], fat->Color[2]}, false, 0.9};
+  if (!SegmentationEditor::Threshold(state.CT, segmentation, softTarget, softPreset->Lower, softPreset->Upper, edit,
+                                     error) ||
+      !SegmentationEditor::KeepLargestComponent(segmentation, "soft-tissue", edit, error) ||
+      !SegmentationEditor::Threshold(state.CT, segmentation, fatTarget, fat->Lower, fat->Upper, edit, error) ||
+      !SegmentationEditor::KeepLargestComponent(segmentation, "fat", edit, error)) {
+    throw std::runtime_error(error);
+  }
+  state.Scene->AddNode(segmentation);
+  state.Segmentation = segmentation;
+
+  state.Runner->Progress(0.4, "meshing");
+  // Bones and soft tissue get display and haptic meshes. Fat stays a segment only: a thin
+  // shell under the skin gives a large two-sided mesh that neither the planning nor the haptic
+  // exploration needs (model no more than the scene needs).
+  ModelBuildOptions boneOptions;
+  boneOptions.Display.Sigma = 1.0;
+  boneOptions.DisplayLOD.TargetTriangles = 120000;
+  boneOptions.HapticLOD.TargetTriangles = 30000;
+  boneOptions.SegmentIDs = boneIDs;
+  ModelBuildOptions softOptions = boneOptions;
+  softOptions.SegmentIDs = {"soft-tissue"};
+  softOptions.Display.Sigma = 1.5;
+  for (double& step : softOptions.Display.GridStep) step = 2.0;  // large and smooth: a 2-voxel grid
+  softOptions.DisplayLOD.TargetTriangles = 0;
+  auto built = BuildSegmentModels(segmentation, boneOptions, state.Scene, StageProgress(state));
+  state.Runner->Progress(0.7, "meshing soft tissue");
+  const auto soft = BuildSegmentModels(segmentation, softOptions, state.Scene, StageProgress(state));
+  built.insert(built.end(), soft.begin(), soft.end());
+  double bounds[6];
+  state.CT->GetRASBounds(bounds);
+  for (int a = 0; a < 3; ++a) bounds[2 * a] += 3.0, bounds[2 * a + 1] -= 3.0;  // ignore the cut caps
+  for (const SegmentModels& m : built) {
+    if (!m.Ok) {
+      state.Report->AddNote("Segment " + m.Name + ": no model (" + m.Error + ")");
+      continue;
+    }
+    if (m.DisplayModel) state.DisplayModelIDs.push_back(m.DisplayModel->GetID());
+    if (m.HapticModel) state.HapticModelIDs.push_back(m.HapticModel->GetID());
+    const bool isBone = m.TissueClass == "bone";
+    if (isBone && m.DisplayModel) state.BoneModelIDs.push_back(m.DisplayModel->GetID());
+    state.Report->AddFigureBelow(stage, m.Name + ": mesh volume vs labelmap", std::abs(m.Display.VolumeErrorPercent), "%", 1.0);
+    state.Report->AddFigure(stage, m.Name + ": display / haptic triangles", double(m.Display.Triangles), "",
+                            std::to_string(m.Haptic.Triangles) + " haptic triangles, " +
+                                (m.Display.Watertight && (!m.HapticModel || m.Haptic.Watertight) ? "watertight" : "NOT watertight"));
+  }
+  if (!state.HasGroundTruth()) {
+    state.Report->AddNotScored(stage, "Dice and surface error", "no ground truth for a user's CT");
+    return;
+  }
+  double spacing[3];
+  state.CT->GetSpacing(spacing);
+  const double voxel = std::min({spacing[0], spacing[1], spacing[2]});
+  for (const BoneTruth& b : Bones) {
+    const auto* segment = segmentation->GetSegmentByID(b.ID);
+    if (!segment) continue;
+    state.Report->AddFigureAbove(stage, std::string(b.Name) + ": Dice vs ground truth",
+                                 Dice(segmentation->GetImageData(), segment->LabelValue, state.Phantom->Labels.Image,
+                                      b.Cortical, b.Trabecular),
+                                 "", 0.9);
+    for (const SegmentModels& m : built) {
+      if (m.SegmentID != b.ID || !m.DisplayModel) continue;
+      const auto model = state.Phantom->Model;
+      const KneeStructure structure = b.Structure;
+      const SurfaceError e = CompareToSurface(
+          m.DisplayModel->GetPolyData(), [model, structure](const double p[3]) { return model->SignedDistance(structure, p); },
+          model->SurfacePoints(structure, 4000, bounds), bounds);
+      state.Report->AddFigureBelow(stage, std::string(b.Name) + ": mean surface distance to the analytic bone",
+                                   e.MeanMm, "mm", 0.5 * voxel,
+                                   "target 0.5 voxel: threshold segmentation + mesh; " +
+                                       std::to_string(e.MeanMm / voxel).substr(0, 5) + " voxel; Hausdorff " +
+                                       std::to_string(e.HausdorffMm).substr(0, 5) + " mm");
+    }
+  }
+}
+
 }  // namespace
 
 std::vector<DemoStage> DemoStages() {
@@ -200,6 +375,7 @@ std::vector<DemoStage> DemoStages() {
       {"Knee phantom (CT, PD-MR, ground truth)", GeneratePhantom},
       {"DICOM series out and back in", DicomRoundTrip},
       {"CT↔MR registration (Mattes MI)", RegisterCTAndMR},
+      {"Segmentation (bones, soft tissue, fat) and meshes", SegmentAndMesh},
   };
 }
 
