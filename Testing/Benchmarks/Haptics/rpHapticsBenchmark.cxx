@@ -50,6 +50,12 @@ struct World {
 };
 
 // The HIP path: a great circle 1 mm under the surface at 100 mm/s with a 1 Hz in/out of ±1.5 mm.
+rp::Pose At(const Vec3& p) {
+  rp::Pose pose;
+  pose.T = p;
+  return pose;
+}
+
 Vec3 PathPoint(double t) {
   const double angle = 100.0 / kRadius * t;
   const double depth = 1.0 + 1.5 * std::sin(2 * M_PI * t);
@@ -180,14 +186,19 @@ Distribution Summarize(std::vector<double> us) {
 nlohmann::json Json(const Distribution& d) {
   return {{"count", d.Count}, {"p50Us", d.P50}, {"p99Us", d.P99}, {"maxUs", d.Max}, {"meanUs", d.Mean}};
 }
+// Wall-clock time of each call; with `cpu`, the calling thread's CPU time instead (time the
+// thread was preempted by other processes on this shared machine is then excluded).
 template <typename F>
-std::vector<double> TimeEach(size_t n, F&& f) {
+std::vector<double> TimeEach(size_t n, F&& f, bool cpu = false) {
   std::vector<double> us;
   us.reserve(n);
+  const clockid_t clock = cpu ? CLOCK_THREAD_CPUTIME_ID : CLOCK_MONOTONIC;
+  timespec a, b;
   for (size_t i = 0; i < n; ++i) {
-    const auto t0 = std::chrono::steady_clock::now();
+    clock_gettime(clock, &a);
     f(i);
-    us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count());
+    clock_gettime(clock, &b);
+    us.push_back((b.tv_sec - a.tv_sec) * 1e6 + (b.tv_nsec - a.tv_nsec) * 1e-3);
   }
   return us;
 }
@@ -205,6 +216,11 @@ nlohmann::json PerTickDistributions(const std::string& out) {
     const double x[3] = {w.Queries[i].x, w.Queries[i].y, w.Queries[i].z};
     w.Locator->FindClosestPoint(x, closest, cell, cellId, subId, d2);
   });
+  const auto bvhCpu = TimeEach(n, [&](size_t i) { w.Scene->Tree.ClosestPoint(w.Queries[i], HUGE_VAL, hit); }, true);
+  const auto vtkCpu = TimeEach(n, [&](size_t i) {
+    const double x[3] = {w.Queries[i].x, w.Queries[i].y, w.Queries[i].z};
+    w.Locator->FindClosestPoint(x, closest, cell, cellId, subId, d2);
+  }, true);
   double sink = 0;
   const auto brute = TimeEach(30, [&](size_t i) { sink += BruteForceClosest(w.Scene->Mesh, w.Queries[i * 600]); });
   benchmark::DoNotOptimize(sink);
@@ -223,9 +239,13 @@ nlohmann::json PerTickDistributions(const std::string& out) {
       pose.T = w.Queries[i];
       contacts += r.Update(pose).Contacts > 0;
     });
+    r.Reset(pose);
+    const auto cpu = TimeEach(n, [&](size_t i) { r.Update(At(w.Queries[i])); }, true);
     if (points == 1) tick1 = us;
-    ticks[std::to_string(points) + "Point"] = Json(Summarize(us));
-    ticks[std::to_string(points) + "Point"]["contactFraction"] = static_cast<double>(contacts) / n;
+    const std::string key = std::to_string(points) + "Point";
+    ticks[key] = Json(Summarize(us));
+    ticks[key]["threadCpu"] = Json(Summarize(cpu));
+    ticks[key]["contactFraction"] = static_cast<double>(contacts) / n;
   }
   // Accuracy of the closest-point answers (same query set): BVH vs the locator.
   double maxDiff = 0;
@@ -240,6 +260,7 @@ nlohmann::json PerTickDistributions(const std::string& out) {
                         {"bvhBuildSeconds", w.BvhBuildS},
                         {"vtkStaticCellLocatorBuildSeconds", w.LocatorBuildS},
                         {"closestPoint", {{"bvh", Json(b)}, {"vtkStaticCellLocator", Json(v)}, {"bruteForce", Json(f)}}},
+                        {"closestPointThreadCpu", {{"bvh", Json(Summarize(bvhCpu))}, {"vtkStaticCellLocator", Json(Summarize(vtkCpu))}}},
                         {"speedupP99VsVTK", v.P99 / b.P99},
                         {"speedupP50VsVTK", v.P50 / b.P50},
                         {"speedupP50VsBruteForce", f.P50 / b.P50},
