@@ -22,7 +22,7 @@ class IgtlClient {
     std::string Host = "127.0.0.1";
     int Port = 18944;
     bool CheckCrc = true;
-    uint16_t HeaderVersion = 2;           // what we send: 1 (v1/v2 peers) or 2 (v3 framing)
+    uint16_t HeaderVersion = 1;           // what we send: 1 (any peer) or 2 (v3 framing: PLUS then adds metadata)
     bool RequestTrackingData = false;     // send STT_TDATA on connect (STP_TDATA on stop)
     bool RequestQuaternionData = false;   // send STT_QTDATA on connect
     int TrackingIntervalMs = 16;

@@ -80,7 +80,8 @@ int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std
       .Option("rate", "HZ", "serial: camera frame rate via IRATE (20, 30 or 60) and poll rate", std::string("60"))
       .Option("serve", "PORT", "also stream the poses as OpenIGTLink TRANSFORMs (PLUS style) on 127.0.0.1:PORT")
       .Option("request", "KIND", "igtl: ask the server to stream 'tdata' or 'qtdata' (STT_)")
-      .Option("header-version", "V", "igtl: header version we send, 1 or 2 (v3 framing)", std::string("2"))
+      .Option("header-version", "V", "igtl: header version we send: 1, or 2 (v3 framing; PLUS then sends status metadata)",
+              std::string("1"))
       .Flag("text", "serial: poll TX (text) instead of BX (binary)");
   if (!parser.Parse(args)) return BadArguments(parser, err);
   if (int(parser.Has("serial")) + int(parser.Has("igtl")) + int(parser.Has("replay")) != 1) {
