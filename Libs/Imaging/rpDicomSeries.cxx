@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
+#include <type_traits>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -17,6 +19,9 @@
 #include <dcmtk/dcmjpeg/djdecode.h>
 #include <dcmtk/dcmjpls/djdecode.h>
 #include <dcmtk/oflog/oflog.h>
+
+#include <vtkDataArray.h>
+#include <vtkPointData.h>
 
 #include "rpDicomCommon.h"
 
@@ -305,23 +310,34 @@ SeriesGeometry AnalyzeGeometry(const std::vector<SliceHeader>& headers, double t
   return g;
 }
 
-// Raw stored value → modality value, for one pixel.
-template <typename Raw>
-inline double StoredValue(Raw raw, int bitsStored, bool isSigned) {
-  long v = static_cast<long>(raw);
-  if (bitsStored < static_cast<int>(8 * sizeof(Raw))) {
-    const unsigned long mask = (1UL << bitsStored) - 1UL;
-    unsigned long u = static_cast<unsigned long>(static_cast<std::make_unsigned_t<Raw>>(raw)) & mask;
-    if (isSigned && (u & (1UL << (bitsStored - 1)))) {
-      v = static_cast<long>(u) - static_cast<long>(1UL << bitsStored);
+// Stored pixels → modality values (slope/intercept applied) into `out`, in tight loops.
+// Integral series (integer slope and intercept) decode into int32, others into float.
+template <typename Raw, typename Out>
+void ConvertPixels(const Raw* in, size_t count, int bitsStored, bool isSigned, double slope, double intercept,
+                   Out* out) {
+  const bool masked = bitsStored < static_cast<int>(8 * sizeof(Raw));
+  using U = std::make_unsigned_t<Raw>;
+  const uint32_t mask = masked ? ((1u << bitsStored) - 1u) : 0xffffffffu;
+  const uint32_t signBit = masked ? (1u << (bitsStored - 1)) : 0u;
+  const bool identity = slope == 1.0 && intercept == 0.0;
+  for (size_t i = 0; i < count; ++i) {
+    int64_t v;
+    if (masked) {
+      const uint32_t u = static_cast<uint32_t>(static_cast<U>(in[i])) & mask;
+      v = (isSigned && (u & signBit)) ? static_cast<int64_t>(u) - (int64_t(1) << bitsStored) : static_cast<int64_t>(u);
     } else {
-      v = static_cast<long>(u);
+      v = static_cast<int64_t>(in[i]);
+    }
+    if constexpr (std::is_integral_v<Out>) {
+      out[i] = static_cast<Out>(identity ? v : v * static_cast<int64_t>(slope) + static_cast<int64_t>(intercept));
+    } else {
+      out[i] = static_cast<Out>(identity ? double(v) : double(v) * slope + intercept);
     }
   }
-  return static_cast<double>(v);
 }
 
-bool DecodeSlice(const SliceHeader& h, DcmFileFormat& format, std::vector<double>& out, std::string& error) {
+template <typename Out>
+bool DecodeSlice(const SliceHeader& h, DcmFileFormat& format, Out* out, std::string& error) {
   DcmDataset* ds = format.getDataset();
   if (IsJpeg2000(h.TransferSyntax)) {
     error = Name(h.File) + ": JPEG 2000 compressed (transfer syntax " + h.TransferSyntax +
@@ -342,45 +358,43 @@ bool DecodeSlice(const SliceHeader& h, DcmFileFormat& format, std::vector<double
     return false;
   }
   const size_t count = static_cast<size_t>(h.Rows) * h.Columns;
-  out.resize(count);
   const bool isSigned = h.PixelRepresentation == 1;
+  auto truncated = [&](int bits) {
+    error = Name(h.File) + ": pixel data shorter than " + std::to_string(h.Columns) + "x" + std::to_string(h.Rows) +
+            " " + std::to_string(bits) + "-bit pixels (truncated file)";
+    return false;
+  };
   if (h.BitsAllocated == 16) {
     Uint16* data = nullptr;
-    if (element->getUint16Array(data).bad() || !data || element->getLength() < count * 2) {
-      error = Name(h.File) + ": pixel data shorter than " + std::to_string(h.Columns) + "x" +
-              std::to_string(h.Rows) + " 16-bit pixels (truncated file)";
-      return false;
-    }
-    if (isSigned) {
-      const Sint16* s = reinterpret_cast<const Sint16*>(data);
-      for (size_t i = 0; i < count; ++i) out[i] = StoredValue(s[i], h.BitsStored, true);
-    } else {
-      for (size_t i = 0; i < count; ++i) out[i] = StoredValue(data[i], h.BitsStored, false);
-    }
+    if (element->getUint16Array(data).bad() || !data || element->getLength() < count * 2) return truncated(16);
+    if (isSigned)
+      ConvertPixels(reinterpret_cast<const Sint16*>(data), count, h.BitsStored, true, h.Slope, h.Intercept, out);
+    else
+      ConvertPixels(data, count, h.BitsStored, false, h.Slope, h.Intercept, out);
   } else if (h.BitsAllocated == 8) {
     Uint8* data = nullptr;
-    if (element->getUint8Array(data).bad() || !data || element->getLength() < count) {
-      error = Name(h.File) + ": pixel data shorter than " + std::to_string(h.Columns) + "x" +
-              std::to_string(h.Rows) + " 8-bit pixels (truncated file)";
-      return false;
-    }
-    for (size_t i = 0; i < count; ++i)
-      out[i] = isSigned ? StoredValue(static_cast<Sint8>(data[i]), h.BitsStored, true)
-                        : StoredValue(data[i], h.BitsStored, false);
+    if (element->getUint8Array(data).bad() || !data || element->getLength() < count) return truncated(8);
+    if (isSigned)
+      ConvertPixels(reinterpret_cast<const Sint8*>(data), count, h.BitsStored, true, h.Slope, h.Intercept, out);
+    else
+      ConvertPixels(data, count, h.BitsStored, false, h.Slope, h.Intercept, out);
   } else if (h.BitsAllocated == 32) {
     Uint32* data = nullptr;
-    if (element->getUint32Array(data).bad() || !data || element->getLength() < count * 4) {
-      error = Name(h.File) + ": pixel data shorter than expected (truncated file)";
-      return false;
-    }
-    for (size_t i = 0; i < count; ++i)
-      out[i] = isSigned ? static_cast<double>(static_cast<Sint32>(data[i])) : static_cast<double>(data[i]);
+    if (element->getUint32Array(data).bad() || !data || element->getLength() < count * 4) return truncated(32);
+    if (isSigned)
+      ConvertPixels(reinterpret_cast<const Sint32*>(data), count, 32, true, h.Slope, h.Intercept, out);
+    else
+      ConvertPixels(data, count, 32, false, h.Slope, h.Intercept, out);
   } else {
     error = Name(h.File) + ": " + std::to_string(h.BitsAllocated) + " bits allocated is not supported";
     return false;
   }
-  for (double& v : out) v = v * h.Slope + h.Intercept;
   return true;
+}
+
+template <typename In, typename Out>
+void Narrow(const In* in, Out* out, size_t count) {
+  for (size_t i = 0; i < count; ++i) out[i] = static_cast<Out>(in[i]);
 }
 
 }  // namespace
@@ -527,12 +541,18 @@ bool ReadDicomSeries(const DicomSeriesInfo& series, ImageVolume& volume, std::st
       return false;
     }
 
-    // Decode every slice in geometric order.
+    // Decode every slice in geometric order into a stack: int32 when every slice's slope and
+    // intercept are integers (exact), float otherwise; narrowed to short/ushort afterwards.
     const int cols = headers.front().Columns, rows = headers.front().Rows;
     const size_t sliceSize = static_cast<size_t>(cols) * rows;
-    std::vector<std::vector<double>> slices(headers.size());
     bool integral = true;
-    double lo = std::numeric_limits<double>::max(), hi = -lo;
+    for (const SliceHeader& h : headers)
+      integral = integral && h.Slope == std::floor(h.Slope) && h.Intercept == std::floor(h.Intercept) &&
+                 std::abs(h.Slope) < 65536 && std::abs(h.Intercept) < 1e9;
+    const int stackDepth = static_cast<int>(g.Order.size());
+    auto stack = vtkSmartPointer<vtkImageData>::New();
+    stack->SetDimensions(cols, rows, stackDepth);
+    stack->AllocateScalars(integral ? VTK_INT : VTK_FLOAT, 1);
     for (size_t k = 0; k < g.Order.size(); ++k) {
       const SliceHeader& h = headers[g.Order[k]];
       DcmFileFormat format;
@@ -542,69 +562,66 @@ bool ReadDicomSeries(const DicomSeriesInfo& series, ImageVolume& volume, std::st
         error = h.File + ": " + (reason.empty() ? "cannot be read" : reason);
         return false;
       }
-      if (!DecodeSlice(full, format, slices[k], error)) {
+      const bool ok = integral ? DecodeSlice(full, format, static_cast<int*>(stack->GetScalarPointer()) + k * sliceSize, error)
+                               : DecodeSlice(full, format, static_cast<float*>(stack->GetScalarPointer()) + k * sliceSize, error);
+      if (!ok) {
         error = h.File + ": " + error;
         return false;
-      }
-      integral = integral && full.Slope == std::floor(full.Slope) && full.Intercept == std::floor(full.Intercept);
-      for (double v : slices[k]) {
-        lo = std::min(lo, v);
-        hi = std::max(hi, v);
       }
       if (progress) progress(double(k + 1) / g.Order.size(), "reading DICOM");
     }
 
-    // Output grid: the slices themselves, or a regular resampling for irregular series.
+    // Irregular series: resample along the normal onto a regular grid (linear, float).
     std::vector<double> outPositions;
     double spacing = g.Spacing;
+    vtkSmartPointer<vtkImageData> image = stack;
     if (g.Irregular) {
       spacing = g.MinGap;
       const double length = g.Positions.back() - g.Positions.front();
       const int n = static_cast<int>(std::lround(length / spacing)) + 1;
       spacing = n > 1 ? length / (n - 1) : spacing;
       for (int k = 0; k < n; ++k) outPositions.push_back(g.Positions.front() + k * spacing);
-      integral = false;
+      image = vtkSmartPointer<vtkImageData>::New();
+      image->SetDimensions(cols, rows, n);
+      image->AllocateScalars(VTK_FLOAT, 1);
+      float* dst = static_cast<float*>(image->GetScalarPointer());
+      vtkDataArray* src = stack->GetPointData()->GetScalars();
+      size_t below = 0;
+      for (int k = 0; k < n; ++k) {
+        const double p = outPositions[k];
+        while (below + 2 < g.Positions.size() && g.Positions[below + 1] <= p) ++below;
+        const size_t a = below, b = std::min(below + 1, g.Positions.size() - 1);
+        const double t = b != a ? std::clamp((p - g.Positions[a]) / (g.Positions[b] - g.Positions[a]), 0.0, 1.0) : 0.0;
+        for (size_t i = 0; i < sliceSize; ++i) {
+          const double va = src->GetComponent(static_cast<vtkIdType>(a * sliceSize + i), 0);
+          const double vb = src->GetComponent(static_cast<vtkIdType>(b * sliceSize + i), 0);
+          dst[static_cast<size_t>(k) * sliceSize + i] = static_cast<float>((1.0 - t) * va + t * vb);
+        }
+      }
       if (warnings)
         warnings->push_back(g.IrregularMessage + "; resampled to " + std::to_string(n) + " slices " + Fmt(spacing, 3) +
                             " mm apart by linear interpolation along the slice normal");
     } else {
       outPositions = g.Positions;
-    }
-    const int depth = static_cast<int>(outPositions.size());
-
-    int scalarType = VTK_FLOAT;
-    if (integral) {
-      if (lo >= -32768 && hi <= 32767) scalarType = VTK_SHORT;
-      else if (lo >= 0 && hi <= 65535) scalarType = VTK_UNSIGNED_SHORT;
-      else if (lo >= -2147483648.0 && hi <= 2147483647.0) scalarType = VTK_INT;
-    }
-    auto image = vtkSmartPointer<vtkImageData>::New();
-    image->SetDimensions(cols, rows, depth);
-    image->AllocateScalars(scalarType, 1);
-    auto store = [&](size_t index, double v) {
-      switch (scalarType) {
-        case VTK_SHORT: static_cast<short*>(image->GetScalarPointer())[index] = static_cast<short>(v); break;
-        case VTK_UNSIGNED_SHORT:
-          static_cast<unsigned short*>(image->GetScalarPointer())[index] = static_cast<unsigned short>(v);
-          break;
-        case VTK_INT: static_cast<int*>(image->GetScalarPointer())[index] = static_cast<int>(v); break;
-        default: static_cast<float*>(image->GetScalarPointer())[index] = static_cast<float>(v); break;
-      }
-    };
-    size_t below = 0;
-    for (int k = 0; k < depth; ++k) {
-      const double p = outPositions[k];
-      while (below + 2 < g.Positions.size() && g.Positions[below + 1] <= p) ++below;
-      size_t a = below, b = std::min(below + 1, g.Positions.size() - 1);
-      double t = 0.0;
-      if (g.Irregular && b != a) t = std::clamp((p - g.Positions[a]) / (g.Positions[b] - g.Positions[a]), 0.0, 1.0);
-      if (!g.Irregular) {
-        a = static_cast<size_t>(k);
-        t = 0.0;
-      }
-      for (size_t i = 0; i < sliceSize; ++i) {
-        const double v = t == 0.0 ? slices[a][i] : (1.0 - t) * slices[a][i] + t * slices[b][i];
-        store(static_cast<size_t>(k) * sliceSize + i, v);
+      if (integral) {
+        // Narrow to 16 bits when the values fit (CT in HU, most MR).
+        const int* values = static_cast<const int*>(stack->GetScalarPointer());
+        const size_t total = sliceSize * stackDepth;
+        int lo = std::numeric_limits<int>::max(), hi = std::numeric_limits<int>::min();
+        for (size_t i = 0; i < total; ++i) {
+          lo = std::min(lo, values[i]);
+          hi = std::max(hi, values[i]);
+        }
+        const int narrowType = (lo >= -32768 && hi <= 32767) ? VTK_SHORT : (lo >= 0 && hi <= 65535) ? VTK_UNSIGNED_SHORT : VTK_INT;
+        if (narrowType != VTK_INT) {
+          image = vtkSmartPointer<vtkImageData>::New();
+          image->SetDimensions(cols, rows, stackDepth);
+          image->AllocateScalars(narrowType, 1);
+          if (narrowType == VTK_SHORT)
+            Narrow(values, static_cast<short*>(image->GetScalarPointer()), total);
+          else
+            Narrow(values, static_cast<unsigned short*>(image->GetScalarPointer()), total);
+        }
       }
     }
 
