@@ -75,9 +75,14 @@ ViewController::ViewController(vtkRPScene* scene) : Scene(scene) {
 }
 
 ViewController::~ViewController() {
-  this->SetFollowTransformNodeID("");
-  this->Scene->RemoveObserver(this->SceneTags[0]);
-  this->Scene->RemoveObserver(this->SceneTags[1]);
+  if (this->Followed) {
+    this->Followed->RemoveObserver(this->FollowTags[0]);
+    this->Followed->RemoveObserver(this->FollowTags[1]);
+  }
+  if (this->Scene) {
+    this->Scene->RemoveObserver(this->SceneTags[0]);
+    this->Scene->RemoveObserver(this->SceneTags[1]);
+  }
   for (auto& view : this->Views) view.reset();
 }
 
@@ -127,6 +132,7 @@ void ViewController::SetFollowTransformNodeID(const std::string& id) {
     this->Followed = nullptr;
   }
   this->FollowID.clear();
+  if (!this->Scene) return;
   auto* node = vtkRPTransformableNode::SafeDownCast(this->Scene->GetNodeByID(id));
   if (!node) return;
   this->FollowID = id;
@@ -172,6 +178,7 @@ bool ViewController::ClickInSliceView(ViewKind kind, double x, double y) {
 }
 
 vtkRPFiducialListNode* ViewController::PlaceFiducial(const double ras[3]) {
+  if (!this->Scene) return nullptr;
   auto* list = vtkRPFiducialListNode::SafeDownCast(this->Scene->GetNodeByID(this->State->GetActiveFiducialListID()));
   if (!list) {
     vtkNew<vtkRPFiducialListNode> created;
@@ -191,10 +198,12 @@ vtkRPFiducialListNode* ViewController::PlaceFiducial(const double ras[3]) {
 }
 
 vtkRPScalarVolumeNode* ViewController::GetBackgroundVolume() const {
+  if (!this->Scene) return nullptr;
   return vtkRPScalarVolumeNode::SafeDownCast(this->Scene->GetNodeByID(this->State->GetBackgroundVolumeID()));
 }
 
 vtkRPScalarVolumeNode* ViewController::GetForegroundVolume() const {
+  if (!this->Scene) return nullptr;
   return vtkRPScalarVolumeNode::SafeDownCast(this->Scene->GetNodeByID(this->State->GetForegroundVolumeID()));
 }
 

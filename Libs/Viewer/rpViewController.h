@@ -8,15 +8,16 @@
 #include <string>
 
 #include <vtkNew.h>
+#include <vtkObject.h>
 #include <vtkSmartPointer.h>
+#include <vtkWeakPointer.h>
 
 #include "rpSliceGeometry.h"
+#include "vtkRPScene.h"
 
 class vtkCallbackCommand;
-class vtkObject;
 class vtkRPFiducialListNode;
 class vtkRPScalarVolumeNode;
-class vtkRPScene;
 class vtkRPViewState;
 
 namespace rp {
@@ -71,14 +72,14 @@ class ViewController {
   void OnNodeAboutToBeRemoved(vtkObject* node);
   void UpdateFromFollowed();
 
-  vtkRPScene* Scene;
+  vtkWeakPointer<vtkRPScene> Scene;  // weak: a scene deleted first must not crash the views
   vtkNew<vtkRPViewState> State;
   std::array<std::unique_ptr<View>, 4> Views;
   vtkNew<vtkCallbackCommand> SceneCallback;
   vtkNew<vtkCallbackCommand> FollowCallback;
   unsigned long SceneTags[2] = {0, 0};
   std::string FollowID;
-  vtkObject* Followed = nullptr;
+  vtkWeakPointer<vtkObject> Followed;
   unsigned long FollowTags[2] = {0, 0};
 };
 

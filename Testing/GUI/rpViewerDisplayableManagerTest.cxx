@@ -2,6 +2,7 @@
 // removed disappear; slices follow the slice point and a tracked tool; outlines match the
 // analytic cut of a sphere.
 #include <cmath>
+#include <memory>
 
 #include <gtest/gtest.h>
 #include <vtkActor.h>
@@ -372,4 +373,33 @@ TEST(ViewerDisplayableManagers, SegmentationsOverlayTheSlicesInSegmentColours) {
   EXPECT_EQ(sample(7, 7)[3], 0);
   scene->RemoveNode(segmentation);
   EXPECT_EQ(overlays->GetOverlay(segmentation), nullptr);
+}
+
+TEST(ViewerDisplayableManagers, ClosingTheSceneEmptiesEveryViewAndAViewMayOutliveItsScene) {
+  vtkNew<vtkRPScene> scene;
+  ViewController controller(scene);
+  test::AddVolumeAndModel(scene);
+  vtkNew<vtkRPTrackedToolNode> tool;
+  scene->AddNode(tool);
+  controller.SetFollowTransformNodeID(tool->GetID());
+  scene->Clear();
+  for (int kind = 0; kind < 4; ++kind) {
+    for (const auto& manager : controller.GetView(static_cast<ViewKind>(kind))->GetDisplayableManagers()) {
+      EXPECT_EQ(manager->GetNumberOfDisplayedNodes(), 0) << manager->GetClassName();
+    }
+  }
+  EXPECT_EQ(controller.GetViewState()->GetBackgroundVolumeID(), "");
+  EXPECT_EQ(controller.GetFollowTransformNodeID(), "");
+
+  // A controller whose scene (and its followed node) is deleted first shuts down cleanly.
+  auto* shortLived = vtkRPScene::New();
+  auto later = std::make_unique<ViewController>(shortLived);
+  test::AddVolumeAndModel(shortLived);
+  auto* followed = vtkRPLinearTransformNode::New();  // owned by the scene only
+  shortLived->AddNode(followed);
+  followed->Delete();
+  later->SetFollowTransformNodeID(followed->GetID());
+  shortLived->Delete();
+  EXPECT_EQ(later->GetBackgroundVolume(), nullptr);
+  later.reset();
 }
