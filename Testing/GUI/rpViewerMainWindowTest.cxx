@@ -17,6 +17,7 @@
 #include <QWheelEvent>
 #include <vtkActor.h>
 #include <vtkCamera.h>
+#include <vtkMatrix4x4.h>
 #include <vtkRenderer.h>
 
 #include "rpNodeStorage.h"
@@ -29,6 +30,7 @@
 #include "vtkRPModelNode.h"
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
+#include "vtkRPTrackedToolNode.h"
 #include "vtkRPViewState.h"
 
 using namespace rp;
@@ -204,6 +206,28 @@ TEST(ViewerMainWindow, ScriptedSession) {
   QTest::qWait(50);
   EXPECT_TRUE(sagittal->isVisible());
   EXPECT_TRUE(window.GetViewWidget(ViewKind::ThreeD)->isVisible());
+  // A tool streaming at 1 kHz between two display ticks: the slices follow its tip, and each
+  // view renders once per tick however many poses arrived.
+  vtkNew<vtkRPTrackedToolNode> stylus;
+  stylus->SetName("StylusTip");
+  scene->AddNode(stylus);
+  controller->SetFollowTransformNodeID(stylus->GetID());
+  QTest::qWait(60);
+  window.RenderPendingViews();
+  vtkNew<vtkMatrix4x4> pose;
+  for (int i = 0; i < 33; ++i) {
+    pose->SetElement(0, 3, test::Center[0] + 0.1 * i);
+    pose->SetElement(1, 3, test::Center[1]);
+    pose->SetElement(2, 3, test::Center[2] - 0.2 * i);
+    stylus->SetMatrixTransformToParent(pose);
+  }
+  controller->GetSlicePointRAS(point);
+  EXPECT_DOUBLE_EQ(point[0], test::Center[0] + 3.2);
+  EXPECT_DOUBLE_EQ(point[2], test::Center[2] - 6.4);
+  EXPECT_EQ(window.RenderPendingViews(), 4);  // axial, sagittal, coronal, 3D: once each
+  EXPECT_EQ(window.RenderPendingViews(), 0);
+  controller->SetFollowTransformNodeID("");
+
   // A picture of the session for people reading the test output.
   QTest::qWait(100);
   window.grab().save(QString::fromStdString((dir / "mainwindow.png").string()));
