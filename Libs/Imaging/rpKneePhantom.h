@@ -66,8 +66,9 @@ const std::vector<KneeTissue>& KneeTissues();
 class KneeModel {
  public:
   KneeModel();
-  /// Signed distance (mm, < 0 inside). Exact for the primitives, a close bound near
-  /// combined surfaces (within ~0.1 mm of the surface it is accurate to < 0.05 mm).
+  /// Signed distance (mm, < 0 inside). Exact for capsules/spheres/cylinders (shafts, ligaments);
+  /// first-order (exact on the surface, accurate near it) for the ellipsoids (patella), the
+  /// smooth unions (condyles, plateau) and the tapered elliptical leg outline (Body).
   double SignedDistance(KneeStructure structure, const double ras[3]) const;
   bool Inside(KneeStructure structure, const double ras[3]) const {
     return this->SignedDistance(structure, ras) < 0.0;
@@ -85,8 +86,9 @@ class KneeModel {
 enum class KneePhantomSize { Small, Full };
 
 struct KneePhantomOptions {
-  /// Small: CT 96x96x64 at 1.6x1.6x2.5 mm (~0.6 M voxels, well under 2 s).
-  /// Full: CT 512x512x300 at 0.3x0.3x1.0 mm (benchmarks); MR 1.7 mm slices in both.
+  /// Small: CT 96x96x64 at 1.6x1.6x2.5 mm (~0.6 M voxels, ~0.3 s CPU), MR 96x96x84 at
+  /// 1.6x1.6x1.7 mm (sagittal). Full: CT 512x512x300 at 0.3x0.3x1.0 mm, MR 384x384x90 at
+  /// 0.4x0.4x1.7 mm (benchmarks). Both grids are centred near the knee; the MR's is not the CT's.
   KneePhantomSize Size = KneePhantomSize::Small;
   /// Explicit CT grid (used when all three are > 0): dimensions and spacing (mm).
   std::array<int, 3> CTDimensions = {0, 0, 0};
