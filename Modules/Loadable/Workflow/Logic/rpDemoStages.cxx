@@ -376,6 +376,7 @@ std::vector<DemoStage> DemoStages() {
       {"DICOM series out and back in", DicomRoundTrip},
       {"CT↔MR registration (Mattes MI)", RegisterCTAndMR},
       {"Segmentation (bones, soft tissue, fat) and meshes", SegmentAndMesh},
+      {"Haptic exploration at 1 kHz (simulated device)", ExploreHaptically},
   };
 }
 

@@ -42,6 +42,9 @@ struct DemoStage {
   std::function<void(DemoState&)> Run;
 };
 
+/// Stages implemented in their own files.
+void ExploreHaptically(DemoState& state);
+
 /// The stages in order.
 std::vector<DemoStage> DemoStages();
 
