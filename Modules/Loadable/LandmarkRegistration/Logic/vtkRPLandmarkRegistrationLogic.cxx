@@ -34,6 +34,9 @@ std::string Numbers(const std::vector<double>& values) {
 vtkRPLandmarkRegistrationLogic::vtkRPLandmarkRegistrationLogic() : Callback(vtkSmartPointer<vtkCallbackCommand>::New()) {
   this->Callback->SetClientData(this);
   this->Callback->SetCallback(&vtkRPLandmarkRegistrationLogic::OnListModified);
+  // The same defaults as `roboplan register`: a Polaris's FLE and a 2 mm FRE threshold.
+  this->Options.FLE = 0.25;
+  this->Options.FREThreshold = 2.0;
 }
 
 vtkRPLandmarkRegistrationLogic::~vtkRPLandmarkRegistrationLogic() {

@@ -49,10 +49,11 @@ class vtkRPLandmarkRegistrationLogic : public vtkObject {
 
   void SetMode(rp::RegistrationMode mode);
   rp::RegistrationMode GetMode() const { return this->Options.Registration.Mode; }
-  /// mm; ≤ 0 disables the threshold.
+  /// mm; ≤ 0 disables the threshold. Default 2 mm.
   void SetFREThreshold(double mm);
   double GetFREThreshold() const { return this->Options.FREThreshold; }
   /// Prior RMS FLE in mm (device specification plus image picking error); ≤ 0: unknown.
+  /// Default 0.25 mm (a Polaris alone: add the image picking error in quadrature).
   void SetFLE(double mm);
   double GetFLE() const { return this->Options.FLE; }
   /// Target in the "to" space (RAS) where TRE is predicted.
