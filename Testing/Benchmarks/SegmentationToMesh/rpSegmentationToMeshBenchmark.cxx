@@ -193,9 +193,21 @@ void RunConfig(benchmark::State& state, const Config& config) {
     }
     seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
-  const ErrorStats e = SurfaceErrorOf(mesh, d);
-  Result r{config, seconds, e.MeanMm, e.HausdorffMm, stats.VolumeErrorPercent, stats.Triangles, stats.Watertight};
-  results.push_back(r);
+  // Repetitions: keep the fastest run (the machine is shared; the minimum is the least
+  // disturbed). The mesh is the same every time: its error is measured once.
+  auto same = std::find_if(results.begin(), results.end(), [&](const Result& x) { return x.C.Name == config.Name; });
+  if (same == results.end()) {
+    const ErrorStats e = SurfaceErrorOf(mesh, d);
+    results.push_back({config, seconds, e.MeanMm, e.HausdorffMm, stats.VolumeErrorPercent, stats.Triangles,
+                       stats.Watertight});
+    same = results.end() - 1;
+  } else {
+    same->Seconds = std::min(same->Seconds, seconds);
+  }
+  const Result& r = *same;
+  ErrorStats e;
+  e.MeanMm = r.MeanMm;
+  e.HausdorffMm = r.HausdorffMm;
   state.counters["triangles"] = static_cast<double>(stats.Triangles);
   state.counters["mean_error_mm"] = e.MeanMm;
   state.counters["hausdorff_mm"] = e.HausdorffMm;
@@ -245,6 +257,7 @@ int main(int argc, char** argv) {
   for (const auto& c : configs) {
     benchmark::RegisterBenchmark(("BM_BoneMesh/" + c.Name).c_str(), [c](benchmark::State& s) { RunConfig(s, c); })
         ->Iterations(1)
+        ->Repetitions(3)
         ->Unit(benchmark::kMillisecond)
         ->UseRealTime();
   }
