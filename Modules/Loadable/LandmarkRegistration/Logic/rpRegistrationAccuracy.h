@@ -6,7 +6,9 @@
 //     TRE²(r) ≈ FLE²/N · (1 + 1/3 · Σ_k d_k²/f_k²)
 // (d_k: distance of the target from principal axis k of the fiducial configuration, f_k: RMS
 // distance of the fiducials from that axis), and the expected FRE² ≈ (1 − 2/N)·FLE².
-// Leave-one-out residuals find a mislocalized or swapped fiducial.
+// The formulas are for rigid registration with equal weights and isotropic FLE (with weights or
+// in similarity mode they are an approximation). Leave-one-out residuals find a mislocalized or
+// swapped fiducial.
 #include <limits>
 #include <optional>
 #include <string>
