@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <ctime>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -18,6 +19,7 @@
 #include <vtkRenderWindow.h>
 
 #include "rpNodeStorage.h"
+#include "rpSceneIO.h"
 #include "rpScreenshot.h"
 #include "rpView.h"
 #include "rpViewController.h"
@@ -212,19 +214,24 @@ TEST(ViewerScreenshot, FourViewFrameFitsTheDisplayRate) {
   }
   controller.ResetCameras();
   window->Render();  // first frame uploads textures and compiles shaders
-  const int frames = 30;
+  const int frames = 15;
   const auto start = std::chrono::steady_clock::now();
+  const std::clock_t cpuStart = std::clock();
   for (int f = 0; f < frames; ++f) {
     const double point[3] = {-20.0 + f, 10.0 - 0.5 * f, -30.0 + 2.0 * f};
     controller.SetSlicePointRAS(point);
     window->Render();
   }
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count() / frames;
-  std::printf("four-view frame (re-slice 256x256x160 on 3 planes + 3D with slices, 800x800): %.1f ms\n", ms);
+  // CPU time (all threads, llvmpipe's included) depends less on what else the machine runs.
+  const double cpuMs = 1000.0 * double(std::clock() - cpuStart) / CLOCKS_PER_SEC / frames;
+  std::printf("four-view frame (re-slice 256x256x160 on 3 planes + 3D with slices, 800x800): %.1f ms wall, %.1f ms CPU\n",
+              ms, cpuMs);
   RecordProperty("FrameMilliseconds", std::to_string(ms));
-  // Only a sanity bound: CI shares 2 loaded cores with Mesa llvmpipe (measured 75-95 ms here at
-  // load 10, pipeline updates ~5 ms of it); a real GPU renders the frame in a few ms.
-  EXPECT_LT(ms, 300.0);
+  RecordProperty("FrameCpuMilliseconds", std::to_string(cpuMs));
+  // Only a sanity bound: Mesa llvmpipe on 2 shared cores (measured ~65 ms CPU, 65-210 ms wall
+  // depending on load; the re-slicing pipeline is ~5 ms of it); a GPU renders it in a few ms.
+  EXPECT_LT(cpuMs, 250.0);
   for (int kind = 0; kind < 4; ++kind) controller.GetView(static_cast<ViewKind>(kind))->DetachFromRenderWindow();
 }
 
@@ -255,6 +262,15 @@ TEST(ViewerScreenshot, CommandExitCodes) {
   reader->GetOutput()->GetDimensions(dims);
   EXPECT_EQ(dims[0], 96);
   EXPECT_EQ(dims[1], 64);
+  // A scene file: volume + model saved with the scene writer, rendered as the 3D view.
+  {
+    vtkNew<vtkRPScene> saved;
+    test::AddVolumeAndModel(saved);
+    ASSERT_TRUE(SaveScene(saved, dir + "/scene/knee.rpscene", error)) << error;
+  }
+  std::filesystem::remove(out);
+  EXPECT_EQ(run({dir + "/scene/knee.rpscene", "--out", out, "--layout", "3d", "--size", "64x64"}), 0);
+  EXPECT_TRUE(std::filesystem::exists(out));
   EXPECT_EQ(run({dir + "/missing.nrrd", "--out", out}), 1);
   EXPECT_EQ(run({dir + "/ct.nrrd", "--out", out, "--layout", "5up"}), 2);
   EXPECT_EQ(run({dir + "/ct.nrrd", "--out", out, "--size", "big"}), 2);
