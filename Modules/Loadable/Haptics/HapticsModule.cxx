@@ -18,6 +18,7 @@
 #include "rpProgress.h"
 #include "rpSceneIO.h"
 #include "rpSimulatedDevice.h"
+#include "vtkRPHapticsLogic.h"
 #include "vtkRPModelNode.h"
 #include "vtkRPScene.h"
 
@@ -328,9 +329,14 @@ class HapticsModule : public rp::Module {
  public:
   std::string Name() const override { return "Haptics"; }
   std::string Title() const override { return "Haptics"; }
+  void Setup(vtkRPScene* scene) override { this->LogicObject->SetScene(scene); }
+  vtkObject* Logic() override { return this->LogicObject; }
   std::vector<rp::Command> Commands() override {
     return {{"haptics", "touch the haptic models at 1 kHz with the simulated device (timing, forces)", RunHaptics}};
   }
+
+ private:
+  vtkNew<vtkRPHapticsLogic> LogicObject;
 };
 
 }  // namespace

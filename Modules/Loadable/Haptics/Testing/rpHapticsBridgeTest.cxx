@@ -13,6 +13,7 @@
 
 #include "rpHapticSession.h"
 #include "rpSimulatedDevice.h"
+#include "vtkRPHapticsLogic.h"
 #include "vtkRPLinearTransformNode.h"
 #include "vtkRPModelNode.h"
 #include "vtkRPScene.h"
@@ -174,4 +175,35 @@ TEST(HapticsBridge, SessionRendersAndRebuildsWhenAModelChanges) {
   EXPECT_NEAR(proxy->GetMatrixTransformToParent()->GetElement(2, 3), 5.0, 1e-3);
   session.Stop();
   EXPECT_EQ(rp::Norm(device.LastForce()), 0.0);
+}
+
+TEST(HapticsLogic, SimulatedStylusFromTheViewerTouchesTheScene) {
+  vtkNew<vtkRPScene> scene;
+  vtkNew<vtkRPHapticsLogic> logic;
+  std::string error;
+  EXPECT_FALSE(logic->StartSimulated(error));  // no scene
+  logic->SetScene(scene);
+  EXPECT_FALSE(logic->StartSimulated(error));  // no haptic model
+  EXPECT_NE(error.find("no haptic models"), std::string::npos) << error;
+  AddModel(scene, "Skin", "skin", true, rp::shapes::Box({-40, -40, -20}, {40, 40, 0}));
+  ASSERT_TRUE(logic->StartSimulated(error)) << error;
+  EXPECT_TRUE(logic->IsRunning());
+  vtkNew<vtkMatrix4x4> pose;
+  for (int i = 0; i <= 20; ++i) {  // the mouse drags the stylus 1 mm into the skin
+    pose->SetElement(2, 3, 10 - 11.0 * i / 20);
+    logic->SetSimulatedStylusPose(pose);
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(600));  // past the 0.5 s force ramp
+  ASSERT_TRUE(logic->Update());
+  auto* proxy = vtkRPTrackedToolNode::SafeDownCast(scene->GetFirstNodeByName(rp::HapticProxyName));
+  ASSERT_TRUE(proxy);
+  EXPECT_EQ(proxy->GetAttribute("Tissue"), "skin");
+  double force[3];
+  logic->GetLastForce(force);
+  const rp::MaterialTable table = rp::MaterialTable::Defaults();
+  const double kSkin = table.Materials()[table.Find("skin")].Stiffness;
+  EXPECT_NEAR(force[2], kSkin * (1 + rp::GodObjectProxy::Gap), 1e-6);
+  logic->Stop();
+  EXPECT_FALSE(logic->IsRunning());
 }
