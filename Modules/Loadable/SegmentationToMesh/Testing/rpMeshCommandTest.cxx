@@ -157,3 +157,22 @@ TEST(MeshCommand, BadArgumentsAndLeaksGiveClearErrors) {
   ASSERT_TRUE(doc.is_object());
   EXPECT_TRUE(doc["segments"][0]["display"]["watertight"].get<bool>());
 }
+
+TEST(MeshCommand, RealNiftiFileFromAnotherWriter) {
+  // The Pac-Man volume of shared/data (128³, 1 mm, doubles 0/1/2): label 2 has 677196 voxels
+  // (counted independently from the file's histogram) and is one closed object.
+  const fs::path nifti = fs::path(ROBOPLAN_SHARED_DATA_DIR) / "pacsman.nii.gz";
+  if (!fs::exists(nifti)) GTEST_SKIP() << "no " << nifti;
+  const fs::path dir = TestDir("nifti");
+  const CommandRun run = Roboplan("mesh " + nifti.string() + " --out " + (dir / "out").string() +
+                                      " --lower 1.5 --upper 2.5 --max-fraction 0.5 --no-haptic --json",
+                                  dir);
+  ASSERT_EQ(run.Code, 0) << run.Err;
+  const auto doc = nlohmann::json::parse(run.Out, nullptr, false);
+  ASSERT_TRUE(doc.is_object()) << run.Out;
+  const auto& display = doc["segments"][0]["display"];
+  EXPECT_EQ(display["labelVoxels"].get<long>(), 677196);
+  EXPECT_NEAR(display["labelVolumeMm3"].get<double>(), 677196.0, 1.0);
+  EXPECT_TRUE(display["watertight"].get<bool>());
+  EXPECT_LT(std::abs(display["volumeErrorPercent"].get<double>()), 0.1);
+}
