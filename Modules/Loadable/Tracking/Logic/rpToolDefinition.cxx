@@ -93,9 +93,9 @@ ToolDefinition ReadToolDefinition(const std::string& path) {
     if (j.contains("trajectory")) {
       const auto& tj = j["trajectory"];
       const std::string kind = tj.value("type", "static");
-      if (kind == "static") t.Motion.Type = Trajectory::Static;
-      else if (kind == "pivot") t.Motion.Type = Trajectory::Pivot;
-      else if (kind == "circle") t.Motion.Type = Trajectory::Circle;
+      if (kind == "static") t.Motion.Type = ToolTrajectory::Static;
+      else if (kind == "pivot") t.Motion.Type = ToolTrajectory::Pivot;
+      else if (kind == "circle") t.Motion.Type = ToolTrajectory::Circle;
       else throw std::runtime_error("unknown trajectory type '" + kind + "'");
       if (tj.contains("center"))
         for (int k = 0; k < 3; ++k) t.Motion.Center[k] = tj["center"].at(k).get<double>();
@@ -135,7 +135,7 @@ void RotX(double a, double m[9]) {
 }  // namespace
 
 void EvaluateTrajectory(const ToolDefinition& tool, double t, double m[16]) {
-  const Trajectory& tr = tool.Motion;
+  const ToolTrajectory& tr = tool.Motion;
   const double deg = M_PI / 180.0;
   double R[9], a[9], b[9], c[9], tmp[9];
   RotZ(tr.Euler[0] * deg, a);
@@ -145,10 +145,10 @@ void EvaluateTrajectory(const ToolDefinition& tool, double t, double m[16]) {
   Multiply3(tmp, c, R);
   double p[3] = {tr.Center[0], tr.Center[1], tr.Center[2]};
   const double phase = tr.PeriodSeconds > 0 ? 2 * M_PI * t / tr.PeriodSeconds : 0.0;
-  if (tr.Type == Trajectory::Circle) {
+  if (tr.Type == ToolTrajectory::Circle) {
     p[0] += tr.Radius * std::cos(phase);
     p[1] += tr.Radius * std::sin(phase);
-  } else if (tr.Type == Trajectory::Pivot) {
+  } else if (tr.Type == ToolTrajectory::Pivot) {
     // The stylus swings around its tip on a cone, and also nods so the pivot is well posed.
     const double tilt = tr.ConeAngleDeg * deg * (0.6 + 0.4 * std::sin(0.37 * phase));
     double rz[9], ry[9], rzi[9], spin[9];

@@ -21,7 +21,7 @@ int MarkerCount(const std::vector<uint8_t>& bytes);
 }  // namespace rom
 
 /// Where a simulated tool goes: tip pivoting about a fixed point, a circle, or standing still.
-struct Trajectory {
+struct ToolTrajectory {
   enum Kind { Static, Pivot, Circle } Type = Static;
   double Center[3] = {0, 0, -1500};  // mm, tracker frame (pivot point for Pivot)
   double Radius = 0;                 // Circle radius (mm)
@@ -35,7 +35,7 @@ struct ToolDefinition {
   std::string PartNumber;            // stored in the ROM
   std::vector<std::array<double, 3>> Markers;
   std::array<double, 3> TipOffset = {0, 0, 0};  // StylusTipToStylus translation (mm)
-  Trajectory Motion;
+  ToolTrajectory Motion;
   std::vector<uint8_t> Rom;          // built from the markers when no .rom file is given
 };
 

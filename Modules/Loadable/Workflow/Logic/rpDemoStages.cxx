@@ -338,6 +338,13 @@ void SegmentAndMesh(DemoState& state) {
                             std::to_string(m.Haptic.Triangles) + " haptic triangles, " +
                                 (m.Display.Watertight && (!m.HapticModel || m.Haptic.Watertight) ? "watertight" : "NOT watertight"));
   }
+  if (DemoScreenshot(state, nullptr, "", "segmentation-4up.png", error)) {
+    state.Report->AddPicture(stage, "segmentation-4up.png",
+                             "4-up of the segmented knee: bone and soft-tissue models with the CT slices in 3D, "
+                             "segment outlines on the slices.");
+  } else {
+    state.Report->AddNote("Segmentation 4-up picture skipped: " + error);
+  }
   if (!state.HasGroundTruth()) {
     state.Report->AddNotScored(stage, "Dice and surface error", "no ground truth for a user's CT");
     return;
@@ -376,6 +383,9 @@ std::vector<DemoStage> DemoStages() {
       {"DICOM series out and back in", DicomRoundTrip},
       {"CT↔MR registration (Mattes MI)", RegisterCTAndMR},
       {"Segmentation (bones, soft tissue, fat) and meshes", SegmentAndMesh},
+      {"Stylus pivot calibration (simulated Polaris, serial protocol on a pty)", CalibrateStylus},
+      {"Patient-to-image registration (digitized landmarks)", RegisterPatient},
+      {"Navigation: scripted tool path, re-slicing at the tip", Navigate},
       {"Haptic exploration at 1 kHz (simulated device)", ExploreHaptically},
   };
 }

@@ -2,6 +2,7 @@
 // The stages of the main job and the state they pass along. Each stage reads what earlier
 // stages put in DemoState, adds nodes to the scene, figures and pictures to the report, and
 // throws std::runtime_error with a message naming the problem when it cannot go on.
+#include <array>
 #include <functional>
 #include <memory>
 #include <string>
@@ -10,6 +11,7 @@
 #include <vtkSmartPointer.h>
 
 #include "rpDemo.h"
+#include "rpToolDefinition.h"
 
 class vtkRPScene;
 class vtkRPScalarVolumeNode;
@@ -34,6 +36,8 @@ struct DemoState {
   vtkRPSegmentationNode* Segmentation = nullptr;
   std::vector<std::string> BoneModelIDs, HapticModelIDs, DisplayModelIDs;
   std::string TrackerToRASID, StylusTipToStylusID, StylusToTrackerID;
+  std::array<double, 3> StylusTip{};  // calibrated StylusTipToStylus offset
+  ToolDefinition StylusTruth;         // the simulated stylus (its true tip offset)
   bool HasGroundTruth() const { return static_cast<bool>(this->Phantom); }
 };
 
@@ -44,6 +48,13 @@ struct DemoStage {
 
 /// Stages implemented in their own files.
 void ExploreHaptically(DemoState& state);
+void CalibrateStylus(DemoState& state);
+void RegisterPatient(DemoState& state);
+void Navigate(DemoState& state);
+/// A 4-up picture (axial, 3D, sagittal, coronal) of the scene into the output folder, slices at
+/// the point (or following the node's origin). False with `error` when it cannot be drawn here.
+bool DemoScreenshot(DemoState& state, const double slicePointRAS[3], const std::string& followNodeID,
+                    const std::string& file, std::string& error);
 
 /// The stages in order.
 std::vector<DemoStage> DemoStages();

@@ -1,0 +1,58 @@
+// 4-up pictures of the scene for the report, through the viewer's own offscreen rendering (the
+// same displayable managers as the Qt views). Only in builds with the viewer (GUI on).
+#include <cstdlib>
+#include <filesystem>
+
+#include "rpDemoStages.h"
+#include "rpReport.h"
+
+#ifdef ROBOPLAN_WORKFLOW_HAVE_VIEWER
+#include "rpScreenshot.h"
+#include "rpViewController.h"
+#include "vtkRPScalarVolumeNode.h"
+#include "vtkRPViewState.h"
+#endif
+
+namespace fs = std::filesystem;
+
+namespace rp {
+
+bool DemoScreenshot(DemoState& state, const double slicePointRAS[3], const std::string& followNodeID,
+                    const std::string& file, std::string& error) {
+  if (!state.Options.Screenshots) {
+    error = "screenshots turned off (--no-screenshots)";
+    return false;
+  }
+  if (!std::getenv("DISPLAY")) {
+    error = "no display (run under xvfb-run, as SuperBuild/setup.sh --demo does)";
+    return false;
+  }
+#ifdef ROBOPLAN_WORKFLOW_HAVE_VIEWER
+  ViewController controller(state.Scene);
+  if (state.CT) controller.GetViewState()->SetBackgroundVolumeID(state.CT->GetID());
+  if (state.MR) {
+    controller.GetViewState()->SetForegroundVolumeID(state.MR->GetID());
+    controller.GetViewState()->SetForegroundOpacity(0.35);
+  }
+  controller.ResetViews();
+  if (!followNodeID.empty()) controller.SetFollowTransformNodeID(followNodeID);
+  if (slicePointRAS) controller.SetSlicePointRAS(slicePointRAS);
+  ScreenshotOptions options;
+  options.Width = 1400;
+  options.Height = 1100;
+  options.Layout = vtkRPViewState::LayoutFourUp;
+  if (slicePointRAS) {
+    options.HasSlicePoint = true;
+    for (int i = 0; i < 3; ++i) options.SlicePointRAS[i] = slicePointRAS[i];
+  }
+  return SaveScreenshot(controller, (fs::path(state.Output) / file).string(), options, error);
+#else
+  (void)slicePointRAS;
+  (void)followNodeID;
+  (void)file;
+  error = "this build has no viewer (ROBOPLAN_BUILD_GUI=OFF)";
+  return false;
+#endif
+}
+
+}  // namespace rp
