@@ -1,4 +1,5 @@
 // SegmentationToMesh module plugin: `roboplan mesh <volume or segmentation> --out <dir>`.
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <filesystem>
@@ -101,6 +102,7 @@ int RunMesh(rp::CommandContext& context) {
       .Option("passband", "f", "windowed sinc pass band (sinc, slicer)", "0.01")
       .Option("sinc-iterations", "n", "windowed sinc iterations (sinc, slicer)", "20")
       .Option("grid-step", "s|sx,sy,sz", "gaussian contour grid step in voxels (>1 = coarser mesh)", "1")
+      .Option("grid-mm", "mm", "gaussian contour grid spacing in mm (step per axis = max(1, mm / spacing))")
       .Option("decimate", "f", "extra quadric decimation: fraction of triangles removed", "0")
       .Option("triangles", "n", "display mesh: target triangle count")
       .Option("max-error", "mm", "display mesh: max deviation from the full-resolution surface")
@@ -154,6 +156,7 @@ int RunMesh(rp::CommandContext& context) {
     for (double s : build.Display.GridStep)
       if (!(s > 0)) throw BadArgument("--grid-step must be > 0");
     if (build.Display.Sigma < 0) throw BadArgument("--smoothing must be >= 0");
+    if (parser.Has("grid-mm") && !(parser.GetDouble("grid-mm") > 0)) throw BadArgument("--grid-mm must be > 0");
     build.Display.DecimationFraction = parser.GetDouble("decimate");
     if (build.Display.DecimationFraction < 0 || build.Display.DecimationFraction >= 1)
       throw BadArgument("--decimate must be in [0, 1)");
@@ -288,6 +291,14 @@ int RunMesh(rp::CommandContext& context) {
     }
   }
 
+  if (parser.Has("grid-mm")) {
+    // A grid of about this spacing in mm, never finer than the voxels.
+    double spacing[3];
+    segmentation->GetSpacing(spacing);
+    const double mm = parser.GetDouble("grid-mm");
+    for (int a = 0; a < 3; ++a) build.Display.GridStep[a] = std::max(1.0, mm / spacing[a]);
+    for (int a = 0; a < 3; ++a) build.Haptic.GridStep[a] = build.Display.GridStep[a];
+  }
   progress.Report(0.2, "meshing");
   const auto models = rp::BuildSegmentModels(segmentation, build, scene, [&](double f, const std::string& message) {
     progress.Report(0.2 + 0.75 * f, message);

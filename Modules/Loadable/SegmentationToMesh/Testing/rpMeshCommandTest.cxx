@@ -150,12 +150,18 @@ TEST(MeshCommand, BadArgumentsAndLeaksGiveClearErrors) {
   EXPECT_NE(run.Err.find("missing.nrrd"), std::string::npos) << run.Err;
   // Region growing from a seed in the ball works.
   run = Roboplan("mesh " + ct.string() + " --out " + (dir / "grow").string() +
-                     " --method region-grow --seed 15,16,17 --lower 0 --no-haptic --json",
+                     " --method region-grow --seed 15,16,17 --lower 0 --no-haptic --grid-mm 1.5 --json",
                  dir);
   ASSERT_EQ(run.Code, 0) << run.Err;
   const auto doc = nlohmann::json::parse(run.Out, nullptr, false);
   ASSERT_TRUE(doc.is_object());
-  EXPECT_TRUE(doc["segments"][0]["display"]["watertight"].get<bool>());
+  const auto& display = doc["segments"][0]["display"];
+  EXPECT_TRUE(display["watertight"].get<bool>());
+  // 1.5 mm grid on 1 x 1 x 1.5 mm voxels: steps 1.5, 1.5, 1.
+  EXPECT_DOUBLE_EQ(display["gridStep"][0].get<double>(), 1.5);
+  EXPECT_DOUBLE_EQ(display["gridStep"][2].get<double>(), 1.0);
+  run = Roboplan("mesh " + ct.string() + " --out " + (dir / "o").string() + " --grid-mm -1", dir);
+  EXPECT_EQ(run.Code, 2);
 }
 
 TEST(MeshCommand, RealNiftiFileFromAnotherWriter) {
