@@ -5,6 +5,7 @@
 #include <vector>
 
 #include <vtkCallbackCommand.h>
+#include <vtkCellPicker.h>
 #include <vtkDataArray.h>
 #include <vtkImageData.h>
 #include <vtkMath.h>
@@ -175,6 +176,17 @@ bool ViewController::ClickInSliceView(ViewKind kind, double x, double y) {
     this->SetSlicePointRAS(ras);
   }
   return true;
+}
+
+bool ViewController::ClickIn3DView(double x, double y) {
+  if (this->State->GetInteractionMode() != vtkRPViewState::ModePlaceFiducial) return false;
+  View* view = this->GetView(ViewKind::ThreeD);
+  vtkNew<vtkCellPicker> picker;
+  picker->SetTolerance(0.0005);
+  if (!picker->Pick(x, y, 0, view->GetRenderer())) return false;
+  double ras[3];
+  picker->GetPickPosition(ras);
+  return this->PlaceFiducial(ras) != nullptr;
 }
 
 vtkRPFiducialListNode* ViewController::PlaceFiducial(const double ras[3]) {

@@ -52,6 +52,9 @@ class ViewController {
   /// A click at a display pixel of a slice view: sets the slice point there, or adds a fiducial
   /// in ModePlaceFiducial. Returns false if the view is not a slice view.
   bool ClickInSliceView(ViewKind kind, double x, double y);
+  /// A click at a display pixel of the 3D view in ModePlaceFiducial: adds a fiducial where the
+  /// pixel's ray first hits a model or a slice. Returns false when nothing was hit (or not placing).
+  bool ClickIn3DView(double x, double y);
   /// Adds a point to the active fiducial list (created, and made active, when missing).
   vtkRPFiducialListNode* PlaceFiducial(const double ras[3]);
 

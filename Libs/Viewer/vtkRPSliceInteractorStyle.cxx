@@ -157,3 +157,18 @@ void vtkRPThreeDInteractorStyle::OnKeyPress() {
   view->GetRenderer()->ResetCameraClippingRange();
   view->RequestRender();
 }
+
+void vtkRPThreeDInteractorStyle::OnLeftButtonDown() {
+  if (this->Interactor) this->Interactor->GetEventPosition(this->Press);
+  this->Superclass::OnLeftButtonDown();
+}
+
+void vtkRPThreeDInteractorStyle::OnLeftButtonUp() {
+  this->Superclass::OnLeftButtonUp();
+  if (!this->Interactor || !this->Controller) return;
+  int position[2];
+  this->Interactor->GetEventPosition(position);
+  if (std::abs(position[0] - this->Press[0]) <= ClickTolerance && std::abs(position[1] - this->Press[1]) <= ClickTolerance) {
+    this->Controller->ClickIn3DView(this->Press[0], this->Press[1]);
+  }
+}

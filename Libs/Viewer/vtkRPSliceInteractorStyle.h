@@ -7,7 +7,8 @@
 //   right drag, Ctrl+wheel      zoom;   middle drag, Shift+left drag   pan
 //   +/-                   zoom in/out
 //   r                     reset the view;  1/2/3  CT bone / CT soft tissue / MR presets
-// 3D view: trackball mouse; arrow keys rotate 5°, +/- zoom, r resets.
+// 3D view: trackball mouse; arrow keys rotate 5°, +/- zoom, r resets; click places a fiducial
+// on a model or slice in "place fiducials" mode.
 #include <vtkInteractorStyle.h>
 #include <vtkInteractorStyleTrackballCamera.h>
 
@@ -65,6 +66,9 @@ class vtkRPThreeDInteractorStyle : public vtkInteractorStyleTrackballCamera {
   void SetController(rp::ViewController* controller) { this->Controller = controller; }
   void OnChar() override;
   void OnKeyPress() override;
+  /// In "place fiducials" mode a click (no drag) places a point on the model or slice under it.
+  void OnLeftButtonDown() override;
+  void OnLeftButtonUp() override;
 
  protected:
   vtkRPThreeDInteractorStyle() = default;
@@ -74,6 +78,7 @@ class vtkRPThreeDInteractorStyle : public vtkInteractorStyleTrackballCamera {
   vtkRPThreeDInteractorStyle(const vtkRPThreeDInteractorStyle&) = delete;
   void operator=(const vtkRPThreeDInteractorStyle&) = delete;
   rp::ViewController* Controller = nullptr;
+  int Press[2] = {0, 0};
 };
 
 #endif

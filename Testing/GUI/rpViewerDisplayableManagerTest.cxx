@@ -9,7 +9,11 @@
 #include <vtkImageActor.h>
 #include <vtkImageData.h>
 #include <vtkMapper.h>
+#include <vtkCamera.h>
+#include <vtkMath.h>
 #include <vtkMatrix4x4.h>
+#include <vtkRenderWindow.h>
+#include <vtkRenderer.h>
 #include <vtkNew.h>
 #include <vtkPolyData.h>
 #include <vtkProperty.h>
@@ -402,4 +406,43 @@ TEST(ViewerDisplayableManagers, ClosingTheSceneEmptiesEveryViewAndAViewMayOutliv
   shortLived->Delete();
   EXPECT_EQ(later->GetBackgroundVolume(), nullptr);
   later.reset();
+}
+
+// Placing a landmark on a model in the 3D view: the ray under the pixel of a known surface point
+// hits the sphere there.
+TEST(ViewerDisplayableManagers, ClickIn3DPlacesAFiducialOnTheModelSurface) {
+  vtkNew<vtkRPScene> scene;
+  ViewController controller(scene);
+  auto model = test::MakeSphereModel();
+  scene->AddNode(model);
+  vtkNew<vtkRenderWindow> window;
+  window->SetOffScreenRendering(1);
+  window->SetSize(300, 300);
+  const double full[4] = {0, 0, 1, 1};
+  View* view = controller.GetView(ViewKind::ThreeD);
+  view->AttachToRenderWindow(window, full);
+  view->ResetCamera();
+  window->Render();
+  // The sphere point facing the camera.
+  double position[3], towardsCamera[3];
+  view->GetRenderer()->GetActiveCamera()->GetPosition(position);
+  for (int a = 0; a < 3; ++a) towardsCamera[a] = position[a] - test::ModelCenter[a];
+  vtkMath::Normalize(towardsCamera);
+  double surface[3], display[2];
+  for (int a = 0; a < 3; ++a) surface[a] = test::ModelCenter[a] + test::SphereRadius * towardsCamera[a];
+  view->RASToDisplay(surface, display);
+
+  EXPECT_FALSE(controller.ClickIn3DView(display[0], display[1]));  // navigating: no placement
+  controller.GetViewState()->SetInteractionMode(vtkRPViewState::ModePlaceFiducial);
+  ASSERT_TRUE(controller.ClickIn3DView(display[0], display[1]));
+  auto* list = vtkRPFiducialListNode::SafeDownCast(scene->GetNodeByID(controller.GetViewState()->GetActiveFiducialListID()));
+  ASSERT_NE(list, nullptr);
+  double placed[3];
+  list->GetNthControlPointPosition(0, placed);
+  EXPECT_NEAR(std::sqrt(vtkMath::Distance2BetweenPoints(placed, test::ModelCenter)), test::SphereRadius, 0.2);
+  EXPECT_LT(std::sqrt(vtkMath::Distance2BetweenPoints(placed, surface)), 1.0);
+  // Off the model: nothing hit, nothing placed.
+  EXPECT_FALSE(controller.ClickIn3DView(2, 2));
+  EXPECT_EQ(list->GetNumberOfControlPoints(), 1);
+  view->DetachFromRenderWindow();
 }
