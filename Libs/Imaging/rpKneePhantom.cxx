@@ -192,6 +192,30 @@ double KneeModel::SignedDistance(KneeStructure structure, const double ras[3]) c
 }
 
 namespace {
+// Boxes that contain each solid with a margin: outside its box a solid's distance is at least
+// the margin, so it need not be evaluated (most of a large volume is far from most solids).
+struct CullBox {
+  double lo[3], hi[3];
+};
+constexpr double kMargin = 8.0;
+constexpr double kFar = 1e9;
+inline double Bounded(V3 p, const CullBox& b, double (*sdf)(V3)) {
+  const double q[3] = {p.x, p.y, p.z};
+  for (int a = 0; a < 3; ++a)
+    if (q[a] < b.lo[a] || q[a] > b.hi[a]) return kMargin;  // lower bound of the true distance
+  return sdf(p);
+}
+const CullBox kFemurBox = {{-50, -32, -9}, {50, 24, kFar}};
+const CullBox kTibiaBox = {{-47, -35, -kFar}, {47, 27, 3}};
+const CullBox kFibulaBox = {{15, -38, -kFar}, {52, -2, -30}};
+const CullBox kPatellaBox = {{-28, 11, 0}, {28, 45, 60}};
+const CullBox kACLBox = {{-16, -26, -18}, {22, 20, 20}};
+const CullBox kPCLBox = {{-22, -33, -23}, {13, 15, 21}};
+const CullBox kMCLBox = {{-55, -17, -61}, {-30, 9, 33}};
+const CullBox kLCLBox = {{25, -31, -51}, {55, 3, 31}};
+const CullBox kPoplitealBox = {{-26, -51, -42}, {26, -13, 58}};
+const CullBox kHoffaBox = {{-22, 6, -23}, {22, 36, 9}};
+
 // The labelmap rule. `boundary` (optional) receives the smallest |signed distance| of the
 // surfaces tested, so callers know when a voxel straddles a boundary (partial volume).
 KneeLabel Classify(V3 p, double* boundary) {
@@ -219,10 +243,10 @@ KneeLabel Classify(V3 p, double* boundary) {
       double d;
       KneeLabel cortical, trabecular;
     };
-    const Bone bones[4] = {{Patella(p), KneePatellaCortical, KneePatellaTrabecular},
-                           {Femur(p), KneeFemurCortical, KneeFemurTrabecular},
-                           {Tibia(p), KneeTibiaCortical, KneeTibiaTrabecular},
-                           {Fibula(p), KneeFibulaCortical, KneeFibulaTrabecular}};
+    const Bone bones[4] = {{Bounded(p, kPatellaBox, Patella), KneePatellaCortical, KneePatellaTrabecular},
+                           {Bounded(p, kFemurBox, Femur), KneeFemurCortical, KneeFemurTrabecular},
+                           {Bounded(p, kTibiaBox, Tibia), KneeTibiaCortical, KneeTibiaTrabecular},
+                           {Bounded(p, kFibulaBox, Fibula), KneeFibulaCortical, KneeFibulaTrabecular}};
     for (const Bone& bone : bones) {
       track(bone.d);
       track(bone.d + kCortical);
@@ -239,13 +263,15 @@ KneeLabel Classify(V3 p, double* boundary) {
     for (int i = 0; i < 3; ++i) {
       if (track(caps[i]) < 0.0) return finish(capLabels[i]);
     }
-    const double ligaments[4] = {ACL(p), PCL(p), MCL(p), LCL(p)};
+    const double ligaments[4] = {Bounded(p, kACLBox, ACL), Bounded(p, kPCLBox, PCL), Bounded(p, kMCLBox, MCL),
+                                 Bounded(p, kLCLBox, LCL)};
     const KneeLabel ligamentLabels[4] = {KneeACL, KneePCL, KneeMCL, KneeLCL};
     for (int i = 0; i < 4; ++i) {
       if (track(ligaments[i]) < 0.0) return finish(ligamentLabels[i]);
     }
   }
-  if (track(PoplitealFat(p)) < 0.0 || track(HoffaFat(p)) < 0.0) return finish(KneeFat);
+  if (track(Bounded(p, kPoplitealBox, PoplitealFat)) < 0.0 || track(Bounded(p, kHoffaBox, HoffaFat)) < 0.0)
+    return finish(KneeFat);
   return finish(KneeMuscle);
 }
 }  // namespace
@@ -358,9 +384,10 @@ void ForEachSlice(int slices, SliceFn slice, const ProgressCallback& progress, d
 
 // Partial volume: a voxel that straddles a boundary averages 2x2x2 sub-samples.
 template <typename Value>
-double SampleVoxel(V3 centre, const V3 sub[3], double halfDiagonal, Value value) {
+double SampleVoxel(V3 centre, const V3 sub[3], double halfDiagonal, Value value, KneeLabel* centreLabel = nullptr) {
   double boundary = 0.0;
   const KneeLabel label = Classify(centre, &boundary);
+  if (centreLabel) *centreLabel = label;
   if (boundary >= halfDiagonal) return value(label);
   double sum = 0.0;
   for (int s = 0; s < 8; ++s) {
@@ -440,6 +467,15 @@ bool GenerateKneePhantom(const KneePhantomOptions& options, KneePhantom& phantom
       return p;
     };
 
+    // CT and labels in one pass (the label is the classification of the voxel centre).
+    unsigned char* labelsOut = nullptr;
+    if (options.GenerateLabels) {
+      phantom.Labels.Image = Allocate(ct, VTK_UNSIGNED_CHAR);
+      phantom.Labels.IJKToRAS = MatrixOf(ct);
+      phantom.Labels.Modality = "SEG";
+      phantom.Labels.Description = "RoboPlan knee phantom ground truth";
+      labelsOut = static_cast<unsigned char*>(phantom.Labels.Image->GetScalarPointer());
+    }
     if (options.GenerateCT) {
       phantom.CT.Image = Allocate(ct, VTK_SHORT);
       phantom.CT.IJKToRAS = MatrixOf(ct);
@@ -452,35 +488,32 @@ bool GenerateKneePhantom(const KneePhantomOptions& options, KneePhantom& phantom
       for (int c = 0; c < 3; ++c) sub[c] = V3{ct.axes[c][0], ct.axes[c][1], ct.axes[c][2]} * ct.spacing[c];
       const double halfDiagonal = 0.5 * std::sqrt(Dot(sub[0], sub[0]) + Dot(sub[1], sub[1]) + Dot(sub[2], sub[2]));
       auto hu = [&](KneeLabel l) { return tissues[l].CTHounsfield; };
-      const auto range = span(1.0);
+      const auto range = span(options.GenerateLabels ? 1.5 : 1.0);
       ForEachSlice(
           ct.dims[2],
           [&](int k) {
             std::mt19937 rng(options.Seed * 2654435761u + 17u * static_cast<unsigned>(k) + 1u);
             std::normal_distribution<double> noise(0.0, options.CTNoiseHU);
-            short* row = out + static_cast<size_t>(k) * ct.dims[0] * ct.dims[1];
+            const size_t offset = static_cast<size_t>(k) * ct.dims[0] * ct.dims[1];
+            short* row = out + offset;
+            unsigned char* labelRow = labelsOut ? labelsOut + offset : nullptr;
             for (int j = 0; j < ct.dims[1]; ++j) {
               for (int i = 0; i < ct.dims[0]; ++i) {
-                double v = SampleVoxel(voxelCentre(ct, i, j, k), sub, halfDiagonal, hu);
+                KneeLabel label;
+                double v = SampleVoxel(voxelCentre(ct, i, j, k), sub, halfDiagonal, hu, &label);
                 if (v > -1000.0) v += noise(rng);  // air stays at -1000 (outside the scanner's noise floor)
                 *row++ = static_cast<short>(std::lround(std::clamp(v, -1024.0, 3071.0)));
+                if (labelRow) *labelRow++ = label;
               }
             }
           },
           progress, range.first, range.second, "CT");
-    }
-
-    if (options.GenerateLabels) {
-      phantom.Labels.Image = Allocate(ct, VTK_UNSIGNED_CHAR);
-      phantom.Labels.IJKToRAS = MatrixOf(ct);
-      phantom.Labels.Modality = "SEG";
-      phantom.Labels.Description = "RoboPlan knee phantom ground truth";
-      unsigned char* out = static_cast<unsigned char*>(phantom.Labels.Image->GetScalarPointer());
+    } else if (options.GenerateLabels) {
       const auto range = span(0.5);
       ForEachSlice(
           ct.dims[2],
           [&](int k) {
-            unsigned char* row = out + static_cast<size_t>(k) * ct.dims[0] * ct.dims[1];
+            unsigned char* row = labelsOut + static_cast<size_t>(k) * ct.dims[0] * ct.dims[1];
             for (int j = 0; j < ct.dims[1]; ++j)
               for (int i = 0; i < ct.dims[0]; ++i) *row++ = Classify(voxelCentre(ct, i, j, k), nullptr);
           },
