@@ -46,15 +46,18 @@ function(roboplan_add_library name)
 endfunction()
 
 # roboplan_add_test(<name> SOURCES ... LIBS ... LABELS unit|integration|gui|stress
-#                   [TIMEOUT s] [ARGS ...] [ENVIRONMENT ...])
+#                   [TIMEOUT s] [ARGS ...] [ENVIRONMENT ...] [OWN_MAIN])
 # A GoogleTest executable registered as one ctest test. Tests labelled gui run under xvfb-run.
 function(roboplan_add_test name)
   if(NOT ROBOPLAN_BUILD_TESTING)
     return()
   endif()
-  cmake_parse_arguments(A "" "TIMEOUT" "SOURCES;LIBS;LABELS;ARGS;ENVIRONMENT" ${ARGN})
+  cmake_parse_arguments(A "OWN_MAIN" "TIMEOUT" "SOURCES;LIBS;LABELS;ARGS;ENVIRONMENT" ${ARGN})
   add_executable(${name} ${A_SOURCES})
-  target_link_libraries(${name} PRIVATE roboplan_warnings ${A_LIBS} GTest::gtest GTest::gtest_main)
+  target_link_libraries(${name} PRIVATE roboplan_warnings ${A_LIBS} GTest::gtest)
+  if(NOT A_OWN_MAIN)
+    target_link_libraries(${name} PRIVATE GTest::gtest_main)
+  endif()
   roboplan_vtk_autoinit(${name})
   target_compile_definitions(${name} PRIVATE
     ROBOPLAN_SHARED_DATA_DIR="${ROBOPLAN_SHARED_DATA_DIR}"

@@ -271,12 +271,16 @@ void SegmentAndMesh(DemoState& state) {
       target.TissueClass = "bone";
       target.Color = {bone->Color[0], bone->Color[1], bone->Color[2]};
       target.MaxFraction = 0.3;
+      // A bone that does not grow (e.g. a thin fibula at a coarse resolution) is reported and
+      // skipped; the others go on.
       if (!SegmentationEditor::RegionGrow(state.CT, segmentation, target, {seed}, bone->Lower, bone->Upper, edit,
-                                          error)) {
-        throw std::runtime_error(std::string(b.Name) + ": " + error);
-      }
-      if (!SegmentationEditor::ApplyMorphology(segmentation, b.ID, Morphology::FillHoles, 1.0, edit, error)) {
-        throw std::runtime_error(std::string(b.Name) + ": " + error);
+                                          error) ||
+          edit.Voxels == 0 ||
+          !SegmentationEditor::ApplyMorphology(segmentation, b.ID, Morphology::FillHoles, 1.0, edit, error)) {
+        state.Report->AddNote(std::string(b.Name) + " not segmented: " + (error.empty() ? "no voxels grew" : error));
+        segmentation->RemoveSegment(b.ID);
+        error.clear();
+        continue;
       }
       boneIDs.push_back(b.ID);
     }
@@ -289,6 +293,7 @@ void SegmentAndMesh(DemoState& state) {
     }
     boneIDs = edit.SegmentIDs;
   }
+  if (boneIDs.empty()) throw std::runtime_error("no bone could be segmented");
   state.Runner->Progress(0.3, "soft tissue and fat");
   SegmentTarget softTarget{"soft-tissue", "Soft tissue", softPreset->TissueClass,
                            {softPreset->Color[0], softPreset->Color[1], softPreset->Color[2]}, false, 0.9};
