@@ -209,6 +209,46 @@ vtkRPFiducialListNode* ViewController::PlaceFiducial(const double ras[3]) {
   return list;
 }
 
+bool ViewController::FindFiducialAt(ViewKind kind, double x, double y, double pixels, std::string& listID,
+                                    int& index) const {
+  if (!IsSliceView(kind) || !this->Scene) return false;
+  View* view = this->GetView(kind);
+  const SliceAxes axes = GetSliceAxes(kind);
+  const double* slicePoint = this->State->GetSlicePointRAS();
+  const double tolerance = 0.5 * view->GetSliceStep() + 1e-6;  // as the fiducial manager draws them
+  double best = pixels * pixels;
+  bool found = false;
+  for (vtkRPNode* node : this->Scene->GetNodesByClass("vtkRPFiducialListNode")) {
+    auto* list = vtkRPFiducialListNode::SafeDownCast(node);
+    for (int i = 0; i < list->GetNumberOfControlPoints(); ++i) {
+      if (!list->GetNthControlPoint(i).Visible) continue;
+      double world[3], display[2];
+      list->GetNthControlPointPositionWorld(i, world);
+      if (std::fabs(vtkMath::Dot(axes.Normal, world) - vtkMath::Dot(axes.Normal, slicePoint)) > tolerance) continue;
+      view->RASToDisplay(world, display);
+      const double d2 = (display[0] - x) * (display[0] - x) + (display[1] - y) * (display[1] - y);
+      if (d2 <= best) {
+        best = d2;
+        listID = list->GetID();
+        index = i;
+        found = true;
+      }
+    }
+  }
+  return found;
+}
+
+bool ViewController::MoveFiducial(const std::string& listID, int index, const double ras[3]) {
+  auto* list = this->Scene ? vtkRPFiducialListNode::SafeDownCast(this->Scene->GetNodeByID(listID)) : nullptr;
+  if (!list || index < 0 || index >= list->GetNumberOfControlPoints()) return false;
+  vtkNew<vtkMatrix4x4> toWorld, fromWorld;
+  list->GetMatrixTransformToWorld(toWorld);
+  vtkMatrix4x4::Invert(toWorld, fromWorld);
+  double in[4] = {ras[0], ras[1], ras[2], 1.0}, local[4];
+  fromWorld->MultiplyPoint(in, local);
+  return list->SetNthControlPointPosition(index, local);
+}
+
 vtkRPScalarVolumeNode* ViewController::GetBackgroundVolume() const {
   if (!this->Scene) return nullptr;
   return vtkRPScalarVolumeNode::SafeDownCast(this->Scene->GetNodeByID(this->State->GetBackgroundVolumeID()));

@@ -58,6 +58,11 @@ class ViewController {
   /// Adds a point to the active fiducial list (created, and made active, when missing).
   vtkRPFiducialListNode* PlaceFiducial(const double ras[3]);
 
+  /// The fiducial drawn nearest a display pixel of a slice view, within `pixels`; false if none.
+  bool FindFiducialAt(ViewKind kind, double x, double y, double pixels, std::string& listID, int& index) const;
+  /// Moves a control point to a world RAS position (refused for locked points).
+  bool MoveFiducial(const std::string& listID, int index, const double ras[3]);
+
   vtkRPScalarVolumeNode* GetBackgroundVolume() const;
   vtkRPScalarVolumeNode* GetForegroundVolume() const;
   /// Mouse drag on a slice: dx widens the window, dy raises the level, scaled to the volume's range.

@@ -18,6 +18,7 @@ vtkStandardNewMacro(vtkRPThreeDInteractorStyle);
 
 namespace {
 constexpr int ClickTolerance = 3;  // pixels a press may move and still count as a click
+constexpr double FiducialGrabPixels = 6.0;  // a press this close to a fiducial grabs it
 }
 
 void vtkRPSliceInteractorStyle::OnLeftButtonDown() {
@@ -26,6 +27,12 @@ void vtkRPSliceInteractorStyle::OnLeftButtonDown() {
   this->Last[0] = this->Press[0];
   this->Last[1] = this->Press[1];
   this->Current = this->Interactor->GetShiftKey() ? Panning : LeftPending;
+  // Pressing on a fiducial grabs it (dragging moves it; a click leaves it where it is).
+  if (this->Current == LeftPending &&
+      this->Controller->FindFiducialAt(this->Kind, this->Press[0], this->Press[1], FiducialGrabPixels, this->FiducialListID,
+                                       this->FiducialIndex)) {
+    this->Current = MovingFiducial;
+  }
   this->GrabFocus(this->EventCallbackCommand);
 }
 
@@ -86,6 +93,11 @@ void vtkRPSliceInteractorStyle::OnMouseMove() {
     case Zooming:
       view->Zoom(std::pow(1.01, dy));
       break;
+    case MovingFiducial: {
+      double ras[3];
+      if (view->DisplayToRAS(position[0], position[1], ras)) this->Controller->MoveFiducial(this->FiducialListID, this->FiducialIndex, ras);
+      break;
+    }
     default:
       break;
   }

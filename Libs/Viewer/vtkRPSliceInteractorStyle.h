@@ -2,6 +2,7 @@
 #define vtkRPSliceInteractorStyle_h
 // Mouse and keys in a slice view (and the 3D view's keys):
 //   left click            set the slice point (other views follow) / place a fiducial
+//   left drag on a fiducial   move it
 //   left drag             window/level (right = wider window, up = higher level)
 //   wheel, Up/Down, PgUp/PgDn   move the slice by one step
 //   right drag, Ctrl+wheel      zoom;   middle drag, Shift+left drag   pan
@@ -9,6 +10,8 @@
 //   r                     reset the view;  1/2/3  CT bone / CT soft tissue / MR presets
 // 3D view: trackball mouse; arrow keys rotate 5°, +/- zoom, r resets; click places a fiducial
 // on a model or slice in "place fiducials" mode.
+#include <string>
+
 #include <vtkInteractorStyle.h>
 #include <vtkInteractorStyleTrackballCamera.h>
 
@@ -47,7 +50,7 @@ class vtkRPSliceInteractorStyle : public vtkInteractorStyle {
  private:
   vtkRPSliceInteractorStyle(const vtkRPSliceInteractorStyle&) = delete;
   void operator=(const vtkRPSliceInteractorStyle&) = delete;
-  enum Action { None, LeftPending, WindowLevel, Panning, Zooming };
+  enum Action { None, LeftPending, WindowLevel, Panning, Zooming, MovingFiducial };
   void Wheel(int steps);
   void Finish();
 
@@ -56,6 +59,8 @@ class vtkRPSliceInteractorStyle : public vtkInteractorStyle {
   Action Current = None;
   int Press[2] = {0, 0};
   int Last[2] = {0, 0};
+  std::string FiducialListID;  // the point being dragged
+  int FiducialIndex = -1;
 };
 
 /// 3D view: trackball camera; arrows rotate, +/- zoom, 'r' resets; VTK's default keys are off.

@@ -193,6 +193,18 @@ TEST(ViewerMainWindow, ScriptedSession) {
   window.findChild<QAction*>("placeFiducials")->trigger();
   EXPECT_EQ(state->GetInteractionMode(), vtkRPViewState::ModeNavigate);
 
+  // Drag the fiducial 30 pixels right in the coronal view: it moves to patient left (−R) by
+  // 30 pixels' worth of mm, staying on the slice; the slice point does not move.
+  Drag(coronal, Center(coronal), Center(coronal) + QPoint(30, 0));
+  double moved[3];
+  list->GetNthControlPointPositionWorld(0, moved);
+  EXPECT_NEAR(moved[0], placed[0] - 30 * coronalPixel, 1.5 * coronalPixel);
+  EXPECT_NEAR(moved[1], placed[1], 1e-9);
+  EXPECT_NEAR(moved[2], placed[2], 1.5 * coronalPixel);
+  controller->GetSlicePointRAS(after);
+  EXPECT_DOUBLE_EQ(after[0], before[0]);
+  EXPECT_EQ(list->GetNumberOfControlPoints(), 1);
+
   // Layouts.
   window.findChild<QAction*>("layout_3d")->trigger();
   QTest::qWait(50);
