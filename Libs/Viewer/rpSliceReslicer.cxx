@@ -13,6 +13,7 @@
 #include <vtkLookupTable.h>
 #include <vtkMath.h>
 #include <vtkMatrix4x4.h>
+#include <vtkPointData.h>
 
 #include "vtkRPScalarVolumeNode.h"
 
@@ -115,8 +116,13 @@ void SliceReslicer::UpdateLayer(Layer& layer, vtkRPScalarVolumeNode* volume, boo
 
 void SliceReslicer::Update() {
   vtkRPScalarVolumeNode* volumes[2] = {this->Background, this->Foreground};
-  if (!this->Background || !this->Background->GetImageData()) {
-    this->Actor->SetVisibility(false);
+  auto usable = [](vtkRPScalarVolumeNode* volume) {
+    return volume && volume->GetImageData() && volume->GetImageData()->GetNumberOfPoints() > 0 &&
+           volume->GetImageData()->GetPointData()->GetScalars() != nullptr;
+  };
+  if (!usable(this->Foreground)) volumes[1] = nullptr;
+  if (!usable(this->Background)) {
+    this->Actor->SetVisibility(false);  // an empty or scalar-less image shows nothing, quietly
     return;
   }
   const SliceAxes axes = GetSliceAxes(this->Orientation);
@@ -135,7 +141,7 @@ void SliceReslicer::Update() {
   double xmin = VTK_DOUBLE_MAX, xmax = -VTK_DOUBLE_MAX, ymin = VTK_DOUBLE_MAX, ymax = -VTK_DOUBLE_MAX;
   double spacing = MinSpacing(this->Background);
   for (vtkRPScalarVolumeNode* volume : volumes) {
-    if (!volume || !volume->GetImageData()) continue;
+    if (!volume) continue;
     double corners[8][3];
     VolumeCornersWorld(volume, corners);
     for (auto& corner : corners) {
@@ -155,7 +161,7 @@ void SliceReslicer::Update() {
   this->Blend->RemoveAllInputs();
   for (int i = 0; i < 2; ++i) {
     vtkRPScalarVolumeNode* volume = volumes[i];
-    if (!volume || !volume->GetImageData()) continue;
+    if (!volume) continue;
     Layer& layer = *this->Layers[i];
     this->UpdateLayer(layer, volume, i == 1);
     layer.Reslice->SetOutputOrigin(xmin, ymin, 0);

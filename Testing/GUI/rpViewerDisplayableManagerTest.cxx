@@ -446,3 +446,22 @@ TEST(ViewerDisplayableManagers, ClickIn3DPlacesAFiducialOnTheModelSurface) {
   EXPECT_EQ(list->GetNumberOfControlPoints(), 1);
   view->DetachFromRenderWindow();
 }
+
+TEST(ViewerDisplayableManagers, EmptyVolumesShowNothingAndDoNotCrash) {
+  vtkNew<vtkRPScene> scene;
+  ViewController controller(scene);
+  vtkNew<vtkRPScalarVolumeNode> empty;
+  vtkNew<vtkImageData> nothing;
+  empty->SetImageData(nothing);
+  scene->AddNode(empty);
+  SliceReslicer* axial = controller.GetView(ViewKind::Axial)->GetDisplayableManager<vtkRPVolumeSliceDisplayableManager>()->GetReslicer(0);
+  EXPECT_FALSE(axial->GetActor()->GetVisibility());
+  controller.MoveSlice(ViewKind::Axial, 2);
+  EXPECT_FALSE(controller.ApplyWindowLevelPreset(WindowLevelPreset::MR));  // no voxels to take percentiles of
+  controller.AdjustWindowLevel(10, 10);  // ignored
+  // A real volume added later becomes the foreground; the empty background still hides the slice.
+  scene->AddNode(test::MakeVolume());
+  EXPECT_FALSE(axial->GetActor()->GetVisibility());
+  controller.GetViewState()->SetBackgroundVolumeID(controller.GetViewState()->GetForegroundVolumeID());
+  EXPECT_TRUE(axial->GetActor()->GetVisibility());
+}
