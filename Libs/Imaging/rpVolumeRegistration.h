@@ -26,13 +26,15 @@ struct RigidRegistrationOptions {
   vtkSmartPointer<vtkMatrix4x4> InitialFixedToMoving;
   /// Instead of the start above, align the volumes' geometric centres first.
   bool InitializeByGeometryCentres = false;
-  std::vector<unsigned> ShrinkFactors = {4, 2, 1};
-  std::vector<double> SmoothingSigmasMM = {2.0, 1.0, 0.0};  // physical units
+  /// Four levels: the 8x level gives the capture range (20-30 degrees, 30-40 mm on the
+  /// phantom), the full-resolution level the accuracy.
+  std::vector<unsigned> ShrinkFactors = {8, 4, 2, 1};
+  std::vector<double> SmoothingSigmasMM = {6.0, 3.0, 1.5, 0.0};  // physical units
   unsigned MaxIterationsPerLevel = 200;
   unsigned HistogramBins = 32;
-  double SamplingFraction = 0.25;  // random sampling of the fixed image per level
+  double SamplingFraction = 0.1;   // random sampling of the fixed image per level
   double InitialStepMM = 4.0;      // first step of each level (physical shift, mm)
-  double MinimumStepMM = 0.005;    // convergence at the finest level (coarse: x shrink^2)
+  double MinimumStepMM = 0.02;     // convergence at the finest level (coarse: x shrink^2)
   double RelaxationFactor = 0.7;   // step shrink when the gradient turns back
   unsigned RandomSeed = 121212;    // sampling seed (deterministic results)
 };

@@ -37,14 +37,8 @@ std::vector<std::array<double, 3>> BoneSurface(const rp::KneeModel& model) {
   return points;
 }
 
-rp::RigidRegistrationOptions FastOptions() {
-  rp::RigidRegistrationOptions options;
-  options.ShrinkFactors = {4, 2, 1};
-  options.SmoothingSigmasMM = {3.0, 1.5, 0.0};
-  options.SamplingFraction = 0.1;
-  options.MinimumStepMM = 0.02;
-  return options;
-}
+// The defaults: 4 levels (8, 4, 2, 1), 10 % sampling, 32 bins.
+rp::RigidRegistrationOptions FastOptions() { return rp::RigidRegistrationOptions(); }
 
 }  // namespace
 

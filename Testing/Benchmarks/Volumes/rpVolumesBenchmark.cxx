@@ -151,7 +151,7 @@ int main(int argc, char** argv) {
   }
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
-  bench::Series multi{"multi-resolution 4-2-1 (RoboPlan)", {}, {}, true},
+  bench::Series multi{"multi-resolution 8-4-2-1 (RoboPlan)", {}, {}, true},
       single{"single resolution (ITK v4, same metric/optimizer)", {}, {}, true};
   std::vector<std::vector<double>> regRows;
   for (int trial = 0; trial < 8; ++trial) {
@@ -166,9 +166,6 @@ int main(int argc, char** argv) {
     RigidRegistrationOptions o;
     o.InitialFixedToMoving = vtkSmartPointer<vtkMatrix4x4>::New();
     o.InitialFixedToMoving->DeepCopy(start->GetMatrix());
-    o.SamplingFraction = 0.1;
-    o.SmoothingSigmasMM = {3.0, 1.5, 0.0};
-    o.MinimumStepMM = 0.02;
     const double startError = TransformRMSDifference(o.InitialFixedToMoving, phantom.CTToMR, surface);
     RigidRegistrationResult a, b;
     RegisterVolumesRigid(phantom.CT, phantom.MR, o, a, error);

@@ -327,7 +327,7 @@ int RunRegisterVolumesCommand(const std::vector<std::string>& arguments, std::os
       .Option("out", "transform", "transform file to write (.tfm, .txt, .h5)")
       .Option("initial", "transform", "start from this MovingToFixed transform file (default: identity)")
       .Flag("centre", "start by aligning the volumes' geometric centres (ignored with --initial)")
-      .Option("levels", "f1,f2,...", "shrink factor per resolution level", "4,2,1")
+      .Option("levels", "f1,f2,...", "shrink factor per resolution level (smoothing 0.75 f mm)", "8,4,2,1")
       .Option("iterations", "n", "maximum iterations per level", "200")
       .Option("sampling", "fraction", "fraction of fixed voxels sampled by the metric", "0.1")
       .Option("bins", "n", "histogram bins of the mutual information", "32")
@@ -371,11 +371,7 @@ int RunRegisterVolumesCommand(const std::vector<std::string>& arguments, std::os
     err << "roboplan register-volumes: " << error << "\n";
     return 1;
   }
-  double fixedSpacing[3];
-  fixed.GetSpacing(fixedSpacing);
-  for (unsigned f : options.ShrinkFactors)
-    options.SmoothingSigmasMM.push_back(f > 1 ? 0.5 * f * std::max({fixedSpacing[0], fixedSpacing[1], fixedSpacing[2]}) : 0.0);
-  options.MinimumStepMM = 0.02;
+  for (unsigned f : options.ShrinkFactors) options.SmoothingSigmasMM.push_back(f > 1 ? 0.75 * f : 0.0);
   if (parser.Has("initial")) {
     vtkNew<vtkMatrix4x4> movingToFixed;
     if (!ReadTransformFile(parser.Get("initial"), movingToFixed, error)) {

@@ -184,10 +184,7 @@ TEST(VolumesLogic, LoadAndRegisterIntoTheScene) {
   EXPECT_EQ(scene->GetNumberOfNodes(), nodes);
   EXPECT_TRUE(mr->GetTransformNodeID().empty());
 
-  rp::RigidRegistrationOptions options;
-  options.SamplingFraction = 0.1;
-  options.SmoothingSigmasMM = {3.0, 1.5, 0.0};
-  options.MinimumStepMM = 0.02;
+  rp::RigidRegistrationOptions options;  // defaults
   vtkRPLinearTransformNode* transform = logic->RegisterVolumes(ct, mr, options, result, error);
   ASSERT_NE(transform, nullptr) << error;
   EXPECT_EQ(transform->GetName(), "MRToCT");
