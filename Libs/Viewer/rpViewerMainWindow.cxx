@@ -40,6 +40,7 @@
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
 #include "vtkRPSliceInteractorStyle.h"
+#include "vtkRPTransformableNode.h"
 #include "vtkRPViewState.h"
 
 #ifdef ROBOPLAN_VIEWER_HAVE_DICOM
@@ -174,6 +175,17 @@ void ViewerMainWindow::BuildMenus() {
 #endif
   file->addAction("&Load data (volume, segmentation, model, fiducials, transform)...", this,
                   &ViewerMainWindow::OpenDataFiles, QKeySequence::Open);
+  const std::pair<const char*, const char*> kinds[] = {
+      {"Load &volume...", "Volumes (*.nrrd *.nhdr *.nii *.nii.gz *.mha *.mhd)"},
+      {"Load se&gmentation...", "Segmentations (*.seg.nrrd)"},
+      {"Load &model...", "Models (*.vtp *.vtk *.stl *.ply *.obj)"},
+      {"Load &fiducials...", "Fiducials (*.mrk.json *.fcsv)"},
+      {"Load &transform...", "Transforms (*.tfm *.txt *.h5)"}};
+  for (const auto& [title, filter] : kinds) {
+    const QString caption = QString(title).remove('&').remove("...");
+    const QString files = filter;
+    file->addAction(title, this, [this, caption, files]() { this->OpenDataFilesOfKind(caption, files); });
+  }
   file->addAction("Load &scene...", this, &ViewerMainWindow::OpenScene);
   file->addAction("&Save scene as...", this, &ViewerMainWindow::SaveSceneAs, QKeySequence::SaveAs);
   this->RecentMenu = file->addMenu("&Recent files");
@@ -263,6 +275,24 @@ QWidget* ViewerMainWindow::BuildDataPanel() {
     if (model) model->SetVisibility(item->checkState(0) == Qt::Checked);
   });
 
+  // The selected node's parent transform (e.g. put the MR under MRToCT to show it registered).
+  layout->addWidget(new QLabel("Transform of the selected node"));
+  this->ParentTransformCombo = new QComboBox(panel);
+  this->ParentTransformCombo->setObjectName("parentTransform");
+  this->ParentTransformCombo->setEnabled(false);
+  layout->addWidget(this->ParentTransformCombo);
+  connect(this->DataTree, &QTreeWidget::currentItemChanged, this, [this]() { this->RefreshParentTransformCombo(); });
+  connect(this->ParentTransformCombo, QOverload<int>::of(&QComboBox::activated), this, [this]() {
+    QTreeWidgetItem* item = this->DataTree->currentItem();
+    if (this->UpdatingPanel || !item) return;
+    auto* node = vtkRPTransformableNode::SafeDownCast(this->Scene->GetNodeByID(item->data(0, Qt::UserRole).toString().toStdString()));
+    const std::string parent = this->ParentTransformCombo->currentData().toString().toStdString();
+    if (node && !node->SetAndObserveTransformNodeID(parent)) {
+      this->ShowProblem("Transform", "This transform cannot be the node's parent (it would make a cycle).");
+    }
+    this->RefreshParentTransformCombo();
+  });
+
   layout->addWidget(new QLabel("Background volume"));
   this->BackgroundCombo = new QComboBox(panel);
   this->BackgroundCombo->setObjectName("backgroundVolume");
@@ -321,7 +351,30 @@ void ViewerMainWindow::RefreshDataPanel() {
     }
   }
   this->RefreshVolumeCombos();
+  this->RefreshParentTransformCombo();
   this->UpdatingPanel = false;
+}
+
+void ViewerMainWindow::RefreshParentTransformCombo() {
+  const bool wasUpdating = this->UpdatingPanel;
+  this->UpdatingPanel = true;
+  QTreeWidgetItem* item = this->DataTree->currentItem();
+  auto* node = item ? vtkRPTransformableNode::SafeDownCast(
+                          this->Scene->GetNodeByID(item->data(0, Qt::UserRole).toString().toStdString()))
+                    : nullptr;
+  this->ParentTransformCombo->clear();
+  this->ParentTransformCombo->setEnabled(node != nullptr);
+  if (node) {
+    this->ParentTransformCombo->addItem("(none: RAS)", QString());
+    for (vtkRPNode* transform : this->Scene->GetNodesByClass("vtkRPLinearTransformNode")) {
+      if (transform == node) continue;
+      this->ParentTransformCombo->addItem(QString::fromStdString(transform->GetName()), QString::fromStdString(transform->GetID()));
+      if (transform->GetID() == node->GetTransformNodeID()) {
+        this->ParentTransformCombo->setCurrentIndex(this->ParentTransformCombo->count() - 1);
+      }
+    }
+  }
+  this->UpdatingPanel = wasUpdating;
 }
 
 void ViewerMainWindow::RefreshVolumeCombos() {
@@ -367,13 +420,16 @@ void ViewerMainWindow::ShowProblem(const QString& title, const QString& text) {
 }
 
 void ViewerMainWindow::OpenDataFiles() {
-  const QStringList files = QFileDialog::getOpenFileNames(
-      this, "Load data", QString(),
-      "Data (*.nrrd *.nhdr *.nii *.nii.gz *.mha *.mhd *.seg.nrrd *.vtp *.vtk *.stl *.ply *.obj *.mrk.json *.fcsv "
-      "*.tfm *.txt *.h5);;All files (*)");
+  this->OpenDataFilesOfKind("Load data",
+                            "Data (*.nrrd *.nhdr *.nii *.nii.gz *.mha *.mhd *.seg.nrrd *.vtp *.vtk *.stl *.ply *.obj "
+                            "*.mrk.json *.fcsv *.tfm *.txt *.h5)");
+}
+
+void ViewerMainWindow::OpenDataFilesOfKind(const QString& title, const QString& filter) {
+  const QStringList files = QFileDialog::getOpenFileNames(this, title, QString(), filter + ";;All files (*)");
   for (const QString& file : files) {
     QString error;
-    if (!this->LoadFile(file, &error)) this->ShowProblem("Load data", error);
+    if (!this->LoadFile(file, &error)) this->ShowProblem(title, error);
   }
 }
 

@@ -58,6 +58,8 @@ class ViewerMainWindow : public QMainWindow {
 
  public slots:
   void OpenDataFiles();
+  /// File > Load <kind>: the same loader with the kind's file filter.
+  void OpenDataFilesOfKind(const QString& title, const QString& filter);
   void OpenScene();
   void SaveSceneAs();
   void OpenDicomFolder();
@@ -76,6 +78,7 @@ class ViewerMainWindow : public QMainWindow {
   QWidget* BuildDataPanel();
   void RefreshDataPanel();
   void RefreshVolumeCombos();
+  void RefreshParentTransformCombo();
   void AddRecentFile(const QString& path);
   void RebuildRecentMenu();
   void ShowProblem(const QString& title, const QString& text);
@@ -90,6 +93,7 @@ class ViewerMainWindow : public QMainWindow {
   QComboBox* ForegroundCombo = nullptr;
   QSlider* OpacitySlider = nullptr;
   QComboBox* FollowCombo = nullptr;
+  QComboBox* ParentTransformCombo = nullptr;
   QMenu* RecentMenu = nullptr;
   QAction* PlaceFiducialAction = nullptr;
   QTimer RenderTimer;

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <QAction>
 #include <QApplication>
+#include <QComboBox>
 #include <QSettings>
 #include <QSurfaceFormat>
 #include <QTest>
@@ -26,6 +27,7 @@
 #include "rpViewerMainWindow.h"
 #include "rpViewerTestScene.h"
 #include "vtkRPFiducialListNode.h"
+#include "vtkRPLinearTransformNode.h"
 #include "vtkRPModelDisplayableManager.h"
 #include "vtkRPModelNode.h"
 #include "vtkRPScalarVolumeNode.h"
@@ -218,6 +220,23 @@ TEST(ViewerMainWindow, ScriptedSession) {
   QTest::qWait(50);
   EXPECT_TRUE(sagittal->isVisible());
   EXPECT_TRUE(window.GetViewWidget(ViewKind::ThreeD)->isVisible());
+  // Put the model under a transform from the Data panel: select it, pick the transform.
+  vtkNew<vtkRPLinearTransformNode> lift;
+  lift->SetName("Lift");
+  scene->AddNode(lift);
+  QTest::qWait(60);  // the Data panel refreshes on the timer
+  items = window.GetDataTree()->findItems(QString::fromStdString(model->GetName()), Qt::MatchExactly);
+  ASSERT_EQ(items.size(), 1);
+  window.GetDataTree()->setCurrentItem(items[0]);
+  auto* parentCombo = window.findChild<QComboBox*>("parentTransform");
+  ASSERT_NE(parentCombo, nullptr);
+  ASSERT_TRUE(parentCombo->isEnabled());
+  const int liftIndex = parentCombo->findText("Lift");
+  ASSERT_GE(liftIndex, 0);
+  parentCombo->setCurrentIndex(liftIndex);
+  emit parentCombo->activated(liftIndex);
+  EXPECT_EQ(model->GetTransformNodeID(), lift->GetID());
+
   // A tool streaming at 1 kHz between two display ticks: the slices follow its tip, and each
   // view renders once per tick however many poses arrived.
   vtkNew<vtkRPTrackedToolNode> stylus;
