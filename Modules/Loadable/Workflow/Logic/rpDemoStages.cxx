@@ -335,6 +335,8 @@ void SegmentAndMesh(DemoState& state) {
       continue;
     }
     if (m.DisplayModel) state.DisplayModelIDs.push_back(m.DisplayModel->GetID());
+    // Soft tissue is drawn see-through so the bones stay visible inside it.
+    if (m.DisplayModel && m.TissueClass != "bone") m.DisplayModel->SetOpacity(0.25);
     if (m.HapticModel) state.HapticModelIDs.push_back(m.HapticModel->GetID());
     const bool isBone = m.TissueClass == "bone";
     if (isBone && m.DisplayModel) state.BoneModelIDs.push_back(m.DisplayModel->GetID());
