@@ -124,7 +124,9 @@ class LevelObserver : public itk::Command {
     const unsigned level = this->Registration->GetCurrentLevel();
     const double shrink = std::max(1u, this->Options->ShrinkFactors[level]);
     this->Optimizer->SetLearningRate(this->Options->InitialStepMM);
-    this->Optimizer->SetMinimumStepLength(this->Options->MinimumStepMM * shrink * shrink);
+    // The last level decides the accuracy: it always runs down to the minimum step.
+    const bool last = level + 1 == this->Options->ShrinkFactors.size();
+    this->Optimizer->SetMinimumStepLength(this->Options->MinimumStepMM * (last ? 1.0 : shrink * shrink));
   }
 };
 

@@ -34,7 +34,7 @@ struct RigidRegistrationOptions {
   unsigned HistogramBins = 32;
   double SamplingFraction = 0.1;   // random sampling of the fixed image per level
   double InitialStepMM = 4.0;      // first step of each level (physical shift, mm)
-  double MinimumStepMM = 0.02;     // convergence at the finest level (coarse: x shrink^2)
+  double MinimumStepMM = 0.02;     // convergence at the last level (earlier ones: x shrink^2)
   double RelaxationFactor = 0.7;   // step shrink when the gradient turns back
   unsigned RandomSeed = 121212;    // sampling seed (deterministic results)
 };
