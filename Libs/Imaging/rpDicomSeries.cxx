@@ -655,6 +655,8 @@ bool ReadDicomSeries(const DicomSeriesInfo& series, ImageVolume& volume, std::st
     }
     result.Modality = h0.Modality;
     result.Description = h0.Description;
+    if (warnings && !h0.HasPixelSpacing)
+      warnings->push_back("no PixelSpacing in " + Name(h0.File) + ": 1 mm pixels assumed");
     if (warnings && h0.Photometric == "MONOCHROME1")
       warnings->push_back("MONOCHROME1 series: values are kept as stored (low = white on the scanner display)");
     volume = result;
