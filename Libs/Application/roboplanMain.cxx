@@ -22,6 +22,11 @@ void PrintUsage(const rp::ModuleManager& manager) {
   std::cout << "usage: roboplan [<scene or data files>...]     open the viewer\n"
                "       roboplan <command> [arguments] [--json] [--help]\n\ncommands:\n";
   std::printf("  %-18s %s\n", "modules", "list the loaded modules, their commands and load failures");
+#ifdef ROBOPLAN_HAVE_VIEWER
+  for (const auto& command : rp::ViewerCommands()) {
+    std::printf("  %-18s %s  [viewer]\n", command.Name.c_str(), command.Summary.c_str());
+  }
+#endif
   for (const auto& [module, command] : manager.GetAllCommands()) {
     std::printf("  %-18s %s  [%s]\n", command.Name.c_str(), command.Summary.c_str(), module.c_str());
   }
