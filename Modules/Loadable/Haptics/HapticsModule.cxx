@@ -21,6 +21,9 @@
 #include "vtkRPHapticsLogic.h"
 #include "vtkRPModelNode.h"
 #include "vtkRPScene.h"
+#ifdef ROBOPLAN_BUILD_GUI
+#include "qRPHapticsPanel.h"
+#endif
 
 namespace {
 
@@ -331,6 +334,14 @@ class HapticsModule : public rp::Module {
   std::string Title() const override { return "Haptics"; }
   void Setup(vtkRPScene* scene) override { this->LogicObject->SetScene(scene); }
   vtkObject* Logic() override { return this->LogicObject; }
+  QWidget* CreatePanel(QWidget* parent) override {
+#ifdef ROBOPLAN_BUILD_GUI
+    return new qRPHapticsPanel(this->LogicObject, parent);
+#else
+    (void)parent;
+    return nullptr;
+#endif
+  }
   std::vector<rp::Command> Commands() override {
     return {{"haptics", "touch the haptic models at 1 kHz with the simulated device (timing, forces)", RunHaptics}};
   }

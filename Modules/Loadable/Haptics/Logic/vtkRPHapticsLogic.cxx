@@ -29,6 +29,7 @@ bool vtkRPHapticsLogic::StartSimulated(std::string& error) {
   }
   this->Session = std::make_unique<rp::HapticSession>(*this->Device);
   rp::HapticSession::Options options;
+  options.LogPath = this->LogPath;
   if (!this->Session->Start(this->Scene, options, error)) {
     this->Session.reset();
     return false;

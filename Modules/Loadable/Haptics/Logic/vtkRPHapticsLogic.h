@@ -37,6 +37,11 @@ class vtkRPHapticsLogic : public vtkObject {
   bool Update();
   /// The last force sent to the device (N, device frame).
   void GetLastForce(double force[3]) const;
+  /// The running session (servo state, timing, tissue names), or nullptr when stopped.
+  rp::HapticSession* GetSession() const { return this->Session.get(); }
+  /// The session log CSV written while running (empty: none); flushed by Stop().
+  void SetLogPath(const std::string& path) { this->LogPath = path; }
+  const std::string& GetLogPath() const { return this->LogPath; }
 
  protected:
   vtkRPHapticsLogic();
@@ -48,6 +53,7 @@ class vtkRPHapticsLogic : public vtkObject {
   vtkRPScene* Scene = nullptr;  // not owned (the host's scene outlives its modules)
   std::unique_ptr<rp::SimulatedDevice> Device;
   std::unique_ptr<rp::HapticSession> Session;
+  std::string LogPath;
 };
 
 #endif

@@ -1,0 +1,105 @@
+// The Haptics panel on a flat bone slab: start the simulated device, press the stylus into the
+// top face with the spin boxes, and read the force, tissue and penetration back from the panel.
+// Known answers: force = k·depth (k of bone from Resources/Materials/materials.json) below the
+// device's force limit, and the limit (3.3 N, seed eq. 6) above it.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+
+#include <QApplication>
+#include <QDir>
+#include <QDoubleSpinBox>
+#include <QPushButton>
+#include <QThread>
+
+#include <nlohmann/json.hpp>
+#include <vtkNew.h>
+
+#include "qRPHapticsPanel.h"
+#include "rpHapticSceneBridge.h"
+#include "rpSimulatedDevice.h"
+#include "vtkRPHapticsLogic.h"
+#include "vtkRPModelNode.h"
+#include "vtkRPScene.h"
+
+namespace {
+double BoneStiffness() {
+  std::ifstream in(std::string(ROBOPLAN_RESOURCES_DIR) + "/Materials/materials.json");
+  const nlohmann::json doc = nlohmann::json::parse(in);
+  for (const auto& m : doc.at("materials"))
+    if (m.at("tissue") == "bone") return m.at("stiffness").get<double>();
+  return -1;
+}
+}  // namespace
+
+TEST(HapticsPanel, PressIntoBoneSlabShowsStiffnessForceAndTissue) {
+  int argc = 1;
+  char name[] = "qRPHapticsPanelTest";
+  char* argv[] = {name};
+  QApplication app(argc, argv);
+  vtkNew<vtkRPScene> scene;
+  vtkNew<vtkRPModelNode> slab;  // top face at S = 0
+  slab->SetName("Slab");
+  slab->SetTissueClass("bone");
+  slab->SetHaptic(true);
+  slab->SetPolyData(rp::TriangleMeshToPolyData(rp::shapes::Box({-40, -40, -20}, {40, 40, 0})));
+  scene->AddNode(slab);
+  vtkNew<vtkRPHapticsLogic> logic;
+  logic->SetScene(scene);
+  const std::string log = std::string(ROBOPLAN_TEST_OUTPUT_DIR) + "/haptics-panel-session.csv";
+  QDir().mkpath(ROBOPLAN_TEST_OUTPUT_DIR);
+  std::remove(log.c_str());
+  logic->SetLogPath(log);
+  const double k = BoneStiffness();
+  ASSERT_GT(k, 0);
+
+  auto panel = std::make_unique<qRPHapticsPanel>(logic.GetPointer());
+  panel->show();
+  // Spin box ranges: the haptic models' bounds ± 20 mm.
+  EXPECT_DOUBLE_EQ(panel->StylusSpinBox(2)->minimum(), -40);
+  EXPECT_DOUBLE_EQ(panel->StylusSpinBox(2)->maximum(), 20);
+  auto pump = [&](double seconds) {
+    const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+    while (std::chrono::steady_clock::now() < end) {
+      app.processEvents();
+      panel->Update();
+      QThread::msleep(10);
+    }
+  };
+  panel->StartStopButton()->click();
+  ASSERT_TRUE(panel->IsRunning()) << panel->StatusText().toStdString();
+  panel->StylusSpinBox(0)->setValue(3);
+  panel->StylusSpinBox(1)->setValue(-4);
+  pump(0.6);  // past the 0.5 s force ramp, stylus above the slab
+  EXPECT_EQ(panel->TissueText(), "none");
+  EXPECT_NEAR(panel->DisplayedForce(), 0, 1e-9);
+
+  // 1 mm into the top face: F = k·1 mm (2 N for bone, under the device limit).
+  panel->StylusSpinBox(2)->setValue(-1);
+  pump(0.3);
+  EXPECT_EQ(panel->TissueText(), "bone");
+  EXPECT_NEAR(panel->DisplayedForce(), k * 1.0, 0.15 * k * 1.0) << panel->ForceText().toStdString();
+  EXPECT_EQ(panel->PenetrationText(), "1.00 mm");
+
+  // 2 mm: k·2 mm = 4 N would exceed the simulated Touch's 3.3 N; the renderer clamps to it.
+  panel->StylusSpinBox(2)->setValue(-2);
+  pump(0.3);
+  EXPECT_EQ(panel->TissueText(), "bone");
+  const double limit = rp::SimulatedDevice::DefaultInfo().MaxForce;
+  EXPECT_NEAR(panel->DisplayedForce(), std::min(k * 2.0, limit), 0.15 * std::min(k * 2.0, limit))
+      << panel->ForceText().toStdString();
+  EXPECT_TRUE(panel->TimingText().endsWith("us")) << panel->TimingText().toStdString();
+
+  // Closing the panel stops the loop and commits the session log.
+  panel.reset();
+  EXPECT_FALSE(logic->IsRunning());
+  std::ifstream in(log);
+  ASSERT_TRUE(in.good()) << log;
+  int lines = 0;
+  for (std::string line; std::getline(in, line);) ++lines;
+  EXPECT_GT(lines, 500);  // ~1.2 s at 1 kHz
+}

@@ -1,0 +1,166 @@
+#include "qRPHapticsPanel.h"
+
+#include <cmath>
+
+#include <QDoubleSpinBox>
+#include <QFormLayout>
+#include <QLabel>
+#include <QPushButton>
+#include <QTimer>
+#include <QVBoxLayout>
+
+#include <vtkMatrix4x4.h>
+#include <vtkNew.h>
+#include <vtkPolyData.h>
+
+#include "rpHapticSession.h"
+#include "vtkRPHapticsLogic.h"
+#include "vtkRPModelNode.h"
+#include "vtkRPScene.h"
+
+qRPHapticsPanel::qRPHapticsPanel(vtkRPHapticsLogic* logic, QWidget* parent) : QWidget(parent), Logic(logic) {
+  auto* form = new QFormLayout;
+  this->StartButton = new QPushButton("Start simulated device");
+  this->State = new QLabel("stopped");
+  form->addRow(this->StartButton, this->State);
+  const char* names[3] = {"Stylus R (mm)", "Stylus A (mm)", "Stylus S (mm)"};
+  for (int k = 0; k < 3; ++k) {
+    this->Stylus[k] = new QDoubleSpinBox;
+    this->Stylus[k]->setDecimals(1);
+    this->Stylus[k]->setSingleStep(0.5);
+    this->Stylus[k]->setRange(-200, 200);
+    this->Stylus[k]->setKeyboardTracking(false);
+    form->addRow(names[k], this->Stylus[k]);
+    connect(this->Stylus[k], QOverload<double>::of(&QDoubleSpinBox::valueChanged), this,
+            [this](double) { this->SendStylusPose(); });
+  }
+  this->Tissue = new QLabel("-");
+  this->Force = new QLabel("-");
+  this->Penetration = new QLabel("-");
+  this->Timing = new QLabel("-");
+  this->Missed = new QLabel("-");
+  form->addRow("Tissue in contact", this->Tissue);
+  form->addRow("Force", this->Force);
+  form->addRow("Penetration", this->Penetration);
+  form->addRow("Servo p99 period / compute", this->Timing);
+  form->addRow("Missed deadlines", this->Missed);
+  auto* layout = new QVBoxLayout(this);
+  layout->addLayout(form);
+  layout->addStretch(1);
+  this->Timer = new QTimer(this);
+  this->Timer->setInterval(33);  // 30 Hz display rate
+  connect(this->Timer, &QTimer::timeout, this, &qRPHapticsPanel::Update);
+  connect(this->StartButton, &QPushButton::clicked, this, [this] {
+    if (this->IsRunning())
+      this->Stop();
+    else
+      this->Start();
+  });
+  this->FitRangesToHapticModels();
+}
+
+qRPHapticsPanel::~qRPHapticsPanel() {
+  // Closing the viewer: zero the device force and commit the session log.
+  this->Stop();
+}
+
+bool qRPHapticsPanel::IsRunning() const { return this->Logic && this->Logic->IsRunning(); }
+QString qRPHapticsPanel::StatusText() const { return this->State->text(); }
+QString qRPHapticsPanel::TissueText() const { return this->Tissue->text(); }
+QString qRPHapticsPanel::ForceText() const { return this->Force->text(); }
+QString qRPHapticsPanel::PenetrationText() const { return this->Penetration->text(); }
+QString qRPHapticsPanel::TimingText() const { return this->Timing->text(); }
+
+void qRPHapticsPanel::FitRangesToHapticModels() {
+  vtkRPScene* scene = this->Logic ? this->Logic->GetScene() : nullptr;
+  if (scene == nullptr) return;
+  double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  for (vtkRPNode* node : scene->GetNodesByClass("vtkRPModelNode")) {
+    auto* model = vtkRPModelNode::SafeDownCast(node);
+    if (model == nullptr || !model->GetHaptic() || model->GetPolyData() == nullptr ||
+        model->GetPolyData()->GetNumberOfPoints() == 0)
+      continue;
+    double b[6];
+    model->GetPolyData()->GetBounds(b);
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = std::fmin(lo[k], b[2 * k]);
+      hi[k] = std::fmax(hi[k], b[2 * k + 1]);
+    }
+  }
+  if (!(lo[0] <= hi[0])) return;  // no haptic model: keep the default range
+  for (int k = 0; k < 3; ++k) {
+    const QSignalBlocker block(this->Stylus[k]);
+    this->Stylus[k]->setRange(lo[k] - 20, hi[k] + 20);
+  }
+  // Start above the models (S max), centred in R and A: out of contact.
+  const QSignalBlocker b0(this->Stylus[0]), b1(this->Stylus[1]), b2(this->Stylus[2]);
+  this->Stylus[0]->setValue(0.5 * (lo[0] + hi[0]));
+  this->Stylus[1]->setValue(0.5 * (lo[1] + hi[1]));
+  this->Stylus[2]->setValue(hi[2] + 10);
+}
+
+void qRPHapticsPanel::SendStylusPose() {
+  if (this->Logic == nullptr) return;
+  // The spin boxes are in RAS; the simulated device moves in its own frame (HapticDeviceToRAS).
+  rp::DeviceToScene xf;
+  rp::ReadDeviceToScene(this->Logic->GetScene(), xf);
+  const double scale = xf.Scale > 0 ? xf.Scale : 1.0;
+  const rp::Vec3 ras{this->Stylus[0]->value(), this->Stylus[1]->value(), this->Stylus[2]->value()};
+  const rp::Vec3 device = xf.DeviceToRAS.RotateInverse(ras - xf.DeviceToRAS.T) / scale;
+  vtkNew<vtkMatrix4x4> stylusToDevice;
+  stylusToDevice->SetElement(0, 3, device.x);
+  stylusToDevice->SetElement(1, 3, device.y);
+  stylusToDevice->SetElement(2, 3, device.z);
+  this->Logic->SetSimulatedStylusPose(stylusToDevice);
+}
+
+bool qRPHapticsPanel::Start() {
+  if (this->Logic == nullptr) return false;
+  if (this->IsRunning()) return true;
+  this->FitRangesToHapticModels();
+  this->SendStylusPose();  // before the first tick: the loop starts where the spin boxes say
+  std::string error;
+  if (!this->Logic->StartSimulated(error)) {
+    this->State->setText(QString::fromStdString(error));
+    return false;
+  }
+  this->StartButton->setText("Stop");
+  this->Timer->start();
+  this->Update();
+  return true;
+}
+
+void qRPHapticsPanel::Stop() {
+  this->Timer->stop();
+  if (this->Logic) this->Logic->Stop();
+  this->StartButton->setText("Start simulated device");
+  this->State->setText("stopped");
+  this->ForceN = 0;
+}
+
+void qRPHapticsPanel::Update() {
+  if (!this->IsRunning()) return;
+  this->Logic->Update();
+  rp::HapticSession* session = this->Logic->GetSession();
+  if (session == nullptr) return;
+  rp::HapticState s;
+  session->Servo().ReadState(s);
+  const auto& names = session->TissueNames();
+  const bool contact = s.Contacts > 0;
+  this->State->setText(QString("running, %1 triangles%2")
+                           .arg(session->SceneTriangles())
+                           .arg(s.DeviceError ? ", DEVICE ERROR" : (s.Clamped ? ", force clamped" : "")));
+  this->Tissue->setText(contact && s.Label >= 0 && static_cast<size_t>(s.Label) < names.size()
+                            ? QString::fromStdString(names[static_cast<size_t>(s.Label)])
+                            : QString("none"));
+  this->ForceN = rp::Norm(s.Force);
+  this->Force->setText(QString("%1 N").arg(this->ForceN, 0, 'f', 2));
+  this->Penetration->setText(QString("%1 mm").arg(contact ? rp::Norm(s.Hip - s.Proxy) : 0.0, 0, 'f', 2));
+  const rp::ServoStats stats = session->Scheduler().Stats();
+  this->Timing->setText(
+      QString("%1 us / %2 us").arg(stats.Period.P99Us, 0, 'f', 1).arg(stats.Compute.P99Us, 0, 'f', 2));
+  this->Missed->setText(QString("%1 of %2 ticks (watchdog trips %3)")
+                            .arg(stats.MissedDeadlines)
+                            .arg(stats.Ticks)
+                            .arg(s.WatchdogTrips));
+}

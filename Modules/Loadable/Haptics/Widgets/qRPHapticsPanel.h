@@ -1,0 +1,56 @@
+#ifndef qRPHapticsPanel_h
+#define qRPHapticsPanel_h
+// The Haptics module's Qt panel: start/stop the simulated device's 1 kHz servo loop on the
+// scene's haptic models, move the simulated stylus tip with R/A/S spin boxes (so the module is
+// usable without hardware), and live read-outs (tissue, force, penetration, servo timing).
+// A 30 Hz timer drives vtkRPHapticsLogic::Update (main thread). Destroying the panel stops the
+// loop (zero force on the device) and flushes the session log.
+#include <QWidget>
+
+class QDoubleSpinBox;
+class QLabel;
+class QPushButton;
+class QTimer;
+class vtkRPHapticsLogic;
+
+class qRPHapticsPanel : public QWidget {
+  Q_OBJECT
+ public:
+  explicit qRPHapticsPanel(vtkRPHapticsLogic* logic, QWidget* parent = nullptr);
+  ~qRPHapticsPanel() override;
+
+  /// Starts the simulated device; false with the reason in StatusText().
+  bool Start();
+  void Stop();
+  bool IsRunning() const;
+  /// One timer tick (public for tests): logic update and read-outs.
+  void Update();
+
+  QDoubleSpinBox* StylusSpinBox(int axis) const { return this->Stylus[axis]; }
+  QPushButton* StartStopButton() const { return this->StartButton; }
+  QString StatusText() const;
+  QString TissueText() const;
+  /// The force magnitude shown (N).
+  double DisplayedForce() const { return this->ForceN; }
+  QString ForceText() const;
+  QString PenetrationText() const;
+  QString TimingText() const;
+
+ private:
+  void FitRangesToHapticModels();
+  void SendStylusPose();
+
+  vtkRPHapticsLogic* Logic;
+  QPushButton* StartButton;
+  QDoubleSpinBox* Stylus[3];
+  QLabel* State;
+  QLabel* Tissue;
+  QLabel* Force;
+  QLabel* Penetration;
+  QLabel* Timing;
+  QLabel* Missed;
+  QTimer* Timer;
+  double ForceN = 0;
+};
+
+#endif
