@@ -20,6 +20,9 @@
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
 #include "vtkRPSegmentationNode.h"
+#ifdef ROBOPLAN_BUILD_GUI
+#include "qRPSegmentationToMeshPanel.h"
+#endif
 
 namespace {
 
@@ -355,9 +358,21 @@ class SegmentationToMeshModule : public rp::Module {
  public:
   std::string Name() const override { return "SegmentationToMesh"; }
   std::string Title() const override { return "Segmentation to Mesh"; }
+  void Setup(vtkRPScene* scene) override { this->Scene = scene; }
+  QWidget* CreatePanel(QWidget* parent) override {
+#ifdef ROBOPLAN_BUILD_GUI
+    return this->Scene ? new qRPSegmentationToMeshPanel(this->Scene, parent) : nullptr;
+#else
+    (void)parent;
+    return nullptr;
+#endif
+  }
   std::vector<rp::Command> Commands() override {
     return {{"mesh", "segment a CT/MR (or take a .seg.nrrd) and write one closed surface per tissue", RunMesh}};
   }
+
+ private:
+  vtkRPScene* Scene = nullptr;  // owned by the host
 };
 
 }  // namespace

@@ -1,0 +1,110 @@
+#ifndef qRPSegmentationToMeshPanel_h
+#define qRPSegmentationToMeshPanel_h
+// The SegmentationToMesh module's Qt panel: pick a volume and a target segmentation, segment one
+// tissue (threshold preset, manual thresholds, region growing or confidence connected from the
+// seeds of a fiducial list), edit it (morphology, keep largest), then preview its surface (a
+// temporary "<segment> (preview)" model, replaced on each preview) or build the display + haptic
+// models into the scene. The panel only edits scene nodes; the viewer draws them.
+#include <QWidget>
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include <vtkSmartPointer.h>
+
+#include "rpSegmentationEditor.h"
+
+class QCheckBox;
+class QComboBox;
+class QDoubleSpinBox;
+class QLabel;
+class QLineEdit;
+class QPushButton;
+class QSpinBox;
+class vtkObject;
+class vtkRPNode;
+class vtkRPScalarVolumeNode;
+class vtkRPScene;
+class vtkRPSegmentationNode;
+
+namespace rp {
+struct ModelBuildOptions;
+}
+
+class qRPSegmentationToMeshPanel : public QWidget {
+  Q_OBJECT
+ public:
+  enum Method { PresetThreshold = 0, ManualThreshold = 1, RegionGrowing = 2, ConfidenceConnected = 3 };
+
+  explicit qRPSegmentationToMeshPanel(vtkRPScene* scene, QWidget* parent = nullptr);
+  ~qRPSegmentationToMeshPanel() override;
+
+  /// Each returns false and shows the reason (red) in the status label.
+  bool Apply();
+  bool ApplyMorphology(rp::Morphology op);
+  bool KeepLargest();
+  bool Preview();
+  bool CreateModels();
+  /// A new empty segmentation node, selected as the target.
+  vtkRPSegmentationNode* NewSegmentation();
+
+  vtkRPScalarVolumeNode* CurrentVolume() const;
+  vtkRPSegmentationNode* CurrentSegmentation() const;
+  std::string CurrentSegmentID() const;
+  /// The preview model's node ID ("" when none).
+  const std::string& PreviewNodeID() const { return this->PreviewID; }
+  QString StatusText() const;
+  bool HasError() const { return this->Error; }
+
+  // Widgets (public for tests and scripting).
+  QComboBox* VolumeCombo;
+  QComboBox* SegmentationCombo;
+  QPushButton* NewSegmentationButton;
+  QComboBox* MethodCombo;
+  QComboBox* PresetCombo;
+  QDoubleSpinBox* LowerSpin;
+  QDoubleSpinBox* UpperSpin;
+  QComboBox* SeedsCombo;
+  QDoubleSpinBox* MultiplierSpin;
+  QSpinBox* IterationsSpin;
+  QLineEdit* SegmentNameEdit;
+  QComboBox* TissueCombo;
+  QPushButton* ApplyButton;
+  QComboBox* SegmentCombo;
+  QDoubleSpinBox* MorphologyRadiusSpin;
+  QPushButton* ClosingButton;
+  QPushButton* OpeningButton;
+  QPushButton* FillHolesButton;
+  QPushButton* KeepLargestButton;
+  QComboBox* MeshMethodCombo;
+  QDoubleSpinBox* SigmaSpin;
+  QDoubleSpinBox* GridStepSpin;
+  QSpinBox* DisplayTrianglesSpin;
+  QSpinBox* HapticTrianglesSpin;
+  QCheckBox* AllSegmentsCheck;
+  QPushButton* PreviewButton;
+  QPushButton* CreateModelsButton;
+  QLabel* StatusLabel;
+
+ private:
+  void OnSceneEvent(vtkObject* caller, unsigned long event, void* callData);
+  void RefreshNodeCombos();
+  void RefreshSegments(const std::string& select = "");
+  void OnPresetChanged();
+  void OnMethodChanged();
+  rp::SegmentTarget Target() const;
+  rp::ModelBuildOptions BuildOptions() const;
+  void ShowError(const QString& text);
+  void ShowStatus(const QString& text);
+  void RemovePreview();
+
+  vtkSmartPointer<vtkRPScene> Scene;
+  unsigned long SceneObservers[4] = {0, 0, 0, 0};
+  std::string PreviewID;
+  /// Models this panel created per segment ID (replaced by the next "Create models").
+  std::map<std::string, std::vector<std::string>> CreatedModelIDs;
+  bool Error = false;
+};
+
+#endif
