@@ -1,0 +1,35 @@
+// Navigation module plugin (seed 3.3): the tip-to-surface distance of a tool to chosen models,
+// with a warning under a threshold. The logic writes Navigation.* attributes onto the tool node.
+#include <vtkSmartPointer.h>
+
+#include "rpModule.h"
+#include "vtkRPNavigationLogic.h"
+#ifdef ROBOPLAN_BUILD_GUI
+#include "qRPNavigationPanel.h"
+#endif
+
+namespace {
+class NavigationModule : public rp::Module {
+ public:
+  std::string Name() const override { return "Navigation"; }
+  std::string Title() const override { return "Navigation"; }
+  void Setup(vtkRPScene* scene) override {
+    this->LogicObject = vtkSmartPointer<vtkRPNavigationLogic>::New();
+    this->LogicObject->SetScene(scene);
+  }
+  vtkObject* Logic() override { return this->LogicObject; }
+  QWidget* CreatePanel(QWidget* parent) override {
+#ifdef ROBOPLAN_BUILD_GUI
+    return new qRPNavigationPanel(this->LogicObject, parent);
+#else
+    (void)parent;
+    return nullptr;
+#endif
+  }
+
+ private:
+  vtkSmartPointer<vtkRPNavigationLogic> LogicObject;
+};
+}  // namespace
+
+ROBOPLAN_DECLARE_MODULE(NavigationModule)

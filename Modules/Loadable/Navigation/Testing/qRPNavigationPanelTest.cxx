@@ -1,0 +1,86 @@
+// The Navigation panel on an analytic scene: a sphere of radius 20 mm at the origin and a tool
+// transform on its +S axis. Known answers: at 35 mm from the centre the tip is 15.0 mm from the
+// surface (green, over the 3 mm warning); at 21 mm it is 1.0 mm (red). The sphere's poles are
+// mesh vertices, so on the S axis the tessellated surface is exactly at radius 20.
+#include <gtest/gtest.h>
+
+#include <QApplication>
+#include <QComboBox>
+#include <QDoubleSpinBox>
+#include <QListWidget>
+
+#include <vtkMatrix4x4.h>
+#include <vtkNew.h>
+#include <vtkSphereSource.h>
+
+#include "qRPNavigationPanel.h"
+#include "vtkRPLinearTransformNode.h"
+#include "vtkRPModelNode.h"
+#include "vtkRPNavigationLogic.h"
+#include "vtkRPScene.h"
+
+TEST(NavigationPanel, DistanceToSphereGreenThenRedUnderWarning) {
+  int argc = 1;
+  char name[] = "qRPNavigationPanelTest";
+  char* argv[] = {name};
+  QApplication app(argc, argv);
+  vtkNew<vtkRPScene> scene;
+  vtkNew<vtkSphereSource> sphere;
+  sphere->SetRadius(20);
+  sphere->SetThetaResolution(64);
+  sphere->SetPhiResolution(64);
+  sphere->Update();
+  vtkNew<vtkRPModelNode> bone;
+  bone->SetName("Femur");
+  bone->SetPolyData(sphere->GetOutput());
+  scene->AddNode(bone);
+  vtkNew<vtkRPModelNode> other;  // far away, not ticked: must not be measured to
+  other->SetName("Far sphere");
+  vtkNew<vtkSphereSource> far;
+  far->SetCenter(0, 0, 40);
+  far->SetRadius(1);
+  far->Update();
+  other->SetPolyData(far->GetOutput());
+  scene->AddNode(other);
+  vtkNew<vtkRPLinearTransformNode> unrelated;
+  unrelated->SetName("TrackerToRAS");
+  scene->AddNode(unrelated);
+  vtkNew<vtkRPLinearTransformNode> tool;
+  tool->SetName("StylusTipToStylus");
+  scene->AddNode(tool);
+  auto moveTool = [&](double s) {
+    vtkNew<vtkMatrix4x4> m;
+    m->SetElement(2, 3, s);
+    tool->SetMatrixTransformToParent(m);
+  };
+  moveTool(35);
+
+  vtkNew<vtkRPNavigationLogic> logic;
+  logic->SetScene(scene);
+  qRPNavigationPanel panel(logic);
+  panel.show();
+  app.processEvents();
+  // The stylus tip is chosen by default; two models listed, none ticked yet.
+  EXPECT_EQ(panel.ToolComboBox()->currentText(), "StylusTipToStylus");
+  ASSERT_EQ(panel.ModelList()->count(), 2);
+  EXPECT_EQ(panel.DistanceText(), "-");
+  panel.WarningSpinBox()->setValue(3.0);
+  panel.ModelList()->item(0)->setCheckState(Qt::Checked);  // Femur
+  app.processEvents();
+  EXPECT_EQ(panel.DistanceText(), "15.0 mm");
+  EXPECT_FALSE(panel.IsWarningShown());
+  EXPECT_EQ(panel.ClosestModelText(), "closest: Femur");
+  EXPECT_EQ(tool->GetAttribute("Navigation.Warning"), "0");
+  EXPECT_NEAR(std::stod(tool->GetAttribute("Navigation.DistanceMM")), 15.0, 1e-9);
+
+  moveTool(21);
+  panel.Update();  // what the panel's 30 Hz timer does
+  EXPECT_EQ(panel.DistanceText(), "1.0 mm");
+  EXPECT_TRUE(panel.IsWarningShown());
+  EXPECT_EQ(tool->GetAttribute("Navigation.Warning"), "1");
+
+  // A smaller warning distance takes the warning away again.
+  panel.WarningSpinBox()->setValue(0.5);
+  EXPECT_FALSE(panel.IsWarningShown());
+  EXPECT_EQ(panel.DistanceText(), "1.0 mm");
+}

@@ -1,0 +1,53 @@
+#ifndef qRPNavigationPanel_h
+#define qRPNavigationPanel_h
+// The Navigation module's Qt panel: pick the tool (a transform node whose origin is the tip,
+// e.g. StylusTipToStylus or HapticProxy), tick the models to measure to and a warning distance;
+// shows the tip-to-surface distance big, red under the warning distance, green otherwise, with
+// the closest model's name. vtkRPNavigationLogic does the work (and writes Navigation.*
+// attributes onto the tool node for the viewer); a 30 Hz timer refreshes the read-out.
+#include <QWidget>
+
+class QComboBox;
+class QDoubleSpinBox;
+class QLabel;
+class QListWidget;
+class QTimer;
+class vtkRPNavigationLogic;
+
+class qRPNavigationPanel : public QWidget {
+  Q_OBJECT
+ public:
+  explicit qRPNavigationPanel(vtkRPNavigationLogic* logic, QWidget* parent = nullptr);
+  ~qRPNavigationPanel() override;
+
+  /// Re-reads the scene's transform and model nodes into the combo and the list (keeps choices).
+  void RefreshNodeLists();
+  /// Pushes the widgets' choices into the logic, recomputes and updates the read-out.
+  void Update();
+
+  QComboBox* ToolComboBox() const { return this->Tool; }
+  QListWidget* ModelList() const { return this->Models; }
+  QDoubleSpinBox* WarningSpinBox() const { return this->Warning; }
+  QString DistanceText() const;
+  QString ClosestModelText() const;
+  /// True when the distance is shown in the warning colour.
+  bool IsWarningShown() const { return this->WarningShown; }
+
+ protected:
+  void showEvent(QShowEvent* event) override;
+
+ private:
+  void ApplySettings();
+
+  vtkRPNavigationLogic* Logic;
+  QComboBox* Tool;
+  QListWidget* Models;
+  QDoubleSpinBox* Warning;
+  QLabel* Distance;
+  QLabel* Closest;
+  QTimer* Timer;
+  bool WarningShown = false;
+  bool Refreshing = false;
+};
+
+#endif
