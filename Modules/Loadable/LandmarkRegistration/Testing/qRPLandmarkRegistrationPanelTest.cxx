@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <QApplication>
+#include <QDir>
 #include <QCheckBox>
 #include <QDoubleSpinBox>
 #include <QPushButton>
@@ -143,6 +144,10 @@ TEST(LandmarkRegistrationPanel, CollectRegisterApplyAndRejectSwap) {
   EXPECT_GT(tre, 0.25 / 2);  // FLE/sqrt(N) is the lower bound at the centroid
   EXPECT_TRUE(panel.TREText().contains("at the target")) << panel.TREText().toStdString();
 
+  QDir().mkpath(ROBOPLAN_TEST_OUTPUT_DIR);
+  panel.resize(700, 650);
+  EXPECT_TRUE(panel.grab().save(QString(ROBOPLAN_TEST_OUTPUT_DIR) + "/panel-accepted.png"));
+
   // Apply to tools: the stylus and the physical points go under TrackerToRAS; the tip (still at
   // the last landmark) is now at the image landmark in world coordinates.
   QTest::mouseClick(panel.ApplyButton(), Qt::LeftButton);
@@ -186,6 +191,7 @@ TEST(LandmarkRegistrationPanel, CollectRegisterApplyAndRejectSwap) {
   for (int r = 0; r < 4; ++r)
     anyRed |= table->item(r, qRPLandmarkRegistrationPanel::ResidualColumn)->background().color() == QColor(240, 120, 120);
   EXPECT_TRUE(anyRed);
+  EXPECT_TRUE(panel.grab().save(QString(ROBOPLAN_TEST_OUTPUT_DIR) + "/panel-rejected.png"));
   // "Apply to tools" refuses a rejected registration.
   EXPECT_FALSE(panel.ApplyToTools());
 

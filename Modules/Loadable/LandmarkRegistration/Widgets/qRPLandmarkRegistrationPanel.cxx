@@ -27,7 +27,7 @@ QString Mm(double value, int decimals = 3) {
 }
 
 QString Point(const double p[3]) {
-  return QString("%1, %2, %3").arg(p[0], 0, 'f', 2).arg(p[1], 0, 'f', 2).arg(p[2], 0, 'f', 2);
+  return QString("%1, %2, %3").arg(p[0], 0, 'f', 1).arg(p[1], 0, 'f', 1).arg(p[2], 0, 'f', 1);
 }
 
 /// Green within half the threshold, orange up to it, red above (no threshold: green).
@@ -111,8 +111,11 @@ qRPLandmarkRegistrationPanel::qRPLandmarkRegistrationPanel(vtkRPLandmarkRegistra
   // ---- pairs and results
   this->Table = new QTableWidget(0, NumberOfColumns);
   this->Table->setHorizontalHeaderLabels(
-      {"Label", "Physical (from)", "Image (to)", "Residual (mm)", "Leave-one-out (mm)"});
-  this->Table->horizontalHeader()->setSectionResizeMode(QHeaderView::Stretch);
+      {"Label", "Physical (from), mm", "Image (to), mm", "Residual", "Leave-one-out"});
+  this->Table->horizontalHeader()->setSectionResizeMode(QHeaderView::ResizeToContents);
+  this->Table->horizontalHeader()->setStretchLastSection(true);
+  this->Table->horizontalHeaderItem(ResidualColumn)->setToolTip("Distance between the registered physical point and its image point (mm)");
+  this->Table->horizontalHeaderItem(LeaveOneOutColumn)->setToolTip("The same, registering without this pair (mm): flags a mislocalized or swapped point");
   this->Table->setEditTriggers(QAbstractItemView::NoEditTriggers);
   this->Table->setSelectionBehavior(QAbstractItemView::SelectRows);
   this->Table->setSelectionMode(QAbstractItemView::SingleSelection);
@@ -529,4 +532,5 @@ void qRPLandmarkRegistrationPanel::UpdateResults() {
     return;
   }
   this->SetStatus(QString::fromStdString(a->Reason), !a->Accepted);
+  if (a->Accepted) this->Status->setStyleSheet("color: #107010; font-weight: bold;");
 }
