@@ -13,6 +13,7 @@
 #include <QApplication>
 #include <QDir>
 #include <QDoubleSpinBox>
+#include <QLineEdit>
 #include <QPushButton>
 #include <QThread>
 
@@ -53,11 +54,11 @@ TEST(HapticsPanel, PressIntoBoneSlabShowsStiffnessForceAndTissue) {
   const std::string log = std::string(ROBOPLAN_TEST_OUTPUT_DIR) + "/haptics-panel-session.csv";
   QDir().mkpath(ROBOPLAN_TEST_OUTPUT_DIR);
   std::remove(log.c_str());
-  logic->SetLogPath(log);
   const double k = BoneStiffness();
   ASSERT_GT(k, 0);
 
   auto panel = std::make_unique<qRPHapticsPanel>(logic.GetPointer());
+  panel->LogPathEdit()->setText(QString::fromStdString(log));
   panel->show();
   // Spin box ranges: the haptic models' bounds ± 20 mm.
   EXPECT_DOUBLE_EQ(panel->StylusSpinBox(2)->minimum(), -40);
@@ -84,6 +85,8 @@ TEST(HapticsPanel, PressIntoBoneSlabShowsStiffnessForceAndTissue) {
   EXPECT_EQ(panel->TissueText(), "bone");
   EXPECT_NEAR(panel->DisplayedForce(), k * 1.0, 0.15 * k * 1.0) << panel->ForceText().toStdString();
   EXPECT_EQ(panel->PenetrationText(), "1.00 mm");
+  std::printf("1 mm into bone: %s (k = %.2f N/mm), servo p99 period / compute %s\n",
+              panel->ForceText().toStdString().c_str(), k, panel->TimingText().toStdString().c_str());
 
   // 2 mm: k·2 mm = 4 N would exceed the simulated Touch's 3.3 N; the renderer clamps to it.
   panel->StylusSpinBox(2)->setValue(-2);
@@ -92,6 +95,7 @@ TEST(HapticsPanel, PressIntoBoneSlabShowsStiffnessForceAndTissue) {
   const double limit = rp::SimulatedDevice::DefaultInfo().MaxForce;
   EXPECT_NEAR(panel->DisplayedForce(), std::min(k * 2.0, limit), 0.15 * std::min(k * 2.0, limit))
       << panel->ForceText().toStdString();
+  std::printf("2 mm into bone: %s (limit %.1f N)\n", panel->ForceText().toStdString().c_str(), limit);
   EXPECT_TRUE(panel->TimingText().endsWith("us")) << panel->TimingText().toStdString();
 
   // Closing the panel stops the loop and commits the session log.

@@ -2,9 +2,13 @@
 
 #include <cmath>
 
+#include <QApplication>
+#include <QDateTime>
+#include <QDir>
 #include <QDoubleSpinBox>
 #include <QFormLayout>
 #include <QLabel>
+#include <QLineEdit>
 #include <QPushButton>
 #include <QTimer>
 #include <QVBoxLayout>
@@ -22,6 +26,10 @@ qRPHapticsPanel::qRPHapticsPanel(vtkRPHapticsLogic* logic, QWidget* parent) : QW
   auto* form = new QFormLayout;
   this->StartButton = new QPushButton("Start simulated device");
   this->State = new QLabel("stopped");
+  this->LogPath = new QLineEdit(QDir::tempPath() + "/roboplan-haptics-" +
+                                QDateTime::currentDateTime().toString("yyyyMMdd-HHmmss") + ".csv");
+  this->LogPath->setToolTip("Session log (one CSV row per servo tick), written while the loop runs, flushed when it stops; empty: none");
+  form->addRow("Session log", this->LogPath);
   form->addRow(this->StartButton, this->State);
   const char* names[3] = {"Stylus R (mm)", "Stylus A (mm)", "Stylus S (mm)"};
   for (int k = 0; k < 3; ++k) {
@@ -119,11 +127,17 @@ bool qRPHapticsPanel::Start() {
   if (this->IsRunning()) return true;
   this->FitRangesToHapticModels();
   this->SendStylusPose();  // before the first tick: the loop starts where the spin boxes say
+  this->Logic->SetLogPath(this->LogPath->text().trimmed().toStdString());
   std::string error;
-  if (!this->Logic->StartSimulated(error)) {
+  // The first haptic scene (BVH over every haptic triangle) is built before the loop starts.
+  QApplication::setOverrideCursor(Qt::WaitCursor);
+  const bool started = this->Logic->StartSimulated(error);
+  QApplication::restoreOverrideCursor();
+  if (!started) {
     this->State->setText(QString::fromStdString(error));
     return false;
   }
+  this->LogPath->setEnabled(false);
   this->StartButton->setText("Stop");
   this->Timer->start();
   this->Update();
@@ -132,9 +146,13 @@ bool qRPHapticsPanel::Start() {
 
 void qRPHapticsPanel::Stop() {
   this->Timer->stop();
-  if (this->Logic) this->Logic->Stop();
+  const bool wasRunning = this->IsRunning();
+  if (this->Logic) this->Logic->Stop();  // zero force, join the servo thread, flush the log
   this->StartButton->setText("Start simulated device");
-  this->State->setText("stopped");
+  this->LogPath->setEnabled(true);
+  this->State->setText(wasRunning && !this->Logic->GetLogPath().empty()
+                           ? "stopped; log " + QString::fromStdString(this->Logic->GetLogPath())
+                           : QString("stopped"));
   this->ForceN = 0;
 }
 

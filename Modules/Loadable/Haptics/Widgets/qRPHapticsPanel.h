@@ -9,6 +9,7 @@
 
 class QDoubleSpinBox;
 class QLabel;
+class QLineEdit;
 class QPushButton;
 class QTimer;
 class vtkRPHapticsLogic;
@@ -28,6 +29,8 @@ class qRPHapticsPanel : public QWidget {
 
   QDoubleSpinBox* StylusSpinBox(int axis) const { return this->Stylus[axis]; }
   QPushButton* StartStopButton() const { return this->StartButton; }
+  /// Where the session log (CSV, one row per servo tick) goes; empty: no log.
+  QLineEdit* LogPathEdit() const { return this->LogPath; }
   QString StatusText() const;
   QString TissueText() const;
   /// The force magnitude shown (N).
@@ -42,6 +45,7 @@ class qRPHapticsPanel : public QWidget {
 
   vtkRPHapticsLogic* Logic;
   QPushButton* StartButton;
+  QLineEdit* LogPath;
   QDoubleSpinBox* Stylus[3];
   QLabel* State;
   QLabel* Tissue;
