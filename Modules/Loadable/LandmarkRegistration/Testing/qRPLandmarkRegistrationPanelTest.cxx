@@ -24,6 +24,7 @@
 #include "vtkRPLandmarkRegistrationLogic.h"
 #include "vtkRPLinearTransformNode.h"
 #include "vtkRPScene.h"
+#include "vtkRPTrackedToolNode.h"
 
 namespace {
 const double Landmarks[4][3] = {{10, 20, 30}, {70, 25, 35}, {15, 85, 40}, {20, 30, 100}};
@@ -37,7 +38,7 @@ void Transform(vtkMatrix4x4* m, const double in[3], double out[3]) {
 }
 
 /// Poses the stylus so that its tip is at `physical` (tracker coordinates), at some orientation.
-void PlaceTip(vtkRPLinearTransformNode* stylusToTracker, const double physical[3], double angle) {
+void PlaceTip(vtkRPTrackedToolNode* stylusToTracker, const double physical[3], double angle) {
   vtkNew<vtkTransform> pose;
   pose->PostMultiply();
   pose->RotateWXYZ(angle, 0.3, 1, 0.2);
@@ -64,8 +65,9 @@ TEST(LandmarkRegistrationPanel, CollectRegisterApplyAndRejectSwap) {
   vtkNew<vtkRPFiducialListNode> physical;
   physical->SetName("PhysicalLandmarks");
   scene->AddNode(physical);
-  vtkNew<vtkRPLinearTransformNode> stylus;
+  vtkNew<vtkRPTrackedToolNode> stylus;
   stylus->SetName("StylusToTracker");
+  stylus->SetStatus(vtkRPTrackedToolNode::StatusOK);
   scene->AddNode(stylus);
   vtkNew<vtkRPLinearTransformNode> tip;
   tip->SetName("StylusTipToStylus");
@@ -97,6 +99,13 @@ TEST(LandmarkRegistrationPanel, CollectRegisterApplyAndRejectSwap) {
   panel.ThresholdSpinBox()->setValue(1.0);
   panel.FLESpinBox()->setValue(0.25);
   EXPECT_DOUBLE_EQ(logic->GetFREThreshold(), 1.0);
+
+  // A stylus out of the tracker's view is not collected.
+  stylus->SetStatus(vtkRPTrackedToolNode::StatusMissing);
+  EXPECT_FALSE(panel.CollectPoint());
+  EXPECT_EQ(physical->GetNumberOfControlPoints(), 0);
+  EXPECT_TRUE(panel.StatusText().contains("StylusToTracker is not tracked")) << panel.StatusText().toStdString();
+  stylus->SetStatus(vtkRPTrackedToolNode::StatusOK);
 
   for (int i = 0; i < 4; ++i) {
     double p[3];

@@ -20,6 +20,7 @@
 #include <vtkNew.h>
 
 #include "vtkRPLinearTransformNode.h"
+#include "vtkRPTrackedToolNode.h"
 
 namespace {
 QString Mm(double value, int decimals = 3) {
@@ -363,6 +364,17 @@ bool qRPLandmarkRegistrationPanel::CollectPoint() {
   if (!tool) {
     this->SetStatus("choose the stylus tip transform (e.g. StylusTipToStylus)", true);
     return false;
+  }
+  // A tracked tool up the chain that the tracker does not see now has a stale pose: refuse.
+  for (vtkRPLinearTransformNode* node = tool; node; node = node->GetParentTransformNode()) {
+    auto* tracked = vtkRPTrackedToolNode::SafeDownCast(node);
+    if (tracked && tracked->GetStatus() != vtkRPTrackedToolNode::StatusOK) {
+      this->SetStatus(QString("not collected: %1 is not tracked (status %2); bring it into the tracker's view")
+                          .arg(QString::fromStdString(tracked->GetName()),
+                               vtkRPTrackedToolNode::GetStatusAsString(tracked->GetStatus())),
+                      true);
+      return false;
+    }
   }
   // The tip is the tool frame's origin; express it in the list's own coordinates (tracker
   // coordinates when both sit under the same TrackerToRAS, or under none).
