@@ -21,6 +21,8 @@
 #include "vtkRPScene.h"
 #include "vtkRPSegmentationNode.h"
 #ifdef ROBOPLAN_BUILD_GUI
+#include <QScrollArea>
+
 #include "qRPSegmentationToMeshPanel.h"
 #endif
 
@@ -361,7 +363,13 @@ class SegmentationToMeshModule : public rp::Module {
   void Setup(vtkRPScene* scene) override { this->Scene = scene; }
   QWidget* CreatePanel(QWidget* parent) override {
 #ifdef ROBOPLAN_BUILD_GUI
-    return this->Scene ? new qRPSegmentationToMeshPanel(this->Scene, parent) : nullptr;
+    if (!this->Scene) return nullptr;
+    // The panel is taller than a module page on a laptop screen: let it scroll.
+    auto* scroll = new QScrollArea(parent);
+    scroll->setWidgetResizable(true);
+    scroll->setFrameShape(QFrame::NoFrame);
+    scroll->setWidget(new qRPSegmentationToMeshPanel(this->Scene));
+    return scroll;
 #else
     (void)parent;
     return nullptr;

@@ -6,6 +6,7 @@
 
 #include <QApplication>
 #include <QComboBox>
+#include <QDir>
 #include <QDoubleSpinBox>
 #include <QLabel>
 #include <QLineEdit>
@@ -192,10 +193,37 @@ TEST(SegmentationToMeshPanel, SphereCTPresetBoneApplyPreviewCreateModels) {
   EXPECT_EQ(CountLabel(panel.CurrentSegmentation(), "grown"), sphereVoxels);
   EXPECT_EQ(panel.CurrentSegmentation()->GetSegmentByID("grown")->TissueClass, "cartilage");
 
+  // Edits of the current segment: one ball, no holes, so keep largest and fill holes keep every
+  // voxel; closing never removes voxels, opening never adds any.
+  ASSERT_EQ(panel.CurrentSegmentID(), "grown");
+  QTest::mouseClick(panel.KeepLargestButton, Qt::LeftButton);
+  ASSERT_FALSE(panel.HasError()) << panel.StatusText().toStdString();
+  EXPECT_TRUE(panel.StatusText().contains("largest of 1 components")) << panel.StatusText().toStdString();
+  EXPECT_EQ(CountLabel(panel.CurrentSegmentation(), "grown"), sphereVoxels);
+  QTest::mouseClick(panel.FillHolesButton, Qt::LeftButton);
+  ASSERT_FALSE(panel.HasError()) << panel.StatusText().toStdString();
+  EXPECT_EQ(CountLabel(panel.CurrentSegmentation(), "grown"), sphereVoxels);
+  QTest::mouseClick(panel.OpeningButton, Qt::LeftButton);
+  ASSERT_FALSE(panel.HasError()) << panel.StatusText().toStdString();
+  const long opened = CountLabel(panel.CurrentSegmentation(), "grown");
+  EXPECT_LE(opened, sphereVoxels);
+  EXPECT_GT(opened, sphereVoxels * 9 / 10);
+  QTest::mouseClick(panel.ClosingButton, Qt::LeftButton);
+  ASSERT_FALSE(panel.HasError()) << panel.StatusText().toStdString();
+  EXPECT_GE(CountLabel(panel.CurrentSegmentation(), "grown"), opened);
+  // Re-apply restores the exact ball.
+  QTest::mouseClick(panel.ApplyButton, Qt::LeftButton);
+  ASSERT_FALSE(panel.HasError()) << panel.StatusText().toStdString();
+  EXPECT_EQ(CountLabel(panel.CurrentSegmentation(), "grown"), sphereVoxels);
+
   // A seed outside the ball's intensity range is refused by name, the segment is kept.
   seeds->AddControlPoint(kOrigin);
   QTest::mouseClick(panel.ApplyButton, Qt::LeftButton);
   EXPECT_TRUE(panel.HasError());
   EXPECT_TRUE(panel.StatusText().startsWith("Apply failed")) << panel.StatusText().toStdString();
   EXPECT_EQ(CountLabel(panel.CurrentSegmentation(), "grown"), sphereVoxels);
+
+  // A picture of the panel (with the red error) to look at.
+  QDir().mkpath(ROBOPLAN_TEST_OUTPUT_DIR);
+  EXPECT_TRUE(panel.grab().save(QString(ROBOPLAN_TEST_OUTPUT_DIR) + "/SegmentationToMeshPanel.png"));
 }
