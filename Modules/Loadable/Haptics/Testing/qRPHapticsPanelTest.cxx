@@ -101,6 +101,11 @@ TEST(HapticsPanel, PressIntoBoneSlabShowsStiffnessForceAndTissue) {
   // Closing the panel stops the loop and commits the session log.
   panel.reset();
   EXPECT_FALSE(logic->IsRunning());
+  double force[3];
+  logic->GetLastForce(force);  // the device was left with zero force
+  EXPECT_EQ(force[0], 0.0);
+  EXPECT_EQ(force[1], 0.0);
+  EXPECT_EQ(force[2], 0.0);
   std::ifstream in(log);
   ASSERT_TRUE(in.good()) << log;
   int lines = 0;

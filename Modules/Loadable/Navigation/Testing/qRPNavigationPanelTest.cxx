@@ -4,6 +4,8 @@
 // mesh vertices, so on the S axis the tessellated surface is exactly at radius 20.
 #include <gtest/gtest.h>
 
+#include <chrono>
+
 #include <QApplication>
 #include <QComboBox>
 #include <QDoubleSpinBox>
@@ -82,5 +84,17 @@ TEST(NavigationPanel, DistanceToSphereGreenThenRedUnderWarning) {
   // A smaller warning distance takes the warning away again.
   panel.WarningSpinBox()->setValue(0.5);
   EXPECT_FALSE(panel.IsWarningShown());
+  EXPECT_EQ(panel.DistanceText(), "1.0 mm");
+
+  // A model added to the scene shows up in the list on the next timer tick, unticked.
+  vtkNew<vtkRPModelNode> added;
+  added->SetName("Tibia");
+  scene->AddNode(added);
+  const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(2000);
+  while (std::chrono::steady_clock::now() < end && panel.ModelList()->count() < 3) app.processEvents(QEventLoop::AllEvents, 20);
+  ASSERT_EQ(panel.ModelList()->count(), 3);
+  EXPECT_EQ(panel.ModelList()->item(2)->text(), "Tibia");
+  EXPECT_EQ(panel.ModelList()->item(0)->checkState(), Qt::Checked);
+  EXPECT_EQ(panel.ModelList()->item(2)->checkState(), Qt::Unchecked);
   EXPECT_EQ(panel.DistanceText(), "1.0 mm");
 }

@@ -12,6 +12,8 @@
 #include <QTimer>
 #include <QVBoxLayout>
 
+#include <vtkCallbackCommand.h>
+
 #include "vtkRPLinearTransformNode.h"
 #include "vtkRPModelNode.h"
 #include "vtkRPNavigationLogic.h"
@@ -47,7 +49,7 @@ qRPNavigationPanel::qRPNavigationPanel(vtkRPNavigationLogic* logic, QWidget* par
   layout->addWidget(this->Closest);
   this->Timer = new QTimer(this);
   this->Timer->setInterval(33);  // 30 Hz display rate
-  connect(this->Timer, &QTimer::timeout, this, &qRPNavigationPanel::Update);
+  connect(this->Timer, &QTimer::timeout, this, &qRPNavigationPanel::OnTimer);
   connect(refresh, &QPushButton::clicked, this, &qRPNavigationPanel::RefreshNodeLists);
   connect(this->Tool, QOverload<int>::of(&QComboBox::currentIndexChanged), this, [this](int) {
     if (!this->Refreshing) this->Update();
@@ -56,12 +58,38 @@ qRPNavigationPanel::qRPNavigationPanel(vtkRPNavigationLogic* logic, QWidget* par
     if (!this->Refreshing) this->Update();
   });
   connect(this->Warning, QOverload<double>::of(&QDoubleSpinBox::valueChanged), this, [this](double) { this->Update(); });
+  if (vtkRPScene* scene = logic ? logic->GetScene() : nullptr) {
+    this->SceneCallback = vtkCallbackCommand::New();
+    this->SceneCallback->SetClientData(this);
+    this->SceneCallback->SetCallback(&qRPNavigationPanel::OnSceneNodesChanged);
+    for (unsigned long event : {static_cast<unsigned long>(vtkRPScene::NodeAddedEvent),
+                                static_cast<unsigned long>(vtkRPScene::NodeRemovedEvent),
+                                static_cast<unsigned long>(vtkRPScene::EndImportEvent),
+                                static_cast<unsigned long>(vtkRPScene::EndCloseEvent)})
+      this->SceneTags.push_back(scene->AddObserver(event, this->SceneCallback));
+  }
   this->RefreshNodeLists();
   this->Timer->start();
 }
 
+void qRPNavigationPanel::OnSceneNodesChanged(vtkObject*, unsigned long, void* clientData, void*) {
+  static_cast<qRPNavigationPanel*>(clientData)->NodeListsDirty = true;
+}
+
+void qRPNavigationPanel::OnTimer() {
+  if (this->NodeListsDirty) {
+    this->NodeListsDirty = false;
+    this->RefreshNodeLists();  // also updates
+  } else {
+    this->Update();
+  }
+}
+
 qRPNavigationPanel::~qRPNavigationPanel() {
   this->Timer->stop();
+  if (vtkRPScene* scene = this->Logic ? this->Logic->GetScene() : nullptr)
+    for (unsigned long tag : this->SceneTags) scene->RemoveObserver(tag);
+  if (this->SceneCallback) this->SceneCallback->Delete();
   if (this->Logic) this->Logic->SetToolNodeID("");  // stop observing the tool
 }
 

@@ -7,11 +7,15 @@
 // attributes onto the tool node for the viewer); a 30 Hz timer refreshes the read-out.
 #include <QWidget>
 
+#include <vector>
+
 class QComboBox;
 class QDoubleSpinBox;
 class QLabel;
 class QListWidget;
 class QTimer;
+class vtkCallbackCommand;
+class vtkObject;
 class vtkRPNavigationLogic;
 
 class qRPNavigationPanel : public QWidget {
@@ -38,6 +42,8 @@ class qRPNavigationPanel : public QWidget {
 
  private:
   void ApplySettings();
+  void OnTimer();
+  static void OnSceneNodesChanged(vtkObject*, unsigned long, void* clientData, void*);
 
   vtkRPNavigationLogic* Logic;
   QComboBox* Tool;
@@ -48,6 +54,9 @@ class qRPNavigationPanel : public QWidget {
   QTimer* Timer;
   bool WarningShown = false;
   bool Refreshing = false;
+  bool NodeListsDirty = false;  // nodes added/removed: refresh the lists on the next tick
+  vtkCallbackCommand* SceneCallback = nullptr;
+  std::vector<unsigned long> SceneTags;
 };
 
 #endif
