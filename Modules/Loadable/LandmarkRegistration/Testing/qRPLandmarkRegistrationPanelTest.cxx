@@ -207,4 +207,14 @@ TEST(LandmarkRegistrationPanel, CollectRegisterApplyAndRejectSwap) {
   // Raising the threshold above the FRE accepts (recomputed on the setting change).
   panel.ThresholdSpinBox()->setValue(99);
   EXPECT_EQ(output->GetAttribute("Registration.Status"), "accepted");
+
+  // Removing the output and closing the scene empty the combos, the logic's inputs and the table.
+  scene->RemoveNode(output);
+  EXPECT_EQ(logic->GetOutputTransform(), nullptr);
+  EXPECT_FALSE(panel.Register());
+  scene->Clear();
+  EXPECT_EQ(logic->GetFromFiducials(), nullptr);
+  EXPECT_EQ(logic->GetToFiducials(), nullptr);
+  EXPECT_EQ(table->rowCount(), 0);
+  EXPECT_FALSE(panel.CollectPoint());
 }

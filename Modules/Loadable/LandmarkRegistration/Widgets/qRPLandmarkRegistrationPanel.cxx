@@ -159,10 +159,10 @@ qRPLandmarkRegistrationPanel::qRPLandmarkRegistrationPanel(vtkRPLandmarkRegistra
                                               &qRPLandmarkRegistrationPanel::OnLogicOrListModified);
   }
   if (this->Scene) {
-    this->SceneTags[0] = this->Scene->AddObserver(vtkRPScene::NodeAddedEvent, this,
-                                                  &qRPLandmarkRegistrationPanel::OnSceneChanged);
-    this->SceneTags[1] = this->Scene->AddObserver(vtkRPScene::NodeRemovedEvent, this,
-                                                  &qRPLandmarkRegistrationPanel::OnSceneChanged);
+    const unsigned long events[4] = {vtkRPScene::NodeAddedEvent, vtkRPScene::NodeRemovedEvent,
+                                      vtkRPScene::EndImportEvent, vtkRPScene::EndCloseEvent};
+    for (int i = 0; i < 4; ++i)
+      this->SceneTags[i] = this->Scene->AddObserver(events[i], this, &qRPLandmarkRegistrationPanel::OnSceneChanged);
   }
   this->UpdateNodeCombos();
   this->UpdateResults();
@@ -189,8 +189,7 @@ qRPLandmarkRegistrationPanel::~qRPLandmarkRegistrationPanel() {
   if (this->ObservedTo) this->ObservedTo->RemoveObserver(this->ToTag);
   if (this->Logic) this->Logic->RemoveObserver(this->LogicTag);
   if (this->Scene) {
-    this->Scene->RemoveObserver(this->SceneTags[0]);
-    this->Scene->RemoveObserver(this->SceneTags[1]);
+    for (unsigned long tag : this->SceneTags) this->Scene->RemoveObserver(tag);
   }
 }
 
@@ -447,8 +446,10 @@ bool qRPLandmarkRegistrationPanel::ApplyToTools() {
 
 // ---------------------------------------------------------------- display
 
-void qRPLandmarkRegistrationPanel::OnSceneChanged(vtkObject*, unsigned long, void*) {
-  if (this->Scene && (this->Scene->IsImporting() || this->Scene->IsClosing())) return;
+void qRPLandmarkRegistrationPanel::OnSceneChanged(vtkObject*, unsigned long event, void*) {
+  // Node by node during an import or a close: once at its end instead.
+  const bool batchEnd = event == vtkRPScene::EndImportEvent || event == vtkRPScene::EndCloseEvent;
+  if (!batchEnd && this->Scene && (this->Scene->IsImporting() || this->Scene->IsClosing())) return;
   this->UpdateNodeCombos();
 }
 

@@ -108,7 +108,7 @@ class qRPLandmarkRegistrationPanel : public QWidget {
   QPushButton* ApplyToolsButton;
   QPushButton* RemovePointButton;
   QCheckBox* AutoUpdate;
-  unsigned long SceneTags[2] = {0, 0};
+  unsigned long SceneTags[4] = {0, 0, 0, 0};
   unsigned long LogicTag = 0;
   vtkWeakPointer<vtkRPFiducialListNode> ObservedFrom;
   vtkWeakPointer<vtkRPFiducialListNode> ObservedTo;
