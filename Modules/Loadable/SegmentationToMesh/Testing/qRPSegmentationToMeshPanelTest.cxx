@@ -211,6 +211,14 @@ TEST(SegmentationToMeshPanel, SphereCTPresetBoneApplyPreviewCreateModels) {
   QTest::mouseClick(panel.ClosingButton, Qt::LeftButton);
   ASSERT_FALSE(panel.HasError()) << panel.StatusText().toStdString();
   EXPECT_GE(CountLabel(panel.CurrentSegmentation(), "grown"), opened);
+  // A segment added elsewhere (another module, a script) shows up in the segment list.
+  vtkRPSegmentationNode::Segment added;
+  added.ID = "added";
+  added.LabelValue = panel.CurrentSegmentation()->GetUnusedLabelValue();
+  panel.CurrentSegmentation()->SetSegment(added);
+  EXPECT_EQ(panel.SegmentCombo->count(), 2);
+  EXPECT_GE(panel.SegmentCombo->findData("added"), 0);
+  EXPECT_EQ(panel.CurrentSegmentID(), "grown");  // the selection is kept
   // Re-apply restores the exact ball.
   QTest::mouseClick(panel.ApplyButton, Qt::LeftButton);
   ASSERT_FALSE(panel.HasError()) << panel.StatusText().toStdString();

@@ -19,6 +19,7 @@
 #include <QSpinBox>
 #include <QVBoxLayout>
 
+#include <vtkCommand.h>
 #include <vtkNew.h>
 #include <vtkPolyData.h>
 
@@ -253,6 +254,7 @@ qRPSegmentationToMeshPanel::qRPSegmentationToMeshPanel(vtkRPScene* scene, QWidge
 }
 
 qRPSegmentationToMeshPanel::~qRPSegmentationToMeshPanel() {
+  this->ObserveSegmentation(nullptr);
   if (!this->Scene) return;
   for (unsigned long tag : this->SceneObservers)
     if (tag) this->Scene->RemoveObserver(tag);
@@ -279,7 +281,21 @@ void qRPSegmentationToMeshPanel::RefreshNodeCombos() {
   this->RefreshSegments();
 }
 
+void qRPSegmentationToMeshPanel::ObserveSegmentation(vtkRPSegmentationNode* segmentation) {
+  if (segmentation == this->ObservedSegmentation) return;
+  if (this->ObservedSegmentation && this->SegmentationObserver)
+    this->ObservedSegmentation->RemoveObserver(this->SegmentationObserver);
+  this->SegmentationObserver = 0;
+  this->ObservedSegmentation = segmentation;
+  if (segmentation)
+    this->SegmentationObserver = segmentation->AddObserver(vtkCommand::ModifiedEvent, this,
+                                                           &qRPSegmentationToMeshPanel::OnSegmentationModified);
+}
+
+void qRPSegmentationToMeshPanel::OnSegmentationModified(vtkObject*, unsigned long, void*) { this->RefreshSegments(); }
+
 void qRPSegmentationToMeshPanel::RefreshSegments(const std::string& select) {
+  this->ObserveSegmentation(this->CurrentSegmentation());
   const QString keep = select.empty() ? this->SegmentCombo->currentData().toString() : QString::fromStdString(select);
   const QSignalBlocker block(this->SegmentCombo);
   this->SegmentCombo->clear();

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include <vtkSmartPointer.h>
+#include <vtkWeakPointer.h>
 
 #include "rpSegmentationEditor.h"
 
@@ -89,6 +90,8 @@ class qRPSegmentationToMeshPanel : public QWidget {
 
  private:
   void OnSceneEvent(vtkObject* caller, unsigned long event, void* callData);
+  void OnSegmentationModified(vtkObject* caller, unsigned long event, void* callData);
+  void ObserveSegmentation(vtkRPSegmentationNode* segmentation);
   void RefreshNodeCombos();
   void RefreshSegments(const std::string& select = "");
   void OnPresetChanged();
@@ -102,6 +105,9 @@ class qRPSegmentationToMeshPanel : public QWidget {
   vtkSmartPointer<vtkRPScene> Scene;
   unsigned long SceneObservers[4] = {0, 0, 0, 0};
   std::string PreviewID;
+  /// The current segmentation, observed so its segment list follows edits made elsewhere.
+  vtkWeakPointer<vtkRPSegmentationNode> ObservedSegmentation;
+  unsigned long SegmentationObserver = 0;
   /// Models this panel created per segment ID (replaced by the next "Create models").
   std::map<std::string, std::vector<std::string>> CreatedModelIDs;
   bool Error = false;
