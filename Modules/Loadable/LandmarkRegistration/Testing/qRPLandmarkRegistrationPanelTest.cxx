@@ -152,6 +152,21 @@ TEST(LandmarkRegistrationPanel, CollectRegisterApplyAndRejectSwap) {
   EXPECT_NEAR(tre, predictor.PredictRMS(Eigen::Vector3d(40, 50, 60)), 1e-5);
   EXPECT_GT(tre, 0.25 / 2);  // FLE/sqrt(N) is the lower bound at the centroid
   EXPECT_TRUE(panel.TREText().contains("at the target")) << panel.TREText().toStdString();
+  // A target list: the target follows its first point when it moves.
+  vtkNew<vtkRPFiducialListNode> targetList;
+  targetList->SetName("Target");
+  const double entry[3] = {30, 40, 70};
+  targetList->AddControlPoint(entry, "Entry");
+  scene->AddNode(targetList);
+  ASSERT_TRUE(panel.SelectTargetList("Target"));
+  EXPECT_EQ(output->GetAttribute("Registration.Target"), "30 40 70");
+  const double moved[3] = {35, 45, 75};
+  targetList->SetNthControlPointPosition(0, moved);
+  EXPECT_EQ(output->GetAttribute("Registration.Target"), "35 45 75");
+  EXPECT_NEAR(std::stod(output->GetAttribute("Registration.PredictedTRE")),
+              predictor.PredictRMS(Eigen::Vector3d(35, 45, 75)), 1e-5);
+  ASSERT_TRUE(panel.SelectTargetList("(none)"));
+  EXPECT_EQ(output->GetAttribute("Registration.Target"), "35 45 75");  // the spin boxes keep it
 
   QDir().mkpath(ROBOPLAN_TEST_OUTPUT_DIR);
   panel.resize(700, 650);

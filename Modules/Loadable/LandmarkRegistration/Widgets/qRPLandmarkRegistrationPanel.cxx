@@ -108,6 +108,9 @@ qRPLandmarkRegistrationPanel::qRPLandmarkRegistrationPanel(vtkRPLandmarkRegistra
   this->TargetFromRowButton->setToolTip("Use the selected row's image point as the target");
   targetRow->addWidget(this->TargetFromRowButton);
   settings->addRow(targetRow);
+  this->TargetListCombo = new QComboBox;
+  this->TargetListCombo->setToolTip("The target follows the first point of this list (e.g. a planned entry point)");
+  settings->addRow("Target from list", this->TargetListCombo);
 
   // ---- pairs and results
   this->Table = new QTableWidget(0, NumberOfColumns);
@@ -176,6 +179,8 @@ qRPLandmarkRegistrationPanel::qRPLandmarkRegistrationPanel(vtkRPLandmarkRegistra
   connect(this->UseTarget, &QCheckBox::toggled, this, [this] { this->OnTargetChanged(); });
   for (QDoubleSpinBox* box : this->Target)
     connect(box, QOverload<double>::of(&QDoubleSpinBox::valueChanged), this, [this] { this->OnTargetChanged(); });
+  connect(this->TargetListCombo, QOverload<int>::of(&QComboBox::currentIndexChanged), this,
+          [this] { this->OnTargetChanged(); });
   connect(this->TargetFromRowButton, &QPushButton::clicked, this, [this] { this->OnTargetFromSelectedRow(); });
   connect(this->NewOutputButton, &QPushButton::clicked, this, [this] { this->CreateOutputTransform(); });
   connect(this->CollectPointButton, &QPushButton::clicked, this, [this] { this->CollectPoint(); });
@@ -187,6 +192,7 @@ qRPLandmarkRegistrationPanel::qRPLandmarkRegistrationPanel(vtkRPLandmarkRegistra
 qRPLandmarkRegistrationPanel::~qRPLandmarkRegistrationPanel() {
   if (this->ObservedFrom) this->ObservedFrom->RemoveObserver(this->FromTag);
   if (this->ObservedTo) this->ObservedTo->RemoveObserver(this->ToTag);
+  if (this->ObservedTargetList) this->ObservedTargetList->RemoveObserver(this->TargetListTag);
   if (this->Logic) this->Logic->RemoveObserver(this->LogicTag);
   if (this->Scene) {
     for (unsigned long tag : this->SceneTags) this->Scene->RemoveObserver(tag);
@@ -240,6 +246,7 @@ void qRPLandmarkRegistrationPanel::UpdateNodeCombos() {
   std::string tip;
   if (vtkRPNode* node = this->Scene->GetFirstNodeByName("StylusTipToStylus")) tip = node->GetID();
   fill(this->ToolCombo, "vtkRPLinearTransformNode", tip);
+  fill(this->TargetListCombo, "vtkRPFiducialListNode", "");
   this->UpdatingWidgets = wasUpdating;
   this->OnInputsChanged();
 }
@@ -260,6 +267,9 @@ bool qRPLandmarkRegistrationPanel::SelectOutputTransform(const QString& name) {
 }
 bool qRPLandmarkRegistrationPanel::SelectToolTransform(const QString& name) {
   return SelectByName(this->ToolCombo, name);
+}
+bool qRPLandmarkRegistrationPanel::SelectTargetList(const QString& name) {
+  return SelectByName(this->TargetListCombo, name);
 }
 
 vtkRPLinearTransformNode* qRPLandmarkRegistrationPanel::CreateOutputTransform(const QString& name) {
@@ -314,8 +324,30 @@ void qRPLandmarkRegistrationPanel::OnSettingsChanged() {
 }
 
 void qRPLandmarkRegistrationPanel::OnTargetChanged() {
-  if (this->UpdatingWidgets || !this->Logic) return;
-  for (QDoubleSpinBox* box : this->Target) box->setEnabled(this->UseTarget->isChecked());
+  if (this->UpdatingWidgets || !this->Logic || !this->Scene) return;
+  auto* list = vtkRPFiducialListNode::SafeDownCast(
+      this->Scene->GetNodeByID(this->TargetListCombo->currentData().toString().toStdString()));
+  if (this->ObservedTargetList != list) {
+    if (this->ObservedTargetList) this->ObservedTargetList->RemoveObserver(this->TargetListTag);
+    this->ObservedTargetList = list;
+    this->TargetListTag = list ? list->AddObserver(vtkCommand::ModifiedEvent, this,
+                                                   &qRPLandmarkRegistrationPanel::OnTargetListModified)
+                               : 0;
+  }
+  if (list && list->GetNumberOfControlPoints() > 0) {
+    // The list's first point in world RAS, then in the "to" list's own coordinates.
+    double world[4] = {0, 0, 0, 1}, local[4];
+    list->GetNthControlPointPositionWorld(0, world);
+    vtkNew<vtkMatrix4x4> toListFromWorld;
+    if (vtkRPFiducialListNode* to = this->ToList()) to->GetMatrixTransformToWorld(toListFromWorld);
+    toListFromWorld->Invert();
+    toListFromWorld->MultiplyPoint(world, local);
+    this->UpdatingWidgets = true;
+    for (int k = 0; k < 3; ++k) this->Target[k]->setValue(local[k]);
+    this->UseTarget->setChecked(true);
+    this->UpdatingWidgets = false;
+  }
+  for (QDoubleSpinBox* box : this->Target) box->setEnabled(this->UseTarget->isChecked() && !list);
   if (this->UseTarget->isChecked()) {
     const double ras[3] = {this->Target[0]->value(), this->Target[1]->value(), this->Target[2]->value()};
     this->Logic->SetTarget(ras);
@@ -324,6 +356,8 @@ void qRPLandmarkRegistrationPanel::OnTargetChanged() {
   }
   this->UpdateResults();
 }
+
+void qRPLandmarkRegistrationPanel::OnTargetListModified(vtkObject*, unsigned long, void*) { this->OnTargetChanged(); }
 
 void qRPLandmarkRegistrationPanel::OnTargetFromSelectedRow() {
   vtkRPFiducialListNode* to = this->ToList();

@@ -40,6 +40,8 @@ class qRPLandmarkRegistrationPanel : public QWidget {
   bool SelectToList(const QString& name);
   bool SelectOutputTransform(const QString& name);
   bool SelectToolTransform(const QString& name);
+  /// The target follows the first point of this fiducial list (in the "to" list's coordinates).
+  bool SelectTargetList(const QString& name);
   /// Creates a new output transform node (named `name`, made unique) and selects it.
   vtkRPLinearTransformNode* CreateOutputTransform(const QString& name = "TrackerToRAS");
 
@@ -82,6 +84,7 @@ class qRPLandmarkRegistrationPanel : public QWidget {
   void OnRemoveSelectedPoint();
   void OnSceneChanged(vtkObject*, unsigned long, void*);
   void OnLogicOrListModified(vtkObject*, unsigned long, void*);
+  void OnTargetListModified(vtkObject*, unsigned long, void*);
   void ObserveLists();
   void SetStatus(const QString& text, bool error);
 
@@ -98,6 +101,7 @@ class qRPLandmarkRegistrationPanel : public QWidget {
   QCheckBox* UseTarget;
   QDoubleSpinBox* Target[3];
   QPushButton* TargetFromRowButton;
+  QComboBox* TargetListCombo;
   QTableWidget* Table;
   QLabel* Fre;
   QLabel* Tre;
@@ -112,7 +116,8 @@ class qRPLandmarkRegistrationPanel : public QWidget {
   unsigned long LogicTag = 0;
   vtkWeakPointer<vtkRPFiducialListNode> ObservedFrom;
   vtkWeakPointer<vtkRPFiducialListNode> ObservedTo;
-  unsigned long FromTag = 0, ToTag = 0;
+  vtkWeakPointer<vtkRPFiducialListNode> ObservedTargetList;
+  unsigned long FromTag = 0, ToTag = 0, TargetListTag = 0;
   bool UpdatingWidgets = false;
 };
 
