@@ -120,6 +120,9 @@ TEST(Demo, SmallPhantomEndToEndAndSlicerConventions) {
 
   // Logs committed at the end of the session.
   EXPECT_TRUE(fs::exists(out / "haptics-bone.csv"));
+  EXPECT_TRUE(fs::exists(out / "tracking-pivot.txt"));
+  EXPECT_TRUE(fs::exists(out / "tracking-navigation.txt"));
+  EXPECT_TRUE(fs::exists(out / "registration-log.txt"));
   EXPECT_TRUE(fs::exists(out / "dicom" / "CT"));
 }
 

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <random>
 #include <set>
 #include <stdexcept>
@@ -33,6 +34,7 @@
 #include "rpResources.h"
 #include "rpStageRunner.h"
 #include "rpToolDefinition.h"
+#include "rpTrackingRecording.h"
 #include "rpVolumeReslice.h"
 #include "vtkRPFiducialListNode.h"
 #include "vtkRPLandmarkRegistrationLogic.h"
@@ -112,6 +114,17 @@ std::vector<ToolPose> TrackStylus(const ToolDefinition& stylus, double seconds, 
   return poses;
 }
 
+// The activity log of a tracking session (seed 3.3: committed at the end): every pose as a
+// recording that `roboplan pivot` and `roboplan track --replay` read back.
+void WriteTrackingLog(DemoState& state, const std::string& file, const std::string& tool,
+                      const std::vector<ToolPose>& poses) {
+  RecordingWriter writer;
+  std::string error;
+  if (!writer.Open((fs::path(state.Output) / file).string(), error)) throw std::runtime_error(error);
+  for (const ToolPose& pose : poses) writer.Add(tool.c_str(), pose.Timestamp, pose);
+  writer.Close();
+}
+
 // Landmarks a surgeon would pick on bone: extreme points of the bone models (RAS).
 std::vector<std::pair<std::string, Eigen::Vector3d>> PickBoneLandmarks(DemoState& state) {
   std::vector<Eigen::Vector3d> points;
@@ -173,6 +186,7 @@ void CalibrateStylus(DemoState& state) {
   std::string stats;
   state.Runner->Progress(0.1, "pivoting the stylus in the divot (simulated Polaris on a pty)");
   const auto poses = TrackStylus(stylus, 3.0, 7, stats);
+  WriteTrackingLog(state, "tracking-pivot.txt", stylus.Name, poses);
   const PivotResult pivot = PivotCalibrate(poses, 1.0, 10.0);
   if (!pivot.Valid || !pivot.Accepted) throw std::runtime_error("pivot calibration refused: " + pivot.Message);
   state.StylusTip = pivot.TipOffset;
@@ -272,6 +286,14 @@ void RegisterPatient(DemoState& state) {
   state.Report->AddFigureBelow(stage, "true TRE at the knee centre (vs the patient's true pose)", trueTRE, "mm",
                                std::max(2.0, 3 * assessment.PredictedTREAtTarget),
                                "one trial; the prediction is an RMS over trials, so about 3x it bounds one trial");
+  // Registration log: the transform's Registration.* attributes (FRE, residuals, predicted TRE,
+  // status and reason) with the true TRE of this simulated session.
+  {
+    std::ofstream log(fs::path(state.Output) / "registration-log.txt");
+    log << "# patient-to-image registration (RoboPlan demo)\n";
+    for (const auto& [key, value] : trackerToRAS->GetAttributes()) log << key << " = " << value << "\n";
+    log << "TrueTRE.KneeCentre = " << trueTRE << "\n";
+  }
   // The tracked stylus now moves in image space; the physical landmarks are shown there too.
   physical->SetAndObserveTransformNodeID(trackerToRAS->GetID());
   // A TRE map over the bones for the viewer (scalar array "PredictedTRE").
@@ -304,6 +326,7 @@ void Navigate(DemoState& state) {
   const auto poses = TrackStylus(stylus, 3.0, 555, stats);
   if (poses.size() < 30) throw std::runtime_error("too few stylus poses along the path (" + stats + ")");
 
+  WriteTrackingLog(state, "tracking-navigation.txt", stylus.Name, poses);
   vtkNew<vtkRPNavigationLogic> navigation;
   navigation->SetScene(state.Scene);
   navigation->SetToolNodeID(tip->GetID());
