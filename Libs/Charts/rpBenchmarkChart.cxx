@@ -1,5 +1,7 @@
 #include "rpBenchmarkChart.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -79,10 +81,16 @@ bool WriteChartPNG(const std::string& path, const std::vector<Series>& series, c
     y->SetName(s.Name.c_str());
     table->AddColumn(x);
     table->AddColumn(y);
-    table->SetNumberOfRows(static_cast<vtkIdType>(s.X.size()));
+    // A plot with one point has empty bounds and VTK draws nothing: repeat it a hair away.
+    const bool single = s.X.size() == 1;
+    table->SetNumberOfRows(static_cast<vtkIdType>(s.X.size() + (single ? 1 : 0)));
     for (size_t i = 0; i < s.X.size(); ++i) {
       table->SetValue(static_cast<vtkIdType>(i), 0, s.X[i]);
       table->SetValue(static_cast<vtkIdType>(i), 1, s.Y[i]);
+    }
+    if (single) {
+      table->SetValue(1, 0, s.X[0] * (1 + 1e-3) + 1e-9);
+      table->SetValue(1, 1, s.Y[0]);
     }
     vtkPlot* plot = chart->AddPlot(s.Points ? vtkChart::POINTS : vtkChart::LINE);
     plot->SetInputData(table, 0, 1);
@@ -90,6 +98,24 @@ bool WriteChartPNG(const std::string& path, const std::vector<Series>& series, c
     plot->SetColor(c[0], c[1], c[2], 255);
     plot->SetWidth(2.0);
     if (auto* points = vtkPlotPoints::SafeDownCast(plot)) points->SetMarkerStyle(vtkPlotPoints::CIRCLE);
+  }
+  // Fit the axes to every series (VTK's automatic range can miss a series added last).
+  double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+  for (const Series& s : series) {
+    for (size_t i = 0; i < s.X.size(); ++i) {
+      if (options.LogX && s.X[i] <= 0) continue;
+      if (options.LogY && s.Y[i] <= 0) continue;
+      lo[0] = std::min(lo[0], s.X[i]), hi[0] = std::max(hi[0], s.X[i]);
+      lo[1] = std::min(lo[1], s.Y[i]), hi[1] = std::max(hi[1], s.Y[i]);
+    }
+  }
+  const int axes[2] = {vtkAxis::BOTTOM, vtkAxis::LEFT};
+  const bool logs[2] = {options.LogX, options.LogY};
+  for (int a = 0; a < 2; ++a) {
+    if (lo[a] > hi[a] || logs[a]) continue;
+    const double pad = hi[a] > lo[a] ? 0.05 * (hi[a] - lo[a]) : std::max(1e-9, 0.05 * std::abs(hi[a]));
+    chart->GetAxis(axes[a])->SetBehavior(vtkAxis::FIXED);
+    chart->GetAxis(axes[a])->SetRange(lo[a] - pad, hi[a] + pad);
   }
   return Render(view, path, options, error);
 }
