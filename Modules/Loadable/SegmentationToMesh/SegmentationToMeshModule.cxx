@@ -79,43 +79,100 @@ std::string SafeFileName(std::string name) {
   return name.empty() ? "segment" : name;
 }
 
+// Volumes and segmentations: what `mesh` reads.
+std::vector<std::string> InputExtensions() {
+  auto extensions = rp::ExtensionsForNodeClass("vtkRPSegmentationNode");
+  for (const auto& ext : rp::ExtensionsForNodeClass("vtkRPScalarVolumeNode")) extensions.push_back(ext);
+  return extensions;
+}
+
 int RunMesh(rp::CommandContext& context) {
   rp::ArgParser parser(
       "mesh",
       "Segment a volume (threshold presets, region growing, confidence connected, morphology, components) or "
       "take a segmentation (.seg.nrrd), and write one closed surface per segment (display + haptic mesh) to --out.");
   parser.Positional("input", "volume (.nrrd, .nii.gz, .mha) or segmentation (.seg.nrrd)")
+      .Input(rp::FileKind::Image, InputExtensions())
       .Option("out", "dir", "output folder (created)")
+      .OutputFolder()
+      .Required()
       .Option("method", "threshold|region-grow|confidence", "segmentation method for volumes", "threshold")
+      .OneOf()
       .Option("preset", "bone|cortical|soft-tissue|fat", "tissue preset(s), repeatable (several tissues)", "bone")
+      .OneOf()
+      .Repeatable()
       .Option("lower", "HU", "lower threshold (overrides the preset; one tissue)")
+      .Number()
       .Option("upper", "HU", "upper threshold (overrides the preset; one tissue)")
+      .Number()
       .Option("seed", "x,y,z", "seed point in RAS mm (repeatable): region growing, confidence, --keep-at-seed")
+      .Point()
+      .Repeatable()
       .Option("multiplier", "k", "confidence connected: mean ± k·sigma", "2.5")
+      .Number()
+      .GreaterThan(0)
       .Option("iterations", "n", "confidence connected iterations", "3")
+      .Integer()
+      .AtLeast(0)
       .Option("radius", "voxels", "confidence connected initial neighbourhood radius", "2")
+      .Integer()
+      .AtLeast(0)
       .Option("closing", "mm", "morphological closing radius")
+      .Number()
+      .AtLeast(0)
       .Option("opening", "mm", "morphological opening radius")
+      .Number()
+      .AtLeast(0)
       .Flag("fill-holes", "fill enclosed holes")
       .Flag("keep-largest", "keep the largest connected component")
       .Flag("keep-at-seed", "keep the component at the first seed")
       .Option("split", "n", "split into up to n segments, one per component")
+      .Integer()
+      .AtLeast(1)
       .Option("max-fraction", "f", "refuse a segment covering more than this fraction of the volume (leak)", "0.9")
+      .Number()
+      .GreaterThan(0)
+      .AtMost(1)
       .Option("segment", "id", "mesh only these segments (repeatable)")
+      .Repeatable()
       .Option("mesh-method", "gaussian|sinc|slicer|discrete", "surface method", "gaussian")
+      .OneOf()
       .Option("smoothing", "sigma", "gaussian smoothing sigma in voxels", "1.0")
+      .Number()
+      .AtLeast(0)
       .Option("passband", "f", "windowed sinc pass band (sinc, slicer)", "0.01")
+      .Number()
+      .GreaterThan(0)
+      .AtMost(2)
       .Option("sinc-iterations", "n", "windowed sinc iterations (sinc, slicer)", "20")
+      .Integer()
+      .AtLeast(0)
       .Option("grid-step", "s|sx,sy,sz", "gaussian contour grid step in voxels (>1 = coarser mesh)", "1")
+      .Numbers()
+      .GreaterThan(0)
       .Option("grid-mm", "mm", "gaussian contour grid spacing in mm (step per axis = max(1, mm / spacing))")
+      .Number()
+      .GreaterThan(0)
       .Option("decimate", "f", "extra quadric decimation: fraction of triangles removed", "0")
+      .Number()
+      .AtLeast(0)
+      .LessThan(1)
       .Option("triangles", "n", "display mesh: target triangle count")
+      .Integer()
+      .AtLeast(1)
       .Option("max-error", "mm", "display mesh: max deviation from the full-resolution surface")
+      .Number()
+      .AtLeast(0)
       .Option("haptic-triangles", "n", "haptic mesh: target triangle count", "20000")
+      .Integer()
+      .AtLeast(1)
       .Option("haptic-max-error", "mm", "haptic mesh: max deviation from the full-resolution surface")
+      .Number()
+      .AtLeast(0)
       .Flag("no-haptic", "do not write haptic meshes")
       .Flag("no-volume-correction", "keep the raw surface (no volume correction)")
-      .Option("format", "vtp|vtk|stl|ply|obj", "model file format", "vtp");
+      .Option("format", "vtp|vtk|stl|ply|obj", "model file format", "vtp")
+      .OneOf();
   if (!parser.Parse(context.Arguments)) {
     if (parser.HelpRequested()) {
       std::cout << parser.Usage();
