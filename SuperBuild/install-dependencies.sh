@@ -15,7 +15,6 @@ packages=(
   xvfb xauth libgl1-mesa-dri libglx-mesa0  # offscreen rendering with Mesa's software OpenGL
   snakemake                            # workflow/: cohorts, locally or on a cluster
   slurm-wlm munge                      # the workflow's Slurm test starts a one-node cluster
-  python3-jsonschema libxml2-utils     # CLI descriptor test (Boutiques JSON, Slicer XML)
 )
 missing=()
 for p in "${packages[@]}"; do
