@@ -74,6 +74,15 @@ long CountLabel(vtkRPSegmentationNode* segmentation, const std::string& id) {
   return n;
 }
 
+// One application for every test of this program (Qt wants one per process).
+QApplication& App() {
+  static int argc = 1;
+  static char name[] = "qRPSegmentationToMeshPanelTest";
+  static char* argv[] = {name};
+  static QApplication app(argc, argv);
+  return app;
+}
+
 std::vector<vtkRPModelNode*> Models(vtkRPScene* scene) {
   std::vector<vtkRPModelNode*> models;
   for (vtkRPNode* node : scene->GetNodesByClass("vtkRPModelNode")) models.push_back(vtkRPModelNode::SafeDownCast(node));
@@ -83,10 +92,7 @@ std::vector<vtkRPModelNode*> Models(vtkRPScene* scene) {
 }  // namespace
 
 TEST(SegmentationToMeshPanel, SphereCTPresetBoneApplyPreviewCreateModels) {
-  int argc = 1;
-  char name[] = "qRPSegmentationToMeshPanelTest";
-  char* argv[] = {name};
-  QApplication app(argc, argv);
+  App();
   vtkNew<vtkRPScene> scene;
   qRPSegmentationToMeshPanel panel(scene);
   panel.show();
@@ -237,10 +243,7 @@ TEST(SegmentationToMeshPanel, SphereCTPresetBoneApplyPreviewCreateModels) {
 }
 
 TEST(SegmentationToMeshPanel, LabelmapVolumeBecomesOneSegmentPerLabel) {
-  int argc = 1;
-  char name[] = "qRPSegmentationToMeshPanelTest";
-  char* argv[] = {name};
-  QApplication app(argc, argv);
+  App();
   vtkNew<vtkRPScene> scene;
   qRPSegmentationToMeshPanel panel(scene);
   // A labelmap volume: the sphere is label 2, a slab is label 5.
