@@ -141,8 +141,8 @@ bool LabelmapFileName(const std::string& fileName) {
 InputChoice ChooseInputKind(InputKind requested, vtkImageData* image, const std::string& fileName,
                             bool haveLabelTable, bool intensityOptionsGiven) {
   InputChoice choice;
-  if (requested == InputKind::Labelmap) return {true, "labelmap (--input labelmap)"};
-  if (requested == InputKind::Intensity) return {false, "intensity image (--input intensity)"};
+  if (requested == InputKind::Labelmap) return {true, "labelmap (--input-kind labelmap)"};
+  if (requested == InputKind::Intensity) return {false, "intensity image (--input-kind intensity)"};
   if (intensityOptionsGiven) return {false, "intensity image (threshold or segmentation options given)"};
   const ImageValues values = CollectImageValues(image, MaxLabels + 1);
   if (!values.WholeNumbers) return {false, "intensity image (fractional voxel values)"};
@@ -154,7 +154,7 @@ InputChoice ChooseInputKind(InputKind requested, vtkImageData* image, const std:
   if (LabelmapFileName(fileName)) return {true, "labelmap (" + what + ", the file name says labelmap)"};
   if (haveLabelTable) return {true, "labelmap (" + what + " and a label table)"};
   return {false, "intensity image (whole numbers with " + what +
-                     ": if it is a labelmap, say --input labelmap or give --labels)"};
+                     ": if it is a labelmap, say --input-kind labelmap or give --labels)"};
 }
 
 bool LabelmapToSegmentation(vtkImageData* labels, const vtkMatrix4x4* ijkToRAS, const LabelTable* table,
@@ -170,11 +170,11 @@ bool LabelmapToSegmentation(vtkImageData* labels, const vtkMatrix4x4* ijkToRAS, 
   }
   const ImageValues values = CollectImageValues(labels, MaxLabels + 1);
   if (!values.WholeNumbers) {
-    error = "not a labelmap: the voxels hold fractional values (use --input intensity and thresholds)";
+    error = "not a labelmap: the voxels hold fractional values (use --input-kind intensity and thresholds)";
     return false;
   }
   if (values.TooMany) {
-    error = "not a labelmap: more than " + std::to_string(MaxLabels) + " distinct values (use --input intensity)";
+    error = "not a labelmap: more than " + std::to_string(MaxLabels) + " distinct values (use --input-kind intensity)";
     return false;
   }
   if (values.Min < 0) {

@@ -3,7 +3,7 @@
 // volume": plain integer NRRD/NIfTI) taken as a segmentation: one segment per label value, named
 // and coloured from a label table when one is given, "Label N" otherwise.
 //
-// Labelmap or intensity image? `--input labelmap|intensity` decides; `auto` takes a labelmap when
+// Labelmap or intensity image? `--input-kind labelmap|intensity` decides; `auto` takes a labelmap when
 // no threshold option was given, the voxels are whole numbers >= 0 with few distinct values, and
 // either a label table was given or the file is named like one (*-label.*, *_label.*,
 // *.label.*, *labelmap*, *.seg.*). The reason is returned so the caller can say it.

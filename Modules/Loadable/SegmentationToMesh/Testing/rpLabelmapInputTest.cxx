@@ -190,17 +190,17 @@ TEST(LabelmapInput, AutoDecisionIsExplainedAndCanBeForced) {
   WriteNrrd(plain, voxels);
   MeshRun run = Mesh(plain.string() + " --out " + (dir / "a").string() + " --no-haptic --json");
   EXPECT_EQ(run.Doc["inputKind"]["kind"], "intensity") << run.Out << run.Err;
-  EXPECT_NE(run.Doc["inputKind"]["reason"].get<std::string>().find("--input labelmap"), std::string::npos);
+  EXPECT_NE(run.Doc["inputKind"]["reason"].get<std::string>().find("--input-kind labelmap"), std::string::npos);
   // Forced: one segment per label, default names.
-  run = Mesh(plain.string() + " --out " + (dir / "b").string() + " --input labelmap --no-haptic --json");
+  run = Mesh(plain.string() + " --out " + (dir / "b").string() + " --input-kind labelmap --no-haptic --json");
   ASSERT_EQ(run.Code, 0) << run.Err;
   EXPECT_EQ(run.Doc["inputKind"]["kind"], "labelmap");
   ASSERT_EQ(run.Doc["segments"].size(), 2u);
   EXPECT_EQ(run.Doc["segments"][0]["name"], "Label 1");
   EXPECT_EQ(run.Doc["segments"][1]["name"], "Label 7");
   // Text mode says the choice on stderr.
-  run = Mesh(plain.string() + " --out " + (dir / "c").string() + " --input labelmap --no-haptic");
-  EXPECT_NE(run.Err.find("input: labelmap (--input labelmap)"), std::string::npos) << run.Err;
+  run = Mesh(plain.string() + " --out " + (dir / "c").string() + " --input-kind labelmap --no-haptic");
+  EXPECT_NE(run.Err.find("input: labelmap (--input-kind labelmap)"), std::string::npos) << run.Err;
   // A threshold option means intensity even for a labelmap-named file.
   const fs::path named = dir / "case001_label.nrrd";
   WriteNrrd(named, voxels);
@@ -209,11 +209,11 @@ TEST(LabelmapInput, AutoDecisionIsExplainedAndCanBeForced) {
   EXPECT_EQ(run.Doc["inputKind"]["kind"], "intensity");
   // --labels with an intensity image is a contradiction.
   WriteText(dir / "t.txt", "1 a 1 1 1 255\n");
-  run = Mesh(named.string() + " --out " + (dir / "e").string() + " --input intensity --labels " +
+  run = Mesh(named.string() + " --out " + (dir / "e").string() + " --input-kind intensity --labels " +
              (dir / "t.txt").string());
   EXPECT_EQ(run.Code, 2);
   EXPECT_NE(run.Err.find("--labels"), std::string::npos) << run.Err;
-  run = Mesh(named.string() + " --out " + (dir / "e").string() + " --input maybe");
+  run = Mesh(named.string() + " --out " + (dir / "e").string() + " --input-kind maybe");
   EXPECT_EQ(run.Code, 2);
   EXPECT_NE(run.Err.find("maybe"), std::string::npos) << run.Err;
 
@@ -228,7 +228,7 @@ TEST(LabelmapInput, AutoDecisionIsExplainedAndCanBeForced) {
   const fs::path ctFile = dir / "ct-label.nrrd";
   std::string error;
   ASSERT_TRUE(rp::WriteVolumeFile(ctFile.string(), ct, identity, {}, error)) << error;
-  run = Mesh(ctFile.string() + " --out " + (dir / "f").string() + " --input labelmap");
+  run = Mesh(ctFile.string() + " --out " + (dir / "f").string() + " --input-kind labelmap");
   EXPECT_EQ(run.Code, 1);
   EXPECT_NE(run.Err.find("not a labelmap"), std::string::npos) << run.Err;
 }
@@ -265,12 +265,12 @@ TEST(LabelmapInput, FractionalBoundsOnIntegerImagesRoundInward) {
   for (short v : voxels) ones += v == 1;
   // [0.9, 1.1] on integers selects 1 only (it used to truncate to [0, 1]: the whole volume).
   MeshRun run = Mesh(file.string() + " --out " + (dir / "a").string() +
-                 " --input intensity --lower 0.9 --upper 1.1 --no-haptic --json");
+                 " --input-kind intensity --lower 0.9 --upper 1.1 --no-haptic --json");
   ASSERT_EQ(run.Code, 0) << run.Err;
   EXPECT_EQ(run.Doc["segmentation"][0]["voxels"].get<long>(), ones);
   // [0.4, 0.6] holds no whole number: refused rather than rounded to an empty or a full range.
   run = Mesh(file.string() + " --out " + (dir / "b").string() +
-             " --input intensity --lower 0.4 --upper 0.6 --no-haptic");
+             " --input-kind intensity --lower 0.4 --upper 0.6 --no-haptic");
   EXPECT_EQ(run.Code, 1);
   EXPECT_NE(run.Err.find("no whole number"), std::string::npos) << run.Err;
 }
