@@ -11,12 +11,14 @@
 #include <vtkNew.h>
 
 #include "rpArgParser.h"
+#include "rpLabelmapInput.h"
 #include "rpModelIO.h"
 #include "rpNodeStorage.h"
 #include "rpProgress.h"
 #include "rpSegmentationEditor.h"
 #include "rpSegmentationIO.h"
 #include "rpSegmentationToModels.h"
+#include "rpVolumeIO.h"
 #include "vtkRPModelNode.h"
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
@@ -107,11 +109,19 @@ int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contex
       "mesh",
       "Segment a volume (threshold presets, region growing, confidence connected, morphology, components) or "
       "take a segmentation (.seg.nrrd), and write one closed surface per segment (display + haptic mesh) to --out.");
-  parser.Positional("input", "volume (.nrrd, .nii.gz, .mha) or segmentation (.seg.nrrd)")
+  parser.Positional("input", "volume or labelmap (.nrrd, .nii.gz, .mha) or segmentation (.seg.nrrd)")
       .Input(FileKind::Image, InputExtensions())
       .Option("out", "dir", "output folder (created)")
       .OutputFolder()
       .Required()
+      .Option("input-kind", "auto|labelmap|intensity",
+              "a volume file is a labelmap (one segment per label value) or an intensity image to segment; auto: "
+              "a labelmap when no threshold option is given, the voxels are few whole numbers >= 0 and --labels is "
+              "given or the file is named *-label.*, *_label.*, *labelmap*, *.seg.*",
+              "auto")
+      .OneOf()
+      .Option("labels", "file", "label names and colours: Slicer colour table (.ctbl/.txt) or ITK-SNAP label file")
+      .Input(FileKind::Any)
       .Option("method", "threshold|region-grow|confidence", "segmentation method for volumes", "threshold")
       .OneOf()
       .Option("preset", "bone|cortical|soft-tissue|fat", "tissue preset(s), repeatable (several tissues)", "bone")
@@ -205,6 +215,7 @@ int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contex
   std::vector<std::array<double, 3>> seeds;
   double multiplier = 2.5, maxFraction = 0.9;
   int iterations = 3, radius = 2, split = 0;
+  InputKind inputKind = InputKind::Auto;
   try {
     multiplier = parser.GetDouble("multiplier");
     iterations = static_cast<int>(parser.GetInt("iterations"));
@@ -252,6 +263,8 @@ int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contex
     if (std::find(formats.begin(), formats.end(), format) == formats.end())
       throw BadArgument("--format '" + format + "': use " + Join(formats, ", "));
     if (parser.Has("keep-at-seed") && seeds.empty()) throw BadArgument("--keep-at-seed needs --seed");
+    if (!ParseInputKind(parser.Get("input-kind"), inputKind))
+      throw BadArgument("--input-kind '" + parser.Get("input-kind") + "': use auto, labelmap or intensity");
     if ((method == "region-grow" || method == "confidence") && seeds.empty())
       throw BadArgument("--method " + method + " needs at least one --seed x,y,z");
   } catch (const std::exception& e) {
@@ -273,18 +286,61 @@ int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contex
   progress.Report(0.0, "loading " + input);
   std::string error;
   vtkRPNode* loaded = LoadDataFile(scene, input, error);
+  if (!loaded && HasExtension(input, ".seg.nrrd")) {
+    // A plain labelmap named *.seg.nrrd (no Slicer segment keys): read it as a volume.
+    vtkNew<vtkRPScalarVolumeNode> plain;
+    std::string volumeError;
+    if (ReadVolumeFile(input, plain, volumeError)) {
+      plain->SetName(fs::path(input).filename().string());
+      scene->AddNode(plain);
+      loaded = plain;
+    }
+  }
   if (!loaded) {
     err << "roboplan mesh: " << error << "\n";
     return 1;
   }
   vtkRPSegmentationNode* segmentation = vtkRPSegmentationNode::SafeDownCast(loaded);
   json segmentationSteps = json::array();
+  json inputInfo = {{"kind", "segmentation"}, {"reason", "a segmentation file"}};
+  if (segmentation && parser.Has("labels"))
+    err << "roboplan mesh: --labels ignored: '" << input << "' is a segmentation with its own segment names\n";
   if (!segmentation) {
     auto* volume = vtkRPScalarVolumeNode::SafeDownCast(loaded);
     if (!volume) {
       err << "roboplan mesh: '" << input << "' is neither a volume nor a segmentation\n";
       return 1;
     }
+    const bool intensityOptions = parser.Has("lower") || parser.Has("upper") || !parser.GetAll("preset").empty() ||
+                                  parser.Has("method") || parser.Has("multiplier") || parser.Has("iterations") ||
+                                  parser.Has("radius");
+    const InputChoice choice =
+        ChooseInputKind(inputKind, volume->GetImageData(), input, parser.Has("labels"), intensityOptions);
+    inputInfo = {{"kind", choice.Labelmap ? "labelmap" : "intensity"}, {"reason", choice.Reason}};
+    if (!quiet) err << "input: " << choice.Reason << "\n";
+    if (choice.Labelmap) {
+      LabelTable table;
+      if (parser.Has("labels") && !ReadLabelTable(parser.Get("labels"), table, error)) {
+        err << "roboplan mesh: " << error << "\n";
+        return 1;
+      }
+      vtkNew<vtkRPSegmentationNode> created;
+      created->SetName(volume->GetName() + " segmentation");
+      if (!LabelmapToSegmentation(volume->GetImageData(), volume->GetIJKToRASMatrix(),
+                                  parser.Has("labels") ? &table : nullptr, created, error)) {
+        err << "roboplan mesh: '" << input << "': " << error << "\n";
+        return 1;
+      }
+      scene->AddNode(created);
+      segmentation = created;
+    } else if (parser.Has("labels")) {
+      err << "roboplan mesh: --labels names the values of a labelmap, but '" << input
+          << "' is taken as an intensity image (" << choice.Reason << ")\n";
+      return 2;
+    }
+  }
+  if (!segmentation) {
+    auto* volume = vtkRPScalarVolumeNode::SafeDownCast(loaded);
     vtkNew<vtkRPSegmentationNode> created;
     created->SetName(volume->GetName() + " segmentation");
     scene->AddNode(created);
@@ -412,7 +468,7 @@ int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contex
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   progress.Report(1.0, "done");
   if (parser.Json()) {
-    json doc = {{"input", input}, {"out", outDir.string()}, {"ok", failures == 0},
+    json doc = {{"input", input}, {"inputKind", inputInfo}, {"out", outDir.string()}, {"ok", failures == 0},
                 {"segmentation", segmentationSteps}, {"segments", segments}, {"seconds", seconds}};
     out << doc.dump(2) << "\n";
   } else {
