@@ -17,6 +17,22 @@ def find_roboplan(configured, workflow_dir):
     raise SystemExit("cohort: no roboplan executable (set --config roboplan=PATH or $ROBOPLAN)")
 
 
+def mesh_options(roboplan):
+    """The longflags `roboplan mesh` declares (its Slicer descriptor), with '-' as on the command line."""
+    xml = subprocess.run([roboplan, "mesh", "--xml"], check=True, capture_output=True, text=True).stdout
+    return {flag.text.replace("_", "-") for flag in ET.fromstring(xml).iter("longflag")}
+
+
+def mesh_args(configured, roboplan):
+    """The per-case mesh options: the config's, or bones one by one when roboplan has --split-bones
+    (else the bone preset's largest component)."""
+    if configured and configured != "auto":
+        return configured
+    if "split-bones" in mesh_options(roboplan):
+        return "--preset bone --split-bones"
+    return "--preset bone --keep-largest --fill-holes"
+
+
 def volume_extensions(roboplan):
     """What roboplan reads as a volume, from its own Slicer descriptor (the one list of formats)."""
     xml = subprocess.run([roboplan, "mesh", "--xml"], check=True, capture_output=True, text=True).stdout
