@@ -20,35 +20,26 @@
 #include <vtkPointData.h>
 
 #include "rpDicomSeries.h"
+#include "rpDicomTestTools.h"
 #include "rpDicomTransferSyntax.h"
 
 namespace fs = std::filesystem;
+using rp::testing::FindTool;
+using rp::testing::Scratch;
 
 namespace {
 
 const std::string kData = ROBOPLAN_SHARED_DATA_DIR;
 
-std::string FindTool(const std::string& name) {
-  const char* path = std::getenv("PATH");
-  std::stringstream dirs(path ? path : "/usr/bin:/bin");
-  std::string dir;
-  while (std::getline(dirs, dir, ':')) {
-    const fs::path candidate = fs::path(dir) / name;
-    std::error_code ec;
-    if (fs::is_regular_file(candidate, ec) && access(candidate.c_str(), X_OK) == 0) return candidate.string();
-  }
-  return "";
-}
-
 // A real series (or its first files) copied as is: the reference every encoding is compared with.
 struct Source {
-  std::string Name, Folder, Package;
+  std::string Name, Folder;
   size_t MaxFiles;
 };
 const Source kSources[] = {
-    {"ge-ct", "dicom/ct-3slice", "", 3},              // GE CT, implicit VR, int16 + intercept
-    {"knee-ct", "knee-ct-vhf/dicom", "", 5},          // Visible Human knee CT, explicit VR
-    {"pacsman-mr", "dicom/pacsman-mr", "", 5},        // third-party MR writer, rotated in-plane axes
+    {"ge-ct", "dicom/ct-3slice", 3},        // GE CT, implicit VR, int16 + intercept
+    {"knee-ct", "knee-ct-vhf/dicom", 5},    // Visible Human knee CT, explicit VR
+    {"pacsman-mr", "dicom/pacsman-mr", 5},  // third-party MR writer, rotated in-plane axes
 };
 
 struct Codec {
@@ -106,24 +97,8 @@ const std::vector<Codec> kCodecs = {
     Make("j2k-lossy", "gdcmconv", "--j2k --lossy -q 80", "libgdcm-tools", "1.2.840.10008.1.2.4.91", Codec::Psnr, 80),
 };
 
-fs::path Scratch(const std::string& name) {
-  const fs::path dir = fs::path(ROBOPLAN_TEST_OUTPUT_DIR) / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
 std::vector<fs::path> SeriesFiles(const Source& source) {
-  std::vector<fs::path> files;
-  for (const auto& e : fs::directory_iterator(kData + "/" + source.Folder))
-    if (e.path().extension() == ".dcm") files.push_back(e.path());
-  // Natural order (slice2 before slice10): the first files are neighbouring slices.
-  std::sort(files.begin(), files.end(), [](const fs::path& a, const fs::path& b) {
-    const std::string x = a.filename().string(), y = b.filename().string();
-    return x.size() != y.size() ? x.size() < y.size() : x < y;
-  });
-  if (files.size() > source.MaxFiles) files.resize(source.MaxFiles);
-  return files;
+  return rp::testing::DicomFiles(kData + "/" + source.Folder, source.MaxFiles);
 }
 
 std::string TransferSyntaxOf(const fs::path& file) {
