@@ -73,6 +73,22 @@ rp::ImageVolume SmallCT() {
   return phantom.CT;
 }
 
+// Re-encodes a file in place with GDCM's own encoder (JPEG-LS, JPEG 2000).
+bool EncodeWithGdcm(const fs::path& file, gdcm::TransferSyntax::TSType syntax) {
+  gdcm::ImageReader reader;
+  reader.SetFileName(file.c_str());
+  if (!reader.Read()) return false;
+  gdcm::ImageChangeTransferSyntax change;
+  change.SetTransferSyntax(syntax);
+  change.SetInput(reader.GetImage());
+  if (!change.Change()) return false;
+  gdcm::ImageWriter writer;
+  writer.SetFile(reader.GetFile());
+  writer.SetImage(change.GetOutput());
+  writer.SetFileName(file.c_str());
+  return writer.Write();
+}
+
 // Rewrites one tag of a written file (to build broken series).
 void Patch(const fs::path& file, const DcmTagKey& tag, const std::string& value) {
   DcmFileFormat f;
@@ -253,18 +269,7 @@ TEST(DicomSeries, CompressedAndHeaderlessFilesDecode) {
     if (index == 1 || index == 2) xfer = EXS_JPEGProcess14SV1;
     if (index == 5 || index == 6) xfer = EXS_RLELossless;
     if (index == 3 || index == 4) {
-      gdcm::ImageReader reader;
-      reader.SetFileName(file.c_str());
-      ASSERT_TRUE(reader.Read());
-      gdcm::ImageChangeTransferSyntax change;
-      change.SetTransferSyntax(gdcm::TransferSyntax::JPEGLSLossless);
-      change.SetInput(reader.GetImage());
-      ASSERT_TRUE(change.Change());
-      gdcm::ImageWriter writer;
-      writer.SetFile(reader.GetFile());
-      writer.SetImage(change.GetOutput());
-      writer.SetFileName(file.c_str());
-      ASSERT_TRUE(writer.Write());
+      ASSERT_TRUE(EncodeWithGdcm(file, gdcm::TransferSyntax::JPEGLSLossless));
     } else if (xfer != EXS_LittleEndianExplicit) {
       DJ_RPLossless params;
       ASSERT_TRUE(ds->chooseRepresentation(xfer, &params).good()) << index;
@@ -390,20 +395,7 @@ TEST(DicomSeries, BadSeriesGetClearMessages) {
   {  // JPEG 2000 (decoded by GDCM): a damaged codestream is an error naming the file and the syntax.
     const fs::path dir = writeSeries("j2k");
     const fs::path file = dir / "IM00004.dcm";
-    {
-      gdcm::ImageReader reader;
-      reader.SetFileName(file.c_str());
-      ASSERT_TRUE(reader.Read());
-      gdcm::ImageChangeTransferSyntax change;
-      change.SetTransferSyntax(gdcm::TransferSyntax::JPEG2000Lossless);
-      change.SetInput(reader.GetImage());
-      ASSERT_TRUE(change.Change());
-      gdcm::ImageWriter writer;
-      writer.SetFile(reader.GetFile());
-      writer.SetImage(change.GetOutput());
-      writer.SetFileName(file.c_str());
-      ASSERT_TRUE(writer.Write());
-    }
+    ASSERT_TRUE(EncodeWithGdcm(file, gdcm::TransferSyntax::JPEG2000Lossless));
     rp::ImageVolume intact;
     ASSERT_TRUE(rp::ReadDicomVolume(dir.string(), intact, error)) << error;
     ExpectSameVolume(ct, intact, 1e-6);
