@@ -7,6 +7,7 @@
 #include <QCheckBox>
 #include <QComboBox>
 #include <QDoubleSpinBox>
+#include <QFileDialog>
 #include <QFormLayout>
 #include <QGridLayout>
 #include <QGroupBox>
@@ -20,9 +21,11 @@
 #include <QVBoxLayout>
 
 #include <vtkCommand.h>
+#include <vtkImageData.h>
 #include <vtkNew.h>
 #include <vtkPolyData.h>
 
+#include "rpLabelmapInput.h"
 #include "rpLabelmapToMesh.h"
 #include "rpMaterial.h"
 #include "rpSegmentationToModels.h"
@@ -108,9 +111,19 @@ qRPSegmentationToMeshPanel::qRPSegmentationToMeshPanel(vtkRPScene* scene, QWidge
   auto* segmentationRow = new QHBoxLayout;
   segmentationRow->addWidget(this->SegmentationCombo, 1);
   segmentationRow->addWidget(this->NewSegmentationButton);
+  this->LabelTableEdit = new QLineEdit;
+  this->LabelTableEdit->setPlaceholderText("none: segments are named \"Label N\"");
+  this->LabelTableEdit->setToolTip("Slicer colour table (.ctbl/.txt) or ITK-SNAP label description file");
+  this->LabelTableBrowseButton = new QPushButton("...");
+  this->LabelmapButton = new QPushButton("Input volume is a labelmap: one segment per label");
+  auto* tableRow = new QHBoxLayout;
+  tableRow->addWidget(this->LabelTableEdit, 1);
+  tableRow->addWidget(this->LabelTableBrowseButton);
   auto* inputForm = new QFormLayout;
   inputForm->addRow("Input volume", this->VolumeCombo);
   inputForm->addRow("Segmentation", segmentationRow);
+  inputForm->addRow("Label table", tableRow);
+  inputForm->addRow(this->LabelmapButton);
 
   // Segmentation method.
   this->MethodCombo = new QComboBox;
@@ -232,6 +245,12 @@ qRPSegmentationToMeshPanel::qRPSegmentationToMeshPanel(vtkRPScene* scene, QWidge
   layout->addStretch(1);
 
   connect(this->NewSegmentationButton, &QPushButton::clicked, this, [this] { this->NewSegmentation(); });
+  connect(this->LabelTableBrowseButton, &QPushButton::clicked, this, [this] {
+    const QString path = QFileDialog::getOpenFileName(this, "Label table", QString(),
+                                                      "Label tables (*.ctbl *.txt *.label);;All files (*)");
+    if (!path.isEmpty()) this->LabelTableEdit->setText(path);
+  });
+  connect(this->LabelmapButton, &QPushButton::clicked, this, [this] { this->LabelmapToSegments(); });
   connect(this->SegmentationCombo, QOverload<int>::of(&QComboBox::currentIndexChanged), this,
           [this] { this->RefreshSegments(); });
   connect(this->MethodCombo, QOverload<int>::of(&QComboBox::currentIndexChanged), this,
@@ -369,6 +388,46 @@ vtkRPSegmentationNode* qRPSegmentationToMeshPanel::NewSegmentation() {
   this->SegmentationCombo->setCurrentIndex(index);
   this->RefreshSegments();
   return segmentation;
+}
+
+bool qRPSegmentationToMeshPanel::LabelmapToSegments() {
+  vtkRPScalarVolumeNode* volume = this->CurrentVolume();
+  if (!volume || !volume->GetImageData()) {
+    this->ShowError("Labelmap: pick an input volume");
+    return false;
+  }
+  rp::LabelTable table;
+  std::string error;
+  const std::string tablePath = this->LabelTableEdit->text().trimmed().toStdString();
+  if (!tablePath.empty() && !rp::ReadLabelTable(tablePath, table, error)) {
+    this->ShowError("Labelmap: " + QString::fromStdString(error));
+    return false;
+  }
+  vtkNew<vtkRPSegmentationNode> segmentation;
+  segmentation->SetName(volume->GetName() + " segments");
+  bool ok = false;
+  {
+    BusyScope busy(this);
+    vtkNew<vtkImageData> copy;  // the segmentation is edited; the volume stays as loaded
+    copy->DeepCopy(volume->GetImageData());
+    ok = rp::LabelmapToSegmentation(copy, volume->GetIJKToRASMatrix(), tablePath.empty() ? nullptr : &table,
+                                    segmentation, error);
+  }
+  if (!ok) {
+    this->ShowError("Labelmap: '" + QString::fromStdString(volume->GetName()) + "': " + QString::fromStdString(error));
+    return false;
+  }
+  this->Scene->AddNode(segmentation);
+  this->SegmentationCombo->setCurrentIndex(
+      this->SegmentationCombo->findData(QString::fromStdString(segmentation->GetID())));
+  this->RefreshSegments();
+  QStringList names;
+  for (const auto& s : segmentation->GetSegments()) names << QString::fromStdString(s.Name);
+  this->ShowStatus(QString("%1 segment(s) from the labelmap '%2': %3")
+                       .arg(segmentation->GetNumberOfSegments())
+                       .arg(QString::fromStdString(volume->GetName()))
+                       .arg(names.join(", ")));
+  return true;
 }
 
 rp::SegmentTarget qRPSegmentationToMeshPanel::Target() const {
