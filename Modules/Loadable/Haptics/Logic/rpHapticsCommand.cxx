@@ -130,15 +130,30 @@ int RunHapticsCommand(const std::vector<std::string>& arguments, vtkRPScene* sce
                        "Touch the scene's haptic models with the simulated device along a scripted trajectory at "
                        "1 kHz; prints servo timing, force statistics and the tissues the device clamps.");
   parser.Option("scene", "file.rpscene", "scene with model nodes flagged haptic (default: an analytic demo)")
+      .Input(FileKind::Any, {SceneFileExtension})
       .Option("seconds", "N", "how long to run (default: the trajectory's duration)")
+      .Number()
+      .GreaterThan(0)
+      .AtMost(3600)
       .Option("trajectory", "probe|sweep|file.csv", "scripted motion; CSV rows t,x,y,z in RAS (s, mm)", "probe")
       .Option("device", DeviceProfileKeys(), "simulated device profile (its force and stiffness limits)",
               DeviceProfiles().front().Key)
+      .OneOf()
       .Option("materials", "file.json", "tissue material table (default: Resources/Materials/materials.json)")
+      .Input(FileKind::Any, {".json"})
       .Option("tool-points", "n", "points along the shaft (tip + n-1 every 10 mm)", "1")
+      .Integer()
+      .AtLeast(1)
+      .AtMost(MaxToolPoints)
       .Option("log", "file.csv", "write the session log (time, HIP, proxy, force, tissue, tick time)")
+      .Output(FileKind::Any, {".csv"})
       .Option("rate", "Hz", "servo rate", "1000")
-      .Option("spin", "us", "busy-wait this long before each deadline (smaller jitter, more CPU)", "100");
+      .Number()
+      .AtLeast(1)
+      .AtMost(100000)
+      .Option("spin", "us", "busy-wait this long before each deadline (smaller jitter, more CPU)", "100")
+      .Number()
+      .AtLeast(0);
   if (!parser.Parse(arguments)) {
     if (parser.HelpRequested()) {
       out << parser.Usage();
@@ -158,16 +173,9 @@ int RunHapticsCommand(const std::vector<std::string>& arguments, vtkRPScene* sce
     err << "roboplan haptics: " << e.what() << "\n";
     return 2;
   }
-  if (parser.Has("seconds") && !(seconds > 0 && seconds <= 3600)) {
-    err << "roboplan haptics: --seconds must be in (0, 3600]\n";
-    return 2;
-  }
-  if (!(rate >= 1 && rate <= 100000) || !(spin >= 0 && spin < 1e6 / rate)) {
-    err << "roboplan haptics: --rate must be in [1, 100000] Hz and --spin in [0, period)\n";
-    return 2;
-  }
-  if (toolPoints < 1 || toolPoints > rp::MaxToolPoints) {
-    err << "roboplan haptics: --tool-points must be 1.." << rp::MaxToolPoints << "\n";
+  // Types and ranges were checked by the parser (declared above); the spin depends on the rate.
+  if (!(spin < 1e6 / rate)) {
+    err << "roboplan haptics: --spin must be shorter than the servo period (" << 1e6 / rate << " us)\n";
     return 2;
   }
   std::string error;
