@@ -15,6 +15,8 @@ packages=(
   libfftw3-dev                         # referenced by ITK's and VTK's exported CMake targets
   libgtest-dev libgmock-dev libbenchmark-dev
   xvfb xauth libgl1-mesa-dri libglx-mesa0  # offscreen rendering with Mesa's software OpenGL
+  snakemake                            # workflow/: cohorts, locally or on a cluster
+  slurm-wlm munge                      # the workflow's Slurm test starts a one-node cluster
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -1,21 +1,27 @@
 #include "rpSliceGeometry.h"
 
+#include <cmath>
+
 #include <vtkMath.h>
+
+#include "vtkRPSliceNode.h"
 
 namespace rp {
 
 bool IsSliceView(ViewKind kind) { return kind != ViewKind::ThreeD; }
 
 SliceAxes GetSliceAxes(ViewKind kind) {
-  switch (kind) {
-    case ViewKind::Sagittal:
-      return {{0, -1, 0}, {0, 0, 1}, {1, 0, 0}, 0};
-    case ViewKind::Coronal:
-      return {{-1, 0, 0}, {0, 0, 1}, {0, 1, 0}, 1};
-    case ViewKind::Axial:
-    default:
-      return {{-1, 0, 0}, {0, 1, 0}, {0, 0, 1}, 2};
+  // The frames are the scene's (vtkRPSliceNode), defined once.
+  double m[3][3];
+  vtkRPSliceNode::GetOrientationMatrix(GetViewName(kind == ViewKind::ThreeD ? ViewKind::Axial : kind), m);
+  SliceAxes axes{};
+  for (int r = 0; r < 3; ++r) {
+    axes.X[r] = m[r][0];
+    axes.Y[r] = m[r][1];
+    axes.Normal[r] = m[r][2];
+    if (std::fabs(m[r][2]) > 0.5) axes.NormalAxis = r;
   }
+  return axes;
 }
 
 void GetCameraDirection(ViewKind kind, double towardsCamera[3]) {

@@ -2,23 +2,14 @@
 
 #include <vtkObjectFactory.h>
 
+#include "vtkRPLayoutNode.h"
+
 vtkStandardNewMacro(vtkRPViewState);
 
-namespace {
-const char* const LayoutNames[] = {"4up", "3d", "axial", "sagittal", "coronal"};
-}
+// The layout names are the scene's layout node's.
+const char* vtkRPViewState::GetLayoutAsString(int layout) { return vtkRPLayoutNode::GetArrangementAsString(layout); }
 
-const char* vtkRPViewState::GetLayoutAsString(int layout) {
-  if (layout < LayoutFourUp || layout > LayoutOneUpCoronal) return "unknown";
-  return LayoutNames[layout];
-}
-
-int vtkRPViewState::GetLayoutFromString(const std::string& text) {
-  for (int i = LayoutFourUp; i <= LayoutOneUpCoronal; ++i) {
-    if (text == LayoutNames[i]) return i;
-  }
-  return -1;
-}
+int vtkRPViewState::GetLayoutFromString(const std::string& text) { return vtkRPLayoutNode::GetArrangementFromString(text); }
 
 void vtkRPViewState::SetBackgroundVolumeID(const std::string& id) {
   if (id == this->BackgroundVolumeID) return;

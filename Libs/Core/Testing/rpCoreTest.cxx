@@ -7,6 +7,7 @@
 
 #include "rpArgParser.h"
 #include "rpAtomicFile.h"
+#include "rpCLIDescriptors.h"
 #include "rpLatestValue.h"
 #include "rpLPSRAS.h"
 #include "rpMemoryBudget.h"
@@ -44,6 +45,78 @@ TEST(ArgParser, DefaultsAndErrorsNameTheProblem) {
   EXPECT_FALSE(p.Parse({"--help"}));
   EXPECT_TRUE(p.HelpRequested());
   EXPECT_NE(p.Usage().find("--threshold <mm>"), std::string::npos);
+}
+
+// A command declared with types, ranges, choices and files, as `register-volumes` is.
+rp::ArgParser TypedParser() {
+  rp::ArgParser p("typed", "Typed test command & <friends>.");
+  p.Positional("fixed", "fixed volume").Input(rp::FileKind::Image, {".nrrd", ".nii.gz"})
+      .Option("out", "transform", "output").Output(rp::FileKind::Transform, {".tfm"}).Required()
+      .Option("mode", "rigid|similarity", "mode", "rigid").OneOf()
+      .Option("iterations", "n", "iterations", "200").Integer().AtLeast(1).AtMost(1000)
+      .Option("sampling", "fraction", "sampling", "0.1").Number().GreaterThan(0).AtMost(1)
+      .Option("seed", "x,y,z", "seed point").Point().Repeatable()
+      .Option("levels", "f1,f2", "levels", "4,2,1").Integers().AtLeast(1)
+      .Flag("fill-holes", "fill holes");
+  return p;
+}
+
+TEST(ArgParser, DeclaredTypesRangesChoicesAndRequiredOptionsAreChecked) {
+  rp::ArgParser p = TypedParser();
+  ASSERT_TRUE(p.Parse({"ct.nrrd", "--out", "a.tfm", "--iterations", "5", "--seed", "1,2,3", "--seed=4,5,6"}))
+      << p.Error();
+  EXPECT_EQ(p.GetAll("seed").size(), 2u);
+  const std::vector<std::pair<std::vector<std::string>, std::string>> bad = {
+      {{"ct.nrrd"}, "--out <transform> is required"},
+      {{"ct.nrrd", "--out", "a.tfm", "--iterations", "0"}, "--iterations must be >= 1"},
+      {{"ct.nrrd", "--out", "a.tfm", "--iterations", "2.5"}, "'2.5' is not an integer"},
+      {{"ct.nrrd", "--out", "a.tfm", "--sampling", "0"}, "--sampling must be > 0 and <= 1 (got 0)"},
+      {{"ct.nrrd", "--out", "a.tfm", "--sampling", "nan"}, "is not a number"},
+      {{"ct.nrrd", "--out", "a.tfm", "--mode", "affine"}, "'affine' is not one of rigid|similarity"},
+      {{"ct.nrrd", "--out", "a.tfm", "--seed", "1,2"}, "is not a point x,y,z"},
+      {{"ct.nrrd", "--out", "a.tfm", "--levels", "4,0"}, "--levels must be >= 1 (got 0)"},
+      {{"ct.nrrd", "--out", "a.tfm", "--levels", ""}, "--levels needs comma-separated integers"},
+  };
+  for (const auto& [args, message] : bad) {
+    EXPECT_FALSE(p.Parse(args));
+    EXPECT_NE(p.Error().find(message), std::string::npos) << p.Error() << " should say " << message;
+  }
+}
+
+TEST(ArgParser, AcceptsSlicerUnderscoreSpellingOfLongFlags) {
+  rp::ArgParser p = TypedParser();
+  ASSERT_TRUE(p.Parse({"ct.nrrd", "--out", "a.tfm", "--fill_holes"})) << p.Error();
+  EXPECT_TRUE(p.Has("fill-holes"));
+}
+
+TEST(ArgParser, SlicerXMLDescriptorCarriesTheDeclarations) {
+  rp::ArgParser p = TypedParser();
+  EXPECT_FALSE(p.Parse({"--xml"}));
+  ASSERT_TRUE(p.HelpRequested());
+  const std::string xml = p.Usage();
+  for (const std::string expected :
+       {"<executable>", "<title>RoboPlan typed</title>",
+        "<description>Typed test command &amp; &lt;friends&gt;.</description>",
+        "<image type=\"scalar\" fileExtensions=\".nrrd,.nii.gz\">", "<index>0</index>",
+        "<transform type=\"linear\" fileExtensions=\".tfm\">", "<channel>output</channel>",
+        "<string-enumeration>", "<element>similarity</element>", "<integer>", "<minimum>1</minimum>",
+        "<maximum>1000</maximum>", "<point multiple=\"true\" coordinateSystem=\"ras\">", "<integer-vector>",
+        "<boolean>", "<longflag>fill_holes</longflag>", "<name>fill_holes</name>"}) {
+    EXPECT_NE(xml.find(expected), std::string::npos) << expected << " missing in\n" << xml;
+  }
+  EXPECT_EQ(xml.find("json"), std::string::npos) << "the built-in --json is not a parameter";
+}
+
+TEST(ArgParser, BoutiquesDescriptorCarriesTheDeclarations) {
+  rp::ArgParser p = TypedParser();
+  EXPECT_FALSE(p.Parse({"--boutiques"}));
+  const std::string text = p.Usage();
+  for (const std::string expected :
+       {"\"schema-version\": \"0.5\"", "\"command-line\": \"roboplan typed [FIXED] [OUT] [MODE] [ITERATIONS]",
+        "\"value-choices\": [", "\"exclusive-minimum\": true", "\"list-separator\": \" --seed \"",
+        "\"path-template\": \"[OUT]\"", "\"command-line-flag\": \"--fill-holes\"", "\"type\": \"Flag\""}) {
+    EXPECT_NE(text.find(expected), std::string::npos) << expected << " missing in\n" << text;
+  }
 }
 
 TEST(AtomicFile, FailedWriteKeepsTheLastGoodFile) {

@@ -13,6 +13,7 @@
 
 #include "rpArgParser.h"
 #include "rpDicomTransferSyntax.h"
+#include "rpNodeStorage.h"
 #include "rpKneePhantom.h"
 #include "rpProgress.h"
 #include "rpTransformIO.h"
@@ -338,48 +339,48 @@ int RunRegisterVolumesCommand(const std::vector<std::string>& arguments, std::os
       "volume onto the fixed one (its 'to parent', MovingToFixed) as an ITK transform file (LPS, 'from "
       "parent', as Slicer). When the optimizer does not converge the command exits 1 and does not "
       "write --out.");
+  const auto volumeFiles = ExtensionsForNodeClass("vtkRPScalarVolumeNode");
+  const auto transformFiles = ExtensionsForNodeClass("vtkRPLinearTransformNode");
   parser.Positional("fixed", "fixed volume (file or DICOM folder)")
+      .Input(FileKind::Image, volumeFiles)
       .Positional("moving", "moving volume (file or DICOM folder)")
+      .Input(FileKind::Image, volumeFiles)
       .Option("out", "transform", "transform file to write (.tfm, .txt, .h5)")
+      .Output(FileKind::Transform, transformFiles)
+      .Required()
       .Option("initial", "transform", "start from this MovingToFixed transform file (default: identity)")
+      .Input(FileKind::Transform, transformFiles)
       .Flag("centre", "start by aligning the volumes' geometric centres (ignored with --initial)")
       .Option("levels", "f1,f2,...", "shrink factor per resolution level (smoothing 0.75 f mm)", "8,4,2,1")
+      .Integers()
+      .AtLeast(1)
+      .AtMost(64)
       .Option("iterations", "n", "maximum iterations per level", "200")
+      .Integer()
+      .AtLeast(1)
+      .AtMost(100000)
       .Option("sampling", "fraction", "fraction of fixed voxels sampled by the metric", "0.1")
+      .Number()
+      .GreaterThan(0)
+      .AtMost(1)
       .Option("bins", "n", "histogram bins of the mutual information", "32")
+      .Integer()
+      .AtLeast(5)
+      .AtMost(1024)
       .Option("truth", "transform",
               "a known MovingToFixed transform file (e.g. the phantom's MRToCT-truth.tfm): report the RMS "
-              "difference over the fixed volume's central region");
+              "difference over the fixed volume's central region")
+      .Input(FileKind::Transform, transformFiles);
   if (const int code = Parse(parser, arguments, out, err, "register-volumes"); code >= 0) return code;
+  // Types and ranges were checked by the parser (declared above).
   const std::string outPath = parser.Get("out");
-  if (outPath.empty()) {
-    err << "roboplan register-volumes: --out <transform> is required\n";
-    return 2;
-  }
   RigidRegistrationOptions options;
-  try {
-    options.ShrinkFactors.clear();
-    options.SmoothingSigmasMM.clear();
-    for (double f : parser.GetDoubles("levels")) {
-      if (f < 1 || f > 64 || f != std::floor(f)) throw std::invalid_argument("--levels: integers in 1..64");
-      options.ShrinkFactors.push_back(static_cast<unsigned>(f));
-    }
-    const long iterations = parser.GetInt("iterations"), bins = parser.GetInt("bins");
-    if (iterations < 1 || iterations > 100000) throw std::invalid_argument("--iterations must be in 1..100000");
-    if (bins < 5 || bins > 1024) throw std::invalid_argument("--bins must be in 5..1024");
-    options.MaxIterationsPerLevel = static_cast<unsigned>(iterations);
-    options.HistogramBins = static_cast<unsigned>(bins);
-    options.SamplingFraction = parser.GetDouble("sampling");
-    if (!(options.SamplingFraction > 0 && options.SamplingFraction <= 1))
-      throw std::invalid_argument("--sampling must be in (0, 1]");
-  } catch (const std::invalid_argument& e) {
-    err << "roboplan register-volumes: " << e.what() << "\n";
-    return 2;
-  }
-  if (options.ShrinkFactors.empty()) {
-    err << "roboplan register-volumes: --levels needs at least one level\n";
-    return 2;
-  }
+  options.ShrinkFactors.clear();
+  options.SmoothingSigmasMM.clear();
+  for (double f : parser.GetDoubles("levels")) options.ShrinkFactors.push_back(static_cast<unsigned>(f));
+  options.MaxIterationsPerLevel = static_cast<unsigned>(parser.GetInt("iterations"));
+  options.HistogramBins = static_cast<unsigned>(parser.GetInt("bins"));
+  options.SamplingFraction = parser.GetDouble("sampling");
   TerminalProgress progress("register", parser.Json());
   ImageVolume fixed, moving;
   std::string error;
