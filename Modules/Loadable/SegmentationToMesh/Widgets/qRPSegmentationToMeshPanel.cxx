@@ -27,6 +27,7 @@
 
 #include "rpLabelmapInput.h"
 #include "rpLabelmapToMesh.h"
+#include "rpMaterial.h"
 #include "rpSegmentationToModels.h"
 #include "vtkRPFiducialListNode.h"
 #include "vtkRPModelNode.h"
@@ -35,9 +36,6 @@
 #include "vtkRPSegmentationNode.h"
 
 namespace {
-
-// Keys of Resources/Materials/materials.json (the haptics look tissue classes up there).
-const char* const kTissueClasses[] = {"bone", "cartilage", "tendon", "ligament", "skin", "muscle", "fat"};
 
 // Busy cursor for short edits; a modal progress dialog (shown after 0.5 s) for meshing. Both run
 // on the GUI thread: the dialog's setValue keeps the window painting while the work reports.
@@ -149,7 +147,14 @@ qRPSegmentationToMeshPanel::qRPSegmentationToMeshPanel(vtkRPScene* scene, QWidge
   this->SegmentNameEdit = new QLineEdit;
   this->TissueCombo = new QComboBox;
   this->TissueCombo->setEditable(true);
-  for (const char* tissue : kTissueClasses) this->TissueCombo->addItem(tissue);
+  // Tissue classes are the material table's (Resources/Materials/materials.json), so every class
+  // offered here has haptic properties.
+  rp::MaterialTable materials;
+  std::string materialsError;
+  if (rp::LoadMaterialTable(materials, materialsError))
+    for (const std::string& tissue : materials.TissueNames()) this->TissueCombo->addItem(QString::fromStdString(tissue));
+  else
+    this->TissueCombo->setToolTip(QString::fromStdString(materialsError));
   this->ApplyButton = new QPushButton("Apply");
   auto* methodForm = new QFormLayout;
   methodForm->addRow("Method", this->MethodCombo);
