@@ -11,12 +11,14 @@
 #include <vtkNew.h>
 
 #include "rpArgParser.h"
+#include "rpLabelmapInput.h"
 #include "rpModelIO.h"
 #include "rpNodeStorage.h"
 #include "rpProgress.h"
 #include "rpSegmentationEditor.h"
 #include "rpSegmentationIO.h"
 #include "rpSegmentationToModels.h"
+#include "rpVolumeIO.h"
 #include "vtkRPModelNode.h"
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
@@ -70,6 +72,13 @@ json StatsJson(const MeshStats& s) {
           {"warnings", s.Warnings}};
 }
 
+// Volumes and segmentations: what `mesh` reads (from the storages' registrations).
+std::vector<std::string> InputExtensions() {
+  auto extensions = ExtensionsForNodeClass("vtkRPSegmentationNode");
+  for (const auto& ext : ExtensionsForNodeClass("vtkRPScalarVolumeNode")) extensions.push_back(ext);
+  return extensions;
+}
+
 // Model file formats, from the model storage's registration (rpModelIO): "vtp", "vtk", ...
 std::vector<std::string> ModelFormats() {
   std::vector<std::string> formats;
@@ -100,38 +109,96 @@ int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contex
       "mesh",
       "Segment a volume (threshold presets, region growing, confidence connected, morphology, components) or "
       "take a segmentation (.seg.nrrd), and write one closed surface per segment (display + haptic mesh) to --out.");
-  parser.Positional("input", "volume (.nrrd, .nii.gz, .mha) or segmentation (.seg.nrrd)")
+  parser.Positional("input", "volume or labelmap (.nrrd, .nii.gz, .mha) or segmentation (.seg.nrrd)")
+      .Input(FileKind::Image, InputExtensions())
       .Option("out", "dir", "output folder (created)")
+      .OutputFolder()
+      .Required()
+      .Option("input-kind", "auto|labelmap|intensity",
+              "a volume file is a labelmap (one segment per label value) or an intensity image to segment; auto: "
+              "a labelmap when no threshold option is given, the voxels are few whole numbers >= 0 and --labels is "
+              "given or the file is named *-label.*, *_label.*, *labelmap*, *.seg.*",
+              "auto")
+      .OneOf()
+      .Option("labels", "file", "label names and colours: Slicer colour table (.ctbl/.txt) or ITK-SNAP label file")
+      .Input(FileKind::Any)
       .Option("method", "threshold|region-grow|confidence", "segmentation method for volumes", "threshold")
+      .OneOf()
       .Option("preset", "bone|cortical|soft-tissue|fat", "tissue preset(s), repeatable (several tissues)", "bone")
+      .OneOf()
+      .Repeatable()
       .Option("lower", "HU", "lower threshold (overrides the preset; one tissue)")
+      .Number()
       .Option("upper", "HU", "upper threshold (overrides the preset; one tissue)")
+      .Number()
       .Option("seed", "x,y,z", "seed point in RAS mm (repeatable): region growing, confidence, --keep-at-seed")
+      .Point()
+      .Repeatable()
       .Option("multiplier", "k", "confidence connected: mean ± k·sigma", "2.5")
+      .Number()
+      .GreaterThan(0)
       .Option("iterations", "n", "confidence connected iterations", "3")
+      .Integer()
+      .AtLeast(0)
       .Option("radius", "voxels", "confidence connected initial neighbourhood radius", "2")
+      .Integer()
+      .AtLeast(0)
       .Option("closing", "mm", "morphological closing radius")
+      .Number()
+      .AtLeast(0)
       .Option("opening", "mm", "morphological opening radius")
+      .Number()
+      .AtLeast(0)
       .Flag("fill-holes", "fill enclosed holes")
       .Flag("keep-largest", "keep the largest connected component")
       .Flag("keep-at-seed", "keep the component at the first seed")
       .Option("split", "n", "split into up to n segments, one per component")
+      .Integer()
+      .AtLeast(1)
       .Option("max-fraction", "f", "refuse a segment covering more than this fraction of the volume (leak)", "0.9")
+      .Number()
+      .GreaterThan(0)
+      .AtMost(1)
       .Option("segment", "id", "mesh only these segments (repeatable)")
+      .Repeatable()
       .Option("mesh-method", "gaussian|sinc|slicer|discrete", "surface method", "gaussian")
+      .OneOf()
       .Option("smoothing", "sigma", "gaussian smoothing sigma in voxels", "1.0")
+      .Number()
+      .AtLeast(0)
       .Option("passband", "f", "windowed sinc pass band (sinc, slicer)", "0.01")
+      .Number()
+      .GreaterThan(0)
+      .AtMost(2)
       .Option("sinc-iterations", "n", "windowed sinc iterations (sinc, slicer)", "20")
+      .Integer()
+      .AtLeast(0)
       .Option("grid-step", "s|sx,sy,sz", "gaussian contour grid step in voxels (>1 = coarser mesh)", "1")
+      .Numbers()
+      .GreaterThan(0)
       .Option("grid-mm", "mm", "gaussian contour grid spacing in mm (step per axis = max(1, mm / spacing))")
+      .Number()
+      .GreaterThan(0)
       .Option("decimate", "f", "extra quadric decimation: fraction of triangles removed", "0")
+      .Number()
+      .AtLeast(0)
+      .LessThan(1)
       .Option("triangles", "n", "display mesh: target triangle count")
+      .Integer()
+      .AtLeast(1)
       .Option("max-error", "mm", "display mesh: max deviation from the full-resolution surface")
+      .Number()
+      .AtLeast(0)
       .Option("haptic-triangles", "n", "haptic mesh: target triangle count", "20000")
+      .Integer()
+      .AtLeast(1)
       .Option("haptic-max-error", "mm", "haptic mesh: max deviation from the full-resolution surface")
+      .Number()
+      .AtLeast(0)
       .Flag("no-haptic", "do not write haptic meshes")
       .Flag("no-volume-correction", "keep the raw surface (no volume correction)")
-      .Option("format", Join(ModelFormats(), "|"), "model file format", "vtp");
+      .Option("format", Join(ModelFormats(), "|"), "model file format", "vtp")
+      .OneOf();
   if (!parser.Parse(arguments)) {
     if (parser.HelpRequested()) {
       out << parser.Usage();
@@ -148,6 +215,7 @@ int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contex
   std::vector<std::array<double, 3>> seeds;
   double multiplier = 2.5, maxFraction = 0.9;
   int iterations = 3, radius = 2, split = 0;
+  InputKind inputKind = InputKind::Auto;
   try {
     multiplier = parser.GetDouble("multiplier");
     iterations = static_cast<int>(parser.GetInt("iterations"));
@@ -195,6 +263,8 @@ int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contex
     if (std::find(formats.begin(), formats.end(), format) == formats.end())
       throw BadArgument("--format '" + format + "': use " + Join(formats, ", "));
     if (parser.Has("keep-at-seed") && seeds.empty()) throw BadArgument("--keep-at-seed needs --seed");
+    if (!ParseInputKind(parser.Get("input-kind"), inputKind))
+      throw BadArgument("--input-kind '" + parser.Get("input-kind") + "': use auto, labelmap or intensity");
     if ((method == "region-grow" || method == "confidence") && seeds.empty())
       throw BadArgument("--method " + method + " needs at least one --seed x,y,z");
   } catch (const std::exception& e) {
@@ -216,18 +286,61 @@ int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contex
   progress.Report(0.0, "loading " + input);
   std::string error;
   vtkRPNode* loaded = LoadDataFile(scene, input, error);
+  if (!loaded && HasExtension(input, ".seg.nrrd")) {
+    // A plain labelmap named *.seg.nrrd (no Slicer segment keys): read it as a volume.
+    vtkNew<vtkRPScalarVolumeNode> plain;
+    std::string volumeError;
+    if (ReadVolumeFile(input, plain, volumeError)) {
+      plain->SetName(fs::path(input).filename().string());
+      scene->AddNode(plain);
+      loaded = plain;
+    }
+  }
   if (!loaded) {
     err << "roboplan mesh: " << error << "\n";
     return 1;
   }
   vtkRPSegmentationNode* segmentation = vtkRPSegmentationNode::SafeDownCast(loaded);
   json segmentationSteps = json::array();
+  json inputInfo = {{"kind", "segmentation"}, {"reason", "a segmentation file"}};
+  if (segmentation && parser.Has("labels"))
+    err << "roboplan mesh: --labels ignored: '" << input << "' is a segmentation with its own segment names\n";
   if (!segmentation) {
     auto* volume = vtkRPScalarVolumeNode::SafeDownCast(loaded);
     if (!volume) {
       err << "roboplan mesh: '" << input << "' is neither a volume nor a segmentation\n";
       return 1;
     }
+    const bool intensityOptions = parser.Has("lower") || parser.Has("upper") || !parser.GetAll("preset").empty() ||
+                                  parser.Has("method") || parser.Has("multiplier") || parser.Has("iterations") ||
+                                  parser.Has("radius");
+    const InputChoice choice =
+        ChooseInputKind(inputKind, volume->GetImageData(), input, parser.Has("labels"), intensityOptions);
+    inputInfo = {{"kind", choice.Labelmap ? "labelmap" : "intensity"}, {"reason", choice.Reason}};
+    if (!quiet) err << "input: " << choice.Reason << "\n";
+    if (choice.Labelmap) {
+      LabelTable table;
+      if (parser.Has("labels") && !ReadLabelTable(parser.Get("labels"), table, error)) {
+        err << "roboplan mesh: " << error << "\n";
+        return 1;
+      }
+      vtkNew<vtkRPSegmentationNode> created;
+      created->SetName(volume->GetName() + " segmentation");
+      if (!LabelmapToSegmentation(volume->GetImageData(), volume->GetIJKToRASMatrix(),
+                                  parser.Has("labels") ? &table : nullptr, created, error)) {
+        err << "roboplan mesh: '" << input << "': " << error << "\n";
+        return 1;
+      }
+      scene->AddNode(created);
+      segmentation = created;
+    } else if (parser.Has("labels")) {
+      err << "roboplan mesh: --labels names the values of a labelmap, but '" << input
+          << "' is taken as an intensity image (" << choice.Reason << ")\n";
+      return 2;
+    }
+  }
+  if (!segmentation) {
+    auto* volume = vtkRPScalarVolumeNode::SafeDownCast(loaded);
     vtkNew<vtkRPSegmentationNode> created;
     created->SetName(volume->GetName() + " segmentation");
     scene->AddNode(created);
@@ -355,7 +468,7 @@ int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contex
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   progress.Report(1.0, "done");
   if (parser.Json()) {
-    json doc = {{"input", input}, {"out", outDir.string()}, {"ok", failures == 0},
+    json doc = {{"input", input}, {"inputKind", inputInfo}, {"out", outDir.string()}, {"ok", failures == 0},
                 {"segmentation", segmentationSteps}, {"segments", segments}, {"seconds", seconds}};
     out << doc.dump(2) << "\n";
   } else {
