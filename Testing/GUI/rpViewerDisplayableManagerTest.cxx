@@ -19,6 +19,11 @@
 #include <vtkNew.h>
 #include <vtkPolyData.h>
 #include <vtkProperty.h>
+#include <vtkActor2DCollection.h>
+#include <vtkCoordinate.h>
+#include <vtkTextActor.h>
+#include <array>
+#include <string>
 
 #include "rpView.h"
 #include "rpViewController.h"
@@ -261,6 +266,56 @@ TEST(ViewerDisplayableManagers, FiducialsShowOnTheirSliceAndIn3D) {
   EXPECT_EQ(threeD->GetNumberOfDrawnPoints(list), 2);
   scene->RemoveNode(list);
   EXPECT_EQ(threeD->GetNumberOfDisplayedNodes(), 0);
+}
+
+// Eight landmarks within 3 mm of each other (a crowded spot): rendered, no label overprints
+// another, in the 3D view and in the axial view, and every label is inside its view.
+TEST(ViewerDisplayableManagers, FiducialLabelsDoNotOverprint) {
+  vtkNew<vtkRPScene> scene;
+  ViewController controller(scene);
+  scene->AddNode(test::MakeVolume());
+  vtkNew<vtkRPFiducialListNode> list;
+  for (int i = 0; i < 8; ++i) {
+    const double p[3] = {test::Center[0] + 0.4 * i, test::Center[1] - 0.3 * i, test::Center[2]};
+    list->AddControlPoint(p, "landmark " + std::to_string(i + 1));
+  }
+  scene->AddNode(list);
+  vtkNew<vtkRenderWindow> window;
+  window->SetOffScreenRendering(1);
+  window->SetSize(600, 300);
+  const double left[4] = {0, 0, 0.5, 1}, right[4] = {0.5, 0, 1, 1};
+  controller.GetView(ViewKind::Axial)->AttachToRenderWindow(window, left);
+  controller.GetView(ViewKind::ThreeD)->AttachToRenderWindow(window, right);
+  controller.ResetCameras3D();
+  window->Render();
+  for (ViewKind kind : {ViewKind::Axial, ViewKind::ThreeD}) {
+    vtkRenderer* renderer = controller.GetView(kind)->GetOverlayRenderer();
+    std::vector<std::array<double, 4>> boxes;  // xmin, xmax, ymin, ymax
+    vtkActor2DCollection* actors = renderer->GetActors2D();
+    actors->InitTraversal();
+    while (vtkActor2D* actor = actors->GetNextActor2D()) {
+      auto* text = vtkTextActor::SafeDownCast(actor);
+      if (!text || !text->GetVisibility() || std::string(text->GetInput()).rfind("landmark", 0) != 0) continue;
+      std::array<double, 4> box;
+      text->GetBoundingBox(renderer, box.data());
+      const double* position = text->GetPositionCoordinate()->GetValue();
+      box = {position[0], position[0] + box[1] - box[0], position[1], position[1] + box[3] - box[2]};
+      boxes.push_back(box);
+    }
+    ASSERT_EQ(boxes.size(), 8u) << GetViewName(kind);
+    double vp[4];
+    renderer->GetViewport(vp);
+    for (size_t i = 0; i < boxes.size(); ++i) {
+      EXPECT_GE(boxes[i][0], vp[0] * 600 - 1e-6) << GetViewName(kind);
+      EXPECT_LE(boxes[i][1], vp[2] * 600 + 1e-6) << GetViewName(kind);
+      for (size_t j = 0; j < i; ++j) {
+        const bool overlap = boxes[i][0] < boxes[j][1] && boxes[j][0] < boxes[i][1] && boxes[i][2] < boxes[j][3] &&
+                             boxes[j][2] < boxes[i][3];
+        EXPECT_FALSE(overlap) << GetViewName(kind) << ": label " << i + 1 << " over label " << j + 1;
+      }
+    }
+  }
+  for (ViewKind kind : {ViewKind::Axial, ViewKind::ThreeD}) controller.GetView(kind)->DetachFromRenderWindow();
 }
 
 TEST(ViewerDisplayableManagers, ToolsAreDrawnAndSlicesFollowTheTip) {
