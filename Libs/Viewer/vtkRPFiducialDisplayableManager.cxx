@@ -1,5 +1,6 @@
 #include "vtkRPFiducialDisplayableManager.h"
 
+#include <array>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -36,6 +37,7 @@ struct vtkRPFiducialDisplayableManager::Display {
   vtkNew<vtkGlyph3DMapper> Mapper;
   vtkNew<vtkActor> Actor;
   std::vector<vtkSmartPointer<vtkTextActor>> Labels;  // one per drawn point, placed at render time
+  std::vector<std::pair<std::string, std::array<double, 2>>> LabelSizes;  // text measured, its size
   int Drawn = 0;
   Display() {
     this->Sphere->SetThetaResolution(16);
@@ -88,13 +90,19 @@ void vtkRPFiducialDisplayableManager::LayOutLabels() {
       const bool inFront = d[2] >= 0.0 && d[2] <= 1.0;  // not behind the camera
       label->SetVisibility(inFront && label->GetInput() && *label->GetInput());
       if (!label->GetVisibility()) continue;
-      double bbox[4];
-      label->GetBoundingBox(renderer, bbox);
+      // The text's size is measured (FreeType) only when the text changed.
+      auto& size = display.LabelSizes[i];
+      if (size.first != label->GetInput() || size.second[0] < 0) {
+        double bbox[4];
+        label->GetBoundingBox(renderer, bbox);
+        size.first = label->GetInput();
+        size.second = {bbox[1] - bbox[0], bbox[3] - bbox[2]};
+      }
       rp::LabelBox box;
       box.Anchor[0] = d[0];
       box.Anchor[1] = d[1];
-      box.Size[0] = bbox[1] - bbox[0];
-      box.Size[1] = bbox[3] - bbox[2];
+      box.Size[0] = size.second[0];
+      box.Size[1] = size.second[1];
       boxes.push_back(box);
       actors.push_back(label);
     }
@@ -195,6 +203,7 @@ void vtkRPFiducialDisplayableManager::UpdateDisplay(vtkRPNode* node) {
     renderer->AddActor2D(label);
     display.Labels.push_back(label);
   }
+  display.LabelSizes.resize(labels.size(), {std::string(), {-1.0, -1.0}});
   for (size_t i = 0; i < labels.size(); ++i) {
     display.Labels[i]->SetInput(labels[i].c_str());
     display.Labels[i]->GetTextProperty()->SetColor(list->GetColor());

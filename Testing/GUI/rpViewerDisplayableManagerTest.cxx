@@ -37,7 +37,6 @@
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
 #include "vtkRPSegmentationNode.h"
-#include "vtkRPSegmentationSliceDisplayableManager.h"
 #include "vtkRPSliceLogic.h"
 #include "vtkRPSliceNode.h"
 #include "vtkRPToolDisplayableManager.h"
@@ -418,35 +417,39 @@ TEST(ViewerDisplayableManagers, SegmentationsOverlayTheSlicesInSegmentColours) {
   bone.Color[2] = 0;
   segmentation->SetSegment(bone);
   scene->AddNode(segmentation);
-  auto* overlays = controller.GetView(ViewKind::Axial)->GetDisplayableManager<vtkRPSegmentationSliceDisplayableManager>();
-  ASSERT_NE(overlays, nullptr);
+  // The segmentation is the slice nodes' label layer, composited into the slice pictures.
+  EXPECT_EQ(controller.GetSliceNode(ViewKind::Axial)->GetLabelNodeID(), segmentation->GetID());
+  controller.GetSliceNode(ViewKind::Axial)->SetLabelOpacity(1.0);
+  vtkRPSliceLogic* axial = controller.GetSliceLogic(ViewKind::Axial);
   const double inside[3] = {7, 7, 7};
   controller.SetSlicePointRAS(inside);
-  vtkImageData* overlay = overlays->GetOverlay(segmentation);
-  ASSERT_NE(overlay, nullptr);
-  // Axial screen x is patient left (-R): pixel i is at R = -(origin + i).
-  auto sample = [&](double r, double a) {
-    double origin[3], spacing[3];
-    overlay->GetOrigin(origin);
-    overlay->GetSpacing(spacing);
-    const int i = static_cast<int>(std::lround((-r - origin[0]) / spacing[0]));
-    const int j = static_cast<int>(std::lround((a - origin[1]) / spacing[1]));
-    return static_cast<unsigned char*>(overlay->GetScalarPointer(i, j, 0));
-  };
-  unsigned char* p = sample(7, 7);
-  EXPECT_EQ(p[0], 255);
-  EXPECT_EQ(p[1], 0);
-  EXPECT_EQ(p[3], 255);
-  EXPECT_EQ(sample(2, 7)[3], 0);   // label 0: transparent
-  EXPECT_EQ(sample(7, 12)[3], 0);
+  unsigned char rgba[4];
+  SampleSlice(axial, inside, rgba);
+  EXPECT_EQ(rgba[0], 255);  // the segment's red, opaque at label opacity 1
+  EXPECT_EQ(rgba[1], 0);
+  EXPECT_EQ(rgba[3], 255);
+  const double besideR[3] = {2, 7, 7}, besideA[3] = {7, 12, 7};  // label 0: the CT's grey shows
+  SampleSlice(axial, besideR, rgba);
+  EXPECT_EQ(rgba[0], rgba[1]);
+  SampleSlice(axial, besideA, rgba);
+  EXPECT_EQ(rgba[0], rgba[1]);
+  // At half opacity: half red over the grey.
+  controller.GetSliceNode(ViewKind::Axial)->SetLabelOpacity(0.5);
+  SampleSlice(axial, besideR, rgba);
+  const int grey = rgba[0];
+  SampleSlice(axial, inside, rgba);
+  EXPECT_NEAR(rgba[0], 0.5 * grey + 0.5 * 255, 2);
+  EXPECT_NEAR(rgba[1], 0.5 * grey, 2);
   // Off the box along S: nothing on this slice.
   const double above[3] = {7, 7, 12};
   controller.SetSlicePointRAS(above);
-  overlay = overlays->GetOverlay(segmentation);
-  ASSERT_NE(overlay, nullptr);
-  EXPECT_EQ(sample(7, 7)[3], 0);
+  SampleSlice(axial, above, rgba);
+  EXPECT_EQ(rgba[0], rgba[1]);
+  // Removed: the label layer is cleared.
   scene->RemoveNode(segmentation);
-  EXPECT_EQ(overlays->GetOverlay(segmentation), nullptr);
+  EXPECT_EQ(controller.GetSliceNode(ViewKind::Axial)->GetLabelNodeID(), "");
+  SampleSlice(axial, above, rgba);
+  EXPECT_EQ(rgba[0], rgba[1]);
 }
 
 TEST(ViewerDisplayableManagers, ClosingTheSceneEmptiesEveryViewAndAViewMayOutliveItsScene) {
