@@ -25,9 +25,13 @@ int MaterialTable::Find(const std::string& tissue) const {
 
 MaterialTable MaterialTable::Defaults() {
   MaterialTable t;
-  t.Entries = {{"bone", 2.00, 0.0010, 0.40, 0.30},     {"cartilage", 1.20, 0.0008, 0.03, 0.02},
-               {"tendon", 0.90, 0.0008, 0.15, 0.10},   {"ligament", 0.80, 0.0008, 0.15, 0.10},
-               {"skin", 0.35, 0.0005, 0.50, 0.40},     {"muscle", 0.25, 0.0006, 0.20, 0.15},
+  t.Entries = {{"bone", 2.00, 0.0010, 0.40, 0.30, 1.0, 600},
+               {"trabecular bone", 1.50, 0.0010, 0.35, 0.25, 0.25, 100},
+               {"cartilage", 1.20, 0.0008, 0.03, 0.02},
+               {"tendon", 0.90, 0.0008, 0.15, 0.10},
+               {"ligament", 0.80, 0.0008, 0.15, 0.10},
+               {"skin", 0.35, 0.0005, 0.50, 0.40},
+               {"muscle", 0.25, 0.0006, 0.20, 0.15},
                {"fat", 0.08, 0.0004, 0.10, 0.08}};
   t.Default = t.Find("muscle");
   return t;
@@ -73,8 +77,20 @@ bool MaterialTable::Load(const std::string& path, std::string& error) {
       return true;
     };
     if (!number("stiffness", m.Stiffness, true) || !number("damping", m.Damping, true) ||
-        !number("staticFriction", m.StaticFriction, false) || !number("dynamicFriction", m.DynamicFriction, false))
+        !number("staticFriction", m.StaticFriction, false) || !number("dynamicFriction", m.DynamicFriction, false) ||
+        !number("hardness", m.Hardness, false))
       return false;
+    if (e.contains("ctMinHU")) {  // may be negative (HU)
+      if (!e["ctMinHU"].is_number() || !std::isfinite(e["ctMinHU"].get<double>())) {
+        error = where + " (" + m.Tissue + "): \"ctMinHU\" must be a number (HU)";
+        return false;
+      }
+      if (m.Hardness <= 0) {
+        error = where + " (" + m.Tissue + "): \"ctMinHU\" needs a \"hardness\" (only drillable tissues are classified by CT)";
+        return false;
+      }
+      m.CTMinHU = e["ctMinHU"].get<double>();
+    }
     if (m.DynamicFriction > m.StaticFriction) {
       error = where + " (" + m.Tissue + "): dynamicFriction exceeds staticFriction";
       return false;

@@ -1,6 +1,9 @@
 #pragma once
 // Tissue materials for haptic rendering (Resources/Materials/materials.json): stiffness, damping
-// and friction per tissue class. Loaded on the main thread; the servo thread reads copies.
+// and friction per tissue class, and for the tissues a burr can cut (Drilling module) their
+// hardness and the lowest CT value that classifies a bone voxel as that tissue. Loaded on the
+// main thread; the servo thread reads copies.
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -12,6 +15,10 @@ struct Material {
   double Damping = 0.0005;       // N·s/mm
   double StaticFriction = 0.0;   // tan of the static friction cone half-angle
   double DynamicFriction = 0.0;  // ≤ StaticFriction
+  double Hardness = 0.0;         // resistance to a burr, relative to cortical bone (1); 0: not drillable
+  /// Lowest CT value (HU) of a drillable bone voxel of this tissue; NaN: not classified by CT.
+  double CTMinHU = std::numeric_limits<double>::quiet_NaN();
+  bool Drillable() const { return this->Hardness > 0; }
 };
 
 class MaterialTable {
