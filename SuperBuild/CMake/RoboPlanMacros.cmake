@@ -54,6 +54,8 @@ function(roboplan_add_test name)
   endif()
   cmake_parse_arguments(A "OWN_MAIN" "TIMEOUT" "SOURCES;LIBS;LABELS;ARGS;ENVIRONMENT" ${ARGN})
   add_executable(${name} ${A_SOURCES})
+  # Testing/Support: helpers every test may use (rpSharedData.h: skip without ../shared/data).
+  target_include_directories(${name} PRIVATE ${PROJECT_SOURCE_DIR}/Testing/Support)
   target_link_libraries(${name} PRIVATE roboplan_warnings ${A_LIBS} GTest::gtest)
   if(NOT A_OWN_MAIN)
     target_link_libraries(${name} PRIVATE GTest::gtest_main)

@@ -17,6 +17,7 @@
 #include "rpAtomicFile.h"
 #include "rpNodeStorage.h"
 #include "rpSceneIO.h"
+#include "rpTestOutput.h"
 #include "rpVolumeIO.h"
 #include "vtkRPFiducialListNode.h"
 #include "vtkRPLinearTransformNode.h"
@@ -30,14 +31,9 @@
 
 namespace fs = std::filesystem;
 
-namespace {
+using rptest::TestDir;
 
-fs::path TestDir(const std::string& name) {
-  const fs::path dir = fs::path(ROBOPLAN_TEST_OUTPUT_DIR) / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+namespace {
 
 // A CT-like volume with an oblique, LPS-flipped geometry and a deterministic pattern.
 vtkSmartPointer<vtkRPScalarVolumeNode> MakeVolume() {
