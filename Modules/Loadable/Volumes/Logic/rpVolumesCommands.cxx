@@ -12,6 +12,7 @@
 #include <vtkNew.h>
 
 #include "rpArgParser.h"
+#include "rpDicomTransferSyntax.h"
 #include "rpNodeStorage.h"
 #include "rpKneePhantom.h"
 #include "rpProgress.h"
@@ -90,8 +91,11 @@ ProgressCallback Quieter(TerminalProgress& progress) {
 int RunDicomCommand(const std::vector<std::string>& arguments, std::ostream& out, std::ostream& err) {
   ArgParser parser("dicom",
                    "List the DICOM image series in a folder (searched recursively) or a DICOMDIR: "
-                   "UID, modality, description, size, spacing, and why a series cannot be loaded. "
-                   "Non-DICOM files are skipped and counted; corrupt files are named.");
+                   "ID, modality, description, orientation, size, spacing, transfer syntax, and why a "
+                   "series cannot be loaded. A series holding several stacks (orientations or image "
+                   "sizes, e.g. a three-plane localizer) is listed stack by stack, each with its own ID "
+                   "(<SeriesInstanceUID>#<n>) for `convert --series`. Non-DICOM files are skipped and "
+                   "counted; corrupt files are named.");
   parser.Positional("folder", "folder, DICOMDIR or single DICOM file");
   if (const int code = Parse(parser, arguments, out, err, "dicom"); code >= 0) return code;
   TerminalProgress progress("dicom", parser.Json());
@@ -110,15 +114,21 @@ int RunDicomCommand(const std::vector<std::string>& arguments, std::ostream& out
     doc["corruptFiles"] = scan.CorruptFiles;
     doc["series"] = nlohmann::json::array();
     for (const auto& s : scan.Series) {
-      doc["series"].push_back({{"seriesInstanceUID", s.SeriesInstanceUID},
+      doc["series"].push_back({{"id", s.StackID},
+                               {"seriesInstanceUID", s.SeriesInstanceUID},
+                               {"stack", s.StackIndex},
+                               {"stacks", s.StackCount},
+                               {"orientation", s.OrientationName},
+                               {"imageOrientationPatient", std::vector<double>(s.Orientation, s.Orientation + 6)},
                                {"studyInstanceUID", s.StudyInstanceUID},
                                {"modality", s.Modality},
                                {"description", s.SeriesDescription},
                                {"seriesNumber", s.SeriesNumber},
                                {"patientName", s.PatientName},
-                               {"size", {s.Columns, s.Rows, s.Files.size()}},
+                               {"size", {s.Columns, s.Rows, s.Slices}},
                                {"spacing", {s.PixelSpacing[1], s.PixelSpacing[0], s.SliceSpacing}},
                                {"transferSyntaxUID", s.TransferSyntaxUID},
+                               {"transferSyntax", TransferSyntaxLabel(s.TransferSyntaxUID)},
                                {"files", s.Files.size()},
                                {"loadable", s.Problem.empty()},
                                {"problem", s.Problem}});
@@ -131,9 +141,13 @@ int RunDicomCommand(const std::vector<std::string>& arguments, std::ostream& out
     int index = 1;
     for (const auto& s : scan.Series) {
       out << "  " << index++ << ". " << (s.Modality.empty() ? "??" : s.Modality) << "  \""
-          << s.SeriesDescription << "\"  " << s.Columns << "x" << s.Rows << "x" << s.Files.size() << "  "
-          << Fixed(s.PixelSpacing[1]) << " x " << Fixed(s.PixelSpacing[0]) << " x " << Fixed(s.SliceSpacing)
-          << " mm\n     " << s.SeriesInstanceUID << "\n";
+          << s.SeriesDescription << "\"  " << s.OrientationName << "  " << s.Columns << "x" << s.Rows << "x"
+          << s.Slices << "  " << Fixed(s.PixelSpacing[1]) << " x " << Fixed(s.PixelSpacing[0]) << " x "
+          << Fixed(s.SliceSpacing) << " mm\n     " << s.StackID
+          << (s.StackCount > 1 ? "  (stack " + std::to_string(s.StackIndex) + " of " + std::to_string(s.StackCount) +
+                                     " in this series)"
+                               : std::string())
+          << "\n     " << TransferSyntaxLabel(s.TransferSyntaxUID) << "\n";
       if (!s.Problem.empty()) out << "     cannot load as is: " << s.Problem << "\n";
     }
     for (const auto& c : scan.CorruptFiles) out << "  corrupt: " << c << "\n";
@@ -154,7 +168,9 @@ int RunConvertCommand(const std::vector<std::string>& arguments, std::ostream& o
                    "Geometry (IJK-to-RAS, direction cosines) and voxel values are kept.");
   parser.Positional("in", "input volume or DICOM folder")
       .Positional("out", "output volume file, or a folder for a DICOM series")
-      .Option("series", "uid", "DICOM input: the SeriesInstanceUID to convert when there are several")
+      .Option("series", "id",
+              "DICOM input: the series to convert when there are several: its SeriesInstanceUID, or "
+              "<SeriesInstanceUID>#<n> for one stack of a series that holds several (see `roboplan dicom`)")
       .Option("modality", "CT|MR", "DICOM output: the modality (default: the input's, else CT)")
       .Flag("resample-irregular",
             "DICOM input: load a series with a missing slice or uneven spacing by resampling it onto a "
