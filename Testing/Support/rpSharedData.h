@@ -13,9 +13,9 @@
 
 namespace rptest {
 
-/// ROBOPLAN_SHARED_DATA_DIR/relative.
+/// ROBOPLAN_SHARED_DATA_DIR/relative (an absolute path is taken as it is).
 inline std::string SharedDataPath(const std::string& relative) {
-  return std::string(ROBOPLAN_SHARED_DATA_DIR) + "/" + relative;
+  return !relative.empty() && relative[0] == '/' ? relative : std::string(ROBOPLAN_SHARED_DATA_DIR) + "/" + relative;
 }
 
 inline bool SharedDataRequired() {

@@ -16,6 +16,7 @@
 #include <vtkPointData.h>
 
 #include "rpKneePhantom.h"
+#include "rpSharedData.h"
 #include "rpTransformIO.h"
 #include "rpVolumeFiles.h"
 #include "rpVolumeRegistration.h"
@@ -137,8 +138,8 @@ TEST(VolumesCommands, PhantomDicomListingAndConversion) {
 // localizer under the same UID). `roboplan dicom` lists two stacks; `convert` refuses the
 // series as a whole, naming them, and converts the oblique stack with the headers' geometry.
 TEST(VolumesCommands, ObliqueJpeg2000StackOfAMixedSeries) {
-  const fs::path source = fs::path(ROBOPLAN_SHARED_DATA_DIR) / "dicom/pacsman-mr";
-  if (!fs::exists(source)) GTEST_SKIP() << "no shared data at " << source;
+  RP_REQUIRE_SHARED_DATA("dicom/pacsman-mr");
+  const fs::path source = rptest::SharedDataPath("dicom/pacsman-mr");
   for (const char* tool : {"dcmodify", "gdcmconv"})
     if (std::system((std::string("command -v ") + tool + " >/dev/null 2>&1").c_str()) != 0)
       GTEST_SKIP() << tool << " not found on PATH (Debian packages dcmtk, libgdcm-tools)";
