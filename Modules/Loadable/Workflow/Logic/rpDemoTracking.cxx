@@ -44,6 +44,7 @@
 #include "vtkRPNavigationLogic.h"
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
+#include "vtkRPSliceNode.h"
 #include "vtkRPTrackedToolNode.h"
 
 namespace fs = std::filesystem;
@@ -369,11 +370,12 @@ void Navigate(DemoState& state) {
       ResliceOptions options;
       options.FieldOfView[0] = options.FieldOfView[1] = 120;
       const char* names[] = {"axial", "sagittal", "coronal", "tool"};
+      const char* orientations[] = {"Axial", "Sagittal", "Coronal"};  // the viewer's frames
       for (int o = 0; o < 4; ++o) {
         if (o < 3) {
-          SliceToRASForOrientation(static_cast<SliceOrientation>(o), result.TipRAS, sliceToRAS);
+          vtkRPSliceNode::ComputeSliceToRAS(orientations[o], result.TipRAS, sliceToRAS);
         } else {
-          SliceToRASForTool(tipToWorld, sliceToRAS);
+          vtkRPSliceNode::ComputeSliceToRASForTool(tipToWorld, sliceToRAS);
         }
         auto slice = ResliceVolume(state.CT, sliceToRAS, options);
         const std::string file = "navigation-" + std::to_string(pictures) + "-" + names[o] + ".png";
