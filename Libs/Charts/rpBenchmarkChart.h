@@ -26,6 +26,12 @@ bool WriteChartPNG(const std::string& path, const std::vector<Series>& series, c
 bool WriteHistogramPNG(const std::string& path, const std::vector<double>& binCenters,
                        const std::vector<double>& counts, const ChartOptions& options, std::string& error);
 
+/// Grouped bars: one group per category (labelled on the X axis), one bar per series in each
+/// group (each series' Y holds one value per category; X is not used), e.g. requested against
+/// rendered stiffness per tissue.
+bool WriteBarChartPNG(const std::string& path, const std::vector<std::string>& categories,
+                      const std::vector<Series>& series, const ChartOptions& options, std::string& error);
+
 /// Writes a CSV with a header row; every row must have header.size() values.
 bool WriteCSV(const std::string& path, const std::vector<std::string>& header,
               const std::vector<std::vector<double>>& rows, std::string& error);
