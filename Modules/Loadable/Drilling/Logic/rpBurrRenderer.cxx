@@ -24,10 +24,11 @@ void BurrRenderer::Reset(const Vec3& hip) noexcept {
 }
 
 const BurrForce& BurrRenderer::Update(const DrillVolume& volume, const Vec3& hip, double radius, double otherStiffness,
-                                      double otherDamping) noexcept {
+                                      double otherDamping, double elapsed) noexcept {
   if (!this->Initialized) this->Reset(hip);
   BurrForce& out = this->Out;
-  const double dt = this->Options.Period > 0 ? this->Options.Period : 0.001;
+  const double period = this->Options.Period > 0 ? this->Options.Period : 0.001;
+  const double dt = elapsed > 0 ? elapsed : period;
   out.Contact = this->God.Update(volume, hip, radius);
   const BurrContact& c = out.Contact;
   out.Hip = hip;
@@ -56,8 +57,8 @@ const BurrForce& BurrRenderer::Update(const DrillVolume& volume, const Vec3& hip
       budget.NominalMaxStiffness = std::max(0.0, budget.NominalMaxStiffness - otherStiffness);
       budget.NominalMaxDamping = std::max(0.0, budget.NominalMaxDamping - otherDamping);
       if (budget.PhysicalDamping > 0)
-        budget.PhysicalDamping = std::max(0.0, budget.PhysicalDamping - (otherStiffness * dt / 2 + otherDamping));
-      out.Gains = LimitGains(k, b, budget, dt, this->Options.WorkspaceScale);
+        budget.PhysicalDamping = std::max(0.0, budget.PhysicalDamping - (otherStiffness * period / 2 + otherDamping));
+      out.Gains = LimitGains(k, b, budget, period, this->Options.WorkspaceScale);
       k *= out.Gains.StiffnessScale;
       b *= out.Gains.DampingScale;
     }

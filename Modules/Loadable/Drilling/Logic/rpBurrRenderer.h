@@ -45,8 +45,10 @@ class BurrRenderer {
   /// One servo tick for burr centre `hip` (scene frame). `otherStiffness`/`otherDamping` are the
   /// summed gains other contacts (the mesh god-object) already render this tick: the passive
   /// budget is shared with them.
+  /// `elapsed` is the measured time since the previous tick (a servo stall shows there): the
+  /// velocities of the damping term use it; 0 means one period.
   const BurrForce& Update(const DrillVolume& volume, const Vec3& hip, double radius, double otherStiffness = 0,
-                          double otherDamping = 0) noexcept;
+                          double otherDamping = 0, double elapsed = 0) noexcept;
   const BurrForce& Output() const { return this->Out; }
   BurrProxy& Proxy() { return this->God; }
 

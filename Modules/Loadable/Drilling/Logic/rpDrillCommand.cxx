@@ -15,8 +15,8 @@
 #include "rpDrillAnalytic.h"
 #include "rpDrillBoneBuilder.h"
 #include "rpDrillRun.h"
+#include "rpHapticSceneBridge.h"
 #include "rpModelIO.h"
-#include "rpResources.h"
 #include "rpSegmentationIO.h"
 #include "rpSimulatedDevice.h"
 #include "rpTunnelPicture.h"
@@ -254,14 +254,13 @@ int RunDrillCommand(const std::vector<std::string>& args, std::ostream& out, std
 
   // ---- materials and the voxel bone
   MaterialTable table;
-  const std::string materialsPath = parser.Has("materials") ? parser.Get("materials") : ResourcePath("Materials/materials.json");
-  if (!table.Load(materialsPath, error)) {
+  if (!LoadMaterialTable(table, error, parser.Get("materials"))) {
     err << "roboplan drill: " << error << "\n";
     return 1;
   }
   const std::vector<Material> materials = DrillableMaterials(table);
   if (materials.empty()) {
-    err << "roboplan drill: '" << materialsPath << "' has no drillable material (no \"hardness\")\n";
+    err << "roboplan drill: " << table.Source() << " has no drillable material (no \"hardness\")\n";
     return 1;
   }
   auto bone = std::make_unique<DrillVolume>();
@@ -502,7 +501,7 @@ int RunDrillCommand(const std::vector<std::string>& args, std::ostream& out, std
     picture.To = to;
     picture.Radius = radius;
     for (const DrillRecordLine& l : result.Records) picture.Path.push_back(l.Record.Proxy);
-    if (built.HasProtected) picture.Protected = TriangleMeshToVtk(protectedMesh);
+    if (built.HasProtected) picture.Protected = TriangleMeshToPolyData(protectedMesh);
     if (!WriteTunnelPicture(parser.Get("picture"), picture, error)) {
       err << "roboplan drill: " << error << "\n";
       return 1;

@@ -67,7 +67,13 @@ void DrillServo::Tick(const TickInfo& tick) noexcept {
   DeviceState device;
   const bool ok = this->Device.Read(tick.Time, device);
   s.DeviceError = !ok;
-  if (this->First) this->RampStart = tick.Time;
+  if (this->First) {
+    this->RampStart = tick.Time;
+    this->LastTime = tick.Time - tick.Period;
+  }
+  // Measured time since the previous tick: a stall (the thread was not run) shows here.
+  const double elapsed = tick.Time > this->LastTime ? tick.Time - this->LastTime : dt;
+  this->LastTime = tick.Time;
   if (!ok || tick.PreviousOverran) {
     // Watchdog: no force, no cutting, ramp in again.
     ++this->Trips;
@@ -82,14 +88,8 @@ void DrillServo::Tick(const TickInfo& tick) noexcept {
   }
 
   // Stylus (and burr centre) in the scene.
-  Pose stylus;
+  const Pose stylus = xf.StylusInScene(device.StylusToDevice);
   const double scale = xf.Scale > 0 ? xf.Scale : 1.0;
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c)
-      stylus.R[3 * r + c] = xf.DeviceToRAS.R[3 * r] * device.StylusToDevice.R[c] +
-                            xf.DeviceToRAS.R[3 * r + 1] * device.StylusToDevice.R[3 + c] +
-                            xf.DeviceToRAS.R[3 * r + 2] * device.StylusToDevice.R[6 + c];
-  stylus.T = xf.DeviceToRAS.Apply(device.StylusToDevice.T * scale);
   const Vec3 hip = stylus.Apply(this->Settings.BurrCenter);
   const double radius = std::clamp(control.Radius, 0.25, 10.0);
   if (this->First) {
@@ -125,13 +125,13 @@ void DrillServo::Tick(const TickInfo& tick) noexcept {
   meshOptions.WorkspaceScale = scale;
   this->Mesh.SetOptions(meshOptions);
   this->Mesh.SetScene(this->SceneSlots.Acquire());
-  const RenderOutput& meshOut = this->Mesh.Update(stylus);
+  const RenderOutput& meshOut = this->Mesh.Update(stylus, elapsed);
   BurrForceOptions burrOptions = this->Render.GetOptions();
   burrOptions.Period = dt;
   burrOptions.WorkspaceScale = scale;
   this->Render.SetOptions(burrOptions);
   const BurrForce& burr = this->Render.Update(this->Volume, hip, radius, meshOut.Contacts ? meshOut.Gains.Stiffness : 0.0,
-                                             meshOut.Contacts ? meshOut.Gains.Damping : 0.0);
+                                             meshOut.Contacts ? meshOut.Gains.Damping : 0.0, elapsed);
 
   // Cutting.
   const auto& materials = this->Volume.Materials();

@@ -135,7 +135,7 @@ class DrillServo : public ServoTask {
   bool First = true, Placed = false, WasOn = false;
   Vec3 CutCenter;          // centre of the last cut; the next one advances from here
   bool HasCutCenter = false;
-  double RampStart = 0;
+  double RampStart = 0, LastTime = 0;
   uint32_t Trips = 0;
   DrillState Scratch;
 };

@@ -3,7 +3,6 @@
 #include <algorithm>
 
 #include <cmath>
-#include <filesystem>
 
 #include <vtkActor.h>
 #include <vtkCamera.h>
@@ -11,10 +10,8 @@
 #include <vtkImageActor.h>
 #include <vtkImageData.h>
 #include <vtkImageMapper3D.h>
-#include <vtkLineSource.h>
 #include <vtkLookupTable.h>
 #include <vtkNew.h>
-#include <vtkPNGWriter.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkPolyDataMapper.h>
@@ -25,27 +22,11 @@
 #include <vtkTextActor.h>
 #include <vtkTextProperty.h>
 #include <vtkTubeFilter.h>
-#include <vtkWindowToImageFilter.h>
 
+#include "rpBenchmarkChart.h"
 #include "rpDrillVolume.h"
 
 namespace rp {
-
-vtkSmartPointer<vtkPolyData> TriangleMeshToVtk(const TriangleMesh& mesh) {
-  vtkNew<vtkPoints> points;
-  points->SetNumberOfPoints(static_cast<vtkIdType>(mesh.Points.size()));
-  for (size_t i = 0; i < mesh.Points.size(); ++i)
-    points->SetPoint(static_cast<vtkIdType>(i), mesh.Points[i].x, mesh.Points[i].y, mesh.Points[i].z);
-  vtkNew<vtkCellArray> polys;
-  for (const auto& t : mesh.Triangles) {
-    const vtkIdType ids[3] = {t[0], t[1], t[2]};
-    polys->InsertNextCell(3, ids);
-  }
-  auto poly = vtkSmartPointer<vtkPolyData>::New();
-  poly->SetPoints(points);
-  poly->SetPolys(polys);
-  return poly;
-}
 
 namespace {
 
@@ -286,17 +267,8 @@ bool WriteTunnelPicture(const std::string& path, const TunnelPicture& picture, s
     }
     window->AddRenderer(renderer);
   }
-  window->Render();
-  vtkNew<vtkWindowToImageFilter> grab;
-  grab->SetInput(window);
-  grab->ReadFrontBufferOff();
-  grab->Update();
-  vtkNew<vtkPNGWriter> writer;
-  writer->SetFileName(path.c_str());
-  writer->SetInputConnection(grab->GetOutputPort());
-  writer->Write();
-  if (writer->GetErrorCode() != 0 || !std::filesystem::exists(path)) {
-    error = "tunnel picture: could not write '" + path + "'";
+  if (!bench::WriteWindowPNG(window, path, error)) {
+    error = "tunnel picture: " + error;
     return false;
   }
   return true;

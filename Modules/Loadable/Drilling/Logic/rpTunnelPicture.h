@@ -32,7 +32,4 @@ struct TunnelPicture {
 
 bool WriteTunnelPicture(const std::string& path, const TunnelPicture& picture, std::string& error);
 
-/// A triangle mesh as polydata (for the protected surface).
-vtkSmartPointer<vtkPolyData> TriangleMeshToVtk(const TriangleMesh& mesh);
-
 }  // namespace rp

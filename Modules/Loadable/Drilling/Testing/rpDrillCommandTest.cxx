@@ -20,6 +20,7 @@
 #include <vtkPointData.h>
 
 #include "rpDrillCommand.h"
+#include "rpSharedData.h"
 #include "rpVolumeIO.h"
 
 namespace fs = std::filesystem;
@@ -171,8 +172,9 @@ TEST(DrillCommand, LabelmapWithProtectedSegmentAndCT) {
 }
 
 TEST(DrillCommand, RealKneeCTTibia) {
-  const fs::path data = fs::path(ROBOPLAN_SHARED_DATA_DIR) / "knee-ct-vhf";
-  if (!fs::exists(data / "labels.nrrd")) GTEST_SKIP() << "missing " << (data / "labels.nrrd");
+  RP_REQUIRE_SHARED_DATA("knee-ct-vhf/labels.nrrd");
+  RP_REQUIRE_SHARED_DATA("knee-ct-vhf/dicom");
+  const fs::path data = rptest::SharedDataPath("knee-ct-vhf");
   // The tibia (label 1): a tunnel from its anterior surface into its centre, fibula protected.
   vtkNew<vtkImageData> labels;
   vtkNew<vtkMatrix4x4> ijkToRAS;

@@ -30,7 +30,7 @@ namespace {
 std::vector<rp::Material> Materials() {
   rp::MaterialTable table;
   std::string error;
-  EXPECT_TRUE(table.Load(std::string(ROBOPLAN_RESOURCES_DIR) + "/Materials/materials.json", error)) << error;
+  EXPECT_TRUE(rp::LoadMaterialTable(table, error)) << error;
   return rp::DrillableMaterials(table);
 }
 
