@@ -63,7 +63,25 @@ struct Box {
   size_t Index(int i, int j, int k) const {
     return (static_cast<size_t>(k) * this->Size[1] + static_cast<size_t>(j)) * this->Size[0] + static_cast<size_t>(i);
   }
+  void Coords(size_t idx, int c[3]) const {
+    const size_t nx = static_cast<size_t>(this->Size[0]), ny = static_cast<size_t>(this->Size[1]);
+    c[0] = static_cast<int>(idx % nx), c[1] = static_cast<int>((idx / nx) % ny), c[2] = static_cast<int>(idx / (nx * ny));
+  }
 };
+
+// Calls f(neighbour index) for the face neighbours of `idx` inside [lo, hi] (voxel ranges).
+template <typename F>
+void ForFaceNeighbours(const Box& box, size_t idx, const int lo[3], const int hi[3], F&& f) {
+  int c[3];
+  box.Coords(idx, c);
+  for (int a = 0; a < 3; ++a)
+    for (int d : {-1, 1}) {
+      int q[3] = {c[0], c[1], c[2]};
+      q[a] += d;
+      if (q[a] < lo[a] || q[a] > hi[a]) continue;
+      f(box.Index(q[0], q[1], q[2]));
+    }
+}
 
 template <typename T>
 void ThresholdVolume(const T* v, size_t n, double lower, double upper, std::vector<uint8_t>& mask) {
@@ -85,20 +103,11 @@ void FillHoles(std::vector<uint8_t>& mask, const Box& box, int sliceAxis) {
     while (!stack.empty()) {
       const size_t idx = stack.back();
       stack.pop_back();
-      const int i = static_cast<int>(idx % static_cast<size_t>(n[0]));
-      const int j = static_cast<int>((idx / static_cast<size_t>(n[0])) % static_cast<size_t>(n[1]));
-      const int k = static_cast<int>(idx / (static_cast<size_t>(n[0]) * static_cast<size_t>(n[1])));
-      const int p[3] = {i, j, k};
-      for (int a = 0; a < 3; ++a)
-        for (int d : {-1, 1}) {
-          int q[3] = {p[0], p[1], p[2]};
-          q[a] += d;
-          if (q[a] < lo[a] || q[a] > hi[a]) continue;
-          const size_t qi = box.Index(q[0], q[1], q[2]);
-          if (mask[qi] || outside[qi]) continue;
-          outside[qi] = 1;
-          stack.push_back(qi);
-        }
+      ForFaceNeighbours(box, idx, lo, hi, [&](size_t qi) {
+        if (mask[qi] || outside[qi]) return;
+        outside[qi] = 1;
+        stack.push_back(qi);
+      });
     }
   };
   auto seedBorder = [&](const int lo[3], const int hi[3], std::vector<size_t>& stack) {
@@ -140,7 +149,7 @@ int Components(const std::vector<uint8_t>& mask, const Box& box, std::vector<int
   labels.assign(mask.size(), 0);
   sizes.assign(1, 0);
   std::vector<size_t> stack;
-  const int* n = box.Size;
+  const int lo[3] = {0, 0, 0}, hi[3] = {box.Size[0] - 1, box.Size[1] - 1, box.Size[2] - 1};
   int next = 0;
   for (size_t start = 0; start < mask.size(); ++start) {
     if (!mask[start] || labels[start]) continue;
@@ -152,20 +161,11 @@ int Components(const std::vector<uint8_t>& mask, const Box& box, std::vector<int
       const size_t idx = stack.back();
       stack.pop_back();
       ++count;
-      const int i = static_cast<int>(idx % static_cast<size_t>(n[0]));
-      const int j = static_cast<int>((idx / static_cast<size_t>(n[0])) % static_cast<size_t>(n[1]));
-      const int k = static_cast<int>(idx / (static_cast<size_t>(n[0]) * static_cast<size_t>(n[1])));
-      const int p[3] = {i, j, k};
-      for (int a = 0; a < 3; ++a)
-        for (int d : {-1, 1}) {
-          int q[3] = {p[0], p[1], p[2]};
-          q[a] += d;
-          if (q[a] < 0 || q[a] >= n[a]) continue;
-          const size_t qi = box.Index(q[0], q[1], q[2]);
-          if (!mask[qi] || labels[qi]) continue;
-          labels[qi] = next;
-          stack.push_back(qi);
-        }
+      ForFaceNeighbours(box, idx, lo, hi, [&](size_t qi) {
+        if (!mask[qi] || labels[qi]) return;
+        labels[qi] = next;
+        stack.push_back(qi);
+      });
     }
     sizes.push_back(count);
   }
@@ -663,31 +663,30 @@ bool SplitBones(vtkRPImageNode* ct, vtkRPSegmentationNode* segmentation, const B
   const long minVoxels = std::max(1L, static_cast<long>(std::ceil(options.MinBoneMl / voxelMl)));
   for (bool changed = true; changed;) {
     changed = false;
-    for (auto& [g, count] : groupSize) {
-      if (count == 0 || count >= minVoxels) continue;
-      std::map<int32_t, long> contact;
-      const int* n = box.Size;
-      for (size_t i = 0; i < group.size(); ++i) {
-        if (group[i] != g) continue;
-        const int c[3] = {static_cast<int>(i % static_cast<size_t>(n[0])),
-                          static_cast<int>((i / static_cast<size_t>(n[0])) % static_cast<size_t>(n[1])),
-                          static_cast<int>(i / (static_cast<size_t>(n[0]) * static_cast<size_t>(n[1])))};
-        for (int a = 0; a < 3; ++a)
-          for (int dir : {-1, 1}) {
-            int q[3] = {c[0], c[1], c[2]};
-            q[a] += dir;
-            if (q[a] < 0 || q[a] >= n[a]) continue;
-            const int32_t other = group[box.Index(q[0], q[1], q[2])];
-            if (other && other != g) ++contact[other];
-          }
-      }
-      if (contact.empty()) continue;
-      const int32_t into =
-          std::max_element(contact.begin(), contact.end(), [](auto& x, auto& y) { return x.second < y.second; })->first;
-      for (int32_t& v : group)
-        if (v == g) v = into;
-      groupSize[into] += count;
-      count = 0;
+    // Contacts of every small group with its neighbours, in one pass.
+    std::map<int32_t, std::map<int32_t, long>> contact;
+    const int lo[3] = {0, 0, 0}, hi[3] = {box.Size[0] - 1, box.Size[1] - 1, box.Size[2] - 1};
+    for (size_t i = 0; i < group.size(); ++i) {
+      const int32_t g = group[i];
+      if (!g || groupSize[g] >= minVoxels) continue;
+      ForFaceNeighbours(box, i, lo, hi, [&](size_t qi) {
+        if (group[qi] && group[qi] != g) ++contact[g][group[qi]];
+      });
+    }
+    std::map<int32_t, int32_t> into;
+    for (const auto& [g, touching] : contact) {
+      const int32_t target =
+          std::max_element(touching.begin(), touching.end(), [](auto& x, auto& y) { return x.second < y.second; })->first;
+      if (into.count(target)) continue;  // the target itself moves this round: next round
+      into[g] = target;
+    }
+    for (int32_t& v : group) {
+      const auto it = v ? into.find(v) : into.end();
+      if (it != into.end()) v = it->second;
+    }
+    for (const auto& [g, target] : into) {
+      groupSize[target] += groupSize[g];
+      groupSize[g] = 0;
       changed = true;
     }
   }

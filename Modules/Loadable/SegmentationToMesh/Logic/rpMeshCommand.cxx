@@ -70,6 +70,14 @@ json StatsJson(const MeshStats& s) {
           {"boundaryEdges", s.BoundaryEdges},
           {"nonManifoldEdges", s.NonManifoldEdges},
           {"watertight", s.Watertight},
+          {"nonManifoldVertices", s.NonManifoldVertices},
+          {"manifold", s.Manifold},
+          {"method", s.Method},
+          {"maxDeviationMm", s.MaxDeviationMm},
+          {"budgetTriangles", s.BudgetTriangles},
+          {"withinBudget", s.WithinBudget},
+          {"droppedComponents", s.DroppedComponents},
+          {"droppedVolumeMm3", s.DroppedVolumeMm3},
           {"touchesBorder", s.TouchesBorder},
           {"gridStep", {s.GridStep[0], s.GridStep[1], s.GridStep[2]}},
           {"seconds", s.Seconds},
@@ -583,7 +591,10 @@ int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contex
       err << "  " << m.SegmentID << " (" << (m.TissueClass.empty() ? "no tissue class" : m.TissueClass)
                 << "): display " << m.Display.Triangles << " triangles, volume error "
                 << m.Display.VolumeErrorPercent << " %, " << (m.Display.Watertight ? "watertight" : "NOT watertight");
-      if (m.HapticModel) err << "; haptic " << m.Haptic.Triangles << " triangles";
+      if (m.HapticModel)
+        err << "; haptic " << m.Haptic.Triangles << " triangles (" << m.Haptic.Method << ", "
+            << (m.Haptic.Manifold ? "closed manifold" : "NOT a closed manifold") << ", max deviation "
+            << m.Haptic.MaxDeviationMm << " mm" << (m.Haptic.WithinBudget ? "" : ", OVER BUDGET") << ")";
       err << "\n";
     }
     err << "wrote " << models.size() - static_cast<size_t>(failures) << " segment(s) to " << outDir.string()

@@ -67,57 +67,16 @@ SurfaceError CompareToSurface(vtkPolyData* mesh, const SignedDistanceFunction& s
   double sumSquares = 0, samples = 0;
   std::vector<double> all;  // |distance| of every sample, both directions
   if (sdf) {
-    // Mesh → truth: |sdf| at each vertex and triangle centroid, weighted by area (vertices carry a
-    // third of their triangles' area each, centroids the triangle's own area).
-    vtkCellArray* polys = mesh->GetPolys();
-    vtkPoints* points = mesh->GetPoints();
-    const vtkIdType np = mesh->GetNumberOfPoints();
-    std::vector<double> vertexArea(static_cast<size_t>(np), 0.0);
-    std::vector<std::array<double, 4>> centroids;  // x, y, z, area
-    centroids.reserve(static_cast<size_t>(mesh->GetNumberOfPolys()));
-    vtkIdType n;
-    const vtkIdType* ids;
-    double a[3], b[3], c[3];
-    for (polys->InitTraversal(); polys->GetNextCell(n, ids);) {
-      if (n != 3) continue;
-      points->GetPoint(ids[0], a), points->GetPoint(ids[1], b), points->GetPoint(ids[2], c);
-      const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-      const double f[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
-      const double area = 0.5 * std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
-      for (int t = 0; t < 3; ++t) vertexArea[static_cast<size_t>(ids[t])] += area / 6.0;
-      centroids.push_back({(a[0] + b[0] + c[0]) / 3, (a[1] + b[1] + c[1]) / 3, (a[2] + b[2] + c[2]) / 3, area / 2.0});
-    }
-    const size_t total = static_cast<size_t>(np) + centroids.size();
-    std::vector<double> d(total);
-    vtkSMPTools::For(0, static_cast<vtkIdType>(total), [&](vtkIdType i0, vtkIdType i1) {
-      double p[3];
-      for (vtkIdType i = i0; i < i1; ++i) {
-        if (i < np) {
-          points->GetPoint(i, p);
-        } else {
-          const auto& q = centroids[static_cast<size_t>(i - np)];
-          p[0] = q[0], p[1] = q[1], p[2] = q[2];
-        }
-        d[static_cast<size_t>(i)] = sdf(p);
-      }
+    // Mesh → truth: |sdf| at each vertex and triangle centroid, weighted by area.
+    const Samples s = SampleMesh(mesh);
+    std::vector<double> d(s.Points.size());
+    vtkSMPTools::For(0, static_cast<vtkIdType>(d.size()), [&](vtkIdType i0, vtkIdType i1) {
+      for (vtkIdType i = i0; i < i1; ++i) d[static_cast<size_t>(i)] = sdf(s.Points[static_cast<size_t>(i)].data());
     });
     double weighted = 0, signedSum = 0, weights = 0;
-    std::vector<char> keep(total, 1);
-    if (clipBounds) {
-      for (size_t i = 0; i < total; ++i) {
-        double p[3];
-        if (i < static_cast<size_t>(np)) {
-          points->GetPoint(static_cast<vtkIdType>(i), p);
-        } else {
-          const auto& q = centroids[i - static_cast<size_t>(np)];
-          p[0] = q[0], p[1] = q[1], p[2] = q[2];
-        }
-        keep[i] = InBox(clipBounds, p);
-      }
-    }
-    for (size_t i = 0; i < total; ++i) {
-      if (!keep[i]) continue;
-      const double w = i < static_cast<size_t>(np) ? vertexArea[i] : centroids[i - static_cast<size_t>(np)][3];
+    for (size_t i = 0; i < d.size(); ++i) {
+      if (!InBox(clipBounds, s.Points[i].data())) continue;
+      const double w = s.Weights[i];
       weighted += w * std::abs(d[i]);
       signedSum += w * d[i];
       weights += w;
