@@ -310,8 +310,8 @@ void ComputeVertexNormals(vtkPolyData* mesh) {
   for (polys->InitTraversal(); polys->GetNextCell(n, ids);) {
     if (n != 3) continue;
     points->GetPoint(ids[0], a), points->GetPoint(ids[1], b), points->GetPoint(ids[2], c);
-    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    const double f[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+    double f[3];
+    TriangleCross(a, b, c, f);
     for (int t = 0; t < 3; ++t)
       for (int d = 0; d < 3; ++d) acc[static_cast<size_t>(ids[t]) * 3 + d] += f[d];
   }
@@ -358,8 +358,8 @@ void OrientOutward(vtkPolyData* mesh) {
   for (polys->InitTraversal(); polys->GetNextCell(n, ids);) {
     if (n != 3) continue;
     points->GetPoint(ids[0], a), points->GetPoint(ids[1], b), points->GetPoint(ids[2], c);
-    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    const double f[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+    double f[3];
+    TriangleCross(a, b, c, f);
     normals->GetTuple(ids[0], nv);
     agreement += f[0] * nv[0] + f[1] * nv[1] + f[2] * nv[2];
   }
@@ -644,8 +644,8 @@ void MeshVolumeAndArea(vtkPolyData* mesh, double& volume, double& area) {
         points->GetPoint(cell->GetId(0), a), points->GetPoint(cell->GetId(t), b), points->GetPoint(cell->GetId(t + 1), c);
         local[0] += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
                      a[2] * (b[0] * c[1] - b[1] * c[0])) / 6.0;
-        const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-        const double f[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+        double f[3];
+        TriangleCross(a, b, c, f);
         local[1] += 0.5 * std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
       }
     }

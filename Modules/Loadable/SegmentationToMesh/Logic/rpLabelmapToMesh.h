@@ -93,6 +93,12 @@ void ComputeMeshNormals(vtkPolyData* mesh);
 double CorrectMeshVolume(vtkPolyData* mesh, double targetVolume);
 void FillMeshStats(vtkPolyData* mesh, MeshStats& stats);
 
+/// (b - a) x (c - a): twice the triangle's area along its normal.
+inline void TriangleCross(const double a[3], const double b[3], const double c[3], double f[3]) {
+  const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+  f[0] = u[1] * v[2] - u[2] * v[1], f[1] = u[2] * v[0] - u[0] * v[2], f[2] = u[0] * v[1] - u[1] * v[0];
+}
+
 /// Edge topology of a triangle mesh: edges used by one triangle (holes) and by more than two.
 void CountBadEdges(vtkPolyData* mesh, long& boundaryEdges, long& nonManifoldEdges);
 /// Vertices whose triangles do not form one closed fan (two sheets touching at a point).

@@ -49,8 +49,8 @@ Samples SampleMesh(vtkPolyData* mesh) {
   for (polys->InitTraversal(); polys->GetNextCell(n, ids);) {
     if (n != 3) continue;
     points->GetPoint(ids[0], a), points->GetPoint(ids[1], b), points->GetPoint(ids[2], c);
-    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    const double f[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+    double f[3];
+    TriangleCross(a, b, c, f);
     const double area = 0.5 * std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
     for (int t = 0; t < 3; ++t) s.Weights[static_cast<size_t>(ids[t])] += area / 6.0;
     s.Points.push_back({(a[0] + b[0] + c[0]) / 3, (a[1] + b[1] + c[1]) / 3, (a[2] + b[2] + c[2]) / 3});
@@ -151,8 +151,8 @@ SurfaceError CompareMeshes(vtkPolyData* mesh, vtkPolyData* reference, const doub
         double a[3], b[3], c[3];
         vtkPoints* pts = cell->GetPoints();
         pts->GetPoint(0, a), pts->GetPoint(1, b), pts->GetPoint(2, c);
-        const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-        const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+        double n[3];
+        TriangleCross(a, b, c, n);
         const double side = (p[0] - closest[0]) * n[0] + (p[1] - closest[1]) * n[1] + (p[2] - closest[2]) * n[2];
         if (side * orientation < 0) d = -d;
       }

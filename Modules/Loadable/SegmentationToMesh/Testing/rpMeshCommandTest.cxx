@@ -202,7 +202,9 @@ TEST(MeshCommand, SplitBonesOfTheRealKneeCTWithTruth) {
       EXPECT_EQ(score["truthLabel"], 1);
       EXPECT_GT(score["dice"].get<double>(), 0.93);
     }
-    if (score["segment"] == "fibula") EXPECT_EQ(score["truthLabel"], 2);
+    if (score["segment"] == "fibula") {
+      EXPECT_EQ(score["truthLabel"], 2);
+    }
   }
   for (const auto& s : doc["segments"]) EXPECT_TRUE(s["display"]["watertight"].get<bool>()) << s["id"];
   EXPECT_TRUE(fs::exists(dir / "out" / "tibia.vtp"));
