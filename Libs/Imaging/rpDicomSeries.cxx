@@ -861,7 +861,7 @@ bool ReadDicomVolume(const std::string& path, ImageVolume& volume, std::string& 
                      const DicomReadOptions& options, std::vector<std::string>* warnings,
                      const ProgressCallback& progress) {
   DicomScanResult scan;
-  if (!ScanDicom(path, scan, error)) return false;
+  if (!ScanDicom(path, scan, error, progress)) return false;
   auto listing = [](const std::vector<const DicomSeriesInfo*>& stacks) {
     std::string text;
     for (const DicomSeriesInfo* s : stacks) {
