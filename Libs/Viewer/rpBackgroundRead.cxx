@@ -1,5 +1,6 @@
 #include "rpBackgroundRead.h"
 
+#include <algorithm>
 #include <atomic>
 #include <exception>
 #include <memory>
