@@ -184,18 +184,18 @@ INSTANTIATE_TEST_SUITE_P(RealSeries, TransferSyntax, ::testing::ValuesIn(Codecs(
                            return name;
                          });
 
-// GDCM (libcharls 2) and DCMTK (its own CharLS 1 fork, libdcmtkcharls) both export
-// JpegLsDecode and friends under the same unversioned names; in one process the first loaded
-// serves both callers. The reader therefore never loads DCMTK's JPEG-LS codec: this process
-// (our reader + GDCM + DCMTK) must hold one CharLS, and our reader and GDCM's own API must
-// agree on JPEG-LS (lossless, near-lossless) and JPEG 2000 files.
-TEST(TransferSyntaxLibraries, GdcmAndDcmtkAgreeInOneProcess) {
+// DCMTK's CharLS 1 fork and CharLS 2 export JpegLsDecode & co. under the same names; the reader
+// decodes JPEG-LS through CharLS 2's charls_jpegls_decoder_* API, which only CharLS 2 has. Load
+// DCMTK's fork into this process first (as any target linking ${ITK_LIBRARIES} does when the
+// linker keeps every library, e.g. under the sanitizers): JPEG-LS lossless and near-lossless must
+// still read correctly, JPEG 2000 must agree with GDCM's own API, and a damaged JPEG-LS
+// codestream must be an error naming the file.
+TEST(TransferSyntaxLibraries, JpegLsIsRightWhicheverCharLSIsLoaded) {
   const std::string gdcmconv = FindTool("gdcmconv");
   if (gdcmconv.empty()) GTEST_SKIP() << "gdcmconv not found on PATH (Debian package libgdcm-tools)";
   const fs::path source = kData + "/dicom/ct-3slice/02.dcm";
   if (!fs::exists(source)) GTEST_SKIP() << "no shared data at " << source;
-  EXPECT_EQ(dlopen("libdcmtkcharls.so.17", RTLD_NOW | RTLD_NOLOAD), nullptr)
-      << "DCMTK's CharLS fork is loaded: its JpegLs* symbols clash with CharLS 2 (see rpDicomTransferSyntax.h)";
+  void* dcmtkCharLS = dlopen("libdcmtkcharls.so.17", RTLD_NOW | RTLD_GLOBAL);
   Dl_info info{};
   if (void* symbol = dlsym(RTLD_DEFAULT, "JpegLsDecode"); symbol && dladdr(symbol, &info))
     std::cout << "JpegLsDecode resolves to " << info.dli_fname << " in this process\n";
@@ -214,26 +214,26 @@ TEST(TransferSyntaxLibraries, GdcmAndDcmtkAgreeInOneProcess) {
     ASSERT_EQ(std::system(command.c_str()), 0) << command;
     rp::ImageVolume ours;
     ASSERT_TRUE(rp::ReadDicomVolume(out.string(), ours, error)) << error;
-    gdcm::ImageReader reader;
-    reader.SetFileName(out.c_str());
-    ASSERT_TRUE(reader.Read());
-    std::vector<char> buffer(reader.GetImage().GetBufferLength());
-    ASSERT_TRUE(reader.GetImage().GetBuffer(buffer.data()));
-    ASSERT_EQ(buffer.size(), size_t(512 * 512 * 2));
-    const int16_t* theirs = reinterpret_cast<const int16_t*>(buffer.data());
     vtkDataArray* b = ours.Image->GetPointData()->GetScalars();
-    double maxOurs = 0, maxTheirs = 0, maxBetween = 0;
-    for (vtkIdType i = 0; i < a->GetNumberOfTuples(); ++i) {
+    double maxOurs = 0;
+    for (vtkIdType i = 0; i < a->GetNumberOfTuples(); ++i)
       maxOurs = std::max(maxOurs, std::abs(b->GetComponent(i, 0) - a->GetComponent(i, 0)));
-      maxTheirs = std::max(maxTheirs, std::abs(theirs[i] - 1024.0 - a->GetComponent(i, 0)));  // intercept -1024
-      maxBetween = std::max(maxBetween, std::abs(theirs[i] - 1024.0 - b->GetComponent(i, 0)));
+    EXPECT_LE(maxOurs, args.find("-e 2") != std::string::npos ? 2.0 : 0.0);
+    if (args == "--j2k") {  // GDCM's own API on the same file (OpenJPEG: no clash)
+      gdcm::ImageReader reader;
+      reader.SetFileName(out.c_str());
+      ASSERT_TRUE(reader.Read());
+      std::vector<char> buffer(reader.GetImage().GetBufferLength());
+      ASSERT_TRUE(reader.GetImage().GetBuffer(buffer.data()));
+      ASSERT_EQ(buffer.size(), size_t(512 * 512 * 2));
+      const int16_t* theirs = reinterpret_cast<const int16_t*>(buffer.data());
+      double maxBetween = 0;
+      for (vtkIdType i = 0; i < b->GetNumberOfTuples(); ++i)
+        maxBetween = std::max(maxBetween, std::abs(theirs[i] - 1024.0 - b->GetComponent(i, 0)));  // intercept -1024
+      EXPECT_EQ(maxBetween, 0.0);
     }
-    const double allowed = args.find("-e 2") != std::string::npos ? 2.0 : 0.0;
-    EXPECT_LE(maxOurs, allowed);
-    EXPECT_LE(maxTheirs, allowed);
-    EXPECT_EQ(maxBetween, 0.0);  // the same codestream decodes to the same values either way
   }
-  // A damaged JPEG-LS codestream is an error naming the file, not a crash in either CharLS.
+  // A damaged JPEG-LS codestream is an error naming the file, not a crash.
   const fs::path damaged = root / "damaged.dcm";
   ASSERT_EQ(std::system(("\"" + gdcmconv + "\" --jpegls \"" + source.string() + "\" \"" + damaged.string() +
                          "\" >/dev/null 2>&1")
@@ -248,6 +248,8 @@ TEST(TransferSyntaxLibraries, GdcmAndDcmtkAgreeInOneProcess) {
   rp::ImageVolume v;
   EXPECT_FALSE(rp::ReadDicomVolume(damaged.string(), v, error));
   EXPECT_NE(error.find("damaged.dcm"), std::string::npos) << error;
+  std::cout << "damaged JPEG-LS: " << error << "\n";
+  if (dcmtkCharLS) dlclose(dcmtkCharLS);
 }
 
 }  // namespace
