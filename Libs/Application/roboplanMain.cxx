@@ -1,6 +1,7 @@
 // `roboplan`: one executable. With a subcommand it runs headless (subcommands come from the
 // loaded modules, plus `modules`); without one, or with scene/data files, it opens the viewer.
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -82,11 +83,16 @@ int ListModules(const rp::ModuleManager& manager, const std::vector<std::string>
 
 int main(int argc, char* argv[]) {
   std::vector<std::string> args(argv + 1, argv + argc);
+  // Run as `roboplan-<command>` (a link in lib/roboplan-cli: one executable per command, the way
+  // 3D Slicer finds CLI modules), it is `roboplan <command>`.
+  const std::string program = std::filesystem::path(argv[0]).filename().string();
+  const bool linkedCommand = program.rfind("roboplan-", 0) == 0;
+  if (linkedCommand) args.insert(args.begin(), program.substr(std::string("roboplan-").size()));
   vtkNew<vtkRPScene> scene;
   rp::ModuleManager manager;
   manager.LoadModules(rp::ModuleManager::DefaultSearchPaths(), scene);
 
-  const bool wantsViewer = args.empty() || (args[0].find('.') != std::string::npos && args[0][0] != '-');
+  const bool wantsViewer = !linkedCommand && (args.empty() || (args[0].find('.') != std::string::npos && args[0][0] != '-'));
   if (wantsViewer) {
 #ifdef ROBOPLAN_HAVE_VIEWER
     ReportFailures(manager);

@@ -14,6 +14,7 @@
 #include <vtkDoubleArray.h>
 #include <vtkNew.h>
 #include <vtkPNGWriter.h>
+#include <vtkStringArray.h>
 #include <vtkPen.h>
 #include <vtkPlot.h>
 #include <vtkPlotPoints.h>
@@ -33,20 +34,7 @@ bool Render(vtkContextView* view, const std::string& path, const ChartOptions& o
   view->GetRenderWindow()->SetOffScreenRendering(1);
   view->GetRenderWindow()->SetSize(options.Width, options.Height);
   view->GetRenderer()->SetBackground(1, 1, 1);
-  view->GetRenderWindow()->Render();
-  vtkNew<vtkWindowToImageFilter> grab;
-  grab->SetInput(view->GetRenderWindow());
-  grab->ReadFrontBufferOff();
-  grab->Update();
-  vtkNew<vtkPNGWriter> writer;
-  writer->SetFileName(path.c_str());
-  writer->SetInputConnection(grab->GetOutputPort());
-  writer->Write();
-  if (writer->GetErrorCode() != 0 || !std::filesystem::exists(path)) {
-    error = "could not write chart '" + path + "'";
-    return false;
-  }
-  return true;
+  return WriteWindowPNG(view->GetRenderWindow(), path, error);
 }
 
 void StyleChart(vtkChartXY* chart, const ChartOptions& options) {
@@ -146,6 +134,81 @@ bool WriteHistogramPNG(const std::string& path, const std::vector<double>& binCe
   bars->SetInputData(table, 0, 1);
   bars->SetColor(31, 119, 180, 255);
   return Render(view, path, options, error);
+}
+
+bool WriteBarChartPNG(const std::string& path, const std::vector<std::string>& categories,
+                      const std::vector<Series>& series, const ChartOptions& options, std::string& error) {
+  if (categories.empty() || series.empty()) {
+    error = "bar chart '" + path + "' has no categories or no series";
+    return false;
+  }
+  for (const Series& s : series) {
+    if (s.Y.size() != categories.size()) {
+      error = "series '" + s.Name + "' has " + std::to_string(s.Y.size()) + " values for " +
+              std::to_string(categories.size()) + " categories";
+      return false;
+    }
+  }
+  vtkNew<vtkContextView> view;
+  vtkNew<vtkChartXY> chart;
+  view->GetScene()->AddItem(chart);
+  StyleChart(chart, options);
+  chart->SetBarWidthFraction(0.8f);  // vtkChartXY puts bar plots of the same X side by side
+  vtkNew<vtkTable> table;
+  vtkNew<vtkDoubleArray> x;
+  x->SetName("category");
+  table->AddColumn(x);
+  for (const Series& s : series) {
+    vtkNew<vtkDoubleArray> y;
+    y->SetName(s.Name.c_str());
+    table->AddColumn(y);
+  }
+  table->SetNumberOfRows(static_cast<vtkIdType>(categories.size()));
+  double top = 0;
+  for (size_t i = 0; i < categories.size(); ++i) {
+    table->SetValue(static_cast<vtkIdType>(i), 0, static_cast<double>(i));
+    for (size_t j = 0; j < series.size(); ++j) {
+      table->SetValue(static_cast<vtkIdType>(i), static_cast<vtkIdType>(j + 1), series[j].Y[i]);
+      top = std::max(top, series[j].Y[i]);
+    }
+  }
+  for (size_t j = 0; j < series.size(); ++j) {
+    vtkPlot* bars = chart->AddPlot(vtkChart::BAR);
+    bars->SetInputData(table, 0, static_cast<vtkIdType>(j + 1));
+    const unsigned char* c = Palette[j % 8];
+    bars->SetColor(c[0], c[1], c[2], 255);
+  }
+  vtkNew<vtkDoubleArray> ticks;
+  vtkNew<vtkStringArray> labels;
+  for (size_t i = 0; i < categories.size(); ++i) {
+    ticks->InsertNextValue(static_cast<double>(i));
+    labels->InsertNextValue(categories[i]);
+  }
+  vtkAxis* bottom = chart->GetAxis(vtkAxis::BOTTOM);
+  bottom->SetCustomTickPositions(ticks, labels);
+  bottom->SetBehavior(vtkAxis::FIXED);
+  bottom->SetRange(-0.6, static_cast<double>(categories.size()) - 0.4);
+  vtkAxis* left = chart->GetAxis(vtkAxis::LEFT);
+  left->SetBehavior(vtkAxis::FIXED);
+  left->SetRange(0, top > 0 ? 1.1 * top : 1.0);
+  return Render(view, path, options, error);
+}
+
+bool WriteWindowPNG(vtkRenderWindow* window, const std::string& path, std::string& error) {
+  window->Render();
+  vtkNew<vtkWindowToImageFilter> grab;
+  grab->SetInput(window);
+  grab->ReadFrontBufferOff();
+  grab->Update();
+  vtkNew<vtkPNGWriter> writer;
+  writer->SetFileName(path.c_str());
+  writer->SetInputConnection(grab->GetOutputPort());
+  writer->Write();
+  if (writer->GetErrorCode() != 0 || !std::filesystem::exists(path)) {
+    error = "could not write the picture '" + path + "'";
+    return false;
+  }
+  return true;
 }
 
 bool WriteCSV(const std::string& path, const std::vector<std::string>& header,

@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+class vtkRenderWindow;
+
 namespace rp::bench {
 
 struct Series {
@@ -25,6 +27,15 @@ bool WriteChartPNG(const std::string& path, const std::vector<Series>& series, c
 /// Histogram as bars (bin centres in X, counts in Y).
 bool WriteHistogramPNG(const std::string& path, const std::vector<double>& binCenters,
                        const std::vector<double>& counts, const ChartOptions& options, std::string& error);
+
+/// Grouped bars: one group per category (labelled on the X axis), one bar per series in each
+/// group (each series' Y holds one value per category; X is not used), e.g. requested against
+/// rendered stiffness per tissue.
+bool WriteBarChartPNG(const std::string& path, const std::vector<std::string>& categories,
+                      const std::vector<Series>& series, const ChartOptions& options, std::string& error);
+
+/// Renders an offscreen window and writes what it shows as a PNG (charts, pictures).
+bool WriteWindowPNG(vtkRenderWindow* window, const std::string& path, std::string& error);
 
 /// Writes a CSV with a header row; every row must have header.size() values.
 bool WriteCSV(const std::string& path, const std::vector<std::string>& header,

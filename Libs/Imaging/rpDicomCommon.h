@@ -1,6 +1,7 @@
 #pragma once
 // Internal to RoboPlanImaging: DCMTK set-up shared by the DICOM reader and writer.
 namespace rp {
-/// Registers DCMTK's decoders (JPEG, JPEG-LS, RLE) once and quiets its logger.
+/// Registers DCMTK's decoders (JPEG, RLE) once and quiets its logger. DCMTK's JPEG-LS codec is
+/// deliberately not used: see rpDicomTransferSyntax.h.
 void InitializeDcmtk();
 }  // namespace rp

@@ -4,26 +4,29 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <type_traits>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <map>
 #include <mutex>
 #include <sstream>
+#include <type_traits>
 
 #include <dcmtk/config/osconfig.h>
 #include <dcmtk/dcmdata/dcdicdir.h>
 #include <dcmtk/dcmdata/dcrledrg.h>
 #include <dcmtk/dcmdata/dctk.h>
 #include <dcmtk/dcmjpeg/djdecode.h>
-#include <dcmtk/dcmjpls/djdecode.h>
 #include <dcmtk/oflog/oflog.h>
 
 #include <vtkDataArray.h>
 #include <vtkPointData.h>
 
 #include "rpDicomCommon.h"
+#include "rpDicomGdcmDecoder.h"
+#include "rpDicomTransferSyntax.h"
+#include "rpLPSRAS.h"
+#include "rpMemoryBudget.h"
 
 namespace fs = std::filesystem;
 
@@ -33,24 +36,47 @@ void InitializeDcmtk() {
   static std::once_flag once;
   std::call_once(once, []() {
     DJDecoderRegistration::registerCodecs();
-    DJLSDecoderRegistration::registerCodecs();
     DcmRLEDecoderRegistration::registerCodecs();
+    // Elements written as UN (e.g. by gdcmconv from an implicit-VR file: RescaleIntercept,
+    // PixelSpacing...) are read with their dictionary VR, or their values would be lost.
+    dcmEnableUnknownVRConversion.set(OFTrue);
     // DCMTK logs parser warnings on stderr; our messages say what went wrong instead.
     OFLog::configure(OFLogger::FATAL_LOG_LEVEL);
   });
+}
+
+std::string OrientationName(const double iop[6]) {
+  const double n[3] = {iop[1] * iop[5] - iop[2] * iop[4], iop[2] * iop[3] - iop[0] * iop[5],
+                       iop[0] * iop[4] - iop[1] * iop[3]};
+  const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  if (length < 1e-6) return "degenerate";
+  int axis = 0;
+  for (int a = 1; a < 3; ++a)
+    if (std::abs(n[a]) > std::abs(n[axis])) axis = a;
+  const char* names[3] = {"sagittal", "coronal", "axial"};  // normal along x (L), y (P), z (S)
+  const double degrees = std::acos(std::min(1.0, std::abs(n[axis]) / length)) * 180.0 / M_PI;
+  if (degrees < 0.5) return names[axis];
+  std::ostringstream s;
+  s.setf(std::ios::fixed);
+  s.precision(1);
+  s << "oblique " << names[axis] << " (" << degrees << "°)";
+  return s.str();
 }
 
 namespace {
 
 enum class FileKind { Image, NonImage, NotDicom, Corrupt };
 
+// One image: a single-frame file, or one frame of a multi-frame file.
 struct SliceHeader {
   std::string File;
+  int Frame = 0;  // index of the frame in its file
   std::string SeriesUID, StudyUID, Modality, Description, PatientName, SeriesNumber, TransferSyntax;
   std::string Photometric;
   int Rows = 0, Columns = 0, Frames = 1, Samples = 1;
   int BitsAllocated = 16, BitsStored = 16, PixelRepresentation = 0;
   bool HasPosition = false, HasOrientation = false, HasPixelSpacing = false, HasWindow = false;
+  bool MultiFrameWithoutPositions = false;
   double Position[3] = {0, 0, 0};
   double Orientation[6] = {1, 0, 0, 0, 1, 0};
   double PixelSpacing[2] = {1, 1};
@@ -100,6 +126,44 @@ int GetInt(DcmItem* item, const DcmTagKey& tag, int fallback) {
   return fallback;
 }
 
+// The first item of a functional group macro (e.g. PlanePositionSequence) for one frame: from
+// the frame's item of the per-frame sequence, else from the shared one.
+DcmItem* FunctionalGroup(DcmItem* perFrame, DcmItem* shared, const DcmTagKey& macro) {
+  DcmItem* item = nullptr;
+  if (perFrame && perFrame->findAndGetSequenceItem(macro, item, 0).good() && item) return item;
+  if (shared && shared->findAndGetSequenceItem(macro, item, 0).good() && item) return item;
+  return nullptr;
+}
+
+// Geometry, rescale and window of frame `frame` from the Enhanced (multi-frame) functional
+// groups; values found there override the top-level ones.
+void ReadFunctionalGroups(DcmItem* ds, int frame, SliceHeader& h, bool& hasFramePosition) {
+  DcmItem* shared = nullptr;
+  DcmItem* perFrame = nullptr;
+  ds->findAndGetSequenceItem(DCM_SharedFunctionalGroupsSequence, shared, 0);
+  ds->findAndGetSequenceItem(DCM_PerFrameFunctionalGroupsSequence, perFrame, frame);
+  hasFramePosition = false;
+  if (DcmItem* g = FunctionalGroup(perFrame, shared, DCM_PlanePositionSequence)) {
+    hasFramePosition = GetDoubles(g, DCM_ImagePositionPatient, h.Position, 3);
+    h.HasPosition = h.HasPosition || hasFramePosition;
+  }
+  if (DcmItem* g = FunctionalGroup(perFrame, shared, DCM_PlaneOrientationSequence))
+    h.HasOrientation = GetDoubles(g, DCM_ImageOrientationPatient, h.Orientation, 6) || h.HasOrientation;
+  if (DcmItem* g = FunctionalGroup(perFrame, shared, DCM_PixelMeasuresSequence)) {
+    h.HasPixelSpacing = GetDoubles(g, DCM_PixelSpacing, h.PixelSpacing, 2) || h.HasPixelSpacing;
+    GetDoubles(g, DCM_SliceThickness, &h.SliceThickness, 1);
+    GetDoubles(g, DCM_SpacingBetweenSlices, &h.SpacingBetweenSlices, 1);
+  }
+  if (DcmItem* g = FunctionalGroup(perFrame, shared, DCM_PixelValueTransformationSequence)) {
+    if (!GetDoubles(g, DCM_RescaleSlope, &h.Slope, 1) || h.Slope == 0.0) h.Slope = 1.0;
+    if (!GetDoubles(g, DCM_RescaleIntercept, &h.Intercept, 1)) h.Intercept = 0.0;
+  }
+  if (DcmItem* g = FunctionalGroup(perFrame, shared, DCM_FrameVOILUTSequence)) {
+    h.HasWindow = GetDoubles(g, DCM_WindowCenter, &h.WindowCenter, 1) &&
+                  GetDoubles(g, DCM_WindowWidth, &h.WindowWidth, 1) && h.WindowWidth > 0.0;
+  }
+}
+
 void ReadHeader(DcmFileFormat& format, SliceHeader& h) {
   DcmDataset* ds = format.getDataset();
   h.SeriesUID = GetString(ds, DCM_SeriesInstanceUID);
@@ -113,7 +177,7 @@ void ReadHeader(DcmFileFormat& format, SliceHeader& h) {
   if (h.TransferSyntax.empty()) h.TransferSyntax = DcmXfer(ds->getOriginalXfer()).getXferID();
   h.Rows = GetInt(ds, DCM_Rows, 0);
   h.Columns = GetInt(ds, DCM_Columns, 0);
-  h.Frames = GetInt(ds, DCM_NumberOfFrames, 1);
+  h.Frames = std::max(1, GetInt(ds, DCM_NumberOfFrames, 1));
   h.Samples = GetInt(ds, DCM_SamplesPerPixel, 1);
   h.BitsAllocated = GetInt(ds, DCM_BitsAllocated, 16);
   h.BitsStored = GetInt(ds, DCM_BitsStored, h.BitsAllocated);
@@ -127,6 +191,27 @@ void ReadHeader(DcmFileFormat& format, SliceHeader& h) {
                 GetDoubles(ds, DCM_WindowWidth, &h.WindowWidth, 1) && h.WindowWidth > 0.0;
   GetDoubles(ds, DCM_SliceThickness, &h.SliceThickness, 1);
   GetDoubles(ds, DCM_SpacingBetweenSlices, &h.SpacingBetweenSlices, 1);
+}
+
+// One header per image of the file: itself, or one per frame of a multi-frame file (with the
+// frame's functional groups applied).
+void ExpandFrames(DcmFileFormat& format, const SliceHeader& file, std::vector<SliceHeader>& out) {
+  DcmDataset* ds = format.getDataset();
+  const bool enhanced = ds->tagExists(DCM_PerFrameFunctionalGroupsSequence) ||
+                        ds->tagExists(DCM_SharedFunctionalGroupsSequence);
+  if (!enhanced) {
+    out.push_back(file);
+    if (file.Frames > 1) out.back().MultiFrameWithoutPositions = true;
+    return;
+  }
+  for (int f = 0; f < file.Frames; ++f) {
+    SliceHeader h = file;
+    h.Frame = f;
+    bool hasFramePosition = false;
+    ReadFunctionalGroups(ds, f, h, hasFramePosition);
+    h.MultiFrameWithoutPositions = file.Frames > 1 && !hasFramePosition;
+    out.push_back(std::move(h));
+  }
 }
 
 // Loads a file (only up to the pixel data when `headerOnly`) and classifies it.
@@ -175,12 +260,38 @@ std::string Fmt(double v, int precision = 2) {
 
 std::string Name(const std::string& path) { return fs::path(path).filename().string(); }
 
-bool IsJpeg2000(const std::string& ts) {
-  return ts == "1.2.840.10008.1.2.4.90" || ts == "1.2.840.10008.1.2.4.91" || ts == "1.2.840.10008.1.2.4.92" ||
-         ts == "1.2.840.10008.1.2.4.93";
+// Images of one stack share orientation, image size and pixel spacing.
+bool SameStack(const SliceHeader& a, const SliceHeader& b) {
+  if (a.Rows != b.Rows || a.Columns != b.Columns || a.HasOrientation != b.HasOrientation) return false;
+  for (int i = 0; i < 6; ++i)
+    if (std::abs(a.Orientation[i] - b.Orientation[i]) > 1e-3) return false;
+  return std::abs(a.PixelSpacing[0] - b.PixelSpacing[0]) <= 1e-4 &&
+         std::abs(a.PixelSpacing[1] - b.PixelSpacing[1]) <= 1e-4;
 }
 
-// Slice order and spacing of a series from its headers.
+// Splits the images of one series into stacks, in the order their first image was found.
+std::vector<std::vector<SliceHeader>> SplitIntoStacks(std::vector<SliceHeader> headers) {
+  std::vector<std::vector<SliceHeader>> stacks;
+  for (SliceHeader& h : headers) {
+    auto it = std::find_if(stacks.begin(), stacks.end(),
+                           [&](const std::vector<SliceHeader>& s) { return SameStack(s.front(), h); });
+    if (it == stacks.end()) {
+      stacks.emplace_back();
+      it = stacks.end() - 1;
+    }
+    it->push_back(std::move(h));
+  }
+  return stacks;
+}
+
+std::vector<std::string> DistinctFiles(const std::vector<SliceHeader>& headers) {
+  std::vector<std::string> files;
+  for (const SliceHeader& h : headers)
+    if (files.empty() || files.back() != h.File) files.push_back(h.File);
+  return files;
+}
+
+// Slice order and spacing of one stack from its headers.
 struct SeriesGeometry {
   std::vector<size_t> Order;         // header indices sorted along the normal
   std::vector<double> Positions;     // sorted positions along the normal
@@ -205,37 +316,15 @@ SeriesGeometry AnalyzeGeometry(const std::vector<SliceHeader>& headers, double t
                   Name(h.File) + ")";
       return g;
     }
-    if (h.Frames > 1) {
-      g.Problem = "multi-frame images (" + std::to_string(h.Frames) + " frames in " + Name(h.File) +
-                  ") are not supported";
+    if (h.MultiFrameWithoutPositions) {
+      g.Problem = "multi-frame image without a position per frame (" + std::to_string(h.Frames) + " frames in " +
+                  Name(h.File) + ", no PerFrameFunctionalGroupsSequence with PlanePositionSequence)";
       return g;
     }
-    if (IsJpeg2000(h.TransferSyntax)) {
-      g.Problem = "JPEG 2000 compressed (transfer syntax " + h.TransferSyntax +
-                  ") cannot be decoded: DCMTK 3.6.7 has no JPEG 2000 codec; decompress the series first "
-                  "(e.g. gdcmconv --raw)";
-      return g;
-    }
-    if (h.Rows != first.Rows || h.Columns != first.Columns) {
-      g.Problem = "mixed image sizes in one series: " + Name(first.File) + " is " + std::to_string(first.Columns) +
-                  "x" + std::to_string(first.Rows) + ", " + Name(h.File) + " is " + std::to_string(h.Columns) +
-                  "x" + std::to_string(h.Rows);
-      return g;
-    }
-    if (h.HasOrientation != first.HasOrientation) {
-      g.Problem = "ImageOrientationPatient missing in some files (" + Name(h.HasOrientation ? first.File : h.File) + ")";
-      return g;
-    }
-    for (int i = 0; i < 6; ++i) {
-      if (std::abs(h.Orientation[i] - first.Orientation[i]) > 1e-3) {
-        g.Problem = "mixed orientations in one series: " + Name(first.File) + " and " + Name(h.File) +
-                    " have different ImageOrientationPatient";
-        return g;
-      }
-    }
-    if (std::abs(h.PixelSpacing[0] - first.PixelSpacing[0]) > 1e-4 ||
-        std::abs(h.PixelSpacing[1] - first.PixelSpacing[1]) > 1e-4) {
-      g.Problem = "mixed pixel spacings in one series (" + Name(first.File) + ", " + Name(h.File) + ")";
+    const TransferSyntaxInfo* syntax = FindTransferSyntax(h.TransferSyntax);
+    if (!syntax) {
+      g.Problem = "transfer syntax " + h.TransferSyntax + " of " + Name(h.File) +
+                  " is not one the reader decodes (see the README's table of transfer syntaxes)";
       return g;
     }
     if (headers.size() > 1 && !h.HasPosition) {
@@ -260,6 +349,10 @@ SeriesGeometry AnalyzeGeometry(const std::vector<SliceHeader>& headers, double t
   std::stable_sort(g.Order.begin(), g.Order.end(), [&](size_t a, size_t b) { return along[a] < along[b]; });
   for (size_t i : g.Order) g.Positions.push_back(along[i]);
 
+  auto where = [&](size_t index) {
+    const SliceHeader& h = headers[index];
+    return h.Frames > 1 ? Name(h.File) + " frame " + std::to_string(h.Frame + 1) : Name(h.File);
+  };
   if (headers.size() == 1) {
     g.Spacing = first.SpacingBetweenSlices > 0 ? first.SpacingBetweenSlices
                                                : (first.SliceThickness > 0 ? first.SliceThickness : 1.0);
@@ -270,8 +363,8 @@ SeriesGeometry AnalyzeGeometry(const std::vector<SliceHeader>& headers, double t
   for (size_t k = 1; k < g.Positions.size(); ++k) {
     const double gap = g.Positions[k] - g.Positions[k - 1];
     if (gap < 1e-4) {
-      g.Problem = "two slices at the same position " + Fmt(g.Positions[k], 3) + " mm (" +
-                  Name(headers[g.Order[k - 1]].File) + ", " + Name(headers[g.Order[k]].File) +
+      g.Problem = "two slices at the same position " + Fmt(g.Positions[k], 3) + " mm (" + where(g.Order[k - 1]) +
+                  ", " + where(g.Order[k]) +
                   "): several acquisitions, echoes or time points in one series are not supported";
       return g;
     }
@@ -298,12 +391,12 @@ SeriesGeometry AnalyzeGeometry(const std::vector<SliceHeader>& headers, double t
     if (std::abs(gaps[k] - g.Spacing) > std::max(1e-3, tolerance * g.Spacing)) {
       const long multiple = std::lround(gaps[k] / g.Spacing);
       const bool missing = multiple >= 2 && std::abs(gaps[k] - multiple * g.Spacing) < std::max(1e-3, tolerance * g.Spacing);
-      std::string where = "between positions " + Fmt(g.Positions[k]) + " mm (" + Name(headers[g.Order[k]].File) +
-                          ") and " + Fmt(g.Positions[k + 1]) + " mm (" + Name(headers[g.Order[k + 1]].File) +
-                          "): gap " + Fmt(gaps[k]) + " mm, expected " + Fmt(g.Spacing) + " mm";
+      std::string between = "between positions " + Fmt(g.Positions[k]) + " mm (" + where(g.Order[k]) + ") and " +
+                            Fmt(g.Positions[k + 1]) + " mm (" + where(g.Order[k + 1]) + "): gap " + Fmt(gaps[k]) +
+                            " mm, expected " + Fmt(g.Spacing) + " mm";
       g.Irregular = true;
-      g.IrregularMessage = missing ? std::to_string(multiple - 1) + " missing slice(s) " + where
-                                   : "uneven slice spacing " + where;
+      g.IrregularMessage = missing ? std::to_string(multiple - 1) + " missing slice(s) " + between
+                                   : "uneven slice spacing " + between;
       break;
     }
   }
@@ -336,65 +429,120 @@ void ConvertPixels(const Raw* in, size_t count, int bitsStored, bool isSigned, d
   }
 }
 
+// Decoded pixel data of one file: all its frames, stored values, this machine's byte order.
+struct DecodedPixels {
+  const void* Data = nullptr;
+  size_t Bytes = 0;
+  std::vector<char> Owned;  // GDCM's output (DCMTK's stays inside its dataset)
+};
+
+// One frame of decoded pixel data → modality values.
 template <typename Out>
-bool DecodeSlice(const SliceHeader& h, DcmFileFormat& format, Out* out, std::string& error) {
-  DcmDataset* ds = format.getDataset();
-  if (IsJpeg2000(h.TransferSyntax)) {
-    error = Name(h.File) + ": JPEG 2000 compressed (transfer syntax " + h.TransferSyntax +
-            ") cannot be decoded: DCMTK 3.6.7 has no JPEG 2000 codec";
+bool ConvertFrame(const DecodedPixels& pixels, const SliceHeader& h, Out* out, std::string& error) {
+  const size_t count = static_cast<size_t>(h.Rows) * h.Columns;
+  const size_t bytesPerPixel = static_cast<size_t>(h.BitsAllocated / 8);
+  const size_t offset = static_cast<size_t>(h.Frame) * count * bytesPerPixel;
+  if (h.BitsAllocated != 8 && h.BitsAllocated != 16 && h.BitsAllocated != 32) {
+    error = std::to_string(h.BitsAllocated) + " bits allocated is not supported";
     return false;
   }
+  if (!pixels.Data || pixels.Bytes < offset + count * bytesPerPixel) {
+    error = "pixel data shorter than " + std::to_string(h.Frame + 1) + " frame(s) of " + std::to_string(h.Columns) +
+            "x" + std::to_string(h.Rows) + " " + std::to_string(h.BitsAllocated) + "-bit pixels (truncated file)";
+    return false;
+  }
+  const char* base = static_cast<const char*>(pixels.Data) + offset;
+  const bool isSigned = h.PixelRepresentation == 1;
+  const int bitsStored = std::clamp(h.BitsStored, 1, h.BitsAllocated);
+  if (h.BitsAllocated == 16) {
+    if (isSigned)
+      ConvertPixels(reinterpret_cast<const int16_t*>(base), count, bitsStored, true, h.Slope, h.Intercept, out);
+    else
+      ConvertPixels(reinterpret_cast<const uint16_t*>(base), count, bitsStored, false, h.Slope, h.Intercept, out);
+  } else if (h.BitsAllocated == 8) {
+    if (isSigned)
+      ConvertPixels(reinterpret_cast<const int8_t*>(base), count, bitsStored, true, h.Slope, h.Intercept, out);
+    else
+      ConvertPixels(reinterpret_cast<const uint8_t*>(base), count, bitsStored, false, h.Slope, h.Intercept, out);
+  } else {
+    if (isSigned)
+      ConvertPixels(reinterpret_cast<const int32_t*>(base), count, 32, true, h.Slope, h.Intercept, out);
+    else
+      ConvertPixels(reinterpret_cast<const uint32_t*>(base), count, 32, false, h.Slope, h.Intercept, out);
+  }
+  return true;
+}
+
+// Decodes the pixel data of one file with the library its transfer syntax needs. `format`
+// must outlive `pixels` (DCMTK's buffer stays inside it).
+bool DecodeFile(const SliceHeader& h, DcmFileFormat& format, DecodedPixels& pixels, std::string& error) {
+  const TransferSyntaxInfo* syntax = FindTransferSyntax(h.TransferSyntax);
+  if (syntax && syntax->Decoder == PixelDecoder::GDCM) {
+    if (!DecodePixelsWithGdcm(h.File, pixels.Owned, error)) {
+      error = TransferSyntaxLabel(h.TransferSyntax) + ": " + error;
+      return false;
+    }
+    pixels.Data = pixels.Owned.data();
+    pixels.Bytes = pixels.Owned.size();
+    return true;
+  }
+  SliceHeader full;
+  std::string reason;
+  if (LoadFile(h.File, format, full, reason, false) != FileKind::Image) {
+    error = reason.empty() ? "cannot be read" : reason;
+    return false;
+  }
+  DcmDataset* ds = format.getDataset();
   if (DcmXfer(ds->getOriginalXfer()).isEncapsulated()) {
     OFCondition c = ds->chooseRepresentation(EXS_LittleEndianExplicit, nullptr);
     if (c.bad() || !ds->canWriteXfer(EXS_LittleEndianExplicit)) {
-      error = Name(h.File) + ": cannot decompress pixel data (transfer syntax " + h.TransferSyntax + ", " +
-              c.text() + ")";
+      error = "cannot decompress pixel data (" + TransferSyntaxLabel(h.TransferSyntax) + ", " + c.text() + ")";
       return false;
     }
   }
   DcmElement* element = nullptr;
   if (ds->findAndGetElement(DCM_PixelData, element).bad() || !element) {
-    error = Name(h.File) + ": no pixel data";
+    error = "no pixel data";
     return false;
   }
-  const size_t count = static_cast<size_t>(h.Rows) * h.Columns;
-  const bool isSigned = h.PixelRepresentation == 1;
-  auto truncated = [&](int bits) {
-    error = Name(h.File) + ": pixel data shorter than " + std::to_string(h.Columns) + "x" + std::to_string(h.Rows) +
-            " " + std::to_string(bits) + "-bit pixels (truncated file)";
-    return false;
-  };
-  if (h.BitsAllocated == 16) {
-    Uint16* data = nullptr;
-    if (element->getUint16Array(data).bad() || !data || element->getLength() < count * 2) return truncated(16);
-    if (isSigned)
-      ConvertPixels(reinterpret_cast<const Sint16*>(data), count, h.BitsStored, true, h.Slope, h.Intercept, out);
-    else
-      ConvertPixels(data, count, h.BitsStored, false, h.Slope, h.Intercept, out);
-  } else if (h.BitsAllocated == 8) {
+  // The typed getters return values in this machine's byte order (big endian files included).
+  OFCondition status;
+  if (h.BitsAllocated == 8) {
     Uint8* data = nullptr;
-    if (element->getUint8Array(data).bad() || !data || element->getLength() < count) return truncated(8);
-    if (isSigned)
-      ConvertPixels(reinterpret_cast<const Sint8*>(data), count, h.BitsStored, true, h.Slope, h.Intercept, out);
-    else
-      ConvertPixels(data, count, h.BitsStored, false, h.Slope, h.Intercept, out);
-  } else if (h.BitsAllocated == 32) {
-    Uint32* data = nullptr;
-    if (element->getUint32Array(data).bad() || !data || element->getLength() < count * 4) return truncated(32);
-    if (isSigned)
-      ConvertPixels(reinterpret_cast<const Sint32*>(data), count, 32, true, h.Slope, h.Intercept, out);
-    else
-      ConvertPixels(data, count, 32, false, h.Slope, h.Intercept, out);
+    status = element->getUint8Array(data);
+    pixels.Data = data;
+  } else if (h.BitsAllocated == 16) {
+    Uint16* data = nullptr;
+    status = element->getUint16Array(data);
+    pixels.Data = data;
   } else {
-    error = Name(h.File) + ": " + std::to_string(h.BitsAllocated) + " bits allocated is not supported";
-    return false;
+    Uint32* data = nullptr;
+    status = element->getUint32Array(data);
+    pixels.Data = data;
   }
+  pixels.Bytes = status.good() && pixels.Data ? element->getLength() : 0;
   return true;
 }
 
 template <typename In, typename Out>
 void Narrow(const In* in, Out* out, size_t count) {
   for (size_t i = 0; i < count; ++i) out[i] = static_cast<Out>(in[i]);
+}
+
+// Headers of every image in `files` (one per frame for multi-frame files).
+bool ReadHeaders(const std::vector<std::string>& files, std::vector<SliceHeader>& headers, std::string& error) {
+  for (const std::string& file : files) {
+    DcmFileFormat format;
+    SliceHeader h;
+    std::string reason;
+    const FileKind kind = LoadFile(file, format, h, reason, true);
+    if (kind != FileKind::Image) {
+      error = file + ": " + (kind == FileKind::Corrupt ? reason : std::string("not a DICOM image"));
+      return false;
+    }
+    ExpandFrames(format, h, headers);
+  }
+  return true;
 }
 
 }  // namespace
@@ -473,33 +621,42 @@ bool ScanDicom(const std::string& path, DicomScanResult& result, std::string& er
       case FileKind::Image:
         if (h.SeriesUID.empty()) h.SeriesUID = "(no SeriesInstanceUID)";
         if (!bySeries.count(h.SeriesUID)) seriesOrder.push_back(h.SeriesUID);
-        bySeries[h.SeriesUID].push_back(std::move(h));
+        ExpandFrames(format, h, bySeries[h.SeriesUID]);
         break;
     }
     if (progress && (f % 16 == 0 || f + 1 == files.size())) progress(double(f + 1) / files.size(), "scanning");
   }
   for (const std::string& uid : seriesOrder) {
-    const auto& headers = bySeries[uid];
-    DicomSeriesInfo info;
-    const SliceHeader& h = headers.front();
-    info.SeriesInstanceUID = uid;
-    info.StudyInstanceUID = h.StudyUID;
-    info.Modality = h.Modality;
-    info.SeriesDescription = h.Description;
-    info.PatientName = h.PatientName;
-    info.SeriesNumber = h.SeriesNumber;
-    info.TransferSyntaxUID = h.TransferSyntax;
-    info.Columns = h.Columns;
-    info.Rows = h.Rows;
-    info.PixelSpacing[0] = h.PixelSpacing[0];
-    info.PixelSpacing[1] = h.PixelSpacing[1];
-    for (const auto& s : headers) info.Files.push_back(s.File);
-    const SeriesGeometry g = AnalyzeGeometry(headers, DicomReadOptions().SpacingTolerance);
-    info.SliceSpacing = g.Problem.empty() ? g.Spacing : 0.0;
-    info.Problem = !g.Problem.empty() ? g.Problem : g.IrregularMessage;
-    info.CorruptFiles = corruptBySeries[uid];
-    if (!info.CorruptFiles.empty()) info.Problem = "corrupt or truncated file " + info.CorruptFiles.front();
-    result.Series.push_back(std::move(info));
+    const std::vector<std::vector<SliceHeader>> stacks = SplitIntoStacks(std::move(bySeries[uid]));
+    for (size_t s = 0; s < stacks.size(); ++s) {
+      const std::vector<SliceHeader>& headers = stacks[s];
+      DicomSeriesInfo info;
+      const SliceHeader& h = headers.front();
+      info.SeriesInstanceUID = uid;
+      info.StackIndex = static_cast<int>(s) + 1;
+      info.StackCount = static_cast<int>(stacks.size());
+      info.StackID = stacks.size() == 1 ? uid : uid + "#" + std::to_string(s + 1);
+      info.StudyInstanceUID = h.StudyUID;
+      info.Modality = h.Modality;
+      info.SeriesDescription = h.Description;
+      info.PatientName = h.PatientName;
+      info.SeriesNumber = h.SeriesNumber;
+      info.TransferSyntaxUID = h.TransferSyntax;
+      info.Files = DistinctFiles(headers);
+      info.Slices = static_cast<int>(headers.size());
+      info.Columns = h.Columns;
+      info.Rows = h.Rows;
+      info.PixelSpacing[0] = h.PixelSpacing[0];
+      info.PixelSpacing[1] = h.PixelSpacing[1];
+      std::copy(h.Orientation, h.Orientation + 6, info.Orientation);
+      info.OrientationName = h.HasOrientation ? OrientationName(h.Orientation) : "no orientation";
+      const SeriesGeometry g = AnalyzeGeometry(headers, DicomReadOptions().SpacingTolerance);
+      info.SliceSpacing = g.Problem.empty() ? g.Spacing : 0.0;
+      info.Problem = !g.Problem.empty() ? g.Problem : g.IrregularMessage;
+      info.CorruptFiles = corruptBySeries[uid];
+      if (!info.CorruptFiles.empty()) info.Problem = "corrupt or truncated file " + info.CorruptFiles.front();
+      result.Series.push_back(std::move(info));
+    }
   }
   return true;
 }
@@ -508,40 +665,48 @@ bool ReadDicomSeries(const DicomSeriesInfo& series, ImageVolume& volume, std::st
                      const DicomReadOptions& options, std::vector<std::string>* warnings,
                      const ProgressCallback& progress) {
   InitializeDcmtk();
+  const std::string what = "DICOM series " + (series.StackID.empty() ? series.SeriesInstanceUID : series.StackID);
   try {
     if (series.Files.empty()) {
-      error = "DICOM series " + series.SeriesInstanceUID + " has no files";
+      error = what + " has no files";
       return false;
     }
     if (!series.CorruptFiles.empty()) {
-      error = "DICOM series " + series.SeriesInstanceUID + ": corrupt or truncated file " + series.CorruptFiles.front();
+      error = what + ": corrupt or truncated file " + series.CorruptFiles.front();
       return false;
     }
-    // Headers first (cheap): refuse bad geometry before decoding any pixels.
-    std::vector<SliceHeader> headers;
-    for (const std::string& file : series.Files) {
-      DcmFileFormat format;
-      SliceHeader h;
-      std::string reason;
-      const FileKind kind = LoadFile(file, format, h, reason, true);
-      if (kind != FileKind::Image) {
-        error = file + ": " + (kind == FileKind::Corrupt ? reason : std::string("not a DICOM image"));
-        return false;
-      }
-      headers.push_back(std::move(h));
+    // Headers first (cheap): refuse bad geometry before decoding any pixels. Only the images of
+    // this stack count (a file list may hold frames of other stacks).
+    std::vector<SliceHeader> all, headers;
+    if (!ReadHeaders(series.Files, all, error)) return false;
+    SliceHeader key;
+    key.Rows = series.Rows;
+    key.Columns = series.Columns;
+    key.HasOrientation = all.front().HasOrientation;
+    std::copy(series.Orientation, series.Orientation + 6, key.Orientation);
+    std::copy(series.PixelSpacing, series.PixelSpacing + 2, key.PixelSpacing);
+    for (SliceHeader& h : all)
+      if (series.Rows == 0 || SameStack(key, h)) headers.push_back(std::move(h));
+    if (headers.empty()) {
+      error = what + ": no image of " + std::to_string(series.Columns) + "x" + std::to_string(series.Rows) +
+              " pixels in the orientation scanned (the files changed since the scan?)";
+      return false;
+    }
+    if (series.Rows == 0 && SplitIntoStacks(headers).size() > 1) {
+      error = what + ": the files hold several stacks (orientations or image sizes); scan them to choose one";
+      return false;
     }
     const SeriesGeometry g = AnalyzeGeometry(headers, options.SpacingTolerance);
     if (!g.Problem.empty()) {
-      error = "DICOM series " + series.SeriesInstanceUID + ": " + g.Problem;
+      error = what + ": " + g.Problem;
       return false;
     }
     if (g.Irregular && !options.ResampleIrregularSpacing) {
-      error = "DICOM series " + series.SeriesInstanceUID + ": " + g.IrregularMessage +
-              " (refused; allow resampling to load it with its true geometry)";
+      error = what + ": " + g.IrregularMessage + " (refused; allow resampling to load it with its true geometry)";
       return false;
     }
 
-    // Decode every slice in geometric order into a stack: int32 when every slice's slope and
+    // Decode every image in geometric order into a stack: int32 when every image's slope and
     // intercept are integers (exact), float otherwise; narrowed to short/ushort afterwards.
     const int cols = headers.front().Columns, rows = headers.front().Rows;
     const size_t sliceSize = static_cast<size_t>(cols) * rows;
@@ -550,25 +715,43 @@ bool ReadDicomSeries(const DicomSeriesInfo& series, ImageVolume& volume, std::st
       integral = integral && h.Slope == std::floor(h.Slope) && h.Intercept == std::floor(h.Intercept) &&
                  std::abs(h.Slope) < 65536 && std::abs(h.Intercept) < 1e9;
     const int stackDepth = static_cast<int>(g.Order.size());
+    // The 32-bit stack, the narrowed (or resampled) copy beside it, and one decoded file.
+    const int64_t dims[3] = {cols, rows, stackDepth};
+    if (!CheckImageFitsInMemory(dims, 4.0, what, error, g.Irregular ? 2.0 : 1.5)) return false;
     auto stack = vtkSmartPointer<vtkImageData>::New();
     stack->SetDimensions(cols, rows, stackDepth);
     stack->AllocateScalars(integral ? VTK_INT : VTK_FLOAT, 1);
+    // Each file is decoded once, all its frames at a time, in the order of its first image.
+    std::vector<size_t> sliceOfHeader(headers.size());
+    for (size_t k = 0; k < g.Order.size(); ++k) sliceOfHeader[g.Order[k]] = k;
+    std::vector<std::string> fileOrder;
+    std::map<std::string, std::vector<size_t>> headersOfFile;
     for (size_t k = 0; k < g.Order.size(); ++k) {
-      const SliceHeader& h = headers[g.Order[k]];
+      const std::string& file = headers[g.Order[k]].File;
+      if (!headersOfFile.count(file)) fileOrder.push_back(file);
+      headersOfFile[file].push_back(g.Order[k]);
+    }
+    size_t done = 0;
+    for (const std::string& file : fileOrder) {
+      const std::vector<size_t>& indices = headersOfFile[file];
       DcmFileFormat format;
-      SliceHeader full;
-      std::string reason;
-      if (LoadFile(h.File, format, full, reason, false) != FileKind::Image) {
-        error = h.File + ": " + (reason.empty() ? "cannot be read" : reason);
+      DecodedPixels pixels;
+      if (!DecodeFile(headers[indices.front()], format, pixels, error)) {
+        error = file + ": " + error;
         return false;
       }
-      const bool ok = integral ? DecodeSlice(full, format, static_cast<int*>(stack->GetScalarPointer()) + k * sliceSize, error)
-                               : DecodeSlice(full, format, static_cast<float*>(stack->GetScalarPointer()) + k * sliceSize, error);
-      if (!ok) {
-        error = h.File + ": " + error;
-        return false;
+      for (size_t index : indices) {
+        const SliceHeader& h = headers[index];
+        const size_t k = sliceOfHeader[index];
+        const bool ok = integral ? ConvertFrame(pixels, h, static_cast<int*>(stack->GetScalarPointer()) + k * sliceSize, error)
+                                 : ConvertFrame(pixels, h, static_cast<float*>(stack->GetScalarPointer()) + k * sliceSize, error);
+        if (!ok) {
+          error = file + ": " + error;
+          return false;
+        }
+        ++done;
+        if (progress) progress(double(done) / g.Order.size(), "reading DICOM");
       }
-      if (progress) progress(double(k + 1) / g.Order.size(), "reading DICOM");
     }
 
     // Irregular series: resample along the normal onto a regular grid (linear, float).
@@ -626,29 +809,29 @@ bool ReadDicomSeries(const DicomSeriesInfo& series, ImageVolume& volume, std::st
     }
 
     // Geometry: i along a row (IOP row direction, column spacing), j down the columns, k along
-    // the normal. LPS from DICOM → RAS by negating x and y.
+    // the normal; IJK-to-LPS from the headers, then to RAS.
     const SliceHeader& h0 = headers[g.Order.front()];
-    double lps[3][3] = {{h0.Orientation[0], h0.Orientation[1], h0.Orientation[2]},
-                        {h0.Orientation[3], h0.Orientation[4], h0.Orientation[5]},
-                        {g.Normal[0], g.Normal[1], g.Normal[2]}};
+    double axes[3][3] = {{h0.Orientation[0], h0.Orientation[1], h0.Orientation[2]},
+                         {h0.Orientation[3], h0.Orientation[4], h0.Orientation[5]},
+                         {g.Normal[0], g.Normal[1], g.Normal[2]}};
     for (int c = 0; c < 2; ++c) {
-      const double n = std::sqrt(Dot3(lps[c], lps[c]));
-      for (double& v : lps[c]) v /= n;
+      const double n = std::sqrt(Dot3(axes[c], axes[c]));
+      for (double& v : axes[c]) v /= n;
     }
     const double spacings[3] = {h0.PixelSpacing[1], h0.PixelSpacing[0], spacing};
     // Origin: the first slice's position, moved onto the resampled first position if needed.
     double origin[3] = {h0.Position[0], h0.Position[1], h0.Position[2]};
     const double shift = outPositions.front() - g.Positions.front();
     for (int r = 0; r < 3; ++r) origin[r] += shift * g.Normal[r];
+    double ijkToLPS[16] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1};
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) ijkToLPS[4 * r + c] = axes[c][r] * spacings[c];
+      ijkToLPS[4 * r + 3] = origin[r];
+    }
+    FlipLPSRASIndexToSpace(ijkToLPS);
     ImageVolume result;
     result.Image = image;
-    for (int c = 0; c < 3; ++c) {
-      for (int r = 0; r < 3; ++r) {
-        const double sign = r < 2 ? -1.0 : 1.0;
-        result.IJKToRAS->SetElement(r, c, sign * lps[c][r] * spacings[c]);
-      }
-    }
-    for (int r = 0; r < 3; ++r) result.IJKToRAS->SetElement(r, 3, (r < 2 ? -1.0 : 1.0) * origin[r]);
+    result.IJKToRAS->DeepCopy(ijkToLPS);
     if (h0.HasWindow) {
       result.Window = h0.WindowWidth;
       result.Level = h0.WindowCenter;
@@ -659,38 +842,57 @@ bool ReadDicomSeries(const DicomSeriesInfo& series, ImageVolume& volume, std::st
       warnings->push_back("no PixelSpacing in " + Name(h0.File) + ": 1 mm pixels assumed");
     if (warnings && h0.Photometric == "MONOCHROME1")
       warnings->push_back("MONOCHROME1 series: values are kept as stored (low = white on the scanner display)");
+    if (warnings) {
+      const TransferSyntaxInfo* syntax = FindTransferSyntax(h0.TransferSyntax);
+      if (syntax && !syntax->Lossless)
+        warnings->push_back("lossy compressed (" + syntax->Name + "): voxel values differ from the acquired ones");
+    }
     volume = result;
     return true;
   } catch (const std::bad_alloc&) {
-    error = "DICOM series " + series.SeriesInstanceUID + ": out of memory";
+    error = what + ": out of memory";
   } catch (const std::exception& e) {
-    error = "DICOM series " + series.SeriesInstanceUID + ": " + e.what();
+    error = what + ": " + e.what();
   }
   return false;
 }
 
-bool ReadDicomVolume(const std::string& path, ImageVolume& volume, std::string& error, const std::string& seriesUID,
+bool ReadDicomVolume(const std::string& path, ImageVolume& volume, std::string& error, const std::string& seriesID,
                      const DicomReadOptions& options, std::vector<std::string>* warnings,
                      const ProgressCallback& progress) {
   DicomScanResult scan;
   if (!ScanDicom(path, scan, error)) return false;
-  const DicomSeriesInfo* chosen = nullptr;
-  for (const auto& s : scan.Series) {
-    if (seriesUID.empty() || s.SeriesInstanceUID == seriesUID) {
-      if (chosen && seriesUID.empty()) {
-        error = path + " holds " + std::to_string(scan.Series.size()) + " DICOM series: choose one by SeriesInstanceUID";
-        return false;
-      }
-      chosen = &s;
+  auto listing = [](const std::vector<const DicomSeriesInfo*>& stacks) {
+    std::string text;
+    for (const DicomSeriesInfo* s : stacks) {
+      text += (text.empty() ? "" : "; ") + s->StackID + " (" + s->OrientationName + ", " + std::to_string(s->Columns) +
+              "x" + std::to_string(s->Rows) + "x" + std::to_string(s->Slices) +
+              (s->SeriesDescription.empty() ? "" : ", \"" + s->SeriesDescription + "\"") + ")";
     }
-  }
-  if (!chosen) {
-    error = seriesUID.empty() ? "no DICOM image series in " + path + " (" + std::to_string(scan.FilesExamined) +
-                                    " files examined, " + std::to_string(scan.NonDicomFiles) + " not DICOM" +
-                                    (scan.CorruptFiles.empty() ? "" : ", corrupt: " + scan.CorruptFiles.front()) + ")"
-                              : "no series " + seriesUID + " in " + path;
+    return text;
+  };
+  std::vector<const DicomSeriesInfo*> matches;
+  for (const auto& s : scan.Series)
+    if (seriesID.empty() || s.StackID == seriesID || s.SeriesInstanceUID == seriesID) matches.push_back(&s);
+  if (matches.empty()) {
+    error = seriesID.empty() ? "no DICOM image series in " + path + " (" + std::to_string(scan.FilesExamined) +
+                                   " files examined, " + std::to_string(scan.NonDicomFiles) + " not DICOM" +
+                                   (scan.CorruptFiles.empty() ? "" : ", corrupt: " + scan.CorruptFiles.front()) + ")"
+                             : "no series " + seriesID + " in " + path;
     return false;
   }
+  if (matches.size() > 1) {
+    const bool oneSeries = std::all_of(matches.begin(), matches.end(), [&](const DicomSeriesInfo* s) {
+      return s->SeriesInstanceUID == matches.front()->SeriesInstanceUID;
+    });
+    error = oneSeries ? "DICOM series " + matches.front()->SeriesInstanceUID + " holds " +
+                            std::to_string(matches.size()) + " stacks of different orientations or sizes: " +
+                            listing(matches) + "; choose one by its ID"
+                      : path + " holds " + std::to_string(matches.size()) + " DICOM series or stacks: " +
+                            listing(matches) + "; choose one by its ID";
+    return false;
+  }
+  const DicomSeriesInfo* chosen = matches.front();
   if (warnings) {
     if (scan.NonDicomFiles > 0)
       warnings->push_back(std::to_string(scan.NonDicomFiles) + " non-DICOM file(s) skipped");

@@ -1,20 +1,26 @@
 #pragma once
-// DICOM image series in (DCMTK directly: Debian's ITK has no ITKIODCMTK).
+// DICOM image series in: DCMTK parses, sorts and diagnoses; the pixels of every transfer syntax
+// a PACS sends are decoded by DCMTK, or by GDCM for JPEG 2000 (rpDicomTransferSyntax.h lists them).
 //
-// Scan: a folder (recursively) or a DICOMDIR; files are grouped by SeriesInstanceUID.
+// Scan: a folder (recursively) or a DICOMDIR; files are grouped by SeriesInstanceUID, and a
+// series that holds several stacks (a three-plane localizer, different orientations or image
+// sizes under one UID) is split into its stacks, each listed and loadable on its own under the
+// ID "<SeriesInstanceUID>#<n>". A multi-frame file (Enhanced CT/MR: one file, many frames, a
+// position per frame in its functional groups) contributes one slice per frame.
 // Read: slices sorted by their position along the slice normal (ImagePositionPatient ·
 // (row × column of ImageOrientationPatient)), never by file name or InstanceNumber; slice
-// spacing from the positions; RescaleSlope/Intercept applied (CT in HU); window kept;
-// compressed syntaxes DCMTK decodes (JPEG baseline/extended/lossless, JPEG-LS, RLE).
-// The result is in RAS: the LPS → RAS flip happens here, once.
+// spacing from the positions; oblique stacks keep their exact direction cosines;
+// RescaleSlope/Intercept applied (CT in HU); window kept. The result is in RAS (rpLPSRAS.h).
+// The memory a series needs is checked before any pixel is decoded.
 //
 // Policy for irregular series (documented, tested):
 //  - a missing slice or uneven spacing is REFUSED by default with a message that names the
 //    two positions (and files) around the gap; with `ResampleIrregularSpacing` the series is
 //    loaded with its true geometry by linear interpolation onto a regular grid whose spacing
 //    is the smallest gap, and a warning says so;
-//  - mixed orientations, mixed image sizes, gantry tilt, duplicate positions, multi-frame and
-//    colour images are refused with a message naming the problem (and a file);
+//  - gantry tilt, duplicate positions (echoes, time points), multi-frame images without
+//    per-frame positions and colour images are refused with a message naming the problem;
+//  - a series of several stacks read without choosing one is refused, naming the stacks;
 //  - non-DICOM files are skipped and counted; truncated or corrupt files are named.
 #include <string>
 #include <vector>
@@ -24,7 +30,13 @@
 
 namespace rp {
 
+/// One loadable stack: a whole series, or one stack of a series that holds several.
 struct DicomSeriesInfo {
+  /// What to pass to ReadDicomVolume / `--series`: the SeriesInstanceUID, or
+  /// "<SeriesInstanceUID>#<StackIndex>" when the series holds several stacks.
+  std::string StackID;
+  int StackIndex = 1;  // 1-based
+  int StackCount = 1;  // stacks under this SeriesInstanceUID
   std::string SeriesInstanceUID;
   std::string StudyInstanceUID;
   std::string Modality;
@@ -33,8 +45,11 @@ struct DicomSeriesInfo {
   std::string SeriesNumber;
   std::string TransferSyntaxUID;  // of the first file
   std::vector<std::string> Files;  // as found (not sorted geometrically)
+  int Slices = 0;                  // images in the stack (a multi-frame file counts its frames)
   int Columns = 0;
   int Rows = 0;
+  double Orientation[6] = {1, 0, 0, 0, 1, 0};  // ImageOrientationPatient (LPS) of the stack
+  std::string OrientationName;                 // "axial", "oblique coronal (12.0°)", ...
   double PixelSpacing[2] = {0, 0};  // row spacing (between rows), column spacing (between columns)
   double SliceSpacing = 0.0;        // median gap between slice positions (0 if unknown)
   /// Files of this series that failed to parse ("path: reason"): the series is refused.
@@ -61,6 +76,10 @@ struct DicomReadOptions {
   double SpacingTolerance = 0.01;         // relative tolerance on gaps between slices
 };
 
+/// "axial", "sagittal", "coronal", or "oblique sagittal (12.0°)" beyond 0.5° from the nearest
+/// of those planes, from an ImageOrientationPatient.
+std::string OrientationName(const double imageOrientationPatient[6]);
+
 /// Reads one series into a volume (short when the rescaled values are integers that fit,
 /// float otherwise). `warnings` (optional) receives non-fatal notes. `volume` is only
 /// assigned on success.
@@ -68,9 +87,10 @@ bool ReadDicomSeries(const DicomSeriesInfo& series, ImageVolume& volume, std::st
                      const DicomReadOptions& options = {}, std::vector<std::string>* warnings = nullptr,
                      const ProgressCallback& progress = nullptr);
 
-/// Convenience: scans `path` and reads the only series (or the one with `seriesUID`).
+/// Convenience: scans `path` and reads the only stack, or the one `seriesID` names (a StackID,
+/// or a SeriesInstanceUID that holds one stack).
 bool ReadDicomVolume(const std::string& path, ImageVolume& volume, std::string& error,
-                     const std::string& seriesUID = "", const DicomReadOptions& options = {},
+                     const std::string& seriesID = "", const DicomReadOptions& options = {},
                      std::vector<std::string>* warnings = nullptr, const ProgressCallback& progress = nullptr);
 
 }  // namespace rp

@@ -16,6 +16,7 @@
 #include <vtkPointData.h>
 
 #include "rpDicomCommon.h"
+#include "rpLPSRAS.h"
 
 namespace fs = std::filesystem;
 
@@ -111,11 +112,14 @@ bool WriteDicomSeries(const ImageVolume& volume, const std::string& folder, cons
   }
 
   // Geometry in LPS.
+  double ijkToLPS[16];
+  std::copy(volume.IJKToRAS->GetData(), volume.IJKToRAS->GetData() + 16, ijkToLPS);
+  FlipLPSRASIndexToSpace(ijkToLPS);
   double axis[3][3], spacing[3], origin[3];
   for (int c = 0; c < 3; ++c) {
     double len = 0.0;
     for (int r = 0; r < 3; ++r) {
-      axis[c][r] = (r < 2 ? -1.0 : 1.0) * volume.IJKToRAS->GetElement(r, c);
+      axis[c][r] = ijkToLPS[4 * r + c];
       len += axis[c][r] * axis[c][r];
     }
     spacing[c] = std::sqrt(len);
@@ -125,7 +129,7 @@ bool WriteDicomSeries(const ImageVolume& volume, const std::string& folder, cons
     }
     for (double& v : axis[c]) v /= spacing[c];
   }
-  for (int r = 0; r < 3; ++r) origin[r] = (r < 2 ? -1.0 : 1.0) * volume.IJKToRAS->GetElement(r, 3);
+  for (int r = 0; r < 3; ++r) origin[r] = ijkToLPS[4 * r + 3];
   auto dot = [](const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
   if (std::abs(dot(axis[0], axis[1])) > 1e-4 || std::abs(dot(axis[0], axis[2])) > 1e-4 ||
       std::abs(dot(axis[1], axis[2])) > 1e-4) {

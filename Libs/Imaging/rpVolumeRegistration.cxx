@@ -17,6 +17,8 @@
 #include <vtkDataArray.h>
 #include <vtkPointData.h>
 
+#include "rpLPSRAS.h"
+
 namespace rp {
 namespace {
 
@@ -39,12 +41,15 @@ ImageType::Pointer ToItk(const ImageVolume& volume) {
   ImageType::SpacingType spacing;
   ImageType::PointType origin;
   ImageType::DirectionType direction;
+  double ijkToLPS[16];
+  std::copy(volume.IJKToRAS->GetData(), volume.IJKToRAS->GetData() + 16, ijkToLPS);
+  FlipLPSRASIndexToSpace(ijkToLPS);
   for (int c = 0; c < 3; ++c) {
     double len = 0.0;
-    for (int r = 0; r < 3; ++r) len += volume.IJKToRAS->GetElement(r, c) * volume.IJKToRAS->GetElement(r, c);
+    for (int r = 0; r < 3; ++r) len += ijkToLPS[4 * r + c] * ijkToLPS[4 * r + c];
     spacing[c] = std::sqrt(len);
-    for (int r = 0; r < 3; ++r) direction(r, c) = (r < 2 ? -1.0 : 1.0) * volume.IJKToRAS->GetElement(r, c) / spacing[c];
-    origin[c] = (c < 2 ? -1.0 : 1.0) * volume.IJKToRAS->GetElement(c, 3);
+    for (int r = 0; r < 3; ++r) direction(r, c) = ijkToLPS[4 * r + c] / spacing[c];
+    origin[c] = ijkToLPS[4 * c + 3];
   }
   image->SetSpacing(spacing);
   image->SetOrigin(origin);
@@ -57,11 +62,11 @@ ImageType::Pointer ToItk(const ImageVolume& volume) {
   return image;
 }
 
-// RAS ↔ LPS for a 4x4 point transform: S · M · S with S = diag(-1, -1, 1, 1).
+// RAS ↔ LPS for a 4x4 point transform (S · M · S).
 void FlipRASLPS(const vtkMatrix4x4* in, vtkMatrix4x4* out) {
-  const double s[4] = {-1, -1, 1, 1};
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) out->SetElement(r, c, s[r] * in->GetElement(r, c) * s[c]);
+  out->DeepCopy(in);
+  FlipLPSRASTransform(out->GetData());
+  out->Modified();
 }
 
 class Observer : public itk::Command {

@@ -152,5 +152,26 @@ void vtkRPNode::Modified() {
   this->Superclass::Modified();
 }
 
+void vtkRPNode::CopyContent(vtkRPNode* source) {
+  if (!source || source == this) return;
+  const int previous = this->StartModify();
+  this->SetName(source->GetName());
+  PropertyMap properties;
+  source->WriteProperties(properties);
+  this->ReadProperties(properties);
+  for (const auto& [key, value] : source->GetAttributes()) this->SetAttribute(key, value);
+  for (const auto& role : this->GetReferenceRoles()) {
+    if (source->GetNumberOfNodeReferences(role) == 0) this->RemoveNodeReferenceIDs(role);
+  }
+  for (const auto& role : source->GetReferenceRoles()) {
+    this->RemoveNodeReferenceIDs(role);
+    for (int n = 0; n < source->GetNumberOfNodeReferences(role); ++n) {
+      this->AddNodeReferenceID(role, source->GetNodeReferenceID(role, n));
+    }
+  }
+  this->UpdateReferences();
+  this->EndModify(previous);
+}
+
 void vtkRPNode::WriteProperties(PropertyMap&) const {}
 void vtkRPNode::ReadProperties(const PropertyMap&) {}

@@ -56,6 +56,16 @@ class vtkRPNode : public vtkObject {
 
   vtkRPScene* GetScene() const { return this->Scene; }
 
+  // ---- singletons (Slicer's SingletonTag): at most one node per class and tag in a scene, e.g.
+  // the slice node of each view. Adding or importing another one updates the existing node
+  // instead; closing the scene keeps them.
+  const std::string& GetSingletonTag() const { return this->SingletonTag; }
+  bool IsSingleton() const { return !this->SingletonTag.empty(); }
+  /// Nodes that describe the views rather than the patient (hidden from data lists).
+  virtual bool GetHideFromEditors() const { return false; }
+  /// Takes over another node's name, properties, attributes and references (one ModifiedEvent).
+  void CopyContent(vtkRPNode* source);
+
   // ---- serialization of the node's own fields (data such as images live in files)
   using PropertyMap = std::map<std::string, std::string>;
   virtual void WriteProperties(PropertyMap& properties) const;
@@ -76,12 +86,13 @@ class vtkRPNode : public vtkObject {
   ~vtkRPNode() override;
   /// A role's IDs changed. Subclasses re-observe (e.g. the parent transform).
   virtual void OnNodeReferenceChanged(const std::string& role);
+  void SetSingletonTag(const std::string& tag) { this->SingletonTag = tag; }
 
  private:
   vtkRPNode(const vtkRPNode&) = delete;
   void operator=(const vtkRPNode&) = delete;
 
-  std::string ID, Name;
+  std::string ID, Name, SingletonTag;
   std::map<std::string, std::string> Attributes;
   std::map<std::string, std::vector<std::string>> References;
   vtkRPScene* Scene = nullptr;  // not owned: the scene owns its nodes

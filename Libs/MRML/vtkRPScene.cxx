@@ -6,11 +6,13 @@
 #include <vtkObjectFactory.h>
 
 #include "vtkRPFiducialListNode.h"
+#include "vtkRPLayoutNode.h"
 #include "vtkRPLinearTransformNode.h"
 #include "vtkRPModelNode.h"
 #include "vtkRPNode.h"
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPSegmentationNode.h"
+#include "vtkRPSliceNode.h"
 #include "vtkRPTrackedToolNode.h"
 
 vtkStandardNewMacro(vtkRPScene);
@@ -19,7 +21,8 @@ vtkRPScene::vtkRPScene() {
   for (vtkRPNode* prototype :
        std::initializer_list<vtkRPNode*>{vtkRPLinearTransformNode::New(), vtkRPTrackedToolNode::New(),
                                          vtkRPScalarVolumeNode::New(), vtkRPSegmentationNode::New(),
-                                         vtkRPModelNode::New(), vtkRPFiducialListNode::New()}) {
+                                         vtkRPModelNode::New(), vtkRPFiducialListNode::New(),
+                                         vtkRPSliceNode::New(), vtkRPLayoutNode::New()}) {
     this->RegisterNodeClass(prototype);
     prototype->Delete();
   }
@@ -84,6 +87,12 @@ vtkRPNode* vtkRPScene::AddNode(vtkRPNode* node) {
     vtkErrorMacro("AddNode: node " << node->GetID() << " is already in a scene");
     return nullptr;
   }
+  if (node->IsSingleton()) {
+    if (vtkRPNode* existing = this->GetSingletonNode(node->GetSingletonTag(), node->GetClassName())) {
+      existing->CopyContent(node);
+      return existing;
+    }
+  }
   if (node->GetID().empty() || this->NodesByID.count(node->GetID())) {
     node->SetIDInternal(this->GenerateUniqueID(node));
   }
@@ -118,7 +127,9 @@ void vtkRPScene::Clear() {
   this->Closing = true;
   this->InvokeEvent(StartCloseEvent);
   this->StartBatchProcess();
-  while (!this->Nodes.empty()) this->RemoveNode(this->Nodes.back());
+  for (size_t i = this->Nodes.size(); i-- > 0;) {
+    if (i < this->Nodes.size() && !this->Nodes[i]->IsSingleton()) this->RemoveNode(this->Nodes[i]);
+  }
   this->EndBatchProcess();
   this->Closing = false;
   this->InvokeEvent(EndCloseEvent);
@@ -140,6 +151,14 @@ std::vector<vtkRPNode*> vtkRPScene::GetNodesByName(const std::string& name) cons
 vtkRPNode* vtkRPScene::GetFirstNodeByName(const std::string& name) const {
   for (const auto& node : this->Nodes) {
     if (node->GetName() == name) return node;
+  }
+  return nullptr;
+}
+
+vtkRPNode* vtkRPScene::GetSingletonNode(const std::string& tag, const char* className) const {
+  if (tag.empty()) return nullptr;
+  for (const auto& node : this->Nodes) {
+    if (node->GetSingletonTag() == tag && node->IsA(className)) return node;
   }
   return nullptr;
 }
@@ -168,10 +187,22 @@ std::map<std::string, std::string> vtkRPScene::Import(const std::vector<vtkSmart
   this->Importing = true;
   this->InvokeEvent(StartImportEvent);
   this->StartBatchProcess();
+  // 0. Singletons already in the scene take the imported content; references to the imported
+  //    copy point at the scene's node.
+  std::vector<std::pair<vtkRPNode*, vtkRPNode*>> merged;  // existing, imported
+  std::set<vtkRPNode*> skip;
+  for (const auto& node : nodes) {
+    vtkRPNode* existing = node->IsSingleton() ? this->GetSingletonNode(node->GetSingletonTag(), node->GetClassName()) : nullptr;
+    if (!existing) continue;
+    merged.emplace_back(existing, node);
+    skip.insert(node);
+  }
   // 1. Give each imported node an ID free in this scene (and among the imported ones).
   std::set<std::string> taken;
   for (const auto& entry : this->NodesByID) taken.insert(entry.first);
+  for (const auto& [existing, imported] : merged) remap[imported->GetID()] = existing->GetID();
   for (const auto& node : nodes) {
+    if (skip.count(node)) continue;
     const std::string oldID = node->GetID();
     std::string newID = oldID;
     if (newID.empty() || taken.count(newID)) {
@@ -194,14 +225,21 @@ std::map<std::string, std::string> vtkRPScene::Import(const std::vector<vtkSmart
   }
   // 3. Insert, with unique names, then resolve references once everything is in.
   for (const auto& node : nodes) {
+    if (skip.count(node)) continue;
     node->SetIDInternal(remap[node->GetID()]);
     if (node->GetName().empty() || !this->GetNodesByName(node->GetName()).empty()) {
       node->SetName(this->GenerateUniqueName(node->GetName().empty() ? node->GetNodeTagName() : node->GetName()));
     }
     this->InsertNode(node);
   }
-  for (const auto& node : nodes) node->UpdateReferences();
-  for (const auto& node : nodes) this->InvokeEvent(NodeAddedEvent, node.GetPointer());
+  for (const auto& node : nodes) {
+    if (!skip.count(node)) node->UpdateReferences();
+  }
+  for (const auto& node : nodes) {
+    if (!skip.count(node)) this->InvokeEvent(NodeAddedEvent, node.GetPointer());
+  }
+  // After the new nodes are announced, so observers of the singletons find what they refer to.
+  for (const auto& [existing, imported] : merged) existing->CopyContent(imported);
   this->EndBatchProcess();
   this->Importing = false;
   this->InvokeEvent(EndImportEvent);

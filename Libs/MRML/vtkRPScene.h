@@ -30,16 +30,20 @@ class vtkRPScene : public vtkObject {
   };
 
   /// Adds a node: assigns a unique ID (and a unique name when empty or already taken). Returns
-  /// the node, or nullptr if it is already in a scene.
+  /// the node, or nullptr if it is already in a scene. A singleton whose class and tag are
+  /// already in the scene is not added: the existing node takes its content and is returned.
   vtkRPNode* AddNode(vtkRPNode* node);
   /// Removes a node: references to it are cleared in every other node.
   void RemoveNode(vtkRPNode* node);
-  /// Removes every node (Start/EndCloseEvent).
+  /// Removes every node except the singletons (the views' nodes stay, as in Slicer), with
+  /// Start/EndCloseEvent.
   void Clear();
 
   vtkRPNode* GetNodeByID(const std::string& id) const;
   std::vector<vtkRPNode*> GetNodesByName(const std::string& name) const;
   vtkRPNode* GetFirstNodeByName(const std::string& name) const;
+  /// The singleton node of a class (or a subclass) with this tag, or nullptr.
+  vtkRPNode* GetSingletonNode(const std::string& tag, const char* className) const;
   /// Nodes that are of the class or derive from it (vtkObject::IsA).
   std::vector<vtkRPNode*> GetNodesByClass(const char* className) const;
   int GetNumberOfNodes() const { return static_cast<int>(this->Nodes.size()); }
@@ -48,7 +52,8 @@ class vtkRPScene : public vtkObject {
 
   /// Adds nodes created elsewhere (e.g. read from a scene file), renaming IDs that clash and
   /// remapping every reference among the imported nodes. Start/EndImportEvent around it.
-  /// Returns old ID → new ID.
+  /// An imported singleton updates the scene's node of the same class and tag (references to it
+  /// are remapped to that node). Returns old ID → new ID.
   std::map<std::string, std::string> Import(const std::vector<vtkSmartPointer<vtkRPNode>>& nodes);
 
   /// Batch processing: observers may defer expensive work until EndBatchProcess.

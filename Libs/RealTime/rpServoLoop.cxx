@@ -108,9 +108,11 @@ void ServoLoop::Run(ServoTask* task, Options options) noexcept {
   info.Period = static_cast<double>(period) * 1e-9;
   while (!this->StopRequested.load(std::memory_order_acquire)) {
     WaitUntilNs(deadline, spin);
+    if (const int64_t stall = this->StallNs.exchange(0, std::memory_order_relaxed); stall > 0)
+      SleepUntilNs(NowNs() + stall);  // injected fault: the thread is not run for a while
     const int64_t start = NowNs();
     info.LatenessNs = start - deadline;
-    info.Time = static_cast<double>(deadline - origin) * 1e-9;
+    info.Time = static_cast<double>(start - origin) * 1e-9;
     if (lastStart != 0) this->PeriodHist.Record(start - lastStart);
     this->LatenessHist.Record(info.LatenessNs);
     if (info.LatenessNs > missThreshold) this->Missed.fetch_add(1, std::memory_order_relaxed);

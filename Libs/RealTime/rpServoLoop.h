@@ -13,9 +13,9 @@
 namespace rp {
 
 struct TickInfo {
-  uint64_t Index = 0;        // 0 for the first tick
-  double Time = 0;           // scheduled time of this tick since start (s): Index * Period
-  double Period = 0.001;     // s
+  uint64_t Index = 0;        // period number (0 for the first tick; skipped periods count)
+  double Time = 0;           // when this tick ran, since start (s): Index * Period + LatenessNs
+  double Period = 0.001;     // s (nominal)
   int64_t LatenessNs = 0;    // how late the thread woke after the deadline
   int64_t PreviousComputeNs = 0;
   bool PreviousOverran = false;  // the previous tick's compute took longer than the period
@@ -66,6 +66,10 @@ class ServoLoop {
   bool RealTimePriority() const { return this->GotRealTime.load(std::memory_order_acquire); }
   const std::string& PriorityNote() const { return this->Note; }
 
+  /// Fault injection (tests): before its next tick the thread sleeps `seconds` more, as when the
+  /// operating system does not run it (the tick then runs late and the lost periods are skipped).
+  void InjectStall(double seconds) { this->StallNs.store(static_cast<int64_t>(seconds * 1e9)); }
+
   ServoStats Stats() const;
   const TimingHistogram& PeriodHistogram() const { return this->PeriodHist; }
   const TimingHistogram& ComputeHistogram() const { return this->ComputeHist; }
@@ -79,6 +83,7 @@ class ServoLoop {
   std::atomic<int> StartState{0};  // 0 starting, 1 running
   std::atomic<bool> GotRealTime{false};
   std::atomic<uint64_t> Ticks{0}, Missed{0}, Overruns{0};
+  std::atomic<int64_t> StallNs{0};
   std::string Note;
   TimingHistogram PeriodHist{1000, 20000};    // 1 µs bins to 20 ms
   TimingHistogram ComputeHist{100, 20000};    // 0.1 µs bins to 2 ms

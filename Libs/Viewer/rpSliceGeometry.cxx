@@ -1,27 +1,8 @@
 #include "rpSliceGeometry.h"
 
-#include <vtkMath.h>
-
 namespace rp {
 
 bool IsSliceView(ViewKind kind) { return kind != ViewKind::ThreeD; }
-
-SliceAxes GetSliceAxes(ViewKind kind) {
-  switch (kind) {
-    case ViewKind::Sagittal:
-      return {{0, -1, 0}, {0, 0, 1}, {1, 0, 0}, 0};
-    case ViewKind::Coronal:
-      return {{-1, 0, 0}, {0, 0, 1}, {0, 1, 0}, 1};
-    case ViewKind::Axial:
-    default:
-      return {{-1, 0, 0}, {0, 1, 0}, {0, 0, 1}, 2};
-  }
-}
-
-void GetCameraDirection(ViewKind kind, double towardsCamera[3]) {
-  SliceAxes axes = GetSliceAxes(kind);
-  vtkMath::Cross(axes.X, axes.Y, towardsCamera);
-}
 
 const char* GetViewName(ViewKind kind) {
   switch (kind) {

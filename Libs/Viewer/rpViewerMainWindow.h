@@ -51,6 +51,7 @@ class ViewerMainWindow : public QMainWindow {
   /// Loads a scene or data file; adds it to the recent files. False with a message on failure
   /// (nothing already loaded is lost).
   bool LoadFile(const QString& path, QString* error = nullptr);
+  /// Sets the scene's layout node's arrangement (vtkRPLayoutNode::Arrangement) and shows it.
   void SetViewLayout(int layout);
   /// Renders the views that asked for it; returns how many were rendered.
   int RenderPendingViews();
@@ -78,6 +79,8 @@ class ViewerMainWindow : public QMainWindow {
   QWidget* BuildDataPanel();
   void RefreshDataPanel();
   void RefreshVolumeCombos();
+  std::string ShownLayersKey() const;
+  void ApplyLayout();
   void RefreshParentTransformCombo();
   void AddRecentFile(const QString& path);
   void RebuildRecentMenu();
@@ -99,7 +102,10 @@ class ViewerMainWindow : public QMainWindow {
   QTimer RenderTimer;
   vtkSmartPointer<vtkCallbackCommand> SceneCallback;
   std::vector<unsigned long> SceneTags;
-  std::string ShownLayers;  // background|foreground|followed as the combos show them
+  vtkSmartPointer<vtkCallbackCommand> LayoutCallback;
+  unsigned long LayoutTag = 0;
+  bool LayoutDirty = false;
+  std::string ShownLayers;  // background|foreground|followed|opacity as the combos show them
   bool DataPanelDirty = true;
   bool UpdatingPanel = false;
 };

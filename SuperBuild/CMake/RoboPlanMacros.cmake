@@ -54,6 +54,8 @@ function(roboplan_add_test name)
   endif()
   cmake_parse_arguments(A "OWN_MAIN" "TIMEOUT" "SOURCES;LIBS;LABELS;ARGS;ENVIRONMENT" ${ARGN})
   add_executable(${name} ${A_SOURCES})
+  # Testing/Support: helpers every test may use (rpSharedData.h: skip without ../shared/data).
+  target_include_directories(${name} PRIVATE ${PROJECT_SOURCE_DIR}/Testing/Support)
   target_link_libraries(${name} PRIVATE roboplan_warnings ${A_LIBS} GTest::gtest)
   if(NOT A_OWN_MAIN)
     target_link_libraries(${name} PRIVATE GTest::gtest_main)
@@ -96,14 +98,40 @@ function(roboplan_add_benchmark name)
     ROBOPLAN_RESOURCES_DIR="${ROBOPLAN_RESOURCES_DIR}")
 endfunction()
 
+# roboplan_add_module_widgets(<Name> SOURCES Widgets/qRP<Name>Panel.cxx ... LIBS <logic> ...)
+# A module's Qt panel layer: the static library RoboPlan<Name>Widgets (headers in Widgets/, each
+# .cxx's header beside it added for moc), linked into the module's plugin by roboplan_add_module
+# and into the panel's GUI test. Does nothing when the GUI is not built.
+function(roboplan_add_module_widgets name)
+  if(NOT ROBOPLAN_BUILD_GUI)
+    return()
+  endif()
+  cmake_parse_arguments(A "" "" "SOURCES;LIBS" ${ARGN})
+  set(target RoboPlan${name}Widgets)
+  set(sources ${A_SOURCES})
+  foreach(source ${A_SOURCES})
+    string(REGEX REPLACE "\\.cxx$" ".h" header ${source})
+    if(NOT header STREQUAL source AND EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/${header})
+      list(APPEND sources ${header})
+    endif()
+  endforeach()
+  add_library(${target} STATIC ${sources})
+  target_include_directories(${target} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/Widgets)
+  target_link_libraries(${target} PUBLIC ${A_LIBS} Qt5::Widgets PRIVATE roboplan_warnings)
+endfunction()
+
 # roboplan_add_module(<Name> SOURCES ... LIBS ...)
 # A run-time loadable module: a shared object lib/roboplan-modules/libRoboPlanModule<Name>.so that
-# exports roboplan_create_module() (see Libs/ModuleCore/rpModule.h).
+# exports roboplan_create_module() (see Libs/ModuleCore/rpModule.h). Links RoboPlan<Name>Widgets
+# when roboplan_add_module_widgets made it.
 function(roboplan_add_module name)
   cmake_parse_arguments(A "" "" "SOURCES;LIBS" ${ARGN})
   set(target RoboPlanModule${name})
   add_library(${target} MODULE ${A_SOURCES})
   target_link_libraries(${target} PRIVATE roboplan_warnings RoboPlanModuleCore ${A_LIBS})
+  if(TARGET RoboPlan${name}Widgets)
+    target_link_libraries(${target} PRIVATE RoboPlan${name}Widgets)
+  endif()
   roboplan_vtk_autoinit(${target})
   set_target_properties(${target} PROPERTIES
     LIBRARY_OUTPUT_DIRECTORY ${ROBOPLAN_MODULE_OUTPUT_DIRECTORY}

@@ -13,21 +13,22 @@
 #include <dcmtk/dcmdata/dctk.h>
 #include <dcmtk/dcmjpeg/djencode.h>
 #include <dcmtk/dcmjpeg/djrplol.h>
-#include <dcmtk/dcmjpls/djencode.h>
 
+#include <gdcmImageChangeTransferSyntax.h>
+#include <gdcmImageReader.h>
+#include <gdcmImageWriter.h>
 #include <vtkDataArray.h>
 #include <vtkPointData.h>
 
 #include "rpDicomSeries.h"
 #include "rpDicomWriter.h"
 #include "rpKneePhantom.h"
+#include "rpSharedData.h"
 #include "rpVolumeIO.h"
 
 namespace fs = std::filesystem;
 
 namespace {
-
-const std::string kData = ROBOPLAN_SHARED_DATA_DIR;
 
 fs::path Scratch(const std::string& name) {
   const fs::path dir = fs::path(ROBOPLAN_TEST_OUTPUT_DIR) / name;
@@ -71,6 +72,22 @@ rp::ImageVolume SmallCT() {
   return phantom.CT;
 }
 
+// Re-encodes a file in place with GDCM's own encoder (JPEG-LS, JPEG 2000).
+bool EncodeWithGdcm(const fs::path& file, gdcm::TransferSyntax::TSType syntax) {
+  gdcm::ImageReader reader;
+  reader.SetFileName(file.c_str());
+  if (!reader.Read()) return false;
+  gdcm::ImageChangeTransferSyntax change;
+  change.SetTransferSyntax(syntax);
+  change.SetInput(reader.GetImage());
+  if (!change.Change()) return false;
+  gdcm::ImageWriter writer;
+  writer.SetFile(reader.GetFile());
+  writer.SetImage(change.GetOutput());
+  writer.SetFileName(file.c_str());
+  return writer.Write();
+}
+
 // Rewrites one tag of a written file (to build broken series).
 void Patch(const fs::path& file, const DcmTagKey& tag, const std::string& value) {
   DcmFileFormat f;
@@ -87,9 +104,10 @@ void Patch(const fs::path& file, const DcmTagKey& tag, const std::string& value)
 // 03.dcm (256,256)=890 (200,250)=1112 (300,200)=1003 (0,0)=-2000; 02.dcm (200,250)=1124;
 // 01.dcm (256,256)=879 (300,200)=1061.
 TEST(DicomSeries, GeCtThreeSlices) {
+  RP_REQUIRE_SHARED_DATA("dicom/ct-3slice");
   rp::DicomScanResult scan;
   std::string error;
-  ASSERT_TRUE(rp::ScanDicom(kData + "/dicom/ct-3slice", scan, error)) << error;
+  ASSERT_TRUE(rp::ScanDicom(rptest::SharedDataPath("dicom/ct-3slice"), scan, error)) << error;
   ASSERT_EQ(scan.Series.size(), 1u);
   EXPECT_EQ(scan.NonDicomFiles, 1);  // LICENSE.txt, skipped and counted
   const rp::DicomSeriesInfo& s = scan.Series[0];
@@ -146,17 +164,19 @@ TEST(DicomSeries, GeCtThreeSlices) {
 // "L\R" is inconsistent with its own IOP too). The reader follows the standard, so this test
 // pins both: voxels identical up to the transpose, y/z identical, x mirrored.
 TEST(DicomSeries, PacmanMatchesItsNiftiTwin) {
+  RP_REQUIRE_SHARED_DATA("dicom/pacsman-mr");
+  RP_REQUIRE_SHARED_DATA("pacsman.nii.gz");
   rp::ImageVolume dicom;
   std::string error;
   std::vector<std::string> warnings;
-  ASSERT_TRUE(rp::ReadDicomVolume(kData + "/dicom/pacsman-mr", dicom, error, "", {}, &warnings)) << error;
+  ASSERT_TRUE(rp::ReadDicomVolume(rptest::SharedDataPath("dicom/pacsman-mr"), dicom, error, "", {}, &warnings)) << error;
   EXPECT_EQ(dicom.Modality, "MR");
   rp::ImageVolume nifti;
   nifti.Image = vtkSmartPointer<vtkImageData>::New();
   rp::VolumeFileData data;
   data.Image = nifti.Image;
   data.IJKToRAS = nifti.IJKToRAS;
-  ASSERT_TRUE(rp::ReadVolumeFile(kData + "/pacsman.nii.gz", data, error)) << error;
+  ASSERT_TRUE(rp::ReadVolumeFile(rptest::SharedDataPath("pacsman.nii.gz"), data, error)) << error;
   int dd[3], nd[3];
   dicom.Image->GetDimensions(dd);
   nifti.Image->GetDimensions(nd);
@@ -235,10 +255,10 @@ TEST(DicomSeries, CompressedAndHeaderlessFilesDecode) {
   std::string error;
   ASSERT_TRUE(rp::WriteDicomSeries(ct, dir.string(), {}, error)) << error;
   DJEncoderRegistration::registerCodecs();
-  DJLSEncoderRegistration::registerCodecs();
   DcmRLEEncoderRegistration::registerCodecs();
-  // Re-encode: slices 1-2 JPEG lossless (process 14 SV1), 3-4 JPEG-LS lossless, 5-6 RLE,
-  // 7 as a bare dataset without the Part-10 header.
+  // Re-encode: slices 1-2 JPEG lossless (process 14 SV1), 3-4 JPEG-LS lossless (GDCM's
+  // encoder), 5-6 RLE, 7 as a bare dataset without the Part-10 header: one series, three
+  // decoders.
   int index = 0;
   std::vector<fs::path> files;
   for (const auto& e : fs::directory_iterator(dir)) files.push_back(e.path());
@@ -249,9 +269,10 @@ TEST(DicomSeries, CompressedAndHeaderlessFilesDecode) {
     DcmDataset* ds = f.getDataset();
     E_TransferSyntax xfer = EXS_LittleEndianExplicit;
     if (index == 1 || index == 2) xfer = EXS_JPEGProcess14SV1;
-    if (index == 3 || index == 4) xfer = EXS_JPEGLSLossless;
     if (index == 5 || index == 6) xfer = EXS_RLELossless;
-    if (xfer != EXS_LittleEndianExplicit) {
+    if (index == 3 || index == 4) {
+      ASSERT_TRUE(EncodeWithGdcm(file, gdcm::TransferSyntax::JPEGLSLossless));
+    } else if (xfer != EXS_LittleEndianExplicit) {
       DJ_RPLossless params;
       ASSERT_TRUE(ds->chooseRepresentation(xfer, &params).good()) << index;
       ASSERT_TRUE(ds->canWriteXfer(xfer)) << index;
@@ -262,7 +283,6 @@ TEST(DicomSeries, CompressedAndHeaderlessFilesDecode) {
     ++index;
   }
   DcmRLEEncoderRegistration::cleanup();
-  DJLSEncoderRegistration::cleanup();
   DJEncoderRegistration::cleanup();
   rp::ImageVolume back;
   ASSERT_TRUE(rp::ReadDicomVolume(dir.string(), back, error)) << error;
@@ -341,19 +361,30 @@ TEST(DicomSeries, BadSeriesGetClearMessages) {
     EXPECT_FALSE(rp::ReadDicomVolume(dir.string(), v, error));
     EXPECT_NE(error.find("gantry tilt of 20.0 degrees"), std::string::npos) << error;
   }
-  {  // Mixed orientations and mixed sizes.
+  {  // One slice in another orientation: two stacks under one UID, the read refused naming both.
     const fs::path dir = writeSeries("mixed-orientation");
     Patch(dir / "IM00003.dcm", DCM_ImageOrientationPatient, "1\\0\\0\\0\\0.9\\0.43588989");
     EXPECT_FALSE(rp::ReadDicomVolume(dir.string(), v, error));
-    EXPECT_NE(error.find("mixed orientations"), std::string::npos) << error;
+    EXPECT_NE(error.find("holds 2 stacks"), std::string::npos) << error;
+    EXPECT_NE(error.find("#1 (axial, 24x20x7"), std::string::npos) << error;
+    EXPECT_NE(error.find("#2 (oblique axial (25.8°), 24x20x1"), std::string::npos) << error;
+    rp::DicomScanResult scan;
+    ASSERT_TRUE(rp::ScanDicom(dir.string(), scan, error)) << error;
+    ASSERT_EQ(scan.Series.size(), 2u);
+    // The axial stack lost a slice to the other one: refused as a gap; the odd slice loads alone.
+    EXPECT_FALSE(rp::ReadDicomVolume(dir.string(), v, error, scan.Series[0].StackID));
+    EXPECT_NE(error.find("1 missing slice"), std::string::npos) << error;
+    rp::ImageVolume single;
+    ASSERT_TRUE(rp::ReadDicomVolume(dir.string(), single, error, scan.Series[1].StackID)) << error;
+    EXPECT_NEAR(single.IJKToRAS->GetElement(2, 1), 0.43588989 * 7.0, 1e-6);  // j axis: column direction (S part)
     const fs::path dir2 = writeSeries("mixed-size");
     DcmFileFormat f;
     ASSERT_TRUE(f.loadFile((dir2 / "IM00006.dcm").c_str()).good());
     f.getDataset()->putAndInsertUint16(DCM_Rows, 10);
     ASSERT_TRUE(f.saveFile((dir2 / "IM00006.dcm").c_str(), EXS_LittleEndianExplicit).good());
     EXPECT_FALSE(rp::ReadDicomVolume(dir2.string(), v, error));
-    EXPECT_NE(error.find("mixed image sizes"), std::string::npos) << error;
-    EXPECT_NE(error.find("IM00006.dcm"), std::string::npos) << error;
+    EXPECT_NE(error.find("holds 2 stacks"), std::string::npos) << error;
+    EXPECT_NE(error.find("24x10x1"), std::string::npos) << error;
   }
   {  // A truncated file is named.
     const fs::path dir = writeSeries("truncated");
@@ -363,17 +394,25 @@ TEST(DicomSeries, BadSeriesGetClearMessages) {
     EXPECT_FALSE(rp::ReadDicomVolume(dir.string(), v, error));
     EXPECT_NE(error.find("IM00002.dcm"), std::string::npos) << error;
   }
-  {  // JPEG 2000: a clear error (DCMTK 3.6.7 has no codec). The file claims J2K in its meta header.
+  {  // JPEG 2000 (decoded by GDCM): a damaged codestream is an error naming the file and the syntax.
     const fs::path dir = writeSeries("j2k");
-    for (const auto& e : fs::directory_iterator(dir)) {
-      DcmFileFormat f;
-      ASSERT_TRUE(f.loadFile(e.path().c_str()).good());
-      f.getMetaInfo()->putAndInsertString(DCM_TransferSyntaxUID, UID_JPEG2000LosslessOnlyTransferSyntax);
-      ASSERT_TRUE(f.saveFile(e.path().c_str(), EXS_LittleEndianExplicit, EET_UndefinedLength, EGL_recalcGL,
-                             EPD_noChange, 0, 0, EWM_dontUpdateMeta)
-                      .good());
+    const fs::path file = dir / "IM00004.dcm";
+    ASSERT_TRUE(EncodeWithGdcm(file, gdcm::TransferSyntax::JPEG2000Lossless));
+    rp::ImageVolume intact;
+    ASSERT_TRUE(rp::ReadDicomVolume(dir.string(), intact, error)) << error;
+    ExpectSameVolume(ct, intact, 1e-6);
+    {  // Damage the codestream's image header (SIZ marker segment after SOC): lossless JPEG 2000
+      // has no checksum, so damage in the coded data itself may decode silently to other values.
+      std::ifstream in(file, std::ios::binary);
+      std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+      in.close();
+      const size_t soc = bytes.find(std::string("\xff\x4f\xff\x51", 4));
+      ASSERT_NE(soc, std::string::npos);
+      std::fill(bytes.begin() + soc + 4, bytes.begin() + soc + 40, '\xff');
+      std::ofstream(file, std::ios::binary).write(bytes.data(), bytes.size());
     }
     EXPECT_FALSE(rp::ReadDicomVolume(dir.string(), v, error));
+    EXPECT_NE(error.find("IM00004.dcm"), std::string::npos) << error;
     EXPECT_NE(error.find("JPEG 2000"), std::string::npos) << error;
   }
   {  // A folder with no DICOM at all.

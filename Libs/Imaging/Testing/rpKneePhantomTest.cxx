@@ -23,6 +23,7 @@
 #include <vtkXMLPolyDataReader.h>
 
 #include "rpKneePhantom.h"
+#include "rpSharedData.h"
 
 namespace fs = std::filesystem;
 
@@ -238,8 +239,8 @@ TEST(KneePhantom, RealKneeSurfacesAreClosedAndInTheAnatomyFrame) {
 }
 
 TEST(KneePhantom, ShippedAnatomyIsWithinFiveHundredthsOfAMillimetreOfTheSource) {
-  const fs::path source = fs::path(ROBOPLAN_SHARED_DATA_DIR) / "knee-vhf-surfaces";
-  if (!fs::exists(source / "tibia.vtp")) GTEST_SKIP() << "no " << source << " (../shared/data is not beside the clone)";
+  RP_REQUIRE_SHARED_DATA("knee-vhf-surfaces/tibia.vtp");
+  const fs::path source = fs::path(rptest::SharedDataPath("knee-vhf-surfaces"));
   const auto model = RealKnee();
   ASSERT_TRUE(model);
   // The frame change the shipped files were made with.

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "rpAtomicFile.h"
+#include "rpLPSRAS.h"
 #include "rpNodeStorage.h"
 #include "vtkRPFiducialListNode.h"
 
@@ -135,8 +136,7 @@ bool ParseMarkupsJson(const std::string& text, const std::string& path, ControlP
       error = where + ": position is not finite";
       return false;
     }
-    p.Position[0] *= sign;
-    p.Position[1] *= sign;
+    if (sign < 0) FlipLPSRASPoint(p.Position);
     auto text = [&item](const char* key) {
       return item.contains(key) && item[key].is_string() ? item[key].get<std::string>() : std::string();
     };
@@ -162,7 +162,9 @@ std::string FormatMarkupsJson(vtkRPFiducialListNode* node) {
     cp["label"] = p.Label;
     cp["description"] = p.Description;
     cp["associatedNodeID"] = "";
-    cp["position"] = {-p.Position[0], -p.Position[1], p.Position[2]};
+    double lps[3] = {p.Position[0], p.Position[1], p.Position[2]};
+    FlipLPSRASPoint(lps);
+    cp["position"] = {lps[0], lps[1], lps[2]};
     // Identity orientation in RAS, written in LPS the way Slicer does (first two rows negated).
     cp["orientation"] = {-1.0, -0.0, -0.0, -0.0, -1.0, -0.0, 0.0, 0.0, 1.0};
     cp["selected"] = p.Selected;
@@ -290,8 +292,7 @@ bool ParseFcsv(const std::string& text, const std::string& path, ControlPoints& 
         return false;
       }
     }
-    p.Position[0] *= sign;
-    p.Position[1] *= sign;
+    if (sign < 0) FlipLPSRASPoint(p.Position);
     auto flag = [&](const char* name, bool fallback) {
       const std::string* v = column(name);
       return v && !Trim(*v).empty() ? Trim(*v) != "0" : fallback;
@@ -319,7 +320,9 @@ std::string FormatFcsv(vtkRPFiducialListNode* node) {
       << "# CoordinateSystem = LPS\n"
       << "# columns = id,x,y,z,ow,ox,oy,oz,vis,sel,lock,label,desc,associatedNodeID\n";
   for (const auto& p : node->GetControlPoints()) {
-    out << QuoteCsv(p.ID) << "," << -p.Position[0] << "," << -p.Position[1] << "," << p.Position[2]
+    double lps[3] = {p.Position[0], p.Position[1], p.Position[2]};
+    FlipLPSRASPoint(lps);
+    out << QuoteCsv(p.ID) << "," << lps[0] << "," << lps[1] << "," << lps[2]
         << ",0,0,0,1," << (p.Visible ? 1 : 0) << "," << (p.Selected ? 1 : 0) << "," << (p.Locked ? 1 : 0) << ","
         << QuoteCsv(p.Label) << "," << QuoteCsv(p.Description) << ",\n";
   }

@@ -23,6 +23,7 @@
 #include <fstream>
 
 #include "rpAtomicFile.h"
+#include "rpLPSRAS.h"
 #include "rpNodeStorage.h"
 #include "vtkRPModelNode.h"
 
@@ -35,8 +36,10 @@ namespace {
 const char* const SpaceTag = "SPACE";
 
 vtkSmartPointer<vtkPolyData> FlipLPSRAS(vtkPolyData* input) {
+  double s[16];
+  LPSRASMatrix(s);
   vtkNew<vtkTransform> flip;
-  flip->Scale(-1, -1, 1);
+  flip->SetMatrix(s);
   vtkNew<vtkTransformPolyDataFilter> filter;
   filter->SetTransform(flip);
   filter->SetInputData(input);

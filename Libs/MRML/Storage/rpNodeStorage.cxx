@@ -55,6 +55,16 @@ std::vector<std::shared_ptr<NodeStorage>> GetNodeStorages() {
   return registry.Storages;
 }
 
+std::vector<std::string> ExtensionsForNodeClass(const std::string& nodeClass) {
+  std::vector<std::string> extensions;
+  for (const auto& storage : GetNodeStorages()) {
+    if (storage->NodeClassForFiles() != nodeClass) continue;
+    for (const auto& ext : storage->Extensions())
+      if (std::find(extensions.begin(), extensions.end(), ext) == extensions.end()) extensions.push_back(ext);
+  }
+  return extensions;
+}
+
 const NodeStorage* FindNodeStorage(const vtkRPNode* node) {
   const NodeStorage* best = nullptr;
   for (const auto& storage : GetNodeStorages()) {

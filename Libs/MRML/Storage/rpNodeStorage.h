@@ -40,6 +40,9 @@ const NodeStorage* FindNodeStorage(const vtkRPNode* node);
 /// Best storage for a file name (by extension, case-insensitive), or nullptr.
 const NodeStorage* FindNodeStorageForFile(const std::string& path);
 std::vector<std::shared_ptr<NodeStorage>> GetNodeStorages();
+/// Every extension read for a node class (e.g. "vtkRPScalarVolumeNode"), for file choosers and
+/// CLI descriptors.
+std::vector<std::string> ExtensionsForNodeClass(const std::string& nodeClass);
 
 /// True if `path` ends with `extension` (case-insensitive).
 bool HasExtension(const std::string& path, const std::string& extension);

@@ -19,6 +19,8 @@
 #include <vtkPointData.h>
 #include <vtkSmartPointer.h>
 
+#include "rpLPSRAS.h"
+#include "rpMemoryBudget.h"
 #include "rpNodeStorage.h"
 #include "rpVolumeIO.h"
 #include "vtkRPSegmentationNode.h"
@@ -247,6 +249,11 @@ bool ReadLayers(const std::string& path, std::vector<vtkSmartPointer<vtkImageDat
       }
       ijkToLPS->SetElement(static_cast<int>(axis), 3, io->GetOrigin(axis));
     }
+    // The interleaved file and its layers are both held while splitting: refuse what cannot fit
+    // from the header alone, rather than as std::bad_alloc inside VTK.
+    const int64_t size[3] = {int64_t(io->GetDimensions(0)), int64_t(io->GetDimensions(1)), int64_t(io->GetDimensions(2))};
+    if (!CheckImageFitsInMemory(size, double(io->GetComponentSize()) * components, "'" + path + "'", error, 2.0))
+      return false;
     vtkNew<vtkImageData> interleaved;
     interleaved->SetDimensions(dims);
     interleaved->AllocateScalars(vtkType, static_cast<int>(components));
@@ -274,8 +281,7 @@ bool ReadLayers(const std::string& path, std::vector<vtkSmartPointer<vtkImageDat
       std::string value;
       if (itk::ExposeMetaData<std::string>(dictionary, key, value)) metadata[key] = value;
     }
-    for (int row = 0; row < 2; ++row)
-      for (int col = 0; col < 4; ++col) ijkToLPS->SetElement(row, col, -ijkToLPS->GetElement(row, col));
+    FlipLPSRASIndexToSpace(ijkToLPS->GetData());
     ijkToRAS->DeepCopy(ijkToLPS);
     return true;
   } catch (const itk::ExceptionObject& e) {

@@ -18,6 +18,7 @@
 #include <vtkNew.h>
 
 #include "rpAtomicFile.h"
+#include "rpLPSRAS.h"
 #include "rpNodeStorage.h"
 #include "vtkRPLinearTransformNode.h"
 
@@ -47,11 +48,11 @@ bool IsTransformExtension(const std::string& path) {
          HasExtension(path, ".hdf5") || HasExtension(path, ".mat");
 }
 
-// S · M · S with S = diag(-1, -1, 1, 1): the same map expressed in the other of LPS/RAS.
+// The same map expressed in the other of LPS/RAS (S · M · S).
 void FlipLPSRAS(const vtkMatrix4x4* in, vtkMatrix4x4* out) {
-  const double s[4] = {-1, -1, 1, 1};
-  for (int i = 0; i < 4; ++i)
-    for (int j = 0; j < 4; ++j) out->SetElement(i, j, s[i] * in->GetElement(i, j) * s[j]);
+  out->DeepCopy(in);
+  FlipLPSRASTransform(out->GetData());
+  out->Modified();
 }
 
 bool IsFiniteAffine(const vtkMatrix4x4* m) {

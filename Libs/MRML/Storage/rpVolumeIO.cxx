@@ -14,6 +14,8 @@
 #include <vtkSmartPointer.h>
 
 #include "rpAtomicFile.h"
+#include "rpLPSRAS.h"
+#include "rpMemoryBudget.h"
 #include "rpNodeStorage.h"
 #include "vtkRPImageNode.h"
 #include "vtkRPScalarVolumeNode.h"
@@ -65,10 +67,9 @@ bool ToITKType(int vtkType, itk::IOComponentEnum& type) {
   }
 }
 
-// LPS <-> RAS: negate the first two rows.
 void FlipLPSRAS(vtkMatrix4x4* m) {
-  for (int row = 0; row < 2; ++row)
-    for (int col = 0; col < 4; ++col) m->SetElement(row, col, -m->GetElement(row, col));
+  FlipLPSRASIndexToSpace(m->GetData());
+  m->Modified();
 }
 
 }  // namespace
@@ -116,6 +117,10 @@ bool ReadVolumeFile(const std::string& path, VolumeFileData& data, std::string& 
       }
       ijkToLPS->SetElement(static_cast<int>(axis), 3, io->GetOrigin(axis));
     }
+    // Refused here, from the header alone, rather than as std::bad_alloc inside VTK.
+    const int64_t size[3] = {int64_t(io->GetDimensions(0)), dimension > 1 ? int64_t(io->GetDimensions(1)) : 1,
+                             dimension > 2 ? int64_t(io->GetDimensions(2)) : 1};
+    if (!CheckImageFitsInMemory(size, double(io->GetComponentSize()), "'" + path + "'", error)) return false;
     auto image = vtkSmartPointer<vtkImageData>::New();
     image->SetDimensions(dims);
     image->AllocateScalars(vtkType, 1);

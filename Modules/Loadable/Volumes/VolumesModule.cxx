@@ -26,7 +26,9 @@ class VolumesModule : public rp::Module {
             {"convert", "convert volumes between DICOM series, NRRD, NIfTI and MetaImage", bind(rp::RunConvertCommand)},
             {"phantom", "write the built-in knee phantom (CT, MR, labels, true transform)", bind(rp::RunPhantomCommand)},
             {"register-volumes", "rigid CT-MR registration by mutual information into a transform file",
-             bind(rp::RunRegisterVolumesCommand)}};
+             bind(rp::RunRegisterVolumesCommand)},
+            {"compare-labels", "score a segmentation against a truth labelmap (Dice, surface distance)",
+             bind(rp::RunCompareLabelsCommand)}};
   }
 
  private:

@@ -17,25 +17,23 @@
 #include "rpAtomicFile.h"
 #include "rpNodeStorage.h"
 #include "rpSceneIO.h"
+#include "rpTestOutput.h"
 #include "rpVolumeIO.h"
 #include "vtkRPFiducialListNode.h"
 #include "vtkRPLinearTransformNode.h"
 #include "vtkRPModelNode.h"
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
+#include "vtkRPLayoutNode.h"
 #include "vtkRPSegmentationNode.h"
+#include "vtkRPSliceNode.h"
 #include "vtkRPTrackedToolNode.h"
 
 namespace fs = std::filesystem;
 
-namespace {
+using rptest::TestDir;
 
-fs::path TestDir(const std::string& name) {
-  const fs::path dir = fs::path(ROBOPLAN_TEST_OUTPUT_DIR) / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+namespace {
 
 // A CT-like volume with an oblique, LPS-flipped geometry and a deterministic pattern.
 vtkSmartPointer<vtkRPScalarVolumeNode> MakeVolume() {
@@ -353,4 +351,68 @@ TEST(SceneIO, AFailedSaveKeepsTheLastGoodSceneFile) {
   std::string after;
   ASSERT_TRUE(rp::ReadFile(sceneFile, after, error));
   EXPECT_EQ(before, after);
+}
+
+// The views are scene state: slice planes, field of view, layers, the followed tool and the
+// layout come back with the scene, into the scene's own view nodes (no duplicates).
+TEST(SceneIO, SliceNodesAndLayoutRoundTripIntoTheViewsNodes) {
+  const fs::path dir = TestDir("views");
+  vtkNew<vtkRPScene> scene;
+  auto ct = MakeVolume();
+  scene->AddNode(ct);
+  vtkNew<vtkRPLinearTransformNode> stylus;
+  stylus->SetName("StylusTipToStylus");
+  scene->AddNode(stylus);
+  const auto nodes = vtkRPSliceNode::GetOrAddDefaultSliceNodes(scene);
+  ASSERT_EQ(nodes.size(), 3u);
+  const double point[3] = {-4.5, 12.25, 33};
+  vtkRPSliceNode::JumpAllSlices(scene, point);
+  nodes[0]->SetFieldOfView(150, 110);
+  nodes[0]->SetXYOrigin(5, -6);
+  nodes[0]->SetBackgroundVolumeID(ct->GetID());
+  nodes[0]->SetForegroundOpacity(0.3);
+  nodes[1]->SetOrientationToCoronal();  // a user's choice: Yellow shows a coronal plane
+  nodes[1]->JumpSlice(point);
+  nodes[2]->SetSliceVisible(false);
+  ASSERT_TRUE(nodes[2]->SetAndObserveFollowNodeID(stylus->GetID()));
+  vtkRPLayoutNode::GetOrAddLayoutNode(scene)->SetViewArrangement(vtkRPLayoutNode::OneUpSagittal);
+  std::string error;
+  ASSERT_TRUE(rp::SaveScene(scene, (dir / "views.rpscene").string(), error)) << error;
+
+  // A viewer's scene already has its view nodes (reset); a plain scene has none.
+  for (bool withViews : {true, false}) {
+    vtkNew<vtkRPScene> loaded;
+    if (withViews) {
+      vtkRPSliceNode::GetOrAddDefaultSliceNodes(loaded);
+      vtkRPLayoutNode::GetOrAddLayoutNode(loaded);
+    }
+    const rp::SceneLoadReport report = rp::LoadScene(loaded, (dir / "views.rpscene").string());
+    ASSERT_TRUE(report.Ok) << report.Error;
+    EXPECT_TRUE(report.Problems.empty());
+    const auto views = vtkRPSliceNode::GetSliceNodes(loaded);
+    ASSERT_EQ(views.size(), 3u) << "with views: " << withViews;
+    vtkRPSliceNode* red = vtkRPSliceNode::GetSliceNode(loaded, "Red");
+    vtkRPSliceNode* yellow = vtkRPSliceNode::GetSliceNode(loaded, "Yellow");
+    vtkRPSliceNode* green = vtkRPSliceNode::GetSliceNode(loaded, "Green");
+    ASSERT_TRUE(red && yellow && green);
+    EXPECT_DOUBLE_EQ(red->GetSliceOffset(), 33);
+    EXPECT_DOUBLE_EQ(red->GetFieldOfView()[0], 150);
+    EXPECT_DOUBLE_EQ(red->GetXYOrigin()[1], -6);
+    EXPECT_DOUBLE_EQ(red->GetForegroundOpacity(), 0.3);
+    auto* background = loaded->GetNodeByID(red->GetBackgroundVolumeID());
+    ASSERT_NE(background, nullptr);
+    EXPECT_EQ(background->GetName(), "CT");
+    EXPECT_EQ(yellow->GetOrientation(), "Coronal");
+    EXPECT_DOUBLE_EQ(yellow->GetSliceOffset(), 12.25);
+    EXPECT_FALSE(green->GetSliceVisible());
+    auto* followed = loaded->GetNodeByID(green->GetFollowNodeID());
+    ASSERT_NE(followed, nullptr);
+    EXPECT_EQ(followed->GetName(), "StylusTipToStylus");
+    // Following resumes after loading: moving the stylus moves the Green slice.
+    vtkNew<vtkMatrix4x4> moved;
+    moved->SetElement(1, 3, -50);
+    vtkRPLinearTransformNode::SafeDownCast(followed)->SetMatrixTransformToParent(moved);
+    EXPECT_DOUBLE_EQ(green->GetSliceOffset(), -50);
+    EXPECT_EQ(vtkRPLayoutNode::GetOrAddLayoutNode(loaded)->GetViewArrangement(), vtkRPLayoutNode::OneUpSagittal);
+  }
 }

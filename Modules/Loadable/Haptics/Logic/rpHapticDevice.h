@@ -30,6 +30,8 @@ struct DeviceState {
   uint32_t Buttons = 0;
 };
 
+/// A device's limits. The defaults are a generic device for unit tests, not any model: the
+/// simulated device takes a profile (rpDeviceProfiles.h), real devices report their own.
 struct DeviceInfo {
   std::string Name;
   Vec3 WorkspaceMin{-80, -60, -35}, WorkspaceMax{80, 60, 35};  // mm, device frame

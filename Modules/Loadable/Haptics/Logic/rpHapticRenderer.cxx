@@ -35,13 +35,16 @@ void HapticRenderer::Reset(const Pose& pose) noexcept {
   this->Out.NumberOfPoints = this->PointCount;
 }
 
-const RenderOutput& HapticRenderer::Update(const Pose& pose) noexcept {
+const RenderOutput& HapticRenderer::Update(const Pose& pose, double elapsed) noexcept {
   if (!this->Initialized) this->Reset(pose);
   RenderOutput& out = this->Out;
   out.NumberOfPoints = this->PointCount;
   out.Contacts = 0;
   out.PrimaryPoint = -1;
-  const double dt = this->Options.Period > 0 ? this->Options.Period : 0.001;
+  const double period = this->Options.Period > 0 ? this->Options.Period : 0.001;
+  const double dt = elapsed > 0 ? elapsed : period;
+  const bool stalled = dt > 1.5 * period;
+  const Vec3 previousForce = out.Force;
 
   // Pass 1: proxies, and the summed gains of the points in contact (eq. 4–5 act in parallel).
   double kSum = 0, bSum = 0, deepest = -1;
@@ -76,12 +79,14 @@ const RenderOutput& HapticRenderer::Update(const Pose& pose) noexcept {
   }
   out.Gains = GainLimits{};
   if (this->Options.LimitGains && out.Contacts > 0)
-    out.Gains = LimitGains(kSum, bSum, this->Device, dt, this->Options.WorkspaceScale);
+    out.Gains = LimitGains(kSum, bSum, this->Device, period, this->Options.WorkspaceScale);
 
   // Pass 2: spring-damper per contact with the limited gains, summed (eq. 4).
   Vec3 total{};
+  double renderedStiffness = 0, largestMove = 0, stored = 0;
   for (int i = 0; i < this->PointCount; ++i) {
     PointContact& c = out.Points[i];
+    largestMove = std::fmax(largestMove, Norm(c.Hip - this->LastHip[i]));
     const Vec3 hipVelocity = (c.Hip - this->LastHip[i]) / dt;
     const Vec3 proxyVelocity = (c.Proxy - this->LastProxy[i]) / dt;
     this->LastHip[i] = c.Hip;
@@ -91,6 +96,8 @@ const RenderOutput& HapticRenderer::Update(const Pose& pose) noexcept {
     const Material& m = this->Scene->Materials[c.Label];
     const double k = m.Stiffness * out.Gains.StiffnessScale;
     const double b = m.Damping * out.Gains.DampingScale;
+    renderedStiffness += k;
+    stored += 0.5 * k * Norm2(c.Proxy - c.Hip);  // what this spring will give back
     const Vec3 stretch = c.Proxy - c.Hip;  // eq. 1: Δd = x_proxy − x_probe
     // Force shading: the normal part of the spring turns to the shaded normal.
     const Vec3 faceNormal = s.PlaneCount == 1 ? s.Planes[0].Normal : s.ForceNormal;
@@ -106,11 +113,22 @@ const RenderOutput& HapticRenderer::Update(const Pose& pose) noexcept {
   const bool touching = out.Contacts > 0;
   if (touching && !this->WasInContact) this->Observer.Reset(this->LastTip);
   if (touching || this->WasInContact) this->Observer.Observe(tip);
-  if (touching && this->Options.PassivityControl) total = this->Observer.Correct((tip - this->LastTip) / dt, total, dt);
+  if (touching && this->Options.PassivityControl) total = this->Observer.Correct((tip - this->LastTip) / dt, total, dt, stored);
   out.ObservedEnergy = this->Observer.ObservedEnergy();
   out.AddedDamping = touching && this->Options.PassivityControl ? this->Observer.AddedDamping() : 0.0;
   this->WasInContact = touching;
   this->LastTip = tip;
+
+  // After a stall: no more force than before plus what the motion justifies (k·|Δx|).
+  out.StallLimited = false;
+  if (stalled) {
+    const double bound = Norm(previousForce) + renderedStiffness * largestMove;
+    const double magnitude = Norm(total);
+    if (magnitude > bound) {
+      total = magnitude > 0 ? total * (bound / magnitude) : total;
+      out.StallLimited = true;
+    }
+  }
 
   // eq. 6: clamp the magnitude, keep the direction.
   out.UnclampedForce = total;

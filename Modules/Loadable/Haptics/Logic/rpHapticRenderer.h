@@ -21,7 +21,7 @@ struct RendererOptions {
   bool ForceShading = true;
   bool LimitGains = true;         // Colgate-Schenkel + nominal device limits
   bool PassivityControl = true;
-  double Period = 0.001;          // s
+  double Period = 0.001;          // s: the servo period the passivity limits assume (measured)
   double WorkspaceScale = 1.0;    // scene mm per device mm
 };
 
@@ -37,6 +37,7 @@ struct RenderOutput {
   Vec3 Force;           // after gain limits, passivity control and the clamp (N, scene frame)
   Vec3 UnclampedForce;  // eq. 4 result before the clamp
   bool Clamped = false;
+  bool StallLimited = false;  // after a servo stall the force was held to what the motion justifies
   int Contacts = 0;
   int PrimaryPoint = -1;  // the deepest contact
   GainLimits Gains;
@@ -56,8 +57,12 @@ class HapticRenderer {
   void SetScene(const HapticScene* scene) noexcept { this->Scene = scene; }
   /// Puts every proxy on its HIP (no contact) for this stylus pose (scene frame).
   void Reset(const Pose& stylusToScene) noexcept;
-  /// One servo tick: stylus pose in the scene frame.
-  const RenderOutput& Update(const Pose& stylusToScene) noexcept;
+  /// One servo tick: stylus pose in the scene frame; `elapsed` the time since the previous tick
+  /// (s; ≤ 0: Options.Period). Velocities use the elapsed time. After a stall (elapsed above
+  /// 1.5 periods) the force may grow over the previous one by no more than the contacts'
+  /// rendered stiffness times the distance the tool moved: the hand felt a stale force during
+  /// the stall, and a damping or passivity term estimated over it must not come back as a kick.
+  const RenderOutput& Update(const Pose& stylusToScene, double elapsed = 0) noexcept;
   const RenderOutput& Output() const { return this->Out; }
 
  private:

@@ -9,6 +9,7 @@ HapticServo::HapticServo(HapticDevice& device) : Device(device) { this->Render.S
 void HapticServo::ServoStarted() noexcept {
   this->First = true;
   this->Trips = 0;
+  this->Stalls = 0;
   this->Device.WriteForce(Vec3{});
 }
 
@@ -25,7 +26,16 @@ void HapticServo::Tick(const TickInfo& tick) noexcept {
   DeviceState device;
   const bool ok = this->Device.Read(tick.Time, device);
   s.DeviceError = !ok;
-  if (this->First) this->RampStart = tick.Time;
+  if (this->First) {
+    this->RampStart = tick.Time;
+    this->LastTime = tick.Time - tick.Period;
+  }
+  // Measured time since the previous tick: a stall (the thread was not run) shows here.
+  const double elapsed = tick.Time > this->LastTime ? tick.Time - this->LastTime : tick.Period;
+  this->LastTime = tick.Time;
+  if (elapsed > 1.5 * tick.Period) ++this->Stalls;
+  s.Elapsed = elapsed;
+  s.Stalls = this->Stalls;
   // Watchdog: an overrun or a device error zeroes the force and restarts the ramp.
   if (!ok || tick.PreviousOverran) {
     ++this->Trips;
@@ -41,30 +51,25 @@ void HapticServo::Tick(const TickInfo& tick) noexcept {
       r.Hip = s.Hip;
       r.Proxy = s.Proxy;
       r.TickComputeUs = static_cast<float>(tick.PreviousComputeNs * 1e-3);
+      r.Elapsed = static_cast<float>(elapsed);
       r.Flags = 1;
       this->Log.TryPush(r);
     }
     return;
   }
 
-  Pose stylus;
+  const Pose stylus = xf.StylusInScene(device.StylusToDevice);
   const double scale = xf.Scale > 0 ? xf.Scale : 1.0;
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c)
-      stylus.R[3 * r + c] = xf.DeviceToRAS.R[3 * r] * device.StylusToDevice.R[c] +
-                            xf.DeviceToRAS.R[3 * r + 1] * device.StylusToDevice.R[3 + c] +
-                            xf.DeviceToRAS.R[3 * r + 2] * device.StylusToDevice.R[6 + c];
-  stylus.T = xf.DeviceToRAS.Apply(device.StylusToDevice.T * scale);
 
   RendererOptions options = this->Render.GetOptions();
   options.WorkspaceScale = scale;
-  options.Period = tick.Period;
+  options.Period = std::max(tick.Period, this->StabilityPeriod.load(std::memory_order_relaxed));
   this->Render.SetOptions(options);
   if (this->First) {
     this->Render.Reset(stylus);
     this->First = false;
   }
-  const RenderOutput& out = this->Render.Update(stylus);
+  const RenderOutput& out = this->Render.Update(stylus, elapsed);
   const double ramp = this->RampSeconds > 0 ? std::min(1.0, (tick.Time - this->RampStart) / this->RampSeconds) : 1.0;
   const Vec3 force = out.Force * ramp;
   this->Device.WriteForce(xf.DeviceToRAS.RotateInverse(force));
@@ -80,6 +85,7 @@ void HapticServo::Tick(const TickInfo& tick) noexcept {
   s.Clamped = out.Clamped;
   s.ObservedEnergy = out.ObservedEnergy;
   s.StiffnessScale = out.Gains.StiffnessScale;
+  s.StallLimited = out.StallLimited;
   s.Buttons = device.Buttons;
   s.NumberOfPoints = out.NumberOfPoints;
   for (int i = 0; i < out.NumberOfPoints; ++i) {
@@ -96,7 +102,9 @@ void HapticServo::Tick(const TickInfo& tick) noexcept {
     r.Label = s.Label;
     r.Contacts = s.Contacts;
     r.TickComputeUs = static_cast<float>(tick.PreviousComputeNs * 1e-3);
-    r.Flags = out.Clamped ? 2u : 0u;
+    r.Elapsed = static_cast<float>(elapsed);
+    r.ObservedEnergy = out.ObservedEnergy;
+    r.Flags = (out.Clamped ? 2u : 0u) | (out.StallLimited ? 4u : 0u);
     this->Log.TryPush(r);
   }
 }

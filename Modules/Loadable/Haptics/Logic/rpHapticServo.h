@@ -17,6 +17,16 @@ namespace rp {
 struct DeviceToScene {
   Pose DeviceToRAS;
   double Scale = 1.0;
+  /// The stylus pose in the scene (rotations composed; the position scaled, then moved).
+  Pose StylusInScene(const Pose& stylusToDevice) const noexcept {
+    Pose stylus;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c)
+        stylus.R[3 * r + c] = DeviceToRAS.R[3 * r] * stylusToDevice.R[c] + DeviceToRAS.R[3 * r + 1] * stylusToDevice.R[3 + c] +
+                              DeviceToRAS.R[3 * r + 2] * stylusToDevice.R[6 + c];
+    stylus.T = DeviceToRAS.Apply(stylusToDevice.T * (Scale > 0 ? Scale : 1.0));
+    return stylus;
+  }
 };
 
 /// What the main thread shows at display rate (copied into nodes by the scene bridge).
@@ -33,6 +43,9 @@ struct HapticState {
   bool Clamped = false;
   double ObservedEnergy = 0;
   double StiffnessScale = 1;
+  double Elapsed = 0;         // s since the previous tick (a stall shows here)
+  uint32_t Stalls = 0;        // ticks that came more than 1.5 periods after the previous one
+  bool StallLimited = false;  // this tick's force was held to what the motion justifies
   uint32_t Buttons = 0;
   int32_t NumberOfPoints = 0;
   Vec3 Hips[MaxToolPoints], Proxies[MaxToolPoints];
@@ -45,7 +58,9 @@ struct HapticLogRecord {
   int32_t Label = -1;
   int32_t Contacts = 0;
   float TickComputeUs = 0;  // the previous tick's compute time
-  uint32_t Flags = 0;       // 1: watchdog tripped, 2: clamped
+  float Elapsed = 0;        // s since the previous tick (a stall shows here)
+  double ObservedEnergy = 0;  // passivity observer, N·mm (mJ): ≥ 0 while no energy was injected
+  uint32_t Flags = 0;       // 1: watchdog tripped, 2: clamped, 4: held after a stall
 };
 using HapticLogRing = SpscRing<HapticLogRecord, 8192>;
 
@@ -61,6 +76,9 @@ class HapticServo : public ServoTask {
   /// Any time, from the owner thread.
   SceneExchange& Scenes() { return this->SceneSlots; }
   void SetDeviceToScene(const DeviceToScene& transform) { this->Transform.Publish(transform); }
+  /// The servo period the passivity limits assume (s): the measured one when it is longer
+  /// than the nominal period (Colgate-Schenkel's T). ≤ 0: the nominal period.
+  void SetStabilityPeriod(double seconds) { this->StabilityPeriod.store(seconds, std::memory_order_relaxed); }
   /// Latest published state; false when no tick ran yet.
   bool ReadState(HapticState& state) const { return this->State.Read(state) != 0; }
   HapticLogRing& LogRing() { return this->Log; }
@@ -77,11 +95,13 @@ class HapticServo : public ServoTask {
   LatestValue<HapticState> State;
   HapticLogRing Log;
   std::atomic<bool> LogEnabled{false};
+  std::atomic<double> StabilityPeriod{0};
   double RampSeconds = 0.5;
   // Servo thread only:
   double RampStart = 0;
+  double LastTime = 0;
   bool First = true;
-  uint32_t Trips = 0;
+  uint32_t Trips = 0, Stalls = 0;
   HapticState Scratch;
 };
 

@@ -14,8 +14,9 @@ bool HapticSession::Start(vtkRPScene* scene, const Options& options, std::string
   this->Scene = scene;
   this->Settings = options;
   this->WarningList.clear();
-  this->Names.clear();
-  for (const Material& m : options.Materials.Materials()) this->Names.push_back(m.Tissue);
+  this->ClampList.clear();
+  if (this->Settings.Materials.Empty() && !LoadMaterialTable(this->Settings.Materials, error)) return false;
+  this->Names = this->Settings.Materials.TissueNames();
   if (!this->Device.Open(error)) return false;
   this->Task = std::make_unique<HapticServo>(this->Device);
   HapticRenderer& renderer = this->Task->Renderer();
@@ -28,7 +29,9 @@ bool HapticSession::Start(vtkRPScene* scene, const Options& options, std::string
   DeviceToScene xf;
   ReadDeviceToScene(scene, xf);
   this->Task->SetDeviceToScene(xf);
-  auto built = HapticScene::Build(CollectHapticMeshes(scene, this->WarningList), options.Materials, this->WarningList, error);
+  this->UpdateClamps(1.0 / options.Loop.RateHz);
+  auto built = HapticScene::Build(CollectHapticMeshes(scene, this->WarningList), this->Settings.Materials,
+                                  this->WarningList, error);
   if (!built) return false;
   this->Triangles = built->Tree.NumberOfTriangles();
   this->Task->Scenes().Publish(std::move(built));
@@ -43,6 +46,21 @@ bool HapticSession::Start(vtkRPScene* scene, const Options& options, std::string
     return false;
   }
   return true;
+}
+
+void HapticSession::UpdateClamps(double period) {
+  this->Period = period;
+  this->Task->SetStabilityPeriod(period);
+  DeviceToScene xf;
+  ReadDeviceToScene(this->Scene, xf);
+  const std::vector<MaterialClamp> clamps =
+      ClampMaterials(this->Settings.Materials.Materials(), this->Device.Info(), period, xf.Scale);
+  for (size_t i = 0; i < clamps.size(); ++i) {
+    const bool wasClamped = i < this->ClampList.size() && this->ClampList[i].Clamped() &&
+                            this->ClampList[i].RenderedStiffness <= clamps[i].RenderedStiffness * (1 + 1e-9);
+    if (clamps[i].Clamped() && !wasClamped) this->WarningList.push_back(ClampWarning(clamps[i], this->Device.Info()));
+  }
+  this->ClampList = clamps;
 }
 
 void HapticSession::StartRebuild() {
@@ -76,6 +94,11 @@ bool HapticSession::Update() {
   DeviceToScene xf;
   ReadDeviceToScene(this->Scene, xf);
   this->Task->SetDeviceToScene(xf);
+  // Colgate-Schenkel's T is the period the loop really keeps: follow the measured p99 once it
+  // is 5 % past the last value used (enough ticks for a p99 first).
+  const ServoStats stats = this->Loop.Stats();
+  const double measured = stats.Period.P99Us * 1e-6;
+  if (stats.Period.Count >= 1000 && measured > 1.05 * this->Period) this->UpdateClamps(measured);
   HapticState state;
   if (!this->Task->ReadState(state)) return false;
   UpdateToolNodes(this->Scene, state, this->Names);

@@ -17,7 +17,7 @@ namespace rp {
 class HapticSession {
  public:
   struct Options {
-    MaterialTable Materials = MaterialTable::Defaults();
+    MaterialTable Materials;  // empty: LoadMaterialTable() (Resources/Materials/materials.json)
     RendererOptions Renderer;
     std::vector<Vec3> ToolPoints{Vec3{}};  // stylus frame; [0] is the tip
     double RampSeconds = 0.5;
@@ -29,8 +29,12 @@ class HapticSession {
   ~HapticSession();
 
   /// Builds the first haptic scene (synchronously), opens the device and starts the servo loop.
+  /// Tissues the device cannot render stably are clamped, each with a warning (Warnings(),
+  /// Clamps()).
   bool Start(vtkRPScene* scene, const Options& options, std::string& error);
-  /// Display-rate update (main thread). Returns true when the tool nodes were updated.
+  /// Display-rate update (main thread). Returns true when the tool nodes were updated. When the
+  /// measured servo period (p99) grows past the nominal one, the passivity limits follow it and
+  /// tissues newly clamped get a warning.
   bool Update();
   void Stop();
   bool Running() const { return this->Loop.Running(); }
@@ -40,11 +44,19 @@ class HapticSession {
   SessionLogWriter& Log() { return this->Writer; }
   const std::vector<std::string>& Warnings() const { return this->WarningList; }
   const std::vector<std::string>& TissueNames() const { return this->Names; }
+  /// The material table in use and, per tissue, what was asked and what the device renders.
+  const MaterialTable& Materials() const { return this->Settings.Materials; }
+  const std::vector<MaterialClamp>& Clamps() const { return this->ClampList; }
+  /// The device's limits (name, peak force, nominal maximum stiffness...).
+  const DeviceInfo& DeviceLimits() const { return this->Device.Info(); }
+  /// The servo period the clamps assume (s): nominal, or the measured p99 when longer.
+  double StabilityPeriod() const { return this->Period; }
   size_t SceneTriangles() const { return this->Triangles; }
   uint64_t ScenesBuilt() const { return this->Builds.load(); }
 
  private:
   void StartRebuild();
+  void UpdateClamps(double period);
   HapticDevice& Device;
   std::unique_ptr<HapticServo> Task;
   ServoLoop Loop;
@@ -52,6 +64,8 @@ class HapticSession {
   vtkRPScene* Scene = nullptr;
   Options Settings;
   std::vector<std::string> WarningList, Names;
+  std::vector<MaterialClamp> ClampList;
+  double Period = 0.001;
   unsigned long Signature = 0;
   size_t Triangles = 0;
   std::thread Builder;

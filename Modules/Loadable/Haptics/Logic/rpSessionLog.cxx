@@ -17,7 +17,7 @@ bool SessionLogWriter::Start(HapticLogRing& ring, const std::string& path, std::
   }
   if (this->File) std::fprintf(this->File,
                "time_s,hip_x,hip_y,hip_z,proxy_x,proxy_y,proxy_z,force_x,force_y,force_z,tissue,contacts,"
-               "tick_us,watchdog,clamped\n");
+               "tick_us,watchdog,clamped,elapsed_ms,energy_mJ,stall_limited\n");
   this->Ring = &ring;
   this->Names = std::move(labelNames);
   this->StopRequested.store(false);
@@ -37,9 +37,10 @@ bool SessionLogWriter::Drain() {
     const char* tissue = (r.Label >= 0 && static_cast<size_t>(r.Label) < this->Names.size())
                              ? this->Names[static_cast<size_t>(r.Label)].c_str()
                              : "";
-    std::fprintf(this->File, "%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.5f,%.5f,%.5f,%s,%d,%.2f,%d,%d\n", r.Time, r.Hip.x,
-                 r.Hip.y, r.Hip.z, r.Proxy.x, r.Proxy.y, r.Proxy.z, r.Force.x, r.Force.y, r.Force.z, tissue,
-                 r.Contacts, static_cast<double>(r.TickComputeUs), (r.Flags & 1u) ? 1 : 0, (r.Flags & 2u) ? 1 : 0);
+    std::fprintf(this->File, "%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.5f,%.5f,%.5f,%s,%d,%.2f,%d,%d,%.3f,%.6f,%d\n", r.Time,
+                 r.Hip.x, r.Hip.y, r.Hip.z, r.Proxy.x, r.Proxy.y, r.Proxy.z, r.Force.x, r.Force.y, r.Force.z, tissue,
+                 r.Contacts, static_cast<double>(r.TickComputeUs), (r.Flags & 1u) ? 1 : 0, (r.Flags & 2u) ? 1 : 0,
+                 1e3 * static_cast<double>(r.Elapsed), r.ObservedEnergy, (r.Flags & 4u) ? 1 : 0);
   }
   return any;
 }

@@ -5,6 +5,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "rpDeviceProfiles.h"
+
 namespace rp {
 
 bool WaypointTrajectory::Set(const std::vector<double>& times, const std::vector<Vec3>& points, std::string& error) {
@@ -95,11 +97,7 @@ std::shared_ptr<WaypointTrajectory> WaypointTrajectory::Line(const Vec3& a, cons
   return path;
 }
 
-DeviceInfo SimulatedDevice::DefaultInfo() {
-  DeviceInfo info;
-  info.Name = "Simulated (Touch-like)";
-  return info;
-}
+DeviceInfo SimulatedDevice::DefaultInfo() { return DeviceProfiles().front().Info; }
 
 SimulatedDevice::SimulatedDevice(DeviceInfo info) : Description(std::move(info)) {}
 

@@ -44,7 +44,7 @@ class WaypointTrajectory : public Trajectory {
 
 class SimulatedDevice : public HapticDevice {
  public:
-  /// Touch/Omni-like limits (3.3 N as in the seed paper).
+  /// The default profile's limits (DeviceProfiles().front(): the seed paper's Phantom Omni).
   static DeviceInfo DefaultInfo();
   explicit SimulatedDevice(DeviceInfo info = DefaultInfo());
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 namespace rp {
 
@@ -30,6 +31,48 @@ GainLimits LimitGains(double k, double b, const DeviceInfo& device, double perio
   g.Damping = bAllowed;
   g.Margin = device.PhysicalDamping > 0 ? device.PhysicalDamping - (kAllowed * period / 2 + bAllowed) : 0.0;
   return g;
+}
+
+bool MaterialClamp::Clamped() const {
+  return this->RenderedStiffness < this->RequestedStiffness * (1 - 1e-9) ||
+         this->RenderedDamping < this->RequestedDamping * (1 - 1e-9);
+}
+
+std::vector<MaterialClamp> ClampMaterials(const std::vector<Material>& materials, const DeviceInfo& device,
+                                          double period, double workspaceScale) {
+  std::vector<MaterialClamp> clamps;
+  for (const Material& m : materials) {
+    const GainLimits g = LimitGains(m.Stiffness, m.Damping, device, period, workspaceScale);
+    MaterialClamp c;
+    c.Tissue = m.Tissue;
+    c.RequestedStiffness = m.Stiffness;
+    c.RenderedStiffness = m.Stiffness * g.StiffnessScale;
+    c.RequestedDamping = m.Damping;
+    c.RenderedDamping = m.Damping * g.DampingScale;
+    if (c.RenderedStiffness < c.RequestedStiffness * (1 - 1e-9)) {
+      char text[160];
+      if (g.Stiffness >= device.NominalMaxStiffness * (1 - 1e-9))
+        std::snprintf(text, sizeof(text), "the device's nominal maximum %.2f N/mm", device.NominalMaxStiffness);
+      else
+        std::snprintf(text, sizeof(text), "passivity (Colgate-Schenkel) at a %.2f ms servo period", period * 1e3);
+      c.Limit = text;
+    } else if (c.Clamped()) {
+      c.Limit = "the device's damping budget";
+    }
+    clamps.push_back(c);
+  }
+  return clamps;
+}
+
+std::string ClampWarning(const MaterialClamp& c, const DeviceInfo& device) {
+  char text[400];
+  if (c.RenderedStiffness < c.RequestedStiffness * (1 - 1e-9))
+    std::snprintf(text, sizeof(text), "%s: stiffness %.2f N/mm is above what %s renders stably (%s); rendered at %.2f N/mm",
+                  c.Tissue.c_str(), c.RequestedStiffness, device.Name.c_str(), c.Limit.c_str(), c.RenderedStiffness);
+  else
+    std::snprintf(text, sizeof(text), "%s: damping %.4f N*s/mm is above what %s renders stably (%s); rendered at %.4f N*s/mm",
+                  c.Tissue.c_str(), c.RequestedDamping, device.Name.c_str(), c.Limit.c_str(), c.RenderedDamping);
+  return text;
 }
 
 }  // namespace rp

@@ -3,7 +3,11 @@
 // virtual wall K, B sampled every T on a device with physical damping b is passive when
 //     b > K·T/2 + |B|.
 // Contacts act in parallel, so the limit applies to the summed K and B of all contact points.
+#include <string>
+#include <vector>
+
 #include "rpHapticDevice.h"
+#include "rpMaterial.h"
 
 namespace rp {
 
@@ -28,5 +32,22 @@ double PassiveStiffnessLimit(const DeviceInfo& device, double period, double dam
 /// PassiveSafetyFraction.
 GainLimits LimitGains(double summedStiffness, double summedDamping, const DeviceInfo& device, double period,
                       double workspaceScale = 1.0);
+
+/// What one tissue asks for and what the device renders of it (a single contact through
+/// LimitGains, so the same numbers the servo loop uses). Stiffness in N/mm and damping in
+/// N·s/mm, both as the scene sees them.
+struct MaterialClamp {
+  std::string Tissue;
+  double RequestedStiffness = 0, RenderedStiffness = 0;
+  double RequestedDamping = 0, RenderedDamping = 0;
+  std::string Limit;  // what bounds the stiffness when clamped: the nominal maximum or passivity at T
+  bool Clamped() const;
+};
+
+/// Every material of the table through the device's limits at servo period `period` (s).
+std::vector<MaterialClamp> ClampMaterials(const std::vector<Material>& materials, const DeviceInfo& device,
+                                          double period, double workspaceScale = 1.0);
+/// "bone: stiffness 0.70 N/mm is above what Touch (simulated) renders stably (...); rendered at 0.40 N/mm".
+std::string ClampWarning(const MaterialClamp& clamp, const DeviceInfo& device);
 
 }  // namespace rp

@@ -3,18 +3,35 @@
 #include <vtkMatrix4x4.h>
 #include <vtkObjectFactory.h>
 
+#include "rpDeviceProfiles.h"
 #include "rpHapticSession.h"
 #include "rpSimulatedDevice.h"
 
 vtkStandardNewMacro(vtkRPHapticsLogic);
 
-vtkRPHapticsLogic::vtkRPHapticsLogic() : Device(std::make_unique<rp::SimulatedDevice>()) {}
+vtkRPHapticsLogic::vtkRPHapticsLogic()
+    : Device(std::make_unique<rp::SimulatedDevice>()), Profile(rp::DeviceProfiles().front().Key) {}
+
+bool vtkRPHapticsLogic::SetDeviceProfile(const std::string& name, std::string& error) {
+  if (this->IsRunning()) {
+    error = "haptics: stop the device before changing it";
+    return false;
+  }
+  rp::DeviceProfile profile;
+  if (!rp::FindDeviceProfile(name, profile, error)) return false;
+  this->Stop();  // no session may keep the old device
+  this->Device = std::make_unique<rp::SimulatedDevice>(profile.Info);
+  this->Profile = profile.Key;
+  this->Modified();
+  return true;
+}
 
 vtkRPHapticsLogic::~vtkRPHapticsLogic() { this->Stop(); }
 
 void vtkRPHapticsLogic::PrintSelf(ostream& os, vtkIndent indent) {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Running: " << (this->IsRunning() ? "yes" : "no") << "\n";
+  os << indent << "DeviceProfile: " << this->Profile << "\n";
   if (this->Session) os << indent << "HapticTriangles: " << this->Session->SceneTriangles() << "\n";
 }
 
@@ -30,6 +47,10 @@ bool vtkRPHapticsLogic::StartSimulated(std::string& error) {
   this->Session = std::make_unique<rp::HapticSession>(*this->Device);
   rp::HapticSession::Options options;
   options.LogPath = this->LogPath;
+  if (!rp::LoadMaterialTable(options.Materials, error, this->MaterialsPath)) {
+    this->Session.reset();
+    return false;
+  }
   if (!this->Session->Start(this->Scene, options, error)) {
     this->Session.reset();
     return false;

@@ -25,8 +25,19 @@ class vtkRPHapticsLogic : public vtkObject {
   void SetScene(vtkRPScene* scene) { this->Scene = scene; }
   vtkRPScene* GetScene() const { return this->Scene; }
 
-  /// Starts the 1 kHz loop with the simulated device on the scene's haptic models. False (and
-  /// `error` names the problem) when there is no scene, no haptic model or it already runs.
+  /// The simulated device's profile by name ("omni", the default, or "touch"; see
+  /// rpDeviceProfiles.h). False (and `error` lists the names) for an unknown one or while
+  /// running.
+  bool SetDeviceProfile(const std::string& name, std::string& error);
+  const std::string& GetDeviceProfile() const { return this->Profile; }
+  /// Tissue materials from this file instead of Resources/Materials/materials.json (empty:
+  /// that file).
+  void SetMaterialsPath(const std::string& path) { this->MaterialsPath = path; }
+
+  /// Starts the 1 kHz loop with the simulated device on the scene's haptic models, materials
+  /// from materials.json (rp::LoadMaterialTable). False (and `error` names the problem) when
+  /// there is no scene, no haptic model, the material table cannot be read or it already runs.
+  /// Tissues clamped to the device's limits are in GetSession()->Warnings().
   bool StartSimulated(std::string& error);
   void Stop();
   bool IsRunning() const;
@@ -53,7 +64,8 @@ class vtkRPHapticsLogic : public vtkObject {
   vtkRPScene* Scene = nullptr;  // not owned (the host's scene outlives its modules)
   std::unique_ptr<rp::SimulatedDevice> Device;
   std::unique_ptr<rp::HapticSession> Session;
-  std::string LogPath;
+  std::string LogPath, MaterialsPath;
+  std::string Profile;
 };
 
 #endif

@@ -1,7 +1,8 @@
 // The Haptics panel on a flat bone slab: start the simulated device, press the stylus into the
 // top face with the spin boxes, and read the force, tissue and penetration back from the panel.
 // Known answers: force = k·depth (k of bone from Resources/Materials/materials.json) below the
-// device's force limit, and the limit (3.3 N, seed eq. 6) above it.
+// device's force limit, and the limit (3.3 N, seed eq. 6) above it; on the Touch (0.4 N/mm) bone
+// is clamped to 0.4 N/mm with a warning in the panel.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -11,6 +12,7 @@
 #include <memory>
 
 #include <QApplication>
+#include <QComboBox>
 #include <QDir>
 #include <QDoubleSpinBox>
 #include <QLineEdit>
@@ -22,6 +24,7 @@
 
 #include "qRPHapticsPanel.h"
 #include "rpHapticSceneBridge.h"
+#include "rpHapticSession.h"
 #include "rpSimulatedDevice.h"
 #include "vtkRPHapticsLogic.h"
 #include "vtkRPModelNode.h"
@@ -88,15 +91,43 @@ TEST(HapticsPanel, PressIntoBoneSlabShowsStiffnessForceAndTissue) {
   std::printf("1 mm into bone: %s (k = %.2f N/mm), servo p99 period / compute %s\n",
               panel->ForceText().toStdString().c_str(), k, panel->TimingText().toStdString().c_str());
 
-  // 2 mm: k·2 mm = 4 N would exceed the simulated Touch's 3.3 N; the renderer clamps to it.
-  panel->StylusSpinBox(2)->setValue(-2);
+  // The default device is the Phantom Omni, which renders bone as the table asks: no warning.
+  EXPECT_EQ(panel->DeviceComboBox()->currentData().toString(), "omni");
+  EXPECT_FALSE(panel->DeviceComboBox()->isEnabled());  // not while running
+  EXPECT_TRUE(panel->ClampText().isEmpty()) << panel->ClampText().toStdString();
+
+  // 5 mm: k·5 mm exceeds the Omni's 3.3 N; the renderer clamps to it (eq. 6).
+  panel->StylusSpinBox(2)->setValue(-5);
   pump(0.3);
   EXPECT_EQ(panel->TissueText(), "bone");
   const double limit = rp::SimulatedDevice::DefaultInfo().MaxForce;
-  EXPECT_NEAR(panel->DisplayedForce(), std::min(k * 2.0, limit), 0.15 * std::min(k * 2.0, limit))
-      << panel->ForceText().toStdString();
-  std::printf("2 mm into bone: %s (limit %.1f N)\n", panel->ForceText().toStdString().c_str(), limit);
+  ASSERT_GT(k * 5.0, limit);
+  EXPECT_NEAR(panel->DisplayedForce(), limit, 0.05 * limit) << panel->ForceText().toStdString();
+  std::printf("5 mm into bone: %s (limit %.1f N)\n", panel->ForceText().toStdString().c_str(), limit);
   EXPECT_TRUE(panel->TimingText().endsWith("us")) << panel->TimingText().toStdString();
+
+  // The Touch renders at most 0.4 N/mm: bone is clamped, the panel says so, 1 mm gives 0.4 N.
+  panel->StartStopButton()->click();
+  ASSERT_FALSE(panel->IsRunning());
+  panel->DeviceComboBox()->setCurrentIndex(panel->DeviceComboBox()->findData("touch"));
+  panel->StylusSpinBox(2)->setValue(10);
+  panel->StartStopButton()->click();
+  ASSERT_TRUE(panel->IsRunning()) << panel->StatusText().toStdString();
+  EXPECT_EQ(logic->GetDeviceProfile(), "touch");
+  pump(0.6);
+  panel->StylusSpinBox(2)->setValue(-1);
+  pump(0.3);
+  const double touchK = std::min(k, 0.4);
+  EXPECT_NEAR(panel->DisplayedForce(), touchK * 1.0, 0.15 * touchK) << panel->ForceText().toStdString();
+  if (k > 0.4) {
+    EXPECT_NE(panel->ClampText().indexOf("bone: " + QString::number(k, 'f', 2) + " → 0.40 N/mm"), -1)
+        << panel->ClampText().toStdString();
+    bool warned = false;
+    for (const auto& w : logic->GetSession()->Warnings()) warned |= w.rfind("bone: stiffness", 0) == 0;
+    EXPECT_TRUE(warned);
+  }
+  std::printf("Touch, 1 mm into bone: %s; %s\n", panel->ForceText().toStdString().c_str(),
+              panel->ClampText().toStdString().c_str());
 
   // Closing the panel stops the loop and commits the session log.
   panel.reset();

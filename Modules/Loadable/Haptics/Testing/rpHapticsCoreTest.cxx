@@ -6,7 +6,9 @@
 #include <fstream>
 #include <iostream>
 
+#include "rpDeviceProfiles.h"
 #include "rpHapticsTestScenes.h"
+#include "rpSimulatedDevice.h"
 
 using rp::Vec3;
 using rptest::At;
@@ -300,8 +302,10 @@ TEST(HapticRenderer, SummedContactsStayInsideTheStabilityLimit) {
   rp::RendererOptions o = NoExtras();
   o.LimitGains = true;
   r.SetOptions(o);
-  rp::DeviceInfo device;  // nominal 2.5 N/mm
-  r.SetDevice(device);
+  rp::DeviceProfile omni;
+  std::string error;
+  ASSERT_TRUE(rp::FindDeviceProfile("omni", omni, error)) << error;
+  r.SetDevice(omni.Info);  // nominal 0.7 N/mm
   const Vec3 points[3] = {{0, 0, 0}, {10, 0, 0}, {20, 0, 0}};  // flat on the floor
   r.SetToolPoints(points, 3);
   r.SetScene(scene.get());
@@ -309,8 +313,11 @@ TEST(HapticRenderer, SummedContactsStayInsideTheStabilityLimit) {
   MoveTo(r, {0, 0, 5}, {0, 0, -0.4}, 50);
   const rp::RenderOutput& out = r.Update(At({0, 0, -0.4}));
   ASSERT_EQ(out.Contacts, 3);
-  EXPECT_NEAR(out.Gains.Stiffness, 2.5, 1e-12);  // 3 x 2.0 N/mm summed, capped at 2.5
-  EXPECT_NEAR(out.Force.z, 2.5 * (0.4 + Gap), 1e-9);
+  const rp::MaterialTable table = rp::MaterialTable::Defaults();
+  const double kBone = table.Materials()[static_cast<size_t>(table.Find("bone"))].Stiffness;
+  ASSERT_GT(3 * kBone, 0.7);
+  EXPECT_NEAR(out.Gains.Stiffness, 0.7, 1e-12);  // 3 x bone summed, capped at the Omni's 0.7 N/mm
+  EXPECT_NEAR(out.Force.z, 0.7 * (0.4 + Gap), 1e-9);
   EXPECT_GE(out.Gains.Margin, 0.0);
 }
 
@@ -380,8 +387,11 @@ TEST(Materials, LoadTheResourceTableAndReportBadFiles) {
   for (const char* tissue : {"bone", "cartilage", "ligament", "tendon", "muscle", "fat", "skin"})
     EXPECT_GE(table.Find(tissue), 0) << tissue;
   EXPECT_EQ(table.Materials()[table.DefaultIndex()].Tissue, "muscle");
-  // The resource file and the built-in defaults agree.
+  // The built-in table is the resource file compiled in: they agree field by field.
   const rp::MaterialTable defaults = rp::MaterialTable::Defaults();
+  ASSERT_EQ(defaults.Materials().size(), table.Materials().size());
+  EXPECT_NE(defaults.Source().find("built-in"), std::string::npos) << defaults.Source();
+  EXPECT_EQ(defaults.TissueNames(), table.TissueNames());
   for (const auto& m : defaults.Materials()) {
     const auto& f = table.Materials()[table.Find(m.Tissue)];
     EXPECT_EQ(f.Stiffness, m.Stiffness) << m.Tissue;
@@ -409,6 +419,94 @@ TEST(Materials, LoadTheResourceTableAndReportBadFiles) {
   EXPECT_NE(error.find("not valid JSON"), std::string::npos) << error;
   EXPECT_FALSE(kept.Load(dir + "/missing.json", error));
   EXPECT_NE(error.find("cannot open"), std::string::npos) << error;
+  std::ofstream(bad) << R"({"materials": [{"tissue": "bone", "stiffness": 1, "damping": 0},
+                                           {"tissue": "Bone", "stiffness": 2, "damping": 0}]})";
+  EXPECT_FALSE(kept.Load(bad, error));
+  EXPECT_NE(error.find("listed twice"), std::string::npos) << error;
+}
+
+TEST(Materials, OneLoaderFindsTheResourceFileAndFallsBackOnlyWhenItIsAbsent) {
+  // The function every program uses: Resources/Materials/materials.json through ResourcePath.
+  rp::MaterialTable table;
+  std::string error;
+  ASSERT_TRUE(rp::LoadMaterialTable(table, error)) << error;
+  EXPECT_NE(table.Source().find("Materials/materials.json"), std::string::npos) << table.Source();
+  EXPECT_EQ(table.Source().find("built-in"), std::string::npos) << table.Source();
+  // Resources moved away: the same file, compiled in, and Source() says so.
+  const std::string dir = std::string(ROBOPLAN_TEST_OUTPUT_DIR) + "/no-resources";
+  ASSERT_EQ(std::system(("rm -rf '" + dir + "' && mkdir -p '" + dir + "'").c_str()), 0);
+  const char* previous = std::getenv("ROBOPLAN_RESOURCES_DIR");
+  const std::string restore = previous ? previous : "";
+  ASSERT_EQ(setenv("ROBOPLAN_RESOURCES_DIR", dir.c_str(), 1), 0);
+  rp::MaterialTable fallback;
+  EXPECT_TRUE(rp::LoadMaterialTable(fallback, error)) << error;
+  EXPECT_NE(fallback.Source().find("built-in"), std::string::npos) << fallback.Source();
+  EXPECT_EQ(fallback.TissueNames(), table.TissueNames());
+  // A table there that is broken is an error naming it, never replaced by the built-in one.
+  ASSERT_EQ(std::system(("mkdir -p '" + dir + "/Materials'").c_str()), 0);
+  std::ofstream(dir + "/Materials/materials.json") << R"({"materials": []})";
+  rp::MaterialTable broken;
+  EXPECT_FALSE(rp::LoadMaterialTable(broken, error));
+  EXPECT_NE(error.find("lists no materials"), std::string::npos) << error;
+  if (restore.empty())
+    unsetenv("ROBOPLAN_RESOURCES_DIR");
+  else
+    setenv("ROBOPLAN_RESOURCES_DIR", restore.c_str(), 1);
+}
+
+TEST(DeviceProfiles, OmniAndTouchByNameWithTheirLimits) {
+  rp::DeviceProfile p;
+  std::string error;
+  ASSERT_TRUE(rp::FindDeviceProfile("omni", p, error)) << error;
+  EXPECT_EQ(p.Key, rp::DeviceProfiles().front().Key);  // the default: the seed paper's device
+  EXPECT_DOUBLE_EQ(p.Info.MaxForce, 3.3);
+  EXPECT_DOUBLE_EQ(p.Info.NominalMaxStiffness, 0.7);
+  EXPECT_DOUBLE_EQ(p.Info.WorkspaceMax.x - p.Info.WorkspaceMin.x, 160);
+  EXPECT_DOUBLE_EQ(p.Info.WorkspaceMax.y - p.Info.WorkspaceMin.y, 120);
+  EXPECT_DOUBLE_EQ(p.Info.WorkspaceMax.z - p.Info.WorkspaceMin.z, 70);
+  ASSERT_TRUE(rp::FindDeviceProfile("TOUCH", p, error)) << error;
+  EXPECT_DOUBLE_EQ(p.Info.MaxForce, 3.3);
+  EXPECT_DOUBLE_EQ(p.Info.NominalMaxStiffness, 0.4);
+  ASSERT_TRUE(rp::FindDeviceProfile(p.Info.Name, p, error)) << error;  // the display name works too
+  EXPECT_FALSE(rp::FindDeviceProfile("falcon", p, error));
+  EXPECT_NE(error.find("omni|touch"), std::string::npos) << error;
+  EXPECT_EQ(rp::SimulatedDevice::DefaultInfo().NominalMaxStiffness, 0.7);
+}
+
+TEST(DeviceProfiles, TissuesAboveTheDeviceAndTheMeasuredPeriodAreClampedWithAWarning) {
+  const rp::MaterialTable table = rp::MaterialTable::Defaults();
+  rp::DeviceProfile omni, touch;
+  std::string error;
+  ASSERT_TRUE(rp::FindDeviceProfile("omni", omni, error));
+  ASSERT_TRUE(rp::FindDeviceProfile("touch", touch, error));
+  // The Omni renders the whole table at 1 kHz (bone sits at its nominal maximum).
+  for (const rp::MaterialClamp& c : rp::ClampMaterials(table.Materials(), omni.Info, 0.001)) {
+    EXPECT_FALSE(c.Clamped()) << c.Tissue;
+    EXPECT_DOUBLE_EQ(c.RenderedStiffness, c.RequestedStiffness) << c.Tissue;
+  }
+  // The Touch: every tissue above 0.4 N/mm is rendered at 0.4, the others as asked.
+  int clamped = 0;
+  for (const rp::MaterialClamp& c : rp::ClampMaterials(table.Materials(), touch.Info, 0.001)) {
+    EXPECT_NEAR(c.RenderedStiffness, std::min(c.RequestedStiffness, 0.4), 1e-12) << c.Tissue;
+    EXPECT_EQ(c.Clamped(), c.RequestedStiffness > 0.4) << c.Tissue;
+    if (!c.Clamped()) continue;
+    ++clamped;
+    const std::string warning = rp::ClampWarning(c, touch.Info);
+    EXPECT_EQ(warning.rfind(c.Tissue + ": stiffness", 0), 0u) << warning;
+    EXPECT_NE(warning.find("nominal maximum 0.40"), std::string::npos) << warning;
+    EXPECT_NE(warning.find("rendered at 0.40 N/mm"), std::string::npos) << warning;
+  }
+  int above = 0;  // every tissue of the table above the Touch's 0.4 N/mm
+  for (const rp::Material& m : table.Materials()) above += m.Stiffness > 0.4;
+  EXPECT_EQ(clamped, above);
+  // A servo loop that only keeps 10 ms: Colgate-Schenkel K < 2 (b - B) / T binds below the
+  // nominal limit: 0.9 * 2 * (0.003 - 0.001) / 0.010 = 0.36 N/mm for bone (b = 0.001 N·s/mm).
+  const auto slow = rp::ClampMaterials(table.Materials(), omni.Info, 0.010);
+  const rp::MaterialClamp& bone = slow[static_cast<size_t>(table.Find("bone"))];
+  const double bBone = std::min(table.Materials()[static_cast<size_t>(table.Find("bone"))].Damping, 0.0015);
+  EXPECT_NEAR(bone.RenderedStiffness, 0.9 * 2 * (0.003 - bBone) / 0.010, 1e-12);
+  EXPECT_NE(bone.Limit.find("passivity"), std::string::npos) << bone.Limit;
+  EXPECT_NE(bone.Limit.find("10.00 ms"), std::string::npos) << bone.Limit;
 }
 
 TEST(HapticScene, UnknownTissueFallsBackAndBadMeshIsRefused) {

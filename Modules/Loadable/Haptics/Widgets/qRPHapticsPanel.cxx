@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include <QApplication>
+#include <QComboBox>
 #include <QDateTime>
 #include <QDir>
 #include <QDoubleSpinBox>
@@ -17,6 +18,7 @@
 #include <vtkNew.h>
 #include <vtkPolyData.h>
 
+#include "rpDeviceProfiles.h"
 #include "rpHapticSession.h"
 #include "vtkRPHapticsLogic.h"
 #include "vtkRPModelNode.h"
@@ -24,6 +26,12 @@
 
 qRPHapticsPanel::qRPHapticsPanel(vtkRPHapticsLogic* logic, QWidget* parent) : QWidget(parent), Logic(logic) {
   auto* form = new QFormLayout;
+  this->Device = new QComboBox;
+  for (const rp::DeviceProfile& profile : rp::DeviceProfiles())
+    this->Device->addItem(QString::fromStdString(profile.Info.Name), QString::fromStdString(profile.Key));
+  this->Device->setCurrentIndex(std::max(0, this->Device->findData(QString::fromStdString(logic ? logic->GetDeviceProfile() : ""))));
+  this->Device->setToolTip("The simulated device's limits (peak force, nominal maximum stiffness, workspace)");
+  form->addRow("Device", this->Device);
   this->StartButton = new QPushButton("Start simulated device");
   this->State = new QLabel("stopped");
   this->LogPath = new QLineEdit(QDir::tempPath() + "/roboplan-haptics-" +
@@ -47,6 +55,10 @@ qRPHapticsPanel::qRPHapticsPanel(vtkRPHapticsLogic* logic, QWidget* parent) : QW
   this->Penetration = new QLabel("-");
   this->Timing = new QLabel("-");
   this->Missed = new QLabel("-");
+  this->Clamps = new QLabel;
+  this->Clamps->setWordWrap(true);
+  this->Clamps->setStyleSheet("color: #b35900;");  // a warning, not an error
+  this->Clamps->setVisible(false);
   form->addRow("Tissue in contact", this->Tissue);
   form->addRow("Force", this->Force);
   form->addRow("Penetration", this->Penetration);
@@ -54,6 +66,7 @@ qRPHapticsPanel::qRPHapticsPanel(vtkRPHapticsLogic* logic, QWidget* parent) : QW
   form->addRow("Missed deadlines", this->Missed);
   auto* layout = new QVBoxLayout(this);
   layout->addLayout(form);
+  layout->addWidget(this->Clamps);
   layout->addStretch(1);
   this->Timer = new QTimer(this);
   this->Timer->setInterval(33);  // 30 Hz display rate
@@ -78,6 +91,7 @@ QString qRPHapticsPanel::TissueText() const { return this->Tissue->text(); }
 QString qRPHapticsPanel::ForceText() const { return this->Force->text(); }
 QString qRPHapticsPanel::PenetrationText() const { return this->Penetration->text(); }
 QString qRPHapticsPanel::TimingText() const { return this->Timing->text(); }
+QString qRPHapticsPanel::ClampText() const { return this->Clamps->text(); }
 
 void qRPHapticsPanel::FitRangesToHapticModels() {
   vtkRPScene* scene = this->Logic ? this->Logic->GetScene() : nullptr;
@@ -129,6 +143,10 @@ bool qRPHapticsPanel::Start() {
   this->SendStylusPose();  // before the first tick: the loop starts where the spin boxes say
   this->Logic->SetLogPath(this->LogPath->text().trimmed().toStdString());
   std::string error;
+  if (!this->Logic->SetDeviceProfile(this->Device->currentData().toString().toStdString(), error)) {
+    this->State->setText(QString::fromStdString(error));
+    return false;
+  }
   // The first haptic scene (BVH over every haptic triangle) is built before the loop starts.
   QApplication::setOverrideCursor(Qt::WaitCursor);
   const bool started = this->Logic->StartSimulated(error);
@@ -138,6 +156,7 @@ bool qRPHapticsPanel::Start() {
     return false;
   }
   this->LogPath->setEnabled(false);
+  this->Device->setEnabled(false);
   this->StartButton->setText("Stop");
   this->Timer->start();
   this->Update();
@@ -150,6 +169,7 @@ void qRPHapticsPanel::Stop() {
   if (this->Logic) this->Logic->Stop();  // zero force, join the servo thread, flush the log
   this->StartButton->setText("Start simulated device");
   this->LogPath->setEnabled(true);
+  this->Device->setEnabled(true);
   this->State->setText(wasRunning && !this->Logic->GetLogPath().empty()
                            ? "stopped; log " + QString::fromStdString(this->Logic->GetLogPath())
                            : QString("stopped"));
@@ -181,4 +201,17 @@ void qRPHapticsPanel::Update() {
                             .arg(stats.MissedDeadlines)
                             .arg(stats.Ticks)
                             .arg(s.WatchdogTrips));
+  // The tissues this device cannot render as the material table asks (they may change when the
+  // measured servo period grows).
+  QStringList clamped;
+  for (const rp::MaterialClamp& c : session->Clamps()) {
+    if (c.Clamped())
+      clamped << QString("%1: %2 → %3 N/mm").arg(QString::fromStdString(c.Tissue)).arg(c.RequestedStiffness, 0, 'f', 2).arg(c.RenderedStiffness, 0, 'f', 2);
+  }
+  this->Clamps->setText(clamped.isEmpty() ? QString()
+                                          : QString("Clamped to what %1 renders stably (%2 ms servo period):\n")
+                                                    .arg(QString::fromStdString(session->DeviceLimits().Name))
+                                                    .arg(1e3 * session->StabilityPeriod(), 0, 'f', 2) +
+                                                clamped.join("\n"));
+  this->Clamps->setVisible(!clamped.isEmpty());
 }

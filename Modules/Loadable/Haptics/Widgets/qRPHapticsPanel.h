@@ -1,12 +1,14 @@
 #ifndef qRPHapticsPanel_h
 #define qRPHapticsPanel_h
-// The Haptics module's Qt panel: start/stop the simulated device's 1 kHz servo loop on the
-// scene's haptic models, move the simulated stylus tip with R/A/S spin boxes (so the module is
-// usable without hardware), and live read-outs (tissue, force, penetration, servo timing).
+// The Haptics module's Qt panel: pick the simulated device (Phantom Omni, Touch), start/stop its
+// 1 kHz servo loop on the scene's haptic models, move the simulated stylus tip with R/A/S spin
+// boxes (so the module is usable without hardware), and live read-outs (tissue, force,
+// penetration, servo timing) with a warning per tissue the device cannot render stably.
 // A 30 Hz timer drives vtkRPHapticsLogic::Update (main thread). Destroying the panel stops the
 // loop (zero force on the device) and flushes the session log.
 #include <QWidget>
 
+class QComboBox;
 class QDoubleSpinBox;
 class QLabel;
 class QLineEdit;
@@ -28,6 +30,8 @@ class qRPHapticsPanel : public QWidget {
   void Update();
 
   QDoubleSpinBox* StylusSpinBox(int axis) const { return this->Stylus[axis]; }
+  /// The simulated device profile (item data: the profile key, e.g. "omni").
+  QComboBox* DeviceComboBox() const { return this->Device; }
   QPushButton* StartStopButton() const { return this->StartButton; }
   /// Where the session log (CSV, one row per servo tick) goes; empty: no log.
   QLineEdit* LogPathEdit() const { return this->LogPath; }
@@ -38,6 +42,8 @@ class qRPHapticsPanel : public QWidget {
   QString ForceText() const;
   QString PenetrationText() const;
   QString TimingText() const;
+  /// One line per tissue the device clamps (requested → rendered stiffness), empty when none.
+  QString ClampText() const;
 
  private:
   void FitRangesToHapticModels();
@@ -45,6 +51,7 @@ class qRPHapticsPanel : public QWidget {
 
   vtkRPHapticsLogic* Logic;
   QPushButton* StartButton;
+  QComboBox* Device;
   QLineEdit* LogPath;
   QDoubleSpinBox* Stylus[3];
   QLabel* State;
@@ -53,6 +60,7 @@ class qRPHapticsPanel : public QWidget {
   QLabel* Penetration;
   QLabel* Timing;
   QLabel* Missed;
+  QLabel* Clamps;
   QTimer* Timer;
   double ForceN = 0;
 };

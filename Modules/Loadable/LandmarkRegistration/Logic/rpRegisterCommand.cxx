@@ -59,19 +59,35 @@ bool LoadFiducials(const std::string& path, vtkRPFiducialListNode* list, std::st
 
 int RunRegisterCommand(const std::vector<std::string>& arguments, std::ostream& out, std::ostream& err) {
   ArgParser parser("register", Summary);
+  const auto fiducialFiles = ExtensionsForNodeClass("vtkRPFiducialListNode");
   parser.Positional("from", "fiducials in the moving space (.mrk.json or .fcsv), e.g. digitized on the patient")
+      .Input(FileKind::Points, fiducialFiles)
       .Positional("to", "the same landmarks, same order, in the fixed space (RAS), e.g. picked in the image")
+      .Input(FileKind::Points, fiducialFiles)
       .Option("out", "transform", "transform file to write (.tfm, .txt or .h5); not written when rejected")
+      .Output(FileKind::Transform, ExtensionsForNodeClass("vtkRPLinearTransformNode"))
+      .Required()
       .Option("mode", "rigid|similarity", "rigid (rotation + translation) or similarity (+ isotropic scale)", "rigid")
+      .OneOf()
       .Option("fre-threshold", "mm", "reject the registration when FRE exceeds this (0: no threshold)", "2")
+      .Number()
+      .AtLeast(0)
       .Option("fle", "mm",
               "prior RMS fiducial localization error for the predicted TRE: the tracker's specification "
               "(0.25 mm for a Polaris) plus the picking error in the image, added in quadrature",
               "0.25")
+      .Number()
+      .AtLeast(0)
       .Option("target", "r,a,s", "point (in the <to> space, RAS) where the TRE is predicted")
+      .Point()
       .Option("icp-points", "fiducials", "surface points digitized in the <from> space (.mrk.json or .fcsv)")
+      .Input(FileKind::Points, fiducialFiles)
       .Option("icp-model", "model", "surface model in the <to> space (.vtp, .vtk, .stl, .ply, .obj)")
-      .Option("icp-inliers", "fraction", "fraction of the surface points kept by the trimmed ICP", "0.9");
+      .Input(FileKind::Model, ExtensionsForNodeClass("vtkRPModelNode"))
+      .Option("icp-inliers", "fraction", "fraction of the surface points kept by the trimmed ICP", "0.9")
+      .Number()
+      .GreaterThan(0)
+      .AtMost(1);
   if (!parser.Parse(arguments)) {
     if (parser.HelpRequested()) {
       out << parser.Usage();
@@ -80,39 +96,15 @@ int RunRegisterCommand(const std::vector<std::string>& arguments, std::ostream& 
     err << "roboplan register: " << parser.Error() << "\n\n" << parser.Usage();
     return 2;
   }
+  // Types, ranges, choices and --out were checked by the parser (declared above).
   const std::string outPath = parser.Get("out");
-  if (outPath.empty()) {
-    err << "roboplan register: --out <transform> is required\n";
-    return 2;
-  }
   const std::string mode = parser.Get("mode");
-  if (mode != "rigid" && mode != "similarity") {
-    err << "roboplan register: --mode must be 'rigid' or 'similarity', not '" << mode << "'\n";
-    return 2;
-  }
-  double threshold = 0, fle = 0;
+  const double threshold = parser.GetDouble("fre-threshold"), fle = parser.GetDouble("fle");
+  const double inliers = parser.GetDouble("icp-inliers");
   std::vector<double> target;
-  try {
-    threshold = parser.GetDouble("fre-threshold");
-    fle = parser.GetDouble("fle");
-    if (parser.Has("target")) target = parser.GetDoubles("target", 3);
-  } catch (const std::invalid_argument& e) {
-    err << "roboplan register: " << e.what() << "\n";
-    return 2;
-  }
-  double inliers = 0.9;
-  try {
-    inliers = parser.GetDouble("icp-inliers");
-  } catch (const std::invalid_argument& e) {
-    err << "roboplan register: " << e.what() << "\n";
-    return 2;
-  }
-  if (parser.Has("icp-points") != parser.Has("icp-model") || !(inliers > 0 && inliers <= 1)) {
-    err << "roboplan register: --icp-points and --icp-model go together, and --icp-inliers must be in (0, 1]\n";
-    return 2;
-  }
-  if (!std::isfinite(threshold) || threshold < 0 || !std::isfinite(fle) || fle < 0) {
-    err << "roboplan register: --fre-threshold and --fle must be finite and not negative\n";
+  if (parser.Has("target")) target = parser.GetDoubles("target", 3);
+  if (parser.Has("icp-points") != parser.Has("icp-model")) {
+    err << "roboplan register: --icp-points and --icp-model go together\n";
     return 2;
   }
 

@@ -12,47 +12,6 @@
 
 namespace rp {
 
-void SliceToRASForOrientation(SliceOrientation orientation, const double centerRAS[3], vtkMatrix4x4* sliceToRAS) {
-  sliceToRAS->Identity();
-  // Columns: slice x, slice y, normal.
-  double x[3], y[3], n[3];
-  switch (orientation) {
-    case SliceOrientation::Axial:
-      x[0] = 1, x[1] = 0, x[2] = 0;
-      y[0] = 0, y[1] = 1, y[2] = 0;
-      n[0] = 0, n[1] = 0, n[2] = 1;
-      break;
-    case SliceOrientation::Sagittal:
-      x[0] = 0, x[1] = 1, x[2] = 0;
-      y[0] = 0, y[1] = 0, y[2] = 1;
-      n[0] = 1, n[1] = 0, n[2] = 0;
-      break;
-    case SliceOrientation::Coronal:
-    default:
-      x[0] = 1, x[1] = 0, x[2] = 0;
-      y[0] = 0, y[1] = 0, y[2] = 1;
-      n[0] = 0, n[1] = -1, n[2] = 0;  // x × y, so the frame stays right-handed
-      break;
-  }
-  for (int r = 0; r < 3; ++r) {
-    sliceToRAS->SetElement(r, 0, x[r]);
-    sliceToRAS->SetElement(r, 1, y[r]);
-    sliceToRAS->SetElement(r, 2, n[r]);
-    sliceToRAS->SetElement(r, 3, centerRAS[r]);
-  }
-}
-
-void SliceToRASForTool(const vtkMatrix4x4* toolTipToRAS, vtkMatrix4x4* sliceToRAS) {
-  // slice x = tool x, slice y = tool z (shaft), normal = x × y = -tool y.
-  sliceToRAS->Identity();
-  for (int r = 0; r < 3; ++r) {
-    sliceToRAS->SetElement(r, 0, toolTipToRAS->GetElement(r, 0));
-    sliceToRAS->SetElement(r, 1, toolTipToRAS->GetElement(r, 2));
-    sliceToRAS->SetElement(r, 2, -toolTipToRAS->GetElement(r, 1));
-    sliceToRAS->SetElement(r, 3, toolTipToRAS->GetElement(r, 3));
-  }
-}
-
 vtkSmartPointer<vtkImageData> ResliceVolume(vtkRPScalarVolumeNode* volume, const vtkMatrix4x4* sliceToRAS,
                                             const ResliceOptions& options) {
   double spacing = options.Spacing;

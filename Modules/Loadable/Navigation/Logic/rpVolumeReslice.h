@@ -2,6 +2,9 @@
 // Re-slicing a volume on a plane through a point (seed sections 3.2.3 and 4): the axial,
 // sagittal and coronal planes of the scene, or the plane of a tool. A slice is described by its
 // SliceToRAS matrix: columns are the in-plane x and y axes and the normal, translation the centre.
+// The planes come from the one definition of the slice frames, vtkRPSliceNode
+// (ComputeSliceToRAS("Axial" | "Sagittal" | "Coronal", point), ComputeSliceToRASForTool), so a
+// re-sliced picture is oriented as the viewer shows that slice (x → screen right, y → up).
 #include <vtkSmartPointer.h>
 
 class vtkImageData;
@@ -9,16 +12,6 @@ class vtkMatrix4x4;
 class vtkRPScalarVolumeNode;
 
 namespace rp {
-
-enum class SliceOrientation { Axial, Sagittal, Coronal };
-
-/// Slicer's conventions: axial seen from below (x = R, y = A), sagittal from the right
-/// (x = A, y = S), coronal from the front (x = R, y = S).
-void SliceToRASForOrientation(SliceOrientation orientation, const double centerRAS[3], vtkMatrix4x4* sliceToRAS);
-
-/// The plane that contains a tool's shaft: the tool's z axis (shaft direction) as the slice y
-/// axis, its x axis as the slice x axis, centred at the tip. `toolToRAS` is the tip frame.
-void SliceToRASForTool(const vtkMatrix4x4* toolTipToRAS, vtkMatrix4x4* sliceToRAS);
 
 struct ResliceOptions {
   double FieldOfView[2] = {200.0, 200.0};  // mm

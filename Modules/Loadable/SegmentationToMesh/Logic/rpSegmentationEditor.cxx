@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 #include <itkBinaryBallStructuringElement.h>
 #include <itkBinaryDilateImageFilter.h>
@@ -142,6 +143,24 @@ template <typename T>
 T ClampTo(double v) {
   return static_cast<T>(std::clamp(v, static_cast<double>(std::numeric_limits<T>::lowest()),
                                    static_cast<double>(std::numeric_limits<T>::max())));
+}
+
+// A threshold range in the image's own voxel type. On integer images fractional bounds round
+// inward ([0.9, 1.1] selects 1, not 0 and 1); a range holding no whole number is refused.
+template <typename T>
+bool VoxelRange(double lower, double upper, T& lo, T& hi, std::string& error) {
+  if constexpr (std::is_integral_v<T>) {
+    const double l = std::ceil(lower), u = std::floor(upper);
+    if (l > u) {
+      error = "threshold range [" + std::to_string(lower) + ", " + std::to_string(upper) +
+              "] holds no whole number, and the image's voxels are integers";
+      return false;
+    }
+    lo = ClampTo<T>(l), hi = ClampTo<T>(u);
+  } else {
+    lo = ClampTo<T>(lower), hi = ClampTo<T>(upper);
+  }
+  return true;
 }
 
 double LabelMax(vtkImageData* labelmap) { return labelmap->GetScalarTypeMax(); }
@@ -373,10 +392,12 @@ bool SegmentationEditor::Threshold(vtkRPImageNode* volume, vtkRPSegmentationNode
       [&](auto image) {
         using ImageType = typename decltype(image)::ObjectType;
         using Pixel = typename ImageType::PixelType;
+        Pixel lo, hi;
+        if (!VoxelRange(lower, upper, lo, hi, error)) return false;
         auto filter = itk::BinaryThresholdImageFilter<ImageType, MaskImage>::New();
         filter->SetInput(image);
-        filter->SetLowerThreshold(ClampTo<Pixel>(lower));
-        filter->SetUpperThreshold(ClampTo<Pixel>(upper));
+        filter->SetLowerThreshold(lo);
+        filter->SetUpperThreshold(hi);
         filter->SetInsideValue(1);
         filter->SetOutsideValue(0);
         filter->Update();
@@ -413,10 +434,12 @@ bool SegmentationEditor::RegionGrow(vtkRPImageNode* volume, vtkRPSegmentationNod
       [&](auto image) {
         using ImageType = typename decltype(image)::ObjectType;
         using Pixel = typename ImageType::PixelType;
+        Pixel lo, hi;
+        if (!VoxelRange(lower, upper, lo, hi, error)) return false;
         auto filter = itk::ConnectedThresholdImageFilter<ImageType, MaskImage>::New();
         filter->SetInput(image);
-        filter->SetLower(ClampTo<Pixel>(lower));
-        filter->SetUpper(ClampTo<Pixel>(upper));
+        filter->SetLower(lo);
+        filter->SetUpper(hi);
         filter->SetReplaceValue(1);
         for (const auto& s : seeds) filter->AddSeed(s);
         filter->Update();

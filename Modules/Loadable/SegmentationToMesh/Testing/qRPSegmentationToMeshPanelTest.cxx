@@ -74,6 +74,15 @@ long CountLabel(vtkRPSegmentationNode* segmentation, const std::string& id) {
   return n;
 }
 
+// One application for every test of this program (Qt wants one per process).
+QApplication& App() {
+  static int argc = 1;
+  static char name[] = "qRPSegmentationToMeshPanelTest";
+  static char* argv[] = {name};
+  static QApplication app(argc, argv);
+  return app;
+}
+
 std::vector<vtkRPModelNode*> Models(vtkRPScene* scene) {
   std::vector<vtkRPModelNode*> models;
   for (vtkRPNode* node : scene->GetNodesByClass("vtkRPModelNode")) models.push_back(vtkRPModelNode::SafeDownCast(node));
@@ -83,10 +92,7 @@ std::vector<vtkRPModelNode*> Models(vtkRPScene* scene) {
 }  // namespace
 
 TEST(SegmentationToMeshPanel, SphereCTPresetBoneApplyPreviewCreateModels) {
-  int argc = 1;
-  char name[] = "qRPSegmentationToMeshPanelTest";
-  char* argv[] = {name};
-  QApplication app(argc, argv);
+  App();
   vtkNew<vtkRPScene> scene;
   qRPSegmentationToMeshPanel panel(scene);
   panel.show();
@@ -234,4 +240,58 @@ TEST(SegmentationToMeshPanel, SphereCTPresetBoneApplyPreviewCreateModels) {
   // A picture of the panel (with the red error) to look at.
   QDir().mkpath(ROBOPLAN_TEST_OUTPUT_DIR);
   EXPECT_TRUE(panel.grab().save(QString(ROBOPLAN_TEST_OUTPUT_DIR) + "/SegmentationToMeshPanel.png"));
+}
+
+TEST(SegmentationToMeshPanel, LabelmapVolumeBecomesOneSegmentPerLabel) {
+  App();
+  vtkNew<vtkRPScene> scene;
+  qRPSegmentationToMeshPanel panel(scene);
+  // A labelmap volume: the sphere is label 2, a slab is label 5.
+  long sphereVoxels = 0;
+  auto volume = MakeSphereCT(sphereVoxels);
+  volume->SetName("knee-label");
+  auto* v = static_cast<short*>(volume->GetImageData()->GetScalarPointer());
+  long slab = 0;
+  for (vtkIdType n = 0; n < volume->GetImageData()->GetNumberOfPoints(); ++n) {
+    v[n] = v[n] > 0 ? 2 : (n < kDim * kDim * 3 ? 5 : 0);
+    slab += v[n] == 5;
+  }
+  scene->AddNode(volume);
+  QDir().mkpath(ROBOPLAN_TEST_OUTPUT_DIR);
+  const QString tablePath = QString(ROBOPLAN_TEST_OUTPUT_DIR) + "/panel-labels.ctbl";
+  {
+    FILE* f = std::fopen(tablePath.toStdString().c_str(), "w");
+    ASSERT_NE(f, nullptr);
+    std::fputs("0 Background 0 0 0 0\n2 femur 255 0 0 255\n", f);
+    std::fclose(f);
+  }
+  panel.LabelTableEdit->setText(tablePath);
+  QTest::mouseClick(panel.LabelmapButton, Qt::LeftButton);
+  ASSERT_FALSE(panel.HasError()) << panel.StatusText().toStdString();
+  vtkRPSegmentationNode* segmentation = panel.CurrentSegmentation();
+  ASSERT_NE(segmentation, nullptr);
+  ASSERT_EQ(segmentation->GetNumberOfSegments(), 2);
+  EXPECT_EQ(segmentation->GetNthSegment(0).Name, "femur");
+  EXPECT_DOUBLE_EQ(segmentation->GetNthSegment(0).Color[0], 1.0);
+  EXPECT_EQ(segmentation->GetNthSegment(1).Name, "Label 5");  // not in the table
+  EXPECT_EQ(CountLabel(segmentation, "femur"), sphereVoxels);
+  EXPECT_EQ(CountLabel(segmentation, "Label 5"), slab);
+  EXPECT_NE(segmentation->GetImageData(), volume->GetImageData()) << "the volume keeps its own voxels";
+  EXPECT_EQ(panel.SegmentCombo->count(), 2);
+  EXPECT_TRUE(panel.StatusText().contains("femur")) << panel.StatusText().toStdString();
+
+  // A CT is not a labelmap: a red error naming why, no segmentation added.
+  auto ct = MakeSphereCT(sphereVoxels);
+  scene->AddNode(ct);
+  panel.VolumeCombo->setCurrentIndex(panel.VolumeCombo->findText("SphereCT"));
+  QTest::mouseClick(panel.LabelmapButton, Qt::LeftButton);
+  EXPECT_TRUE(panel.HasError());
+  EXPECT_TRUE(panel.StatusText().contains("negative")) << panel.StatusText().toStdString();
+  EXPECT_EQ(scene->GetNodesByClass("vtkRPSegmentationNode").size(), 1u);
+  // A broken label table is named.
+  panel.VolumeCombo->setCurrentIndex(panel.VolumeCombo->findText("knee-label"));
+  panel.LabelTableEdit->setText(tablePath + ".missing");
+  QTest::mouseClick(panel.LabelmapButton, Qt::LeftButton);
+  EXPECT_TRUE(panel.HasError());
+  EXPECT_TRUE(panel.StatusText().contains(".missing")) << panel.StatusText().toStdString();
 }

@@ -7,6 +7,7 @@
 #include <QCheckBox>
 #include <QComboBox>
 #include <QDoubleSpinBox>
+#include <QFileDialog>
 #include <QFormLayout>
 #include <QGridLayout>
 #include <QGroupBox>
@@ -20,10 +21,13 @@
 #include <QVBoxLayout>
 
 #include <vtkCommand.h>
+#include <vtkImageData.h>
 #include <vtkNew.h>
 #include <vtkPolyData.h>
 
+#include "rpLabelmapInput.h"
 #include "rpLabelmapToMesh.h"
+#include "rpMaterial.h"
 #include "rpSegmentationToModels.h"
 #include "vtkRPFiducialListNode.h"
 #include "vtkRPModelNode.h"
@@ -32,9 +36,6 @@
 #include "vtkRPSegmentationNode.h"
 
 namespace {
-
-// Keys of Resources/Materials/materials.json (the haptics look tissue classes up there).
-const char* const kTissueClasses[] = {"bone", "cartilage", "tendon", "ligament", "skin", "muscle", "fat"};
 
 // Busy cursor for short edits; a modal progress dialog (shown after 0.5 s) for meshing. Both run
 // on the GUI thread: the dialog's setValue keeps the window painting while the work reports.
@@ -110,9 +111,19 @@ qRPSegmentationToMeshPanel::qRPSegmentationToMeshPanel(vtkRPScene* scene, QWidge
   auto* segmentationRow = new QHBoxLayout;
   segmentationRow->addWidget(this->SegmentationCombo, 1);
   segmentationRow->addWidget(this->NewSegmentationButton);
+  this->LabelTableEdit = new QLineEdit;
+  this->LabelTableEdit->setPlaceholderText("none: segments are named \"Label N\"");
+  this->LabelTableEdit->setToolTip("Slicer colour table (.ctbl/.txt) or ITK-SNAP label description file");
+  this->LabelTableBrowseButton = new QPushButton("...");
+  this->LabelmapButton = new QPushButton("Input volume is a labelmap: one segment per label");
+  auto* tableRow = new QHBoxLayout;
+  tableRow->addWidget(this->LabelTableEdit, 1);
+  tableRow->addWidget(this->LabelTableBrowseButton);
   auto* inputForm = new QFormLayout;
   inputForm->addRow("Input volume", this->VolumeCombo);
   inputForm->addRow("Segmentation", segmentationRow);
+  inputForm->addRow("Label table", tableRow);
+  inputForm->addRow(this->LabelmapButton);
 
   // Segmentation method.
   this->MethodCombo = new QComboBox;
@@ -136,7 +147,14 @@ qRPSegmentationToMeshPanel::qRPSegmentationToMeshPanel(vtkRPScene* scene, QWidge
   this->SegmentNameEdit = new QLineEdit;
   this->TissueCombo = new QComboBox;
   this->TissueCombo->setEditable(true);
-  for (const char* tissue : kTissueClasses) this->TissueCombo->addItem(tissue);
+  // Tissue classes are the material table's (Resources/Materials/materials.json), so every class
+  // offered here has haptic properties.
+  rp::MaterialTable materials;
+  std::string materialsError;
+  if (rp::LoadMaterialTable(materials, materialsError))
+    for (const std::string& tissue : materials.TissueNames()) this->TissueCombo->addItem(QString::fromStdString(tissue));
+  else
+    this->TissueCombo->setToolTip(QString::fromStdString(materialsError));
   this->ApplyButton = new QPushButton("Apply");
   auto* methodForm = new QFormLayout;
   methodForm->addRow("Method", this->MethodCombo);
@@ -227,6 +245,12 @@ qRPSegmentationToMeshPanel::qRPSegmentationToMeshPanel(vtkRPScene* scene, QWidge
   layout->addStretch(1);
 
   connect(this->NewSegmentationButton, &QPushButton::clicked, this, [this] { this->NewSegmentation(); });
+  connect(this->LabelTableBrowseButton, &QPushButton::clicked, this, [this] {
+    const QString path = QFileDialog::getOpenFileName(this, "Label table", QString(),
+                                                      "Label tables (*.ctbl *.txt *.label);;All files (*)");
+    if (!path.isEmpty()) this->LabelTableEdit->setText(path);
+  });
+  connect(this->LabelmapButton, &QPushButton::clicked, this, [this] { this->LabelmapToSegments(); });
   connect(this->SegmentationCombo, QOverload<int>::of(&QComboBox::currentIndexChanged), this,
           [this] { this->RefreshSegments(); });
   connect(this->MethodCombo, QOverload<int>::of(&QComboBox::currentIndexChanged), this,
@@ -364,6 +388,46 @@ vtkRPSegmentationNode* qRPSegmentationToMeshPanel::NewSegmentation() {
   this->SegmentationCombo->setCurrentIndex(index);
   this->RefreshSegments();
   return segmentation;
+}
+
+bool qRPSegmentationToMeshPanel::LabelmapToSegments() {
+  vtkRPScalarVolumeNode* volume = this->CurrentVolume();
+  if (!volume || !volume->GetImageData()) {
+    this->ShowError("Labelmap: pick an input volume");
+    return false;
+  }
+  rp::LabelTable table;
+  std::string error;
+  const std::string tablePath = this->LabelTableEdit->text().trimmed().toStdString();
+  if (!tablePath.empty() && !rp::ReadLabelTable(tablePath, table, error)) {
+    this->ShowError("Labelmap: " + QString::fromStdString(error));
+    return false;
+  }
+  vtkNew<vtkRPSegmentationNode> segmentation;
+  segmentation->SetName(volume->GetName() + " segments");
+  bool ok = false;
+  {
+    BusyScope busy(this);
+    vtkNew<vtkImageData> copy;  // the segmentation is edited; the volume stays as loaded
+    copy->DeepCopy(volume->GetImageData());
+    ok = rp::LabelmapToSegmentation(copy, volume->GetIJKToRASMatrix(), tablePath.empty() ? nullptr : &table,
+                                    segmentation, error);
+  }
+  if (!ok) {
+    this->ShowError("Labelmap: '" + QString::fromStdString(volume->GetName()) + "': " + QString::fromStdString(error));
+    return false;
+  }
+  this->Scene->AddNode(segmentation);
+  this->SegmentationCombo->setCurrentIndex(
+      this->SegmentationCombo->findData(QString::fromStdString(segmentation->GetID())));
+  this->RefreshSegments();
+  QStringList names;
+  for (const auto& s : segmentation->GetSegments()) names << QString::fromStdString(s.Name);
+  this->ShowStatus(QString("%1 segment(s) from the labelmap '%2': %3")
+                       .arg(segmentation->GetNumberOfSegments())
+                       .arg(QString::fromStdString(volume->GetName()))
+                       .arg(names.join(", ")));
+  return true;
 }
 
 rp::SegmentTarget qRPSegmentationToMeshPanel::Target() const {

@@ -2,7 +2,8 @@
 #define qRPSegmentationToMeshPanel_h
 // The SegmentationToMesh module's Qt panel: pick a volume and a target segmentation, segment one
 // tissue (threshold preset, manual thresholds, region growing or confidence connected from the
-// seeds of a fiducial list), edit it (morphology, keep largest), then preview its surface (a
+// seeds of a fiducial list), or take the volume as a labelmap (one segment per label value, names
+// and colours from a label table), edit it (morphology, keep largest), then preview its surface (a
 // temporary "<segment> (preview)" model, replaced on each preview) or build the display + haptic
 // models into the scene. The panel only edits scene nodes; the viewer draws them.
 #include <QWidget>
@@ -49,6 +50,9 @@ class qRPSegmentationToMeshPanel : public QWidget {
   bool CreateModels();
   /// A new empty segmentation node, selected as the target.
   vtkRPSegmentationNode* NewSegmentation();
+  /// The input volume as a labelmap: a new segmentation (a copy of its voxels), one segment per
+  /// label value, named from the label table file when one is given.
+  bool LabelmapToSegments();
 
   vtkRPScalarVolumeNode* CurrentVolume() const;
   vtkRPSegmentationNode* CurrentSegmentation() const;
@@ -62,6 +66,9 @@ class qRPSegmentationToMeshPanel : public QWidget {
   QComboBox* VolumeCombo;
   QComboBox* SegmentationCombo;
   QPushButton* NewSegmentationButton;
+  QLineEdit* LabelTableEdit;
+  QPushButton* LabelTableBrowseButton;
+  QPushButton* LabelmapButton;
   QComboBox* MethodCombo;
   QComboBox* PresetCombo;
   QDoubleSpinBox* LowerSpin;

@@ -13,6 +13,8 @@
 #include <vtkPolyData.h>
 
 #include "rpArgParser.h"
+#include "rpDicomTransferSyntax.h"
+#include "rpNodeStorage.h"
 #include "rpKneePhantom.h"
 #include "rpModelIO.h"
 #include "rpProgress.h"
@@ -91,8 +93,11 @@ ProgressCallback Quieter(TerminalProgress& progress) {
 int RunDicomCommand(const std::vector<std::string>& arguments, std::ostream& out, std::ostream& err) {
   ArgParser parser("dicom",
                    "List the DICOM image series in a folder (searched recursively) or a DICOMDIR: "
-                   "UID, modality, description, size, spacing, and why a series cannot be loaded. "
-                   "Non-DICOM files are skipped and counted; corrupt files are named.");
+                   "ID, modality, description, orientation, size, spacing, transfer syntax, and why a "
+                   "series cannot be loaded. A series holding several stacks (orientations or image "
+                   "sizes, e.g. a three-plane localizer) is listed stack by stack, each with its own ID "
+                   "(<SeriesInstanceUID>#<n>) for `convert --series`. Non-DICOM files are skipped and "
+                   "counted; corrupt files are named.");
   parser.Positional("folder", "folder, DICOMDIR or single DICOM file");
   if (const int code = Parse(parser, arguments, out, err, "dicom"); code >= 0) return code;
   TerminalProgress progress("dicom", parser.Json());
@@ -111,15 +116,21 @@ int RunDicomCommand(const std::vector<std::string>& arguments, std::ostream& out
     doc["corruptFiles"] = scan.CorruptFiles;
     doc["series"] = nlohmann::json::array();
     for (const auto& s : scan.Series) {
-      doc["series"].push_back({{"seriesInstanceUID", s.SeriesInstanceUID},
+      doc["series"].push_back({{"id", s.StackID},
+                               {"seriesInstanceUID", s.SeriesInstanceUID},
+                               {"stack", s.StackIndex},
+                               {"stacks", s.StackCount},
+                               {"orientation", s.OrientationName},
+                               {"imageOrientationPatient", std::vector<double>(s.Orientation, s.Orientation + 6)},
                                {"studyInstanceUID", s.StudyInstanceUID},
                                {"modality", s.Modality},
                                {"description", s.SeriesDescription},
                                {"seriesNumber", s.SeriesNumber},
                                {"patientName", s.PatientName},
-                               {"size", {s.Columns, s.Rows, s.Files.size()}},
+                               {"size", {s.Columns, s.Rows, s.Slices}},
                                {"spacing", {s.PixelSpacing[1], s.PixelSpacing[0], s.SliceSpacing}},
                                {"transferSyntaxUID", s.TransferSyntaxUID},
+                               {"transferSyntax", TransferSyntaxLabel(s.TransferSyntaxUID)},
                                {"files", s.Files.size()},
                                {"loadable", s.Problem.empty()},
                                {"problem", s.Problem}});
@@ -132,9 +143,13 @@ int RunDicomCommand(const std::vector<std::string>& arguments, std::ostream& out
     int index = 1;
     for (const auto& s : scan.Series) {
       out << "  " << index++ << ". " << (s.Modality.empty() ? "??" : s.Modality) << "  \""
-          << s.SeriesDescription << "\"  " << s.Columns << "x" << s.Rows << "x" << s.Files.size() << "  "
-          << Fixed(s.PixelSpacing[1]) << " x " << Fixed(s.PixelSpacing[0]) << " x " << Fixed(s.SliceSpacing)
-          << " mm\n     " << s.SeriesInstanceUID << "\n";
+          << s.SeriesDescription << "\"  " << s.OrientationName << "  " << s.Columns << "x" << s.Rows << "x"
+          << s.Slices << "  " << Fixed(s.PixelSpacing[1]) << " x " << Fixed(s.PixelSpacing[0]) << " x "
+          << Fixed(s.SliceSpacing) << " mm\n     " << s.StackID
+          << (s.StackCount > 1 ? "  (stack " + std::to_string(s.StackIndex) + " of " + std::to_string(s.StackCount) +
+                                     " in this series)"
+                               : std::string())
+          << "\n     " << TransferSyntaxLabel(s.TransferSyntaxUID) << "\n";
       if (!s.Problem.empty()) out << "     cannot load as is: " << s.Problem << "\n";
     }
     for (const auto& c : scan.CorruptFiles) out << "  corrupt: " << c << "\n";
@@ -155,7 +170,9 @@ int RunConvertCommand(const std::vector<std::string>& arguments, std::ostream& o
                    "Geometry (IJK-to-RAS, direction cosines) and voxel values are kept.");
   parser.Positional("in", "input volume or DICOM folder")
       .Positional("out", "output volume file, or a folder for a DICOM series")
-      .Option("series", "uid", "DICOM input: the SeriesInstanceUID to convert when there are several")
+      .Option("series", "id",
+              "DICOM input: the series to convert when there are several: its SeriesInstanceUID, or "
+              "<SeriesInstanceUID>#<n> for one stack of a series that holds several (see `roboplan dicom`)")
       .Option("modality", "CT|MR", "DICOM output: the modality (default: the input's, else CT)")
       .Flag("resample-irregular",
             "DICOM input: load a series with a missing slice or uneven spacing by resampling it onto a "
@@ -352,48 +369,48 @@ int RunRegisterVolumesCommand(const std::vector<std::string>& arguments, std::os
       "volume onto the fixed one (its 'to parent', MovingToFixed) as an ITK transform file (LPS, 'from "
       "parent', as Slicer). When the optimizer does not converge the command exits 1 and does not "
       "write --out.");
+  const auto volumeFiles = ExtensionsForNodeClass("vtkRPScalarVolumeNode");
+  const auto transformFiles = ExtensionsForNodeClass("vtkRPLinearTransformNode");
   parser.Positional("fixed", "fixed volume (file or DICOM folder)")
+      .Input(FileKind::Image, volumeFiles)
       .Positional("moving", "moving volume (file or DICOM folder)")
+      .Input(FileKind::Image, volumeFiles)
       .Option("out", "transform", "transform file to write (.tfm, .txt, .h5)")
+      .Output(FileKind::Transform, transformFiles)
+      .Required()
       .Option("initial", "transform", "start from this MovingToFixed transform file (default: identity)")
+      .Input(FileKind::Transform, transformFiles)
       .Flag("centre", "start by aligning the volumes' geometric centres (ignored with --initial)")
       .Option("levels", "f1,f2,...", "shrink factor per resolution level (smoothing 0.75 f mm)", "8,4,2,1")
+      .Integers()
+      .AtLeast(1)
+      .AtMost(64)
       .Option("iterations", "n", "maximum iterations per level", "200")
+      .Integer()
+      .AtLeast(1)
+      .AtMost(100000)
       .Option("sampling", "fraction", "fraction of fixed voxels sampled by the metric", "0.1")
+      .Number()
+      .GreaterThan(0)
+      .AtMost(1)
       .Option("bins", "n", "histogram bins of the mutual information", "32")
+      .Integer()
+      .AtLeast(5)
+      .AtMost(1024)
       .Option("truth", "transform",
               "a known MovingToFixed transform file (e.g. the phantom's MRToCT-truth.tfm): report the RMS "
-              "difference over the fixed volume's central region");
+              "difference over the fixed volume's central region")
+      .Input(FileKind::Transform, transformFiles);
   if (const int code = Parse(parser, arguments, out, err, "register-volumes"); code >= 0) return code;
+  // Types and ranges were checked by the parser (declared above).
   const std::string outPath = parser.Get("out");
-  if (outPath.empty()) {
-    err << "roboplan register-volumes: --out <transform> is required\n";
-    return 2;
-  }
   RigidRegistrationOptions options;
-  try {
-    options.ShrinkFactors.clear();
-    options.SmoothingSigmasMM.clear();
-    for (double f : parser.GetDoubles("levels")) {
-      if (f < 1 || f > 64 || f != std::floor(f)) throw std::invalid_argument("--levels: integers in 1..64");
-      options.ShrinkFactors.push_back(static_cast<unsigned>(f));
-    }
-    const long iterations = parser.GetInt("iterations"), bins = parser.GetInt("bins");
-    if (iterations < 1 || iterations > 100000) throw std::invalid_argument("--iterations must be in 1..100000");
-    if (bins < 5 || bins > 1024) throw std::invalid_argument("--bins must be in 5..1024");
-    options.MaxIterationsPerLevel = static_cast<unsigned>(iterations);
-    options.HistogramBins = static_cast<unsigned>(bins);
-    options.SamplingFraction = parser.GetDouble("sampling");
-    if (!(options.SamplingFraction > 0 && options.SamplingFraction <= 1))
-      throw std::invalid_argument("--sampling must be in (0, 1]");
-  } catch (const std::invalid_argument& e) {
-    err << "roboplan register-volumes: " << e.what() << "\n";
-    return 2;
-  }
-  if (options.ShrinkFactors.empty()) {
-    err << "roboplan register-volumes: --levels needs at least one level\n";
-    return 2;
-  }
+  options.ShrinkFactors.clear();
+  options.SmoothingSigmasMM.clear();
+  for (double f : parser.GetDoubles("levels")) options.ShrinkFactors.push_back(static_cast<unsigned>(f));
+  options.MaxIterationsPerLevel = static_cast<unsigned>(parser.GetInt("iterations"));
+  options.HistogramBins = static_cast<unsigned>(parser.GetInt("bins"));
+  options.SamplingFraction = parser.GetDouble("sampling");
   TerminalProgress progress("register", parser.Json());
   ImageVolume fixed, moving;
   std::string error;

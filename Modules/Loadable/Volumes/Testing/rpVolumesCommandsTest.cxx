@@ -2,6 +2,9 @@
 // answer) and the scene logic (load, register into a transform node, failures change nothing).
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -13,6 +16,7 @@
 #include <vtkPointData.h>
 
 #include "rpKneePhantom.h"
+#include "rpSharedData.h"
 #include "rpTransformIO.h"
 #include "rpVolumeFiles.h"
 #include "rpVolumeRegistration.h"
@@ -128,6 +132,91 @@ TEST(VolumesCommands, PhantomDicomListingAndConversion) {
   r = Call(rp::RunConvertCommand, {(Dir() / "missing.nrrd").string(), (Dir() / "y.nrrd").string()});
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.err.find("missing.nrrd"), std::string::npos) << r.err;
+}
+
+// The real-data case as close as shared/data allows (no real JPEG 2000 knee MR there):
+// four Pac-Man MR slices made oblique (IOP and IPP rotated 30 degrees about x by dcmodify) and
+// JPEG 2000-compressed by gdcmconv, plus two slices of the same series relabelled sagittal (a
+// localizer under the same UID). `roboplan dicom` lists two stacks; `convert` refuses the
+// series as a whole, naming them, and converts the oblique stack with the headers' geometry.
+TEST(VolumesCommands, ObliqueJpeg2000StackOfAMixedSeries) {
+  RP_REQUIRE_SHARED_DATA("dicom/pacsman-mr");
+  const fs::path source = rptest::SharedDataPath("dicom/pacsman-mr");
+  for (const char* tool : {"dcmodify", "gdcmconv"})
+    if (std::system((std::string("command -v ") + tool + " >/dev/null 2>&1").c_str()) != 0)
+      GTEST_SKIP() << tool << " not found on PATH (Debian packages dcmtk, libgdcm-tools)";
+  const fs::path dir = Dir() / "mixed-series", work = Dir() / "mixed-work";
+  fs::remove_all(dir);
+  fs::remove_all(work);
+  fs::create_directories(dir);
+  fs::create_directories(work);
+  const double c = std::cos(M_PI / 6), s = std::sin(M_PI / 6);
+  auto run = [&](const std::string& command) { return std::system((command + " >>" + (work / "log").string() + " 2>&1").c_str()); };
+  auto ds = [](double v) {
+    char t[32];
+    std::snprintf(t, sizeof t, "%.10g", std::abs(v) < 1e-12 ? 0.0 : v);
+    return std::string(t);
+  };
+  // Rotation about x by 30 degrees applied to IOP (0,-1,0 / 1,0,0) and IPP (-63, 0, z).
+  const std::string iop = "0\\" + ds(-c) + "\\" + ds(-s) + "\\1\\0\\0";
+  for (int k = 0; k < 4; ++k) {
+    const std::string name = "slice" + std::to_string(50 + k) + ".dcm";
+    fs::copy_file(source / name, work / name);
+    const double z = 50 + k;
+    const std::string ipp = "-63\\" + ds(-s * z) + "\\" + ds(c * z);
+    ASSERT_EQ(run("dcmodify -nb -m '(0020,0037)=" + iop + "' -m '(0020,0032)=" + ipp + "' " + (work / name).string()), 0);
+    ASSERT_EQ(run("gdcmconv --j2k " + (work / name).string() + " " + (dir / name).string()), 0);
+  }
+  for (int k = 0; k < 2; ++k) {
+    const std::string name = "slice" + std::to_string(90 + k) + ".dcm";
+    fs::copy_file(source / name, dir / name);
+    ASSERT_EQ(run("dcmodify -nb -m '(0020,0037)=0\\1\\0\\0\\0\\-1' -m '(0020,0032)=" + std::to_string(4 * k) +
+                  "\\-64\\64' " + (dir / name).string()), 0);
+  }
+  CommandRun r = Call(rp::RunDicomCommand, {dir.string(), "--json"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto listing = r.Json()["series"];
+  ASSERT_EQ(listing.size(), 2u);
+  const std::string uid = listing[0]["seriesInstanceUID"];
+  EXPECT_EQ(listing[0]["id"], uid + "#1");
+  EXPECT_EQ(listing[0]["orientation"], "oblique axial (30.0°)");
+  EXPECT_EQ(listing[0]["size"], nlohmann::json({128, 128, 4}));
+  EXPECT_EQ(listing[0]["transferSyntax"], "JPEG 2000 Lossless Only (1.2.840.10008.1.2.4.90)");
+  EXPECT_EQ(listing[1]["id"], uid + "#2");
+  EXPECT_EQ(listing[1]["orientation"], "sagittal");
+  r = Call(rp::RunDicomCommand, {dir.string()});
+  EXPECT_NE(r.out.find(uid + "#1  (stack 1 of 2 in this series)"), std::string::npos) << r.out;
+
+  r = Call(rp::RunConvertCommand, {dir.string(), (Dir() / "oblique.nrrd").string()});
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("holds 2 stacks"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("oblique axial (30.0°), 128x128x4"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("sagittal, 128x128x2"), std::string::npos) << r.err;
+  r = Call(rp::RunConvertCommand, {dir.string(), (Dir() / "oblique.nrrd").string(), "--series", uid + "#1", "--json"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  // From the tags: i along the row (0,-cos,-sin) LPS, j along the column (1,0,0), k along the
+  // normal row x column = (0,-sin,cos), 1 mm; origin the IPP of slice50; RAS negates x and y.
+  const double expected[3][4] = {{0, -1, 0, 63}, {c, 0, s, s * 50}, {-s, 0, c, c * 50}};
+  rp::ImageVolume back;
+  std::string error;
+  ASSERT_TRUE(rp::ReadVolume((Dir() / "oblique.nrrd").string(), back, error)) << error;
+  for (int row = 0; row < 3; ++row)
+    for (int col = 0; col < 4; ++col) {
+      EXPECT_NEAR(r.Json()["ijkToRAS"][row][col].get<double>(), expected[row][col], 1e-6) << row << "," << col;
+      EXPECT_NEAR(back.IJKToRAS->GetElement(row, col), expected[row][col], 1e-6) << row << "," << col;
+    }
+}
+
+// A header that promises 10^15 voxels: refused before allocating, naming the memory needed.
+TEST(VolumesCommands, VolumeTooBigToFitIsRefused) {
+  const fs::path path = Dir() / "too-big.nrrd";
+  std::ofstream(path) << "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 100000 100000 100000\n"
+                         "space: left-posterior-superior\nspace directions: (1,0,0) (0,1,0) (0,0,1)\n"
+                         "space origin: (0,0,0)\nencoding: raw\n\n";
+  const CommandRun r = Call(rp::RunConvertCommand, {path.string(), (Dir() / "out.nrrd").string()});
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("100000 x 100000 x 100000 voxels of 1 byte would need 1e+06 GB"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("bad_alloc"), std::string::npos) << r.err;
 }
 
 TEST(VolumesCommands, RegisterVolumesRecoversTheTruth) {

@@ -15,10 +15,10 @@
 
 #include "rpBenchmarkChart.h"
 #include "rpDemoStages.h"
+#include "rpDeviceProfiles.h"
 #include "rpHapticSceneBridge.h"
 #include "rpHapticSession.h"
 #include "rpReport.h"
-#include "rpResources.h"
 #include "rpSimulatedDevice.h"
 #include "rpStageRunner.h"
 #include "vtkRPModelNode.h"
@@ -67,8 +67,14 @@ std::shared_ptr<WaypointTrajectory> AnteriorProbePath(const HapticScene& scene, 
   return path;
 }
 
+// The seed paper's device: the demo renders what a Phantom Omni can.
+constexpr const char* DemoDevice = "omni";
+
 struct PassResult {
   ServoStats Servo;
+  MaterialTable Materials;
+  std::vector<MaterialClamp> Clamps;
+  std::vector<std::string> Warnings;
   std::vector<std::string> TissueNames;
   // Per tissue: penetration (|HIP − proxy|, mm) and force (N) samples, decimated.
   std::map<std::string, std::pair<std::vector<double>, std::vector<double>>> ForceCurves;
@@ -83,13 +89,15 @@ PassResult RunPass(DemoState& state, const std::string& name, double maxSeconds)
   std::vector<std::string> warnings;
   std::string error;
   HapticSession::Options options;
-  if (!options.Materials.Load(ResourcePath("Materials/materials.json"), error)) throw std::runtime_error(error);
+  if (!LoadMaterialTable(options.Materials, error)) throw std::runtime_error(error);
+  DeviceProfile profile;
+  if (!FindDeviceProfile(DemoDevice, profile, error)) throw std::runtime_error(error);
   auto preview = HapticScene::Build(CollectHapticMeshes(state.Scene, warnings), options.Materials, warnings, error);
   if (!preview || preview->Tree.Empty()) throw std::runtime_error(name + ": no haptic models (" + error + ")");
   auto path = AnteriorProbePath(*preview, 4, 3, error);
   if (!path) throw std::runtime_error(name + ": " + error);
   // The device frame is the scene frame here (HapticDeviceToRAS identity, scale 1).
-  SimulatedDevice device;
+  SimulatedDevice device(profile.Info);
   device.SetTrajectory(path);
   HapticSession session(device);
   options.LogPath = (fs::path(state.Output) / ("haptics-" + name + ".csv")).string();
@@ -123,6 +131,9 @@ PassResult RunPass(DemoState& state, const std::string& name, double maxSeconds)
   }
   session.Stop();
   result->Servo = session.Scheduler().Stats();
+  result->Materials = session.Materials();
+  result->Clamps = session.Clamps();
+  result->Warnings = session.Warnings();
   result->TissueNames = session.TissueNames();
   result->Dropped = session.Servo().LogRing().DroppedCount();
   HapticState last;
@@ -176,6 +187,7 @@ void ExploreHaptically(DemoState& state) {
                                  r.Servo.RealTimePriority ? "SCHED_FIFO" : "no real-time priority here");
     state.Report->AddFigureBelow(stage, name + " pass: maximum force", r.MaxForce, "N", 3.3 + 1e-6,
                                  "device maximum 3.3 N (eq. 6 clamp)");
+    for (const std::string& warning : r.Warnings) state.Report->AddNote("Haptics (" + name + " pass): " + warning);
     for (const auto& [tissue, ticks] : r.ContactTicks) {
       state.Report->AddFigure(stage, name + " pass: ticks in contact with " + tissue, static_cast<double>(ticks), "");
       const auto& curve = r.ForceCurves.at(tissue);
@@ -183,18 +195,45 @@ void ExploreHaptically(DemoState& state) {
     }
     if (r.ContactTicks.empty()) throw std::runtime_error(name + " pass: the probe never touched a surface");
   }
+  // What the table asks against what the Omni renders, and the Touch for comparison (each clamp
+  // also a warning in the notes when it bites).
+  const std::vector<MaterialClamp>& omni = passes.back().second.Clamps;
+  DeviceProfile touch;
+  std::string error;
+  if (!FindDeviceProfile("touch", touch, error)) throw std::runtime_error(error);
+  const std::vector<MaterialClamp> onTouch = ClampMaterials(passes.back().second.Materials.Materials(), touch.Info,
+                                                             passes.back().second.Servo.Period.P99Us * 1e-6);
+  int clamped = 0;
+  for (const MaterialClamp& c : omni) clamped += c.Clamped();
+  state.Report->AddFigureBelow(stage, "tissues clamped on the Phantom Omni", clamped, "", 0.5,
+                               "stiffness above what the device renders stably (nominal limit, Colgate-Schenkel)");
   const bool pictures = state.Options.Screenshots && std::getenv("DISPLAY");
   if (!pictures) {
     state.Report->AddNote("Haptics charts skipped: no display (run under xvfb-run or without --no-screenshots).");
     return;
   }
-  std::string error;
+  std::vector<std::string> tissues;
+  bench::Series asked{"requested (materials.json)", {}, {}}, onOmni{"rendered: Phantom Omni", {}, {}},
+      onTouchBars{"rendered: Touch", {}, {}};
+  for (size_t i = 0; i < omni.size() && i < onTouch.size(); ++i) {
+    tissues.push_back(omni[i].Tissue);
+    asked.Y.push_back(omni[i].RequestedStiffness);
+    onOmni.Y.push_back(omni[i].RenderedStiffness);
+    onTouchBars.Y.push_back(onTouch[i].RenderedStiffness);
+  }
+  bench::ChartOptions clampChart{"Stiffness per tissue: requested against rendered", "tissue", "stiffness (N/mm)"};
+  if (bench::WriteBarChartPNG((fs::path(state.Output) / "haptics-stiffness-clamp.png").string(), tissues,
+                              {asked, onOmni, onTouchBars}, clampChart, error)) {
+    state.Report->AddPicture(stage, "haptics-stiffness-clamp.png",
+                             "Stiffness each tissue asks (Resources/Materials/materials.json) and what each device "
+                             "renders stably at the measured servo period: lower bars are clamped, with a warning.");
+  }
   bench::ChartOptions chart{"Force against penetration per tissue (eq. 1-3, clamp eq. 6)", "penetration |HIP − proxy| (mm)",
                             "force (N)"};
   if (bench::WriteChartPNG((fs::path(state.Output) / "haptics-force-per-tissue.png").string(), forceSeries, chart, error)) {
     state.Report->AddPicture(stage, "haptics-force-per-tissue.png",
-                             "Force against penetration for each tissue touched: the slope is the tissue's stiffness, "
-                             "flattening at the device's 3.3 N maximum.");
+                             "Force against penetration for each tissue touched: the slope is the tissue's rendered "
+                             "stiffness (never above the device's 3.3 N, eq. 6).");
   }
   for (const auto& [name, r] : passes) {
     if (r.PeriodBinsUs.empty()) continue;

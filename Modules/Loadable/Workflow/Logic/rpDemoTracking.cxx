@@ -35,6 +35,7 @@
 #include "rpStageRunner.h"
 #include "rpToolDefinition.h"
 #include "rpTrackingRecording.h"
+#include "rpTransformNames.h"
 #include "rpVolumeReslice.h"
 #include "vtkRPFiducialListNode.h"
 #include "vtkRPLandmarkRegistrationLogic.h"
@@ -43,6 +44,7 @@
 #include "vtkRPNavigationLogic.h"
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
+#include "vtkRPSliceNode.h"
 #include "vtkRPTrackedToolNode.h"
 
 namespace fs = std::filesystem;
@@ -97,7 +99,8 @@ std::vector<ToolPose> TrackStylus(const ToolDefinition& stylus, double seconds, 
   }
   std::vector<ToolPose> poses;
   std::set<uint32_t> frames;
-  const int slot = tracker.Poses().Find(stylus.Name.c_str(), stylus.Name.size());
+  const std::string slotName = ToolToTrackerName(stylus.Name);
+  const int slot = tracker.Poses().Find(slotName.c_str(), slotName.size());
   const double trackingStart = elapsed();
   while (elapsed() - trackingStart < seconds) {
     ToolPose pose;
@@ -367,11 +370,12 @@ void Navigate(DemoState& state) {
       ResliceOptions options;
       options.FieldOfView[0] = options.FieldOfView[1] = 120;
       const char* names[] = {"axial", "sagittal", "coronal", "tool"};
+      const char* orientations[] = {"Axial", "Sagittal", "Coronal"};  // the viewer's frames
       for (int o = 0; o < 4; ++o) {
         if (o < 3) {
-          SliceToRASForOrientation(static_cast<SliceOrientation>(o), result.TipRAS, sliceToRAS);
+          vtkRPSliceNode::ComputeSliceToRAS(orientations[o], result.TipRAS, sliceToRAS);
         } else {
-          SliceToRASForTool(tipToWorld, sliceToRAS);
+          vtkRPSliceNode::ComputeSliceToRASForTool(tipToWorld, sliceToRAS);
         }
         auto slice = ResliceVolume(state.CT, sliceToRAS, options);
         const std::string file = "navigation-" + std::to_string(pictures) + "-" + names[o] + ".png";

@@ -1,0 +1,386 @@
+#include "rpHapticsCommand.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+#include <map>
+#include <memory>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+#include <vtkNew.h>
+
+#include "rpArgParser.h"
+#include "rpDeviceProfiles.h"
+#include "rpHapticSession.h"
+#include "rpProgress.h"
+#include "rpSceneIO.h"
+#include "rpSimulatedDevice.h"
+#include "vtkRPModelNode.h"
+#include "vtkRPScene.h"
+
+namespace rp {
+namespace {
+
+// An analytic demo scene when no --scene is given: a bone "condyle" and a fat pad beside it.
+void AddDemoModels(vtkRPScene* scene) {
+  struct Item {
+    const char* Name;
+    const char* Tissue;
+    rp::TriangleMesh Mesh;
+  };
+  const Item items[] = {{"Femur condyle", "bone", rp::shapes::Sphere({-35, 0, 0}, 20, 5)},
+                        {"Fat pad", "fat", rp::shapes::Box({10, -25, -20}, {60, 25, 0})}};
+  for (const Item& item : items) {
+    vtkNew<vtkRPModelNode> model;
+    model->SetName(item.Name);
+    model->SetTissueClass(item.Tissue);
+    model->SetHaptic(true);
+    model->SetPolyData(rp::TriangleMeshToPolyData(item.Mesh));
+    scene->AddNode(model);
+  }
+}
+
+// Scripted explorations over the scene's haptic surfaces (RAS), found by casting rays down.
+std::shared_ptr<rp::WaypointTrajectory> MakeTrajectory(const std::string& name, const rp::HapticScene& scene,
+                                                       std::string& error) {
+  rp::Vec3 lo{HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  for (const rp::Vec3& p : scene.Mesh.Points) {
+    lo = rp::Min(lo, p);
+    hi = rp::Max(hi, p);
+  }
+  const double above = hi.z + 10;
+  auto surfaceZ = [&](double x, double y, double& z) {
+    rp::SegmentHit hit;
+    if (!scene.Tree.FirstHit({x, y, above}, {x, y, lo.z - 1}, rp::BVH::Faces::FrontOnly, hit)) return false;
+    z = hit.Point.z;
+    return true;
+  };
+  std::vector<double> t;
+  std::vector<rp::Vec3> p;
+  double now = 0;
+  auto go = [&](const rp::Vec3& q, double speed) {
+    if (!p.empty()) now += std::fmax(1e-3, rp::Norm(q - p.back()) / speed);
+    t.push_back(now);
+    p.push_back(q);
+  };
+  const rp::Vec3 center = (lo + hi) * 0.5;
+  if (name == "probe") {
+    // Press 2 mm into the surface on a 5 x 3 grid, at 50 mm/s in and out.
+    go({center.x, center.y, above}, 100);
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 5; ++i) {
+        const double x = lo.x + (hi.x - lo.x) * (i + 0.5) / 5, y = lo.y + (hi.y - lo.y) * (j + 0.5) / 3;
+        double z;
+        if (!surfaceZ(x, y, z)) continue;
+        go({x, y, z + 5}, 150);
+        go({x, y, z - 2}, 50);
+        go({x, y, z - 2.0001}, 1e-3 / 0.2);  // hold 0.2 s
+        go({x, y, z + 5}, 50);
+      }
+  } else if (name == "sweep") {
+    // 1.5 mm below the lowest surface met along the centre row, sweep across everything at
+    // 100 mm/s: the proxy slides over tops and edges of the higher models.
+    double z = HUGE_VAL;
+    for (int i = 0; i <= 40; ++i) {
+      double zi;
+      if (surfaceZ(lo.x + (hi.x - lo.x) * i / 40, center.y, zi)) z = std::fmin(z, zi);
+    }
+    if (!std::isfinite(z)) z = hi.z;
+    go({lo.x - 5, center.y, above}, 100);
+    go({lo.x - 5, center.y, z - 1.5}, 100);
+    go({hi.x + 5, center.y, z - 1.5}, 100);
+    go({hi.x + 5, center.y - (hi.y - lo.y) / 4, z - 1.5}, 100);
+    go({lo.x - 5, center.y - (hi.y - lo.y) / 4, z - 1.5}, 100);
+    go({lo.x - 5, center.y, above}, 100);
+  } else {
+    auto path = std::make_shared<rp::WaypointTrajectory>();
+    if (!path->LoadCSV(name, error)) return nullptr;
+    return path;
+  }
+  if (p.size() < 2) {
+    error = "trajectory '" + name + "': no haptic surface below the scene's bounding box";
+    return nullptr;
+  }
+  auto path = std::make_shared<rp::WaypointTrajectory>();
+  if (!path->Set(t, p, error)) return nullptr;
+  return path;
+}
+
+nlohmann::json StatsJson(const rp::TimingStats& s) {
+  return {{"count", s.Count}, {"meanUs", s.MeanUs}, {"p50Us", s.P50Us}, {"p99Us", s.P99Us},
+          {"p999Us", s.P999Us}, {"maxUs", s.MaxUs}};
+}
+
+std::string Format(const char* format, ...) {
+  char text[512];
+  va_list args;
+  va_start(args, format);
+  std::vsnprintf(text, sizeof(text), format, args);
+  va_end(args);
+  return text;
+}
+
+}  // namespace
+
+int RunHapticsCommand(const std::vector<std::string>& arguments, vtkRPScene* sceneIn, std::ostream& out,
+                      std::ostream& err) {
+  rp::ArgParser parser("haptics",
+                       "Touch the scene's haptic models with the simulated device along a scripted trajectory at "
+                       "1 kHz; prints servo timing, force statistics and the tissues the device clamps.");
+  parser.Option("scene", "file.rpscene", "scene with model nodes flagged haptic (default: an analytic demo)")
+      .Input(FileKind::Any, {SceneFileExtension})
+      .Option("seconds", "N", "how long to run (default: the trajectory's duration)")
+      .Number()
+      .GreaterThan(0)
+      .AtMost(3600)
+      .Option("trajectory", "probe|sweep|file.csv", "scripted motion; CSV rows t,x,y,z in RAS (s, mm)", "probe")
+      .Option("device", DeviceProfileKeys(), "simulated device profile (its force and stiffness limits)",
+              DeviceProfiles().front().Key)
+      .OneOf()
+      .Option("materials", "file.json", "tissue material table (default: Resources/Materials/materials.json)")
+      .Input(FileKind::Any, {".json"})
+      .Option("tool-points", "n", "points along the shaft (tip + n-1 every 10 mm)", "1")
+      .Integer()
+      .AtLeast(1)
+      .AtMost(MaxToolPoints)
+      .Option("log", "file.csv", "write the session log (time, HIP, proxy, force, tissue, tick time)")
+      .Output(FileKind::Any, {".csv"})
+      .Option("rate", "Hz", "servo rate", "1000")
+      .Number()
+      .AtLeast(1)
+      .AtMost(100000)
+      .Option("spin", "us", "busy-wait this long before each deadline (smaller jitter, more CPU)", "100")
+      .Number()
+      .AtLeast(0);
+  if (!parser.Parse(arguments)) {
+    if (parser.HelpRequested()) {
+      out << parser.Usage();
+      return 0;
+    }
+    err << "roboplan haptics: " << parser.Error() << "\n\n" << parser.Usage();
+    return 2;
+  }
+  double seconds = -1, rate = 1000, spin = 100;
+  long toolPoints = 1;
+  try {
+    if (parser.Has("seconds")) seconds = parser.GetDouble("seconds");
+    rate = parser.GetDouble("rate");
+    spin = parser.GetDouble("spin");
+    toolPoints = parser.GetInt("tool-points");
+  } catch (const std::exception& e) {
+    err << "roboplan haptics: " << e.what() << "\n";
+    return 2;
+  }
+  // Types and ranges were checked by the parser (declared above); the spin depends on the rate.
+  if (!(spin < 1e6 / rate)) {
+    err << "roboplan haptics: --spin must be shorter than the servo period (" << 1e6 / rate << " us)\n";
+    return 2;
+  }
+  std::string error;
+  DeviceProfile profile;
+  if (!FindDeviceProfile(parser.Get("device"), profile, error)) {
+    err << "roboplan haptics: " << error << "\n";
+    return 2;
+  }
+  const bool json = parser.Json();
+  rp::TerminalProgress progress("haptics", json);
+
+  vtkRPScene* scene = sceneIn;
+  vtkNew<vtkRPScene> ownScene;
+  if (scene == nullptr) scene = ownScene;
+  if (parser.Has("scene")) {
+    const rp::SceneLoadReport report = rp::LoadScene(scene, parser.Get("scene"));
+    if (!report.Ok) {
+      err << "roboplan haptics: " << report.Error << "\n";
+      return 1;
+    }
+    for (const auto& problem : report.Problems) err << "roboplan haptics: warning: " << problem << "\n";
+  } else {
+    AddDemoModels(scene);
+  }
+
+  rp::HapticSession::Options options;
+  if (!LoadMaterialTable(options.Materials, error, parser.Get("materials"))) {
+    err << "roboplan haptics: " << error << "\n";
+    return 1;
+  }
+  std::vector<std::string> warnings;
+  auto preview = rp::HapticScene::Build(rp::CollectHapticMeshes(scene, warnings), options.Materials, warnings, error);
+  if (!preview) {
+    err << "roboplan haptics: " << error << "\n";
+    return 1;
+  }
+  if (preview->Tree.Empty()) {
+    err << "roboplan haptics: the scene has no haptic models (model nodes with Haptic on and polygons)\n";
+    return 1;
+  }
+  auto path = MakeTrajectory(parser.Get("trajectory"), *preview, error);
+  if (!path) {
+    err << "roboplan haptics: " << error << "\n";
+    return parser.Get("trajectory") == "probe" || parser.Get("trajectory") == "sweep" ? 1 : 2;
+  }
+  if (seconds < 0) seconds = std::fmin(path->Duration() + 0.1, 600.0);
+
+  // The trajectory is in RAS; the device moves in its own frame.
+  rp::DeviceToScene xf;
+  rp::ReadDeviceToScene(scene, xf);
+  auto devicePath = std::make_shared<rp::WaypointTrajectory>();
+  {
+    // Sample the RAS path every 10 ms and map each sample into the device frame.
+    std::vector<double> times;
+    std::vector<rp::Vec3> points;
+    const double duration = path->Duration();
+    const int samples = std::max(2, static_cast<int>(duration * 100) + 1);
+    for (int i = 0; i < samples; ++i) {
+      const double t = duration * i / (samples - 1);
+      rp::Pose pose;
+      rp::Vec3 v;
+      path->Evaluate(t, pose, v);
+      times.push_back(t);
+      points.push_back(xf.DeviceToRAS.RotateInverse(pose.T - xf.DeviceToRAS.T) / xf.Scale);
+    }
+    if (duration <= 0) {
+      times = {0.0, 1e-3};
+      points = {points.front(), points.front()};
+    }
+    if (!devicePath->Set(times, points, error)) {
+      err << "roboplan haptics: " << error << "\n";
+      return 2;
+    }
+  }
+
+  rp::SimulatedDevice device(profile.Info);
+  device.SetTrajectory(devicePath);
+  rp::HapticSession session(device);
+  for (long i = 0; i < toolPoints; ++i) {
+    if (i > 0) options.ToolPoints.push_back({0, 0, 10.0 * i});
+  }
+  options.LogPath = parser.Get("log");
+  options.Loop.RateHz = rate;
+  options.Loop.SpinUs = spin;
+  options.RampSeconds = 0.2;
+  // Statistics from every tick's record, gathered on the log writer thread (read after Stop).
+  struct ForceStats {
+    uint64_t Records = 0, ContactTicks = 0, Clamped = 0, Watchdog = 0, StallLimited = 0;
+    double MaxForce = 0, SumForce = 0;
+    std::map<int, uint64_t> Tissue;
+  };
+  auto stats = std::make_shared<ForceStats>();
+  session.Log().OnRecord = [stats](const rp::HapticLogRecord& r) {
+    ++stats->Records;
+    const double f = rp::Norm(r.Force);
+    stats->MaxForce = std::fmax(stats->MaxForce, f);
+    if (r.Contacts > 0) {
+      ++stats->ContactTicks;
+      stats->SumForce += f;
+      ++stats->Tissue[r.Label];
+    }
+    stats->Clamped += (r.Flags & 2u) ? 1 : 0;
+    stats->Watchdog += (r.Flags & 1u) ? 1 : 0;
+    stats->StallLimited += (r.Flags & 4u) ? 1 : 0;
+  };
+  if (!session.Start(scene, options, error)) {
+    err << "roboplan haptics: " << error << "\n";
+    return 1;
+  }
+  size_t warned = 0;
+  auto printWarnings = [&] {
+    for (; warned < session.Warnings().size(); ++warned)
+      err << "roboplan haptics: warning: " << session.Warnings()[warned] << "\n";
+  };
+  printWarnings();
+  const auto start = std::chrono::steady_clock::now();
+  for (;;) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(33));  // display rate
+    session.Update();
+    printWarnings();  // e.g. a tissue clamped once the measured servo period is known
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    progress.Report(std::floor(10 * std::fmin(1.0, elapsed / seconds)) / 10, "exploring");
+    if (elapsed >= seconds) break;
+  }
+  session.Stop();
+  const rp::ServoStats servo = session.Scheduler().Stats();
+  rp::HapticState last;
+  session.Servo().ReadState(last);
+
+  const auto& names = session.TissueNames();
+  auto tissueName = [&](int label) {
+    return label >= 0 && static_cast<size_t>(label) < names.size() ? names[static_cast<size_t>(label)] : std::string("?");
+  };
+  const double meanForce = stats->ContactTicks ? stats->SumForce / stats->ContactTicks : 0.0;
+  const double contactFraction = stats->Records ? static_cast<double>(stats->ContactTicks) / stats->Records : 0.0;
+  if (json) {
+    nlohmann::json tissues = nlohmann::json::object();
+    for (const auto& [label, ticks] : stats->Tissue) tissues[tissueName(label)] = ticks;
+    nlohmann::json clamps = nlohmann::json::array();
+    for (const MaterialClamp& c : session.Clamps())
+      clamps.push_back({{"tissue", c.Tissue},
+                        {"requestedStiffness", c.RequestedStiffness},
+                        {"renderedStiffness", c.RenderedStiffness},
+                        {"requestedDamping", c.RequestedDamping},
+                        {"renderedDamping", c.RenderedDamping},
+                        {"clamped", c.Clamped()},
+                        {"limit", c.Limit}});
+    nlohmann::json doc = {
+        {"seconds", seconds},
+        {"rateHz", rate},
+        {"trajectory", parser.Get("trajectory")},
+        {"device",
+         {{"profile", profile.Key},
+          {"name", profile.Info.Name},
+          {"maxForceN", profile.Info.MaxForce},
+          {"nominalMaxStiffness", profile.Info.NominalMaxStiffness}}},
+        {"materials", {{"source", session.Materials().Source()}, {"stabilityPeriodS", session.StabilityPeriod()},
+                       {"tissues", clamps}}},
+        {"scene", {{"triangles", session.SceneTriangles()}, {"warnings", session.Warnings()}}},
+        {"servo",
+         {{"ticks", servo.Ticks},
+          {"realTimePriority", servo.RealTimePriority},
+          {"priorityNote", session.Scheduler().PriorityNote()},
+          {"period", StatsJson(servo.Period)},
+          {"compute", StatsJson(servo.Compute)},
+          {"lateness", StatsJson(servo.Lateness)},
+          {"missedDeadlines", servo.MissedDeadlines},
+          {"overruns", servo.Overruns},
+          {"stalls", last.Stalls},
+          {"watchdogTrips", last.WatchdogTrips}}},
+        {"force",
+         {{"maxN", stats->MaxForce},
+          {"meanInContactN", meanForce},
+          {"contactFraction", contactFraction},
+          {"clampedTicks", stats->Clamped},
+          {"stallLimitedTicks", stats->StallLimited},
+          {"tissueTicks", tissues}}},
+        {"log", {{"path", options.LogPath}, {"records", stats->Records}, {"dropped", session.Servo().LogRing().DroppedCount()}}}};
+    out << doc.dump(2) << "\n";
+  } else {
+    out << Format("device: %s (%.1f N peak, %.2f N/mm nominal maximum stiffness)\n", profile.Info.Name.c_str(),
+                  profile.Info.MaxForce, profile.Info.NominalMaxStiffness);
+    out << Format("materials: %s; stiffness requested -> rendered at a %.2f ms servo period:\n",
+                  session.Materials().Source().c_str(), 1e3 * session.StabilityPeriod());
+    for (const MaterialClamp& c : session.Clamps())
+      out << Format("  %-10s %.2f -> %.2f N/mm%s\n", c.Tissue.c_str(), c.RequestedStiffness, c.RenderedStiffness,
+                    c.Clamped() ? "  CLAMPED" : "");
+    out << Format("scene: %zu haptic triangles; trajectory %s, %.1f s\n", session.SceneTriangles(),
+                  parser.Get("trajectory").c_str(), seconds);
+    out << Format("servo: %llu ticks at %.0f Hz (%s)\n", static_cast<unsigned long long>(servo.Ticks), rate,
+                  session.Scheduler().PriorityNote().c_str());
+    out << Format("  period  p50 %.1f us  p99 %.1f us  max %.1f us  missed deadlines %llu  overruns %llu  stalls %u\n",
+                  servo.Period.P50Us, servo.Period.P99Us, servo.Period.MaxUs,
+                  static_cast<unsigned long long>(servo.MissedDeadlines),
+                  static_cast<unsigned long long>(servo.Overruns), last.Stalls);
+    out << Format("  compute p50 %.2f us  p99 %.2f us  max %.1f us  watchdog trips %u\n", servo.Compute.P50Us,
+                  servo.Compute.P99Us, servo.Compute.MaxUs, last.WatchdogTrips);
+    out << Format("force: max %.3f N, mean in contact %.3f N, contact %.1f%% of ticks, clamped %llu ticks\n",
+                  stats->MaxForce, meanForce, 100 * contactFraction, static_cast<unsigned long long>(stats->Clamped));
+    for (const auto& [label, ticks] : stats->Tissue)
+      out << Format("  %-10s %llu ticks in contact\n", tissueName(label).c_str(), static_cast<unsigned long long>(ticks));
+    if (!options.LogPath.empty())
+      out << Format("log: %s (%llu records)\n", options.LogPath.c_str(), static_cast<unsigned long long>(stats->Records));
+  }
+  return 0;
+}
+
+}  // namespace rp

@@ -1,0 +1,489 @@
+#include "rpMeshCommand.h"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <chrono>
+#include <filesystem>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+#include <vtkNew.h>
+
+#include "rpArgParser.h"
+#include "rpLabelmapInput.h"
+#include "rpModelIO.h"
+#include "rpNodeStorage.h"
+#include "rpProgress.h"
+#include "rpSegmentationEditor.h"
+#include "rpSegmentationIO.h"
+#include "rpSegmentationToModels.h"
+#include "rpVolumeIO.h"
+#include "vtkRPModelNode.h"
+#include "vtkRPScalarVolumeNode.h"
+#include "vtkRPScene.h"
+#include "vtkRPSegmentationNode.h"
+
+namespace rp {
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+struct BadArgument : std::invalid_argument {
+  using std::invalid_argument::invalid_argument;
+};
+
+std::array<double, 3> ParsePoint(const std::string& text, const std::string& option) {
+  std::array<double, 3> p{};
+  std::stringstream in(text);
+  std::string part;
+  int n = 0;
+  while (std::getline(in, part, ',')) {
+    if (n >= 3) throw BadArgument("--" + option + " '" + text + "': expected x,y,z");
+    try {
+      size_t used = 0;
+      p[static_cast<size_t>(n)] = std::stod(part, &used);
+      if (used != part.size()) throw std::invalid_argument(part);
+    } catch (const std::exception&) {
+      throw BadArgument("--" + option + " '" + text + "': '" + part + "' is not a number");
+    }
+    ++n;
+  }
+  if (n != 3) throw BadArgument("--" + option + " '" + text + "': expected x,y,z (RAS, mm)");
+  return p;
+}
+
+json StatsJson(const MeshStats& s) {
+  return {{"triangles", s.Triangles},
+          {"points", s.Points},
+          {"labelVoxels", s.LabelVoxels},
+          {"labelVolumeMm3", s.LabelVolumeMm3},
+          {"meshVolumeMm3", s.MeshVolumeMm3},
+          {"volumeErrorPercent", s.VolumeErrorPercent},
+          {"areaMm2", s.AreaMm2},
+          {"volumeCorrectionMm", s.VolumeCorrectionMm},
+          {"boundaryEdges", s.BoundaryEdges},
+          {"nonManifoldEdges", s.NonManifoldEdges},
+          {"watertight", s.Watertight},
+          {"touchesBorder", s.TouchesBorder},
+          {"gridStep", {s.GridStep[0], s.GridStep[1], s.GridStep[2]}},
+          {"seconds", s.Seconds},
+          {"warnings", s.Warnings}};
+}
+
+// Volumes and segmentations: what `mesh` reads (from the storages' registrations).
+std::vector<std::string> InputExtensions() {
+  auto extensions = ExtensionsForNodeClass("vtkRPSegmentationNode");
+  for (const auto& ext : ExtensionsForNodeClass("vtkRPScalarVolumeNode")) extensions.push_back(ext);
+  return extensions;
+}
+
+// Model file formats, from the model storage's registration (rpModelIO): "vtp", "vtk", ...
+std::vector<std::string> ModelFormats() {
+  std::vector<std::string> formats;
+  for (const auto& storage : GetNodeStorages()) {
+    if (storage->NodeClassForFiles() != "vtkRPModelNode") continue;
+    for (const auto& extension : storage->Extensions()) formats.push_back(extension.substr(1));
+  }
+  return formats;
+}
+
+std::string Join(const std::vector<std::string>& items, const std::string& separator) {
+  std::string text;
+  for (const auto& item : items) text += (text.empty() ? "" : separator) + item;
+  return text;
+}
+
+std::string SafeFileName(std::string name) {
+  for (char& c : name)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_' && c != '.') c = '_';
+  return name.empty() ? "segment" : name;
+}
+
+}  // namespace
+
+int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contextScene, std::ostream& out,
+                   std::ostream& err) {
+  ArgParser parser(
+      "mesh",
+      "Segment a volume (threshold presets, region growing, confidence connected, morphology, components) or "
+      "take a segmentation (.seg.nrrd), and write one closed surface per segment (display + haptic mesh) to --out.");
+  parser.Positional("input", "volume or labelmap (.nrrd, .nii.gz, .mha) or segmentation (.seg.nrrd)")
+      .Input(FileKind::Image, InputExtensions())
+      .Option("out", "dir", "output folder (created)")
+      .OutputFolder()
+      .Required()
+      .Option("input-kind", "auto|labelmap|intensity",
+              "a volume file is a labelmap (one segment per label value) or an intensity image to segment; auto: "
+              "a labelmap when no threshold option is given, the voxels are few whole numbers >= 0 and --labels is "
+              "given or the file is named *-label.*, *_label.*, *labelmap*, *.seg.*",
+              "auto")
+      .OneOf()
+      .Option("labels", "file", "label names and colours: Slicer colour table (.ctbl/.txt) or ITK-SNAP label file")
+      .Input(FileKind::Any)
+      .Option("method", "threshold|region-grow|confidence", "segmentation method for volumes", "threshold")
+      .OneOf()
+      .Option("preset", "bone|cortical|soft-tissue|fat", "tissue preset(s), repeatable (several tissues)", "bone")
+      .OneOf()
+      .Repeatable()
+      .Option("lower", "HU", "lower threshold (overrides the preset; one tissue)")
+      .Number()
+      .Option("upper", "HU", "upper threshold (overrides the preset; one tissue)")
+      .Number()
+      .Option("seed", "x,y,z", "seed point in RAS mm (repeatable): region growing, confidence, --keep-at-seed")
+      .Point()
+      .Repeatable()
+      .Option("multiplier", "k", "confidence connected: mean ± k·sigma", "2.5")
+      .Number()
+      .GreaterThan(0)
+      .Option("iterations", "n", "confidence connected iterations", "3")
+      .Integer()
+      .AtLeast(0)
+      .Option("radius", "voxels", "confidence connected initial neighbourhood radius", "2")
+      .Integer()
+      .AtLeast(0)
+      .Option("closing", "mm", "morphological closing radius")
+      .Number()
+      .AtLeast(0)
+      .Option("opening", "mm", "morphological opening radius")
+      .Number()
+      .AtLeast(0)
+      .Flag("fill-holes", "fill enclosed holes")
+      .Flag("keep-largest", "keep the largest connected component")
+      .Flag("keep-at-seed", "keep the component at the first seed")
+      .Option("split", "n", "split into up to n segments, one per component")
+      .Integer()
+      .AtLeast(1)
+      .Option("max-fraction", "f", "refuse a segment covering more than this fraction of the volume (leak)", "0.9")
+      .Number()
+      .GreaterThan(0)
+      .AtMost(1)
+      .Option("segment", "id", "mesh only these segments (repeatable)")
+      .Repeatable()
+      .Option("mesh-method", "gaussian|sinc|slicer|discrete", "surface method", "gaussian")
+      .OneOf()
+      .Option("smoothing", "sigma", "gaussian smoothing sigma in voxels", "1.0")
+      .Number()
+      .AtLeast(0)
+      .Option("passband", "f", "windowed sinc pass band (sinc, slicer)", "0.01")
+      .Number()
+      .GreaterThan(0)
+      .AtMost(2)
+      .Option("sinc-iterations", "n", "windowed sinc iterations (sinc, slicer)", "20")
+      .Integer()
+      .AtLeast(0)
+      .Option("grid-step", "s|sx,sy,sz", "gaussian contour grid step in voxels (>1 = coarser mesh)", "1")
+      .Numbers()
+      .GreaterThan(0)
+      .Option("grid-mm", "mm", "gaussian contour grid spacing in mm (step per axis = max(1, mm / spacing))")
+      .Number()
+      .GreaterThan(0)
+      .Option("decimate", "f", "extra quadric decimation: fraction of triangles removed", "0")
+      .Number()
+      .AtLeast(0)
+      .LessThan(1)
+      .Option("triangles", "n", "display mesh: target triangle count")
+      .Integer()
+      .AtLeast(1)
+      .Option("max-error", "mm", "display mesh: max deviation from the full-resolution surface")
+      .Number()
+      .AtLeast(0)
+      .Option("haptic-triangles", "n", "haptic mesh: target triangle count", "20000")
+      .Integer()
+      .AtLeast(1)
+      .Option("haptic-max-error", "mm", "haptic mesh: max deviation from the full-resolution surface")
+      .Number()
+      .AtLeast(0)
+      .Flag("no-haptic", "do not write haptic meshes")
+      .Flag("no-volume-correction", "keep the raw surface (no volume correction)")
+      .Option("format", Join(ModelFormats(), "|"), "model file format", "vtp")
+      .OneOf();
+  if (!parser.Parse(arguments)) {
+    if (parser.HelpRequested()) {
+      out << parser.Usage();
+      return 0;
+    }
+    err << "roboplan mesh: " << parser.Error() << "\n\n" << parser.Usage();
+    return 2;
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  const bool quiet = parser.Json();
+  TerminalProgress progress("mesh", quiet);
+  ModelBuildOptions build;
+  std::string method, format;
+  std::vector<std::array<double, 3>> seeds;
+  double multiplier = 2.5, maxFraction = 0.9;
+  int iterations = 3, radius = 2, split = 0;
+  InputKind inputKind = InputKind::Auto;
+  try {
+    multiplier = parser.GetDouble("multiplier");
+    iterations = static_cast<int>(parser.GetInt("iterations"));
+    radius = static_cast<int>(parser.GetInt("radius"));
+    maxFraction = parser.GetDouble("max-fraction");
+    if (parser.Has("split")) split = static_cast<int>(parser.GetInt("split"));
+    if (parser.Has("closing")) parser.GetDouble("closing");
+    if (parser.Has("opening")) parser.GetDouble("opening");
+    if (!parser.Has("out")) throw BadArgument("--out <dir> is required");
+    method = parser.Get("method");
+    if (method != "threshold" && method != "region-grow" && method != "confidence")
+      throw BadArgument("--method '" + method + "': use threshold, region-grow or confidence");
+    for (const auto& s : parser.GetAll("seed")) seeds.push_back(ParsePoint(s, "seed"));
+    if (!ParseMeshMethod(parser.Get("mesh-method"), build.Display.Method))
+      throw BadArgument("--mesh-method '" + parser.Get("mesh-method") + "': use gaussian, sinc, slicer or discrete");
+    build.Display.Sigma = parser.GetDouble("smoothing");
+    build.Display.SincPassBand = parser.GetDouble("passband");
+    build.Display.SincIterations = static_cast<int>(parser.GetInt("sinc-iterations"));
+    const auto steps = parser.GetDoubles("grid-step");
+    if (steps.size() == 1) {
+      for (double& s : build.Display.GridStep) s = steps[0];
+    } else if (steps.size() == 3) {
+      for (int a = 0; a < 3; ++a) build.Display.GridStep[a] = steps[static_cast<size_t>(a)];
+    } else {
+      throw BadArgument("--grid-step: one value or three (sx,sy,sz)");
+    }
+    for (double s : build.Display.GridStep)
+      if (!(s > 0)) throw BadArgument("--grid-step must be > 0");
+    if (build.Display.Sigma < 0) throw BadArgument("--smoothing must be >= 0");
+    if (parser.Has("grid-mm") && !(parser.GetDouble("grid-mm") > 0)) throw BadArgument("--grid-mm must be > 0");
+    build.Display.DecimationFraction = parser.GetDouble("decimate");
+    if (build.Display.DecimationFraction < 0 || build.Display.DecimationFraction >= 1)
+      throw BadArgument("--decimate must be in [0, 1)");
+    build.Display.CorrectVolume = !parser.Has("no-volume-correction");
+    if (parser.Has("triangles")) build.DisplayLOD.TargetTriangles = parser.GetInt("triangles");
+    if (parser.Has("max-error")) build.DisplayLOD.MaxErrorMm = parser.GetDouble("max-error");
+    build.Haptic = build.Display;
+    build.Haptic.DecimationFraction = 0;
+    build.HapticLOD.TargetTriangles = parser.GetInt("haptic-triangles");
+    build.HapticLOD.MaxErrorMm = parser.Has("haptic-max-error") ? parser.GetDouble("haptic-max-error") : 0.0;
+    build.MakeHaptic = !parser.Has("no-haptic");
+    build.SegmentIDs = parser.GetAll("segment");
+    format = parser.Get("format");
+    const auto formats = ModelFormats();
+    if (std::find(formats.begin(), formats.end(), format) == formats.end())
+      throw BadArgument("--format '" + format + "': use " + Join(formats, ", "));
+    if (parser.Has("keep-at-seed") && seeds.empty()) throw BadArgument("--keep-at-seed needs --seed");
+    if (!ParseInputKind(parser.Get("input-kind"), inputKind))
+      throw BadArgument("--input-kind '" + parser.Get("input-kind") + "': use auto, labelmap or intensity");
+    if ((method == "region-grow" || method == "confidence") && seeds.empty())
+      throw BadArgument("--method " + method + " needs at least one --seed x,y,z");
+  } catch (const std::exception& e) {
+    err << "roboplan mesh: " << e.what() << "\n";
+    return 2;
+  }
+
+  const std::string input = parser.Get("input");
+  const fs::path outDir = parser.Get("out");
+  std::error_code ec;
+  fs::create_directories(outDir, ec);
+  if (ec) {
+    err << "roboplan mesh: cannot create output folder '" << outDir.string() << "': " << ec.message() << "\n";
+    return 1;
+  }
+  vtkRPScene* scene = contextScene;
+  vtkNew<vtkRPScene> ownScene;
+  if (!scene) scene = ownScene;
+  progress.Report(0.0, "loading " + input);
+  std::string error;
+  vtkRPNode* loaded = LoadDataFile(scene, input, error);
+  if (!loaded && HasExtension(input, ".seg.nrrd")) {
+    // A plain labelmap named *.seg.nrrd (no Slicer segment keys): read it as a volume.
+    vtkNew<vtkRPScalarVolumeNode> plain;
+    std::string volumeError;
+    if (ReadVolumeFile(input, plain, volumeError)) {
+      plain->SetName(fs::path(input).filename().string());
+      scene->AddNode(plain);
+      loaded = plain;
+    }
+  }
+  if (!loaded) {
+    err << "roboplan mesh: " << error << "\n";
+    return 1;
+  }
+  vtkRPSegmentationNode* segmentation = vtkRPSegmentationNode::SafeDownCast(loaded);
+  json segmentationSteps = json::array();
+  json inputInfo = {{"kind", "segmentation"}, {"reason", "a segmentation file"}};
+  if (segmentation && parser.Has("labels"))
+    err << "roboplan mesh: --labels ignored: '" << input << "' is a segmentation with its own segment names\n";
+  if (!segmentation) {
+    auto* volume = vtkRPScalarVolumeNode::SafeDownCast(loaded);
+    if (!volume) {
+      err << "roboplan mesh: '" << input << "' is neither a volume nor a segmentation\n";
+      return 1;
+    }
+    const bool intensityOptions = parser.Has("lower") || parser.Has("upper") || !parser.GetAll("preset").empty() ||
+                                  parser.Has("method") || parser.Has("multiplier") || parser.Has("iterations") ||
+                                  parser.Has("radius");
+    const InputChoice choice =
+        ChooseInputKind(inputKind, volume->GetImageData(), input, parser.Has("labels"), intensityOptions);
+    inputInfo = {{"kind", choice.Labelmap ? "labelmap" : "intensity"}, {"reason", choice.Reason}};
+    if (!quiet) err << "input: " << choice.Reason << "\n";
+    if (choice.Labelmap) {
+      LabelTable table;
+      if (parser.Has("labels") && !ReadLabelTable(parser.Get("labels"), table, error)) {
+        err << "roboplan mesh: " << error << "\n";
+        return 1;
+      }
+      vtkNew<vtkRPSegmentationNode> created;
+      created->SetName(volume->GetName() + " segmentation");
+      if (!LabelmapToSegmentation(volume->GetImageData(), volume->GetIJKToRASMatrix(),
+                                  parser.Has("labels") ? &table : nullptr, created, error)) {
+        err << "roboplan mesh: '" << input << "': " << error << "\n";
+        return 1;
+      }
+      scene->AddNode(created);
+      segmentation = created;
+    } else if (parser.Has("labels")) {
+      err << "roboplan mesh: --labels names the values of a labelmap, but '" << input
+          << "' is taken as an intensity image (" << choice.Reason << ")\n";
+      return 2;
+    }
+  }
+  if (!segmentation) {
+    auto* volume = vtkRPScalarVolumeNode::SafeDownCast(loaded);
+    vtkNew<vtkRPSegmentationNode> created;
+    created->SetName(volume->GetName() + " segmentation");
+    scene->AddNode(created);
+    segmentation = created;
+    // One target per tissue: the presets, or one custom range.
+    std::vector<ThresholdPreset> tissues;
+    for (const auto& name : parser.GetAll("preset").empty() ? std::vector<std::string>{parser.Get("preset")}
+                                                            : parser.GetAll("preset")) {
+      const ThresholdPreset* preset = FindThresholdPreset(name);
+      if (!preset) {
+        err << "roboplan mesh: unknown --preset '" << name << "' (bone, cortical, soft-tissue, fat)\n";
+        return 2;
+      }
+      tissues.push_back(*preset);
+    }
+    try {
+      if (parser.Has("lower") || parser.Has("upper")) {
+        if (tissues.size() != 1) {
+          err << "roboplan mesh: --lower/--upper apply to one tissue; give at most one --preset\n";
+          return 2;
+        }
+        if (parser.Has("lower")) tissues[0].Lower = parser.GetDouble("lower");
+        if (parser.Has("upper")) tissues[0].Upper = parser.GetDouble("upper");
+      }
+    } catch (const std::exception& e) {
+      err << "roboplan mesh: " << e.what() << "\n";
+      return 2;
+    }
+    for (size_t t = 0; t < tissues.size(); ++t) {
+      const auto& tissue = tissues[t];
+      SegmentTarget target;
+      target.ID = tissue.Name;
+      target.Name = tissue.Name;
+      target.TissueClass = tissue.TissueClass;
+      target.Color = tissue.Color;
+      target.MaxFraction = maxFraction;
+      EditResult result;
+      progress.Report(0.05 + 0.1 * t / tissues.size(), "segmenting " + tissue.Name);
+      bool ok = false;
+      if (method == "threshold") {
+        ok = SegmentationEditor::Threshold(volume, segmentation, target, tissue.Lower, tissue.Upper, result, error);
+      } else if (method == "region-grow") {
+        ok = SegmentationEditor::RegionGrow(volume, segmentation, target, seeds, tissue.Lower, tissue.Upper, result,
+                                                error);
+      } else {
+        ok = SegmentationEditor::ConfidenceConnected(
+            volume, segmentation, target, seeds, multiplier, iterations, radius, result, error);
+      }
+      auto step = [&](const std::string& name, bool stepOk) {
+        segmentationSteps.push_back({{"segment", target.ID}, {"step", name}, {"ok", stepOk}, {"voxels", result.Voxels},
+                                     {"fraction", result.Fraction}, {"components", result.Components}});
+        if (!stepOk) err << "roboplan mesh: " << target.ID << " " << name << ": " << error << "\n";
+        return stepOk;
+      };
+      if (!step(method, ok)) return 1;
+      if (parser.Has("closing") &&
+          !step("closing", SegmentationEditor::ApplyMorphology(segmentation, target.ID, Morphology::Closing,
+                                                                   parser.GetDouble("closing"), result, error)))
+        return 1;
+      if (parser.Has("opening") &&
+          !step("opening", SegmentationEditor::ApplyMorphology(segmentation, target.ID, Morphology::Opening,
+                                                                   parser.GetDouble("opening"), result, error)))
+        return 1;
+      if (parser.Has("fill-holes") &&
+          !step("fill-holes", SegmentationEditor::ApplyMorphology(segmentation, target.ID,
+                                                                      Morphology::FillHoles, 0, result, error)))
+        return 1;
+      if (parser.Has("keep-largest") &&
+          !step("keep-largest", SegmentationEditor::KeepLargestComponent(segmentation, target.ID, result, error)))
+        return 1;
+      if (parser.Has("keep-at-seed") &&
+          !step("keep-at-seed",
+                SegmentationEditor::KeepComponentAtSeed(segmentation, target.ID, seeds.front(), result, error)))
+        return 1;
+      if (parser.Has("split") &&
+          !step("split", SegmentationEditor::SplitComponents(segmentation, target.ID, split, 1, result, error)))
+        return 1;
+    }
+    const std::string segPath = (outDir / "segmentation.seg.nrrd").string();
+    if (!WriteSegmentationFile(segPath, segmentation, error)) {
+      err << "roboplan mesh: " << error << "\n";
+      return 1;
+    }
+  }
+
+  if (parser.Has("grid-mm")) {
+    // A grid of about this spacing in mm, never finer than the voxels.
+    double spacing[3];
+    segmentation->GetSpacing(spacing);
+    const double mm = parser.GetDouble("grid-mm");
+    for (int a = 0; a < 3; ++a) build.Display.GridStep[a] = std::max(1.0, mm / spacing[a]);
+    for (int a = 0; a < 3; ++a) build.Haptic.GridStep[a] = build.Display.GridStep[a];
+  }
+  progress.Report(0.2, "meshing");
+  const auto models = BuildSegmentModels(segmentation, build, scene, [&](double f, const std::string& message) {
+    progress.Report(0.2 + 0.75 * f, message);
+  });
+  json segments = json::array();
+  int failures = 0;
+  for (const auto& m : models) {
+    json entry = {{"id", m.SegmentID}, {"name", m.Name}, {"tissueClass", m.TissueClass}, {"ok", m.Ok}};
+    if (const auto* s = segmentation->GetSegmentByID(m.SegmentID)) entry["labelValue"] = s->LabelValue;
+    if (!m.Ok) {
+      ++failures;
+      entry["error"] = m.Error;
+      err << "roboplan mesh: " << m.Error << "\n";
+    }
+    auto save = [&](vtkRPModelNode* model, const std::string& suffix, const MeshStats& stats, const char* key) {
+      if (!model) return;
+      const std::string path = (outDir / (SafeFileName(m.SegmentID) + suffix + "." + format)).string();
+      json stat = StatsJson(stats);
+      stat["file"] = path;
+      if (!WriteModelFile(path, model->GetPolyData(), error)) {
+        ++failures;
+        stat["error"] = error;
+        err << "roboplan mesh: " << error << "\n";
+      }
+      for (const auto& w : stats.Warnings) err << "roboplan mesh: " << m.SegmentID << suffix << ": " << w << "\n";
+      entry[key] = stat;
+    };
+    save(m.DisplayModel, "", m.Display, "display");
+    save(m.HapticModel, "_haptic", m.Haptic, "haptic");
+    segments.push_back(entry);
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  progress.Report(1.0, "done");
+  if (parser.Json()) {
+    json doc = {{"input", input}, {"inputKind", inputInfo}, {"out", outDir.string()}, {"ok", failures == 0},
+                {"segmentation", segmentationSteps}, {"segments", segments}, {"seconds", seconds}};
+    out << doc.dump(2) << "\n";
+  } else {
+    for (const auto& m : models) {
+      if (!m.Ok) continue;
+      err << "  " << m.SegmentID << " (" << (m.TissueClass.empty() ? "no tissue class" : m.TissueClass)
+                << "): display " << m.Display.Triangles << " triangles, volume error "
+                << m.Display.VolumeErrorPercent << " %, " << (m.Display.Watertight ? "watertight" : "NOT watertight");
+      if (m.HapticModel) err << "; haptic " << m.Haptic.Triangles << " triangles";
+      err << "\n";
+    }
+    err << "wrote " << models.size() - static_cast<size_t>(failures) << " segment(s) to " << outDir.string()
+              << " in " << seconds << " s\n";
+  }
+  return failures == 0 && !models.empty() ? 0 : 1;
+}
+
+}  // namespace rp

@@ -1,0 +1,129 @@
+// `roboplan compare-labels <segmentation> <truth labelmap>`: Dice and surface distances per segment.
+#include <cstdio>
+#include <map>
+
+#include <nlohmann/json.hpp>
+#include <vtkNew.h>
+
+#include "rpArgParser.h"
+#include "rpLabelComparison.h"
+#include "rpNodeStorage.h"
+#include "rpProgress.h"
+#include "rpVolumesCommands.h"
+#include "vtkRPScalarVolumeNode.h"
+#include "vtkRPScene.h"
+#include "vtkRPSegmentationNode.h"
+
+namespace rp {
+namespace {
+
+struct LabelName {
+  std::string ID, Name;
+};
+
+// A labelmap from a segmentation (.seg.nrrd: its segments name the labels) or a volume file.
+bool LoadLabels(vtkRPScene* scene, const std::string& path, ImageVolume& volume, std::map<int, LabelName>& names,
+                std::string& error) {
+  vtkRPNode* node = LoadDataFile(scene, path, error);
+  if (!node) return false;
+  if (auto* segmentation = vtkRPSegmentationNode::SafeDownCast(node)) {
+    volume = FromNode(segmentation);
+    for (const auto& s : segmentation->GetSegments()) names[s.LabelValue] = {s.ID, s.Name};
+    return true;
+  }
+  if (auto* image = vtkRPScalarVolumeNode::SafeDownCast(node)) {
+    volume = FromNode(image);
+    return true;
+  }
+  error = "'" + path + "' is neither a segmentation nor a labelmap volume";
+  return false;
+}
+
+std::string Fixed(double v) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.3f", v);
+  return buffer;
+}
+
+nlohmann::json Distance(double mm) { return mm < 0 ? nlohmann::json() : nlohmann::json(mm); }
+
+}  // namespace
+
+int RunCompareLabelsCommand(const std::vector<std::string>& arguments, std::ostream& out, std::ostream& err) {
+  ArgParser parser("compare-labels",
+                   "Score a segmentation against a truth labelmap, segment by segment: Dice, and the symmetric "
+                   "surface distance between the two boundaries (mean, 95th percentile, maximum; mm). Each segment "
+                   "is matched to the truth label it overlaps most, so label numbers need not agree. The truth is "
+                   "sampled onto the segmentation's grid (nearest voxel) when the grids differ.");
+  auto labelFiles = ExtensionsForNodeClass("vtkRPSegmentationNode");
+  for (const auto& ext : ExtensionsForNodeClass("vtkRPScalarVolumeNode")) labelFiles.push_back(ext);
+  parser.Positional("segmentation", "segmentation (.seg.nrrd) or labelmap volume to score")
+      .Input(FileKind::LabelMap, labelFiles)
+      .Positional("truth", "truth labelmap (or segmentation)")
+      .Input(FileKind::LabelMap, labelFiles)
+      .Option("label", "n", "score only this label value of <segmentation> (repeatable; default: all)")
+      .Integer()
+      .AtLeast(1)
+      .Repeatable();
+  if (!parser.Parse(arguments)) {
+    if (parser.HelpRequested()) {
+      out << parser.Usage();
+      return 0;
+    }
+    err << "roboplan compare-labels: " << parser.Error() << "\n\n" << parser.Usage();
+    return 2;
+  }
+  TerminalProgress progress("compare-labels", parser.Json());
+  vtkNew<vtkRPScene> scene;
+  ImageVolume test, truth;
+  std::map<int, LabelName> names, truthNames;
+  std::string error;
+  progress.Report(0.0, "loading");
+  if (!LoadLabels(scene, parser.Get("segmentation"), test, names, error) ||
+      !LoadLabels(scene, parser.Get("truth"), truth, truthNames, error)) {
+    err << "roboplan compare-labels: " << error << "\n";
+    return 1;
+  }
+  std::vector<int> labels;
+  for (const auto& text : parser.GetAll("label")) labels.push_back(std::stoi(text));
+  progress.Report(0.2, "scoring");
+  LabelComparison comparison;
+  if (!CompareLabels(test, truth, labels, comparison, error)) {
+    err << "roboplan compare-labels: " << error << "\n";
+    return 1;
+  }
+  progress.Report(1.0, "done");
+  if (parser.Json()) {
+    nlohmann::json segments = nlohmann::json::array();
+    for (const auto& s : comparison.Scores) {
+      const auto name = names.count(s.Label) ? names[s.Label] : LabelName{std::to_string(s.Label), "label " + std::to_string(s.Label)};
+      segments.push_back({{"segment", name.ID}, {"name", name.Name}, {"labelValue", s.Label},
+                          {"truthLabel", s.TruthLabel ? nlohmann::json(s.TruthLabel) : nlohmann::json()},
+                          {"truthName", truthNames.count(s.TruthLabel) ? truthNames[s.TruthLabel].Name : ""},
+                          {"voxels", s.Voxels}, {"truthVoxels", s.TruthVoxels}, {"overlapVoxels", s.OverlapVoxels},
+                          {"dice", s.Dice}, {"meanSurfaceDistanceMm", Distance(s.MeanSurfaceDistanceMm)},
+                          {"hausdorff95Mm", Distance(s.Hausdorff95Mm)}, {"hausdorffMm", Distance(s.HausdorffMm)}});
+    }
+    out << nlohmann::json{{"ok", true}, {"segmentation", parser.Get("segmentation")}, {"truth", parser.Get("truth")},
+                          {"truthResampled", comparison.TruthResampled}, {"segments", segments},
+                          {"unmatchedTruthLabels", comparison.UnmatchedTruth}}
+               .dump(2)
+        << "\n";
+    return 0;
+  }
+  for (const auto& s : comparison.Scores) {
+    out << "label " << s.Label;
+    if (names.count(s.Label)) out << " (" << names[s.Label].Name << ")";
+    if (!s.TruthLabel) {
+      out << ": overlaps no truth label\n";
+      continue;
+    }
+    out << " vs truth " << s.TruthLabel << ": Dice " << Fixed(s.Dice) << ", surface distance mean "
+        << Fixed(s.MeanSurfaceDistanceMm) << " mm, 95% " << Fixed(s.Hausdorff95Mm) << " mm, max "
+        << Fixed(s.HausdorffMm) << " mm\n";
+  }
+  for (int t : comparison.UnmatchedTruth) out << "truth label " << t << ": no segment matched it\n";
+  return 0;
+}
+
+}  // namespace rp
