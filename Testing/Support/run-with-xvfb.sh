@@ -7,7 +7,7 @@ set -u
 tmp=$(mktemp -d "${TMPDIR:-/tmp}/rp-xvfb.XXXXXX")
 fifo="$tmp/display"
 mkfifo "$fifo"
-Xvfb -displayfd 3 -screen 0 1920x1080x24 -nolisten tcp 3>"$fifo" 2>"$tmp/xvfb.log" &
+Xvfb -displayfd 3 -screen 0 1920x1080x24 -nolisten tcp -noreset 3>"$fifo" 2>"$tmp/xvfb.log" &
 server=$!
 display=""
 if ! read -r -t 20 display <"$fifo" || [ -z "$display" ]; then
@@ -19,6 +19,10 @@ if ! read -r -t 20 display <"$fifo" || [ -z "$display" ]; then
 fi
 DISPLAY=":$display" "$@"
 status=$?
+if [ $status -ne 0 ] && ! kill -0 "$server" 2>/dev/null; then
+  echo "run-with-xvfb: the X server :$display exited during the test:" >&2
+  cat "$tmp/xvfb.log" >&2
+fi
 kill "$server" 2>/dev/null
 wait "$server" 2>/dev/null
 rm -rf "$tmp"
