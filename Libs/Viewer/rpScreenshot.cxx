@@ -11,7 +11,7 @@
 #include "rpAtomicFile.h"
 #include "rpView.h"
 #include "rpViewController.h"
-#include "vtkRPViewState.h"
+#include "vtkRPLayoutNode.h"
 
 namespace rp {
 
@@ -25,18 +25,18 @@ bool GetLayoutViewport(int layout, int viewKind, double viewport[4]) {
   };
   const auto kind = static_cast<ViewKind>(viewKind);
   switch (layout) {
-    case vtkRPViewState::LayoutFourUp:
+    case vtkRPLayoutNode::FourUp:
       if (kind == ViewKind::Axial) return set(0, 0.5, 0.5, 1);
       if (kind == ViewKind::ThreeD) return set(0.5, 0.5, 1, 1);
       if (kind == ViewKind::Sagittal) return set(0, 0, 0.5, 0.5);
       return set(0.5, 0, 1, 0.5);
-    case vtkRPViewState::LayoutOneUp3D:
+    case vtkRPLayoutNode::OneUp3D:
       return kind == ViewKind::ThreeD && set(0, 0, 1, 1);
-    case vtkRPViewState::LayoutOneUpAxial:
+    case vtkRPLayoutNode::OneUpAxial:
       return kind == ViewKind::Axial && set(0, 0, 1, 1);
-    case vtkRPViewState::LayoutOneUpSagittal:
+    case vtkRPLayoutNode::OneUpSagittal:
       return kind == ViewKind::Sagittal && set(0, 0, 1, 1);
-    case vtkRPViewState::LayoutOneUpCoronal:
+    case vtkRPLayoutNode::OneUpCoronal:
       return kind == ViewKind::Coronal && set(0, 0, 1, 1);
     default:
       return false;
@@ -53,15 +53,15 @@ bool RenderViews(ViewController& controller, const ScreenshotOptions& options, v
   window->SetMultiSamples(0);  // identical pixels run to run (regression tests compare them)
   window->SetSize(options.Width, options.Height);
   window->SetNumberOfLayers(2);
-  controller.GetViewState()->SetLayout(options.Layout);
+  const int layout = options.Layout >= 0 ? options.Layout : controller.GetLayoutNode()->GetViewArrangement();
   if (options.HasSlicePoint) controller.SetSlicePointRAS(options.SlicePointRAS);
   for (int kind = 0; kind < 4; ++kind) {
     double viewport[4];
-    if (GetLayoutViewport(options.Layout, kind, viewport)) {
+    if (GetLayoutViewport(layout, kind, viewport)) {
       controller.GetView(static_cast<ViewKind>(kind))->AttachToRenderWindow(window, viewport);
     }
   }
-  controller.ResetCameras();  // with the window's aspect ratios known
+  controller.ResetCameras3D();  // with the window's aspect ratio known
   window->Render();
   vtkNew<vtkWindowToImageFilter> grab;
   grab->SetInput(window);

@@ -10,6 +10,8 @@
 #include <vtkCoordinate.h>
 #include <vtkLineSource.h>
 #include <vtkMath.h>
+#include <vtkMatrix4x4.h>
+#include <vtkPolyData.h>
 #include <vtkPolyDataMapper.h>
 #include <vtkProperty.h>
 #include <vtkRenderWindow.h>
@@ -17,12 +19,16 @@
 #include <vtkTextActor.h>
 #include <vtkTextProperty.h>
 
+#include "rpOrientationMarker.h"
 #include "vtkRPFiducialDisplayableManager.h"
 #include "vtkRPModelDisplayableManager.h"
+#include "vtkRPModelNode.h"
 #include "vtkRPModelSliceDisplayableManager.h"
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
 #include "vtkRPSegmentationSliceDisplayableManager.h"
+#include "vtkRPSliceLogic.h"
+#include "vtkRPSliceNode.h"
 #include "vtkRPToolDisplayableManager.h"
 #include "vtkRPViewState.h"
 #include "vtkRPVolumeSliceDisplayableManager.h"
@@ -32,10 +38,29 @@ namespace rp {
 namespace {
 // Slice cameras sit this far from the plane; overlays up to this far on either side are drawn.
 constexpr double SliceCameraDistance = 2000.0;
-constexpr double DefaultFieldOfView = 250.0;  // mm, when there is no volume
+constexpr double DefaultFieldOfView = 250.0;  // mm, when there is nothing to fit (Slicer's)
+constexpr double FitMargin = 1.05;
+
+void Column(const vtkMatrix4x4* m, int c, double v[3]) {
+  for (int r = 0; r < 3; ++r) v[r] = m->GetElement(r, c);
+}
+
+// The view colour of a slice node: Slicer's by layout name (the node may show any orientation).
+void NodeColor(vtkRPSliceNode* node, double rgb[3]) {
+  const std::string name = node ? node->GetLayoutName() : "";
+  const ViewKind kind = name == "Yellow" ? ViewKind::Sagittal : name == "Green" ? ViewKind::Coronal : ViewKind::Axial;
+  GetViewColor(kind, rgb);
+}
+
+vtkRPScalarVolumeNode* BackgroundOf(vtkRPScene* scene, vtkRPSliceNode* node) {
+  if (!scene || !node) return nullptr;
+  auto* volume = vtkRPScalarVolumeNode::SafeDownCast(scene->GetNodeByID(node->GetBackgroundVolumeID()));
+  return volume && volume->GetImageData() && volume->GetImageData()->GetNumberOfPoints() > 0 ? volume : nullptr;
+}
 }  // namespace
 
-View::View(ViewKind kind, vtkRPScene* scene, vtkRPViewState* state) : Kind(kind), Scene(scene), State(state) {
+View::View(ViewKind kind, vtkRPScene* scene, vtkRPViewState* state, const SliceViewNodes& slices)
+    : Kind(kind), Scene(scene), State(state), Slices(slices) {
   this->Renderer->SetLayer(0);
   this->Overlay->SetLayer(1);
   this->Overlay->InteractiveOff();
@@ -52,25 +77,18 @@ View::View(ViewKind kind, vtkRPScene* scene, vtkRPViewState* state) : Kind(kind)
     this->Renderer->GradientBackgroundOn();
     this->Managers.push_back(vtkSmartPointer<vtkRPVolumeSliceDisplayableManager>::New());
     this->Managers.push_back(vtkSmartPointer<vtkRPModelDisplayableManager>::New());
+    this->Marker = std::make_unique<OrientationMarker>(this->Renderer);
   }
   this->Managers.push_back(vtkSmartPointer<vtkRPFiducialDisplayableManager>::New());
   this->Managers.push_back(vtkSmartPointer<vtkRPToolDisplayableManager>::New());
 
-  // Crosshair: the lines where the two other slice planes cut this one, in their colours.
+  // Crosshair: where the two other slice planes cut this one, in their views' colours.
   if (this->IsSlice()) {
-    const SliceAxes axes = GetSliceAxes(kind);
     for (int i = 0; i < 2; ++i) {
       vtkNew<vtkPolyDataMapper> mapper;
       mapper->SetInputConnection(this->CrossLines[i]->GetOutputPort());
       this->CrossActors[i]->SetMapper(mapper);
       this->CrossActors[i]->PickableOff();
-      // Line i runs along X (i = 0) or Y (i = 1); it lies in the plane whose normal is the other axis.
-      const double* other = i == 0 ? axes.Y : axes.X;
-      ViewKind otherKind = std::fabs(other[0]) > 0.5 ? ViewKind::Sagittal
-                           : std::fabs(other[1]) > 0.5 ? ViewKind::Coronal : ViewKind::Axial;
-      double color[3];
-      GetViewColor(otherKind, color);
-      this->CrossActors[i]->GetProperty()->SetColor(color);
       this->CrossActors[i]->GetProperty()->SetLineWidth(1.0);
       this->CrossActors[i]->GetProperty()->SetOpacity(0.8);
       this->CrossActors[i]->GetProperty()->LightingOff();
@@ -88,18 +106,38 @@ View::View(ViewKind kind, vtkRPScene* scene, vtkRPViewState* state) : Kind(kind)
 
   for (auto& manager : this->Managers) manager->Initialize(this);
 
-  this->StateCallback->SetClientData(this);
-  this->StateCallback->SetCallback(&View::OnViewStateModified);
-  this->StateTag = state->AddObserver(vtkCommand::ModifiedEvent, this->StateCallback);
-  this->ResetCamera();
+  // A slice view follows its node (camera, text) and the other nodes (crosshair).
+  this->SliceCallback->SetClientData(this);
+  this->SliceCallback->SetCallback(&View::OnSliceNodeModified);
+  if (this->IsSlice()) {
+    for (vtkRPSliceNode* node : this->Slices.Nodes) {
+      if (node) this->SliceTags.emplace_back(node, node->AddObserver(vtkCommand::ModifiedEvent, this->SliceCallback));
+    }
+  }
+  // The aspect ratio is known only when the view renders (the host may resize it).
+  this->RenderCallback->SetClientData(this);
+  this->RenderCallback->SetCallback(&View::OnRenderStart);
+  this->RenderTag = this->Renderer->AddObserver(vtkCommand::StartEvent, this->RenderCallback);
+  this->UpdateSliceCamera();
   this->UpdateCrosshair();
   this->UpdateCornerText();
 }
 
 View::~View() {
-  this->State->RemoveObserver(this->StateTag);
+  for (auto& [node, tag] : this->SliceTags) {
+    if (node) node->RemoveObserver(tag);
+  }
+  this->Renderer->RemoveObserver(this->RenderTag);
   for (auto& manager : this->Managers) manager->Finalize();
   this->DetachFromRenderWindow();
+}
+
+vtkRPSliceNode* View::GetSliceNode() const {
+  return this->IsSlice() ? this->Slices.Nodes[static_cast<size_t>(this->Kind)] : nullptr;
+}
+
+vtkRPSliceLogic* View::GetSliceLogic() const {
+  return this->IsSlice() ? this->Slices.Logics[static_cast<size_t>(this->Kind)] : nullptr;
 }
 
 vtkRenderer* View::GetOverlayRenderer() const {
@@ -114,6 +152,8 @@ void View::AttachToRenderWindow(vtkRenderWindow* window, const double viewport[4
   this->Overlay->SetViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
   window->AddRenderer(this->Renderer);
   if (this->IsSlice()) window->AddRenderer(this->Overlay);
+  if (this->Marker) this->Marker->Attach(window, viewport);
+  this->UpdateSliceCamera();
   this->RequestRender();
 }
 
@@ -121,6 +161,7 @@ void View::DetachFromRenderWindow() {
   if (!this->Window) return;
   this->Window->RemoveRenderer(this->Renderer);
   this->Window->RemoveRenderer(this->Overlay);
+  if (this->Marker) this->Marker->Detach();
   this->Window = nullptr;
 }
 
@@ -129,122 +170,230 @@ void View::RequestRender() {
   if (this->OnRenderRequest) this->OnRenderRequest();
 }
 
-void View::OnViewStateModified(vtkObject*, unsigned long, void* clientData, void*) {
+void View::OnSliceNodeModified(vtkObject* caller, unsigned long, void* clientData, void*) {
   auto* self = static_cast<View*>(clientData);
-  if (self->IsSlice()) self->UpdateSliceCamera();
+  if (caller == self->GetSliceNode()) {
+    self->UpdateSliceCamera();
+    self->UpdateCornerText();
+  }
   self->UpdateCrosshair();
-  self->UpdateCornerText();
   self->RequestRender();
 }
 
+void View::OnRenderStart(vtkObject*, unsigned long, void* clientData, void*) {
+  auto* self = static_cast<View*>(clientData);
+  if (self->IsSlice() && self->GetViewportAspect() != self->LastAspect) self->UpdateSliceCamera();
+}
+
+double View::GetViewportAspect() const {
+  if (!this->Window) return 1.0;
+  const int* size = this->Window->GetSize();
+  double vp[4];
+  this->Renderer->GetViewport(vp);
+  const double w = size[0] * (vp[2] - vp[0]), h = size[1] * (vp[3] - vp[1]);
+  return w > 0 && h > 0 ? w / h : 1.0;
+}
+
 double View::GetSliceStep() const {
-  auto* volume = vtkRPScalarVolumeNode::SafeDownCast(this->Scene->GetNodeByID(this->State->GetBackgroundVolumeID()));
-  if (!volume || !volume->GetImageData()) return 1.0;
+  vtkRPScalarVolumeNode* volume = BackgroundOf(this->Scene, this->GetSliceNode());
+  if (!volume) return 1.0;
   double spacing[3];
   volume->GetSpacing(spacing);
   return std::max(1e-3, std::min({spacing[0], spacing[1], spacing[2]}));
 }
 
 double View::GetSliceOffset() const {
-  if (!this->IsSlice()) return 0.0;
-  const SliceAxes axes = GetSliceAxes(this->Kind);
-  return vtkMath::Dot(axes.Normal, this->State->GetSlicePointRAS());
+  vtkRPSliceNode* node = this->GetSliceNode();
+  return node ? node->GetSliceOffset() : 0.0;
 }
 
-// Keeps the focal point on the slice plane (the pan in the plane is the user's).
+// The camera shows the node's plane: centred on its pan point, at least its field of view,
+// looking along −(right × up) so the screen's right and up are the node's.
 void View::UpdateSliceCamera() {
-  vtkCamera* camera = this->Renderer->GetActiveCamera();
-  const SliceAxes axes = GetSliceAxes(this->Kind);
-  double toCamera[3];
-  GetCameraDirection(this->Kind, toCamera);
+  vtkRPSliceNode* node = this->GetSliceNode();
+  if (!node) return;
+  const vtkMatrix4x4* sliceToRAS = node->GetSliceToRAS();
+  double x[3], y[3], toCamera[3];
+  Column(sliceToRAS, 0, x);
+  Column(sliceToRAS, 1, y);
+  vtkMath::Cross(x, y, toCamera);
+  const double* pan = node->GetXYOrigin();
+  const double* fov = node->GetFieldOfView();
   double focal[3];
-  camera->GetFocalPoint(focal);
-  const double* point = this->State->GetSlicePointRAS();
-  const double shift = vtkMath::Dot(axes.Normal, point) - vtkMath::Dot(axes.Normal, focal);
-  for (int i = 0; i < 3; ++i) focal[i] += shift * axes.Normal[i];
+  for (int r = 0; r < 3; ++r) focal[r] = sliceToRAS->GetElement(r, 3) + pan[0] * x[r] + pan[1] * y[r];
+  vtkCamera* camera = this->Renderer->GetActiveCamera();
   camera->SetFocalPoint(focal);
   camera->SetPosition(focal[0] + SliceCameraDistance * toCamera[0], focal[1] + SliceCameraDistance * toCamera[1],
                       focal[2] + SliceCameraDistance * toCamera[2]);
-  camera->SetViewUp(axes.Y);
+  camera->SetViewUp(y);
   camera->SetClippingRange(1.0, 2.0 * SliceCameraDistance);
+  this->LastAspect = this->GetViewportAspect();
+  camera->SetParallelScale(0.5 * std::max(fov[1], fov[0] / this->LastAspect));
 }
 
+// The lines where the other slice planes cut this one (none for a parallel plane).
 void View::UpdateCrosshair() {
-  if (!this->IsSlice()) return;
-  const SliceAxes axes = GetSliceAxes(this->Kind);
-  const double* p = this->State->GetSlicePointRAS();
-  const double halfLength = 5000.0;
-  for (int i = 0; i < 2; ++i) {
-    const double* dir = i == 0 ? axes.X : axes.Y;
-    this->CrossLines[i]->SetPoint1(p[0] - halfLength * dir[0], p[1] - halfLength * dir[1], p[2] - halfLength * dir[2]);
-    this->CrossLines[i]->SetPoint2(p[0] + halfLength * dir[0], p[1] + halfLength * dir[1], p[2] + halfLength * dir[2]);
+  vtkRPSliceNode* own = this->GetSliceNode();
+  if (!own) return;
+  double n[3], p[3];
+  own->GetNormal(n);
+  own->GetOrigin(p);
+  int line = 0;
+  for (vtkRPSliceNode* other : this->Slices.Nodes) {
+    if (!other || other == own || line > 1) continue;
+    double m[3], q[3], direction[3];
+    other->GetNormal(m);
+    other->GetOrigin(q);
+    vtkMath::Cross(n, m, direction);
+    const double length2 = vtkMath::Dot(direction, direction);
+    if (length2 < 1e-12) continue;
+    // A point on both planes: p0 = ((d1 m − d2 n) × ... ) — solved as the closest point to the
+    // line's direction through the two plane equations n·x = n·p, m·x = m·q.
+    const double d1 = vtkMath::Dot(n, p), d2 = vtkMath::Dot(m, q);
+    double a[3], b[3], point[3];
+    vtkMath::Cross(m, direction, a);  // (m × dir)
+    vtkMath::Cross(direction, n, b);  // (dir × n)
+    for (int i = 0; i < 3; ++i) point[i] = (d1 * a[i] + d2 * b[i]) / length2;
+    vtkMath::Normalize(direction);
+    const double halfLength = 5000.0;
+    this->CrossLines[line]->SetPoint1(point[0] - halfLength * direction[0], point[1] - halfLength * direction[1],
+                                      point[2] - halfLength * direction[2]);
+    this->CrossLines[line]->SetPoint2(point[0] + halfLength * direction[0], point[1] + halfLength * direction[1],
+                                      point[2] + halfLength * direction[2]);
+    double color[3];
+    NodeColor(other, color);
+    this->CrossActors[line]->GetProperty()->SetColor(color);
+    this->CrossActors[line]->SetVisibility(true);
+    ++line;
   }
+  for (; line < 2; ++line) this->CrossActors[line]->SetVisibility(false);
 }
 
 void View::UpdateCornerText() {
   char text[96];
-  if (this->IsSlice()) {
+  vtkRPSliceNode* node = this->GetSliceNode();
+  if (node) {
     static const char* const positive[3] = {"R", "A", "S"};
     static const char* const negative[3] = {"L", "P", "I"};
-    const SliceAxes axes = GetSliceAxes(this->Kind);
-    const double offset = this->GetSliceOffset();
-    std::snprintf(text, sizeof(text), "%s  %s %.1f mm", GetViewName(this->Kind),
-                  offset >= 0 ? positive[axes.NormalAxis] : negative[axes.NormalAxis], std::fabs(offset));
+    double normal[3];
+    node->GetNormal(normal);
+    const double offset = node->GetSliceOffset();
+    int axis = 0;
+    for (int i = 1; i < 3; ++i) {
+      if (std::fabs(normal[i]) > std::fabs(normal[axis])) axis = i;
+    }
+    // The anatomical side of the plane: the normal's dominant axis, signed.
+    const double side = offset * (normal[axis] >= 0 ? 1 : -1);
+    const bool standard = node->GetOrientation() != vtkRPSliceNode::ReformatOrientationName();
+    std::snprintf(text, sizeof(text), "%s  %s%s %.1f mm", node->GetOrientation().c_str(), standard ? "" : "~",
+                  side >= 0 ? positive[axis] : negative[axis], std::fabs(offset));
   } else {
     std::snprintf(text, sizeof(text), "3D");
   }
   this->CornerText->SetInput(text);
 }
 
-void View::ResetCamera() {
-  vtkCamera* camera = this->Renderer->GetActiveCamera();
-  auto* volume = vtkRPScalarVolumeNode::SafeDownCast(this->Scene->GetNodeByID(this->State->GetBackgroundVolumeID()));
-  double bounds[6] = {-0.5 * DefaultFieldOfView, 0.5 * DefaultFieldOfView, -0.5 * DefaultFieldOfView,
-                      0.5 * DefaultFieldOfView, -0.5 * DefaultFieldOfView, 0.5 * DefaultFieldOfView};
-  if (volume && volume->GetImageData()) volume->GetRASBounds(bounds);
-
-  if (this->IsSlice()) {
-    const SliceAxes axes = GetSliceAxes(this->Kind);
-    const double center[3] = {0.5 * (bounds[0] + bounds[1]), 0.5 * (bounds[2] + bounds[3]), 0.5 * (bounds[4] + bounds[5])};
-    const double size[3] = {bounds[1] - bounds[0], bounds[3] - bounds[2], bounds[5] - bounds[4]};
-    const double width = std::fabs(vtkMath::Dot(size, axes.X)), height = std::fabs(vtkMath::Dot(size, axes.Y));
-    double aspect = 1.0;
-    if (this->Window) {
-      const int* windowSize = this->Window->GetSize();
-      double vp[4];
-      this->Renderer->GetViewport(vp);
-      const double w = windowSize[0] * (vp[2] - vp[0]), h = windowSize[1] * (vp[3] - vp[1]);
-      if (w > 0 && h > 0) aspect = w / h;
+bool View::ComputeFramingBounds(double bounds[6]) const {
+  vtkMath::UninitializeBounds(bounds);
+  bool found = false;
+  auto add = [&](const double b[6]) {
+    if (!found) {
+      std::copy(b, b + 6, bounds);
+      found = true;
+      return;
     }
-    camera->SetFocalPoint(center);
-    camera->SetParallelScale(1.05 * std::max(0.5 * height, 0.5 * width / aspect));
-    this->CameraInitialized = true;
-    this->UpdateSliceCamera();
-  } else {
-    // Seen from the front (slightly oblique), head up.
-    this->Renderer->ResetCamera();  // sets a distance that fits what is visible
-    double visible[6];
-    this->Renderer->ComputeVisiblePropBounds(visible);
-    if (!vtkMath::AreBoundsInitialized(visible)) std::copy(bounds, bounds + 6, visible);
-    const double center[3] = {0.5 * (visible[0] + visible[1]), 0.5 * (visible[2] + visible[3]), 0.5 * (visible[4] + visible[5])};
-    const double radius = 0.5 * std::sqrt((visible[1] - visible[0]) * (visible[1] - visible[0]) +
-                                          (visible[3] - visible[2]) * (visible[3] - visible[2]) +
-                                          (visible[5] - visible[4]) * (visible[5] - visible[4]));
-    const double distance = std::max(1.0, radius) / std::sin(vtkMath::RadiansFromDegrees(camera->GetViewAngle()) * 0.5);
-    camera->SetFocalPoint(center);
-    camera->SetPosition(center[0], center[1] + distance, center[2]);
-    camera->SetViewUp(0, 0, 1);
-    // A little from the patient's right and above, so all three slices and the models show.
-    camera->Azimuth(-30);
-    camera->Elevation(20);
-    camera->OrthogonalizeViewUp();
-    this->Renderer->ResetCameraClippingRange();
+    for (int i = 0; i < 3; ++i) {
+      bounds[2 * i] = std::min(bounds[2 * i], b[2 * i]);
+      bounds[2 * i + 1] = std::max(bounds[2 * i + 1], b[2 * i + 1]);
+    }
+  };
+  if (!this->Scene) return false;
+  for (vtkRPNode* node : this->Scene->GetNodesByClass("vtkRPModelNode")) {
+    auto* model = vtkRPModelNode::SafeDownCast(node);
+    vtkPolyData* polyData = model->GetPolyData();
+    if (!model->GetVisibility() || model->GetOpacity() <= 0 || !polyData || polyData->GetNumberOfPoints() == 0) continue;
+    double b[6];
+    polyData->GetBounds(b);
+    vtkNew<vtkMatrix4x4> toWorld;
+    model->GetMatrixTransformToWorld(toWorld);
+    double world[6];
+    vtkMath::UninitializeBounds(world);
+    for (int c = 0; c < 8; ++c) {
+      const double corner[4] = {b[(c & 1) ? 1 : 0], b[(c & 2) ? 3 : 2], b[(c & 4) ? 5 : 4], 1};
+      double out[4];
+      toWorld->MultiplyPoint(corner, out);
+      for (int i = 0; i < 3; ++i) {
+        world[2 * i] = c == 0 ? out[i] : std::min(world[2 * i], out[i]);
+        world[2 * i + 1] = c == 0 ? out[i] : std::max(world[2 * i + 1], out[i]);
+      }
+    }
+    add(world);
   }
+  if (found) return true;
+  for (vtkRPSliceNode* node : this->Slices.Nodes) {
+    if (vtkRPScalarVolumeNode* volume = BackgroundOf(this->Scene, node)) {
+      double b[6];
+      volume->GetRASBounds(b);
+      add(b);
+    }
+  }
+  return found;
+}
+
+void View::ResetCamera() {
+  if (this->IsSlice()) {
+    vtkRPSliceNode* node = this->GetSliceNode();
+    if (!node) return;
+    vtkRPScalarVolumeNode* volume = BackgroundOf(this->Scene, node);
+    if (!volume) {
+      node->SetFieldOfView(DefaultFieldOfView, DefaultFieldOfView);
+      node->SetXYOrigin(0, 0);
+      return;
+    }
+    // Fit the volume's extent in the plane, centred on it.
+    double b[4];
+    vtkRPSliceLogic::ComputePlaneBounds(volume, node->GetSliceToRAS(), b);
+    const double xmin = b[0], xmax = b[1], ymin = b[2], ymax = b[3];
+    const int previous = node->StartModify();
+    node->SetFieldOfView(std::max(1.0, FitMargin * (xmax - xmin)), std::max(1.0, FitMargin * (ymax - ymin)));
+    node->SetXYOrigin(0.5 * (xmin + xmax), 0.5 * (ymin + ymax));
+    node->EndModify(previous);
+    this->UpdateSliceCamera();
+    this->RequestRender();
+    return;
+  }
+  // 3D: seen from the front (the patient's anterior), head up; the distance makes the framed
+  // box's projection fill the view with a small margin (not VTK's bounding sphere, which leaves
+  // a knee a tenth of the view).
+  double bounds[6];
+  if (!this->ComputeFramingBounds(bounds)) {
+    for (int i = 0; i < 3; ++i) {
+      bounds[2 * i] = -0.5 * DefaultFieldOfView;
+      bounds[2 * i + 1] = 0.5 * DefaultFieldOfView;
+    }
+  }
+  vtkCamera* camera = this->Renderer->GetActiveCamera();
+  const double center[3] = {0.5 * (bounds[0] + bounds[1]), 0.5 * (bounds[2] + bounds[3]), 0.5 * (bounds[4] + bounds[5])};
+  const double width = std::max(1.0, bounds[1] - bounds[0]);   // R–L on screen
+  const double height = std::max(1.0, bounds[5] - bounds[4]);  // S–I on screen
+  const double depth = std::max(1.0, bounds[3] - bounds[2]);   // A–P towards the camera
+  const double aspect = this->GetViewportAspect();
+  const double tanHalf = std::tan(vtkMath::RadiansFromDegrees(camera->GetViewAngle()) * 0.5);
+  const double margin = 1.1;
+  // Distance from the box's front face so that its width and height fit.
+  const double fit = margin * 0.5 * std::max(height, width / aspect) / tanHalf;
+  const double distance = fit + 0.5 * depth;
+  camera->SetFocalPoint(center);
+  camera->SetPosition(center[0], center[1] + distance, center[2]);  // anterior
+  camera->SetViewUp(0, 0, 1);
+  camera->OrthogonalizeViewUp();
+  this->Renderer->ResetCameraClippingRange();
   this->RequestRender();
 }
 
 bool View::DisplayToRAS(double x, double y, double ras[3]) const {
-  if (!this->IsSlice()) return false;
+  vtkRPSliceNode* node = this->GetSliceNode();
+  if (!node) return false;
   vtkRenderer* renderer = this->Renderer;
   renderer->SetDisplayPoint(x, y, 0.5);
   renderer->DisplayToWorld();
@@ -253,10 +402,11 @@ bool View::DisplayToRAS(double x, double y, double ras[3]) const {
   if (world[3] == 0.0) return false;
   for (int i = 0; i < 3; ++i) world[i] /= world[3];
   // Project onto the slice plane along its normal (parallel projection: the view direction).
-  const SliceAxes axes = GetSliceAxes(this->Kind);
-  const double* p = this->State->GetSlicePointRAS();
-  const double d = (world[0] - p[0]) * axes.Normal[0] + (world[1] - p[1]) * axes.Normal[1] + (world[2] - p[2]) * axes.Normal[2];
-  for (int i = 0; i < 3; ++i) ras[i] = world[i] - d * axes.Normal[i];
+  double normal[3], origin[3];
+  node->GetNormal(normal);
+  node->GetOrigin(origin);
+  const double d = (world[0] - origin[0]) * normal[0] + (world[1] - origin[1]) * normal[1] + (world[2] - origin[2]) * normal[2];
+  for (int i = 0; i < 3; ++i) ras[i] = world[i] - d * normal[i];
   return true;
 }
 
@@ -271,18 +421,26 @@ void View::RASToDisplay(const double ras[3], double display[2]) const {
 }
 
 void View::Zoom(double factor) {
-  if (factor <= 0) return;
-  vtkCamera* camera = this->Renderer->GetActiveCamera();
-  if (this->IsSlice()) {
-    camera->SetParallelScale(camera->GetParallelScale() / factor);
-  } else {
-    camera->Dolly(factor);
-    this->Renderer->ResetCameraClippingRange();
+  if (!(factor > 0) || !std::isfinite(factor)) return;
+  if (vtkRPSliceNode* node = this->GetSliceNode()) {
+    const double* fov = node->GetFieldOfView();
+    node->SetFieldOfView(fov[0] / factor, fov[1] / factor);  // the view follows the node
+    return;
   }
+  this->Renderer->GetActiveCamera()->Dolly(factor);
+  this->Renderer->ResetCameraClippingRange();
   this->RequestRender();
 }
 
 void View::Pan(const double deltaRAS[3]) {
+  if (vtkRPSliceNode* node = this->GetSliceNode()) {
+    double x[3], y[3];
+    Column(node->GetSliceToRAS(), 0, x);
+    Column(node->GetSliceToRAS(), 1, y);
+    const double* pan = node->GetXYOrigin();
+    node->SetXYOrigin(pan[0] + vtkMath::Dot(deltaRAS, x), pan[1] + vtkMath::Dot(deltaRAS, y));
+    return;
+  }
   vtkCamera* camera = this->Renderer->GetActiveCamera();
   double focal[3], position[3];
   camera->GetFocalPoint(focal);

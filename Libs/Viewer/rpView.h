@@ -1,14 +1,20 @@
 #pragma once
 // One view (axial, sagittal, coronal or 3D): its renderers, its displayable managers and its
-// camera. A view renders into any render window at a viewport, so the same code draws in a Qt
-// widget and in an offscreen window for screenshots. Slice views have two layers: the image
-// (layer 0) and overlays (layer 1: outlines, fiducials, tools, crosshair) drawn on top.
-// Displayable managers ask for a render; the host renders views whose NeedsRender() is true.
+// camera. A slice view shows one slice node of the scene (Red, Yellow or Green): its camera
+// follows the node's plane, field of view and pan; zooming and panning change the node. The 3D
+// view shows every slice node's picture in RAS. A view renders into any render window at a
+// viewport, so the same code draws in a Qt widget and in an offscreen window for screenshots.
+// Slice views have two layers: the image (layer 0) and overlays (layer 1: outlines, fiducials,
+// tools, crosshair) drawn on top. Displayable managers ask for a render; the host renders views
+// whose NeedsRender() is true.
+#include <array>
 #include <functional>
+#include <memory>
 #include <vector>
 
 #include <vtkNew.h>
 #include <vtkSmartPointer.h>
+#include <vtkWeakPointer.h>
 
 #include "rpSliceGeometry.h"
 
@@ -20,14 +26,24 @@ class vtkRenderWindow;
 class vtkRenderer;
 class vtkRPDisplayableManager;
 class vtkRPScene;
+class vtkRPSliceLogic;
+class vtkRPSliceNode;
 class vtkRPViewState;
 class vtkTextActor;
 
 namespace rp {
 
+class OrientationMarker;
+
+/// The slice nodes of the three slice views and their pictures, indexed by ViewKind.
+struct SliceViewNodes {
+  std::array<vtkRPSliceNode*, 3> Nodes{};
+  std::array<vtkRPSliceLogic*, 3> Logics{};
+};
+
 class View {
  public:
-  View(ViewKind kind, vtkRPScene* scene, vtkRPViewState* state);
+  View(ViewKind kind, vtkRPScene* scene, vtkRPViewState* state, const SliceViewNodes& slices);
   ~View();
   View(const View&) = delete;
   View& operator=(const View&) = delete;
@@ -36,6 +52,12 @@ class View {
   bool IsSlice() const { return IsSliceView(this->Kind); }
   vtkRPScene* GetScene() const { return this->Scene; }
   vtkRPViewState* GetViewState() const { return this->State; }
+  /// The slice node this view shows (slice views), or nullptr (3D).
+  vtkRPSliceNode* GetSliceNode() const;
+  /// The picture of this view's slice node (slice views), or nullptr (3D).
+  vtkRPSliceLogic* GetSliceLogic() const;
+  /// Every slice node and picture (the 3D view draws them all).
+  const SliceViewNodes& GetSliceViewNodes() const { return this->Slices; }
 
   /// Layer 0 (images in slice views; everything in 3D).
   vtkRenderer* GetRenderer() const { return this->Renderer; }
@@ -54,8 +76,9 @@ class View {
   /// Called on every RequestRender (e.g. to wake a host); optional.
   void SetRenderRequestCallback(std::function<void()> callback) { this->OnRenderRequest = std::move(callback); }
 
-  /// Slice views: fit the background volume (or a 250 mm field) around the slice point.
-  /// 3D: fit everything visible, seen from the front (a little from the right and above), head up.
+  /// Slice views: the node's field of view fits the background volume (or 250 mm), centred on
+  /// it. 3D: the visible models (else the volumes, else 250 mm) fill the view, seen from the
+  /// front (the patient's anterior), head up.
   void ResetCamera();
   /// Slice views: the RAS point on the slice plane under a display pixel (VTK display
   /// coordinates: origin bottom-left of the window). False for 3D or when outside the viewport.
@@ -66,7 +89,8 @@ class View {
   double GetSliceStep() const;
   /// Slice views: the slice offset along the normal (mm).
   double GetSliceOffset() const;
-  /// Slice views: zoom by a factor (> 1 magnifies) and pan by a RAS offset in the plane.
+  /// Zoom by a factor (> 1 magnifies) and pan by a RAS offset in the plane; in slice views both
+  /// change the slice node (field of view, pan), so they are saved with the scene.
   void Zoom(double factor);
   void Pan(const double deltaRAS[3]);
 
@@ -83,25 +107,33 @@ class View {
   }
 
  private:
-  static void OnViewStateModified(vtkObject*, unsigned long, void* clientData, void*);
+  static void OnSliceNodeModified(vtkObject* caller, unsigned long, void* clientData, void*);
+  static void OnRenderStart(vtkObject*, unsigned long, void* clientData, void*);
   void UpdateSliceCamera();
   void UpdateCrosshair();
   void UpdateCornerText();
+  double GetViewportAspect() const;
+  /// Bounds (RAS) of what the 3D camera should frame: visible models, else volumes.
+  bool ComputeFramingBounds(double bounds[6]) const;
 
   ViewKind Kind;
   vtkRPScene* Scene;
   vtkRPViewState* State;
+  SliceViewNodes Slices;
   vtkNew<vtkRenderer> Renderer;
   vtkNew<vtkRenderer> Overlay;
   vtkRenderWindow* Window = nullptr;
   std::vector<vtkSmartPointer<vtkRPDisplayableManager>> Managers;
-  vtkNew<vtkCallbackCommand> StateCallback;
-  unsigned long StateTag = 0;
+  vtkNew<vtkCallbackCommand> SliceCallback;
+  vtkNew<vtkCallbackCommand> RenderCallback;
+  std::vector<std::pair<vtkWeakPointer<vtkRPSliceNode>, unsigned long>> SliceTags;
+  unsigned long RenderTag = 0;
   vtkNew<vtkLineSource> CrossLines[2];
   vtkNew<vtkActor> CrossActors[2];
   vtkNew<vtkTextActor> CornerText;
+  std::unique_ptr<OrientationMarker> Marker;  // 3D: patient axes in a corner
+  double LastAspect = 0;
   bool RenderRequested = true;
-  bool CameraInitialized = false;
   std::function<void()> OnRenderRequest;
 };
 

@@ -14,8 +14,13 @@
 
 #include "rpView.h"
 #include "vtkRPFiducialListNode.h"
+#include "vtkRPLayoutNode.h"
+#include "vtkRPModelNode.h"
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
+#include "vtkRPSegmentationNode.h"
+#include "vtkRPSliceLogic.h"
+#include "vtkRPSliceNode.h"
 #include "vtkRPTransformableNode.h"
 #include "vtkRPViewState.h"
 
@@ -37,6 +42,15 @@ bool Percentiles(vtkRPScalarVolumeNode* volume, double low, double high, double&
   lowValue = sample[static_cast<size_t>(low * double(sample.size() - 1))];
   highValue = sample[static_cast<size_t>(high * double(sample.size() - 1))];
   return true;
+}
+
+bool HasVoxels(vtkRPScalarVolumeNode* volume) {
+  return volume && volume->GetImageData() && volume->GetImageData()->GetNumberOfPoints() > 0;
+}
+
+bool IsVisibleModel(vtkRPNode* node) {
+  auto* model = vtkRPModelNode::SafeDownCast(node);
+  return model && model->GetVisibility() && model->GetPolyData() && model->GetPolyData()->GetNumberOfPoints() > 0;
 }
 
 }  // namespace
@@ -63,107 +77,227 @@ bool GetWindowLevelPreset(WindowLevelPreset preset, vtkRPScalarVolumeNode* volum
 }
 
 ViewController::ViewController(vtkRPScene* scene) : Scene(scene) {
+  const std::vector<vtkRPSliceNode*> nodes = vtkRPSliceNode::GetOrAddDefaultSliceNodes(scene);
+  SliceViewNodes slices;
+  for (size_t i = 0; i < 3 && i < nodes.size(); ++i) {
+    this->SliceNodes[i] = nodes[i];
+    this->SliceLogics[i] = vtkSmartPointer<vtkRPSliceLogic>::New();
+    this->SliceLogics[i]->SetSliceNode(scene, nodes[i]);
+    slices.Nodes[i] = nodes[i];
+    slices.Logics[i] = this->SliceLogics[i];
+  }
+  this->Layout = vtkRPLayoutNode::GetOrAddLayoutNode(scene);
   for (int i = 0; i < 4; ++i) {
-    this->Views[static_cast<size_t>(i)] = std::make_unique<View>(static_cast<ViewKind>(i), scene, this->State);
+    this->Views[static_cast<size_t>(i)] = std::make_unique<View>(static_cast<ViewKind>(i), scene, this->State, slices);
   }
   this->SceneCallback->SetClientData(this);
   this->SceneCallback->SetCallback(&ViewController::OnSceneEvent);
-  this->SceneTags[0] = scene->AddObserver(vtkRPScene::NodeAddedEvent, this->SceneCallback);
-  this->SceneTags[1] = scene->AddObserver(vtkRPScene::NodeAboutToBeRemovedEvent, this->SceneCallback);
-  this->FollowCallback->SetClientData(this);
-  this->FollowCallback->SetCallback(&ViewController::OnFollowedModified);
-  for (vtkRPNode* node : scene->GetNodes()) this->OnNodeAdded(node);
+  for (unsigned long event : {vtkRPScene::NodeAddedEvent, vtkRPScene::NodeAboutToBeRemovedEvent,
+                              vtkRPScene::NodeRemovedEvent, vtkRPScene::EndImportEvent}) {
+    this->SceneTags.push_back(scene->AddObserver(event, this->SceneCallback));
+  }
+  // What is already in the scene: layers where the slice nodes have none (a loaded scene keeps
+  // its own), and the views framed.
+  if (this->AssignDefaultLayers()) {
+    this->ResetViews();
+  } else {
+    this->ResetCameras3D();
+  }
 }
 
 ViewController::~ViewController() {
-  if (this->Followed) {
-    this->Followed->RemoveObserver(this->FollowTags[0]);
-    this->Followed->RemoveObserver(this->FollowTags[1]);
-  }
   if (this->Scene) {
-    this->Scene->RemoveObserver(this->SceneTags[0]);
-    this->Scene->RemoveObserver(this->SceneTags[1]);
+    for (unsigned long tag : this->SceneTags) this->Scene->RemoveObserver(tag);
   }
   for (auto& view : this->Views) view.reset();
+  for (auto& logic : this->SliceLogics) {
+    if (logic) logic->SetSliceNode(nullptr, nullptr);
+  }
+}
+
+vtkRPSliceNode* ViewController::GetSliceNode(ViewKind kind) const {
+  return IsSliceView(kind) ? this->SliceNodes[static_cast<size_t>(kind)].GetPointer() : nullptr;
+}
+
+vtkRPLayoutNode* ViewController::GetLayoutNode() const { return this->Layout; }
+
+vtkRPSliceLogic* ViewController::GetSliceLogic(ViewKind kind) const {
+  return IsSliceView(kind) ? this->SliceLogics[static_cast<size_t>(kind)].GetPointer() : nullptr;
 }
 
 void ViewController::OnSceneEvent(vtkObject*, unsigned long event, void* clientData, void* callData) {
   auto* self = static_cast<ViewController*>(clientData);
-  if (event == vtkRPScene::NodeAddedEvent) self->OnNodeAdded(static_cast<vtkObject*>(callData));
-  if (event == vtkRPScene::NodeAboutToBeRemovedEvent) self->OnNodeAboutToBeRemoved(static_cast<vtkObject*>(callData));
+  auto* object = static_cast<vtkObject*>(callData);
+  switch (event) {
+    case vtkRPScene::NodeAddedEvent: self->OnNodeAdded(object); break;
+    case vtkRPScene::NodeAboutToBeRemovedEvent: self->OnNodeAboutToBeRemoved(object); break;
+    case vtkRPScene::NodeRemovedEvent: self->OnNodeRemoved(object); break;
+    case vtkRPScene::EndImportEvent: self->OnEndImport(); break;
+    default: break;
+  }
 }
 
-// The first volume becomes the background (and the slices centre on it); a second one the
-// foreground, so a registered MR shows over the CT at once.
+bool ViewController::AssignDefaultLayers() {
+  if (!this->Scene) return false;
+  std::vector<vtkRPScalarVolumeNode*> volumes;
+  for (vtkRPNode* node : this->Scene->GetNodesByClass("vtkRPScalarVolumeNode")) {
+    auto* volume = vtkRPScalarVolumeNode::SafeDownCast(node);
+    if (HasVoxels(volume)) volumes.push_back(volume);
+  }
+  std::vector<vtkRPNode*> segmentations = this->Scene->GetNodesByClass("vtkRPSegmentationNode");
+  bool backgroundGiven = false;
+  for (vtkRPSliceNode* node : this->SliceNodes) {
+    if (!node) continue;
+    const int previous = node->StartModify();
+    auto* background = vtkRPScalarVolumeNode::SafeDownCast(this->Scene->GetNodeByID(node->GetBackgroundVolumeID()));
+    if (!HasVoxels(background) && !volumes.empty()) {
+      node->SetBackgroundVolumeID(volumes[0]->GetID());
+      background = volumes[0];
+      backgroundGiven = true;
+    }
+    // A second volume (e.g. a registered MR) shows over the CT at once.
+    if (node->GetForegroundVolumeID().empty() || !this->Scene->GetNodeByID(node->GetForegroundVolumeID())) {
+      for (vtkRPScalarVolumeNode* volume : volumes) {
+        if (volume != background) {
+          node->SetForegroundVolumeID(volume->GetID());
+          break;
+        }
+      }
+    }
+    if (node->GetLabelNodeID().empty() && !segmentations.empty()) node->SetLabelNodeID(segmentations[0]->GetID());
+    node->EndModify(previous);
+  }
+  return backgroundGiven;
+}
+
 void ViewController::OnNodeAdded(vtkObject* object) {
-  auto* volume = vtkRPScalarVolumeNode::SafeDownCast(object);
-  if (!volume) return;
-  if (!this->GetBackgroundVolume()) {
-    this->State->SetBackgroundVolumeID(volume->GetID());
+  if (!this->Scene || this->Scene->IsImporting()) return;  // the import's end handles it
+  if (vtkRPScalarVolumeNode::SafeDownCast(object) || vtkRPSegmentationNode::SafeDownCast(object)) {
+    if (this->AssignDefaultLayers()) this->ResetViews();
+  } else if (!this->Has3DContent && IsVisibleModel(vtkRPNode::SafeDownCast(object))) {
+    this->ResetCameras3D();  // the first model: frame it
+  }
+}
+
+void ViewController::OnEndImport() {
+  // A scene that brought its slice nodes keeps its planes; otherwise the slices centre on the
+  // new background. The 3D camera frames what was loaded either way.
+  if (this->AssignDefaultLayers()) {
     this->ResetViews();
-  } else if (!this->GetForegroundVolume()) {
-    this->State->SetForegroundVolumeID(volume->GetID());
+  } else {
+    this->ResetCameras3D();
   }
 }
 
 void ViewController::OnNodeAboutToBeRemoved(vtkObject* object) {
   auto* node = vtkRPNode::SafeDownCast(object);
   if (!node) return;
-  if (node->GetID() == this->FollowID) this->SetFollowTransformNodeID("");
   if (node->GetID() == this->State->GetActiveFiducialListID()) this->State->SetActiveFiducialListID("");
-  if (node->GetID() == this->State->GetBackgroundVolumeID()) {
-    this->State->SetBackgroundVolumeID(this->State->GetForegroundVolumeID());
-    this->State->SetForegroundVolumeID("");
-  } else if (node->GetID() == this->State->GetForegroundVolumeID()) {
-    this->State->SetForegroundVolumeID("");
+}
+
+void ViewController::OnNodeRemoved(vtkObject* object) {
+  // The views' own nodes stay in the scene (a module removing one gets it back, reset).
+  for (auto& node : this->SliceNodes) {
+    if (node && node.GetPointer() == object && this->Scene && !this->Scene->IsClosing()) this->Scene->AddNode(node);
+  }
+  if (this->Layout && this->Layout.GetPointer() == object && this->Scene) this->Scene->AddNode(this->Layout);
+  // A removed background is replaced by what remains (the foreground, if any).
+  if (vtkRPScalarVolumeNode::SafeDownCast(object) || vtkRPSegmentationNode::SafeDownCast(object)) {
+    for (vtkRPSliceNode* sliceNode : this->SliceNodes) {
+      if (sliceNode && sliceNode->GetBackgroundVolumeID().empty() && !sliceNode->GetForegroundVolumeID().empty()) {
+        const int previous = sliceNode->StartModify();
+        sliceNode->SetBackgroundVolumeID(sliceNode->GetForegroundVolumeID());
+        sliceNode->SetForegroundVolumeID("");
+        sliceNode->EndModify(previous);
+      }
+    }
   }
 }
 
 void ViewController::SetSlicePointRAS(const double ras[3]) {
   if (!std::isfinite(ras[0]) || !std::isfinite(ras[1]) || !std::isfinite(ras[2])) return;
-  this->State->SetSlicePointRAS(ras[0], ras[1], ras[2]);
+  for (vtkRPSliceNode* node : this->SliceNodes) {
+    if (node) node->JumpSlice(ras);
+  }
 }
 
-void ViewController::GetSlicePointRAS(double ras[3]) const { this->State->GetSlicePointRAS(ras); }
+void ViewController::GetSlicePointRAS(double ras[3]) const {
+  // Solve n_i · x = offset_i for the three planes.
+  double a[3][3], b[3];
+  for (int i = 0; i < 3; ++i) {
+    vtkRPSliceNode* node = this->SliceNodes[static_cast<size_t>(i)];
+    if (!node) {
+      ras[0] = ras[1] = ras[2] = 0;
+      return;
+    }
+    node->GetNormal(a[i]);
+    b[i] = node->GetSliceOffset();
+  }
+  const double det = vtkMath::Determinant3x3(a);
+  if (std::fabs(det) < 1e-9) {
+    this->SliceNodes[0]->GetOrigin(ras);
+    return;
+  }
+  double inverse[3][3];
+  vtkMath::Invert3x3(a, inverse);
+  for (int r = 0; r < 3; ++r) ras[r] = inverse[r][0] * b[0] + inverse[r][1] * b[1] + inverse[r][2] * b[2];
+}
 
 void ViewController::SetFollowTransformNodeID(const std::string& id) {
-  if (this->Followed) {
-    this->Followed->RemoveObserver(this->FollowTags[0]);
-    this->Followed->RemoveObserver(this->FollowTags[1]);
-    this->Followed = nullptr;
+  for (vtkRPSliceNode* node : this->SliceNodes) {
+    if (node) node->SetAndObserveFollowNodeID(id);
   }
-  this->FollowID.clear();
-  if (!this->Scene) return;
-  auto* node = vtkRPTransformableNode::SafeDownCast(this->Scene->GetNodeByID(id));
-  if (!node) return;
-  this->FollowID = id;
-  this->Followed = node;
-  this->FollowTags[0] = node->AddObserver(vtkCommand::ModifiedEvent, this->FollowCallback);
-  this->FollowTags[1] = node->AddObserver(vtkRPNode::TransformModifiedEvent, this->FollowCallback);
-  this->UpdateFromFollowed();
 }
 
-void ViewController::OnFollowedModified(vtkObject*, unsigned long, void* clientData, void*) {
-  static_cast<ViewController*>(clientData)->UpdateFromFollowed();
+std::string ViewController::GetFollowTransformNodeID() const {
+  return this->SliceNodes[0] ? this->SliceNodes[0]->GetFollowNodeID() : std::string();
 }
 
-void ViewController::UpdateFromFollowed() {
-  auto* node = vtkRPTransformableNode::SafeDownCast(this->Followed);
-  if (!node) return;
-  vtkNew<vtkMatrix4x4> toWorld;
-  node->GetMatrixTransformToWorld(toWorld);
-  const double tip[3] = {toWorld->GetElement(0, 3), toWorld->GetElement(1, 3), toWorld->GetElement(2, 3)};
-  this->SetSlicePointRAS(tip);
+void ViewController::SetBackgroundVolumeID(const std::string& id) {
+  for (vtkRPSliceNode* node : this->SliceNodes) {
+    if (node) node->SetBackgroundVolumeID(id);
+  }
+}
+
+void ViewController::SetForegroundVolumeID(const std::string& id) {
+  for (vtkRPSliceNode* node : this->SliceNodes) {
+    if (node) node->SetForegroundVolumeID(id);
+  }
+}
+
+void ViewController::SetForegroundOpacity(double opacity) {
+  for (vtkRPSliceNode* node : this->SliceNodes) {
+    if (node) node->SetForegroundOpacity(opacity);
+  }
+}
+
+void ViewController::SetSlicesVisibleIn3D(bool visible) {
+  for (vtkRPSliceNode* node : this->SliceNodes) {
+    if (node) node->SetSliceVisible(visible);
+  }
+}
+
+bool ViewController::GetSlicesVisibleIn3D() const {
+  for (vtkRPSliceNode* node : this->SliceNodes) {
+    if (node && node->GetSliceVisible()) return true;
+  }
+  return false;
+}
+
+vtkRPScalarVolumeNode* ViewController::GetBackgroundVolume() const {
+  if (!this->Scene || !this->SliceNodes[0]) return nullptr;
+  return vtkRPScalarVolumeNode::SafeDownCast(this->Scene->GetNodeByID(this->SliceNodes[0]->GetBackgroundVolumeID()));
+}
+
+vtkRPScalarVolumeNode* ViewController::GetForegroundVolume() const {
+  if (!this->Scene || !this->SliceNodes[0]) return nullptr;
+  return vtkRPScalarVolumeNode::SafeDownCast(this->Scene->GetNodeByID(this->SliceNodes[0]->GetForegroundVolumeID()));
 }
 
 void ViewController::MoveSlice(ViewKind kind, int steps) {
-  if (!IsSliceView(kind) || steps == 0) return;
-  const SliceAxes axes = GetSliceAxes(kind);
-  const double step = this->GetView(kind)->GetSliceStep() * steps;
-  double p[3];
-  this->State->GetSlicePointRAS(p);
-  for (int i = 0; i < 3; ++i) p[i] += step * axes.Normal[i];
-  this->SetSlicePointRAS(p);
+  vtkRPSliceNode* node = this->GetSliceNode(kind);
+  if (!node || steps == 0) return;
+  node->SetSliceOffset(node->GetSliceOffset() + this->GetView(kind)->GetSliceStep() * steps);
 }
 
 bool ViewController::ClickInSliceView(ViewKind kind, double x, double y) {
@@ -211,10 +345,12 @@ vtkRPFiducialListNode* ViewController::PlaceFiducial(const double ras[3]) {
 
 bool ViewController::FindFiducialAt(ViewKind kind, double x, double y, double pixels, std::string& listID,
                                     int& index) const {
-  if (!IsSliceView(kind) || !this->Scene) return false;
+  vtkRPSliceNode* sliceNode = this->GetSliceNode(kind);
+  if (!sliceNode || !this->Scene) return false;
   View* view = this->GetView(kind);
-  const SliceAxes axes = GetSliceAxes(kind);
-  const double* slicePoint = this->State->GetSlicePointRAS();
+  double normal[3];
+  sliceNode->GetNormal(normal);
+  const double offset = sliceNode->GetSliceOffset();
   const double tolerance = 0.5 * view->GetSliceStep() + 1e-6;  // as the fiducial manager draws them
   double best = pixels * pixels;
   bool found = false;
@@ -224,7 +360,7 @@ bool ViewController::FindFiducialAt(ViewKind kind, double x, double y, double pi
       if (!list->GetNthControlPoint(i).Visible) continue;
       double world[3], display[2];
       list->GetNthControlPointPositionWorld(i, world);
-      if (std::fabs(vtkMath::Dot(axes.Normal, world) - vtkMath::Dot(axes.Normal, slicePoint)) > tolerance) continue;
+      if (std::fabs(vtkMath::Dot(normal, world) - offset) > tolerance) continue;
       view->RASToDisplay(world, display);
       const double d2 = (display[0] - x) * (display[0] - x) + (display[1] - y) * (display[1] - y);
       if (d2 <= best) {
@@ -249,16 +385,6 @@ bool ViewController::MoveFiducial(const std::string& listID, int index, const do
   return list->SetNthControlPointPosition(index, local);
 }
 
-vtkRPScalarVolumeNode* ViewController::GetBackgroundVolume() const {
-  if (!this->Scene) return nullptr;
-  return vtkRPScalarVolumeNode::SafeDownCast(this->Scene->GetNodeByID(this->State->GetBackgroundVolumeID()));
-}
-
-vtkRPScalarVolumeNode* ViewController::GetForegroundVolume() const {
-  if (!this->Scene) return nullptr;
-  return vtkRPScalarVolumeNode::SafeDownCast(this->Scene->GetNodeByID(this->State->GetForegroundVolumeID()));
-}
-
 void ViewController::AdjustWindowLevel(double dx, double dy) {
   vtkRPScalarVolumeNode* volume = this->GetBackgroundVolume();
   if (!volume || !volume->GetImageData()) return;
@@ -280,19 +406,32 @@ bool ViewController::ApplyWindowLevelPreset(WindowLevelPreset preset) {
 }
 
 void ViewController::ResetViews() {
-  if (vtkRPScalarVolumeNode* volume = this->GetBackgroundVolume()) {
-    if (volume->GetImageData()) {
-      double bounds[6];
-      volume->GetRASBounds(bounds);
-      const double center[3] = {0.5 * (bounds[0] + bounds[1]), 0.5 * (bounds[2] + bounds[3]), 0.5 * (bounds[4] + bounds[5])};
-      this->SetSlicePointRAS(center);
-    }
+  vtkRPScalarVolumeNode* volume = this->GetBackgroundVolume();
+  if (HasVoxels(volume)) {
+    double bounds[6];
+    volume->GetRASBounds(bounds);
+    const double center[3] = {0.5 * (bounds[0] + bounds[1]), 0.5 * (bounds[2] + bounds[3]), 0.5 * (bounds[4] + bounds[5])};
+    this->SetSlicePointRAS(center);
   }
   this->ResetCameras();
 }
 
 void ViewController::ResetCameras() {
   for (auto& view : this->Views) view->ResetCamera();
+  this->Has3DContent = this->HasFramingContent();
+}
+
+void ViewController::ResetCameras3D() {
+  this->GetView(ViewKind::ThreeD)->ResetCamera();
+  this->Has3DContent = this->HasFramingContent();
+}
+
+bool ViewController::HasFramingContent() const {
+  if (!this->Scene) return false;
+  for (vtkRPNode* node : this->Scene->GetNodesByClass("vtkRPModelNode")) {
+    if (IsVisibleModel(node)) return true;
+  }
+  return false;
 }
 
 }  // namespace rp

@@ -27,7 +27,7 @@
 #include "rpViewerMainWindow.h"
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
-#include "vtkRPViewState.h"
+#include "vtkRPLayoutNode.h"
 
 namespace rp {
 
@@ -140,7 +140,7 @@ int RunScreenshot(CommandContext& context) {
   ArgParser parser("screenshot", "Render a scene headless (offscreen) into one PNG: the views of a layout.");
   parser.Positional("files", "scene (*.rpscene), data files or DICOM series folders to load", true, true)
       .Option("out", "png", "output PNG file")
-      .Option("layout", "name", "4up | 3d | axial | sagittal | coronal", std::string("4up"))
+      .Option("layout", "name", "4up | 3d | axial | sagittal | coronal (default: the scene's, else 4up)")
       .Option("size", "WxH", "image size in pixels", std::string("800x800"))
       .Option("slice-point", "R,A,S", "where the slices cut (default: centre of the first volume)");
   if (!parser.Parse(context.Arguments)) {
@@ -156,8 +156,8 @@ int RunScreenshot(CommandContext& context) {
     std::cerr << "roboplan screenshot: --out is required\n" << parser.Usage();
     return 2;
   }
-  options.Layout = vtkRPViewState::GetLayoutFromString(parser.Get("layout"));
-  if (options.Layout < 0) {
+  if (parser.Has("layout")) options.Layout = vtkRPLayoutNode::GetArrangementFromString(parser.Get("layout"));
+  if (parser.Has("layout") && options.Layout < 0) {
     std::cerr << "roboplan screenshot: unknown layout '" << parser.Get("layout") << "' (4up, 3d, axial, sagittal, coronal)\n";
     return 2;
   }
@@ -198,9 +198,10 @@ int RunScreenshot(CommandContext& context) {
     std::cerr << "roboplan screenshot: " << error << "\n";
     return 1;
   }
+  const int layout = options.Layout >= 0 ? options.Layout : controller.GetLayoutNode()->GetViewArrangement();
   if (parser.Json()) {
     nlohmann::json doc = {{"out", parser.Get("out")}, {"width", options.Width}, {"height", options.Height},
-                          {"layout", vtkRPViewState::GetLayoutAsString(options.Layout)}, {"nodes", scene->GetNumberOfNodes()}};
+                          {"layout", vtkRPLayoutNode::GetArrangementAsString(layout)}, {"nodes", scene->GetNumberOfNodes()}};
     double point[3];
     controller.GetSlicePointRAS(point);
     doc["slicePointRAS"] = {point[0], point[1], point[2]};
@@ -213,7 +214,7 @@ int RunScreenshot(CommandContext& context) {
     std::cout << doc.dump(2) << "\n";
   } else {
     std::cerr << "wrote " << parser.Get("out") << " (" << options.Width << "x" << options.Height << ", "
-              << vtkRPViewState::GetLayoutAsString(options.Layout) << ")\n";
+              << vtkRPLayoutNode::GetArrangementAsString(layout) << ")\n";
   }
   return 0;
 }

@@ -42,6 +42,8 @@
 #include "vtkRPScene.h"
 #include "vtkRPSliceInteractorStyle.h"
 #include "vtkRPTransformableNode.h"
+#include "vtkRPLayoutNode.h"
+#include "vtkRPSliceNode.h"
 #include "vtkRPViewState.h"
 
 #ifdef ROBOPLAN_VIEWER_HAVE_DICOM
@@ -70,16 +72,25 @@ ViewerMainWindow::ViewerMainWindow(ModuleManager* manager, vtkRPScene* scene, QW
   for (unsigned long event : {vtkRPScene::NodeAddedEvent, vtkRPScene::NodeRemovedEvent}) {
     this->SceneTags.push_back(scene->AddObserver(event, this->SceneCallback));
   }
+  this->LayoutCallback = vtkSmartPointer<vtkCallbackCommand>::New();
+  this->LayoutCallback->SetClientData(this);
+  this->LayoutCallback->SetCallback(
+      [](vtkObject*, unsigned long, void* clientData, void*) { static_cast<ViewerMainWindow*>(clientData)->LayoutDirty = true; });
+  this->LayoutTag = this->Controller->GetLayoutNode()->AddObserver(vtkCommand::ModifiedEvent, this->LayoutCallback);
+  this->ApplyLayout();
 
   // Render at display rate, only what changed; the timer never waits on anything.
   connect(&this->RenderTimer, &QTimer::timeout, this, [this]() {
+    if (this->LayoutDirty) {
+      this->LayoutDirty = false;
+      this->ApplyLayout();
+    }
     if (this->DataPanelDirty) {
       this->RefreshDataPanel();
     } else {
-      // Layers or the followed node changed from elsewhere (the slice point does not matter here).
-      vtkRPViewState* state = this->Controller->GetViewState();
-      const std::string layers = state->GetBackgroundVolumeID() + "|" + state->GetForegroundVolumeID() + "|" +
-                                 this->Controller->GetFollowTransformNodeID();
+      // Layers or the followed node changed from elsewhere, e.g. a module (the slice point does
+      // not matter here).
+      const std::string layers = this->ShownLayersKey();
       if (layers != this->ShownLayers) {
         this->UpdatingPanel = true;
         this->RefreshVolumeCombos();
@@ -96,6 +107,7 @@ ViewerMainWindow::ViewerMainWindow(ModuleManager* manager, vtkRPScene* scene, QW
 ViewerMainWindow::~ViewerMainWindow() {
   this->RenderTimer.stop();
   for (unsigned long tag : this->SceneTags) this->Scene->RemoveObserver(tag);
+  this->Controller->GetLayoutNode()->RemoveObserver(this->LayoutTag);
   // Views leave their render windows before the widgets go.
   for (int kind = 0; kind < 4; ++kind) this->Controller->GetView(static_cast<ViewKind>(kind))->DetachFromRenderWindow();
 }
@@ -133,18 +145,26 @@ void ViewerMainWindow::BuildViews() {
     this->ViewWidgets[static_cast<size_t>(kind)] = widget;
   }
   this->setCentralWidget(this->ViewArea);
-  this->SetViewLayout(vtkRPViewState::LayoutFourUp);
 }
 
 void ViewerMainWindow::SetViewLayout(int layout) {
-  this->Controller->GetViewState()->SetLayout(layout);
+  this->Controller->GetLayoutNode()->SetViewArrangement(layout);  // the layout observer applies it
+  this->ApplyLayout();
+}
+
+// Shows the views of the scene's layout node (set here, by a loaded scene or by a module).
+void ViewerMainWindow::ApplyLayout() {
+  const int layout = this->Controller->GetLayoutNode()->GetViewArrangement();
+  if (QAction* action = this->findChild<QAction*>(QString("layout_%1").arg(vtkRPLayoutNode::GetArrangementAsString(layout)))) {
+    action->setChecked(true);
+  }
   for (int kind = 0; kind < 4; ++kind) {
     bool visible = true;
     switch (layout) {
-      case vtkRPViewState::LayoutOneUp3D: visible = kind == int(ViewKind::ThreeD); break;
-      case vtkRPViewState::LayoutOneUpAxial: visible = kind == int(ViewKind::Axial); break;
-      case vtkRPViewState::LayoutOneUpSagittal: visible = kind == int(ViewKind::Sagittal); break;
-      case vtkRPViewState::LayoutOneUpCoronal: visible = kind == int(ViewKind::Coronal); break;
+      case vtkRPLayoutNode::OneUp3D: visible = kind == int(ViewKind::ThreeD); break;
+      case vtkRPLayoutNode::OneUpAxial: visible = kind == int(ViewKind::Axial); break;
+      case vtkRPLayoutNode::OneUpSagittal: visible = kind == int(ViewKind::Sagittal); break;
+      case vtkRPLayoutNode::OneUpCoronal: visible = kind == int(ViewKind::Coronal); break;
       default: break;
     }
     this->ViewWidgets[static_cast<size_t>(kind)]->setVisible(visible);
@@ -199,16 +219,16 @@ void ViewerMainWindow::BuildMenus() {
   toolbar->setObjectName("ViewsToolBar");
   QMenu* viewMenu = this->menuBar()->addMenu("&View");
   auto* layouts = new QActionGroup(this);
-  const std::pair<const char*, int> layoutActions[] = {{"4-up", vtkRPViewState::LayoutFourUp},
-                                                       {"3D", vtkRPViewState::LayoutOneUp3D},
-                                                       {"Axial", vtkRPViewState::LayoutOneUpAxial},
-                                                       {"Sagittal", vtkRPViewState::LayoutOneUpSagittal},
-                                                       {"Coronal", vtkRPViewState::LayoutOneUpCoronal}};
+  const std::pair<const char*, int> layoutActions[] = {{"4-up", vtkRPLayoutNode::FourUp},
+                                                       {"3D", vtkRPLayoutNode::OneUp3D},
+                                                       {"Axial", vtkRPLayoutNode::OneUpAxial},
+                                                       {"Sagittal", vtkRPLayoutNode::OneUpSagittal},
+                                                       {"Coronal", vtkRPLayoutNode::OneUpCoronal}};
   for (const auto& [name, layout] : layoutActions) {
     QAction* action = viewMenu->addAction(name);
     action->setCheckable(true);
-    action->setChecked(layout == vtkRPViewState::LayoutFourUp);
-    action->setObjectName(QString("layout_%1").arg(vtkRPViewState::GetLayoutAsString(layout)));
+    action->setChecked(layout == this->Controller->GetLayoutNode()->GetViewArrangement());
+    action->setObjectName(QString("layout_%1").arg(vtkRPLayoutNode::GetArrangementAsString(layout)));
     layouts->addAction(action);
     toolbar->addAction(action);
     const int chosen = layout;
@@ -220,9 +240,8 @@ void ViewerMainWindow::BuildMenus() {
   QAction* slicesIn3D = viewMenu->addAction("Slices in 3D");
   slicesIn3D->setObjectName("slicesIn3D");
   slicesIn3D->setCheckable(true);
-  slicesIn3D->setChecked(this->Controller->GetViewState()->GetSlicesVisibleIn3D());
-  connect(slicesIn3D, &QAction::toggled, this,
-          [this](bool on) { this->Controller->GetViewState()->SetSlicesVisibleIn3D(on); });
+  slicesIn3D->setChecked(this->Controller->GetSlicesVisibleIn3D());
+  connect(slicesIn3D, &QAction::toggled, this, [this](bool on) { this->Controller->SetSlicesVisibleIn3D(on); });
   toolbar->addAction(slicesIn3D);
   this->PlaceFiducialAction = toolbar->addAction("Place fiducials");
   this->PlaceFiducialAction->setObjectName("placeFiducials");
@@ -318,12 +337,11 @@ QWidget* ViewerMainWindow::BuildDataPanel() {
   auto choose = [this](QComboBox* combo, bool background) {
     if (this->UpdatingPanel) return;
     const std::string id = combo->currentData().toString().toStdString();
-    vtkRPViewState* state = this->Controller->GetViewState();
     if (background) {
-      state->SetBackgroundVolumeID(id);
+      this->Controller->SetBackgroundVolumeID(id);
       this->Controller->ResetCameras();
     } else {
-      state->SetForegroundVolumeID(id);
+      this->Controller->SetForegroundVolumeID(id);
     }
   };
   connect(this->BackgroundCombo, QOverload<int>::of(&QComboBox::activated), this,
@@ -332,7 +350,7 @@ QWidget* ViewerMainWindow::BuildDataPanel() {
           [this, choose]() { choose(this->ForegroundCombo, false); });
   connect(this->OpacitySlider, &QSlider::valueChanged, this,
           [this](int value) {
-            if (!this->UpdatingPanel) this->Controller->GetViewState()->SetForegroundOpacity(value / 100.0);
+            if (!this->UpdatingPanel) this->Controller->SetForegroundOpacity(value / 100.0);
           });
   return panel;
 }
@@ -342,6 +360,7 @@ void ViewerMainWindow::RefreshDataPanel() {
   this->UpdatingPanel = true;
   this->DataTree->clear();
   for (vtkRPNode* node : this->Scene->GetNodes()) {
+    if (node->GetHideFromEditors()) continue;  // the views' own nodes
     auto* item = new QTreeWidgetItem(this->DataTree);
     item->setText(0, QString::fromStdString(node->GetName()));
     item->setText(1, QString::fromStdString(node->GetNodeTagName()));
@@ -378,12 +397,17 @@ void ViewerMainWindow::RefreshParentTransformCombo() {
   this->UpdatingPanel = wasUpdating;
 }
 
+std::string ViewerMainWindow::ShownLayersKey() const {
+  vtkRPSliceNode* red = this->Controller->GetSliceNode(ViewKind::Axial);
+  return red->GetBackgroundVolumeID() + "|" + red->GetForegroundVolumeID() + "|" + red->GetFollowNodeID() + "|" +
+         std::to_string(red->GetForegroundOpacity());
+}
+
 void ViewerMainWindow::RefreshVolumeCombos() {
-  vtkRPViewState* state = this->Controller->GetViewState();
-  this->ShownLayers = state->GetBackgroundVolumeID() + "|" + state->GetForegroundVolumeID() + "|" +
-                      this->Controller->GetFollowTransformNodeID();
+  vtkRPSliceNode* red = this->Controller->GetSliceNode(ViewKind::Axial);
+  this->ShownLayers = this->ShownLayersKey();
   for (QComboBox* combo : {this->BackgroundCombo, this->ForegroundCombo}) {
-    const std::string selected = combo == this->BackgroundCombo ? state->GetBackgroundVolumeID() : state->GetForegroundVolumeID();
+    const std::string selected = combo == this->BackgroundCombo ? red->GetBackgroundVolumeID() : red->GetForegroundVolumeID();
     combo->clear();
     combo->addItem("(none)", QString());
     for (vtkRPNode* node : this->Scene->GetNodesByClass("vtkRPScalarVolumeNode")) {
@@ -391,7 +415,7 @@ void ViewerMainWindow::RefreshVolumeCombos() {
       if (node->GetID() == selected) combo->setCurrentIndex(combo->count() - 1);
     }
   }
-  this->OpacitySlider->setValue(static_cast<int>(state->GetForegroundOpacity() * 100.0 + 0.5));
+  this->OpacitySlider->setValue(static_cast<int>(red->GetForegroundOpacity() * 100.0 + 0.5));
   this->FollowCombo->clear();
   this->FollowCombo->addItem("(nothing)", QString());
   for (vtkRPNode* node : this->Scene->GetNodesByClass("vtkRPLinearTransformNode")) {
@@ -422,7 +446,8 @@ bool ViewerMainWindow::LoadFile(const QString& path, QString* error) {
     if (error) *error = QString::fromStdString(message);
     return false;
   }
-  if (HasExtension(path.toStdString(), SceneFileExtension)) this->Controller->ResetViews();
+  // A scene reopens as saved (its slice nodes); the 3D camera frames what is now loaded.
+  this->Controller->ResetCameras3D();
   for (const std::string& warning : warnings) this->statusBar()->showMessage(QString::fromStdString(warning), 10000);
   this->AddRecentFile(QFileInfo(path).absoluteFilePath());
   return true;
@@ -468,7 +493,7 @@ void ViewerMainWindow::SaveSceneAs() {
 }
 
 void ViewerMainWindow::CloseScene() {
-  this->Scene->Clear();
+  this->Scene->Clear();  // the views' nodes stay (singletons)
   this->Controller->ResetViews();
 }
 

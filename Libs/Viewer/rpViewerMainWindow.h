@@ -54,6 +54,7 @@ class ViewerMainWindow : public QMainWindow {
   /// only here, on the main thread, once the read succeeded). A cancelled load returns false
   /// with the error "cancelled" and leaves the scene unchanged.
   bool LoadFile(const QString& path, QString* error = nullptr);
+  /// Sets the scene's layout node's arrangement (vtkRPLayoutNode::Arrangement) and shows it.
   void SetViewLayout(int layout);
   /// Renders the views that asked for it; returns how many were rendered.
   int RenderPendingViews();
@@ -81,6 +82,8 @@ class ViewerMainWindow : public QMainWindow {
   QWidget* BuildDataPanel();
   void RefreshDataPanel();
   void RefreshVolumeCombos();
+  std::string ShownLayersKey() const;
+  void ApplyLayout();
   void RefreshParentTransformCombo();
   void AddRecentFile(const QString& path);
   void RebuildRecentMenu();
@@ -104,7 +107,10 @@ class ViewerMainWindow : public QMainWindow {
   QTimer RenderTimer;
   vtkSmartPointer<vtkCallbackCommand> SceneCallback;
   std::vector<unsigned long> SceneTags;
-  std::string ShownLayers;  // background|foreground|followed as the combos show them
+  vtkSmartPointer<vtkCallbackCommand> LayoutCallback;
+  unsigned long LayoutTag = 0;
+  bool LayoutDirty = false;
+  std::string ShownLayers;  // background|foreground|followed|opacity as the combos show them
   bool DataPanelDirty = true;
   bool UpdatingPanel = false;
 };

@@ -5,6 +5,7 @@
 #include "rpView.h"
 #include "vtkRPNode.h"
 #include "vtkRPScene.h"
+#include "vtkRPSliceNode.h"
 #include "vtkRPViewState.h"
 
 vtkRPDisplayableManager::vtkRPDisplayableManager() {
@@ -28,6 +29,7 @@ vtkRPDisplayableManager::~vtkRPDisplayableManager() {
 
 vtkRPScene* vtkRPDisplayableManager::GetScene() const { return this->Scene; }
 vtkRPViewState* vtkRPDisplayableManager::GetViewState() const { return this->State; }
+vtkRPSliceNode* vtkRPDisplayableManager::GetSliceNode() const { return this->SliceNode; }
 
 void vtkRPDisplayableManager::Initialize(rp::View* view) {
   this->Finalize();
@@ -38,11 +40,15 @@ void vtkRPDisplayableManager::Initialize(rp::View* view) {
     this->SceneTags.push_back(this->Scene->AddObserver(event, this->SceneCallback));
   }
   this->StateTag = this->State->AddObserver(vtkCommand::ModifiedEvent, this->StateCallback);
+  this->SliceNode = view->GetSliceNode();
+  if (this->SliceNode) this->SliceNodeTag = this->SliceNode->AddObserver(vtkCommand::ModifiedEvent, this->StateCallback);
+  this->OnInitialize();
   for (vtkRPNode* node : this->Scene->GetNodes()) this->StartDisplaying(node);
   this->OnViewStateModified();
 }
 
 void vtkRPDisplayableManager::Finalize() {
+  if (this->View) this->OnFinalize();
   while (!this->Observed.empty()) {
     auto it = this->Observed.begin();
     if (it->second.Node) {
@@ -57,6 +63,9 @@ void vtkRPDisplayableManager::Finalize() {
   this->SceneTags.clear();
   if (this->State && this->StateTag) this->State->RemoveObserver(this->StateTag);
   this->StateTag = 0;
+  if (this->SliceNode && this->SliceNodeTag) this->SliceNode->RemoveObserver(this->SliceNodeTag);
+  this->SliceNodeTag = 0;
+  this->SliceNode = nullptr;
   this->View = nullptr;
 }
 

@@ -3,8 +3,8 @@
 // Base of the displayable managers (Slicer's pattern): one class per kind of node draws the
 // scene's nodes of that kind in one view. It observes the scene (node added → display created,
 // about to be removed → display removed), each node it displays (ModifiedEvent and
-// TransformModifiedEvent → display updated) and the view state (slice point, layers). Modules
-// never draw: they change nodes and the managers follow.
+// TransformModifiedEvent → display updated), the view's slice node (plane, layers) and the
+// viewer's interaction state. Modules never draw: they change nodes and the managers follow.
 #include <map>
 #include <vector>
 
@@ -14,6 +14,7 @@
 class vtkCallbackCommand;
 class vtkRPNode;
 class vtkRPScene;
+class vtkRPSliceNode;
 class vtkRPViewState;
 namespace rp {
 class View;
@@ -32,6 +33,8 @@ class vtkRPDisplayableManager : public vtkObject {
   rp::View* GetView() const { return this->View; }
   vtkRPScene* GetScene() const;
   vtkRPViewState* GetViewState() const;
+  /// The slice node of a slice view (nullptr in 3D).
+  vtkRPSliceNode* GetSliceNode() const;
   /// Number of nodes this manager currently displays (tests use it).
   int GetNumberOfDisplayedNodes() const { return static_cast<int>(this->Observed.size()); }
   bool IsDisplayed(vtkRPNode* node) const { return this->Observed.count(node) > 0; }
@@ -44,8 +47,12 @@ class vtkRPDisplayableManager : public vtkObject {
   virtual void AddDisplay(vtkRPNode* node) = 0;
   virtual void RemoveDisplay(vtkRPNode* node) = 0;
   virtual void UpdateDisplay(vtkRPNode* node) = 0;
-  /// The slice point, layers or mode changed.
+  /// The view's slice node (plane, layers) or the interaction state changed.
   virtual void OnViewStateModified() {}
+  /// After Initialize has set the view up (before the scene's nodes are displayed) / before
+  /// Finalize tears it down: managers that draw more than nodes set up and remove their props.
+  virtual void OnInitialize() {}
+  virtual void OnFinalize() {}
   /// A scene node event this manager asked for (other than Modified/TransformModified).
   virtual std::vector<unsigned long> ExtraNodeEvents() const { return {}; }
 
@@ -64,8 +71,10 @@ class vtkRPDisplayableManager : public vtkObject {
   rp::View* View = nullptr;
   vtkWeakPointer<vtkRPScene> Scene;
   vtkWeakPointer<vtkRPViewState> State;
+  vtkWeakPointer<vtkRPSliceNode> SliceNode;
   std::vector<unsigned long> SceneTags;
   unsigned long StateTag = 0;
+  unsigned long SliceNodeTag = 0;
   struct ObservedNode {
     vtkWeakPointer<vtkRPNode> Node;
     std::vector<unsigned long> Tags;

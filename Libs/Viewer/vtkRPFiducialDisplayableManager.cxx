@@ -22,7 +22,7 @@
 
 #include "rpView.h"
 #include "vtkRPFiducialListNode.h"
-#include "vtkRPViewState.h"
+#include "vtkRPSliceNode.h"
 
 vtkStandardNewMacro(vtkRPFiducialDisplayableManager);
 
@@ -87,9 +87,11 @@ void vtkRPFiducialDisplayableManager::UpdateDisplay(vtkRPNode* node) {
   rp::View* view = this->GetView();
 
   // In a slice view: only points on this slice (within half a scroll step).
-  const bool slice = view->IsSlice();
-  const rp::SliceAxes axes = rp::GetSliceAxes(slice ? view->GetKind() : rp::ViewKind::Axial);
-  const double* slicePoint = this->GetViewState()->GetSlicePointRAS();
+  vtkRPSliceNode* sliceNode = this->GetSliceNode();
+  const bool slice = sliceNode != nullptr;
+  double normal[3] = {0, 0, 1};
+  if (slice) sliceNode->GetNormal(normal);
+  const double offset = slice ? sliceNode->GetSliceOffset() : 0.0;
   const double tolerance = 0.5 * view->GetSliceStep() + 1e-6;
 
   vtkNew<vtkPoints> points;
@@ -100,7 +102,7 @@ void vtkRPFiducialDisplayableManager::UpdateDisplay(vtkRPNode* node) {
     double world[3];
     list->GetNthControlPointPositionWorld(i, world);
     if (slice) {
-      const double distance = vtkMath::Dot(axes.Normal, world) - vtkMath::Dot(axes.Normal, slicePoint);
+      const double distance = vtkMath::Dot(normal, world) - offset;
       if (std::fabs(distance) > tolerance) continue;
     }
     const vtkIdType id = points->InsertNextPoint(world);

@@ -13,7 +13,7 @@
 
 #include "rpView.h"
 #include "vtkRPModelNode.h"
-#include "vtkRPViewState.h"
+#include "vtkRPSliceNode.h"
 
 vtkStandardNewMacro(vtkRPModelSliceDisplayableManager);
 
@@ -65,11 +65,14 @@ void vtkRPModelSliceDisplayableManager::RemoveDisplay(vtkRPNode* node) {
   this->Outlines.erase(it);
 }
 
-void vtkRPModelSliceDisplayableManager::UpdatePlane(Outline& outline, vtkRPNode* node) {
-  const rp::SliceAxes axes = rp::GetSliceAxes(this->GetView()->GetKind());
-  outline.Plane->SetOrigin(this->GetViewState()->GetSlicePointRAS());
-  outline.Plane->SetNormal(axes.Normal[0], axes.Normal[1], axes.Normal[2]);
-  (void)node;
+void vtkRPModelSliceDisplayableManager::UpdatePlane(Outline& outline, vtkRPNode*) {
+  vtkRPSliceNode* sliceNode = this->GetSliceNode();
+  if (!sliceNode) return;
+  double origin[3], normal[3];
+  sliceNode->GetOrigin(origin);
+  sliceNode->GetNormal(normal);
+  outline.Plane->SetOrigin(origin);  // unchanged values do not re-cut (vtkPlane's setters compare)
+  outline.Plane->SetNormal(normal);
 }
 
 void vtkRPModelSliceDisplayableManager::UpdateDisplay(vtkRPNode* node) {

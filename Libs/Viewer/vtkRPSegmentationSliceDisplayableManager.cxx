@@ -18,6 +18,8 @@
 
 #include "rpView.h"
 #include "vtkRPSegmentationNode.h"
+#include "vtkRPSliceLogic.h"
+#include "vtkRPSliceNode.h"
 #include "vtkRPViewState.h"
 
 vtkStandardNewMacro(vtkRPSegmentationSliceDisplayableManager);
@@ -57,15 +59,8 @@ vtkImageData* vtkRPSegmentationSliceDisplayableManager::GetOverlay(vtkRPNode* no
   return it->second->Map->GetOutput();
 }
 
-void vtkRPSegmentationSliceDisplayableManager::SetOpacity(double opacity) {
-  this->Opacity = std::min(1.0, std::max(0.0, opacity));
-  for (auto& entry : this->Overlays) entry.second->Actor->GetProperty()->SetOpacity(this->Opacity);
-  this->RequestRender();
-}
-
 void vtkRPSegmentationSliceDisplayableManager::AddDisplay(vtkRPNode* node) {
   auto overlay = std::make_unique<Overlay>();
-  overlay->Actor->GetProperty()->SetOpacity(this->Opacity);
   // Over the volumes (layer 0) and under the outlines, fiducials and tools of the overlay layer.
   this->GetView()->GetOverlayRenderer()->AddViewProp(overlay->Actor);
   this->Overlays[node] = std::move(overlay);
@@ -84,7 +79,9 @@ void vtkRPSegmentationSliceDisplayableManager::UpdateDisplay(vtkRPNode* node) {
   if (!segmentation || it == this->Overlays.end()) return;
   Overlay& overlay = *it->second;
   vtkImageData* labels = segmentation->GetImageData();
-  const bool visible = labels && labels->GetNumberOfPoints() > 0 && segmentation->GetNumberOfSegments() > 0;
+  vtkRPSliceNode* sliceNode = this->GetSliceNode();
+  const bool visible = labels && labels->GetNumberOfPoints() > 0 && segmentation->GetNumberOfSegments() > 0 &&
+                       sliceNode && sliceNode->GetLabelNodeID() == segmentation->GetID();
   overlay.Actor->SetVisibility(visible);
   if (!visible) return;
   overlay.Reslice->SetInputData(labels);
@@ -109,34 +106,25 @@ void vtkRPSegmentationSliceDisplayableManager::UpdatePlane(Overlay& overlay, vtk
   auto* segmentation = vtkRPSegmentationNode::SafeDownCast(node);
   rp::View* view = this->GetView();
   if (!segmentation || !segmentation->GetImageData() || !view->IsSlice()) return;
-  const rp::SliceAxes axes = rp::GetSliceAxes(view->GetKind());
-  const double offset = vtkMath::Dot(axes.Normal, this->GetViewState()->GetSlicePointRAS());
-  for (int r = 0; r < 3; ++r) {
-    overlay.SliceToRAS->SetElement(r, 0, axes.X[r]);
-    overlay.SliceToRAS->SetElement(r, 1, axes.Y[r]);
-    overlay.SliceToRAS->SetElement(r, 2, axes.Normal[r]);
-    overlay.SliceToRAS->SetElement(r, 3, axes.Normal[r] * offset);
-  }
-  overlay.SliceToRAS->Modified();
+  vtkRPSliceNode* sliceNode = this->GetSliceNode();
+  if (!sliceNode) return;
+  overlay.Actor->GetProperty()->SetOpacity(sliceNode->GetLabelOpacity());
+  if (!overlay.Actor->GetVisibility()) return;
+  sliceNode->GetSliceToRAS(overlay.SliceToRAS);
   vtkNew<vtkMatrix4x4> toWorld, ijkToWorld, worldToIJK;
   segmentation->GetMatrixTransformToWorld(toWorld);
   vtkMatrix4x4::Multiply4x4(toWorld, segmentation->GetIJKToRASMatrix(), ijkToWorld);
   vtkMatrix4x4::Invert(ijkToWorld, worldToIJK);
-  vtkMatrix4x4::Multiply4x4(worldToIJK, overlay.SliceToRAS, overlay.Axes);
-  overlay.Axes->Modified();
+  vtkNew<vtkMatrix4x4> axes;
+  vtkMatrix4x4::Multiply4x4(worldToIJK, overlay.SliceToRAS, axes);
+  bool same = true;
+  for (int i = 0; i < 16 && same; ++i) same = axes->GetData()[i] == overlay.Axes->GetData()[i];
+  if (!same) overlay.Axes->DeepCopy(axes);  // an unchanged plane does not re-slice
 
   // Output grid: the labelmap's corners projected on the plane, at its finest spacing.
-  int extent[6];
-  segmentation->GetImageData()->GetExtent(extent);
-  double xmin = VTK_DOUBLE_MAX, xmax = -VTK_DOUBLE_MAX, ymin = VTK_DOUBLE_MAX, ymax = -VTK_DOUBLE_MAX;
-  for (int c = 0; c < 8; ++c) {
-    double ijk[4] = {double(extent[(c & 1) ? 1 : 0]), double(extent[(c & 2) ? 3 : 2]), double(extent[(c & 4) ? 5 : 4]), 1}, ras[4];
-    ijkToWorld->MultiplyPoint(ijk, ras);
-    xmin = std::min(xmin, vtkMath::Dot(ras, axes.X));
-    xmax = std::max(xmax, vtkMath::Dot(ras, axes.X));
-    ymin = std::min(ymin, vtkMath::Dot(ras, axes.Y));
-    ymax = std::max(ymax, vtkMath::Dot(ras, axes.Y));
-  }
+  double b[4];
+  vtkRPSliceLogic::ComputePlaneBounds(segmentation, overlay.SliceToRAS, b);
+  const double xmin = b[0], xmax = b[1], ymin = b[2], ymax = b[3];
   double spacing[3];
   segmentation->GetSpacing(spacing);
   double step = std::max(1e-3, std::min({spacing[0], spacing[1], spacing[2]}));
@@ -148,6 +136,15 @@ void vtkRPSegmentationSliceDisplayableManager::UpdatePlane(Overlay& overlay, vtk
 }
 
 void vtkRPSegmentationSliceDisplayableManager::OnViewStateModified() {
-  for (auto& entry : this->Overlays) this->UpdatePlane(*entry.second, entry.first);
+  // The label layer may have changed (a newly shown segmentation needs its colours too).
+  vtkRPSliceNode* sliceNode = this->GetSliceNode();
+  for (auto& entry : this->Overlays) {
+    const bool shown = sliceNode && sliceNode->GetLabelNodeID() == entry.first->GetID();
+    if (shown != static_cast<bool>(entry.second->Actor->GetVisibility())) {
+      this->UpdateDisplay(entry.first);
+    } else {
+      this->UpdatePlane(*entry.second, entry.first);
+    }
+  }
   this->RequestRender();
 }

@@ -1,8 +1,9 @@
 #ifndef vtkRPSegmentationSliceDisplayableManager_h
 #define vtkRPSegmentationSliceDisplayableManager_h
-// Segmentations in a slice view: the labelmap re-sliced (nearest neighbour) on the view's plane
-// and drawn over the volumes in the segments' colours, half transparent. Label values without a
-// segment are not drawn. (In 3D, segmentations show through the models made from them.)
+// The label layer of a slice view: the segmentation its slice node names (Label role),
+// re-sliced (nearest neighbour) on the node's plane and drawn over the volumes in the segments'
+// colours with the node's label opacity. Label values without a segment are not drawn. (In 3D,
+// segmentations show through the models made from them.)
 #include <map>
 #include <memory>
 
@@ -18,8 +19,6 @@ class vtkRPSegmentationSliceDisplayableManager : public vtkRPDisplayableManager 
   /// The RGBA overlay drawn for a node (nullptr if none), for tests; its pixel (i, j) is at
   /// RAS = SliceToRAS · (origin + spacing · (i, j, 0)).
   vtkImageData* GetOverlay(vtkRPNode* node);
-  /// Overlay opacity (default 0.5).
-  void SetOpacity(double opacity);
 
  protected:
   vtkRPSegmentationSliceDisplayableManager() = default;
@@ -36,7 +35,6 @@ class vtkRPSegmentationSliceDisplayableManager : public vtkRPDisplayableManager 
   struct Overlay;
   void UpdatePlane(Overlay& overlay, vtkRPNode* node);
   std::map<vtkRPNode*, std::unique_ptr<Overlay>> Overlays;
-  double Opacity = 0.5;
 };
 
 #endif

@@ -1,72 +1,153 @@
 #include "vtkRPVolumeSliceDisplayableManager.h"
 
+#include <vtkActor.h>
+#include <vtkCallbackCommand.h>
 #include <vtkImageActor.h>
+#include <vtkImageExtractComponents.h>
+#include <vtkImageMapper3D.h>
+#include <vtkMatrix4x4.h>
+#include <vtkNew.h>
 #include <vtkObjectFactory.h>
+#include <vtkOpenGLShaderProperty.h>
+#include <vtkPolyDataMapper.h>
+#include <vtkPlaneSource.h>
+#include <vtkProperty.h>
 #include <vtkRenderer.h>
+#include <vtkShader.h>
+#include <vtkTexture.h>
 
-#include "rpSliceReslicer.h"
 #include "rpView.h"
-#include "vtkRPScalarVolumeNode.h"
-#include "vtkRPScene.h"
-#include "vtkRPViewState.h"
+#include "vtkRPSliceLogic.h"
+#include "vtkRPSliceNode.h"
 
 vtkStandardNewMacro(vtkRPVolumeSliceDisplayableManager);
 
-vtkRPVolumeSliceDisplayableManager::vtkRPVolumeSliceDisplayableManager() = default;
+// One slice node's picture in this view: an image actor (slice views) or a textured quad (3D).
+struct vtkRPVolumeSliceDisplayableManager::Picture {
+  vtkRPSliceLogic* Logic = nullptr;
+  unsigned long Tag = 0;
+  // Slice view: the colours only (the alpha is the 3D view's patient mask).
+  vtkNew<vtkImageExtractComponents> Colours;
+  vtkNew<vtkImageActor> Image;
+  // 3D: a quad in plane coordinates, placed by the plane's matrix, textured with the picture.
+  vtkNew<vtkPlaneSource> Quad;
+  vtkNew<vtkPolyDataMapper> QuadMapper;
+  vtkNew<vtkTexture> Texture;
+  vtkNew<vtkActor> QuadActor;
+};
 
-vtkRPVolumeSliceDisplayableManager::~vtkRPVolumeSliceDisplayableManager() {
-  this->Finalize();
+vtkRPVolumeSliceDisplayableManager::vtkRPVolumeSliceDisplayableManager() {
+  this->LogicCallback = vtkSmartPointer<vtkCallbackCommand>::New();
+  this->LogicCallback->SetClientData(this);
+  this->LogicCallback->SetCallback(&vtkRPVolumeSliceDisplayableManager::OnLogicModified);
 }
 
-bool vtkRPVolumeSliceDisplayableManager::CanDisplay(vtkRPNode* node) const {
-  return vtkRPScalarVolumeNode::SafeDownCast(node) != nullptr;
-}
+vtkRPVolumeSliceDisplayableManager::~vtkRPVolumeSliceDisplayableManager() { this->Finalize(); }
 
-void vtkRPVolumeSliceDisplayableManager::AddDisplay(vtkRPNode*) {
+void vtkRPVolumeSliceDisplayableManager::OnInitialize() {
   rp::View* view = this->GetView();
-  if (this->Reslicers.empty() && view) {
+  std::vector<vtkRPSliceLogic*> logics;
+  if (view->IsSlice()) {
+    logics.push_back(view->GetSliceLogic());
+  } else {
+    for (vtkRPSliceLogic* logic : view->GetSliceViewNodes().Logics) logics.push_back(logic);
+  }
+  for (vtkRPSliceLogic* logic : logics) {
+    auto* picture = new Picture;
+    picture->Logic = logic;
+    if (logic) picture->Tag = logic->AddObserver(vtkCommand::ModifiedEvent, this->LogicCallback);
     if (view->IsSlice()) {
-      this->Reslicers.push_back(std::make_unique<rp::SliceReslicer>(view->GetKind()));
+      if (logic) picture->Colours->SetInputConnection(logic->GetOutputPort());
+      picture->Colours->SetComponents(0, 1, 2);
+      picture->Image->GetMapper()->SetInputConnection(picture->Colours->GetOutputPort());
+      picture->Image->InterpolateOn();
+      picture->Image->PickableOff();
+      if (logic) picture->Image->SetUserMatrix(logic->GetPlaneToRAS());
+      view->GetRenderer()->AddViewProp(picture->Image);
     } else {
-      for (rp::ViewKind kind : {rp::ViewKind::Axial, rp::ViewKind::Sagittal, rp::ViewKind::Coronal}) {
-        this->Reslicers.push_back(std::make_unique<rp::SliceReslicer>(kind));
-      }
+      if (logic) picture->Texture->SetInputConnection(logic->GetOutputPort());
+      picture->Texture->InterpolateOn();
+      picture->Texture->SetColorModeToDirectScalars();
+      picture->QuadMapper->SetInputConnection(picture->Quad->GetOutputPort());
+      // Air is cut away rather than blended: discarded fragments write no depth, so the three
+      // planes and the models behind them are drawn correctly without sorting or peeling.
+      vtkOpenGLShaderProperty::SafeDownCast(picture->QuadActor->GetShaderProperty())
+          ->AddShaderReplacement(vtkShader::Fragment, "//VTK::TCoord::Impl", true,
+                                 "//VTK::TCoord::Impl\n  if (gl_FragData[0].a < 0.5) { discard; }\n", false);
+      picture->QuadActor->SetMapper(picture->QuadMapper);
+      picture->QuadActor->SetTexture(picture->Texture);
+      picture->QuadActor->ForceOpaqueOn();
+      picture->QuadActor->GetProperty()->LightingOff();
+      picture->QuadActor->GetProperty()->SetAmbient(1.0);
+      picture->QuadActor->GetProperty()->SetDiffuse(0.0);
+      if (logic) picture->QuadActor->SetUserMatrix(logic->GetPlaneToRAS());
+      view->GetRenderer()->AddViewProp(picture->QuadActor);
     }
-    for (auto& reslicer : this->Reslicers) view->GetRenderer()->AddViewProp(reslicer->GetActor());
+    this->Pictures.push_back(picture);
+    this->UpdatePicture(*picture);
   }
 }
 
-void vtkRPVolumeSliceDisplayableManager::RemoveDisplay(vtkRPNode* node) {
-  this->Refresh(node);
-  if (this->GetNumberOfDisplayedNodes() == 0 && this->GetView()) {
-    for (auto& reslicer : this->Reslicers) this->GetView()->GetRenderer()->RemoveViewProp(reslicer->GetActor());
-    this->Reslicers.clear();
+void vtkRPVolumeSliceDisplayableManager::OnFinalize() {
+  rp::View* view = this->GetView();
+  for (Picture* picture : this->Pictures) {
+    if (picture->Logic) picture->Logic->RemoveObserver(picture->Tag);
+    if (view) {
+      view->GetRenderer()->RemoveViewProp(picture->Image);
+      view->GetRenderer()->RemoveViewProp(picture->QuadActor);
+    }
+    delete picture;
   }
+  this->Pictures.clear();
 }
 
-void vtkRPVolumeSliceDisplayableManager::UpdateDisplay(vtkRPNode*) { this->Refresh(nullptr); }
+vtkImageActor* vtkRPVolumeSliceDisplayableManager::GetImageActor() const {
+  return this->Pictures.empty() ? nullptr : this->Pictures[0]->Image.GetPointer();
+}
+
+vtkActor* vtkRPVolumeSliceDisplayableManager::GetSliceActor(int i) const {
+  if (i < 0 || i >= static_cast<int>(this->Pictures.size())) return nullptr;
+  return this->Pictures[static_cast<size_t>(i)]->QuadActor;
+}
+
+int vtkRPVolumeSliceDisplayableManager::GetNumberOfVisibleSlices() const {
+  int visible = 0;
+  for (Picture* picture : this->Pictures) {
+    const bool shown = this->GetView() && this->GetView()->IsSlice() ? picture->Image->GetVisibility() : picture->QuadActor->GetVisibility();
+    visible += shown ? 1 : 0;
+  }
+  return visible;
+}
+
+void vtkRPVolumeSliceDisplayableManager::OnLogicModified(vtkObject* caller, unsigned long, void* clientData, void*) {
+  auto* self = static_cast<vtkRPVolumeSliceDisplayableManager*>(clientData);
+  for (Picture* picture : self->Pictures) {
+    if (picture->Logic == caller) self->UpdatePicture(*picture);
+  }
+  self->RequestRender();
+}
 
 void vtkRPVolumeSliceDisplayableManager::OnViewStateModified() {
-  this->Refresh(nullptr);
+  // SliceVisible may have changed (3D), nothing else here depends on the view state.
+  for (Picture* picture : this->Pictures) this->UpdatePicture(*picture);
   this->RequestRender();
 }
 
-// Re-resolves the layers from the view state (a volume about to leave the scene is skipped).
-void vtkRPVolumeSliceDisplayableManager::Refresh(vtkRPNode* leaving) {
-  vtkRPScene* scene = this->GetScene();
-  vtkRPViewState* state = this->GetViewState();
-  if (!scene || !state || this->Reslicers.empty()) return;
-  auto resolve = [&](const std::string& id) -> vtkRPScalarVolumeNode* {
-    vtkRPNode* node = scene->GetNodeByID(id);
-    if (!node || node == leaving || !this->IsDisplayed(node)) return nullptr;
-    return vtkRPScalarVolumeNode::SafeDownCast(node);
-  };
-  vtkRPScalarVolumeNode* background = resolve(state->GetBackgroundVolumeID());
-  vtkRPScalarVolumeNode* foreground = resolve(state->GetForegroundVolumeID());
-  const bool visible = this->GetView()->IsSlice() || state->GetSlicesVisibleIn3D();
-  for (auto& reslicer : this->Reslicers) {
-    reslicer->SetVolumes(visible ? background : nullptr, visible ? foreground : nullptr, state->GetForegroundOpacity());
-    reslicer->SetSlicePoint(state->GetSlicePointRAS());
-    reslicer->Update();
+void vtkRPVolumeSliceDisplayableManager::UpdatePicture(Picture& picture) {
+  vtkRPSliceLogic* logic = picture.Logic;
+  const bool hasImage = logic && logic->HasImage();
+  if (this->GetView()->IsSlice()) {
+    picture.Image->SetVisibility(hasImage);
+    return;
   }
+  vtkRPSliceNode* node = logic ? logic->GetSliceNode() : nullptr;
+  const bool visible = hasImage && node && node->GetSliceVisible();
+  picture.QuadActor->SetVisibility(visible);
+  if (!visible) return;
+  // The quad covers the picture's pixels (centres ± half a pixel), in plane coordinates.
+  const double* b = logic->GetPlaneBounds();
+  const double h = 0.5 * logic->GetPixelSpacing();
+  picture.Quad->SetOrigin(b[0] - h, b[2] - h, 0);
+  picture.Quad->SetPoint1(b[1] + h, b[2] - h, 0);
+  picture.Quad->SetPoint2(b[0] - h, b[3] + h, 0);
 }

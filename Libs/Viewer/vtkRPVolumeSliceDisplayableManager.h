@@ -1,40 +1,54 @@
 #ifndef vtkRPVolumeSliceDisplayableManager_h
 #define vtkRPVolumeSliceDisplayableManager_h
-// Scalar volumes: in a slice view, the background and foreground volumes (chosen in the view
-// state) re-sliced on the view's plane through the slice point and blended; in the 3D view, the
-// three slices placed in RAS (superimposed on the models). Window/level come from the nodes.
-#include <memory>
+// Scalar volumes as their slice nodes show them (the pictures come from vtkRPSliceLogic, one per
+// slice node, shared by every view): in a slice view, the node's picture on its plane (colours
+// on black); in the 3D view, every slice node's picture placed in RAS where the node's
+// SliceVisible is on, drawn only where there is patient (air is cut away, so the models behind
+// show through) and depth-tested as opaque geometry, so the three planes cross correctly.
 #include <vector>
+
+#include <vtkSmartPointer.h>
 
 #include "vtkRPDisplayableManager.h"
 
-namespace rp {
-class SliceReslicer;
-}
+class vtkActor;
+class vtkCallbackCommand;
+class vtkImageActor;
+class vtkRPSliceLogic;
 
 class vtkRPVolumeSliceDisplayableManager : public vtkRPDisplayableManager {
  public:
   static vtkRPVolumeSliceDisplayableManager* New();
   vtkTypeMacro(vtkRPVolumeSliceDisplayableManager, vtkRPDisplayableManager);
 
-  /// The re-slicers (one in a slice view, three in 3D), for tests and the screenshot code.
-  int GetNumberOfReslicers() const { return static_cast<int>(this->Reslicers.size()); }
-  rp::SliceReslicer* GetReslicer(int i) const { return this->Reslicers.at(static_cast<size_t>(i)).get(); }
+  /// Slice views: the image actor of the view's picture (tests, screenshots).
+  vtkImageActor* GetImageActor() const;
+  /// 3D: the actor of slice node i (0 axial/Red, 1 sagittal/Yellow, 2 coronal/Green).
+  vtkActor* GetSliceActor(int i) const;
+  /// Pictures shown (one in a slice view, three in 3D) that have an image.
+  int GetNumberOfVisibleSlices() const;
 
  protected:
   vtkRPVolumeSliceDisplayableManager();
   ~vtkRPVolumeSliceDisplayableManager() override;
-  bool CanDisplay(vtkRPNode* node) const override;
-  void AddDisplay(vtkRPNode* node) override;
-  void RemoveDisplay(vtkRPNode* node) override;
-  void UpdateDisplay(vtkRPNode* node) override;
+  // The volumes reach the views through the slice logics, not as displayed nodes.
+  bool CanDisplay(vtkRPNode*) const override { return false; }
+  void AddDisplay(vtkRPNode*) override {}
+  void RemoveDisplay(vtkRPNode*) override {}
+  void UpdateDisplay(vtkRPNode*) override {}
   void OnViewStateModified() override;
+  void OnInitialize() override;
+  void OnFinalize() override;
 
  private:
   vtkRPVolumeSliceDisplayableManager(const vtkRPVolumeSliceDisplayableManager&) = delete;
   void operator=(const vtkRPVolumeSliceDisplayableManager&) = delete;
-  void Refresh(vtkRPNode* leaving);
-  std::vector<std::unique_ptr<rp::SliceReslicer>> Reslicers;
+  struct Picture;
+  static void OnLogicModified(vtkObject* caller, unsigned long, void* clientData, void*);
+  void UpdatePicture(Picture& picture);
+
+  std::vector<Picture*> Pictures;
+  vtkSmartPointer<vtkCallbackCommand> LogicCallback;
 };
 
 #endif

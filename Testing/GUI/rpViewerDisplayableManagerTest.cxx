@@ -7,6 +7,8 @@
 #include <gtest/gtest.h>
 #include <vtkActor.h>
 #include <vtkImageActor.h>
+#include <vtkAlgorithm.h>
+#include <vtkAlgorithmOutput.h>
 #include <vtkImageData.h>
 #include <vtkMapper.h>
 #include <vtkCamera.h>
@@ -18,7 +20,6 @@
 #include <vtkPolyData.h>
 #include <vtkProperty.h>
 
-#include "rpSliceReslicer.h"
 #include "rpView.h"
 #include "rpViewController.h"
 #include "rpViewerTestScene.h"
@@ -32,6 +33,8 @@
 #include "vtkRPScene.h"
 #include "vtkRPSegmentationNode.h"
 #include "vtkRPSegmentationSliceDisplayableManager.h"
+#include "vtkRPSliceLogic.h"
+#include "vtkRPSliceNode.h"
 #include "vtkRPToolDisplayableManager.h"
 #include "vtkRPTrackedToolNode.h"
 #include "vtkRPViewState.h"
@@ -41,18 +44,20 @@ using namespace rp;
 
 namespace {
 
-// RGBA of the re-sliced image at a RAS point on the slice plane.
-void SampleSlice(SliceReslicer* reslicer, const double ras[3], unsigned char rgba[4]) {
-  vtkImageData* image = reslicer->GetActor()->GetInput();
-  reslicer->GetActor()->Update();
+// RGBA of a slice node's picture at a RAS point on its plane.
+void SampleSlice(vtkRPSliceLogic* logic, const double ras[3], unsigned char rgba[4]) {
+  vtkAlgorithm* producer = logic->GetOutputPort()->GetProducer();
+  producer->Update();
+  vtkImageData* image = vtkImageData::SafeDownCast(producer->GetOutputDataObject(0));
+  ASSERT_NE(image, nullptr);
   vtkNew<vtkMatrix4x4> rasToSlice;
-  vtkMatrix4x4::Invert(reslicer->GetSliceToRAS(), rasToSlice);
+  vtkMatrix4x4::Invert(logic->GetPlaneToRAS(), rasToSlice);
   double in[4] = {ras[0], ras[1], ras[2], 1}, slice[4];
   rasToSlice->MultiplyPoint(in, slice);
   int ijk[3];
   double pcoords[3];
   ASSERT_TRUE(image->ComputeStructuredCoordinates(slice, ijk, pcoords)) << "point outside the slice image";
-  const double spacing = reslicer->GetPixelSpacing();
+  const double spacing = logic->GetPixelSpacing();
   double origin[3];
   image->GetOrigin(origin);
   const int i = static_cast<int>(std::lround((slice[0] - origin[0]) / spacing));
@@ -68,19 +73,22 @@ TEST(ViewerDisplayableManagers, VolumeSlicesFollowTheSlicePointAndWindowLevel) {
   ViewController controller(scene);
   auto volume = test::MakeVolume();
   scene->AddNode(volume);
-  // First volume: background, slices centred on it.
-  EXPECT_EQ(controller.GetViewState()->GetBackgroundVolumeID(), volume->GetID());
+  // First volume: the background of every slice node, slices centred on it.
+  for (int kind = 0; kind < 3; ++kind) {
+    EXPECT_EQ(controller.GetSliceNode(static_cast<ViewKind>(kind))->GetBackgroundVolumeID(), volume->GetID());
+  }
   double point[3];
   controller.GetSlicePointRAS(point);
   for (int a = 0; a < 3; ++a) EXPECT_NEAR(point[a], test::Center[a], 1e-9);
 
   auto* axialManager = controller.GetView(ViewKind::Axial)->GetDisplayableManager<vtkRPVolumeSliceDisplayableManager>();
   ASSERT_NE(axialManager, nullptr);
-  ASSERT_EQ(axialManager->GetNumberOfReslicers(), 1);
-  SliceReslicer* axial = axialManager->GetReslicer(0);
-  EXPECT_TRUE(axial->GetActor()->GetVisibility());
+  EXPECT_EQ(axialManager->GetNumberOfVisibleSlices(), 1);
+  vtkRPSliceLogic* axial = controller.GetSliceLogic(ViewKind::Axial);
+  EXPECT_TRUE(axial->HasImage());
+  EXPECT_EQ(axialManager->GetImageActor()->GetUserMatrix(), axial->GetPlaneToRAS());
   // The plane passes through the slice point: SliceToRAS translation is the S offset.
-  EXPECT_NEAR(axial->GetSliceToRAS()->GetElement(2, 3), test::Center[2], 1e-9);
+  EXPECT_NEAR(axial->GetPlaneToRAS()->GetElement(2, 3), test::Center[2], 1e-9);
 
   // Window 2000 / level 500 (-500..1500): the ball (1000 HU) is 0.75 of the way → ~191;
   // soft tissue at the centre slice (k = 15.5 → 102 HU) → (102 + 500) / 2000 → ~77.
@@ -114,23 +122,30 @@ TEST(ViewerDisplayableManagers, VolumeSlicesFollowTheSlicePointAndWindowLevel) {
   // Moving the slice point moves the sagittal plane to the new R.
   const double moved[3] = {test::Center[0] + 12, test::Center[1] - 6, test::Center[2] + 5};
   controller.SetSlicePointRAS(moved);
-  SliceReslicer* sagittal = controller.GetView(ViewKind::Sagittal)->GetDisplayableManager<vtkRPVolumeSliceDisplayableManager>()->GetReslicer(0);
-  EXPECT_NEAR(sagittal->GetSliceToRAS()->GetElement(0, 3), moved[0], 1e-9);
+  vtkRPSliceLogic* sagittal = controller.GetSliceLogic(ViewKind::Sagittal);
+  EXPECT_NEAR(sagittal->GetPlaneToRAS()->GetElement(0, 3), moved[0], 1e-9);
   EXPECT_NEAR(controller.GetView(ViewKind::Coronal)->GetSliceOffset(), moved[1], 1e-9);
   // Scrolling: one step is the smallest spacing (2 mm).
   controller.MoveSlice(ViewKind::Axial, 3);
   controller.GetSlicePointRAS(point);
   EXPECT_NEAR(point[2], moved[2] + 3 * 2.0, 1e-9);
 
-  // 3D: three slices in RAS.
+  // 3D: the same three pictures in RAS (re-sliced once for both views); off per slice node.
   auto* threeD = controller.GetView(ViewKind::ThreeD)->GetDisplayableManager<vtkRPVolumeSliceDisplayableManager>();
-  ASSERT_EQ(threeD->GetNumberOfReslicers(), 3);
-  EXPECT_TRUE(threeD->GetReslicer(0)->GetActor()->GetVisibility());
+  EXPECT_EQ(threeD->GetNumberOfVisibleSlices(), 3);
+  EXPECT_EQ(threeD->GetSliceActor(0)->GetUserMatrix(), axial->GetPlaneToRAS());
+  controller.GetSliceNode(ViewKind::Coronal)->SetSliceVisible(false);
+  EXPECT_EQ(threeD->GetNumberOfVisibleSlices(), 2);
+  EXPECT_FALSE(threeD->GetSliceActor(2)->GetVisibility());
+  controller.SetSlicesVisibleIn3D(true);
+  EXPECT_EQ(threeD->GetNumberOfVisibleSlices(), 3);
 
   // Removed: the background is cleared and the slices disappear.
   scene->RemoveNode(volume);
-  EXPECT_EQ(controller.GetViewState()->GetBackgroundVolumeID(), "");
-  EXPECT_EQ(axialManager->GetNumberOfDisplayedNodes(), 0);
+  EXPECT_EQ(controller.GetSliceNode(ViewKind::Axial)->GetBackgroundVolumeID(), "");
+  EXPECT_EQ(controller.GetBackgroundVolume(), nullptr);
+  EXPECT_EQ(axialManager->GetNumberOfVisibleSlices(), 0);
+  EXPECT_EQ(threeD->GetNumberOfVisibleSlices(), 0);
 }
 
 TEST(ViewerDisplayableManagers, ForegroundBlendsOverBackground) {
@@ -142,14 +157,14 @@ TEST(ViewerDisplayableManagers, ForegroundBlendsOverBackground) {
   mr->SetName("MR");
   mr->SetWindowLevel(1, 2000);  // everything at or below 2000 is black in the MR
   scene->AddNode(mr);
-  EXPECT_EQ(controller.GetViewState()->GetForegroundVolumeID(), mr->GetID());
-  controller.GetViewState()->SetForegroundOpacity(0.5);
+  EXPECT_EQ(controller.GetSliceNode(ViewKind::Axial)->GetForegroundVolumeID(), mr->GetID());
+  controller.SetForegroundOpacity(0.5);
   ct->SetWindowLevel(1, 0);  // everything above 0 is white in the CT
-  SliceReslicer* axial = controller.GetView(ViewKind::Axial)->GetDisplayableManager<vtkRPVolumeSliceDisplayableManager>()->GetReslicer(0);
+  vtkRPSliceLogic* axial = controller.GetSliceLogic(ViewKind::Axial);
   unsigned char rgba[4];
   SampleSlice(axial, test::Center, rgba);
   EXPECT_NEAR(rgba[0], 127.5, 1.5);  // white under black at 50 %
-  controller.GetViewState()->SetForegroundOpacity(0.0);
+  controller.SetForegroundOpacity(0.0);
   SampleSlice(axial, test::Center, rgba);
   EXPECT_EQ(rgba[0], 255);
 }
@@ -392,8 +407,9 @@ TEST(ViewerDisplayableManagers, ClosingTheSceneEmptiesEveryViewAndAViewMayOutliv
       EXPECT_EQ(manager->GetNumberOfDisplayedNodes(), 0) << manager->GetClassName();
     }
   }
-  EXPECT_EQ(controller.GetViewState()->GetBackgroundVolumeID(), "");
+  EXPECT_EQ(controller.GetSliceNode(ViewKind::Axial)->GetBackgroundVolumeID(), "");
   EXPECT_EQ(controller.GetFollowTransformNodeID(), "");
+  EXPECT_EQ(vtkRPSliceNode::GetSliceNodes(scene).size(), 3u);  // the views' nodes stay
 
   // A controller whose scene (and its followed node) is deleted first shuts down cleanly.
   auto* shortLived = vtkRPScene::New();
@@ -454,14 +470,13 @@ TEST(ViewerDisplayableManagers, EmptyVolumesShowNothingAndDoNotCrash) {
   vtkNew<vtkImageData> nothing;
   empty->SetImageData(nothing);
   scene->AddNode(empty);
-  SliceReslicer* axial = controller.GetView(ViewKind::Axial)->GetDisplayableManager<vtkRPVolumeSliceDisplayableManager>()->GetReslicer(0);
-  EXPECT_FALSE(axial->GetActor()->GetVisibility());
+  vtkRPSliceLogic* axial = controller.GetSliceLogic(ViewKind::Axial);
+  EXPECT_FALSE(axial->HasImage());
   controller.MoveSlice(ViewKind::Axial, 2);
-  EXPECT_FALSE(controller.ApplyWindowLevelPreset(WindowLevelPreset::MR));  // no voxels to take percentiles of
+  EXPECT_FALSE(controller.ApplyWindowLevelPreset(WindowLevelPreset::MR));  // no volume with voxels to show
   controller.AdjustWindowLevel(10, 10);  // ignored
-  // A real volume added later becomes the foreground; the empty background still hides the slice.
+  // A real volume added later becomes the background (the empty one has nothing to show).
   scene->AddNode(test::MakeVolume());
-  EXPECT_FALSE(axial->GetActor()->GetVisibility());
-  controller.GetViewState()->SetBackgroundVolumeID(controller.GetViewState()->GetForegroundVolumeID());
-  EXPECT_TRUE(axial->GetActor()->GetVisibility());
+  EXPECT_TRUE(axial->HasImage());
+  EXPECT_NE(controller.GetBackgroundVolume(), empty.GetPointer());
 }

@@ -33,6 +33,8 @@
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
 #include "vtkRPTrackedToolNode.h"
+#include "vtkRPLayoutNode.h"
+#include "vtkRPSliceNode.h"
 #include "vtkRPViewState.h"
 
 using namespace rp;
@@ -89,7 +91,10 @@ TEST(ViewerMainWindow, ScriptedSession) {
   ASSERT_TRUE(window.LoadFile(QString::fromStdString((dir / "femur.vtp").string()), &message)) << message.toStdString();
   EXPECT_FALSE(window.LoadFile(QString::fromStdString((dir / "missing.nrrd").string()), &message));
   EXPECT_FALSE(message.isEmpty());
-  EXPECT_EQ(scene->GetNumberOfNodes(), 2);
+  int dataNodes = 0;
+  for (vtkRPNode* node : scene->GetNodes()) dataNodes += node->GetHideFromEditors() ? 0 : 1;
+  EXPECT_EQ(dataNodes, 2);
+  EXPECT_EQ(vtkRPSliceNode::GetSliceNodes(scene).size(), 3u);  // the views' nodes, not in the Data panel
   EXPECT_EQ(ViewerMainWindow::RecentFiles().size(), 2);
   EXPECT_TRUE(ViewerMainWindow::RecentFiles().front().endsWith("femur.vtp"));
   QTest::qWait(120);  // the 30 Hz timer renders and refreshes the Data panel
@@ -220,6 +225,15 @@ TEST(ViewerMainWindow, ScriptedSession) {
   QTest::qWait(50);
   EXPECT_TRUE(sagittal->isVisible());
   EXPECT_TRUE(window.GetViewWidget(ViewKind::ThreeD)->isVisible());
+  // The layout is the scene's: a module changing the layout node changes the window.
+  controller->GetLayoutNode()->SetViewArrangement(vtkRPLayoutNode::OneUpCoronal);
+  QTest::qWait(80);
+  EXPECT_TRUE(coronal->isVisible());
+  EXPECT_FALSE(sagittal->isVisible());
+  EXPECT_TRUE(window.findChild<QAction*>("layout_coronal")->isChecked());
+  window.findChild<QAction*>("layout_4up")->trigger();
+  QTest::qWait(50);
+  EXPECT_EQ(controller->GetLayoutNode()->GetViewArrangement(), vtkRPLayoutNode::FourUp);
   // Put the model under a transform from the Data panel: select it, pick the transform.
   vtkNew<vtkRPLinearTransformNode> lift;
   lift->SetName("Lift");

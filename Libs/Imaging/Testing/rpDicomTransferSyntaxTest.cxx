@@ -24,6 +24,7 @@
 #include "rpDicomSeries.h"
 #include "rpDicomTestTools.h"
 #include "rpDicomTransferSyntax.h"
+#include "rpSharedData.h"
 
 namespace fs = std::filesystem;
 using rp::testing::FindTool;
@@ -86,7 +87,7 @@ TEST_P(TransferSyntax, RealSeriesReadBackAsEncoded) {
   const Codec& codec = GetParam();
   const std::string tool = FindTool(codec.Tool);
   if (tool.empty()) GTEST_SKIP() << codec.Tool << " not found on PATH (Debian package " << codec.Package << ")";
-  if (!fs::exists(kData)) GTEST_SKIP() << "no shared data at " << kData;
+  for (const Source& source : kSources) RP_REQUIRE_SHARED_DATA(source.Folder);
   const fs::path root = Scratch(codec.Name);
   const std::string dcmodify = FindTool("dcmodify");
   if (!codec.Prepare.empty() && dcmodify.empty()) GTEST_SKIP() << "dcmodify not found on PATH (Debian package dcmtk)";
@@ -193,8 +194,8 @@ INSTANTIATE_TEST_SUITE_P(RealSeries, TransferSyntax, ::testing::ValuesIn(Codecs(
 TEST(TransferSyntaxLibraries, JpegLsIsRightWhicheverCharLSIsLoaded) {
   const std::string gdcmconv = FindTool("gdcmconv");
   if (gdcmconv.empty()) GTEST_SKIP() << "gdcmconv not found on PATH (Debian package libgdcm-tools)";
+  RP_REQUIRE_SHARED_DATA("dicom/ct-3slice/02.dcm");
   const fs::path source = kData + "/dicom/ct-3slice/02.dcm";
-  if (!fs::exists(source)) GTEST_SKIP() << "no shared data at " << source;
   void* dcmtkCharLS = dlopen("libdcmtkcharls.so.17", RTLD_NOW | RTLD_GLOBAL);
   Dl_info info{};
   if (void* symbol = dlsym(RTLD_DEFAULT, "JpegLsDecode"); symbol && dladdr(symbol, &info))

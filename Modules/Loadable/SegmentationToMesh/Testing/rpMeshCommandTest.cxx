@@ -19,20 +19,17 @@
 #include "rpLabelmapToMesh.h"
 #include "rpModelIO.h"
 #include "rpSegmentationIO.h"
+#include "rpSharedData.h"
+#include "rpTestOutput.h"
 #include "rpVolumeIO.h"
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPSegmentationNode.h"
 
 namespace fs = std::filesystem;
 
-namespace {
+using rptest::TestDir;
 
-fs::path TestDir(const std::string& name) {
-  const fs::path dir = fs::path(ROBOPLAN_TEST_OUTPUT_DIR) / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+namespace {
 
 struct CommandRun {
   int Code = -1;
@@ -167,8 +164,8 @@ TEST(MeshCommand, BadArgumentsAndLeaksGiveClearErrors) {
 TEST(MeshCommand, RealNiftiFileFromAnotherWriter) {
   // The Pac-Man volume of shared/data (128³, 1 mm, doubles 0/1/2): label 2 has 677196 voxels
   // (counted independently from the file's histogram) and is one closed object.
-  const fs::path nifti = fs::path(ROBOPLAN_SHARED_DATA_DIR) / "pacsman.nii.gz";
-  if (!fs::exists(nifti)) GTEST_SKIP() << "no " << nifti;
+  RP_REQUIRE_SHARED_DATA("pacsman.nii.gz");
+  const fs::path nifti = rptest::SharedDataPath("pacsman.nii.gz");
   const fs::path dir = TestDir("nifti");
   const CommandRun run = Roboplan("mesh " + nifti.string() + " --out " + (dir / "out").string() +
                                       " --lower 1.5 --upper 2.5 --max-fraction 0.5 --no-haptic --json",

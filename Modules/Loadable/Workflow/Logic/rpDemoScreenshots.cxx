@@ -10,7 +10,7 @@
 #include "rpScreenshot.h"
 #include "rpViewController.h"
 #include "vtkRPScalarVolumeNode.h"
-#include "vtkRPViewState.h"
+#include "vtkRPLayoutNode.h"
 #endif
 
 namespace fs = std::filesystem;
@@ -29,10 +29,10 @@ bool DemoScreenshot(DemoState& state, const double slicePointRAS[3], const std::
   }
 #ifdef ROBOPLAN_WORKFLOW_HAVE_VIEWER
   ViewController controller(state.Scene);
-  if (state.CT) controller.GetViewState()->SetBackgroundVolumeID(state.CT->GetID());
+  if (state.CT) controller.SetBackgroundVolumeID(state.CT->GetID());
   if (state.MR) {
-    controller.GetViewState()->SetForegroundVolumeID(state.MR->GetID());
-    controller.GetViewState()->SetForegroundOpacity(0.35);
+    controller.SetForegroundVolumeID(state.MR->GetID());
+    controller.SetForegroundOpacity(0.35);
   }
   controller.ResetViews();
   if (!followNodeID.empty()) controller.SetFollowTransformNodeID(followNodeID);
@@ -40,7 +40,7 @@ bool DemoScreenshot(DemoState& state, const double slicePointRAS[3], const std::
   ScreenshotOptions options;
   options.Width = 1400;
   options.Height = 1100;
-  options.Layout = vtkRPViewState::LayoutFourUp;
+  options.Layout = vtkRPLayoutNode::FourUp;
   if (slicePointRAS) {
     options.HasSlicePoint = true;
     for (int i = 0; i < 3; ++i) options.SlicePointRAS[i] = slicePointRAS[i];
