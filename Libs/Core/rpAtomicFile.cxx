@@ -1,29 +1,42 @@
 #include "rpAtomicFile.h"
 
+#include <fcntl.h>
+#include <signal.h>
+#include <unistd.h>
+
 #include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
-#include <fcntl.h>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <unistd.h>
 
 namespace rp {
 namespace {
+constexpr const char* TempPrefix = ".tmp-";
+
 std::string TempPathFor(const std::string& path) {
   // Keep the extension last so writers that pick a format by extension still recognise it.
   const auto slash = path.find_last_of('/');
   const std::string dir = slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
   const std::string base = slash == std::string::npos ? path : path.substr(slash + 1);
-  return dir + ".tmp-" + std::to_string(::getpid()) + "-" + base;
+  return dir + TempPrefix + std::to_string(::getpid()) + "-" + base;
 }
 
-void SyncFile(const std::string& path) {
-  const int fd = ::open(path.c_str(), O_RDONLY);
+void SyncFile(const std::string& path, int flags = O_RDONLY) {
+  const int fd = ::open(path.c_str(), flags);
   if (fd >= 0) {
     ::fsync(fd);
     ::close(fd);
   }
+}
+
+// The rename itself reaches the disk only when the folder is synced.
+void SyncFolderOf(const std::string& path) {
+  const auto slash = path.find_last_of('/');
+  SyncFile(slash == std::string::npos ? std::string(".") : slash == 0 ? std::string("/") : path.substr(0, slash),
+           O_RDONLY | O_DIRECTORY);
 }
 }  // namespace
 
@@ -43,7 +56,27 @@ bool WriteAtomicallyWith(const std::string& path,
     std::remove(temp.c_str());
     return false;
   }
+  SyncFolderOf(path);
   return true;
+}
+
+int RemoveStaleTemporaryFiles(const std::string& folder) {
+  int removed = 0;
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(folder, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind(TempPrefix, 0) != 0) continue;
+    const size_t dash = name.find('-', std::strlen(TempPrefix));
+    if (dash == std::string::npos) continue;
+    char* end = nullptr;
+    const long pid = std::strtol(name.c_str() + std::strlen(TempPrefix), &end, 10);
+    if (end != name.c_str() + dash || pid <= 0) continue;
+    // Alive (or not ours to judge): keep. Gone: its save can never finish.
+    if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;
+    std::error_code removeError;
+    if (std::filesystem::remove(entry.path(), removeError)) ++removed;
+  }
+  return removed;
 }
 
 bool WriteFileAtomically(const std::string& path, const std::string& contents, std::string& error) {

@@ -1,6 +1,7 @@
 #pragma once
-// Atomic file writes: write to a temporary file beside the target, fsync, then rename over it,
-// so a failed or interrupted save never destroys the last good file.
+// Atomic file writes: write to a temporary file beside the target (".tmp-<pid>-<name>"), fsync,
+// rename it over the target, fsync the folder; so a failed or interrupted save never destroys
+// the last good file.
 #include <functional>
 #include <string>
 
@@ -14,6 +15,10 @@ bool WriteFileAtomically(const std::string& path, const std::string& contents, s
 bool WriteAtomicallyWith(const std::string& path,
                          const std::function<bool(const std::string& tempPath, std::string& error)>& writer,
                          std::string& error);
+
+/// Removes the temporary files of writers that died (killed mid-save) from `folder`: those whose
+/// process no longer exists. Returns how many were removed.
+int RemoveStaleTemporaryFiles(const std::string& folder);
 
 /// Reads a whole file. Returns false and sets `error` naming the file on failure.
 bool ReadFile(const std::string& path, std::string& contents, std::string& error);

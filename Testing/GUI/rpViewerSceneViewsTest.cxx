@@ -21,6 +21,7 @@
 
 #include "rpSceneIO.h"
 #include "rpScreenshot.h"
+#include "rpSharedData.h"
 #include "rpView.h"
 #include "rpViewController.h"
 #include "rpViewerApplication.h"
@@ -168,8 +169,8 @@ TEST(ViewerSceneViews, ASavedSceneReloadsWithItsSliceLayout) {
 // of the picture black (the slices' air) and the bones hidden behind it. Now: under 3 % black,
 // the bone seen from the front fills a sensible part of the view.
 TEST(ViewerSceneViews, ThreeDOfARealCTWithItsBoneModelIsReadable) {
-  const std::string dicom = std::string(ROBOPLAN_SHARED_DATA_DIR) + "/knee-ct-vhf/dicom";
-  if (!std::filesystem::exists(dicom)) GTEST_SKIP() << "missing " << dicom;
+  RP_REQUIRE_SHARED_DATA("knee-ct-vhf/dicom");
+  const std::string dicom = rptest::SharedDataPath("knee-ct-vhf/dicom");
   vtkNew<vtkRPScene> scene;
   std::string error;
   ASSERT_TRUE(LoadSceneOrDataFile(scene, dicom, error)) << error;

@@ -23,13 +23,12 @@
 #include "rpDicomSeries.h"
 #include "rpDicomWriter.h"
 #include "rpKneePhantom.h"
+#include "rpSharedData.h"
 #include "rpVolumeIO.h"
 
 namespace fs = std::filesystem;
 
 namespace {
-
-const std::string kData = ROBOPLAN_SHARED_DATA_DIR;
 
 fs::path Scratch(const std::string& name) {
   const fs::path dir = fs::path(ROBOPLAN_TEST_OUTPUT_DIR) / name;
@@ -73,7 +72,8 @@ rp::ImageVolume SmallCT() {
   return phantom.CT;
 }
 
-// Re-encodes a file in place with GDCM's own encoder (JPEG-LS, JPEG 2000).
+// Re-encodes a file in place with GDCM's own encoder (JPEG 2000 here: GDCM's JPEG-LS encoder
+// calls CharLS through names DCMTK's CharLS fork also exports, see rpDicomJpegLsDecoder.h).
 bool EncodeWithGdcm(const fs::path& file, gdcm::TransferSyntax::TSType syntax) {
   gdcm::ImageReader reader;
   reader.SetFileName(file.c_str());
@@ -105,9 +105,10 @@ void Patch(const fs::path& file, const DcmTagKey& tag, const std::string& value)
 // 03.dcm (256,256)=890 (200,250)=1112 (300,200)=1003 (0,0)=-2000; 02.dcm (200,250)=1124;
 // 01.dcm (256,256)=879 (300,200)=1061.
 TEST(DicomSeries, GeCtThreeSlices) {
+  RP_REQUIRE_SHARED_DATA("dicom/ct-3slice");
   rp::DicomScanResult scan;
   std::string error;
-  ASSERT_TRUE(rp::ScanDicom(kData + "/dicom/ct-3slice", scan, error)) << error;
+  ASSERT_TRUE(rp::ScanDicom(rptest::SharedDataPath("dicom/ct-3slice"), scan, error)) << error;
   ASSERT_EQ(scan.Series.size(), 1u);
   EXPECT_EQ(scan.NonDicomFiles, 1);  // LICENSE.txt, skipped and counted
   const rp::DicomSeriesInfo& s = scan.Series[0];
@@ -164,17 +165,19 @@ TEST(DicomSeries, GeCtThreeSlices) {
 // "L\R" is inconsistent with its own IOP too). The reader follows the standard, so this test
 // pins both: voxels identical up to the transpose, y/z identical, x mirrored.
 TEST(DicomSeries, PacmanMatchesItsNiftiTwin) {
+  RP_REQUIRE_SHARED_DATA("dicom/pacsman-mr");
+  RP_REQUIRE_SHARED_DATA("pacsman.nii.gz");
   rp::ImageVolume dicom;
   std::string error;
   std::vector<std::string> warnings;
-  ASSERT_TRUE(rp::ReadDicomVolume(kData + "/dicom/pacsman-mr", dicom, error, "", {}, &warnings)) << error;
+  ASSERT_TRUE(rp::ReadDicomVolume(rptest::SharedDataPath("dicom/pacsman-mr"), dicom, error, "", {}, &warnings)) << error;
   EXPECT_EQ(dicom.Modality, "MR");
   rp::ImageVolume nifti;
   nifti.Image = vtkSmartPointer<vtkImageData>::New();
   rp::VolumeFileData data;
   data.Image = nifti.Image;
   data.IJKToRAS = nifti.IJKToRAS;
-  ASSERT_TRUE(rp::ReadVolumeFile(kData + "/pacsman.nii.gz", data, error)) << error;
+  ASSERT_TRUE(rp::ReadVolumeFile(rptest::SharedDataPath("pacsman.nii.gz"), data, error)) << error;
   int dd[3], nd[3];
   dicom.Image->GetDimensions(dd);
   nifti.Image->GetDimensions(nd);
@@ -254,9 +257,9 @@ TEST(DicomSeries, CompressedAndHeaderlessFilesDecode) {
   ASSERT_TRUE(rp::WriteDicomSeries(ct, dir.string(), {}, error)) << error;
   DJEncoderRegistration::registerCodecs();
   DcmRLEEncoderRegistration::registerCodecs();
-  // Re-encode: slices 1-2 JPEG lossless (process 14 SV1), 3-4 JPEG-LS lossless (GDCM's
-  // encoder), 5-6 RLE, 7 as a bare dataset without the Part-10 header: one series, three
-  // decoders.
+  // Re-encode: slices 1-2 JPEG lossless (process 14 SV1), 3-4 JPEG 2000 lossless (GDCM's
+  // encoder), 5-6 RLE, 7 as a bare dataset without the Part-10 header: one series, DCMTK and
+  // GDCM decoding side by side. (JPEG-LS: rpDicomTransferSyntaxTest, with the packaged tools.)
   int index = 0;
   std::vector<fs::path> files;
   for (const auto& e : fs::directory_iterator(dir)) files.push_back(e.path());
@@ -269,7 +272,7 @@ TEST(DicomSeries, CompressedAndHeaderlessFilesDecode) {
     if (index == 1 || index == 2) xfer = EXS_JPEGProcess14SV1;
     if (index == 5 || index == 6) xfer = EXS_RLELossless;
     if (index == 3 || index == 4) {
-      ASSERT_TRUE(EncodeWithGdcm(file, gdcm::TransferSyntax::JPEGLSLossless));
+      ASSERT_TRUE(EncodeWithGdcm(file, gdcm::TransferSyntax::JPEG2000Lossless));
     } else if (xfer != EXS_LittleEndianExplicit) {
       DJ_RPLossless params;
       ASSERT_TRUE(ds->chooseRepresentation(xfer, &params).good()) << index;

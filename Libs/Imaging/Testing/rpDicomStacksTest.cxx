@@ -17,6 +17,7 @@
 
 #include "rpDicomSeries.h"
 #include "rpDicomTestTools.h"
+#include "rpSharedData.h"
 
 namespace fs = std::filesystem;
 using rp::testing::DicomFiles;
@@ -28,8 +29,7 @@ namespace {
 
 const fs::path kData = ROBOPLAN_SHARED_DATA_DIR;
 
-#define REQUIRE_DATA(path) \
-  if (!fs::exists(path)) GTEST_SKIP() << "no shared data at " << (path)
+#define REQUIRE_DATA(path) RP_REQUIRE_SHARED_DATA((path).string())
 #define REQUIRE_TOOL(variable, name, package) \
   const std::string variable = FindTool(name); \
   if (variable.empty()) GTEST_SKIP() << name << " not found on PATH (Debian package " << package << ")"

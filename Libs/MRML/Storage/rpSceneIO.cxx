@@ -3,8 +3,8 @@
 #include <cctype>
 #include <filesystem>
 #include <set>
+#include <vector>
 
-#include <nlohmann/json.hpp>
 #include <vtkSmartPointer.h>
 
 #include "rpAtomicFile.h"
@@ -13,7 +13,6 @@
 #include "vtkRPScene.h"
 
 namespace fs = std::filesystem;
-using nlohmann::json;
 
 namespace rp {
 namespace {
@@ -23,6 +22,33 @@ std::string SafeFileName(const std::string& name) {
   std::string out;
   for (char c : name) out += (std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_') ? c : '_';
   return out.empty() ? std::string("node") : out;
+}
+
+// The data files a scene file names (empty when there is none or it cannot be read).
+std::set<std::string> DataFilesOf(const std::string& sceneFile) {
+  std::set<std::string> files;
+  std::string text, error;
+  SceneFileDocument document;
+  std::error_code ec;
+  if (!fs::exists(sceneFile, ec) || !ReadFile(sceneFile, text, error) || !ParseSceneFile(text, sceneFile, document, error))
+    return files;
+  for (const SceneFileNode& node : document.Nodes)
+    if (!node.DataFile.empty()) files.insert(node.DataFile);
+  return files;
+}
+
+// A data file name this program may remove: a plain name in the scene's folder.
+bool IsPlainFileName(const std::string& name) {
+  return !name.empty() && name.find('/') == std::string::npos && name != "." && name != "..";
+}
+
+// When the disk is (nearly) full, says so first: the writers' own messages rarely do.
+std::string DiskFullNote(const fs::path& folder) {
+  std::error_code ec;
+  const fs::space_info space = fs::space(folder, ec);
+  if (ec || space.available >= (1u << 20)) return "";
+  return "no space left on the disk holding '" + folder.string() + "' (" + std::to_string(space.available) +
+         " bytes free); ";
 }
 
 }  // namespace
@@ -36,46 +62,50 @@ bool SaveScene(vtkRPScene* scene, const std::string& sceneFile, std::string& err
     error = "cannot create folder '" + folder.string() + "': " + ec.message();
     return false;
   }
-  json document;
-  document["format"] = "RoboPlan scene";
-  document["version"] = SceneFileFormatVersion;
-  document["coordinateSystem"] = "RAS";
-  document["units"] = "mm";
-  json nodes = json::array();
-  std::set<std::string> usedFileNames;
+  RemoveStaleTemporaryFiles(folder.string());  // left by a save that was killed
+  // What the scene file being replaced uses is never written over before the commit.
+  const std::set<std::string> previous = DataFilesOf(sceneFile);
+  std::set<std::string> used;
+  std::vector<fs::path> written;
+  auto fail = [&](const std::string& what, const std::string& why) {
+    error = what + DiskFullNote(folder) + why;
+    for (const fs::path& file : written) fs::remove(file, ec);  // not referenced by anything
+    return false;
+  };
+  SceneFileDocument document;
   for (vtkRPNode* node : scene->GetNodes()) {
-    json entry;
-    entry["class"] = node->GetClassName();
-    entry["id"] = node->GetID();
-    entry["name"] = node->GetName();
-    vtkRPNode::PropertyMap properties;
-    node->WriteProperties(properties);
-    entry["properties"] = properties;
-    entry["attributes"] = node->GetAttributes();
-    json references = json::object();
+    SceneFileNode entry;
+    entry.Class = node->GetClassName();
+    entry.ID = node->GetID();
+    entry.Name = node->GetName();
+    node->WriteProperties(entry.Properties);
+    entry.Attributes = node->GetAttributes();
     for (const auto& role : node->GetReferenceRoles()) {
-      json ids = json::array();
+      std::vector<std::string> ids;
       for (int n = 0; n < node->GetNumberOfNodeReferences(role); ++n) ids.push_back(node->GetNodeReferenceID(role, n));
-      references[role] = ids;
+      entry.References.emplace_back(role, std::move(ids));
     }
-    entry["references"] = references;
     if (const NodeStorage* storage = FindNodeStorage(node)) {
-      std::string fileName = SafeFileName(node->GetName()) + storage->DefaultExtension();
-      for (int n = 2; usedFileNames.count(fileName); ++n) {
-        fileName = SafeFileName(node->GetName()) + "_" + std::to_string(n) + storage->DefaultExtension();
-      }
-      usedFileNames.insert(fileName);
+      const std::string base = SafeFileName(node->GetName()), extension = storage->DefaultExtension();
+      std::string fileName = base + extension;
+      for (int n = 2; used.count(fileName) || previous.count(fileName); ++n)
+        fileName = base + "_" + std::to_string(n) + extension;
+      used.insert(fileName);
       std::string writeError;
-      if (!storage->Write(node, (folder / fileName).string(), writeError)) {
-        error = "saving node '" + node->GetName() + "' failed: " + writeError;
-        return false;
-      }
-      entry["dataFile"] = fileName;
+      if (!storage->Write(node, (folder / fileName).string(), writeError))
+        return fail("saving node '" + node->GetName() + "' failed: ", writeError);
+      written.push_back(folder / fileName);
+      entry.DataFile = fileName;
     }
-    nodes.push_back(entry);
+    document.Nodes.push_back(std::move(entry));
   }
-  document["nodes"] = nodes;
-  return WriteFileAtomically(sceneFile, document.dump(2) + "\n", error);
+  std::string writeError;
+  if (!WriteFileAtomically(sceneFile, FormatSceneFile(document), writeError)) return fail("", writeError);
+  // Committed: the previous version's data files that this one does not name are not used by it.
+  for (const std::string& file : previous) {
+    if (!used.count(file) && IsPlainFileName(file)) fs::remove(folder / file, ec);
+  }
+  return true;
 }
 
 SceneLoadReport LoadScene(vtkRPScene* scene, const std::string& sceneFile) {
@@ -85,58 +115,45 @@ SceneLoadReport LoadScene(vtkRPScene* scene, const std::string& sceneFile) {
     report.Ok = false;
     return report;
   }
-  const json document = json::parse(text, nullptr, false);
-  if (document.is_discarded() || !document.is_object()) {
+  SceneFileDocument document;
+  if (!ParseSceneFile(text, sceneFile, document, report.Error)) {
     report.Ok = false;
-    report.Error = "'" + sceneFile + "' is not a valid JSON scene file";
-    return report;
-  }
-  if (document.value("format", "") != "RoboPlan scene") {
-    report.Ok = false;
-    report.Error = "'" + sceneFile + "' is not a RoboPlan scene (missing \"format\": \"RoboPlan scene\")";
-    return report;
-  }
-  const int version = document.value("version", 0);
-  if (version < 1 || version > SceneFileFormatVersion) {
-    report.Ok = false;
-    report.Error = "'" + sceneFile + "' has scene format version " + std::to_string(version) +
-                   "; this program reads versions 1 to " + std::to_string(SceneFileFormatVersion);
     return report;
   }
   const fs::path folder = fs::path(sceneFile).has_parent_path() ? fs::path(sceneFile).parent_path() : fs::path(".");
   std::vector<vtkSmartPointer<vtkRPNode>> loaded;
   std::set<std::string> skippedIDs;
-  const json nodeEntries = document.value("nodes", json::array());
-  for (const json& entry : nodeEntries) {
-    const std::string className = entry.value("class", "");
-    const std::string name = entry.value("name", "");
-    vtkSmartPointer<vtkRPNode> node = scene->CreateNodeByClass(className);
-    if (!node) {
-      report.Problems.push_back("node '" + name + "': unknown node class '" + className + "' (is its module loaded?)");
-      skippedIDs.insert(entry.value("id", ""));
+  for (const SceneFileNode& entry : document.Nodes) {
+    if (!entry.Problem.empty()) {
+      report.Problems.push_back("node '" + entry.Name + "': " + entry.Problem);
+      skippedIDs.insert(entry.ID);
       continue;
     }
-    node->SetIDInternal(entry.value("id", ""));
-    node->SetName(name);
+    vtkSmartPointer<vtkRPNode> node = scene->CreateNodeByClass(entry.Class);
+    if (!node) {
+      report.Problems.push_back("node '" + entry.Name + "': unknown node class '" + entry.Class +
+                                "' (is its module loaded?)");
+      skippedIDs.insert(entry.ID);
+      continue;
+    }
+    node->SetIDInternal(entry.ID);
+    node->SetName(entry.Name);
     try {
-      node->ReadProperties(entry.value("properties", vtkRPNode::PropertyMap{}));
-      const auto attributes = entry.value("attributes", std::map<std::string, std::string>{});
-      for (const auto& [key, value] : attributes) node->SetAttribute(key, value);
-      const json references = entry.value("references", json::object());
-      for (const auto& [role, ids] : references.items()) {
-        for (const auto& id : ids) node->AddNodeReferenceID(role, id.get<std::string>());
-      }
+      node->ReadProperties(entry.Properties);
     } catch (const std::exception& e) {
-      report.Problems.push_back("node '" + name + "': malformed entry (" + e.what() + ")");
+      report.Problems.push_back("node '" + entry.Name + "': malformed entry (" + e.what() + ")");
       skippedIDs.insert(node->GetID());
       continue;
     }
-    if (entry.contains("dataFile")) {
-      const std::string fileName = entry["dataFile"].get<std::string>();
-      const std::string path = (folder / fileName).string();
+    for (const auto& [key, value] : entry.Attributes) node->SetAttribute(key, value);
+    for (const auto& [role, ids] : entry.References)
+      for (const auto& id : ids) node->AddNodeReferenceID(role, id);
+    if (!entry.DataFile.empty()) {
+      const std::string path = (folder / entry.DataFile).string();
       const NodeStorage* storage = FindNodeStorageForFile(path);
       std::string readError;
-      if (!fs::exists(path)) {
+      std::error_code ec;
+      if (!fs::is_regular_file(path, ec)) {
         readError = "file is missing";
       } else if (!storage) {
         readError = "no reader for this file type";
@@ -144,7 +161,7 @@ SceneLoadReport LoadScene(vtkRPScene* scene, const std::string& sceneFile) {
         if (readError.empty()) readError = "could not be read";
       }
       if (!readError.empty()) {
-        report.Problems.push_back(fileName + " (" + name + "): " + readError);
+        report.Problems.push_back(entry.DataFile + " (" + entry.Name + "): " + readError);
         skippedIDs.insert(node->GetID());
         continue;
       }

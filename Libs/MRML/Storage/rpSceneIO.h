@@ -1,20 +1,23 @@
 #pragma once
-// Scene files: a readable, versioned JSON document (*.rpscene) that lists the nodes with their
-// fields, attributes and references, and names one data file per node in a standard format
-// (NRRD, .seg.nrrd, VTP, .mrk.json, ITK .tfm) in the same folder.
+// Scene files: a readable, versioned JSON document (*.rpscene, rpSceneFile.h) that lists the
+// nodes with their fields, attributes and references, and names one data file per node in a
+// standard format (NRRD, .seg.nrrd, VTP, .mrk.json, ITK .tfm) in the same folder.
 //
-// Saving is atomic file by file (temporary + rename), scene file last, so a failed save never
-// destroys the last good one. Loading a scene whose data file is missing or corrupt loads
-// everything else and reports each problem by file and node name.
+// Saving never touches what the previous version of the scene file uses: data files go to names
+// the previous scene does not reference (CT.nrrd, then CT_2.nrrd, then CT.nrrd again...), the
+// scene file is replaced last by an atomic rename (the commit), and only then are the previous
+// version's data files that the new one no longer names removed. A save killed at any point, or
+// one that fails (a full disk), leaves the previous scene loading intact. Loading a scene whose
+// data file is missing or corrupt loads everything else and reports each problem by file and
+// node name.
 #include <string>
 #include <vector>
+
+#include "rpSceneFile.h"
 
 class vtkRPScene;
 
 namespace rp {
-
-constexpr int SceneFileFormatVersion = 1;
-constexpr const char* SceneFileExtension = ".rpscene";
 
 struct SceneLoadReport {
   bool Ok = true;            // false: the scene file itself could not be read (nothing loaded)

@@ -35,12 +35,28 @@
 #include "rpNdiTracker.h"
 #include "rpPolarisSimulator.h"
 #include "rpToolDefinition.h"
+#include "rpTrackingTestHelpers.h"
 
 using namespace rp;
 
 namespace {
 
 constexpr int kTools = 10;
+
+// Socket::Receive of the library in use: 3.x takes a timeout flag, Debian's 1.11 does not.
+template <class S, class N>
+auto ReceiveImpl(S& socket, void* data, N size, int) -> decltype(socket->Receive(data, size)) {
+  return socket->Receive(data, size);
+}
+template <class S, class N>
+auto ReceiveImpl(S& socket, void* data, N size, long) -> decltype(socket->Receive(data, size, std::declval<bool&>())) {
+  bool timeout = false;
+  return socket->Receive(data, size, timeout);
+}
+template <class S, class N>
+auto ReceiveAll(S& socket, void* data, N size) {
+  return ReceiveImpl(socket, data, size, 0);
+}
 
 std::vector<uint8_t> BxReply(int tools) {
   std::vector<uint8_t> body = {static_cast<uint8_t>(tools)};
@@ -163,17 +179,6 @@ BENCHMARK(BM_IgtlTransformLibrary);
 
 // ---------------------------------------------------------------- loopback ingestion
 
-int FreePort() {
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
-  socklen_t len = sizeof a;
-  getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
-  ::close(fd);
-  return ntohs(a.sin_port);
-}
 
 // The sender: a peer built with the OpenIGTLink library. Flood (pre-packed batches of one
 // message per tool) then paced at `rate` messages/s with fresh timestamps.
@@ -182,7 +187,7 @@ struct Sender {
   std::atomic<uint64_t> Sent{0};
   double Rate = 20000;
   double FloodSeconds = 2, PacedSeconds = 2;
-  int Port = FreePort();
+  int Port = test::FreePort();
   std::thread Thread;
   ::igtl::ServerSocket::Pointer Server = ::igtl::ServerSocket::New();
 
@@ -306,11 +311,11 @@ IngestionResult RunLibraryLoop() {
     auto msg = ::igtl::TransformMessage::New();
     for (;;) {
       header->InitPack();
-      if (socket->Receive(header->GetPackPointer(), header->GetPackSize()) != header->GetPackSize()) return;
+      if (ReceiveAll(socket, header->GetPackPointer(), header->GetPackSize()) != header->GetPackSize()) return;
       header->Unpack();
       msg->SetMessageHeader(header);
       msg->AllocatePack();
-      if (socket->Receive(msg->GetPackBodyPointer(), msg->GetPackBodySize()) != msg->GetPackBodySize()) return;
+      if (ReceiveAll(socket, msg->GetPackBodyPointer(), msg->GetPackBodySize()) != msg->GetPackBodySize()) return;
       if (!(msg->Unpack(1) & ::igtl::MessageHeader::UNPACK_BODY)) {
         ++crcErrors;
         continue;

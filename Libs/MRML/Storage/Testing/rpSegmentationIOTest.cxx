@@ -14,6 +14,7 @@
 
 #include "rpNodeStorage.h"
 #include "rpSegmentationIO.h"
+#include "rpTestOutput.h"
 #include "rpVolumeIO.h"
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPSegmentationNode.h"
@@ -21,14 +22,9 @@
 
 namespace fs = std::filesystem;
 
-namespace {
+using rptest::TestDir;
 
-fs::path TestDir(const std::string& name) {
-  const fs::path dir = fs::path(ROBOPLAN_TEST_OUTPUT_DIR) / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+namespace {
 
 // Header lines as Slicer 5 writes them (vtkMRMLSegmentationStorageNode + teem), raw encoding.
 const char* const SlicerHeader3D =

@@ -19,6 +19,7 @@
 #include <vtkMatrix4x4.h>
 #include <vtkNew.h>
 
+#include "rpTransformNames.h"
 #include "vtkRPLinearTransformNode.h"
 #include "vtkRPSliceNode.h"
 #include "vtkRPTrackedToolNode.h"
@@ -479,10 +480,7 @@ bool qRPLandmarkRegistrationPanel::ApplyToTools() {
   std::vector<vtkRPTransformableNode*> roots;
   if (vtkRPLinearTransformNode* tool = this->ToolTransform()) roots.push_back(RootOf(tool));
   for (vtkRPNode* node : this->Scene->GetNodesByClass("vtkRPLinearTransformNode")) {
-    const std::string& name = node->GetName();
-    const std::string suffix = "ToTracker";
-    if (name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0)
-      roots.push_back(RootOf(vtkRPTransformableNode::SafeDownCast(node)));
+    if (rp::IsToolToTrackerName(node->GetName())) roots.push_back(RootOf(vtkRPTransformableNode::SafeDownCast(node)));
   }
   // The physical points too, so they are shown in image space over their image fiducials.
   if (vtkRPFiducialListNode* from = this->FromList()) roots.push_back(RootOf(from));

@@ -12,6 +12,7 @@
 #include <vtkSphereSource.h>
 
 #include "rpVolumeIO.h"
+#include "rpSharedData.h"
 #include "rpVolumeReslice.h"
 #include "vtkRPLinearTransformNode.h"
 #include "vtkRPModelNode.h"
@@ -116,8 +117,8 @@ bool LabelCentroid(vtkImageData* slice, int label, double centroid[2]) {
 // coronal views (patient's right on screen LEFT) the fibula lies left of the tibia; the labels
 // were drawn on the real CT by others (../shared/data/knee-ct-vhf).
 TEST(Reslice, RightKneeFibulaIsOnTheScreensLeftInAxialAndCoronal) {
-  const std::string path = std::string(ROBOPLAN_SHARED_DATA_DIR) + "/knee-ct-vhf/labels.nrrd";
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << "missing " << path;
+  RP_REQUIRE_SHARED_DATA("knee-ct-vhf/labels.nrrd");
+  const std::string path = rptest::SharedDataPath("knee-ct-vhf/labels.nrrd");
   vtkNew<vtkRPScalarVolumeNode> labels;  // the labelmap as plain voxels
   std::string error;
   ASSERT_TRUE(rp::ReadVolumeFile(path, labels, error)) << error;

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include <sys/wait.h>
@@ -19,20 +20,17 @@
 #include "rpLabelmapToMesh.h"
 #include "rpModelIO.h"
 #include "rpSegmentationIO.h"
+#include "rpSharedData.h"
+#include "rpTestOutput.h"
 #include "rpVolumeIO.h"
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPSegmentationNode.h"
 
 namespace fs = std::filesystem;
 
-namespace {
+using rptest::TestDir;
 
-fs::path TestDir(const std::string& name) {
-  const fs::path dir = fs::path(ROBOPLAN_TEST_OUTPUT_DIR) / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+namespace {
 
 struct CommandRun {
   int Code = -1;
@@ -167,8 +165,8 @@ TEST(MeshCommand, BadArgumentsAndLeaksGiveClearErrors) {
 TEST(MeshCommand, RealNiftiFileFromAnotherWriter) {
   // The Pac-Man volume of shared/data (128³, 1 mm, doubles 0/1/2): label 2 has 677196 voxels
   // (counted independently from the file's histogram) and is one closed object.
-  const fs::path nifti = fs::path(ROBOPLAN_SHARED_DATA_DIR) / "pacsman.nii.gz";
-  if (!fs::exists(nifti)) GTEST_SKIP() << "no " << nifti;
+  RP_REQUIRE_SHARED_DATA("pacsman.nii.gz");
+  const fs::path nifti = rptest::SharedDataPath("pacsman.nii.gz");
   const fs::path dir = TestDir("nifti");
   const CommandRun run = Roboplan("mesh " + nifti.string() + " --out " + (dir / "out").string() +
                                       " --lower 1.5 --upper 2.5 --max-fraction 0.5 --no-haptic --json",
@@ -181,4 +179,40 @@ TEST(MeshCommand, RealNiftiFileFromAnotherWriter) {
   EXPECT_NEAR(display["labelVolumeMm3"].get<double>(), 677196.0, 1.0);
   EXPECT_TRUE(display["watertight"].get<bool>());
   EXPECT_LT(std::abs(display["volumeErrorPercent"].get<double>()), 0.1);
+}
+
+TEST(MeshCommand, SplitBonesOfTheRealKneeCTWithTruth) {
+  RP_REQUIRE_SHARED_DATA("knee-ct-vhf");
+  const fs::path knee = rptest::SharedDataPath("knee-ct-vhf");
+  const fs::path dir = TestDir("split-bones");
+  const CommandRun run = Roboplan("mesh " + (knee / "dicom").string() + " --out " + (dir / "out").string() +
+                                      " --split-bones --truth " + (knee / "labels.nrrd").string() +
+                                      " --bone-seed -160,-308,420:fibula --no-haptic --json",
+                                  dir);
+  ASSERT_EQ(run.Code, 0) << run.Err;
+  const auto doc = nlohmann::json::parse(run.Out, nullptr, false);
+  ASSERT_TRUE(doc.is_object()) << run.Out;
+  std::map<std::string, nlohmann::json> bones;
+  for (const auto& b : doc["boneSplit"]["bones"]) bones[b["id"].get<std::string>()] = b;
+  ASSERT_TRUE(bones.count("tibia") && bones.count("fibula")) << doc["boneSplit"].dump();
+  EXPECT_EQ(bones["fibula"]["namedBy"], "seed");
+  EXPECT_EQ(bones["tibia"]["namedBy"], "knee anatomy");
+  for (const auto& score : doc["truth"]) {
+    if (score["segment"] == "tibia") {
+      EXPECT_EQ(score["truthLabel"], 1);
+      EXPECT_GT(score["dice"].get<double>(), 0.93);
+    }
+    if (score["segment"] == "fibula") {
+      EXPECT_EQ(score["truthLabel"], 2);
+    }
+  }
+  for (const auto& s : doc["segments"]) EXPECT_TRUE(s["display"]["watertight"].get<bool>()) << s["id"];
+  EXPECT_TRUE(fs::exists(dir / "out" / "tibia.vtp"));
+  EXPECT_TRUE(fs::exists(dir / "out" / "segmentation.seg.nrrd"));
+  // A seed off bone: exit 1 naming it.
+  const CommandRun off = Roboplan("mesh " + (knee / "dicom").string() + " --out " + (dir / "off").string() +
+                                      " --split-bones --bone-seed 0,0,0:nothing",
+                                  dir);
+  EXPECT_EQ(off.Code, 1);
+  EXPECT_NE(off.Err.find("'nothing' is not on bone"), std::string::npos) << off.Err;
 }

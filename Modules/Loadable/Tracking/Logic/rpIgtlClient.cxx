@@ -15,24 +15,10 @@
 #include <cmath>
 #include <cstring>
 
-#include <igtlStatusMessage.h>
-#include <igtlQuaternionTrackingDataMessage.h>
-#include <igtlTrackingDataMessage.h>
-
 namespace rp {
 
 namespace {
-// Packs a library message and re-frames it as v3 when asked (Debian's build speaks v1/v2 only).
-std::vector<uint8_t> Frame(::igtl::MessageBase* message, uint16_t version) {
-  message->Pack();
-  const uint8_t* packed = static_cast<const uint8_t*>(message->GetPackPointer());
-  if (version < 2) return std::vector<uint8_t>(packed, packed + message->GetPackSize());
-  igtl::Header h;
-  igtl::ParseHeader(packed, h, UINT64_MAX);
-  return igtl::BuildMessage(2, h.Type, h.DeviceName, WallSeconds(),
-                            static_cast<const uint8_t*>(message->GetPackBodyPointer()),
-                            static_cast<size_t>(message->GetPackBodySize()));
-}
+constexpr const char* kOurDeviceName = "RoboPlan";
 
 ToolState StateFromMetadata(const igtl::Body& body) {
   uint32_t n = 0;
@@ -84,12 +70,18 @@ IgtlClient::Statistics IgtlClient::GetStatistics() const {
   s.Skipped = this->Skipped;
   s.StatusMessages = this->StatusMessages;
   s.RtsMessages = this->RtsMessages;
+  s.StringMessages = this->StringMessages;
   s.KeepAlivesSent = this->KeepAlives;
   s.Connections = this->Connections;
   s.ConnectAttempts = this->Attempts;
   s.LastRtsStatus = this->LastRts;
   s.LastStatusCode = this->LastStatus;
   return s;
+}
+
+std::string IgtlClient::LastString() const {
+  std::lock_guard<std::mutex> lock(this->TextMutex);
+  return this->LastStringText;
 }
 
 std::string IgtlClient::LastError() const {
@@ -197,10 +189,10 @@ int IgtlClient::ConnectOnce() {
   return fd;
 }
 
-bool IgtlClient::SendAll(int fd, const std::vector<uint8_t>& message) {
+bool IgtlClient::SendAll(int fd, const uint8_t* data, size_t size) {
   size_t done = 0;
-  while (done < message.size()) {
-    const ssize_t n = ::send(fd, message.data() + done, message.size() - done, MSG_NOSIGNAL);
+  while (done < size) {
+    const ssize_t n = ::send(fd, data + done, size - done, MSG_NOSIGNAL);
     if (n > 0) {
       done += static_cast<size_t>(n);
       continue;
@@ -216,19 +208,13 @@ bool IgtlClient::SendAll(int fd, const std::vector<uint8_t>& message) {
 
 void IgtlClient::Session(int fd) {
   const uint16_t version = this->Opts.HeaderVersion;
-  if (this->Opts.RequestTrackingData) {
-    auto start = ::igtl::StartTrackingDataMessage::New();
-    start->SetDeviceName("RoboPlan");
-    start->SetResolution(this->Opts.TrackingIntervalMs);
-    start->SetCoordinateName("Tracker");
-    SendAll(fd, Frame(start, version));
-  }
-  if (this->Opts.RequestQuaternionData) {
-    auto start = ::igtl::StartQuaternionTrackingDataMessage::New();
-    start->SetDeviceName("RoboPlan");
-    start->SetResolution(this->Opts.TrackingIntervalMs);
-    start->SetCoordinateName("Tracker");
-    SendAll(fd, Frame(start, version));
+  for (const char* type : {this->Opts.RequestTrackingData ? "STT_TDATA" : nullptr,
+                           this->Opts.RequestQuaternionData ? "STT_QTDATA" : nullptr}) {
+    if (!type) continue;
+    uint8_t* content = this->Writer.Begin(version, type, kOurDeviceName, WallSeconds(), igtl::StartTrackingSize);
+    igtl::EncodeStartTracking(this->Opts.TrackingIntervalMs, "Tracker", content);
+    this->Writer.Finish();
+    this->SendAll(fd, this->Writer.Data(), this->Writer.Size());
   }
   uint8_t* buffer = this->Buffer.data();
   const size_t capacity = this->Buffer.size();
@@ -325,9 +311,9 @@ void IgtlClient::Session(int fd) {
       return;
     }
     if (now - lastReceive > this->Opts.KeepAliveSeconds && now - lastKeepAlive > this->Opts.KeepAliveSeconds) {
-      auto get = ::igtl::GetStatusMessage::New();
-      get->SetDeviceName("RoboPlan");
-      if (!SendAll(fd, Frame(get, version))) {
+      this->Writer.Begin(version, "GET_STATUS", kOurDeviceName, WallSeconds(), 0);
+      this->Writer.Finish();
+      if (!this->SendAll(fd, this->Writer.Data(), this->Writer.Size())) {
         this->Fail("send failed: connection lost");
         return;
       }
@@ -335,10 +321,12 @@ void IgtlClient::Session(int fd) {
       lastKeepAlive = now;
     }
   }
-  if (this->Opts.RequestTrackingData) {
-    auto stop = ::igtl::StopTrackingDataMessage::New();
-    stop->SetDeviceName("RoboPlan");
-    SendAll(fd, Frame(stop, version));
+  for (const char* type : {this->Opts.RequestTrackingData ? "STP_TDATA" : nullptr,
+                           this->Opts.RequestQuaternionData ? "STP_QTDATA" : nullptr}) {
+    if (!type) continue;
+    this->Writer.Begin(version, type, kOurDeviceName, WallSeconds(), 0);
+    this->Writer.Finish();
+    this->SendAll(fd, this->Writer.Data(), this->Writer.Size());
   }
 }
 
@@ -450,13 +438,30 @@ void IgtlClient::Dispatch(int fd, const igtl::Header& header, const uint8_t* dat
       ++this->Malformed;
     }
   } else if (header.Is("RTS_TDATA") || header.Is("RTS_QTDATA")) {
+    int status = -1;
+    if (igtl::DecodeRts(body.Content, body.ContentSize, status) != igtl::Status::Ok) {
+      ++this->Malformed;
+      return;
+    }
     ++this->RtsMessages;
-    this->LastRts = body.ContentSize >= 1 ? static_cast<int8_t>(body.Content[0]) : -1;
+    this->LastRts = status;
+  } else if (header.Is("STRING")) {
+    uint16_t encoding = 0;
+    const char* text = nullptr;
+    size_t length = 0;
+    if (igtl::DecodeString(body.Content, body.ContentSize, encoding, text, length) != igtl::Status::Ok) {
+      ++this->Malformed;
+      this->Fail("malformed STRING " + where());
+      return;
+    }
+    ++this->StringMessages;
+    std::lock_guard<std::mutex> lock(this->TextMutex);  // rare (command replies), not the pose path
+    this->LastStringText.assign(text, length);
   } else if (header.Is("GET_STATUS")) {
-    auto status = ::igtl::StatusMessage::New();
-    status->SetDeviceName("RoboPlan");
-    status->SetCode(::igtl::StatusMessage::STATUS_OK);
-    SendAll(fd, Frame(status, this->Opts.HeaderVersion));
+    uint8_t* content = this->Writer.Begin(this->Opts.HeaderVersion, "STATUS", kOurDeviceName, WallSeconds(), igtl::StatusSize(""));
+    igtl::EncodeStatus(igtl::StatusOk, 0, "", "", content);
+    this->Writer.Finish();
+    this->SendAll(fd, this->Writer.Data(), this->Writer.Size());
   } else {
     ++this->Skipped;
   }

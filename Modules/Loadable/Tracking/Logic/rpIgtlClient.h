@@ -35,7 +35,7 @@ class IgtlClient {
 
   struct Statistics {
     uint64_t Messages = 0, Poses = 0, CrcErrors = 0, Malformed = 0, Oversized = 0, Skipped = 0;
-    uint64_t StatusMessages = 0, RtsMessages = 0, KeepAlivesSent = 0;
+    uint64_t StatusMessages = 0, RtsMessages = 0, StringMessages = 0, KeepAlivesSent = 0;
     uint64_t Connections = 0, ConnectAttempts = 0;
     int LastRtsStatus = -1;
     int LastStatusCode = -1;
@@ -48,6 +48,8 @@ class IgtlClient {
   bool Connected() const { return this->IsConnected.load(std::memory_order_acquire); }
   Statistics GetStatistics() const;
   std::string LastError() const;
+  /// Text of the last STRING message (PLUS command replies and the like).
+  std::string LastString() const;
   const ToolPoseTable& Poses() const { return this->Table; }
   /// Latency from the sender's header timestamp to the pose being in the buffer (wall clock;
   /// meaningful when both ends share a clock, e.g. loopback): histogram of 1 µs bins, 0-20 ms.
@@ -63,7 +65,7 @@ class IgtlClient {
   void Run();
   int ConnectOnce();
   void Session(int fd);
-  bool SendAll(int fd, const std::vector<uint8_t>& message);
+  bool SendAll(int fd, const uint8_t* data, size_t size);
   /// Handles one complete message; false when the stream must be dropped.
   void Dispatch(int fd, const igtl::Header& header, const uint8_t* body);
   void PublishPose(const char* name, size_t nameLength, const ToolPose& pose);
@@ -75,13 +77,14 @@ class IgtlClient {
   std::thread Thread;
   std::atomic<bool> StopRequested{false}, IsConnected{false}, MeasureLatency{false};
   std::atomic<uint64_t> Messages{0}, PosesCount{0}, CrcErrors{0}, Malformed{0}, Oversized{0}, Skipped{0},
-      StatusMessages{0}, RtsMessages{0}, KeepAlives{0}, Connections{0}, Attempts{0};
+      StatusMessages{0}, RtsMessages{0}, StringMessages{0}, KeepAlives{0}, Connections{0}, Attempts{0};
   std::atomic<int> LastRts{-1}, LastStatus{-1};
   std::unique_ptr<std::atomic<uint64_t>[]> Histogram, SocketHistogram;
   double LastKernelReceive = 0;  // I/O thread only: wall time the kernel got the last bytes
   mutable std::mutex TextMutex;  // error text only (error path)
-  std::string ErrorText;
+  std::string ErrorText, LastStringText;
   std::vector<uint8_t> Buffer;   // I/O thread only; sized once
+  igtl::MessageWriter Writer;    // I/O thread only
 };
 
 }  // namespace rp

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "rpLPSRAS.h"
+
 namespace rp {
 namespace igtl {
 
@@ -47,6 +49,11 @@ void PutF32(uint8_t* p, double v) {
   uint32_t bits;
   std::memcpy(&bits, &f, 4);
   Put32(p, bits);
+}
+// A NUL-padded fixed-size name field (truncated when longer).
+void PutName(uint8_t* out, const char* name, size_t size) {
+  std::memset(out, 0, size);
+  std::memcpy(out, name, strnlen(name, size));
 }
 void CopyName(char* out, const uint8_t* in, size_t size) {
   std::memcpy(out, in, size);
@@ -167,7 +174,7 @@ Status SplitBody(const Header& h, const uint8_t* body, Body& out) noexcept {
 }
 
 Status DecodeTransform(const uint8_t* c, size_t size, double m[16]) noexcept {
-  if (size != 48) return Status::BadBody;
+  if (size != TransformSize) return Status::BadBody;
   // Column-major rotation (R11 R21 R31 R12 ...) then translation.
   for (int col = 0; col < 3; ++col)
     for (int row = 0; row < 3; ++row) m[4 * row + col] = F32(c + 4 * (3 * col + row));
@@ -218,64 +225,237 @@ void DecodeQtDataElement(const uint8_t* e, TrackingElement& out) noexcept {
 }
 
 Status DecodeStatus(const uint8_t* c, size_t size, int& code, char errorName[21]) noexcept {
-  if (size < 30) return Status::BadBody;
+  if (size < StatusHeaderSize) return Status::BadBody;
   code = U16(c);
   CopyName(errorName, c + 10, 20);
   return Status::Ok;
 }
 
+Status DecodeString(const uint8_t* c, size_t size, uint16_t& encoding, const char*& text, size_t& length) noexcept {
+  if (size < StringHeaderSize) return Status::BadBody;
+  encoding = U16(c);
+  length = U16(c + 2);
+  if (StringHeaderSize + length > size) return Status::BadBody;
+  text = reinterpret_cast<const char*>(c + StringHeaderSize);
+  return Status::Ok;
+}
+
+Status DecodeStartTracking(const uint8_t* c, size_t size, int32_t& resolutionMs, char coordinateName[33]) noexcept {
+  resolutionMs = 0;
+  coordinateName[0] = '\0';
+  if (size < 4) return Status::BadBody;
+  resolutionMs = static_cast<int32_t>(U32(c));
+  if (size >= StartTrackingSize) CopyName(coordinateName, c + 4, 32);
+  return Status::Ok;
+}
+
+Status DecodeRts(const uint8_t* c, size_t size, int& status) noexcept {
+  status = -1;
+  if (size < RtsSize) return Status::BadBody;
+  status = static_cast<int8_t>(c[0]);
+  return Status::Ok;
+}
+
+size_t ImageHeader::ScalarBytes(uint8_t type) noexcept {
+  switch (type) {
+    case Int8: case UInt8: return 1;
+    case Int16: case UInt16: return 2;
+    case Int32: case UInt32: case Float32: return 4;
+    case Float64: return 8;
+  }
+  return 0;
+}
+
+uint64_t ImageHeader::DataBytes() const noexcept {
+  return static_cast<uint64_t>(this->SubSize[0]) * this->SubSize[1] * this->SubSize[2] * this->Components *
+         ScalarBytes(this->ScalarType);
+}
+
+bool ImageHeader::IsWholeImage() const noexcept {
+  for (int k = 0; k < 3; ++k)
+    if (this->SubOffset[k] != 0 || this->SubSize[k] != this->Size[k]) return false;
+  return true;
+}
+
+void ImageHeader::IjkToRas(double m[16]) const noexcept {
+  for (int r = 0; r < 3; ++r) {
+    double centre = this->Matrix[9 + r];
+    for (int axis = 0; axis < 3; ++axis) {
+      const double column = this->Matrix[3 * axis + r];  // direction * spacing of index axis
+      m[4 * r + axis] = column;
+      centre -= column * 0.5 * (static_cast<double>(this->Size[axis]) - 1.0);
+    }
+    m[4 * r + 3] = centre;
+  }
+  if (this->Coordinate == LPS) FlipLPSRASIndexToSpace(m);
+  m[12] = m[13] = m[14] = 0;
+  m[15] = 1;
+}
+
+Status DecodeImage(const uint8_t* c, size_t size, ImageHeader& h, const uint8_t*& pixels) noexcept {
+  pixels = nullptr;
+  if (size < ImageHeaderSize) return Status::BadBody;
+  h.Version = U16(c);
+  h.Components = c[2];
+  h.ScalarType = c[3];
+  h.Endian = c[4];
+  h.Coordinate = c[5];
+  for (int k = 0; k < 3; ++k) h.Size[k] = U16(c + 6 + 2 * k);
+  for (int k = 0; k < 12; ++k) h.Matrix[k] = F32(c + 12 + 4 * k);
+  for (int k = 0; k < 3; ++k) h.SubOffset[k] = U16(c + 60 + 2 * k);
+  for (int k = 0; k < 3; ++k) h.SubSize[k] = U16(c + 66 + 2 * k);
+  if (h.Version != 1 || h.Components == 0 || ImageHeader::ScalarBytes(h.ScalarType) == 0) return Status::BadBody;
+  if ((h.Endian != ImageHeader::BigEndian && h.Endian != ImageHeader::LittleEndian) ||
+      (h.Coordinate != ImageHeader::RAS && h.Coordinate != ImageHeader::LPS))
+    return Status::BadBody;
+  for (int k = 0; k < 3; ++k)
+    if (h.Size[k] == 0 || h.SubSize[k] == 0 || h.SubOffset[k] + h.SubSize[k] > h.Size[k]) return Status::BadBody;
+  for (int axis = 0; axis < 3; ++axis) {
+    double length = 0;
+    for (int r = 0; r < 3; ++r) length += static_cast<double>(h.Matrix[3 * axis + r]) * h.Matrix[3 * axis + r];
+    if (!(length > 1e-12) || !std::isfinite(length)) return Status::BadBody;  // no spacing, or NaN
+  }
+  for (int k = 9; k < 12; ++k)
+    if (!std::isfinite(h.Matrix[k])) return Status::BadBody;
+  if (h.DataBytes() != size - ImageHeaderSize) return Status::BadBody;
+  pixels = c + ImageHeaderSize;
+  return Status::Ok;
+}
+
+// ---------------------------------------------------------------- encoders
+
+void EncodeTransform(const double m[16], uint8_t out[TransformSize]) noexcept {
+  // Column-major rotation (R11 R21 R31 R12 ...) then translation.
+  for (int col = 0; col < 3; ++col)
+    for (int row = 0; row < 3; ++row) PutF32(out + 4 * (3 * col + row), m[4 * row + col]);
+  for (int row = 0; row < 3; ++row) PutF32(out + 36 + 4 * row, m[4 * row + 3]);
+}
+
+void EncodePosition(const double p[3], const double q[4], uint8_t out[PositionSize]) noexcept {
+  for (int k = 0; k < 3; ++k) PutF32(out + 4 * k, p[k]);
+  for (int k = 0; k < 3; ++k) PutF32(out + 12 + 4 * k, q[k + 1]);
+  PutF32(out + 24, q[0]);
+}
+
+void EncodeTDataElement(const char* name, uint8_t type, const double m[16], uint8_t out[TDataElementSize]) noexcept {
+  PutName(out, name, NameSize);
+  out[20] = type;
+  out[21] = 0;
+  EncodeTransform(m, out + 22);
+}
+
+void EncodeQtDataElement(const char* name, uint8_t type, const double p[3], const double q[4],
+                         uint8_t out[QtDataElementSize]) noexcept {
+  PutName(out, name, NameSize);
+  out[20] = type;
+  out[21] = 0;
+  EncodePosition(p, q, out + 22);
+}
+
+size_t StatusSize(const char* statusString) noexcept { return StatusHeaderSize + std::strlen(statusString) + 1; }
+
+void EncodeStatus(int code, int64_t subCode, const char* errorName, const char* statusString, uint8_t* out) noexcept {
+  Put16(out, static_cast<uint16_t>(code));
+  Put64(out + 2, static_cast<uint64_t>(subCode));
+  PutName(out + 10, errorName, 20);
+  const size_t n = std::strlen(statusString);
+  std::memcpy(out + StatusHeaderSize, statusString, n + 1);
+}
+
+void EncodeStartTracking(int32_t resolutionMs, const char* coordinateName, uint8_t out[StartTrackingSize]) noexcept {
+  Put32(out, static_cast<uint32_t>(resolutionMs));
+  PutName(out + 4, coordinateName, 32);
+}
+
+void EncodeRts(int status, uint8_t out[RtsSize]) noexcept { out[0] = static_cast<uint8_t>(static_cast<int8_t>(status)); }
+
+void EncodeString(const char* text, size_t length, uint8_t* out) noexcept {
+  Put16(out, 3);  // US-ASCII (IANA MIBenum)
+  Put16(out + 2, static_cast<uint16_t>(length));
+  std::memcpy(out + StringHeaderSize, text, length);
+}
+
+void EncodeImage(const ImageHeader& h, const uint8_t* pixels, uint8_t* out) noexcept {
+  Put16(out, h.Version);
+  out[2] = h.Components;
+  out[3] = h.ScalarType;
+  out[4] = h.Endian;
+  out[5] = h.Coordinate;
+  for (int k = 0; k < 3; ++k) Put16(out + 6 + 2 * k, h.Size[k]);
+  for (int k = 0; k < 12; ++k) PutF32(out + 12 + 4 * k, h.Matrix[k]);
+  for (int k = 0; k < 3; ++k) Put16(out + 60 + 2 * k, h.SubOffset[k]);
+  for (int k = 0; k < 3; ++k) Put16(out + 66 + 2 * k, h.SubSize[k]);
+  std::memcpy(out + ImageHeaderSize, pixels, static_cast<size_t>(h.DataBytes()));
+}
+
+// ---------------------------------------------------------------- framing
+
+uint8_t* MessageWriter::Begin(uint16_t version, const char* type, const char* deviceName, double timestamp,
+                              size_t contentSize, uint32_t messageId) {
+  this->Pending = Header{};
+  this->Pending.Version = version >= 2 ? 2 : 1;
+  std::strncpy(this->Pending.Type, type, 12);
+  std::strncpy(this->Pending.DeviceName, deviceName, 20);
+  this->Pending.Timestamp = ToIgtlTimestamp(timestamp);
+  this->ContentSize = contentSize;
+  this->MessageId = messageId;
+  const size_t need = HeaderSize + (this->Pending.Version >= 2 ? ExtendedHeaderSize + 2 : 0) + contentSize;
+  if (this->Buffer.size() < need) this->Buffer.resize(need);
+  this->Used = 0;
+  return this->Buffer.data() + HeaderSize + (this->Pending.Version >= 2 ? ExtendedHeaderSize : 0);
+}
+
+void MessageWriter::Finish(const MetaPair* metadata, size_t count) {
+  size_t body = this->ContentSize;
+  if (this->Pending.Version >= 2) {
+    size_t metaSize = 0;
+    for (size_t i = 0; i < count; ++i) metaSize += std::strlen(metadata[i].Key) + std::strlen(metadata[i].Value);
+    const size_t metaHeaderSize = 2 + 8 * count;  // INDEX_COUNT, always
+    body = ExtendedHeaderSize + this->ContentSize + metaHeaderSize + metaSize;
+    if (this->Buffer.size() < HeaderSize + body) this->Buffer.resize(HeaderSize + body);  // keeps the content
+    uint8_t* b = this->Buffer.data() + HeaderSize;
+    Put16(b, static_cast<uint16_t>(ExtendedHeaderSize));
+    Put16(b + 2, static_cast<uint16_t>(metaHeaderSize));
+    Put32(b + 4, static_cast<uint32_t>(metaSize));
+    Put32(b + 8, this->MessageId);
+    uint8_t* at = b + ExtendedHeaderSize + this->ContentSize;
+    Put16(at, static_cast<uint16_t>(count));
+    at += 2;
+    for (size_t i = 0; i < count; ++i) {
+      Put16(at, static_cast<uint16_t>(std::strlen(metadata[i].Key)));
+      Put16(at + 2, 3);  // US-ASCII
+      Put32(at + 4, static_cast<uint32_t>(std::strlen(metadata[i].Value)));
+      at += 8;
+    }
+    for (size_t i = 0; i < count; ++i) {
+      for (const char* s : {metadata[i].Key, metadata[i].Value}) {
+        const size_t n = std::strlen(s);
+        std::memcpy(at, s, n);
+        at += n;
+      }
+    }
+  }
+  this->Pending.BodySize = body;
+  this->Pending.Crc = Crc64(this->Buffer.data() + HeaderSize, body);
+  WriteHeader(this->Buffer.data(), this->Pending);
+  this->Used = HeaderSize + body;
+}
+
 std::vector<uint8_t> BuildMessage(uint16_t version, const char* type, const char* deviceName, double timestamp,
                                   const uint8_t* content, size_t contentSize,
                                   const std::vector<std::pair<std::string, std::string>>& metadata, uint32_t messageId) {
-  std::vector<uint8_t> body;
-  if (version >= 2) {
-    size_t metaSize = 0;
-    for (const auto& kv : metadata) metaSize += kv.first.size() + kv.second.size();
-    const size_t metaHeaderSize = metadata.empty() ? 0 : 2 + 8 * metadata.size();
-    body.resize(12 + contentSize + metaHeaderSize + metaSize);
-    Put16(&body[0], 12);
-    Put16(&body[2], static_cast<uint16_t>(metaHeaderSize));
-    Put32(&body[4], static_cast<uint32_t>(metaSize));
-    Put32(&body[8], messageId);
-    if (contentSize) std::memcpy(&body[12], content, contentSize);
-    size_t at = 12 + contentSize;
-    if (!metadata.empty()) {
-      Put16(&body[at], static_cast<uint16_t>(metadata.size()));
-      at += 2;
-      for (const auto& kv : metadata) {
-        Put16(&body[at], static_cast<uint16_t>(kv.first.size()));
-        Put16(&body[at + 2], 3);  // US-ASCII
-        Put32(&body[at + 4], static_cast<uint32_t>(kv.second.size()));
-        at += 8;
-      }
-      for (const auto& kv : metadata) {
-        std::memcpy(&body[at], kv.first.data(), kv.first.size());
-        at += kv.first.size();
-        std::memcpy(&body[at], kv.second.data(), kv.second.size());
-        at += kv.second.size();
-      }
-    }
-  } else {
-    body.assign(content, content + contentSize);
-  }
-  Header h;
-  h.Version = version;
-  std::strncpy(h.Type, type, 12);
-  std::strncpy(h.DeviceName, deviceName, 20);
-  h.Timestamp = ToIgtlTimestamp(timestamp);
-  h.BodySize = body.size();
-  h.Crc = Crc64(body.data(), body.size());
-  std::vector<uint8_t> message(HeaderSize + body.size());
-  WriteHeader(message.data(), h);
-  if (!body.empty()) std::memcpy(&message[HeaderSize], body.data(), body.size());
-  return message;
+  MessageWriter writer;
+  uint8_t* out = writer.Begin(version, type, deviceName, timestamp, contentSize, messageId);
+  if (contentSize) std::memcpy(out, content, contentSize);
+  std::vector<MetaPair> pairs;
+  for (const auto& kv : metadata) pairs.push_back({kv.first.c_str(), kv.second.c_str()});
+  writer.Finish(pairs.data(), pairs.size());
+  return std::vector<uint8_t>(writer.Data(), writer.Data() + writer.Size());
 }
 
 std::vector<uint8_t> EncodeTransform(const double m[16]) {
-  std::vector<uint8_t> c(48);
-  for (int col = 0; col < 3; ++col)
-    for (int row = 0; row < 3; ++row) PutF32(&c[4 * (3 * col + row)], m[4 * row + col]);
-  for (int row = 0; row < 3; ++row) PutF32(&c[36 + 4 * row], m[4 * row + 3]);
+  std::vector<uint8_t> c(TransformSize);
+  EncodeTransform(m, c.data());
   return c;
 }
 

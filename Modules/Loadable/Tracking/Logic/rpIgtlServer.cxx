@@ -12,28 +12,12 @@
 #include <cmath>
 #include <cstring>
 
-#include <igtlQuaternionTrackingDataMessage.h>
-#include <igtlStatusMessage.h>
-#include <igtlTrackingDataMessage.h>
-#include <igtlTransformMessage.h>
-
 #include "rpIgtlProtocol.h"
 
 namespace rp {
 
 namespace {
-std::vector<uint8_t> Frame(::igtl::MessageBase* message, uint16_t version, double timestamp,
-                           const std::vector<std::pair<std::string, std::string>>& metadata = {}) {
-  const double whole = std::floor(timestamp);
-  message->SetTimeStamp(static_cast<unsigned int>(whole), static_cast<unsigned int>((timestamp - whole) * 4294967296.0));
-  message->Pack();
-  const uint8_t* packed = static_cast<const uint8_t*>(message->GetPackPointer());
-  if (version < 2) return std::vector<uint8_t>(packed, packed + message->GetPackSize());
-  igtl::Header h;
-  igtl::ParseHeader(packed, h, UINT64_MAX);
-  return igtl::BuildMessage(2, h.Type, h.DeviceName, timestamp, static_cast<const uint8_t*>(message->GetPackBodyPointer()),
-                            static_cast<size_t>(message->GetPackBodySize()), metadata);
-}
+constexpr const char* kCoordinateName = "Tracker";  // device name of TDATA/QTDATA/RTS/STATUS
 
 const char* TransformStatus(ToolState s) {
   switch (s) {
@@ -89,11 +73,13 @@ void IgtlServer::Stop() {
   this->ListenFd = -1;
 }
 
-bool IgtlServer::Send(Client& c, const std::vector<uint8_t>& message) {
+bool IgtlServer::Send(Client& c) {
   if (c.Fd < 0) return false;
+  const uint8_t* data = this->Writer.Data();
+  const size_t size = this->Writer.Size();
   size_t done = 0;
-  while (done < message.size()) {
-    const ssize_t n = ::send(c.Fd, message.data() + done, message.size() - done, MSG_NOSIGNAL);
+  while (done < size) {
+    const ssize_t n = ::send(c.Fd, data + done, size - done, MSG_NOSIGNAL);
     if (n > 0) {
       done += static_cast<size_t>(n);
       continue;
@@ -132,108 +118,82 @@ void IgtlServer::HandleInput(Client& c) {
       c.TDataInterval = std::max(0.001, interval / 1000.0);
       if (h.Is("STT_TDATA")) c.TData = true;
       else c.QtData = true;
-      if (h.Is("STT_TDATA")) {
-        auto rts = ::igtl::RTSTrackingDataMessage::New();
-        rts->SetDeviceName("Tracker");
-        rts->SetStatus(0);
-        this->Send(c, Frame(rts, c.Version, now));
-      } else {
-        auto rts = ::igtl::RTSQuaternionTrackingDataMessage::New();
-        rts->SetDeviceName("Tracker");
-        rts->SetStatus(0);
-        this->Send(c, Frame(rts, c.Version, now));
-      }
+      this->SendRts(c, h.Is("STT_TDATA") ? "RTS_TDATA" : "RTS_QTDATA", now);
     } else if (h.Is("STP_TDATA")) {
       c.TData = false;
-      auto rts = ::igtl::RTSTrackingDataMessage::New();
-      rts->SetDeviceName("Tracker");
-      rts->SetStatus(0);
-      this->Send(c, Frame(rts, c.Version, now));
+      this->SendRts(c, "RTS_TDATA", now);
     } else if (h.Is("STP_QTDATA")) {
       c.QtData = false;
-      auto rts = ::igtl::RTSQuaternionTrackingDataMessage::New();
-      rts->SetDeviceName("Tracker");
-      rts->SetStatus(0);
-      this->Send(c, Frame(rts, c.Version, now));
+      this->SendRts(c, "RTS_QTDATA", now);
     } else if (h.Is("GET_STATUS")) {
-      auto status = ::igtl::StatusMessage::New();
-      status->SetDeviceName("Tracker");
-      status->SetCode(::igtl::StatusMessage::STATUS_OK);
-      this->Send(c, Frame(status, c.Version, now));
+      this->SendStatus(c, now);
     }
     c.Input.erase(c.Input.begin(), c.Input.begin() + static_cast<long>(igtl::HeaderSize + h.BodySize));
   }
 }
 
+void IgtlServer::SendRts(Client& c, const char* type, double wall) {
+  igtl::EncodeRts(0, this->Writer.Begin(c.Version, type, kCoordinateName, wall, igtl::RtsSize));
+  this->Writer.Finish();
+  this->Send(c);
+}
+
+void IgtlServer::SendStatus(Client& c, double wall) {
+  igtl::EncodeStatus(igtl::StatusOk, 0, "", "", this->Writer.Begin(c.Version, "STATUS", kCoordinateName, wall, igtl::StatusSize("")));
+  this->Writer.Finish();
+  this->Send(c);
+}
+
 void IgtlServer::SendPoses(double now) {
   const int count = this->Source.Count();
   const double wall = WallSeconds();
-  std::vector<std::pair<int, ToolPose>> fresh;
-  std::vector<std::pair<int, ToolPose>> all;
+  this->Fresh.clear();
+  this->Valid.clear();
   for (int i = 0; i < count; ++i) {
     const auto& s = this->Reader.Poll(this->Source, i);
     // TDATA/QTDATA carry no status: only tools with a valid pose go in (as PLUS does).
-    if (s.Valid && (s.Pose.State == ToolState::OK || s.Pose.State == ToolState::OutOfVolume)) all.push_back({i, s.Pose});
-    if (s.Fresh) fresh.push_back({i, s.Pose});
+    if (s.Valid && (s.Pose.State == ToolState::OK || s.Pose.State == ToolState::OutOfVolume)) this->Valid.push_back(i);
+    if (s.Fresh) this->Fresh.push_back(i);
   }
   for (Client& c : this->Connections) {
-    for (const auto& [slot, pose] : fresh) {
+    for (int slot : this->Fresh) {
+      const ToolPose& pose = this->Reader.Last(slot).Pose;
       const bool valid = pose.State == ToolState::OK || pose.State == ToolState::OutOfVolume;
       if (!valid && (c.Version < 2 && !this->Opts.SendInvalid)) continue;  // PLUS: a missing tool goes silent
-      const std::string fullName = std::string(this->Source.Name(slot)) + this->Opts.Suffix;
-      auto message = ::igtl::TransformMessage::New();
-      message->SetDeviceName(fullName.substr(0, 20).c_str());
+      const char* name = this->Source.Name(slot);
       double m[16];
       pose.ToMatrix(m);
-      ::igtl::Matrix4x4 matrix;
-      for (int r = 0; r < 4; ++r)
-        for (int k = 0; k < 4; ++k) matrix[r][k] = static_cast<float>(m[4 * r + k]);
-      message->SetMatrix(matrix);
-      std::vector<std::pair<std::string, std::string>> meta = {{"TransformStatus", TransformStatus(pose.State)}};
-      if (fullName.size() > 20) meta.push_back({"IGTL_DEVICE_NAME", fullName});
-      this->Send(c, Frame(message, c.Version, wall, meta));
+      igtl::EncodeTransform(m, this->Writer.Begin(c.Version, "TRANSFORM", name, wall, igtl::TransformSize));
+      // PLUS's metadata: the status of the transform, and the full name when it is longer than 20.
+      const igtl::MetaPair meta[2] = {{"TransformStatus", TransformStatus(pose.State)}, {"IGTL_DEVICE_NAME", name}};
+      this->Writer.Finish(meta, std::strlen(name) > igtl::NameSize ? 2 : 1);
+      this->Send(c);
     }
-    if ((c.TData || c.QtData) && now >= c.NextTData && !all.empty()) {
+    if ((c.TData || c.QtData) && now >= c.NextTData && !this->Valid.empty()) {
       c.NextTData = now + c.TDataInterval;
       if (c.TData) {
-        auto message = ::igtl::TrackingDataMessage::New();
-        message->SetDeviceName("Tracker");
-        for (const auto& [slot, pose] : all) {
-          auto e = ::igtl::TrackingDataElement::New();
-          e->SetName((std::string(this->Source.Name(slot)) + this->Opts.Suffix).substr(0, 20).c_str());
-          e->SetType(::igtl::TrackingDataElement::TYPE_6D);
+        uint8_t* out = this->Writer.Begin(c.Version, "TDATA", kCoordinateName, wall, igtl::TDataElementSize * this->Valid.size());
+        for (int slot : this->Valid) {
           double m[16];
-          pose.ToMatrix(m);
-          ::igtl::Matrix4x4 matrix;
-          for (int r = 0; r < 4; ++r)
-            for (int k = 0; k < 4; ++k) matrix[r][k] = static_cast<float>(m[4 * r + k]);
-          e->SetMatrix(matrix);
-          message->AddTrackingDataElement(e);
+          this->Reader.Last(slot).Pose.ToMatrix(m);
+          igtl::EncodeTDataElement(this->Source.Name(slot), igtl::TrackingType6D, m, out);
+          out += igtl::TDataElementSize;
         }
-        this->Send(c, Frame(message, c.Version, wall));
+        this->Writer.Finish();
+        this->Send(c);
       }
       if (c.QtData) {
-        auto message = ::igtl::QuaternionTrackingDataMessage::New();
-        message->SetDeviceName("Tracker");
-        for (const auto& [slot, pose] : all) {
-          auto e = ::igtl::QuaternionTrackingDataElement::New();
-          e->SetName((std::string(this->Source.Name(slot)) + this->Opts.Suffix).substr(0, 20).c_str());
-          e->SetType(::igtl::QuaternionTrackingDataElement::TYPE_6D);
-          e->SetPosition(static_cast<float>(pose.Translation[0]), static_cast<float>(pose.Translation[1]),
-                         static_cast<float>(pose.Translation[2]));
-          e->SetQuaternion(static_cast<float>(pose.Quaternion[1]), static_cast<float>(pose.Quaternion[2]),
-                           static_cast<float>(pose.Quaternion[3]), static_cast<float>(pose.Quaternion[0]));
-          message->AddQuaternionTrackingDataElement(e);
+        uint8_t* out = this->Writer.Begin(c.Version, "QTDATA", kCoordinateName, wall, igtl::QtDataElementSize * this->Valid.size());
+        for (int slot : this->Valid) {
+          const ToolPose& pose = this->Reader.Last(slot).Pose;
+          igtl::EncodeQtDataElement(this->Source.Name(slot), igtl::TrackingType6D, pose.Translation, pose.Quaternion, out);
+          out += igtl::QtDataElementSize;
         }
-        this->Send(c, Frame(message, c.Version, wall));
+        this->Writer.Finish();
+        this->Send(c);
       }
     }
-    if (now - c.LastSend > this->Opts.KeepAliveSeconds) {
-      auto status = ::igtl::StatusMessage::New();
-      status->SetDeviceName("Tracker");
-      status->SetCode(::igtl::StatusMessage::STATUS_OK);
-      this->Send(c, Frame(status, c.Version, wall));
-    }
+    if (now - c.LastSend > this->Opts.KeepAliveSeconds) this->SendStatus(c, wall);
   }
 }
 

@@ -1,11 +1,12 @@
 #pragma once
 // OpenIGTLink tracking server: streams the newest poses of a ToolPoseTable (e.g. the serial
-// driver's) to every connected client as TRANSFORM messages (PLUS naming: <Tool>ToTracker),
+// driver's) to every connected client as TRANSFORM messages named as the table's slots (PLUS
+// naming, e.g. StylusToTracker),
 // and as TDATA/QTDATA to clients that asked with STT_TDATA/STT_QTDATA (answered RTS_*).
 // Sends STATUS keep-alives when idle and answers GET_STATUS. Binds 127.0.0.1 unless told
 // otherwise. Talks v1 headers until a client sends a v2 header (then v3 framing with
 // TransformStatus and IGTL_DEVICE_NAME metadata), as PLUS does. Messages are built with the
-// OpenIGTLink library. One thread; nothing shared with callers except the pose table.
+// wire format of rpIgtlProtocol. One thread; nothing shared with callers except the pose table.
 #include <atomic>
 #include <cstdint>
 #include <mutex>
@@ -13,6 +14,7 @@
 #include <thread>
 #include <vector>
 
+#include "rpIgtlProtocol.h"
 #include "rpToolPose.h"
 
 namespace rp {
@@ -25,7 +27,6 @@ class IgtlServer {
     double SendHz = 60.0;              // TRANSFORM rate per tool (only fresh poses are sent)
     double KeepAliveSeconds = 0.25;    // STATUS(OK) after this much idle time
     bool SendInvalid = false;          // PLUS default: only valid transforms (v1 peers)
-    std::string Suffix = "ToTracker";  // device name = tool name + suffix
   };
 
   IgtlServer(const ToolPoseTable& source, Options options);
@@ -46,7 +47,9 @@ class IgtlServer {
     std::vector<uint8_t> Input;
   };
   void Run();
-  bool Send(Client& c, const std::vector<uint8_t>& message);
+  bool Send(Client& c);  // the message in Writer
+  void SendRts(Client& c, const char* type, double wall);
+  void SendStatus(Client& c, double wall);
   void HandleInput(Client& c);
   void SendPoses(double now);
 
@@ -59,6 +62,8 @@ class IgtlServer {
   std::atomic<uint64_t> Sent{0};
   std::vector<Client> Connections;
   ToolPoseReader Reader;
+  igtl::MessageWriter Writer;       // server thread only
+  std::vector<int> Fresh, Valid;    // slots, server thread only
 };
 
 }  // namespace rp

@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "rpToolDefinition.h"
+#include "rpTransformNames.h"
 
 namespace rp {
 
@@ -23,7 +24,7 @@ const char* NdiTracker::StateName(State state) {
 
 NdiTracker::NdiTracker(Options options) : Opts(std::move(options)) {
   // Slots are registered before the I/O thread exists: names are fixed for the driver's life.
-  for (const Tool& tool : this->Opts.Tools) this->Table.FindOrAdd(tool.Name.c_str());
+  for (const Tool& tool : this->Opts.Tools) this->Table.FindOrAdd(ToolToTrackerName(tool.Name).c_str());
   std::fill(std::begin(this->HandleSlot), std::end(this->HandleSlot), -1);
 }
 
@@ -307,7 +308,8 @@ bool NdiTracker::Configure() {
       r = this->Command("PVWR", args, timeout, retries);
       if (!r.Ok()) return this->Fail(tool.Name + ": " + Describe("PVWR", r)), false;
     }
-    this->HandleSlot[handle] = this->Table.Find(tool.Name.c_str(), tool.Name.size());
+    const std::string slotName = ToolToTrackerName(tool.Name);
+    this->HandleSlot[handle] = this->Table.Find(slotName.c_str(), slotName.size());
     this->Handles.push_back(static_cast<uint8_t>(handle));
   }
   for (int pass = 0; pass < 3; ++pass) {

@@ -21,7 +21,7 @@ namespace rp {
 class NdiTracker {
  public:
   struct Tool {
-    std::string Name;            // slot name in the pose table, e.g. "Stylus"
+    std::string Name;            // tool name, e.g. "Stylus" (slot "StylusToTracker" in the pose table)
     std::vector<uint8_t> Rom;    // passive tool definition (.rom bytes)
   };
 

@@ -148,6 +148,10 @@ std::string PolarisSimulator::PortPath() const {
 
 void PolarisSimulator::Unplug() {
   this->Unplugged = true;
+  // The port disappears, as /dev/ttyUSB0 does when a USB-serial cable is pulled. A link left
+  // pointing at the closed pty would name whatever pty the system hands out next under that
+  // number (another process's, another simulator's): a host retrying the path would talk to it.
+  if (!this->Opts.LinkPath.empty()) ::unlink(this->Opts.LinkPath.c_str());
   // The thread stops touching the fds within one poll period; close them under the lock.
   std::this_thread::sleep_for(std::chrono::milliseconds(20));
   this->ClosePty();

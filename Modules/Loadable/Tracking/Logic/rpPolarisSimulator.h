@@ -54,7 +54,8 @@ class PolarisSimulator {
   void DropNextReplies(int count) { this->Drops += count; }
   void SetReplyDelay(int milliseconds) { this->DelayMs = milliseconds; }
   void DeliverBreak() { this->BreakPending = true; }
-  /// Pulls the cable: closes the pty (the host reads EIO).
+  /// Pulls the cable: closes the pty (the host reads EIO) and removes the link (the port is gone
+  /// until Replug, so a host retrying it cannot open a recycled pty number).
   void Unplug();
   /// Plugs it back: a new pty (the link, when given, is re-pointed) in power-on state.
   bool Replug(std::string& error);

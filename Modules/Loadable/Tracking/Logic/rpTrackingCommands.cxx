@@ -18,6 +18,7 @@
 #include "rpProgress.h"
 #include "rpToolDefinition.h"
 #include "rpTrackingRecording.h"
+#include "rpTransformNames.h"
 #include "vtkRPScene.h"
 #include "vtkRPTrackedToolNode.h"
 #include "vtkRPTrackingLogic.h"
@@ -67,7 +68,7 @@ std::vector<std::string> DefaultToolFiles() {
 }  // namespace
 
 int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std::ostream& out, std::ostream& err) {
-  ArgParser parser("roboplan track", "Track tools through a serial NDI link or OpenIGTLink; print rate, latency and status per tool.");
+  ArgParser parser("track", "Track tools through a serial NDI link or OpenIGTLink; print rate, latency and status per tool.");
   parser.Option("serial", "PORT", "serial port of an NDI Polaris (or a polaris-sim link)")
       .Option("igtl", "HOST:PORT", "OpenIGTLink server (e.g. PLUS at 127.0.0.1:18944)")
       .Option("replay", "FILE", "replay a recording (from --record) as if it were a tracker")
@@ -119,7 +120,6 @@ int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std
   std::unique_ptr<Recording> replayed;
   std::unique_ptr<RecordingPlayer> player;
   const ToolPoseTable* table = nullptr;
-  std::string suffix;
   if (parser.Has("serial")) {
     NdiTracker::Options o;
     o.Port = parser.Get("serial");
@@ -141,7 +141,6 @@ int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std
     }
     serial = std::make_unique<NdiTracker>(o);
     table = &serial->Poses();
-    suffix = "ToTracker";
     serial->Start();
   } else if (parser.Has("replay")) {
     double speed;
@@ -157,7 +156,6 @@ int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std
     }
     player = std::make_unique<RecordingPlayer>(*replayed, speed);
     table = &player->Poses();
-    suffix = "ToTracker";
     player->Start();
   } else {
     const std::string target = parser.Get("igtl");
@@ -184,7 +182,6 @@ int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std
   if (servePort >= 0) {
     IgtlServer::Options so;
     so.Port = static_cast<int>(servePort);
-    so.Suffix = suffix.empty() ? "" : "ToTracker";
     server = std::make_unique<IgtlServer>(*table, so);
     std::string error;
     if (!server->Start(error)) {
@@ -199,8 +196,8 @@ int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std
   vtkNew<vtkRPTrackingLogic> logic;
   logic->SetScene(target);
   logic->SetStaleTimeout(stale);
-  logic->AddPoseSource(table, suffix);
-  if (parser.Has("reference")) logic->SetReferenceNodeName(parser.Get("reference") + suffix);
+  logic->AddPoseSource(table);
+  if (parser.Has("reference")) logic->SetReferenceNodeName(ToolToTrackerName(parser.Get("reference")));
 
   RecordingWriter recorder;
   ToolPoseReader recordReader;
@@ -298,7 +295,7 @@ int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std
 }
 
 int RunPivotCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
-  ArgParser parser("roboplan pivot", "Pivot calibration of a stylus tip (StylusTipToStylus) from a tracking recording.");
+  ArgParser parser("pivot", "Pivot calibration of a stylus tip (StylusTipToStylus) from a tracking recording.");
   parser.Positional("recording", "file written by `roboplan track --record`")
       .Option("tool", "NAME", "stylus tool name (default: the first containing 'Stylus')")
       .Option("reference", "NAME", "calibrate relative to this reference tool (ToolToReference)")
@@ -380,7 +377,7 @@ int RunPivotCommand(const std::vector<std::string>& args, std::ostream& out, std
 }
 
 int RunPolarisSimCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err, const std::atomic<bool>* stop) {
-  ArgParser parser("roboplan polaris-sim", "A simulated NDI Polaris on a pseudo-terminal: prints the port to open.");
+  ArgParser parser("polaris-sim", "A simulated NDI Polaris on a pseudo-terminal: prints the port to open.");
   parser.Option("port-link", "PATH", "symlink to the pty (kept across replug); breaks arrive on PATH.break")
       .Option("tool", "FILE", "tool definition .json (default: every Resources/Tools/*.json); repeatable")
       .Option("rate", "HZ", "frame rate: 20 (Vicra) or 60 (Spectra)", std::string("60"))

@@ -1,5 +1,7 @@
 #include "rpTrackingRecording.h"
 
+#include "rpTransformNames.h"
+
 #include <cerrno>
 #include <chrono>
 #include <cstring>
@@ -111,7 +113,7 @@ void RecordingWriter::Close() {
 
 RecordingPlayer::RecordingPlayer(const Recording& recording, double speed, bool loop)
     : Source(recording), Speed(speed > 0 ? speed : 1.0), Loop(loop) {
-  for (const std::string& name : recording.Tools) this->Slots.push_back(this->Table.FindOrAdd(name.c_str()));
+  for (const std::string& name : recording.Tools) this->Slots.push_back(this->Table.FindOrAdd(ToolToTrackerName(name).c_str()));
 }
 
 RecordingPlayer::~RecordingPlayer() { this->Stop(); }

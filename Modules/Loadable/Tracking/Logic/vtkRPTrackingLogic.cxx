@@ -5,6 +5,7 @@
 #include <vtkMatrix4x4.h>
 #include <vtkObjectFactory.h>
 
+#include "rpTransformNames.h"
 #include "vtkRPScene.h"
 #include "vtkRPTrackedToolNode.h"
 
@@ -27,11 +28,9 @@ void vtkRPTrackingLogic::SetScene(vtkRPScene* scene) {
   this->DerivedNodeIDs.clear();
 }
 
-int vtkRPTrackingLogic::AddPoseSource(const rp::ToolPoseTable* table, const std::string& suffix) {
+int vtkRPTrackingLogic::AddPoseSource(const rp::ToolPoseTable* table) {
   const int id = this->NextSourceId++;
-  Source& s = this->Sources[id];
-  s.Table = table;
-  s.Suffix = suffix;
+  this->Sources[id].Table = table;
   return id;
 }
 
@@ -94,7 +93,7 @@ int vtkRPTrackingLogic::UpdateNodes(double now) {
       const size_t old = source.Tools.size();
       source.Tools.resize(static_cast<size_t>(count));
       for (size_t i = old; i < source.Tools.size(); ++i)
-        source.Tools[i].NodeName = std::string(source.Table->Name(static_cast<int>(i))) + source.Suffix;
+        source.Tools[i].NodeName = source.Table->Name(static_cast<int>(i));
     }
     for (int slot = 0; slot < count; ++slot) {
       Tool& tool = source.Tools[static_cast<size_t>(slot)];
@@ -132,9 +131,7 @@ int vtkRPTrackingLogic::UpdateNodes(double now) {
     for (const Tool* tool : all) {
       if (tool == reference) continue;
       if (!referenceChanged && std::find(changed.begin(), changed.end(), tool) == changed.end()) continue;
-      std::string name = tool->NodeName;
-      const size_t at = name.rfind("ToTracker");
-      name = (at != std::string::npos ? name.substr(0, at) : name) + "ToReference";
+      const std::string name = rp::TransformName(rp::ToolNameOf(tool->NodeName), "Reference");
       rp::ToolPose relative = rp::ToolToReference(tool->Pose, reference->Pose);
       int status = StatusOf(relative);
       if (tool->Status == vtkRPTrackedToolNode::StatusStale || reference->Status == vtkRPTrackedToolNode::StatusStale)

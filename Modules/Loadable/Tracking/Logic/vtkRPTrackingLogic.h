@@ -29,10 +29,9 @@ class vtkRPTrackingLogic : public vtkObject {
   void SetScene(vtkRPScene* scene);
   vtkRPScene* GetScene() const { return this->Scene; }
 
-  /// A table of poses written by another thread. Node name = tool name + suffix (serial tools
-  /// "Stylus" + "ToTracker"; OpenIGTLink names already are "StylusToTracker": suffix "").
-  /// The table must outlive the logic or be removed first. Returns a source id.
-  int AddPoseSource(const rp::ToolPoseTable* table, const std::string& nodeNameSuffix);
+  /// A table of poses written by another thread; node name = slot name (a transform name such
+  /// as StylusToTracker). The table must outlive the logic or be removed first. Returns an id.
+  int AddPoseSource(const rp::ToolPoseTable* table);
   void RemovePoseSource(int sourceId);
 
   /// Seconds without a fresh pose before a tool is shown as stale.
@@ -79,7 +78,6 @@ class vtkRPTrackingLogic : public vtkObject {
   };
   struct Source {
     const rp::ToolPoseTable* Table = nullptr;
-    std::string Suffix;
     rp::ToolPoseReader Reader;
     std::vector<Tool> Tools;  // by slot
   };

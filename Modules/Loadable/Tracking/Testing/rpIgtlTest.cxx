@@ -28,49 +28,14 @@
 #include "rpIgtlClient.h"
 #include "rpIgtlProtocol.h"
 #include "rpIgtlServer.h"
+#include "rpTrackingTestHelpers.h"
 
 using namespace rp;
+using test::FreePort;
+using test::TestMatrix;
+using test::WaitFor;
 
 namespace {
-
-bool WaitFor(const std::function<bool()>& condition, double seconds) {
-  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-  while (std::chrono::steady_clock::now() < end) {
-    if (condition()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
-  return condition();
-}
-
-int FreePort() {
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
-  socklen_t len = sizeof a;
-  getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
-  ::close(fd);
-  return ntohs(a.sin_port);
-}
-
-// Test matrix: a rotation about an oblique axis plus a translation.
-void TestMatrix(double m[16], double shift = 0) {
-  const double angle = 0.7, c = std::cos(angle), s = std::sin(angle);
-  const double ax[3] = {1 / std::sqrt(3.0), 1 / std::sqrt(3.0), 1 / std::sqrt(3.0)};
-  for (int r = 0; r < 3; ++r)
-    for (int k = 0; k < 3; ++k) {
-      double v = (1 - c) * ax[r] * ax[k] + (r == k ? c : 0);
-      const int e = 3 - r - k;  // skew part
-      if (r != k) v += ((k == (r + 1) % 3) ? -1 : 1) * s * ax[e];
-      m[4 * r + k] = v;
-    }
-  m[3] = 12.5 + shift;
-  m[7] = -40.25;
-  m[11] = -1500.5;
-  m[12] = m[13] = m[14] = 0;
-  m[15] = 1;
-}
 
 std::vector<uint8_t> PackTransform(const char* name, const double m[16]) {
   auto msg = ::igtl::TransformMessage::New();
@@ -122,22 +87,10 @@ class LibraryServer {
   std::thread Thread;
 };
 
-IgtlClient::Options ClientOptions(int port) {
-  IgtlClient::Options o;
-  o.Host = "127.0.0.1";
-  o.Port = port;
-  o.ReconnectInitialSeconds = 0.05;
-  o.ReconnectMaxSeconds = 0.2;
-  return o;
-}
-
 ToolPose Newest(const IgtlClient& client, const char* name, uint64_t* count = nullptr) {
-  ToolPose pose;
-  const int slot = client.Poses().Find(name, std::strlen(name));
-  const uint64_t n = slot >= 0 ? client.Poses().Read(slot, pose) : 0;
-  if (count) *count = n;
-  return pose;
+  return test::Newest(client.Poses(), name, count);
 }
+IgtlClient::Options ClientOptions(int port) { return test::LoopbackClientOptions(port); }
 
 void ExpectMatrixNear(const ToolPose& pose, const double m[16], double tol) {
   double got[16];
@@ -429,8 +382,8 @@ TEST(IgtlClientE2E, KeepAliveAndReconnectBackOff) {
 
 TEST(IgtlServerE2E, LibraryClientReceivesTransformsAndTrackingData) {
   ToolPoseTable table;
-  const int stylus = table.FindOrAdd("Stylus");
-  const int reference = table.FindOrAdd("Reference");
+  const int stylus = table.FindOrAdd("StylusToTracker");
+  const int reference = table.FindOrAdd("ReferenceToTracker");
   double m[16];
   TestMatrix(m);
   ToolPose pose;
@@ -504,8 +457,8 @@ TEST(IgtlServerE2E, LibraryClientReceivesTransformsAndTrackingData) {
 
 TEST(IgtlServerE2E, OurClientGetsV3MetadataAndMissingStatus) {
   ToolPoseTable table;
-  const int stylus = table.FindOrAdd("Stylus");
-  const int longName = table.FindOrAdd("StylusTipOfTheLongProbe");
+  const int stylus = table.FindOrAdd("StylusToTracker");
+  const int longName = table.FindOrAdd("StylusTipOfTheLongProbeToTracker");
   IgtlServer::Options options;
   options.Port = 0;
   IgtlServer server(table, options);

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <chrono>
 #include <filesystem>
+#include <functional>
 #include <netinet/in.h>
 #include <sys/socket.h>
 #include <unistd.h>
@@ -18,6 +19,7 @@
 
 #include "rpIgtlClient.h"
 #include "rpIgtlServer.h"
+#include "rpTrackingTestHelpers.h"
 #include "rpNdiTracker.h"
 #include "rpPolarisSimulator.h"
 #include "rpTrackingCommands.h"
@@ -27,18 +29,13 @@
 #include "vtkRPTrackingLogic.h"
 
 using namespace rp;
+using test::FreePort;
+using test::TestMatrix;
+using test::WaitFor;
 
 namespace {
 vtkRPTrackedToolNode* ToolNode(vtkRPScene* scene, const char* name) {
   return vtkRPTrackedToolNode::SafeDownCast(scene->GetFirstNodeByName(name));
-}
-bool WaitFor(const std::function<bool()>& condition, double seconds) {
-  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-  while (std::chrono::steady_clock::now() < end) {
-    if (condition()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
-  return condition();
 }
 std::string OutputDir() {
   std::filesystem::create_directories(ROBOPLAN_TEST_OUTPUT_DIR);
@@ -56,9 +53,9 @@ TEST(TrackingLogic, BatchUpdateStaleDroppedAndReference) {
   logic->SetStaleTimeout(0.5);
   logic->SetReferenceNodeName("ReferenceToTracker");
   ToolPoseTable table;
-  const int stylus = table.FindOrAdd("Stylus");
-  const int reference = table.FindOrAdd("Reference");
-  logic->AddPoseSource(&table, "ToTracker");
+  const int stylus = table.FindOrAdd("StylusToTracker");
+  const int reference = table.FindOrAdd("ReferenceToTracker");
+  logic->AddPoseSource(&table);
 
   int batches = 0;
   vtkNew<vtkCallbackCommand> counter;
@@ -134,18 +131,18 @@ TEST(TrackingLogic, ConcurrentPublishingAndNodeDeletion) {
   ToolPoseTable table;
   std::atomic<bool> stop{false};
   std::thread writer([&] {
-    const int a = table.FindOrAdd("A"), b = table.FindOrAdd("B");
+    const int a = table.FindOrAdd("AToTracker"), b = table.FindOrAdd("BToTracker");
     ToolPose p;
     p.State = ToolState::OK;
     for (int i = 0; !stop; ++i) {
       p.Translation[0] = i;
       p.ReceiveTime = SteadySeconds();
       table.Publish(i % 2 ? a : b, p);
-      if (i == 500) table.FindOrAdd("C");  // a tool appearing while the reader runs
+      if (i == 500) table.FindOrAdd("CToTracker");  // a tool appearing while the reader runs
       std::this_thread::sleep_for(std::chrono::microseconds(500));
     }
   });
-  logic->AddPoseSource(&table, "ToTracker");
+  logic->AddPoseSource(&table);
   for (int k = 0; k < 100; ++k) {
     logic->UpdateNodes(SteadySeconds());
     if (k % 10 == 5)
@@ -188,9 +185,9 @@ TEST(TrackingLogic, SimulatorThroughSerialAndOpenIGTLinkIntoTheScene) {
   vtkNew<vtkRPScene> serialScene, igtlScene;
   vtkNew<vtkRPTrackingLogic> serialLogic, igtlLogic;
   serialLogic->SetScene(serialScene);
-  serialLogic->AddPoseSource(&tracker.Poses(), "ToTracker");
+  serialLogic->AddPoseSource(&tracker.Poses());
   igtlLogic->SetScene(igtlScene);
-  igtlLogic->AddPoseSource(&client.Poses(), "");
+  igtlLogic->AddPoseSource(&client.Poses());
   ASSERT_TRUE(WaitFor([&] {
     serialLogic->UpdateNodes(SteadySeconds());
     igtlLogic->UpdateNodes(SteadySeconds());
@@ -275,16 +272,7 @@ TEST(TrackingLogic, TrackCommandAt20HzServingOpenIGTLink) {
   std::ostringstream simOut, simErr;
   std::thread simThread([&] { RunPolarisSimCommand({"--port-link", link, "--rate", "60"}, simOut, simErr, &stop); });
   ASSERT_TRUE(WaitFor([&] { return std::filesystem::exists(link + ".break"); }, 3));
-  // A free loopback port for --serve.
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
-  socklen_t len = sizeof a;
-  getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
-  ::close(fd);
-  const int port = ntohs(a.sin_port);
+  const int port = FreePort();  // for --serve
   IgtlClient::Options co;
   co.Port = port;
   co.ReconnectInitialSeconds = 0.05;
@@ -310,4 +298,19 @@ TEST(TrackingLogic, TrackCommandAt20HzServingOpenIGTLink) {
   client.Stop();
   stop = true;
   simThread.join();
+}
+
+TEST(TrackingLogic, CommandsPrintTheirOwnUsage) {
+  // The host prefixes "roboplan": each command names itself once ("usage: roboplan track").
+  const std::vector<std::pair<std::string, std::function<int(std::ostream&, std::ostream&)>>> commands = {
+      {"track", [](std::ostream& o, std::ostream& e) { return RunTrackCommand({"--help"}, nullptr, o, e); }},
+      {"pivot", [](std::ostream& o, std::ostream& e) { return RunPivotCommand({"--help"}, o, e); }},
+      {"polaris-sim", [](std::ostream& o, std::ostream& e) { return RunPolarisSimCommand({"--help"}, o, e); }}};
+  for (const auto& [name, run] : commands) {
+    std::ostringstream out, err;
+    EXPECT_EQ(run(out, err), 0) << name;
+    const std::string usage = out.str() + err.str();
+    EXPECT_EQ(usage.rfind("usage: roboplan " + name, 0), 0u) << usage;
+    EXPECT_EQ(usage.find("roboplan roboplan"), std::string::npos) << usage;
+  }
 }

@@ -93,7 +93,7 @@ bool qRPTrackingPanel::ConnectSource(SourceKind kind, const QString& address, co
       if (!ok) throw std::runtime_error("address must be HOST:PORT");
       this->Client = std::make_unique<rp::IgtlClient>(o);
       this->Client->Start();
-      this->SourceId = this->Logic->AddPoseSource(&this->Client->Poses(), "");
+      this->SourceId = this->Logic->AddPoseSource(&this->Client->Poses());
     } else {
       rp::NdiTracker::Options o;
       o.Port = address.toStdString();
@@ -119,7 +119,7 @@ bool qRPTrackingPanel::ConnectSource(SourceKind kind, const QString& address, co
       if (o.Port.empty()) throw std::runtime_error("give the serial port");
       this->Tracker = std::make_unique<rp::NdiTracker>(o);
       this->Tracker->Start();
-      this->SourceId = this->Logic->AddPoseSource(&this->Tracker->Poses(), "ToTracker");
+      this->SourceId = this->Logic->AddPoseSource(&this->Tracker->Poses());
     }
   } catch (const std::exception& e) {
     this->Disconnect();
@@ -181,8 +181,7 @@ void qRPTrackingPanel::Update() {
   if (this->PivotEnd > 0) {
     const rp::ToolPoseTable* table = this->Poses();
     for (int i = 0; table && i < table->Count(); ++i) {
-      const std::string name = std::string(table->Name(i)) + (this->Tracker ? "ToTracker" : "");
-      if (name != this->PivotTool) continue;
+      if (this->PivotTool != table->Name(i)) continue;
       rp::ToolPose pose;
       const uint64_t n = table->Read(i, pose);
       if (n > this->PivotLastCount) {

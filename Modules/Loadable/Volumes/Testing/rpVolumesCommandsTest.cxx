@@ -16,6 +16,7 @@
 #include <vtkPointData.h>
 
 #include "rpKneePhantom.h"
+#include "rpSharedData.h"
 #include "rpTransformIO.h"
 #include "rpVolumeFiles.h"
 #include "rpVolumeRegistration.h"
@@ -81,7 +82,7 @@ TEST(VolumesCommands, PhantomDicomListingAndConversion) {
   for (const char* f : {"CT", "MR", "labels.nrrd", "MRToCT-truth.tfm", "phantom.json"}) EXPECT_TRUE(fs::exists(dir / f)) << f;
   const nlohmann::json info = nlohmann::json::parse(std::ifstream(dir / "phantom.json"));
   EXPECT_EQ(info["tissues"].size(), static_cast<size_t>(rp::KneeLabelCount));
-  EXPECT_EQ(info["ct"]["dimensions"], nlohmann::json({96, 96, 64}));
+  EXPECT_EQ(info["ct"]["dimensions"], nlohmann::json({110, 110, 64}));
 
   CommandRun r = Call(rp::RunDicomCommand, {dir.string(), "--json"});
   ASSERT_EQ(r.code, 0) << r.err;
@@ -97,7 +98,9 @@ TEST(VolumesCommands, PhantomDicomListingAndConversion) {
     }
   }
   EXPECT_EQ(modalities, (std::set<std::string>{"CT", "MR"}));
-  EXPECT_EQ(doc["nonDicomFiles"], 3);  // labels.nrrd, the .tfm and phantom.json
+  // labels.nrrd, the .tfm, phantom.json and the true surfaces of the real knee.
+  EXPECT_EQ(info["surfaces"].size(), 11u);
+  EXPECT_EQ(doc["nonDicomFiles"], 3 + info["surfaces"].size());
 
   // DICOM → NRRD → DICOM → NIfTI: the same voxels and geometry as the generator's CT.
   rp::KneePhantomOptions options;
@@ -110,7 +113,7 @@ TEST(VolumesCommands, PhantomDicomListingAndConversion) {
   ASSERT_EQ(Call(rp::RunConvertCommand, {(Dir() / "ct.nrrd").string(), (Dir() / "ct-dicom").string()}).code, 0);
   r = Call(rp::RunConvertCommand, {(Dir() / "ct-dicom").string(), (Dir() / "ct.nii.gz").string(), "--json"});
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_EQ(r.Json()["dimensions"], nlohmann::json({96, 96, 64}));
+  EXPECT_EQ(r.Json()["dimensions"], nlohmann::json({110, 110, 64}));
   for (const char* name : {"ct.nrrd", "ct-dicom", "ct.nii.gz"}) {
     rp::ImageVolume back;
     ASSERT_TRUE(rp::ReadVolume((Dir() / name).string(), back, error)) << error;
@@ -137,8 +140,8 @@ TEST(VolumesCommands, PhantomDicomListingAndConversion) {
 // localizer under the same UID). `roboplan dicom` lists two stacks; `convert` refuses the
 // series as a whole, naming them, and converts the oblique stack with the headers' geometry.
 TEST(VolumesCommands, ObliqueJpeg2000StackOfAMixedSeries) {
-  const fs::path source = fs::path(ROBOPLAN_SHARED_DATA_DIR) / "dicom/pacsman-mr";
-  if (!fs::exists(source)) GTEST_SKIP() << "no shared data at " << source;
+  RP_REQUIRE_SHARED_DATA("dicom/pacsman-mr");
+  const fs::path source = rptest::SharedDataPath("dicom/pacsman-mr");
   for (const char* tool : {"dcmodify", "gdcmconv"})
     if (std::system((std::string("command -v ") + tool + " >/dev/null 2>&1").c_str()) != 0)
       GTEST_SKIP() << tool << " not found on PATH (Debian packages dcmtk, libgdcm-tools)";
@@ -281,10 +284,12 @@ TEST(VolumesLogic, LoadAndRegisterIntoTheScene) {
   ASSERT_TRUE(rp::ReadTransformFile((dir / "MRToCT-truth.tfm").string(), truth, error)) << error;
   vtkNew<vtkMatrix4x4> mrToWorld;
   mr->GetParentTransformToWorld(mrToWorld);
-  // Bone-surface points of the analytic knee, seen in MR coordinates, land where the CT has them.
-  rp::KneeModel model;
+  // Bone-surface points of the knee, seen in MR coordinates, land where the CT has them.
+  std::string loadError;
+  const auto model = rp::LoadKneeSurfaceModel(loadError);
+  ASSERT_TRUE(model) << loadError;
   const double bounds[6] = {-70, 70, -70, 70, -75, 75};
-  const auto femur = model.SurfacePoints(rp::KneeStructure::Femur, 300, bounds);
+  const auto femur = model->SurfacePoints(rp::KneeStructure::Femur, 300, bounds);
   vtkNew<vtkMatrix4x4> ctToMR;
   vtkMatrix4x4::Invert(truth, ctToMR);
   std::vector<std::array<double, 3>> inMR;

@@ -35,6 +35,7 @@
 #include "rpStageRunner.h"
 #include "rpToolDefinition.h"
 #include "rpTrackingRecording.h"
+#include "rpTransformNames.h"
 #include "rpVolumeReslice.h"
 #include "vtkRPFiducialListNode.h"
 #include "vtkRPLandmarkRegistrationLogic.h"
@@ -98,7 +99,8 @@ std::vector<ToolPose> TrackStylus(const ToolDefinition& stylus, double seconds, 
   }
   std::vector<ToolPose> poses;
   std::set<uint32_t> frames;
-  const int slot = tracker.Poses().Find(stylus.Name.c_str(), stylus.Name.size());
+  const std::string slotName = ToolToTrackerName(stylus.Name);
+  const int slot = tracker.Poses().Find(slotName.c_str(), slotName.size());
   const double trackingStart = elapsed();
   while (elapsed() - trackingStart < seconds) {
     ToolPose pose;

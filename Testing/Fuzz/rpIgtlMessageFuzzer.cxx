@@ -1,4 +1,4 @@
-// libFuzzer target: OpenIGTLink header, v3 extended header/metadata and tracking bodies on
+// libFuzzer target: OpenIGTLink header, v3 extended header/metadata and every body we read on
 // arbitrary bytes (CRC not required, so the fuzzer reaches the body decoders).
 #include <cstdint>
 #include <cstring>
@@ -31,6 +31,20 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       int code;
       char name[21];
       DecodeStatus(split.Content, split.ContentSize, code, name);
+      uint16_t encoding;
+      const char* text;
+      size_t length;
+      DecodeString(split.Content, split.ContentSize, encoding, text, length);
+      int32_t resolution;
+      char coordinate[33];
+      DecodeStartTracking(split.Content, split.ContentSize, resolution, coordinate);
+      DecodeRts(split.Content, split.ContentSize, code);
+      ImageHeader image;
+      const uint8_t* pixels;
+      if (DecodeImage(split.Content, split.ContentSize, image, pixels) == Status::Ok) {
+        double ijkToRas[16];
+        image.IjkToRas(ijkToRas);
+      }
     }
     offset += HeaderSize + h.BodySize;
   }
