@@ -3,7 +3,6 @@
 // framed on the bones. Rendered offscreen with plain VTK (no slices, no soft tissue in the way).
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
 
 #include <vtkActor.h>
@@ -30,14 +29,7 @@ namespace rp {
 
 bool DemoBoneViews(DemoState& state, const std::vector<std::string>& modelIDs, const std::string& file,
                    std::string& error) {
-  if (!state.Options.Screenshots) {
-    error = "screenshots turned off (--no-screenshots)";
-    return false;
-  }
-  if (!std::getenv("DISPLAY")) {
-    error = "no display (run under xvfb-run, as SuperBuild/setup.sh --demo does)";
-    return false;
-  }
+  if (!CanDrawPictures(state, error)) return false;
   std::vector<vtkRPModelNode*> models;
   double bounds[6] = {1e300, -1e300, 1e300, -1e300, 1e300, -1e300};
   for (const std::string& id : modelIDs) {

@@ -44,7 +44,10 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double Seconds(Clock::time_point a) { return std::chrono::duration<double>(Clock::now() - a).count(); }
 
-bool Pictures(DemoState& state) { return state.Options.Screenshots && std::getenv("DISPLAY"); }
+bool Pictures(DemoState& state) {
+  std::string why;
+  return CanDrawPictures(state, why);
+}
 
 // Femur mesh: time against mean distance to the true femur surface, ours (smoothing × contour
 // grid) and Slicer's default pipeline (discrete flying edges → windowed sinc → normals), all
