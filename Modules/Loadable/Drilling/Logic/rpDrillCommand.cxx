@@ -293,10 +293,10 @@ int RunDrillCommand(const std::vector<std::string>& args, std::ostream& out, std
     }
     DrillBoneSource source;
     source.Labels = FromNode(segmentation);
-    std::vector<std::string> protectedTissues, protectedNames;
+    std::vector<std::string> protectedNames;
     if (!FindSegments(segmentation, parser.GetAll("segment"), source.BoneLabels, source.BoneTissues, boneNames, error) ||
-        !FindSegments(segmentation, parser.GetAll("protect"), source.ProtectedLabels, protectedTissues, protectedNames,
-                      error)) {
+        !FindSegments(segmentation, parser.GetAll("protect"), source.ProtectedLabels, source.ProtectedTissues,
+                      protectedNames, error)) {
       err << "roboplan drill: " << error << "\n";
       return 1;
     }
