@@ -76,6 +76,33 @@ double FarthestChangeFromSegment(const DrillVolume& volume, const Vec3& a, const
   return farthest;
 }
 
+double FarthestChangeFromPath(const DrillVolume& volume, const std::vector<Vec3>& path) {
+  std::vector<Vec3> points;
+  for (const Vec3& p : path)
+    if (points.empty() || Norm(p - points.back()) >= 0.05) points.push_back(p);
+  if (!path.empty() && (points.empty() || Norm(path.back() - points.back()) > 0)) points.push_back(path.back());
+  if (points.size() == 1) points.push_back(points.front());
+  double farthest = 0;
+  for (size_t s = 0; s < volume.AllocatedBlocks(); ++s) {
+    const auto c = volume.BlockCoordinate(static_cast<int32_t>(s));
+    const auto* now = volume.BlockDensities(static_cast<int32_t>(s));
+    const uint8_t* original = volume.BlockOriginal(static_cast<int32_t>(s));
+    for (int v = 0; v < DrillVolume::BlockVoxels; ++v) {
+      if (now[v].load(std::memory_order_relaxed) == original[v]) continue;
+      const Vec3 p = volume.Grid().Center(c[0] * DrillVolume::BlockEdge + (v & 7), c[1] * DrillVolume::BlockEdge + ((v >> 3) & 7),
+                                          c[2] * DrillVolume::BlockEdge + (v >> 6));
+      double nearest = HUGE_VAL;
+      for (size_t i = 0; i + 1 < points.size(); ++i) {
+        const Vec3 ab = points[i + 1] - points[i];
+        const double t = Norm2(ab) > 0 ? std::clamp(Dot(p - points[i], ab) / Norm2(ab), 0.0, 1.0) : 0.0;
+        nearest = std::min(nearest, Norm2(p - (points[i] + ab * t)));
+      }
+      farthest = std::max(farthest, std::sqrt(nearest));
+    }
+  }
+  return farthest;
+}
+
 namespace {
 
 Vec3 ToVec3(const std::vector<double>& v) { return {v[0], v[1], v[2]}; }

@@ -52,6 +52,7 @@ void CalibrateStylus(DemoState& state);
 void RegisterPatient(DemoState& state);
 void Navigate(DemoState& state);
 void MeasureSpeedAgainstAccuracy(DemoState& state);
+void DrillTibialTunnel(DemoState& state);
 /// A 4-up picture (axial, 3D, sagittal, coronal) of the scene into the output folder, slices at
 /// the point (or following the node's origin). False with `error` when it cannot be drawn here.
 bool DemoScreenshot(DemoState& state, const double slicePointRAS[3], const std::string& followNodeID,
