@@ -6,7 +6,7 @@ packages=(
   libvtk9-dev libvtk9-qt-dev           # VTK 9.1 (+ Qt widgets)
   libinsighttoolkit5-dev               # ITK 5.2
   libdcmtk-dev                         # DCMTK 3.6.7
-  libgdcm-dev                          # GDCM 3.0: JPEG 2000 (OpenJPEG) and JPEG-LS (CharLS 2) pixel decoding
+  libgdcm-dev libcharls-dev            # GDCM 3.0 decodes JPEG 2000 (OpenJPEG); CharLS 2 decodes JPEG-LS
   dcmtk libgdcm-tools                  # dcmcjpeg, dcmcjpls, dcmcrle, dcmconv, dcmodify, gdcmconv: tests encode real series with them
   qtbase5-dev                          # Qt 5.15
   libeigen3-dev                        # Eigen 3.4
@@ -14,6 +14,7 @@ packages=(
   nlohmann-json3-dev                   # JSON for scene files, .mrk.json and --json output
   libfftw3-dev                         # referenced by ITK's and VTK's exported CMake targets
   libgtest-dev libgmock-dev libbenchmark-dev
+  clang libclang-rt-14-dev             # libFuzzer targets of every parser (ctest -L fuzz)
   xvfb xauth libgl1-mesa-dri libglx-mesa0  # offscreen rendering with Mesa's software OpenGL
   snakemake                            # workflow/: cohorts, locally or on a cluster
   slurm-wlm munge                      # the workflow's Slurm test starts a one-node cluster

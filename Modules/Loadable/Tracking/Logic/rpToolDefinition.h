@@ -42,6 +42,8 @@ struct ToolDefinition {
 /// Reads a tool definition JSON file (Resources/Tools/*.json). Throws std::runtime_error naming
 /// the file and the problem.
 ToolDefinition ReadToolDefinition(const std::string& path);
+/// The same from the file's text (`source` names it in messages). Throws std::runtime_error only.
+ToolDefinition ParseToolDefinition(const std::string& text, const std::string& source);
 std::vector<uint8_t> ReadBinaryFile(const std::string& path);  // throws std::runtime_error
 
 /// Pose of a tool on its trajectory at time t (seconds): row-major 4x4 ToolToTracker.
