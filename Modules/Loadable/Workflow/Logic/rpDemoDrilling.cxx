@@ -10,7 +10,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
 #include <stdexcept>
 
@@ -257,9 +256,9 @@ void DrillTibialTunnel(DemoState& state) {
   state.Scene->AddNode(drilled);
   state.Runner->Progress(0.9, "pictures");
 
-  const bool pictures = state.Options.Screenshots && std::getenv("DISPLAY");
-  if (!pictures) {
-    state.Report->AddNote("Tibial tunnel pictures skipped: no display (run under xvfb-run or without --no-screenshots).");
+  std::string why;
+  if (!CanDrawPictures(state, why)) {
+    state.Report->AddNote("Tibial tunnel pictures skipped: " + why + ".");
     return;
   }
   // Force along the path: depth along the planned axis from the entry, per tissue being cut.
