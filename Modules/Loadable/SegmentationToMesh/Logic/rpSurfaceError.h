@@ -18,6 +18,7 @@ struct SurfaceError {
   double TruthToMeshMeanMm = 0;
   double RmsMm = 0;
   double HausdorffMm = 0;     // max of both directions
+  double Percentile95Mm = 0;  // 95th percentile of the distances of both directions (pooled)
   double SignedMeanMm = 0;    // mesh→truth signed (> 0 = mesh outside the truth)
 };
 
@@ -27,5 +28,11 @@ struct SurfaceError {
 /// leaves the field of view).
 SurfaceError CompareToSurface(vtkPolyData* mesh, const SignedDistanceFunction& sdf,
                               const std::vector<std::array<double, 3>>& truthPoints, const double* clipBounds = nullptr);
+
+/// A mesh against a reference mesh (e.g. a bone surface from another segmentation): distances
+/// from the mesh's vertices and triangle centroids (area-weighted) to the reference and back,
+/// signed by the side of the reference's closest triangle (> 0 = mesh outside the reference). With `clipBounds`, samples
+/// outside the box are ignored on both sides.
+SurfaceError CompareMeshes(vtkPolyData* mesh, vtkPolyData* reference, const double* clipBounds = nullptr);
 
 }  // namespace rp
