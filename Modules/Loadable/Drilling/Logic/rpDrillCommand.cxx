@@ -195,7 +195,7 @@ int RunDrillCommand(const std::vector<std::string>& args, std::ostream& out, std
       .Option("timeout", "S", "give up after this much session time (default: three times the stroke at the feed rate + 5 s)")
       .Option("record", "FILE", "write the drill path (time, burr, proxy, force, removed volume per tick)")
       .Option("replay", "FILE", "drive the burr along a recorded drill path instead of --from/--to")
-      .Option("model", "FILE", "write the drilled bone's surface (.vtp, .vtk, .stl, .ply, .obj)")
+      .Option("model", "FILE", "write the drilled bone's surface (" + ModelFileExtensionsText() + ")")
       .Option("picture", "FILE.png", "render a picture of the tunnel (needs a display or Xvfb)")
       .Flag("realtime", "run the 1 kHz servo thread and the 30 Hz display thread on the wall clock (default: the same "
                         "ticks scripted on one thread, as fast as the CPU allows)");
