@@ -117,17 +117,13 @@ bool PolarisSimulator::Start(std::string& error) {
       return false;
     }
   }
-  this->StopRequested = false;
   this->Unplugged = false;
-  this->Thread = std::thread([this] { this->Run(); });
+  this->Worker.Start([this] { this->Run(); });
   return true;
 }
 
 void PolarisSimulator::Stop() {
-  if (this->Thread.joinable()) {
-    this->StopRequested = true;
-    this->Thread.join();
-  }
+  this->Worker.Stop();
   this->ClosePty();
   if (this->BreakSocketFd >= 0) {
     ::close(this->BreakSocketFd);
@@ -205,10 +201,10 @@ void PolarisSimulator::PowerOnReset() {
 void PolarisSimulator::Run() {
   bool wasUnplugged = false;
   char buffer[4096];
-  while (!this->StopRequested) {
+  while (!this->Worker.StopRequested()) {
     if (this->Unplugged) {
       wasUnplugged = true;
-      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      this->Worker.Sleep(0.005);
       continue;
     }
     if (wasUnplugged) {  // a replugged device starts from power-on

@@ -1,12 +1,16 @@
 #include "rpToolDefinition.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <stdexcept>
 
 #include <nlohmann/json.hpp>
+
+#include "rpResources.h"
 
 namespace rp {
 
@@ -76,6 +80,23 @@ std::vector<uint8_t> ReadBinaryFile(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error("cannot open " + path);
   return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+ToolDefinition ReadToolFile(const std::string& path) {
+  if (std::filesystem::path(path).extension() == ".json") return ReadToolDefinition(path);
+  ToolDefinition tool;
+  tool.Name = std::filesystem::path(path).stem().string();
+  tool.Rom = ReadBinaryFile(path);
+  return tool;
+}
+
+std::vector<std::string> DefaultToolFiles() {
+  std::vector<std::string> files;
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(ResourcePath("Tools"), ec))
+    if (entry.path().extension() == ".json") files.push_back(entry.path().string());
+  std::sort(files.begin(), files.end());
+  return files;
 }
 
 ToolDefinition ReadToolDefinition(const std::string& path) {
