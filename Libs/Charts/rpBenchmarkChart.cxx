@@ -34,20 +34,7 @@ bool Render(vtkContextView* view, const std::string& path, const ChartOptions& o
   view->GetRenderWindow()->SetOffScreenRendering(1);
   view->GetRenderWindow()->SetSize(options.Width, options.Height);
   view->GetRenderer()->SetBackground(1, 1, 1);
-  view->GetRenderWindow()->Render();
-  vtkNew<vtkWindowToImageFilter> grab;
-  grab->SetInput(view->GetRenderWindow());
-  grab->ReadFrontBufferOff();
-  grab->Update();
-  vtkNew<vtkPNGWriter> writer;
-  writer->SetFileName(path.c_str());
-  writer->SetInputConnection(grab->GetOutputPort());
-  writer->Write();
-  if (writer->GetErrorCode() != 0 || !std::filesystem::exists(path)) {
-    error = "could not write chart '" + path + "'";
-    return false;
-  }
-  return true;
+  return WriteWindowPNG(view->GetRenderWindow(), path, error);
 }
 
 void StyleChart(vtkChartXY* chart, const ChartOptions& options) {
@@ -205,6 +192,23 @@ bool WriteBarChartPNG(const std::string& path, const std::vector<std::string>& c
   left->SetBehavior(vtkAxis::FIXED);
   left->SetRange(0, top > 0 ? 1.1 * top : 1.0);
   return Render(view, path, options, error);
+}
+
+bool WriteWindowPNG(vtkRenderWindow* window, const std::string& path, std::string& error) {
+  window->Render();
+  vtkNew<vtkWindowToImageFilter> grab;
+  grab->SetInput(window);
+  grab->ReadFrontBufferOff();
+  grab->Update();
+  vtkNew<vtkPNGWriter> writer;
+  writer->SetFileName(path.c_str());
+  writer->SetInputConnection(grab->GetOutputPort());
+  writer->Write();
+  if (writer->GetErrorCode() != 0 || !std::filesystem::exists(path)) {
+    error = "could not write the picture '" + path + "'";
+    return false;
+  }
+  return true;
 }
 
 bool WriteCSV(const std::string& path, const std::vector<std::string>& header,

@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+class vtkRenderWindow;
+
 namespace rp::bench {
 
 struct Series {
@@ -31,6 +33,9 @@ bool WriteHistogramPNG(const std::string& path, const std::vector<double>& binCe
 /// rendered stiffness per tissue.
 bool WriteBarChartPNG(const std::string& path, const std::vector<std::string>& categories,
                       const std::vector<Series>& series, const ChartOptions& options, std::string& error);
+
+/// Renders an offscreen window and writes what it shows as a PNG (charts, pictures).
+bool WriteWindowPNG(vtkRenderWindow* window, const std::string& path, std::string& error);
 
 /// Writes a CSV with a header row; every row must have header.size() values.
 bool WriteCSV(const std::string& path, const std::vector<std::string>& header,

@@ -58,14 +58,8 @@ void HapticServo::Tick(const TickInfo& tick) noexcept {
     return;
   }
 
-  Pose stylus;
+  const Pose stylus = xf.StylusInScene(device.StylusToDevice);
   const double scale = xf.Scale > 0 ? xf.Scale : 1.0;
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c)
-      stylus.R[3 * r + c] = xf.DeviceToRAS.R[3 * r] * device.StylusToDevice.R[c] +
-                            xf.DeviceToRAS.R[3 * r + 1] * device.StylusToDevice.R[3 + c] +
-                            xf.DeviceToRAS.R[3 * r + 2] * device.StylusToDevice.R[6 + c];
-  stylus.T = xf.DeviceToRAS.Apply(device.StylusToDevice.T * scale);
 
   RendererOptions options = this->Render.GetOptions();
   options.WorkspaceScale = scale;

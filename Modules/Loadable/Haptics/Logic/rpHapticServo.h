@@ -17,6 +17,16 @@ namespace rp {
 struct DeviceToScene {
   Pose DeviceToRAS;
   double Scale = 1.0;
+  /// The stylus pose in the scene (rotations composed; the position scaled, then moved).
+  Pose StylusInScene(const Pose& stylusToDevice) const noexcept {
+    Pose stylus;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c)
+        stylus.R[3 * r + c] = DeviceToRAS.R[3 * r] * stylusToDevice.R[c] + DeviceToRAS.R[3 * r + 1] * stylusToDevice.R[3 + c] +
+                              DeviceToRAS.R[3 * r + 2] * stylusToDevice.R[6 + c];
+    stylus.T = DeviceToRAS.Apply(stylusToDevice.T * (Scale > 0 ? Scale : 1.0));
+    return stylus;
+  }
 };
 
 /// What the main thread shows at display rate (copied into nodes by the scene bridge).

@@ -95,8 +95,20 @@ bool MaterialTable::Parse(const std::string& text, const std::string& source, st
       return true;
     };
     if (!number("stiffness", m.Stiffness, true) || !number("damping", m.Damping, true) ||
-        !number("staticFriction", m.StaticFriction, false) || !number("dynamicFriction", m.DynamicFriction, false))
+        !number("staticFriction", m.StaticFriction, false) || !number("dynamicFriction", m.DynamicFriction, false) ||
+        !number("hardness", m.Hardness, false))
       return false;
+    if (e.contains("ctMinHU")) {  // may be negative (HU)
+      if (!e["ctMinHU"].is_number() || !std::isfinite(e["ctMinHU"].get<double>())) {
+        error = where + " (" + m.Tissue + "): \"ctMinHU\" must be a number (HU)";
+        return false;
+      }
+      if (m.Hardness <= 0) {
+        error = where + " (" + m.Tissue + "): \"ctMinHU\" needs a \"hardness\" (only drillable tissues are classified by CT)";
+        return false;
+      }
+      m.CTMinHU = e["ctMinHU"].get<double>();
+    }
     if (m.DynamicFriction > m.StaticFriction) {
       error = where + " (" + m.Tissue + "): dynamicFriction exceeds staticFriction";
       return false;

@@ -2,7 +2,10 @@
 // Tissue materials for haptic rendering: stiffness, damping and friction per tissue class.
 // Resources/Materials/materials.json is the only table: programs read it through
 // LoadMaterialTable(), and the built-in table is that same file compiled in (used when the file
-// cannot be found, and by tests). Loaded on the main thread; the servo thread reads copies.
+// cannot be found, and by tests). Tissues a burr can cut (Drilling module) also carry their
+// hardness and the lowest CT value of a bone voxel of that tissue. Loaded on the main thread;
+// the servo thread reads copies.
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -14,6 +17,10 @@ struct Material {
   double Damping = 0.0005;       // N·s/mm
   double StaticFriction = 0.0;   // tan of the static friction cone half-angle
   double DynamicFriction = 0.0;  // ≤ StaticFriction
+  double Hardness = 0.0;         // resistance to a burr, relative to cortical bone (1); 0: not drillable
+  /// Lowest CT value (HU) of a drillable bone voxel of this tissue; NaN: not classified by CT.
+  double CTMinHU = std::numeric_limits<double>::quiet_NaN();
+  bool Drillable() const { return this->Hardness > 0; }
 };
 
 class MaterialTable {

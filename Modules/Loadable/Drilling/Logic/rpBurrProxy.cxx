@@ -1,0 +1,280 @@
+#include "rpBurrProxy.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Dense>
+
+namespace rp {
+
+namespace {
+// Radius at which the burr's sphere touches the bone a voxel of density q stands for, less the
+// skin: a touching voxel is not "inside" through the 1/255 rounding of its density.
+inline double TouchRadius(uint8_t q, double radius, double spacing) noexcept {
+  return radius + (q / 255.0 - 0.5) * 2.0 * spacing - BurrProxy::Skin * spacing;
+}
+inline Vec3 Splat(double s) { return {s, s, s}; }
+}  // namespace
+
+void BurrProxy::Reset(const Vec3& position) noexcept {
+  this->P = position;
+  this->State = BurrContact{};
+  this->State.Anchor = position;
+}
+
+double BurrProxy::Sweep(const DrillVolume& volume, const Vec3& from, const Vec3& to, double radius,
+                        double& startOverlap) noexcept {
+  const double h = volume.Spacing();
+  const Vec3 d = to - from;
+  const double length = Norm(d);
+  startOverlap = 0;
+  // Sub-steps of at most a voxel, each testing the voxels of a thin shell around the burr (its
+  // touch radius lies within r ± h), first hit wins.
+  const int steps = std::max(1, static_cast<int>(std::ceil(length / h)));
+  const Vec3 step = d / steps;
+  const double a = Norm2(step), stepLength = length / steps;
+  if (a <= 0) return 2.0;
+  double touch2[256];
+  for (int q = 0; q < 256; ++q) {
+    const double t = std::max(0.0, TouchRadius(static_cast<uint8_t>(q), radius, h));
+    touch2[q] = t * t;
+  }
+  for (int s = 0; s < steps; ++s) {
+    const Vec3 start = from + step * s;
+    double best = 2.0;
+    const std::atomic<uint8_t>* densities = nullptr;
+    int32_t current = -1;
+    volume.ForEachInShell(start, radius - h - Skin * h - 1e-9, radius + h + stepLength + 1e-9,
+                          [&](int32_t slot, int local, int, int, int, const Vec3& w) {
+                            if (slot != current) current = slot, densities = volume.BlockDensities(slot);
+                            const uint8_t q = densities[local].load(std::memory_order_relaxed);
+                            if (q == 0) return;
+                            const double w2 = Norm2(w);
+                            const double c = w2 - touch2[q];
+                            const double b = Dot(w, step);
+                            if (c <= 0) {
+                              // Already touching (rounding of the densities puts half the voxels
+                              // the burr rests on just inside): blocks a move that heads into it
+                              // (within 60°), not one that slides past it.
+                              if (s == 0) startOverlap = std::max(startOverlap, std::sqrt(touch2[q]) - std::sqrt(w2));
+                              if (b > 0 && b * b > 0.25 * w2 * a) best = 0;
+                              return;
+                            }
+                            if (b <= 0) return;
+                            const double disc = b * b - a * c;
+                            if (disc < 0) return;
+                            const double t = (b - std::sqrt(disc)) / a;
+                            if (t < best) best = t;
+                          });
+    if (best <= 1) return (s + best) / steps;
+  }
+  return 2.0;
+}
+
+bool BurrProxy::Touching(const DrillVolume& volume, const Vec3& p, double radius, const Vec3& push,
+                         BurrContact& contact) noexcept {
+  const double h = volume.Spacing();
+  const double band = TouchBand * h;
+  const auto& materials = volume.Materials();
+  const Vec3 pushDir = Normalized(push);
+  const bool anyDirection = Norm2(pushDir) == 0;
+  Vec3 sum{};
+  int count = 0;
+  double stiffAhead = -1, stiffAny = -1, hardAhead = -1;
+  uint8_t stiffAheadMaterial = 0, stiffAnyMaterial = 0, hardAheadMaterial = 0;
+  double reach2[256];  // a voxel touches when |v − p| < its touch radius + the band
+  for (int q = 0; q < 256; ++q) {
+    const double t = std::max(0.0, TouchRadius(static_cast<uint8_t>(q), radius, h) + band);
+    reach2[q] = t * t;
+  }
+  const std::atomic<uint8_t>* densities = nullptr;
+  const uint8_t* codes = nullptr;
+  int32_t current = -1;
+  volume.ForEachInShell(p, radius - h - Skin * h - band, radius + h + band,
+                        [&](int32_t slot, int local, int, int, int, const Vec3& w) {
+    if (slot != current) current = slot, densities = volume.BlockDensities(slot), codes = volume.BlockMaterials(slot);
+    const uint8_t q = densities[local].load(std::memory_order_relaxed);
+    if (q == 0) return;
+    const double w2 = Norm2(w);
+    if (w2 >= reach2[q]) return;
+    const double distance = std::sqrt(w2);
+    const double gap = distance - TouchRadius(q, radius, h);
+    ++count;
+    if (distance > 1e-12) sum -= w * (std::min(band - gap, 2 * band) / distance);  // inward normal (v → p)
+    const uint8_t m = codes[local] & DrillVolume::MaterialMask;
+    if (m == 0 || size_t(m) > materials.size()) return;
+    const Material& material = materials[m - 1];
+    if (material.Stiffness > stiffAny) stiffAny = material.Stiffness, stiffAnyMaterial = m;
+    if (anyDirection || Dot(w, pushDir) > 0) {  // the voxel is ahead of the push
+      if (material.Stiffness > stiffAhead) stiffAhead = material.Stiffness, stiffAheadMaterial = m;
+      if (material.Hardness > hardAhead) hardAhead = material.Hardness, hardAheadMaterial = m;
+    }
+  });
+  contact.Voxels = count;
+  contact.InContact = count > 0;
+  if (count == 0) return false;
+  const double n = Norm(sum);
+  contact.Normal = n > 1e-9 ? sum / n : Vec3{};
+  contact.Material = stiffAheadMaterial ? stiffAheadMaterial : stiffAnyMaterial;
+  contact.CutMaterial = hardAheadMaterial;
+  return true;
+}
+
+bool BurrProxy::SurfaceDistance(const DrillVolume& volume, const Vec3& p, const Vec3& normal, double radius,
+                                double& distance, Vec3& fittedNormal) noexcept {
+  const double h = volume.Spacing();
+  const Vec3 foot = p - normal * radius;  // where the burr's surface meets the bone
+  constexpr int MaxSamples = 125;
+  Vec3 xs[MaxSamples];
+  double sds[MaxSamples];
+  int n = 0;
+  const Vec3 reach = Splat(2.0 * h);
+  const DrillGrid& grid = volume.Grid();
+  volume.ForEachBlock(volume.BoxAround(foot - reach, foot + reach), [&](int32_t slot, const int lo[3], const int hi[3]) {
+    const std::atomic<uint8_t>* densities = volume.BlockDensities(slot);
+    for (int k = lo[2]; k <= hi[2]; ++k)
+      for (int j = lo[1]; j <= hi[1]; ++j)
+        for (int i = lo[0]; i <= hi[0]; ++i) {
+          const uint8_t q = densities[DrillVolume::Local(i, j, k)].load(std::memory_order_relaxed);
+          if (q == 0 || q == 255 || n == MaxSamples) continue;  // only the ramp knows where the surface is
+          xs[n] = grid.Center(i, j, k) - foot;
+          sds[n] = (0.5 - q / 255.0) * 2.0 * h;
+          ++n;
+        }
+  });
+  if (n < 4) return false;
+  // The ramp of a plane is exactly linear: sd ≈ g·x + c. With samples in two or more layers
+  // across the surface, fit g and c (least squares); with one layer (a surface through the
+  // voxel centres), keep the contact normal and fit the offset only.
+  double spread = 0, mean = 0;
+  for (int s = 0; s < n; ++s) mean += Dot(xs[s], normal) / n;
+  for (int s = 0; s < n; ++s) spread += std::pow(Dot(xs[s], normal) - mean, 2) / n;
+  Vec3 g = normal;
+  double c = 0;
+  if (n >= 8 && spread > 0.04 * h * h) {
+    Eigen::Matrix4d A = Eigen::Matrix4d::Zero();
+    Eigen::Vector4d b = Eigen::Vector4d::Zero();
+    for (int s = 0; s < n; ++s) {
+      const Eigen::Vector4d row(xs[s].x / h, xs[s].y / h, xs[s].z / h, 1.0);
+      A += row * row.transpose();
+      b += row * sds[s];
+    }
+    const Eigen::Vector4d x = A.ldlt().solve(b);
+    if (!x.allFinite()) return false;
+    g = Vec3{x[0] / h, x[1] / h, x[2] / h};
+    c = x[3];
+  } else {
+    for (int s = 0; s < n; ++s) c += (sds[s] - Dot(normal, xs[s])) / n;
+  }
+  const double length = Norm(g);
+  if (length < 0.7 || length > 1.3 || Dot(g, normal) < 0.7 * length) return false;
+  double residual = 0;
+  for (int s = 0; s < n; ++s) {
+    const double e = Dot(g, xs[s]) + c - sds[s];
+    residual += e * e;
+  }
+  if (std::sqrt(residual / n) > 0.1 * h) return false;  // not planar here (an edge, a corner)
+  fittedNormal = g / length;
+  distance = (Dot(g, p - foot) + c) / length;
+  return true;
+}
+
+const BurrContact& BurrProxy::Update(const DrillVolume& volume, const Vec3& hip, double radius) noexcept {
+  const double h = volume.Spacing();
+  BurrContact& s = this->State;
+  s = BurrContact{};
+  Vec3 p = this->P;
+  const Vec3& goal = hip;
+  Vec3 target = goal;
+  Vec3 planes[3];
+  int n = 0;
+  BurrContact touch;
+  bool touchValid = false;  // `touch` is the contact at p
+  const double still = 1e-3 * h;  // moves shorter than this are not worth a sweep
+  for (int pass = 0; pass < 4; ++pass) {
+    const Vec3 d = target - p;
+    if (Norm2(d) < still * still) break;
+    double overlap = 0;
+    const double t = Sweep(volume, p, target, radius, overlap);
+    if (pass == 0 && overlap > EmbeddedDepth * h) {
+      // Inside bone (material came back around the burr): let it go until it is out again.
+      this->P = goal;
+      s.Embedded = true;
+      s.Anchor = goal;
+      return s;
+    }
+    if (t > 1) {
+      p = target;  // free move
+      touchValid = false;
+      break;
+    }
+    if (n == 3) break;  // a corner
+    if (t > 0 || !touchValid) {
+      p = p + d * t;
+      touchValid = Touching(volume, p, radius, goal - p, touch);
+    }
+    if (!touchValid || Norm2(touch.Normal) == 0) break;
+    // Blocked where it stood by the same contact as before: no other way to go.
+    bool known = false;
+    for (int i = 0; i < n; ++i) known = known || Dot(planes[i], touch.Normal) > 0.9999;
+    if (t <= 0 && known) break;
+    planes[n++] = touch.Normal;
+    if (n == 1) {
+      const double into = Dot(goal - p, planes[0]);
+      if (into >= 0) break;  // blocked by voxels the normal puts behind: stay
+      // Static friction of the bone (materials.json): inside the cone the burr does not slide.
+      const Vec3 tangential = goal - p - planes[0] * into;
+      const auto& materials = volume.Materials();
+      const double mu = touch.Material > 0 && size_t(touch.Material) <= materials.size()
+                            ? materials[touch.Material - 1].StaticFriction
+                            : 0.0;
+      if (Norm(tangential) <= -mu * into) break;
+      target = goal - planes[0] * into;
+    } else if (n == 2) {
+      // The newest plane alone may be the only constraint (sliding off the first).
+      const double into = Dot(goal - p, planes[1]);
+      const Vec3 alone = into < 0 ? goal - planes[1] * into : goal;
+      const Vec3 edge = Cross(planes[0], planes[1]);
+      if (Dot(alone - p, planes[0]) >= 0) {
+        planes[0] = planes[1];
+        n = 1;
+        target = alone;
+      } else if (Norm2(edge) < 1e-8) {
+        n = 1;
+        target = alone;
+      } else {
+        const Vec3 dir = Normalized(edge);  // slide along the crease
+        target = p + dir * Dot(goal - p, dir);
+      }
+    } else {
+      const double into = Dot(goal - p, planes[2]);
+      const Vec3 alone = into < 0 ? goal - planes[2] * into : goal;
+      if (Dot(alone - p, planes[0]) >= 0 && Dot(alone - p, planes[1]) >= 0) {
+        planes[0] = planes[2];
+        n = 1;
+        target = alone;
+      } else {
+        break;  // a corner
+      }
+    }
+  }
+  this->P = p;
+  if (touchValid)
+    s = touch;
+  else
+    Touching(volume, p, radius, goal - p, s);
+  s.Planes = n;
+  s.Anchor = p;
+  // The exact contact (for the force) only where the hand presses into the bone.
+  if (s.InContact && Norm2(s.Normal) > 0 && Dot(goal - p, s.Normal) < 0) {
+    double distance;
+    Vec3 fitted;
+    if (SurfaceDistance(volume, p, s.Normal, radius, distance, fitted) && std::fabs(radius - distance) < h) {
+      s.Anchor = p + fitted * (radius - distance);
+      s.Refined = true;
+    }
+  }
+  return s;
+}
+
+}  // namespace rp

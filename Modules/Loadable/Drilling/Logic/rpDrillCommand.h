@@ -1,0 +1,28 @@
+#pragma once
+// `roboplan drill`: a headless drilling stroke for tests and scripts.
+//   roboplan drill [--block | <segmentation> --segment ID] --burr-radius MM --from R,A,S --to R,A,S
+//                  --speed MM/S [--voxel MM] [--protect ID] [--ct FILE] [--record FILE]
+//                  [--replay FILE] [--model FILE] [--picture FILE] [--realtime] [--json]
+// The burr starts at --from (cutting) and is pushed towards --to at --speed by a simulated
+// device; the run ends when the burr reaches --to, a protected structure stops it, or the time
+// runs out. Reports the removed volume per tissue (and, for --block, the analytic volume of
+// the stroke), servo tick and dirty-block re-contour timings, the peak force.
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "rpDrillVolume.h"
+
+namespace rp {
+
+int RunDrillCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
+
+/// Volume of the capsule (segment a–b, radius r) inside the axis-aligned box: closed form when
+/// it lies wholly inside (πr²L + 4/3·πr³), else integrated numerically. `exact` says which.
+double CapsuleVolumeInBox(const Vec3& a, const Vec3& b, double r, const Vec3& lo, const Vec3& hi, bool& exact);
+
+/// Largest distance (mm) from the segment a–b of a voxel whose density differs from the bone as
+/// built (0 when nothing changed).
+double FarthestChangeFromSegment(const DrillVolume& volume, const Vec3& a, const Vec3& b);
+
+}  // namespace rp

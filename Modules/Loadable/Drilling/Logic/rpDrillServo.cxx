@@ -1,0 +1,234 @@
+#include "rpDrillServo.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rp {
+
+DrillServo::DrillServo(HapticDevice& device, DrillVolume& volume, const DrillServoOptions& options)
+    : Device(device), Volume(volume), Settings(options), Cut(volume) {
+  this->Render.SetDevice(device.Info());
+  this->Mesh.SetDevice(device.Info());
+  this->ControlValue.Publish(DrillControl{});
+}
+
+void DrillServo::PlaceBurr(const Vec3& center, const DrillControl& control) {
+  this->ControlValue.Publish(control);
+  this->Render.Reset(center);
+  this->HasCutCenter = false;
+  if (control.BurrOn) {
+    this->Cut.BeginStroke();
+    this->Cut.Cut(center, control.Radius);
+    this->CutCenter = center;
+    this->HasCutCenter = true;
+  }
+  this->WasOn = control.BurrOn;
+  this->Placed = true;
+}
+
+void DrillServo::ServoStarted() noexcept {
+  this->First = true;
+  this->Trips = 0;
+  this->Device.WriteForce(Vec3{});
+}
+
+void DrillServo::ServoStopping() noexcept {
+  this->Device.WriteForce(Vec3{});
+  this->Cut.EndStroke();
+}
+
+void DrillServo::Publish(const TickInfo& tick, uint32_t flags) noexcept {
+  DrillState& s = this->Scratch;
+  this->StateValue.Publish(s);
+  if (!this->Recording.load(std::memory_order_relaxed)) return;
+  DrillRecord r;
+  r.Time = tick.Time;
+  r.Hip = s.Hip;
+  r.Proxy = s.Proxy;
+  r.Force = s.Force;
+  r.Radius = static_cast<float>(s.Radius);
+  r.RemovedTotalMm3 = static_cast<float>(s.RemovedTotalMm3);
+  r.ProtectedDistance = static_cast<float>(s.ProtectedDistance);
+  r.TickComputeUs = static_cast<float>(tick.PreviousComputeNs * 1e-3);
+  r.Flags = flags;
+  this->Log.TryPush(r);
+}
+
+void DrillServo::Tick(const TickInfo& tick) noexcept {
+  DrillState& s = this->Scratch;
+  s.Time = tick.Time;
+  s.Tick = tick.Index;
+  DrillControl control;
+  this->ControlValue.Read(control);
+  DeviceToScene xf;
+  if (this->Transform.Read(xf) == 0) xf = DeviceToScene{};
+  const double dt = tick.Period > 0 ? tick.Period : 0.001;
+
+  DeviceState device;
+  const bool ok = this->Device.Read(tick.Time, device);
+  s.DeviceError = !ok;
+  if (this->First) {
+    this->RampStart = tick.Time;
+    this->LastTime = tick.Time - tick.Period;
+  }
+  // Measured time since the previous tick: a stall (the thread was not run) shows here.
+  const double elapsed = tick.Time > this->LastTime ? tick.Time - this->LastTime : dt;
+  this->LastTime = tick.Time;
+  if (!ok || tick.PreviousOverran) {
+    // Watchdog: no force, no cutting, ramp in again.
+    ++this->Trips;
+    this->RampStart = tick.Time;
+    this->Device.WriteForce(Vec3{});
+    s.Force = Vec3{};
+    s.Cutting = false;
+    s.RampScale = 0;
+    s.WatchdogTrips = this->Trips;
+    this->Publish(tick, DrillRecordFlags::Watchdog);
+    return;
+  }
+
+  // Stylus (and burr centre) in the scene.
+  const Pose stylus = xf.StylusInScene(device.StylusToDevice);
+  const double scale = xf.Scale > 0 ? xf.Scale : 1.0;
+  const Vec3 hip = stylus.Apply(this->Settings.BurrCenter);
+  const double radius = std::clamp(control.Radius, 0.25, 10.0);
+  if (this->First) {
+    if (!this->Placed) this->Render.Reset(hip);
+    this->Mesh.Reset(stylus);
+    this->First = false;
+    this->Placed = false;
+  }
+
+  // Requests from the main thread: undo the last stroke, reset the bone.
+  const uint32_t undo = this->UndoRequests.load(std::memory_order_acquire);
+  const uint32_t reset = this->ResetRequests.load(std::memory_order_acquire);
+  if (reset != this->ResetSeen) {
+    this->ResetSeen = reset;
+    this->UndoSeen = undo;
+    this->Cut.StartReset();
+  } else if (undo != this->UndoSeen) {
+    this->UndoSeen = undo;
+    this->Cut.StartUndo();
+  }
+  this->Cut.Step();
+
+  // Strokes follow the burr switch; a refused cut stops the burr until it is switched again.
+  if (!control.BurrOn) s.Stopped = false;
+  const bool on = control.BurrOn && !s.Stopped;
+  if (!on && this->WasOn) this->Cut.EndStroke();
+  if (on && !this->Cut.InStroke() && !this->Cut.Restoring()) this->Cut.BeginStroke();
+  this->WasOn = on;
+
+  // Forces: the other haptic models (mesh god-object) and the burr on the bone share the budget.
+  RendererOptions meshOptions = this->Mesh.GetOptions();
+  meshOptions.Period = dt;
+  meshOptions.WorkspaceScale = scale;
+  this->Mesh.SetOptions(meshOptions);
+  this->Mesh.SetScene(this->SceneSlots.Acquire());
+  const RenderOutput& meshOut = this->Mesh.Update(stylus, elapsed);
+  BurrForceOptions burrOptions = this->Render.GetOptions();
+  burrOptions.Period = dt;
+  burrOptions.WorkspaceScale = scale;
+  this->Render.SetOptions(burrOptions);
+  const BurrForce& burr = this->Render.Update(this->Volume, hip, radius, meshOut.Contacts ? meshOut.Gains.Stiffness : 0.0,
+                                             meshOut.Contacts ? meshOut.Gains.Damping : 0.0, elapsed);
+
+  // Cutting.
+  const auto& materials = this->Volume.Materials();
+  s.Cutting = false;
+  s.FeedMmPerS = 0;
+  bool refused = false;
+  const BurrContact& contact = burr.Contact;
+  if (on && contact.InContact && !contact.Embedded && contact.CutMaterial > 0 && !this->Cut.Restoring()) {
+    const Vec3 push = hip - burr.Proxy;
+    const double distance = Norm(push);
+    const double hardness = materials[contact.CutMaterial - 1].Hardness;
+    const double maxForce = this->Render.Device().MaxForce > 0 ? this->Render.Device().MaxForce : 1.0;
+    if (distance > 1e-9 && hardness > 0) {
+      s.FeedMmPerS = this->Settings.FeedRate * std::min(1.0, Norm(burr.Force) / maxForce) *
+                     std::max(0.0, control.Rpm) / this->Settings.ReferenceRpm / hardness;
+      // The cut advances from the last one while the proxy keeps up with it (within a skin);
+      // from the proxy when it moved away (slid, pulled back) or the burr just touched.
+      const double skin = BurrProxy::Skin * this->Volume.Spacing();
+      bool fromLastCut = this->HasCutCenter;
+      if (!this->HasCutCenter || Norm(this->CutCenter - burr.Proxy) > 3 * skin + s.FeedMmPerS * dt) {
+        this->CutCenter = burr.Proxy;
+        fromLastCut = false;
+      }
+      const Vec3 ahead = hip - this->CutCenter;
+      const double advance = std::min(s.FeedMmPerS * dt, Norm(ahead));
+      if (advance > 0) {
+        const Vec3 center = this->CutCenter + ahead * (advance / Norm(ahead));
+        // Closer than r − h − advance to the new centre is within r − h of the last cut's: empty.
+        const double h = this->Volume.Spacing();
+        const double inner = fromLastCut ? std::max(0.0, radius - h - advance - 1e-9) : 0.0;
+        const CutResult cut = this->Cut.Cut(center, radius, inner);
+        refused = cut.Refused;
+        s.Cutting = cut.Removed;
+        if (!refused) {
+          this->CutCenter = center;
+          this->HasCutCenter = true;
+        }
+      }
+    }
+  }
+  if (!s.Cutting && !on) this->HasCutCenter = false;
+  if (refused) {
+    ++s.RefusedTicks;
+    s.Stopped = true;
+    this->Cut.EndStroke();
+  }
+
+  // Distance to the protected structure (burr surface to its surface).
+  if (this->Protected != nullptr && !this->Protected->Empty()) {
+    ClosestPointHit hit;
+    if (this->Protected->ClosestPoint(burr.Proxy, HUGE_VAL, hit)) {
+      s.ProtectedDistance = std::sqrt(hit.Distance2) - radius;
+      s.ClosestApproach = std::min(s.ClosestApproach, s.ProtectedDistance);
+    }
+  }
+  s.Warning = s.ProtectedDistance < this->Settings.WarningDistance || s.Stopped;
+
+  // Sum, clamp (eq. 6), ramp, send.
+  Vec3 total = burr.Force + meshOut.Force;
+  const double maxForce = this->Render.Device().MaxForce;
+  const double magnitude = Norm(total);
+  const bool clamped = burr.Clamped || meshOut.Clamped || magnitude > maxForce;
+  if (magnitude > maxForce) total = total * (maxForce / magnitude);
+  const double ramp = this->Settings.RampSeconds > 0 ? std::min(1.0, (tick.Time - this->RampStart) / this->Settings.RampSeconds) : 1.0;
+  const Vec3 force = total * ramp;
+  this->Device.WriteForce(xf.DeviceToRAS.RotateInverse(force));
+
+  s.Hip = hip;
+  s.Proxy = burr.Proxy;
+  s.Force = force;
+  s.Radius = radius;
+  s.BurrOn = on;
+  s.Contact = contact.InContact;
+  s.Embedded = contact.Embedded;
+  s.Clamped = clamped;
+  s.Restoring = this->Cut.Restoring();
+  s.Material = contact.Material > 0 ? contact.Material - 1 : -1;
+  s.CutMaterial = contact.CutMaterial > 0 ? contact.CutMaterial - 1 : -1;
+  s.Depth = burr.Depth;
+  for (size_t m = 0; m < materials.size(); ++m) s.RemovedMm3[m] = this->Cut.Removed(static_cast<int>(m));
+  s.RemovedTotalMm3 = this->Cut.RemovedTotal();
+  s.UndoableStrokes = this->Cut.UndoableStrokes();
+  s.Strokes = this->Cut.StrokesStarted();
+  s.LastStrokeLost = this->Cut.LastStrokeLost();
+  s.WatchdogTrips = this->Trips;
+  s.ObservedEnergy = burr.ObservedEnergy;
+  s.Stiffness = burr.Stiffness;
+  s.RampScale = ramp;
+  s.PeakForce = std::max(s.PeakForce, Norm(force));
+  uint32_t flags = 0;
+  if (on) flags |= DrillRecordFlags::BurrOn;
+  if (s.Contact) flags |= DrillRecordFlags::Contact;
+  if (s.Cutting) flags |= DrillRecordFlags::Cutting;
+  if (refused) flags |= DrillRecordFlags::Refused;
+  if (clamped) flags |= DrillRecordFlags::Clamped;
+  if (s.Embedded) flags |= DrillRecordFlags::Embedded;
+  this->Publish(tick, flags);
+}
+
+}  // namespace rp

@@ -1,0 +1,143 @@
+#pragma once
+// The drilling servo task (inside rp::ServoLoop at 1 kHz, or ticked by hand for scripted runs):
+// device → burr centre in RAS (HapticDeviceToRAS with workspace scale) → burr god-object and
+// force (rpBurrRenderer) → cut (rpBoneCutter) → force to the device, summed with the mesh
+// god-object of the scene's other haptic models and clamped (eq. 6).
+//
+// Cutting: while the burr is on and presses on bone, the bone ahead of it recedes at
+//     v = FeedRate · (|F| / Fmax) · (rpm / ReferenceRpm) / hardness        (mm/s)
+// (removal proportional to the contact force, the burr speed and 1/hardness, as in Archard's
+// wear law); each tick the burr's sphere is carved v·dt further towards the hand than the last
+// cut, and the proxy follows (within rpBurrProxy::Skin).
+// A cut that reaches a protected voxel is refused: the burr stops (latched until it is switched
+// off and on again) and the state says so. A stroke is one burr-on period; Undo restores the
+// last stroke, Reset the bone as built (both a few hundred blocks per tick).
+//
+// Threads: the owner configures while stopped; Control() and the requests come from the main
+// thread; state (LatestValue) and the path record (SPSC ring) go out to it. Tick() never
+// allocates, locks or logs.
+#include <atomic>
+#include <cstdint>
+#include <limits>
+#include <memory>
+
+#include "rpBoneCutter.h"
+#include "rpBurrRenderer.h"
+#include "rpHapticServo.h"
+
+namespace rp {
+
+/// What the main thread sets at any time.
+struct DrillControl {
+  bool BurrOn = false;
+  double Radius = 2.0;      // mm (1–3 for the usual burrs)
+  double Rpm = 60000;       // burr speed
+};
+
+struct DrillServoOptions {
+  double FeedRate = 2.0;          // mm/s into hardness-1 bone at the device's maximum force and ReferenceRpm
+  double ReferenceRpm = 60000;
+  double WarningDistance = 2.0;   // mm from the burr's surface to a protected structure
+  double RampSeconds = 0.2;       // force ramp after start or a watchdog trip
+  Vec3 BurrCenter;                // burr centre in the stylus frame (mm): the tool tip
+};
+
+/// The state the main thread shows (copied at display rate).
+struct DrillState {
+  double Time = 0;
+  uint64_t Tick = 0;
+  Vec3 Hip, Proxy, Force;                // burr centre (device), burr centre (proxy), force on the hand (N)
+  double Radius = 0;
+  bool BurrOn = false, Contact = false, Cutting = false, Embedded = false, Clamped = false;
+  bool Restoring = false, Stopped = false, Warning = false, DeviceError = false;
+  int32_t Material = -1;                 // 0-based material resisting the burr, −1 none
+  int32_t CutMaterial = -1;              // 0-based material being cut, −1 none
+  double Depth = 0;                      // mm the hand is beyond the bone surface
+  double FeedMmPerS = 0;                 // current cutting speed
+  double RemovedMm3[DrillVolume::MaxMaterials] = {};
+  double RemovedTotalMm3 = 0;
+  double ProtectedDistance = std::numeric_limits<double>::infinity();  // burr surface to protected (mm)
+  double ClosestApproach = std::numeric_limits<double>::infinity();    // smallest so far
+  uint64_t RefusedTicks = 0;             // cuts refused at a protected voxel
+  int32_t UndoableStrokes = 0;
+  uint32_t Strokes = 0;
+  bool LastStrokeLost = false;
+  uint32_t WatchdogTrips = 0;
+  double ObservedEnergy = 0, Stiffness = 0, RampScale = 0;
+  double PeakForce = 0;                  // largest |F| sent so far (N)
+};
+
+/// One line of the drill path (flags: see DrillRecordFlags).
+struct DrillRecord {
+  double Time = 0;
+  Vec3 Hip, Proxy, Force;
+  float Radius = 0;
+  float RemovedTotalMm3 = 0;
+  float ProtectedDistance = 0;
+  float TickComputeUs = 0;
+  uint32_t Flags = 0;
+};
+namespace DrillRecordFlags {
+constexpr uint32_t BurrOn = 1, Contact = 2, Cutting = 4, Refused = 8, Clamped = 16, Embedded = 32, Watchdog = 64;
+}
+using DrillRecordRing = SpscRing<DrillRecord, 8192>;
+
+class DrillServo : public ServoTask {
+ public:
+  DrillServo(HapticDevice& device, DrillVolume& volume, const DrillServoOptions& options = {});
+
+  // ---- configure while stopped
+  BurrRenderer& Burr() { return this->Render; }
+  BoneCutter& Cutter() { return this->Cut; }
+  /// The other haptic models (rendered by the Haptics module's god-object in the same tick).
+  HapticRenderer& MeshRenderer() { return this->Mesh; }
+  /// A protected structure's surface for the distance read-out (kept alive by the owner).
+  void SetProtectedSurface(const BVH* tree) { this->Protected = tree; }
+  const DrillServoOptions& Options() const { return this->Settings; }
+  /// Starts the burr at `center` (scene frame) as if it had been there, cutting: the proxy is
+  /// placed there and, with the burr on, its sphere is carved (refused at protected voxels).
+  /// For scripted runs that begin inside bone (`roboplan drill --from`). Not while running.
+  void PlaceBurr(const Vec3& center, const DrillControl& control);
+
+  // ---- any time, owner thread
+  void SetControl(const DrillControl& control) { this->ControlValue.Publish(control); }
+  void RequestUndo() { this->UndoRequests.fetch_add(1, std::memory_order_release); }
+  void RequestReset() { this->ResetRequests.fetch_add(1, std::memory_order_release); }
+  SceneExchange& Scenes() { return this->SceneSlots; }
+  void SetDeviceToScene(const DeviceToScene& transform) { this->Transform.Publish(transform); }
+  bool ReadState(DrillState& state) const { return this->StateValue.Read(state) != 0; }
+  DrillRecordRing& Records() { return this->Log; }
+  void EnableRecords(bool enable) { this->Recording.store(enable, std::memory_order_relaxed); }
+
+  void ServoStarted() noexcept override;
+  void Tick(const TickInfo& tick) noexcept override;
+  void ServoStopping() noexcept override;
+
+ private:
+  void Publish(const TickInfo& tick, uint32_t flags) noexcept;
+
+  HapticDevice& Device;
+  DrillVolume& Volume;
+  DrillServoOptions Settings;
+  BurrRenderer Render;
+  BoneCutter Cut;
+  HapticRenderer Mesh;
+  SceneExchange SceneSlots;
+  const BVH* Protected = nullptr;
+  LatestValue<DrillControl> ControlValue;
+  LatestValue<DeviceToScene> Transform;
+  LatestValue<DrillState> StateValue;
+  std::atomic<uint32_t> UndoRequests{0}, ResetRequests{0};
+  std::atomic<bool> Recording{false};
+  DrillRecordRing Log;
+  // Servo thread only:
+  uint32_t UndoSeen = 0, ResetSeen = 0;
+  bool First = true, Placed = false, WasOn = false;
+  Vec3 CutCenter;          // centre of the last cut; the next one advances from here
+  bool HasCutCenter = false;
+  double RampStart = 0, LastTime = 0;
+  uint32_t Trips = 0;
+  DrillState Scratch;
+};
+
+}  // namespace rp

@@ -1,0 +1,268 @@
+#pragma once
+// A drillable bone: a regular voxel grid (axis-aligned in RAS, isotropic 0.2–0.5 mm) stored in
+// 8³-voxel blocks; blocks with no bone and no protected voxel are not stored, so a whole bone at
+// 0.3 mm takes tens of megabytes. Per voxel:
+//  - a density 0..255: how much of the voxel is bone. Across a surface it is a linear ramp two
+//    voxels wide, ρ = clamp(0.5 − sd / 2h), sd the signed distance (mm, > 0 outside) of the voxel
+//    centre: the 50 % iso-surface is the surface, a plane is reproduced exactly by any ramp voxel,
+//    and the burr carves the same ramp around its sphere (partial volumes, no staircase);
+//  - a material: 0 none, else 1 + index into Materials() (drillable tissues of the material
+//    table); bit 7 marks a protected voxel (never removed; the burr stops when it reaches one).
+// Threads: the servo thread is the only writer of densities (carving, undo, reset) and marks the
+// blocks it changes dirty (flag + lock-free ring); the display thread reads densities with relaxed
+// atomics and re-contours dirty blocks. Geometry, materials and original densities are immutable
+// once Finish() ran. Nothing here allocates after Finish().
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cmath>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "rpMaterial.h"
+#include "rpSpscRing.h"
+#include "rpVec3.h"
+
+namespace rp {
+
+struct DrillGrid {
+  Vec3 Origin;           // RAS (mm) of voxel (0,0,0)'s centre
+  double Spacing = 0.3;  // mm, the same along R, A and S
+  std::array<int, 3> Dimensions{{0, 0, 0}};
+
+  Vec3 Center(int i, int j, int k) const { return this->Origin + Vec3{double(i), double(j), double(k)} * this->Spacing; }
+  /// Continuous voxel coordinates of a RAS point.
+  Vec3 ToIndex(const Vec3& ras) const { return (ras - this->Origin) / this->Spacing; }
+  size_t VoxelCount() const { return size_t(this->Dimensions[0]) * this->Dimensions[1] * this->Dimensions[2]; }
+};
+
+/// An inclusive voxel-index box.
+struct VoxelBox {
+  int Lo[3] = {0, 0, 0}, Hi[3] = {-1, -1, -1};
+  bool Empty() const { return this->Hi[0] < this->Lo[0] || this->Hi[1] < this->Lo[1] || this->Hi[2] < this->Lo[2]; }
+};
+
+class DrillVolume {
+ public:
+  static constexpr int BlockEdge = 8;
+  static constexpr int BlockShift = 3;
+  static constexpr int BlockVoxels = BlockEdge * BlockEdge * BlockEdge;
+  static constexpr uint8_t ProtectedBit = 0x80;
+  static constexpr uint8_t MaterialMask = 0x7f;
+  static constexpr int MaxMaterials = 16;
+  using DirtyRing = SpscRing<int32_t, (1 << 16)>;
+
+  /// Density of a voxel whose centre is `sd` mm outside a surface (negative: inside), spacing h.
+  static double RampDensity(double sd, double spacing) {
+    const double rho = 0.5 - sd / (2.0 * spacing);
+    return rho < 0 ? 0.0 : (rho > 1 ? 1.0 : rho);
+  }
+  static uint8_t Quantize(double rho) { return static_cast<uint8_t>((rho < 0 ? 0 : rho > 1 ? 1 : rho) * 255.0 + 0.5); }
+
+  DrillVolume();
+  ~DrillVolume();
+  DrillVolume(const DrillVolume&) = delete;
+  DrillVolume& operator=(const DrillVolume&) = delete;
+
+  // ---- building (one thread, before any servo/display thread uses the volume)
+  /// Starts an empty volume. `materials` are the drillable tissues (voxel material m refers to
+  /// materials[m − 1]); at most MaxMaterials. False names the problem.
+  bool Initialize(const DrillGrid& grid, const std::vector<Material>& materials, std::string& error);
+  /// Sets a voxel (allocating its block). `material` is 0 (none) or 1..Materials().size().
+  void SetVoxel(int i, int j, int k, uint8_t density, uint8_t material, bool isProtected);
+  /// Allocates the blocks needed to contour across block faces, freezes the layout, keeps the
+  /// original densities (Reset) and counts the bone per material.
+  void Finish();
+
+  // ---- reading (any thread)
+  const DrillGrid& Grid() const { return this->Geometry; }
+  double Spacing() const { return this->Geometry.Spacing; }
+  double VoxelVolume() const { return this->Geometry.Spacing * this->Geometry.Spacing * this->Geometry.Spacing; }
+  const std::vector<Material>& Materials() const { return this->MaterialList; }
+  const std::array<int, 3>& BlockDimensions() const { return this->BlockDims; }
+  size_t AllocatedBlocks() const { return this->BlockCoordinates.size(); }
+  size_t MemoryBytes() const;
+  bool Contains(int i, int j, int k) const {
+    return i >= 0 && j >= 0 && k >= 0 && i < this->Geometry.Dimensions[0] && j < this->Geometry.Dimensions[1] &&
+           k < this->Geometry.Dimensions[2];
+  }
+  /// Block slot of block (bi, bj, bk), −1 when not stored (all empty).
+  int32_t Slot(int bi, int bj, int bk) const noexcept {
+    if (bi < 0 || bj < 0 || bk < 0 || bi >= this->BlockDims[0] || bj >= this->BlockDims[1] || bk >= this->BlockDims[2])
+      return -1;
+    return this->BlockTable[(size_t(bk) * this->BlockDims[1] + bj) * this->BlockDims[0] + bi];
+  }
+  static int Local(int i, int j, int k) noexcept {
+    return (i & (BlockEdge - 1)) | ((j & (BlockEdge - 1)) << BlockShift) | ((k & (BlockEdge - 1)) << (2 * BlockShift));
+  }
+  uint8_t Density(int i, int j, int k) const noexcept {
+    if (!this->Contains(i, j, k)) return 0;
+    const int32_t s = this->Slot(i >> BlockShift, j >> BlockShift, k >> BlockShift);
+    return s < 0 ? 0 : this->Densities[size_t(s) * BlockVoxels + Local(i, j, k)].load(std::memory_order_relaxed);
+  }
+  uint8_t MaterialCode(int i, int j, int k) const noexcept {
+    if (!this->Contains(i, j, k)) return 0;
+    const int32_t s = this->Slot(i >> BlockShift, j >> BlockShift, k >> BlockShift);
+    return s < 0 ? 0 : this->MaterialCodes[size_t(s) * BlockVoxels + Local(i, j, k)];
+  }
+  uint8_t OriginalDensity(int i, int j, int k) const noexcept;
+  /// Bone volume (mm³) per material index (0-based) as built, and now.
+  const std::vector<double>& OriginalVolumes() const { return this->InitialVolumes; }
+  std::vector<double> CurrentVolumes() const;  // scans every block (not for the servo thread)
+  /// RAS bounds of the stored bone (voxel centres with density > 0).
+  void BoneBounds(Vec3& lo, Vec3& hi) const;
+
+  // ---- block access for the cutter (servo thread) and the mesher (display thread)
+  const std::array<int32_t, 3>& BlockCoordinate(int32_t slot) const { return this->BlockCoordinates[size_t(slot)]; }
+  std::atomic<uint8_t>* BlockDensities(int32_t slot) noexcept { return &this->Densities[size_t(slot) * BlockVoxels]; }
+  const std::atomic<uint8_t>* BlockDensities(int32_t slot) const noexcept {
+    return &this->Densities[size_t(slot) * BlockVoxels];
+  }
+  const uint8_t* BlockMaterials(int32_t slot) const noexcept { return &this->MaterialCodes[size_t(slot) * BlockVoxels]; }
+  const uint8_t* BlockOriginal(int32_t slot) const noexcept { return &this->Originals[size_t(slot) * BlockVoxels]; }
+  bool BlockHasProtected(int32_t slot) const noexcept { return this->ProtectedBlocks[size_t(slot)] != 0; }
+  /// Clamps a box to the grid.
+  VoxelBox Clip(VoxelBox box) const;
+  /// The voxel box of a RAS axis-aligned box (voxel centres inside), clipped to the grid.
+  VoxelBox BoxAround(const Vec3& lo, const Vec3& hi) const;
+
+  /// Calls f(slot, lo, hi) for every stored block overlapping `box` (clipped to the grid), with
+  /// lo/hi the inclusive global voxel range of the overlap. Never allocates.
+  template <typename F>
+  void ForEachBlock(const VoxelBox& box, F&& f) const;
+
+  /// Calls f(slot, local, i, j, k, w) for every stored voxel whose centre v lies in the spherical
+  /// shell rIn <= |v − c| <= rOut (rIn 0: the whole ball), with w = v − c; row by row (no
+  /// distance test per voxel outside the shell). Never allocates.
+  template <typename F>
+  void ForEachInShell(const Vec3& c, double rIn, double rOut, F&& f) const;
+
+  // ---- dirty blocks: servo thread marks, display thread takes
+  /// Marks the blocks whose contour cells (and their normals) depend on voxels in `changed`.
+  void MarkDirty(const VoxelBox& changed) noexcept;
+  void MarkAllDirty() noexcept;
+  /// Display thread: calls f(slot) for each dirty block (and clears its flag before f reads it).
+  template <typename F>
+  size_t TakeDirty(F&& f);
+
+ private:
+  void MarkSlot(int32_t slot) noexcept;
+  int32_t Allocate(int bi, int bj, int bk);
+
+  DrillGrid Geometry;
+  std::vector<Material> MaterialList;
+  std::array<int, 3> BlockDims{{0, 0, 0}};
+  std::vector<int32_t> BlockTable;
+  std::vector<std::array<int32_t, 3>> BlockCoordinates;
+  std::vector<uint8_t> ProtectedBlocks;
+  std::vector<uint8_t> MaterialCodes;
+  std::vector<uint8_t> BuildDensities;  // while building
+  std::vector<uint8_t> Originals;
+  std::unique_ptr<std::atomic<uint8_t>[]> Densities;
+  std::unique_ptr<std::atomic<uint8_t>[]> DirtyFlags;
+  std::unique_ptr<DirtyRing> Dirty;
+  std::atomic<bool> DirtyOverflow{false};
+  std::vector<double> InitialVolumes;
+  bool Finished = false;
+};
+
+template <typename F>
+void DrillVolume::ForEachBlock(const VoxelBox& region, F&& f) const {
+  const VoxelBox box = this->Clip(region);
+  if (box.Empty()) return;
+  int blo[3], bhi[3];
+  for (int a = 0; a < 3; ++a) {
+    blo[a] = box.Lo[a] >> BlockShift;
+    bhi[a] = box.Hi[a] >> BlockShift;
+  }
+  for (int bk = blo[2]; bk <= bhi[2]; ++bk)
+    for (int bj = blo[1]; bj <= bhi[1]; ++bj)
+      for (int bi = blo[0]; bi <= bhi[0]; ++bi) {
+        const int32_t s = this->Slot(bi, bj, bk);
+        if (s < 0) continue;
+        const int b[3] = {bi, bj, bk};
+        int lo[3], hi[3];
+        for (int a = 0; a < 3; ++a) {
+          lo[a] = std::max(box.Lo[a], b[a] << BlockShift);
+          hi[a] = std::min(box.Hi[a], (b[a] << BlockShift) + BlockEdge - 1);
+        }
+        f(s, lo, hi);
+      }
+}
+
+template <typename F>
+void DrillVolume::ForEachInShell(const Vec3& c, double rIn, double rOut, F&& f) const {
+  if (!(rOut > 0)) return;
+  const double h = this->Geometry.Spacing;
+  const Vec3& o = this->Geometry.Origin;
+  const double out2 = rOut * rOut, in2 = rIn > 0 ? rIn * rIn : -1.0;
+  const Vec3 reach{rOut, rOut, rOut};
+  const VoxelBox box = this->BoxAround(c - reach, c + reach);
+  if (box.Empty()) return;
+  // Row by row over the whole box: the i-range of a row is computed once, then walked across
+  // the blocks it passes.
+  for (int k = box.Lo[2]; k <= box.Hi[2]; ++k) {
+    const double dz = o.z + k * h - c.z;
+    for (int j = box.Lo[1]; j <= box.Hi[1]; ++j) {
+      const double dy = o.y + j * h - c.y;
+      const double row2 = dy * dy + dz * dz;
+      if (row2 > out2) continue;
+      const double half = std::sqrt(out2 - row2);
+      const int first = std::max(box.Lo[0], static_cast<int>(std::ceil((c.x - half - o.x) / h)));
+      const int last = std::min(box.Hi[0], static_cast<int>(std::floor((c.x + half - o.x) / h)));
+      int skipFirst = last + 1, skipLast = last;  // the part inside the inner sphere
+      if (row2 < in2) {
+        const double inner = std::sqrt(in2 - row2);
+        skipFirst = static_cast<int>(std::floor((c.x - inner - o.x) / h)) + 1;
+        skipLast = static_cast<int>(std::ceil((c.x + inner - o.x) / h)) - 1;
+      }
+      const int rowLocal = Local(0, j, k);
+      int32_t slot = -1;
+      int blockEnd = -1;  // last i of the block `slot` belongs to
+      for (int i = first; i <= last; ++i) {
+        if (i >= skipFirst && i <= skipLast) {
+          i = skipLast;
+          continue;
+        }
+        if (i > blockEnd) {
+          slot = this->Slot(i >> BlockShift, j >> BlockShift, k >> BlockShift);
+          blockEnd = (i | (BlockEdge - 1));
+          if (slot < 0) {  // not stored: skip the block
+            i = blockEnd;
+            continue;
+          }
+        }
+        f(slot, rowLocal | (i & (BlockEdge - 1)), i, j, k, Vec3{o.x + i * h - c.x, dy, dz});
+      }
+    }
+  }
+}
+
+template <typename F>
+size_t DrillVolume::TakeDirty(F&& f) {
+  size_t n = 0;
+  if (this->DirtyOverflow.exchange(false, std::memory_order_acq_rel)) {
+    // The ring overflowed: scan every flag (drop what the ring still holds; the flags decide).
+    int32_t ignored;
+    while (this->Dirty->TryPop(ignored)) {
+    }
+    for (size_t s = 0; s < this->BlockCoordinates.size(); ++s)
+      if (this->DirtyFlags[s].exchange(0, std::memory_order_acq_rel)) {
+        f(static_cast<int32_t>(s));
+        ++n;
+      }
+    return n;
+  }
+  int32_t slot;
+  while (this->Dirty->TryPop(slot)) {
+    // acq_rel: synchronizes with the servo's marking, so f sees the densities it wrote.
+    if (!this->DirtyFlags[size_t(slot)].exchange(0, std::memory_order_acq_rel)) continue;
+    f(slot);
+    ++n;
+  }
+  return n;
+}
+
+}  // namespace rp

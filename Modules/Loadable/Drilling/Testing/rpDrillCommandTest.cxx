@@ -1,0 +1,220 @@
+// `roboplan drill` end to end: the analytic block's stroke volume (known answer) through the
+// loaded module, a recorded path replayed to the same removal, a labelmap with a protected
+// segment (the burr stops there, nothing protected removed) and a CT giving cortical and
+// trabecular bone, bad arguments (exit 2) and bad files (exit 1), and the real knee CT's tibia
+// when ../shared/data is present.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <sys/wait.h>
+
+#include <nlohmann/json.hpp>
+#include <vtkImageData.h>
+#include <vtkMatrix4x4.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+
+#include "rpDrillCommand.h"
+#include "rpSharedData.h"
+#include "rpVolumeIO.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path TestDir(const std::string& name) {
+  const fs::path dir = fs::path(ROBOPLAN_TEST_OUTPUT_DIR) / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+struct DrillRun {
+  int Code = -1;
+  std::string Out, Err;
+  nlohmann::json Json() const { return nlohmann::json::parse(this->Out); }
+};
+
+DrillRun Drill(const std::vector<std::string>& args) {
+  std::ostringstream out, err;
+  DrillRun r;
+  r.Code = rp::RunDrillCommand(args, out, err);
+  r.Out = out.str();
+  r.Err = err.str();
+  return r;
+}
+
+// A labelmap (1 mm, LPS-free RAS grid) with a bone box (label 1) and a protected slab under it
+// (label 2), and a CT: 1300 HU within 1.5 mm of the bone's surface, 300 HU inside.
+void WriteBoneFiles(const fs::path& labels, const fs::path& ct) {
+  vtkNew<vtkImageData> l, c;
+  const int n[3] = {40, 40, 50};
+  l->SetDimensions(n[0], n[1], n[2]);
+  l->AllocateScalars(VTK_UNSIGNED_CHAR, 1);
+  c->SetDimensions(n[0], n[1], n[2]);
+  c->AllocateScalars(VTK_SHORT, 1);
+  vtkNew<vtkMatrix4x4> ijkToRAS;  // voxel (i,j,k) at RAS (i−20, j−20, k−25) mm
+  ijkToRAS->SetElement(0, 3, -20);
+  ijkToRAS->SetElement(1, 3, -20);
+  ijkToRAS->SetElement(2, 3, -25);
+  for (int k = 0; k < n[2]; ++k)
+    for (int j = 0; j < n[1]; ++j)
+      for (int i = 0; i < n[0]; ++i) {
+        const double x = i - 20, y = j - 20, z = k - 25;
+        const bool bone = std::fabs(x) <= 12 && std::fabs(y) <= 12 && z >= -8 && z <= 12;
+        const bool guarded = std::fabs(x) <= 12 && std::fabs(y) <= 12 && z >= -14 && z < -8;
+        const double inside = std::min({12 - std::fabs(x), 12 - std::fabs(y), z + 8, 12 - z});
+        static_cast<unsigned char*>(l->GetScalarPointer(i, j, k))[0] = bone ? 1 : (guarded ? 2 : 0);
+        static_cast<short*>(c->GetScalarPointer(i, j, k))[0] = bone ? (inside < 1.5 ? 1300 : 300) : (guarded ? 60 : 0);
+      }
+  std::string error;
+  ASSERT_TRUE(rp::WriteVolumeFile(labels.string(), l, ijkToRAS, {}, error)) << error;
+  ASSERT_TRUE(rp::WriteVolumeFile(ct.string(), c, ijkToRAS, {}, error)) << error;
+}
+
+}  // namespace
+
+TEST(DrillCommand, BlockStrokeRemovesTheCapsuleThroughTheModule) {
+  const fs::path dir = TestDir("block");
+  const std::string command = std::string(ROBOPLAN_BINARY_DIR) +
+                              "/bin/roboplan drill --block --block-bounds -10,-10,-12,10,10,12 --burr-radius 2 "
+                              "--from 0.13,-0.07,6 --to 0.13,-0.07,-4 --speed 5 --voxel 0.25 --json 2> " +
+                              (dir / "stderr.txt").string();
+  FILE* pipe = popen(command.c_str(), "r");
+  ASSERT_NE(pipe, nullptr);
+  std::string output;
+  char buffer[4096];
+  size_t n;
+  while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0) output.append(buffer, n);
+  const int status = pclose(pipe);
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << output;
+  const auto doc = nlohmann::json::parse(output);
+  const double expected = M_PI * 4 * 10 + 4.0 / 3.0 * M_PI * 8;
+  EXPECT_NEAR(doc["expectedVolumeMm3"].get<double>(), expected, 1e-9);
+  EXPECT_NEAR(doc["removedVolumeMm3"].get<double>(), expected, 0.02 * expected);
+  EXPECT_TRUE(doc["stroke"]["reachedTarget"].get<bool>());
+  EXPECT_LE(doc["farthestRemovalFromPathMm"].get<double>(), 2.0 + 0.25 + 1e-9);
+  for (const char* key : {"servoTickP99Us", "dirtyBlockRecontourP95Ms", "peakForceN", "wholeBoneRecontourMs"})
+    EXPECT_TRUE(doc.contains(key)) << key;
+  EXPECT_GT(doc["servoTickP99Us"].get<double>(), 0);
+  EXPECT_GT(doc["displayFrames"].get<size_t>(), 10u);
+  EXPECT_GT(doc["peakForceN"].get<double>(), 0.5);
+  EXPECT_LE(doc["peakForceN"].get<double>(), 3.3 + 1e-9);  // eq. 6: the device's maximum
+}
+
+TEST(DrillCommand, ARecordedPathReplaysToTheSameRemoval) {
+  const fs::path dir = TestDir("replay");
+  const std::string record = (dir / "path.txt").string();
+  const DrillRun first = Drill({"--block", "--shell", "1", "--block-bounds", "-10,-10,-10,10,10,10", "--burr-radius", "1.5",
+                           "--from", "3,0,14", "--to", "2,1,3", "--speed", "8", "--voxel", "0.4", "--record", record,
+                           "--json"});
+  ASSERT_EQ(first.Code, 0) << first.Err;
+  const auto a = first.Json();
+  EXPECT_GT(a["removedByTissueMm3"]["bone"].get<double>(), 2.0);
+  EXPECT_GT(a["removedByTissueMm3"]["trabecular bone"].get<double>(), 5.0);
+  const DrillRun second = Drill({"--block", "--shell", "1", "--block-bounds", "-10,-10,-10,10,10,10", "--replay", record, "--json"});
+  ASSERT_EQ(second.Code, 0) << second.Err;
+  const auto b = second.Json();
+  // The same removal up to the recording's 1 µm rounding of the positions.
+  EXPECT_NEAR(b["removedVolumeMm3"].get<double>(), a["removedVolumeMm3"].get<double>(),
+              1e-4 * a["removedVolumeMm3"].get<double>());
+  EXPECT_EQ(b["stroke"]["stopReason"], "replayed");
+  // A broken recording is named.
+  std::ofstream(dir / "broken.txt") << "# RoboPlan drill recording 1\n0.0 1 2 3\n";
+  const DrillRun broken = Drill({"--block", "--replay", (dir / "broken.txt").string()});
+  EXPECT_EQ(broken.Code, 1);
+  EXPECT_NE(broken.Err.find("broken.txt:2"), std::string::npos) << broken.Err;
+}
+
+TEST(DrillCommand, LabelmapWithProtectedSegmentAndCT) {
+  const fs::path dir = TestDir("labels");
+  WriteBoneFiles(dir / "labels.nrrd", dir / "ct.nrrd");
+  // Down through the bone towards the protected slab under it.
+  const DrillRun run = Drill({(dir / "labels.nrrd").string(), "--segment", "1", "--protect", "2", "--ct",
+                         (dir / "ct.nrrd").string(), "--burr-radius", "2", "--from", "0,0,16", "--to", "0,0,-12",
+                         "--speed", "10", "--voxel", "0.4", "--json"});
+  ASSERT_EQ(run.Code, 0) << run.Err;
+  const auto doc = run.Json();
+  EXPECT_EQ(doc["stroke"]["stopReason"], "protected");
+  EXPECT_TRUE(doc["protected"]["stopped"].get<bool>());
+  EXPECT_GT(doc["protected"]["refusedTicks"].get<int>(), 0);
+  // The burr stopped where its sphere met the slab (top at z = −8.5 in the labels' ½ surface).
+  EXPECT_LT(doc["protected"]["closestApproachMm"].get<double>(), 0.6);
+  EXPECT_TRUE(doc["bone"]["materialsFromCT"].get<bool>());
+  EXPECT_GT(doc["removedByTissueMm3"]["bone"].get<double>(), 5.0);
+  EXPECT_GT(doc["removedByTissueMm3"]["trabecular bone"].get<double>(), 50.0);
+  EXPECT_FALSE(doc.contains("expectedVolumeMm3"));
+  // Unknown segment, missing --segment, bad numbers.
+  const DrillRun unknown = Drill({(dir / "labels.nrrd").string(), "--segment", "7", "--burr-radius", "2", "--from", "0,0,16",
+                             "--to", "0,0,0", "--speed", "10"});
+  EXPECT_EQ(unknown.Code, 1);
+  EXPECT_NE(unknown.Err.find("no segment '7'"), std::string::npos) << unknown.Err;
+  const DrillRun missing = Drill({(dir / "labels.nrrd").string(), "--burr-radius", "2", "--from", "0,0,16", "--to", "0,0,0",
+                             "--speed", "10"});
+  EXPECT_EQ(missing.Code, 2);
+  EXPECT_NE(missing.Err.find("--segment"), std::string::npos) << missing.Err;
+  const DrillRun voxel = Drill({"--block", "--burr-radius", "2", "--from", "0,0,16", "--to", "0,0,0", "--speed", "10",
+                           "--voxel", "0"});
+  EXPECT_EQ(voxel.Code, 2);
+  EXPECT_NE(voxel.Err.find("--voxel"), std::string::npos) << voxel.Err;
+  const DrillRun both = Drill({(dir / "labels.nrrd").string(), "--block", "--burr-radius", "2", "--from", "0,0,16", "--to",
+                          "0,0,0", "--speed", "10"});
+  EXPECT_EQ(both.Code, 2);
+  const DrillRun noFile = Drill({(dir / "nothing.nrrd").string(), "--segment", "1", "--burr-radius", "2", "--from",
+                            "0,0,16", "--to", "0,0,0", "--speed", "10"});
+  EXPECT_EQ(noFile.Code, 1);
+  EXPECT_NE(noFile.Err.find("nothing.nrrd"), std::string::npos) << noFile.Err;
+}
+
+TEST(DrillCommand, RealKneeCTTibia) {
+  RP_REQUIRE_SHARED_DATA("knee-ct-vhf/labels.nrrd");
+  RP_REQUIRE_SHARED_DATA("knee-ct-vhf/dicom");
+  const fs::path data = rptest::SharedDataPath("knee-ct-vhf");
+  // The tibia (label 1): a tunnel from its anterior surface into its centre, fibula protected.
+  vtkNew<vtkImageData> labels;
+  vtkNew<vtkMatrix4x4> ijkToRAS;
+  rp::VolumeFileData file;
+  file.Image = labels;
+  file.IJKToRAS = ijkToRAS;
+  std::string error;
+  ASSERT_TRUE(rp::ReadVolumeFile((data / "labels.nrrd").string(), file, error)) << error;
+  double sum[3] = {0, 0, 0}, front = -1e9;
+  long count = 0;
+  int dims[3];
+  labels->GetDimensions(dims);
+  // The centroid of the tibia's upper third, and its most anterior point at that height.
+  int kTop = 0;
+  for (int k = 0; k < dims[2]; ++k)
+    for (int j = 0; j < dims[1]; ++j)
+      for (int i = 0; i < dims[0]; ++i)
+        if (labels->GetScalarComponentAsDouble(i, j, k, 0) == 1) kTop = std::max(kTop, k);
+  const int kCentre = kTop - 60;  // the shaft: a thick cortex (near the plateau it is a thin shell, 250-400 HU at 1 mm)
+  for (int j = 0; j < dims[1]; ++j)
+    for (int i = 0; i < dims[0]; ++i)
+      if (labels->GetScalarComponentAsDouble(i, j, kCentre, 0) == 1) {
+        const double ijk[4] = {double(i), double(j), double(kCentre), 1}, *ras = ijkToRAS->MultiplyDoublePoint(ijk);
+        sum[0] += ras[0], sum[1] += ras[1], sum[2] += ras[2], ++count;
+        front = std::max(front, ras[1]);
+      }
+  ASSERT_GT(count, 100);
+  const double c[3] = {sum[0] / count, sum[1] / count, sum[2] / count};
+  char from[128], to[128];
+  std::snprintf(from, sizeof from, "%.2f,%.2f,%.2f", c[0], front + 3.0, c[2]);
+  std::snprintf(to, sizeof to, "%.2f,%.2f,%.2f", c[0], c[1], c[2]);
+  const DrillRun run = Drill({(data / "labels.nrrd").string(), "--segment", "1", "--protect", "2", "--ct",
+                         (data / "dicom").string(), "--burr-radius", "2.5", "--from", from, "--to", to, "--speed", "10",
+                         "--voxel", "0.3", "--margin", "8", "--json"});
+  ASSERT_EQ(run.Code, 0) << run.Err;
+  const auto doc = run.Json();
+  EXPECT_TRUE(doc["bone"]["materialsFromCT"].get<bool>());
+  EXPECT_TRUE(doc["stroke"]["reachedTarget"].get<bool>()) << doc.dump(2);
+  // Through the real cortex into the cancellous bone.
+  EXPECT_GT(doc["removedByTissueMm3"]["bone"].get<double>(), 10.0) << doc.dump(2);
+  EXPECT_GT(doc["removedByTissueMm3"]["trabecular bone"].get<double>(), 10.0) << doc.dump(2);
+  EXPECT_GT(doc["protected"]["closestApproachMm"].get<double>(), 0.0);
+}
