@@ -289,6 +289,8 @@ void IgtlServer::Accept() {
     }
     const int one = 1;
     setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+    if (this->Opts.SocketSendBuffer > 0)
+      setsockopt(fd, SOL_SOCKET, SO_SNDBUF, &this->Opts.SocketSendBuffer, sizeof this->Opts.SocketSendBuffer);
     Client c;
     c.Fd = fd;
     c.LastSend = SteadySeconds();

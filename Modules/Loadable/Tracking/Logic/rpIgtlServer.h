@@ -34,6 +34,7 @@ class IgtlServer {
     size_t InputWindow = 64u << 10;     // the largest message we parse (control messages are tiny)
     size_t MaxQueuedOutput = 1u << 20;  // per client; beyond it messages to that client are dropped
     double StallSeconds = 2.0;          // a client that reads nothing this long is dropped
+    int SocketSendBuffer = 64 << 10;    // kernel buffer per client: seconds of poses, not minutes
   };
 
   struct Statistics {

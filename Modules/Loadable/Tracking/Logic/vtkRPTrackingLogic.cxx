@@ -117,12 +117,7 @@ vtkRPScalarVolumeNode* vtkRPTrackingLogic::VolumeFor(Image& image) {
       return existing;
     }
   }
-  if (!this->AutoCreateNodes) return nullptr;
-  vtkNew<vtkRPScalarVolumeNode> created;
-  created->SetName(image.NodeName);
-  this->Scene->AddNode(created);
-  image.NodeID = created->GetID();
-  return created;
+  return nullptr;
 }
 
 void vtkRPTrackingLogic::WriteNode(vtkRPTrackedToolNode* node, const rp::ToolPose& pose, int status, double errorRMS) {
@@ -254,9 +249,18 @@ int vtkRPTrackingLogic::UpdateImages(Source& source, double now) {
     stream.Latency = now - frame->ReceiveTime;
     if (vtkRPScalarVolumeNode* node = this->VolumeFor(stream)) {
       this->WriteVolume(node, *frame);
-      ++stream.Shown;
-      ++modified;
+    } else if (this->AutoCreateNodes) {
+      // Filled before it joins the scene: views and modules see a complete volume when it appears.
+      vtkNew<vtkRPScalarVolumeNode> created;
+      created->SetName(stream.NodeName);
+      this->WriteVolume(created, *frame);
+      this->Scene->AddNode(created);
+      stream.NodeID = created->GetID();
+    } else {
+      continue;
     }
+    ++stream.Shown;
+    ++modified;
   }
   return modified;
 }
