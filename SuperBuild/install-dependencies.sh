@@ -14,6 +14,7 @@ packages=(
   nlohmann-json3-dev                   # JSON for scene files, .mrk.json and --json output
   libfftw3-dev                         # referenced by ITK's and VTK's exported CMake targets
   libgtest-dev libgmock-dev libbenchmark-dev
+  clang libclang-rt-14-dev             # libFuzzer targets of every parser (ctest -L fuzz)
   xvfb xauth libgl1-mesa-dri libglx-mesa0  # offscreen rendering with Mesa's software OpenGL
   snakemake                            # workflow/: cohorts, locally or on a cluster
   slurm-wlm munge                      # the workflow's Slurm test starts a one-node cluster

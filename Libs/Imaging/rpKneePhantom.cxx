@@ -1,161 +1,341 @@
+// The knee phantom's renderer: whichever anatomy (real surfaces or analytic solids), the
+// labelmap, the CT and the MR follow from the structures' signed distances by one rule, the
+// tissue layers below (top first). A voxel's value composites the layers by their coverage of
+// the voxel (partial volume from the signed distance and the voxel's extent along the surface
+// normal), then scanner noise is added. The volume is rendered in slabs of slices on two threads.
 #include "rpKneePhantom.h"
 
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <thread>
 
+#include <vtkPolyData.h>
 #include <vtkTransform.h>
 
 namespace rp {
 namespace {
 
-struct V3 {
-  double x, y, z;
+constexpr double kSkin = 2.0;  // skin thickness (mm)
+
+// The tissue layers, top first: a point gets the label of the first layer it is inside.
+// Cartilage is painted over bone (the real cartilages overlap the bones by a few tenths of a
+// millimetre), the trabecular core over the cortex, bones over ligaments (which end on them).
+struct Layer {
+  KneeStructure Structure;
+  double Offset;  // the layer's surface: signed distance of the structure + Offset = 0
+  KneeLabel Label;
 };
-inline V3 operator-(V3 a, V3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-inline V3 operator+(V3 a, V3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-inline V3 operator*(V3 a, double s) { return {a.x * s, a.y * s, a.z * s}; }
-inline double Dot(V3 a, V3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-inline double Length(V3 a) { return std::sqrt(Dot(a, a)); }
-// std::hypot guards against overflow we cannot have here, and is several times slower.
-inline double Hypot(double a, double b) { return std::sqrt(a * a + b * b); }
-
-// Exact signed distances of the primitives (Quilez's formulas) and the CSG combinations.
-double Capsule(V3 p, V3 a, V3 b, double r) {
-  const V3 pa = p - a, ba = b - a;
-  const double h = std::clamp(Dot(pa, ba) / Dot(ba, ba), 0.0, 1.0);
-  return Length(pa - ba * h) - r;
-}
-double Sphere(V3 p, V3 c, double r) { return Length(p - c) - r; }
-// Ellipsoid: a first-order bound, exact on the surface, accurate close to it.
-double Ellipsoid(V3 p, V3 c, V3 r) {
-  const V3 q = p - c;
-  const double k0 = Length({q.x / r.x, q.y / r.y, q.z / r.z});
-  const double k1 = Length({q.x / (r.x * r.x), q.y / (r.y * r.y), q.z / (r.z * r.z)});
-  if (k1 < 1e-12) return -std::min({r.x, r.y, r.z});
-  return k0 * (k0 - 1.0) / k1;
-}
-// Vertical capped cylinder centred at c, radius r, half-height h, edges rounded by e.
-double RoundedCylinder(V3 p, V3 c, double r, double h, double e) {
-  const V3 q = p - c;
-  const double dx = Hypot(q.x, q.y) - (r - e);
-  const double dz = std::abs(q.z) - (h - e);
-  return std::min(std::max(dx, dz), 0.0) + Hypot(std::max(dx, 0.0), std::max(dz, 0.0)) - e;
-}
-double SmoothUnion(double a, double b, double k) {
-  const double h = std::max(k - std::abs(a - b), 0.0) / k;
-  return std::min(a, b) - h * h * k * 0.25;
-}
-double Subtract(double a, double b) { return std::max(a, -b); }
-
-constexpr double kCortical = 2.0;
-constexpr double kCartilage = 2.5;
-// The leg's cross-section: an ellipse (wider medio-laterally), skin 2 mm, and subcutaneous fat
-// down to an inner ellipse that is off-centre (thicker fat posteriorly and medially), so the
-// outline alone does not look the same after a rotation about the leg's axis.
-constexpr double kSkin = 2.0;
-const V3 kBodyCentre = {0.0, -4.0, 0.0};
-constexpr double kBodyRx = 64.0, kBodyRy = 56.0;
-const V3 kMuscleCentre = {2.0, -1.0, 0.0};
-constexpr double kMuscleRx = 54.0, kMuscleRy = 44.0;
-
-// 2D ellipse (infinite along z): first-order distance, exact on the curve.
-double EllipticCylinder(V3 p, V3 c, double rx, double ry) {
-  const double x = p.x - c.x, y = p.y - c.y;
-  const double k0 = Hypot(x / rx, y / ry);
-  const double k1 = Hypot(x / (rx * rx), y / (ry * ry));
-  if (k1 < 1e-12) return -std::min(rx, ry);
-  return k0 * (k0 - 1.0) / k1;
-}
-// The leg is not a cylinder: the thigh is wider than the knee and the calf bulges below it
-// (this also tells a registration where along the leg it is).
-double LegScale(double z) {
-  return 1.0 + 0.10 * std::tanh((z - 20.0) / 50.0) + 0.08 * std::exp(-((z + 90.0) / 40.0) * ((z + 90.0) / 40.0));
-}
-double Body(V3 p) {
-  const double s = LegScale(p.z);
-  return EllipticCylinder(p, kBodyCentre, kBodyRx * s, kBodyRy * s);
-}
-double MuscleCompartment(V3 p) {
-  const double s = LegScale(p.z);
-  return EllipticCylinder(p, kMuscleCentre, kMuscleRx * s, kMuscleRy * s);
-}
-// Fat pads: popliteal (behind the knee) and infrapatellar (Hoffa's, in front of the joint).
-double PoplitealFat(V3 p) { return Ellipsoid(p, {0, -32, 8}, {18, 11, 42}); }
-double HoffaFat(V3 p) { return Ellipsoid(p, {0, 21, -7}, {14, 7, 8}); }
-
-double Femur(V3 p) {
-  const double shaft = Capsule(p, {0, -2, 40}, {0, -2, 400}, 14.0);
-  const double condyles = Capsule(p, {-22, -4, 19}, {22, -4, 19}, 19.0);
-  const double notch = Capsule(p, {0, -45, 6}, {0, 4, 6}, 8.0);
-  return Subtract(SmoothUnion(shaft, condyles, 16.0), notch);
-}
-double Tibia(V3 p) {
-  const double plateau = SmoothUnion(RoundedCylinder(p, {-16, -4, -21}, 22.0, 15.0, 3.0),
-                                     RoundedCylinder(p, {16, -4, -21}, 22.0, 15.0, 3.0), 8.0);
-  const double shaft = Capsule(p, {0, -2, -30}, {0, -2, -400}, 14.0);
-  return SmoothUnion(plateau, shaft, 16.0);
-}
-double Fibula(V3 p) {
-  return SmoothUnion(Sphere(p, {34, -20, -48}, 9.0), Capsule(p, {34, -20, -48}, {31, -22, -400}, 7.0),
-                     6.0);
-}
-double Patella(V3 p) { return Ellipsoid(p, {0, 28, 30}, {20, 9, 22}); }
-
-// Cartilage: a kCartilage-thick layer on the bone, restricted to the articular region.
-double Cap(double bone, double region) { return std::max({bone - kCartilage, -bone, region}); }
-double FemoralCartilage(V3 p) {
-  const double region = std::min(p.z - 22.0, std::max(5.0 - p.y, p.z - 45.0));
-  return Cap(Femur(p), region);
-}
-double TibialCartilage(V3 p) { return Cap(Tibia(p), -8.0 - p.z); }
-double PatellarCartilage(V3 p) { return Cap(Patella(p), p.y - 26.0); }
-
-double ACL(V3 p) { return Capsule(p, {10, -14, 8}, {-4, 8, -6}, 4.0); }
-double PCL(V3 p) { return Capsule(p, {-9, 2, 8}, {0, -20, -10}, 5.0); }
-double MCL(V3 p) { return Capsule(p, {-44, -6, 22}, {-41, -2, -50}, 2.5); }
-double LCL(V3 p) { return Capsule(p, {44, -8, 20}, {36, -20, -40}, 2.5); }
-
-struct StructureBox {
-  double b[6];
+const Layer kLayers[] = {
+    {KneeStructure::FemoralCartilage, 0, KneeFemoralCartilage},
+    {KneeStructure::TibialCartilage, 0, KneeTibialCartilage},
+    {KneeStructure::PatellarCartilage, 0, KneePatellarCartilage},
+    {KneeStructure::PatellaMarrow, 0, KneePatellaTrabecular},
+    {KneeStructure::Patella, 0, KneePatellaCortical},
+    {KneeStructure::FemurMarrow, 0, KneeFemurTrabecular},
+    {KneeStructure::Femur, 0, KneeFemurCortical},
+    {KneeStructure::TibiaMarrow, 0, KneeTibiaTrabecular},
+    {KneeStructure::Tibia, 0, KneeTibiaCortical},
+    {KneeStructure::FibulaMarrow, 0, KneeFibulaTrabecular},
+    {KneeStructure::Fibula, 0, KneeFibulaCortical},
+    {KneeStructure::ACL, 0, KneeACL},
+    {KneeStructure::PCL, 0, KneePCL},
+    {KneeStructure::MCL, 0, KneeMCL},
+    {KneeStructure::LCL, 0, KneeLCL},
+    {KneeStructure::FatPads, 0, KneeFat},
+    {KneeStructure::MuscleCompartment, 0, KneeMuscle},
+    {KneeStructure::Body, kSkin, KneeFat},  // subcutaneous fat: inside the skin
+    {KneeStructure::Body, 0, KneeSkin},
 };
-// Generous boxes for surface sampling (the long shafts are cut at |z| = 160 mm).
-StructureBox BoxOf(KneeStructure s) {
-  switch (s) {
-    case KneeStructure::Femur: case KneeStructure::FemurMarrow: case KneeStructure::FemoralCartilage:
-      return {{-45, 45, -25, 25, -5, 160}};
-    case KneeStructure::Tibia: case KneeStructure::TibiaMarrow: case KneeStructure::TibialCartilage:
-      return {{-42, 42, -30, 22, -160, 0}};
-    case KneeStructure::Fibula: case KneeStructure::FibulaMarrow:
-      return {{20, 48, -34, -6, -160, -35}};
-    case KneeStructure::Patella: case KneeStructure::PatellaMarrow: case KneeStructure::PatellarCartilage:
-      return {{-23, 23, 16, 40, 5, 55}};
-    case KneeStructure::ACL: return {{-10, 16, -20, 14, -12, 14}};
-    case KneeStructure::PCL: return {{-16, 7, -27, 9, -17, 15}};
-    case KneeStructure::MCL: return {{-48, -37, -10, 2, -54, 26}};
-    case KneeStructure::LCL: return {{31, 48, -24, -4, -44, 24}};
-    case KneeStructure::Body: return {{-80, 80, -75, 70, -160, 160}};
+constexpr int kLayerCount = sizeof(kLayers) / sizeof(kLayers[0]);
+
+bool IsMarrow(KneeStructure s) {
+  return s == KneeStructure::FemurMarrow || s == KneeStructure::TibiaMarrow || s == KneeStructure::FibulaMarrow ||
+         s == KneeStructure::PatellaMarrow;
+}
+KneeStructure BoneOfMarrow(KneeStructure s) { return static_cast<KneeStructure>(static_cast<int>(s) - 4); }
+bool IsTrabecular(KneeLabel l) {
+  return l == KneeFemurTrabecular || l == KneeTibiaTrabecular || l == KneeFibulaTrabecular || l == KneePatellaTrabecular;
+}
+
+// ---- Tissue texture and density (real anatomy only)
+
+// Smooth value noise in [-1, 1] on a lattice of `cell` mm: a deterministic function of the
+// anatomical position, so the CT and the MR (in another pose) see the same trabeculae.
+double ValueNoise(const double p[3], double cell, uint32_t seed) {
+  double f[3];
+  long c[3];
+  for (int a = 0; a < 3; ++a) {
+    const double x = p[a] / cell;
+    c[a] = static_cast<long>(std::floor(x));
+    const double t = x - c[a];
+    f[a] = t * t * (3 - 2 * t);
   }
-  return {{0, 0, 0, 0, 0, 0}};
+  auto hash = [seed](long i, long j, long k) {
+    uint32_t h = seed ^ (static_cast<uint32_t>(i) * 73856093u) ^ (static_cast<uint32_t>(j) * 19349663u) ^
+                 (static_cast<uint32_t>(k) * 83492791u);
+    h ^= h >> 13;
+    h *= 0x5bd1e995u;
+    h ^= h >> 15;
+    return (h & 0xffff) / 32767.5 - 1.0;
+  };
+  double v = 0;
+  for (int corner = 0; corner < 8; ++corner) {
+    const int di = corner & 1, dj = (corner >> 1) & 1, dk = (corner >> 2) & 1;
+    const double w = (di ? f[0] : 1 - f[0]) * (dj ? f[1] : 1 - f[1]) * (dk ? f[2] : 1 - f[2]);
+    v += w * hash(c[0] + di, c[1] + dj, c[2] + dk);
+  }
+  return v;
+}
+double Trabeculae(const double p[3]) { return 0.65 * ValueNoise(p, 1.3, 0x9e3779b9u) + 0.35 * ValueNoise(p, 0.6, 0x7f4a7c15u); }
+
+// Trabecular bone is densest under the joint (epiphysis, ~300 HU) and thins out along the
+// metaphysis into the fatty marrow of the diaphysis (calibrated on the Visible Human Female's
+// knee CT, ../shared/data/knee-ct-vhf: ~250 HU under the plateau, ~80 HU 60-100 mm below it).
+double TrabecularCT(double epiphysisHU, const double p[3]) {
+  const double s = std::abs(p[2]);
+  const double metaphysis = std::clamp((s - 20.0) / 50.0, 0.0, 1.0);
+  const double diaphysis = std::clamp((s - 75.0) / 40.0, 0.0, 1.0);
+  const double base = epiphysisHU - 90.0 * metaphysis;
+  return base + diaphysis * (20.0 - base) + 80.0 * (1.0 - 0.6 * diaphysis) * Trabeculae(p);
+}
+
+// ---- Grid helpers
+
+vtkSmartPointer<vtkMatrix4x4> MatrixOf(const KneeGrid& g) {
+  auto m = vtkSmartPointer<vtkMatrix4x4>::New();
+  for (int c = 0; c < 3; ++c) {
+    for (int r = 0; r < 3; ++r) m->SetElement(r, c, g.Axes[c][r] * g.Spacing[c]);
+    m->SetElement(c, 3, g.Origin[c]);
+  }
+  return m;
+}
+
+void CentreGrid(KneeGrid& g, const double centre[3]) {
+  for (int r = 0; r < 3; ++r) {
+    g.Origin[r] = centre[r];
+    for (int c = 0; c < 3; ++c) g.Origin[r] -= g.Axes[c][r] * g.Spacing[c] * (g.Dims[c] - 1) * 0.5;
+  }
+}
+
+// Allocates a volume on a grid and returns its voxels.
+template <typename T>
+T* Allocate(ImageVolume& volume, const KneeGrid& g, int scalarType, double window, double level,
+            const std::string& modality, const std::string& description) {
+  volume.Image = vtkSmartPointer<vtkImageData>::New();
+  volume.Image->SetDimensions(g.Dims[0], g.Dims[1], g.Dims[2]);
+  volume.Image->AllocateScalars(scalarType, 1);
+  volume.IJKToRAS = MatrixOf(g);
+  volume.Window = window;
+  volume.Level = level;
+  volume.Modality = modality;
+  volume.Description = description;
+  return static_cast<T*>(volume.Image->GetScalarPointer());
+}
+
+// The voxels of `slab` (a range of k) whose centres lie within `margin` of an RAS box.
+KneeGridBox BoxAround(const KneeGrid& g, const double bounds[6], double margin, const KneeGridBox& slab) {
+  KneeGridBox box = slab;
+  double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  for (int corner = 0; corner < 8; ++corner) {
+    const double p[3] = {(corner & 1 ? bounds[1] + margin : bounds[0] - margin),
+                         (corner & 2 ? bounds[3] + margin : bounds[2] - margin),
+                         (corner & 4 ? bounds[5] + margin : bounds[4] - margin)};
+    for (int c = 0; c < 3; ++c) {
+      // Index along axis c (the axes are orthonormal).
+      double x = 0;
+      for (int r = 0; r < 3; ++r) x += (p[r] - g.Origin[r]) * g.Axes[c][r];
+      x /= g.Spacing[c];
+      lo[c] = std::min(lo[c], x);
+      hi[c] = std::max(hi[c], x);
+    }
+  }
+  for (int c = 0; c < 3; ++c) {
+    box.Lo[c] = std::max(slab.Lo[c], static_cast<int>(std::max(-1e9, std::floor(lo[c]))));
+    box.Hi[c] = std::min(slab.Hi[c], static_cast<int>(std::min(1e9, std::ceil(hi[c]))) + 1);
+  }
+  return box;
+}
+
+// One structure's signed distances over a box of the current slab.
+struct Sampled {
+  KneeGridBox Box;
+  std::vector<float> D;
+  float Far = 1e9f;  // value outside the box (outside the structure)
+  float At(int i, int j, int k) const {
+    if (i < Box.Lo[0] || j < Box.Lo[1] || k < Box.Lo[2] || i >= Box.Hi[0] || j >= Box.Hi[1] || k >= Box.Hi[2]) return Far;
+    const int nx = Box.Hi[0] - Box.Lo[0], ny = Box.Hi[1] - Box.Lo[1];
+    return D[(size_t(k - Box.Lo[2]) * ny + (j - Box.Lo[1])) * nx + (i - Box.Lo[0])];
+  }
+  // Gradient (per mm along the grid axes) by central differences inside the box.
+  void Gradient(int i, int j, int k, const double spacing[3], double g[3]) const {
+    const int idx[3] = {i, j, k};
+    for (int c = 0; c < 3; ++c) {
+      int a[3] = {i, j, k}, b[3] = {i, j, k};
+      a[c] = std::max(Box.Lo[c], idx[c] - 1);
+      b[c] = std::min(Box.Hi[c] - 1, idx[c] + 1);
+      g[c] = b[c] > a[c] ? (At(b[0], b[1], b[2]) - At(a[0], a[1], a[2])) / ((b[c] - a[c]) * spacing[c]) : 0.0;
+    }
+  }
+};
+
+// What a layer shows in an image, per tissue, and the scanner's per-voxel effects.
+struct Modality {
+  bool CT;
+  bool Realistic;  // texture and density gradients (real anatomy)
+  double Value(KneeLabel label, const double p[3]) const {
+    const KneeTissue& t = KneeTissues()[label];
+    if (!this->CT) {
+      // Fatty marrow is bright on PD; the trabeculae darken it a little.
+      return t.MRIntensity - (this->Realistic && IsTrabecular(label) ? 70.0 * Trabeculae(p) : 0.0);
+    }
+    if (this->Realistic && IsTrabecular(label)) return TrabecularCT(t.CTHounsfield, p);
+    return t.CTHounsfield;
+  }
+};
+
+// Renders slices [k0, k1) of one grid: labels (optional) and intensities (optional).
+struct SlabRenderer {
+  const KneeModel& Model;
+  const KneeGrid& Grid;
+  const Modality* Image;     // null: labels only
+  unsigned char* LabelsOut;  // null: no labels
+  double* ValuesOut;         // k0..k1 slices of values before noise (null with Image null)
+
+  void Render(int k0, int k1) {
+    const KneeGridBox slab{{0, 0, k0}, {Grid.Dims[0], Grid.Dims[1], k1}};
+    // The partial-volume ramp: a layer covers a voxel fully (or not at all) beyond half the
+    // voxel's diagonal from its surface.
+    const double halfDiagonal =
+        0.5 * std::sqrt(Grid.Spacing[0] * Grid.Spacing[0] + Grid.Spacing[1] * Grid.Spacing[1] +
+                        Grid.Spacing[2] * Grid.Spacing[2]);
+    const double step = std::max({Grid.Spacing[0], Grid.Spacing[1], Grid.Spacing[2]});
+    Sampled sampled[KneeStructureCount];
+    for (int s = 0; s < KneeStructureCount; ++s) {
+      const KneeStructure structure = static_cast<KneeStructure>(s);
+      if (IsMarrow(structure)) continue;  // from its bone's distance and the cortical thickness
+      const bool bone = s <= static_cast<int>(KneeStructure::Patella);
+      // Exact distances where a layer surface may cross a voxel: the bone's cortex reaches its
+      // thickness inside; the skin's inner surface is kSkin inside the body.
+      const double band = halfDiagonal + step + (bone ? Model.MaxCorticalThickness() : 0.0) +
+                          (structure == KneeStructure::Body ? kSkin : 0.0);
+      double bounds[6];
+      Model.Bounds(structure, bounds);
+      Sampled& out = sampled[s];
+      out.Box = BoxAround(Grid, bounds, band + step, slab);
+      out.Far = static_cast<float>(2 * band + 1);
+      out.D.resize(out.Box.Size());
+      if (!out.Box.Empty()) Model.SampleSignedDistance(structure, Grid, out.Box, band, out.D.data());
+    }
+    double distances[kLayerCount];
+    for (int k = k0; k < k1; ++k)
+      for (int j = 0; j < Grid.Dims[1]; ++j)
+        for (int i = 0; i < Grid.Dims[0]; ++i) {
+          double p[3];
+          Grid.VoxelCentre(i, j, k, p);
+          // Layer distances (marrow: the bone's distance + the cortex there).
+          for (int l = 0; l < kLayerCount; ++l) {
+            const KneeStructure s = kLayers[l].Structure;
+            if (IsMarrow(s)) {
+              const double bone = sampled[static_cast<int>(BoneOfMarrow(s))].At(i, j, k);
+              distances[l] = bone < halfDiagonal ? bone + Model.CorticalThickness(BoneOfMarrow(s), p) : bone;
+            } else {
+              distances[l] = sampled[static_cast<int>(s)].At(i, j, k) + kLayers[l].Offset;
+            }
+          }
+          const size_t at = (size_t(k - k0) * Grid.Dims[1] + j) * Grid.Dims[0] + i;
+          if (LabelsOut) {
+            KneeLabel label = KneeBackground;
+            for (int l = 0; l < kLayerCount; ++l)
+              if (distances[l] < 0) {
+                label = kLayers[l].Label;
+                break;
+              }
+            LabelsOut[at] = label;
+          }
+          if (!Image) continue;
+          // Composite the layers top-down by coverage; air fills what is left.
+          double value = 0, remaining = 1;
+          for (int l = 0; l < kLayerCount && remaining > 1e-6; ++l) {
+            const double d = distances[l];
+            if (d >= halfDiagonal) continue;
+            double coverage = 1.0;
+            if (d > -halfDiagonal) {
+              const KneeStructure s = IsMarrow(kLayers[l].Structure) ? BoneOfMarrow(kLayers[l].Structure)
+                                                                     : kLayers[l].Structure;
+              double g[3];
+              sampled[static_cast<int>(s)].Gradient(i, j, k, Grid.Spacing, g);
+              const double norm = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+              double width = std::cbrt(Grid.Spacing[0] * Grid.Spacing[1] * Grid.Spacing[2]);
+              if (norm > 1e-6) {
+                width = 0;
+                for (int c = 0; c < 3; ++c) width += (g[c] / norm * Grid.Spacing[c]) * (g[c] / norm * Grid.Spacing[c]);
+                width = std::sqrt(width);
+              }
+              coverage = std::clamp(0.5 - d / width, 0.0, 1.0);
+            }
+            if (coverage <= 0) continue;
+            value += remaining * coverage * Image->Value(kLayers[l].Label, p);
+            remaining *= 1.0 - coverage;
+          }
+          ValuesOut[at] = value + remaining * Image->Value(KneeBackground, p);
+        }
+  }
+};
+
+// Renders a whole grid in slabs on two threads; `write(k0, k1, labels, values)` stores a slab.
+template <typename WriteFn>
+void RenderGrid(const KneeModel& model, const KneeGrid& grid, const Modality* image, bool labels, WriteFn write,
+                const ProgressCallback& progress, double from, double to, const std::string& message) {
+  const int slabSize = 8;
+  const int slabs = (grid.Dims[2] + slabSize - 1) / slabSize;
+  std::atomic<int> next{0}, done{0};
+  auto worker = [&](bool reports) {
+    std::vector<unsigned char> labelBuffer;
+    std::vector<double> valueBuffer;
+    for (int s = next++; s < slabs; s = next++) {
+      const int k0 = s * slabSize, k1 = std::min(grid.Dims[2], k0 + slabSize);
+      const size_t n = size_t(k1 - k0) * grid.Dims[0] * grid.Dims[1];
+      labelBuffer.resize(labels ? n : 0);
+      valueBuffer.resize(image ? n : 0);
+      SlabRenderer renderer{model, grid, image, labels ? labelBuffer.data() : nullptr,
+                            image ? valueBuffer.data() : nullptr};
+      renderer.Render(k0, k1);
+      write(k0, k1, labels ? labelBuffer.data() : nullptr, image ? valueBuffer.data() : nullptr);
+      ++done;
+      if (reports && progress) progress(from + (to - from) * done.load() / slabs, message);
+    }
+  };
+  const unsigned hw = std::max(1u, std::min(2u, std::thread::hardware_concurrency()));
+  std::vector<std::thread> threads;
+  for (unsigned t = 1; t < hw; ++t) threads.emplace_back(worker, false);
+  worker(true);
+  for (auto& t : threads) t.join();
+  if (progress) progress(to, message);
 }
 
 }  // namespace
 
+// ---- Tissues and bones
+
 const std::vector<KneeTissue>& KneeTissues() {
+  // CT values as measured on real knees (fat -100, muscle +50, cortical bone ~1400 HU; the
+  // trabecular value is the epiphysis', see TrabecularCT); PD-MR: fat and fatty marrow bright,
+  // cortex and ligaments dark, cartilage intermediate-bright.
   static const std::vector<KneeTissue> tissues = {
-      {KneeBackground, "air", "air", -1000, 0, {0, 0, 0}},
+      {KneeBackground, "air", "", -1000, 0, {0, 0, 0}},
       {KneeSkin, "skin", "skin", 30, 450, {0.95, 0.78, 0.66}},
       {KneeFat, "fat", "fat", -100, 900, {0.98, 0.9, 0.55}},
       {KneeMuscle, "muscle", "muscle", 50, 350, {0.75, 0.3, 0.25}},
-      {KneeFemurCortical, "femur cortical", "bone", 1300, 40, {0.95, 0.93, 0.85}},
+      {KneeFemurCortical, "femur cortical", "bone", 1400, 40, {0.95, 0.93, 0.85}},
       {KneeFemurTrabecular, "femur trabecular", "bone", 300, 720, {0.9, 0.82, 0.65}},
-      {KneeTibiaCortical, "tibia cortical", "bone", 1300, 40, {0.95, 0.93, 0.85}},
+      {KneeTibiaCortical, "tibia cortical", "bone", 1400, 40, {0.95, 0.93, 0.85}},
       {KneeTibiaTrabecular, "tibia trabecular", "bone", 300, 720, {0.9, 0.82, 0.65}},
-      {KneeFibulaCortical, "fibula cortical", "bone", 1250, 40, {0.95, 0.93, 0.85}},
+      {KneeFibulaCortical, "fibula cortical", "bone", 1350, 40, {0.95, 0.93, 0.85}},
       {KneeFibulaTrabecular, "fibula trabecular", "bone", 280, 720, {0.9, 0.82, 0.65}},
-      {KneePatellaCortical, "patella cortical", "bone", 1200, 40, {0.95, 0.93, 0.85}},
+      {KneePatellaCortical, "patella cortical", "bone", 1300, 40, {0.95, 0.93, 0.85}},
       {KneePatellaTrabecular, "patella trabecular", "bone", 320, 720, {0.9, 0.82, 0.65}},
       {KneeFemoralCartilage, "femoral cartilage", "cartilage", 110, 620, {0.55, 0.75, 0.95}},
       {KneeTibialCartilage, "tibial cartilage", "cartilage", 110, 620, {0.55, 0.75, 0.95}},
@@ -168,139 +348,72 @@ const std::vector<KneeTissue>& KneeTissues() {
   return tissues;
 }
 
-KneeModel::KneeModel() = default;
-
-double KneeModel::SignedDistance(KneeStructure structure, const double ras[3]) const {
-  const V3 p = {ras[0], ras[1], ras[2]};
-  switch (structure) {
-    case KneeStructure::Femur: return Femur(p);
-    case KneeStructure::Tibia: return Tibia(p);
-    case KneeStructure::Fibula: return Fibula(p);
-    case KneeStructure::Patella: return Patella(p);
-    case KneeStructure::FemurMarrow: return Femur(p) + kCortical;
-    case KneeStructure::TibiaMarrow: return Tibia(p) + kCortical;
-    case KneeStructure::FibulaMarrow: return Fibula(p) + kCortical;
-    case KneeStructure::PatellaMarrow: return Patella(p) + kCortical;
-    case KneeStructure::FemoralCartilage: return FemoralCartilage(p);
-    case KneeStructure::TibialCartilage: return TibialCartilage(p);
-    case KneeStructure::PatellarCartilage: return PatellarCartilage(p);
-    case KneeStructure::ACL: return ACL(p);
-    case KneeStructure::PCL: return PCL(p);
-    case KneeStructure::MCL: return MCL(p);
-    case KneeStructure::LCL: return LCL(p);
-    case KneeStructure::Body: return Body(p);
-  }
-  return 1e9;
+const char* KneeStructureName(KneeStructure structure) {
+  static const char* const names[KneeStructureCount] = {
+      "femur", "tibia", "fibula", "patella", "femur-marrow", "tibia-marrow", "fibula-marrow", "patella-marrow",
+      "femoral-cartilage", "tibial-cartilage", "patellar-cartilage", "acl", "pcl", "mcl", "lcl", "body",
+      "muscle-compartment", "fat-pads"};
+  const int s = static_cast<int>(structure);
+  return s >= 0 && s < KneeStructureCount ? names[s] : "unknown";
 }
 
-namespace {
-// Boxes that contain each solid with a margin: outside its box a solid's distance is at least
-// the margin, so it need not be evaluated (most of a large volume is far from most solids).
-struct CullBox {
-  double lo[3], hi[3];
-};
-constexpr double kMargin = 8.0;
-constexpr double kFar = 1e9;
-inline double Bounded(V3 p, const CullBox& b, double (*sdf)(V3)) {
-  const double q[3] = {p.x, p.y, p.z};
-  for (int a = 0; a < 3; ++a)
-    if (q[a] < b.lo[a] || q[a] > b.hi[a]) return kMargin;  // lower bound of the true distance
-  return sdf(p);
+const std::array<KneeBone, 4>& KneeBones() {
+  static const std::array<KneeBone, 4> bones = {{
+      {"femur", "Femur", KneeStructure::Femur, KneeStructure::FemurMarrow, KneeFemurCortical, KneeFemurTrabecular},
+      {"tibia", "Tibia", KneeStructure::Tibia, KneeStructure::TibiaMarrow, KneeTibiaCortical, KneeTibiaTrabecular},
+      {"fibula", "Fibula", KneeStructure::Fibula, KneeStructure::FibulaMarrow, KneeFibulaCortical, KneeFibulaTrabecular},
+      {"patella", "Patella", KneeStructure::Patella, KneeStructure::PatellaMarrow, KneePatellaCortical,
+       KneePatellaTrabecular},
+  }};
+  return bones;
 }
-const CullBox kFemurBox = {{-50, -32, -9}, {50, 24, kFar}};
-const CullBox kTibiaBox = {{-47, -35, -kFar}, {47, 27, 3}};
-const CullBox kFibulaBox = {{15, -38, -kFar}, {52, -2, -30}};
-const CullBox kPatellaBox = {{-28, 11, 0}, {28, 45, 60}};
-const CullBox kACLBox = {{-16, -26, -18}, {22, 20, 20}};
-const CullBox kPCLBox = {{-22, -33, -23}, {13, 15, 21}};
-const CullBox kMCLBox = {{-55, -17, -61}, {-30, 9, 33}};
-const CullBox kLCLBox = {{25, -31, -51}, {55, 3, 31}};
-const CullBox kPoplitealBox = {{-26, -51, -42}, {26, -13, 58}};
-const CullBox kHoffaBox = {{-22, 6, -23}, {22, 36, 9}};
 
-// The labelmap rule. `boundary` (optional) receives the smallest |signed distance| of the
-// surfaces tested, so callers know when a voxel straddles a boundary (partial volume).
-KneeLabel Classify(V3 p, double* boundary) {
-  double nearest = 1e9;
-  auto track = [&](double d) {
-    nearest = std::min(nearest, std::abs(d));
-    return d;
-  };
-  auto finish = [&](KneeLabel label) {
-    if (boundary) *boundary = nearest;
-    return label;
-  };
-  const double body = track(Body(p));
-  if (body > 0.0) return finish(KneeBackground);
-  if (body > -kSkin) {
-    track(body + kSkin);
-    return finish(KneeSkin);
-  }
-  track(body + kSkin);
-  // Bones, cartilage, ligaments and fat pads live inside the muscle compartment only.
-  const double compartment = track(MuscleCompartment(p));
-  if (compartment > 0.0) return finish(KneeFat);
-  {
-    struct Bone {
-      double d;
-      KneeLabel cortical, trabecular;
-    };
-    const Bone bones[4] = {{Bounded(p, kPatellaBox, Patella), KneePatellaCortical, KneePatellaTrabecular},
-                           {Bounded(p, kFemurBox, Femur), KneeFemurCortical, KneeFemurTrabecular},
-                           {Bounded(p, kTibiaBox, Tibia), KneeTibiaCortical, KneeTibiaTrabecular},
-                           {Bounded(p, kFibulaBox, Fibula), KneeFibulaCortical, KneeFibulaTrabecular}};
-    for (const Bone& bone : bones) {
-      track(bone.d);
-      track(bone.d + kCortical);
-      track(bone.d - kCartilage);
-    }
-    for (const Bone& bone : bones) {
-      if (bone.d < 0.0) return finish(bone.d > -kCortical ? bone.cortical : bone.trabecular);
-    }
-    // Cartilage caps: reuse the bone distances.
-    const double femoralRegion = std::min(p.z - 22.0, std::max(5.0 - p.y, p.z - 45.0));
-    const double caps[3] = {Cap(bones[1].d, femoralRegion), Cap(bones[2].d, -8.0 - p.z),
-                            Cap(bones[0].d, p.y - 26.0)};
-    const KneeLabel capLabels[3] = {KneeFemoralCartilage, KneeTibialCartilage, KneePatellarCartilage};
-    for (int i = 0; i < 3; ++i) {
-      if (track(caps[i]) < 0.0) return finish(capLabels[i]);
-    }
-    const double ligaments[4] = {Bounded(p, kACLBox, ACL), Bounded(p, kPCLBox, PCL), Bounded(p, kMCLBox, MCL),
-                                 Bounded(p, kLCLBox, LCL)};
-    const KneeLabel ligamentLabels[4] = {KneeACL, KneePCL, KneeMCL, KneeLCL};
-    for (int i = 0; i < 4; ++i) {
-      if (track(ligaments[i]) < 0.0) return finish(ligamentLabels[i]);
-    }
-  }
-  if (track(Bounded(p, kPoplitealBox, PoplitealFat)) < 0.0 || track(Bounded(p, kHoffaBox, HoffaFat)) < 0.0)
-    return finish(KneeFat);
-  return finish(KneeMuscle);
+void KneeGrid::VoxelCentre(int i, int j, int k, double ras[3]) const {
+  for (int r = 0; r < 3; ++r)
+    ras[r] = this->Origin[r] + this->Axes[0][r] * this->Spacing[0] * i + this->Axes[1][r] * this->Spacing[1] * j +
+             this->Axes[2][r] * this->Spacing[2] * k;
 }
-}  // namespace
 
-KneeLabel KneeModel::LabelAt(const double ras[3]) const { return Classify({ras[0], ras[1], ras[2]}, nullptr); }
+// ---- KneeModel defaults
+
+KneeLabel KneeModel::LabelAt(const double ras[3]) const {
+  for (const Layer& layer : kLayers) {
+    // Outside a structure's box its distance is positive (and every offset is >= 0).
+    double b[6];
+    this->Bounds(layer.Structure, b);
+    if (ras[0] < b[0] || ras[0] > b[1] || ras[1] < b[2] || ras[1] > b[3] || ras[2] < b[4] || ras[2] > b[5]) continue;
+    if (this->SignedDistance(layer.Structure, ras) + layer.Offset < 0.0) return layer.Label;
+  }
+  return KneeBackground;
+}
 
 std::vector<std::array<double, 3>> KneeModel::SurfacePoints(KneeStructure structure, int count,
                                                             const double* boundsRAS) const {
+  // Uniform samples in a thin shell around the surface (roughly uniform on it), projected onto
+  // it by Newton steps along the numerical gradient. Long structures are cut at |z| = 160 mm.
   std::vector<std::array<double, 3>> points;
   if (count <= 0) return points;
-  StructureBox box = BoxOf(structure);
-  if (boundsRAS) {
-    for (int a = 0; a < 3; ++a) {
-      box.b[2 * a] = std::max(box.b[2 * a], boundsRAS[2 * a]);
-      box.b[2 * a + 1] = std::min(box.b[2 * a + 1], boundsRAS[2 * a + 1]);
-      if (box.b[2 * a] >= box.b[2 * a + 1]) return points;
+  double box[6];
+  this->Bounds(structure, box);
+  box[4] = std::max(box[4], -160.0);
+  box[5] = std::min(box[5], 160.0);
+  for (int a = 0; a < 3; ++a) {
+    box[2 * a] = std::max(box[2 * a], -1000.0);
+    box[2 * a + 1] = std::min(box[2 * a + 1], 1000.0);
+    if (boundsRAS) {
+      box[2 * a] = std::max(box[2 * a], boundsRAS[2 * a]);
+      box[2 * a + 1] = std::min(box[2 * a + 1], boundsRAS[2 * a + 1]);
     }
+    if (box[2 * a] >= box[2 * a + 1]) return points;
   }
   std::mt19937 rng(12345u + static_cast<unsigned>(structure));
-  std::uniform_real_distribution<double> ux(box.b[0], box.b[1]), uy(box.b[2], box.b[3]), uz(box.b[4], box.b[5]);
-  const double band = 1.0;  // uniform samples in a thin shell → roughly uniform on the surface
+  std::uniform_real_distribution<double> ux(box[0], box[1]), uy(box[2], box[3]), uz(box[4], box[5]);
+  const double band = 1.0;
   points.reserve(count);
   const long maxTries = 4000L * count + 100000L;
   for (long tries = 0; tries < maxTries && static_cast<int>(points.size()) < count; ++tries) {
     double p[3] = {ux(rng), uy(rng), uz(rng)};
     if (std::abs(this->SignedDistance(structure, p)) > band) continue;
-    // Newton projection along the numerical gradient.
     bool converged = false;
     for (int it = 0; it < 20 && !converged; ++it) {
       const double d = this->SignedDistance(structure, p);
@@ -322,93 +435,43 @@ std::vector<std::array<double, 3>> KneeModel::SurfacePoints(KneeStructure struct
     }
     if (!converged) continue;
     bool inBox = true;
-    for (int a = 0; a < 3; ++a) inBox = inBox && p[a] >= box.b[2 * a] && p[a] <= box.b[2 * a + 1];
+    for (int a = 0; a < 3; ++a) inBox = inBox && p[a] >= box[2 * a] && p[a] <= box[2 * a + 1];
     if (inBox) points.push_back({p[0], p[1], p[2]});
   }
   return points;
 }
 
-namespace {
+vtkSmartPointer<vtkPolyData> KneeModel::Surface(KneeStructure) const { return nullptr; }
 
-struct Grid {
-  int dims[3];
-  double spacing[3];
-  double axes[3][3];  // unit direction (RAS) of i, j, k
-  double origin[3];   // RAS of voxel (0,0,0)
-};
-
-vtkSmartPointer<vtkMatrix4x4> MatrixOf(const Grid& g) {
-  auto m = vtkSmartPointer<vtkMatrix4x4>::New();
-  for (int c = 0; c < 3; ++c) {
-    for (int r = 0; r < 3; ++r) m->SetElement(r, c, g.axes[c][r] * g.spacing[c]);
-    m->SetElement(c, 3, g.origin[c]);
-  }
-  return m;
+void KneeModel::SampleSignedDistance(KneeStructure structure, const KneeGrid& grid, const KneeGridBox& box, double,
+                                     float* out) const {
+  for (int k = box.Lo[2]; k < box.Hi[2]; ++k)
+    for (int j = box.Lo[1]; j < box.Hi[1]; ++j)
+      for (int i = box.Lo[0]; i < box.Hi[0]; ++i) {
+        double p[3];
+        grid.VoxelCentre(i, j, k, p);
+        *out++ = static_cast<float>(this->SignedDistance(structure, p));
+      }
 }
 
-// Centres a grid on `centre` given its axes.
-void CentreGrid(Grid& g, const double centre[3]) {
-  for (int r = 0; r < 3; ++r) {
-    g.origin[r] = centre[r];
-    for (int c = 0; c < 3; ++c) g.origin[r] -= g.axes[c][r] * g.spacing[c] * (g.dims[c] - 1) * 0.5;
-  }
-}
-
-vtkSmartPointer<vtkImageData> Allocate(const Grid& g, int scalarType) {
-  auto image = vtkSmartPointer<vtkImageData>::New();
-  image->SetDimensions(g.dims[0], g.dims[1], g.dims[2]);
-  image->AllocateScalars(scalarType, 1);
-  return image;
-}
-
-// Runs `slice(k)` for every slice on two threads; progress is reported from the calling thread.
-template <typename SliceFn>
-void ForEachSlice(int slices, SliceFn slice, const ProgressCallback& progress, double from, double to,
-                  const std::string& message) {
-  std::atomic<int> next{0}, done{0};
-  auto worker = [&]() {
-    for (int k = next++; k < slices; k = next++) {
-      slice(k);
-      ++done;
-    }
-  };
-  const unsigned hw = std::max(1u, std::min(2u, std::thread::hardware_concurrency()));
-  std::vector<std::thread> threads;
-  for (unsigned t = 1; t < hw; ++t) threads.emplace_back(worker);
-  for (int k = next++; k < slices; k = next++) {
-    slice(k);
-    ++done;
-    if (progress) progress(from + (to - from) * done.load() / slices, message);
-  }
-  for (auto& t : threads) t.join();
-  if (progress) progress(to, message);
-}
-
-// Partial volume: a voxel that straddles a boundary averages 2x2x2 sub-samples.
-template <typename Value>
-double SampleVoxel(V3 centre, const V3 sub[3], double halfDiagonal, Value value, KneeLabel* centreLabel = nullptr) {
-  double boundary = 0.0;
-  const KneeLabel label = Classify(centre, &boundary);
-  if (centreLabel) *centreLabel = label;
-  if (boundary >= halfDiagonal) return value(label);
-  double sum = 0.0;
-  for (int s = 0; s < 8; ++s) {
-    const double fi = (s & 1) ? 0.25 : -0.25, fj = (s & 2) ? 0.25 : -0.25, fk = (s & 4) ? 0.25 : -0.25;
-    const V3 q = centre + sub[0] * fi + sub[1] * fj + sub[2] * fk;
-    sum += value(Classify(q, nullptr));
-  }
-  return sum / 8.0;
-}
-
-}  // namespace
+// ---- The phantom
 
 bool GenerateKneePhantom(const KneePhantomOptions& options, KneePhantom& phantom, std::string& error,
                          const ProgressCallback& progress) {
   try {
-    Grid ct{};
-    Grid mr{};
+    std::shared_ptr<const KneeModel> model;
+    if (options.Anatomy == KneeAnatomy::Analytic) {
+      model = std::make_shared<KneeAnalyticModel>();
+    } else {
+      model = LoadKneeSurfaceModel(error);
+      if (!model) return false;
+    }
+    KneeGrid ct, mr;
     const bool explicitGrid = options.CTDimensions[0] > 0 && options.CTDimensions[1] > 0 &&
                               options.CTDimensions[2] > 0;
+    auto setGrid = [](KneeGrid& g, std::array<int, 3> dims, std::array<double, 3> spacing) {
+      for (int a = 0; a < 3; ++a) g.Dims[a] = dims[a], g.Spacing[a] = spacing[a];
+    };
     if (explicitGrid) {
       for (int a = 0; a < 3; ++a) {
         if (!(options.CTSpacing[a] > 0.0)) {
@@ -419,29 +482,29 @@ bool GenerateKneePhantom(const KneePhantomOptions& options, KneePhantom& phantom
           error = "knee phantom: CT dimension above 2048";
           return false;
         }
-        ct.dims[a] = options.CTDimensions[a];
-        ct.spacing[a] = options.CTSpacing[a];
       }
-    } else if (options.Size == KneePhantomSize::Full) {
-      ct = {{512, 512, 300}, {0.3, 0.3, 1.0}, {}, {}};
-    } else {
-      ct = {{96, 96, 64}, {1.6, 1.6, 2.5}, {}, {}};
+      setGrid(ct, options.CTDimensions, options.CTSpacing);
     }
-    const bool full = !explicitGrid && options.Size == KneePhantomSize::Full;
+    switch (options.Size) {
+      case KneePhantomSize::Small:
+        if (!explicitGrid) setGrid(ct, {110, 110, 64}, {1.6, 1.6, 2.5});
+        setGrid(mr, {96, 96, 84}, {1.6, 1.6, 1.7});
+        break;
+      case KneePhantomSize::Demo:
+        if (!explicitGrid) setGrid(ct, {220, 220, 128}, {0.8, 0.8, 1.25});
+        setGrid(mr, {192, 192, 84}, {0.8, 0.8, 1.7});
+        break;
+      case KneePhantomSize::Full:
+        if (!explicitGrid) setGrid(ct, {512, 512, 300}, {0.34, 0.34, 1.0});
+        setGrid(mr, {384, 384, 90}, {0.4, 0.4, 1.7});
+        break;
+    }
     // CT: axial, DICOM's usual LPS identity directions → RAS i = -x, j = -y, k = +z.
     const double ctAxes[3][3] = {{-1, 0, 0}, {0, -1, 0}, {0, 0, 1}};
-    std::copy(&ctAxes[0][0], &ctAxes[0][0] + 9, &ct.axes[0][0]);
-    const double zero[3] = {0, 0, 0};
-    CentreGrid(ct, zero);
-    // MR: sagittal proton density, 1.7 mm slices. LPS IOP (0,1,0 / 0,0,-1) → RAS i = -y,
-    // j = -z, slice normal k = +x.
-    mr = full ? Grid{{384, 384, 90}, {0.4, 0.4, 1.7}, {}, {}} : Grid{{96, 96, 84}, {1.6, 1.6, 1.7}, {}, {}};
-    const double mrAxes[3][3] = {{0, -1, 0}, {0, 0, -1}, {1, 0, 0}};
-    std::copy(&mrAxes[0][0], &mrAxes[0][0] + 9, &mr.axes[0][0]);
-    const double mrCentre[3] = {2.0, -3.0, 4.0};  // the MR's isocentre is not the CT's
-    CentreGrid(mr, mrCentre);
-
-    auto model = std::make_shared<KneeModel>();
+    std::copy(&ctAxes[0][0], &ctAxes[0][0] + 9, &ct.Axes[0][0]);
+    double centre[3];
+    model->FieldOfViewCentre(centre);
+    CentreGrid(ct, centre);
     phantom.Model = model;
     vtkNew<vtkTransform> pose;
     pose->PostMultiply();
@@ -453,115 +516,93 @@ bool GenerateKneePhantom(const KneePhantomOptions& options, KneePhantom& phantom
     vtkNew<vtkMatrix4x4> mrToCT;
     vtkMatrix4x4::Invert(phantom.CTToMR, mrToCT);
 
-    const auto& tissues = KneeTissues();
+    // MR: sagittal proton density, 1.7 mm slices. LPS IOP (0,1,0 / 0,0,-1) → RAS i = -y,
+    // j = -z, slice normal k = +x. Centred on the knee where the MR sees it, a little off (an
+    // MR isocentre is not a CT's).
+    const double mrAxes[3][3] = {{0, -1, 0}, {0, 0, -1}, {1, 0, 0}};
+    std::copy(&mrAxes[0][0], &mrAxes[0][0] + 9, &mr.Axes[0][0]);
+    double mrCentre[4] = {centre[0], centre[1], centre[2], 1.0};
+    phantom.CTToMR->MultiplyPoint(mrCentre, mrCentre);
+    mrCentre[0] += 2.0, mrCentre[1] -= 3.0, mrCentre[2] += 4.0;
+    CentreGrid(mr, mrCentre);
+
     double stage = 0.0;
-    const double stages = (options.GenerateCT ? 1 : 0) + (options.GenerateMR ? 1 : 0) + (options.GenerateLabels ? 0.5 : 0);
-    auto span = [&](double w) {
+    const double stages = (options.GenerateCT || options.GenerateLabels ? 1 : 0) + (options.GenerateMR ? 1 : 0);
+    auto span = [&]() {
       const double from = stage / std::max(stages, 1.0);
-      stage += w;
+      stage += 1;
       return std::make_pair(from, stage / std::max(stages, 1.0));
     };
+    const bool realistic = model->RealisticTissue();
 
-    auto voxelCentre = [](const Grid& g, int i, int j, int k) {
-      V3 p = {g.origin[0], g.origin[1], g.origin[2]};
-      const int idx[3] = {i, j, k};
-      for (int c = 0; c < 3; ++c) p = p + V3{g.axes[c][0], g.axes[c][1], g.axes[c][2]} * (idx[c] * g.spacing[c]);
-      return p;
-    };
-
-    // CT and labels in one pass (the label is the classification of the voxel centre).
-    unsigned char* labelsOut = nullptr;
-    if (options.GenerateLabels) {
-      phantom.Labels.Image = Allocate(ct, VTK_UNSIGNED_CHAR);
-      phantom.Labels.IJKToRAS = MatrixOf(ct);
-      phantom.Labels.Modality = "SEG";
-      phantom.Labels.Description = "RoboPlan knee phantom ground truth";
-      labelsOut = static_cast<unsigned char*>(phantom.Labels.Image->GetScalarPointer());
-    }
-    if (options.GenerateCT) {
-      phantom.CT.Image = Allocate(ct, VTK_SHORT);
-      phantom.CT.IJKToRAS = MatrixOf(ct);
-      phantom.CT.Window = 2000;
-      phantom.CT.Level = 400;
-      phantom.CT.Modality = "CT";
-      phantom.CT.Description = "RoboPlan knee phantom CT";
-      short* out = static_cast<short*>(phantom.CT.Image->GetScalarPointer());
-      V3 sub[3];
-      for (int c = 0; c < 3; ++c) sub[c] = V3{ct.axes[c][0], ct.axes[c][1], ct.axes[c][2]} * ct.spacing[c];
-      const double halfDiagonal = 0.5 * std::sqrt(Dot(sub[0], sub[0]) + Dot(sub[1], sub[1]) + Dot(sub[2], sub[2]));
-      auto hu = [&](KneeLabel l) { return tissues[l].CTHounsfield; };
-      const auto range = span(options.GenerateLabels ? 1.5 : 1.0);
-      ForEachSlice(
-          ct.dims[2],
-          [&](int k) {
-            std::mt19937 rng(options.Seed * 2654435761u + 17u * static_cast<unsigned>(k) + 1u);
-            std::normal_distribution<double> noise(0.0, options.CTNoiseHU);
-            const size_t offset = static_cast<size_t>(k) * ct.dims[0] * ct.dims[1];
-            short* row = out + offset;
-            unsigned char* labelRow = labelsOut ? labelsOut + offset : nullptr;
-            for (int j = 0; j < ct.dims[1]; ++j) {
-              for (int i = 0; i < ct.dims[0]; ++i) {
-                KneeLabel label;
-                double v = SampleVoxel(voxelCentre(ct, i, j, k), sub, halfDiagonal, hu, &label);
-                if (v > -1000.0) v += noise(rng);  // air stays at -1000 (outside the scanner's noise floor)
-                *row++ = static_cast<short>(std::lround(std::clamp(v, -1024.0, 3071.0)));
-                if (labelRow) *labelRow++ = label;
+    // CT and labels in one pass (the label is the rule at the voxel centre).
+    if (options.GenerateCT || options.GenerateLabels) {
+      short* ctOut = nullptr;
+      unsigned char* labelsOut = nullptr;
+      if (options.GenerateLabels) {
+        labelsOut = Allocate<unsigned char>(phantom.Labels, ct, VTK_UNSIGNED_CHAR, 0, 0, "SEG",
+                                            "RoboPlan knee phantom ground truth");
+      }
+      const Modality ctModality{true, realistic};
+      if (options.GenerateCT) {
+        ctOut = Allocate<short>(phantom.CT, ct, VTK_SHORT, 2000, 400, "CT", "RoboPlan knee phantom CT");
+      }
+      const size_t sliceSize = size_t(ct.Dims[0]) * ct.Dims[1];
+      const auto range = span();
+      RenderGrid(
+          *model, ct, options.GenerateCT ? &ctModality : nullptr, options.GenerateLabels,
+          [&](int k0, int k1, const unsigned char* labels, const double* values) {
+            if (labels) std::copy(labels, labels + (k1 - k0) * sliceSize, labelsOut + k0 * sliceSize);
+            if (!values) return;
+            for (int k = k0; k < k1; ++k) {
+              // Noise per slice from its own seed: identical output whatever the thread order.
+              std::mt19937 rng(options.Seed * 2654435761u + 17u * static_cast<unsigned>(k) + 1u);
+              std::normal_distribution<double> noise(0.0, options.CTNoiseHU);
+              for (size_t n = 0; n < sliceSize; ++n) {
+                double v = values[(k - k0) * sliceSize + n];
+                if (v > -999.5) v += noise(rng);  // air stays at -1000 (below the scanner's noise floor)
+                ctOut[k * sliceSize + n] = static_cast<short>(std::lround(std::clamp(v, -1024.0, 3071.0)));
               }
             }
           },
-          progress, range.first, range.second, "CT");
-    } else if (options.GenerateLabels) {
-      const auto range = span(0.5);
-      ForEachSlice(
-          ct.dims[2],
-          [&](int k) {
-            unsigned char* row = labelsOut + static_cast<size_t>(k) * ct.dims[0] * ct.dims[1];
-            for (int j = 0; j < ct.dims[1]; ++j)
-              for (int i = 0; i < ct.dims[0]; ++i) *row++ = Classify(voxelCentre(ct, i, j, k), nullptr);
-          },
-          progress, range.first, range.second, "labels");
+          progress, range.first, range.second, options.GenerateCT ? "CT" : "labels");
     }
 
     if (options.GenerateMR) {
-      phantom.MR.Image = Allocate(mr, VTK_UNSIGNED_SHORT);
-      phantom.MR.IJKToRAS = MatrixOf(mr);
-      phantom.MR.Window = 1000;
-      phantom.MR.Level = 500;
-      phantom.MR.Modality = "MR";
-      phantom.MR.Description = "RoboPlan knee phantom PD";
-      unsigned short* out = static_cast<unsigned short*>(phantom.MR.Image->GetScalarPointer());
+      unsigned short* mrOut =
+          Allocate<unsigned short>(phantom.MR, mr, VTK_UNSIGNED_SHORT, 1000, 500, "MR", "RoboPlan knee phantom PD");
       // The MR grid in anatomy (CT) coordinates: the knee moved by CTToMR.
-      Grid anatomy = mr;
-      double o[4] = {mr.origin[0], mr.origin[1], mr.origin[2], 1.0};
+      KneeGrid anatomy = mr;
+      double o[4] = {mr.Origin[0], mr.Origin[1], mr.Origin[2], 1.0};
       mrToCT->MultiplyPoint(o, o);
-      for (int r = 0; r < 3; ++r) anatomy.origin[r] = o[r];
+      for (int r = 0; r < 3; ++r) anatomy.Origin[r] = o[r];
       for (int c = 0; c < 3; ++c) {
-        double a[4] = {mr.axes[c][0], mr.axes[c][1], mr.axes[c][2], 0.0};
+        double a[4] = {mr.Axes[c][0], mr.Axes[c][1], mr.Axes[c][2], 0.0};
         mrToCT->MultiplyPoint(a, a);
-        for (int r = 0; r < 3; ++r) anatomy.axes[c][r] = a[r];
+        for (int r = 0; r < 3; ++r) anatomy.Axes[c][r] = a[r];
       }
-      V3 sub[3];
-      for (int c = 0; c < 3; ++c)
-        sub[c] = V3{anatomy.axes[c][0], anatomy.axes[c][1], anatomy.axes[c][2]} * anatomy.spacing[c];
-      const double halfDiagonal = 0.5 * std::sqrt(Dot(sub[0], sub[0]) + Dot(sub[1], sub[1]) + Dot(sub[2], sub[2]));
-      auto pd = [&](KneeLabel l) { return tissues[l].MRIntensity; };
-      const auto range = span(1.0);
-      ForEachSlice(
-          mr.dims[2],
-          [&](int k) {
-            std::mt19937 rng(options.Seed * 2246822519u + 31u * static_cast<unsigned>(k) + 7u);
-            std::normal_distribution<double> noise(0.0, options.MRNoise);
-            unsigned short* row = out + static_cast<size_t>(k) * mr.dims[0] * mr.dims[1];
-            for (int j = 0; j < mr.dims[1]; ++j) {
-              for (int i = 0; i < mr.dims[0]; ++i) {
-                const V3 p = voxelCentre(anatomy, i, j, k);
-                // A gentle receive-coil bias along the leg, as in a real knee coil.
-                const double bias = 1.0 - 0.15 * std::min(1.0, std::abs(p.z) / 120.0);
-                const double v = SampleVoxel(p, sub, halfDiagonal, pd) * bias;
-                // Rician magnitude noise: |signal + complex Gaussian|.
-                const double re = v + noise(rng), im = noise(rng);
-                *row++ = static_cast<unsigned short>(std::lround(std::min(Hypot(re, im), 65535.0)));
-              }
+      const Modality mrModality{false, realistic};
+      const size_t sliceSize = size_t(mr.Dims[0]) * mr.Dims[1];
+      const auto range = span();
+      RenderGrid(
+          *model, anatomy, &mrModality, false,
+          [&](int k0, int k1, const unsigned char*, const double* values) {
+            for (int k = k0; k < k1; ++k) {
+              std::mt19937 rng(options.Seed * 2246822519u + 31u * static_cast<unsigned>(k) + 7u);
+              std::normal_distribution<double> noise(0.0, options.MRNoise);
+              for (int j = 0; j < mr.Dims[1]; ++j)
+                for (int i = 0; i < mr.Dims[0]; ++i) {
+                  double p[3];
+                  anatomy.VoxelCentre(i, j, k, p);
+                  // A gentle receive-coil bias along the leg, as in a real knee coil.
+                  const double bias = 1.0 - 0.15 * std::min(1.0, std::abs(p[2]) / 120.0);
+                  const size_t n = size_t(j) * mr.Dims[0] + i;
+                  const double v = values[(k - k0) * sliceSize + n] * bias;
+                  // Rician magnitude noise: |signal + complex Gaussian|.
+                  const double re = v + noise(rng), im = noise(rng);
+                  mrOut[k * sliceSize + n] =
+                      static_cast<unsigned short>(std::lround(std::min(std::sqrt(re * re + im * im), 65535.0)));
+                }
             }
           },
           progress, range.first, range.second, "MR");

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "rpControlPoint.h"
 #include "vtkRPTransformableNode.h"
 
 class vtkRPFiducialListNode : public vtkRPTransformableNode {
@@ -18,15 +19,7 @@ class vtkRPFiducialListNode : public vtkRPTransformableNode {
 
   enum { PointAddedEvent = 32000, PointRemovedEvent, PointModifiedEvent };
 
-  struct ControlPoint {
-    std::string ID;  // unique within the list (Slicer's control point "id")
-    std::string Label;
-    std::string Description;
-    double Position[3] = {0, 0, 0};  // RAS, in the list's own coordinates (before its transform)
-    bool Selected = true;
-    bool Locked = false;
-    bool Visible = true;
-  };
+  using ControlPoint = rp::ControlPoint;
 
   int GetNumberOfControlPoints() const { return static_cast<int>(this->Points.size()); }
   const ControlPoint& GetNthControlPoint(int n) const { return this->Points.at(static_cast<size_t>(n)); }

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "rpSegment.h"
 #include "vtkRPImageNode.h"
 
 class vtkRPSegmentationNode : public vtkRPImageNode {
@@ -16,13 +17,7 @@ class vtkRPSegmentationNode : public vtkRPImageNode {
   vtkRPNode* CreateNodeInstance() override;
   const char* GetNodeTagName() override { return "Segmentation"; }
 
-  struct Segment {
-    std::string ID;           // unique within the segmentation, e.g. "femur"
-    std::string Name;         // shown to users, e.g. "Femur"
-    int LabelValue = 1;       // voxel value in the labelmap
-    double Color[3] = {1, 1, 1};
-    std::string TissueClass;  // key in Resources/Materials (bone, cartilage, ligament, ...)
-  };
+  using Segment = rp::Segment;
 
   int GetNumberOfSegments() const { return static_cast<int>(this->Segments.size()); }
   const Segment& GetNthSegment(int n) const { return this->Segments.at(static_cast<size_t>(n)); }

@@ -47,7 +47,8 @@ endfunction()
 
 # roboplan_add_test(<name> SOURCES ... LIBS ... LABELS unit|integration|gui|stress
 #                   [TIMEOUT s] [ARGS ...] [ENVIRONMENT ...] [OWN_MAIN])
-# A GoogleTest executable registered as one ctest test. Tests labelled gui run under xvfb-run.
+# A GoogleTest executable registered as one ctest test. Tests labelled gui run on a virtual X
+# server of their own (Testing/Support/run-with-xvfb.sh: no display-number race under ctest -j).
 function(roboplan_add_test name)
   if(NOT ROBOPLAN_BUILD_TESTING)
     return()
@@ -71,7 +72,7 @@ function(roboplan_add_test name)
   endif()
   set(cmd $<TARGET_FILE:${name}> ${A_ARGS})
   if("gui" IN_LIST A_LABELS)
-    set(cmd xvfb-run -a -s "-screen 0 1920x1080x24" ${cmd})
+    set(cmd ${PROJECT_SOURCE_DIR}/Testing/Support/run-with-xvfb.sh ${cmd})
   endif()
   add_test(NAME ${name} COMMAND ${cmd})
   if(NOT A_TIMEOUT)

@@ -1,12 +1,31 @@
-// The knee phantom: deterministic, anatomically ordered, labels and intensities consistent
-// with the analytic model, MR pose = the recorded CT-to-MR transform.
+// The knee phantom. Analytic anatomy: deterministic, labels and intensities consistent with
+// closed-form distances. Real anatomy: the shipped surfaces are closed, in the anatomy frame and
+// within 0.05 mm of the source surfaces (../shared/data); the labelmap agrees with VTK's own
+// voxelization of the same surfaces (vtkPolyDataToImageStencil); tissues have their CT values;
+// the MR sees the knee moved by the recorded CT-to-MR pose.
 #include <gtest/gtest.h>
 
-#include <ctime>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+
+#include <vtkImageData.h>
+#include <vtkImageStencilData.h>
+#include <vtkMatrix4x4.h>
+#include <vtkNew.h>
+#include <vtkPolyData.h>
+#include <vtkPolyDataToImageStencil.h>
+#include <vtkTransform.h>
+#include <vtkTransformPolyDataFilter.h>
+#include <vtkXMLPolyDataReader.h>
 
 #include "rpKneePhantom.h"
+#include "rpSharedData.h"
+
+namespace fs = std::filesystem;
 
 namespace {
 
@@ -14,10 +33,41 @@ int LabelAtIndex(const rp::ImageVolume& v, int i, int j, int k) {
   return static_cast<const unsigned char*>(v.Image->GetScalarPointer(i, j, k))[0];
 }
 
+std::shared_ptr<const rp::KneeModel> RealKnee() {
+  std::string error;
+  auto model = rp::LoadKneeSurfaceModel(error);
+  EXPECT_TRUE(model) << error;
+  return model;
+}
+
+const rp::KneePhantom& RealPhantom() {
+  static rp::KneePhantom phantom;
+  static bool made = [] {
+    rp::KneePhantomOptions options;  // real anatomy, small
+    std::string error;
+    const bool ok = rp::GenerateKneePhantom(options, phantom, error);
+    EXPECT_TRUE(ok) << error;
+    return ok;
+  }();
+  (void)made;
+  return phantom;
+}
+
+// MR value at an anatomical point (CT RAS) of a phantom.
+double MRAtAnatomy(const rp::KneePhantom& phantom, const double anatomy[3]) {
+  double p[4] = {anatomy[0], anatomy[1], anatomy[2], 1.0};
+  phantom.CTToMR->MultiplyPoint(p, p);
+  vtkNew<vtkMatrix4x4> rasToIJK;
+  vtkMatrix4x4::Invert(phantom.MR.IJKToRAS, rasToIJK);
+  rasToIJK->MultiplyPoint(p, p);
+  return double(*static_cast<unsigned short*>(phantom.MR.Image->GetScalarPointer(
+      int(std::lround(p[0])), int(std::lround(p[1])), int(std::lround(p[2])))));
+}
+
 }  // namespace
 
 TEST(KneePhantom, AnalyticModelHasTheAnatomy) {
-  rp::KneeModel model;
+  rp::KneeAnalyticModel model;
   // Points whose tissue follows from the construction (joint line z = 0, +y anterior).
   const double femurMarrow[3] = {0, -2, 80}, tibiaMarrow[3] = {0, -2, -80};
   const double femurCortex[3] = {13.0, -2, 80};  // shaft radius 14, cortex 2 mm
@@ -37,12 +87,17 @@ TEST(KneePhantom, AnalyticModelHasTheAnatomy) {
   const double outside[3] = {20, -2, 100};
   EXPECT_NEAR(model.SignedDistance(rp::KneeStructure::Femur, outside), 6.0, 1e-9);
   EXPECT_NEAR(model.SignedDistance(rp::KneeStructure::FemurMarrow, outside), 8.0, 1e-9);
-  // Every structure is present (has a surface) and its surface points sit on the surface.
-  for (int s = 0; s <= static_cast<int>(rp::KneeStructure::Body); ++s) {
+  // Every structure is present (has a surface), its surface points sit on it and in its bounds.
+  for (int s = 0; s < rp::KneeStructureCount; ++s) {
     const auto structure = static_cast<rp::KneeStructure>(s);
     const auto points = model.SurfacePoints(structure, 200);
-    ASSERT_EQ(points.size(), 200u) << "structure " << s;
-    for (const auto& p : points) ASSERT_LT(std::abs(model.SignedDistance(structure, p.data())), 0.01);
+    ASSERT_EQ(points.size(), 200u) << rp::KneeStructureName(structure);
+    double b[6];
+    model.Bounds(structure, b);
+    for (const auto& p : points) {
+      ASSERT_LT(std::abs(model.SignedDistance(structure, p.data())), 0.01);
+      for (int a = 0; a < 3; ++a) ASSERT_TRUE(p[a] >= b[2 * a] && p[a] <= b[2 * a + 1]) << rp::KneeStructureName(structure);
+    }
   }
   // Ligaments and cartilage are labelled somewhere (not hidden by bone).
   const rp::KneeStructure soft[] = {rp::KneeStructure::ACL, rp::KneeStructure::PCL, rp::KneeStructure::MCL,
@@ -69,8 +124,9 @@ TEST(KneePhantom, AnalyticModelHasTheAnatomy) {
   }
 }
 
-TEST(KneePhantom, SmallPhantomIsFastDeterministicAndConsistent) {
+TEST(KneePhantom, AnalyticPhantomIsFastDeterministicAndConsistent) {
   rp::KneePhantomOptions options;
+  options.Anatomy = rp::KneeAnatomy::Analytic;
   rp::KneePhantom a, b;
   std::string error;
   // CPU time (both threads): the wall clock depends on what else the machine runs.
@@ -82,15 +138,15 @@ TEST(KneePhantom, SmallPhantomIsFastDeterministicAndConsistent) {
     lastFraction = f;
   })) << error;
   const double cpuSeconds = double(std::clock() - start) / CLOCKS_PER_SEC;
-  EXPECT_LT(cpuSeconds, 2.0);
+  EXPECT_LT(cpuSeconds, 3.0);
   EXPECT_TRUE(monotonic);
   EXPECT_DOUBLE_EQ(lastFraction, 1.0);
   ASSERT_TRUE(rp::GenerateKneePhantom(options, b, error)) << error;
 
   int dims[3];
   a.CT.Image->GetDimensions(dims);
-  EXPECT_EQ(dims[0], 96);
-  EXPECT_EQ(dims[1], 96);
+  EXPECT_EQ(dims[0], 110);
+  EXPECT_EQ(dims[1], 110);
   EXPECT_EQ(dims[2], 64);
   double spacing[3];
   a.MR.GetSpacing(spacing);
@@ -135,23 +191,190 @@ TEST(KneePhantom, SmallPhantomIsFastDeterministicAndConsistent) {
   }
   EXPECT_DOUBLE_EQ(sumHU[rp::KneeBackground] / count[rp::KneeBackground], -1000.0);
 
-  // The MR shows the knee moved by CTToMR: the MR voxel at CTToMR(femur marrow point) is bright
-  // marrow, at CTToMR(cortex-free muscle point) muscle-like, and the CT point itself is not.
-  auto mrValueAtAnatomy = [&](const double anatomy[3]) {
-    double p[4] = {anatomy[0], anatomy[1], anatomy[2], 1.0};
-    a.CTToMR->MultiplyPoint(p, p);
-    vtkNew<vtkMatrix4x4> rasToIJK;
-    vtkMatrix4x4::Invert(a.MR.IJKToRAS, rasToIJK);
-    rasToIJK->MultiplyPoint(p, p);
-    return double(*static_cast<unsigned short*>(a.MR.Image->GetScalarPointer(
-        int(std::lround(p[0])), int(std::lround(p[1])), int(std::lround(p[2])))));
-  };
+  // The MR shows the knee moved by CTToMR: bright marrow and muscle-like values where CTToMR
+  // puts those anatomical points.
   const double marrow[3] = {0, -2, 60}, muscle[3] = {-30, -25, 40};
-  EXPECT_NEAR(mrValueAtAnatomy(marrow), 720 * 0.93, 70);
-  EXPECT_NEAR(mrValueAtAnatomy(muscle), 350 * 0.95, 60);
+  EXPECT_NEAR(MRAtAnatomy(a, marrow), 720 * 0.93, 70);
+  EXPECT_NEAR(MRAtAnatomy(a, muscle), 350 * 0.95, 60);
 }
 
-TEST(KneePhantom, BadOptionsAreRefused) {
+TEST(KneePhantom, RealKneeSurfacesAreClosedAndInTheAnatomyFrame) {
+  const auto model = RealKnee();
+  ASSERT_TRUE(model);
+  EXPECT_NE(model->Description().find("Visible Human"), std::string::npos);
+  // Every mesh structure has a closed surface whose points have distance 0.
+  for (const rp::KneeStructure s :
+       {rp::KneeStructure::Femur, rp::KneeStructure::Tibia, rp::KneeStructure::Fibula, rp::KneeStructure::Patella,
+        rp::KneeStructure::FemoralCartilage, rp::KneeStructure::TibialCartilage, rp::KneeStructure::PatellarCartilage,
+        rp::KneeStructure::ACL, rp::KneeStructure::PCL, rp::KneeStructure::MCL, rp::KneeStructure::LCL}) {
+    ASSERT_TRUE(model->Surface(s)) << rp::KneeStructureName(s);
+    const auto points = model->SurfacePoints(s, 300);
+    ASSERT_EQ(points.size(), 300u) << rp::KneeStructureName(s);
+    for (const auto& p : points) ASSERT_LT(std::abs(model->SignedDistance(s, p.data())), 1e-6);
+  }
+  // The joint line is z = 0: the femur ends just above it, the tibia just below.
+  double femur[6], tibia[6];
+  model->Bounds(rp::KneeStructure::Femur, femur);
+  model->Bounds(rp::KneeStructure::Tibia, tibia);
+  EXPECT_NEAR(femur[4], -tibia[5], 1.0);
+  EXPECT_LT(std::abs(femur[4]), 3.0);
+  // The joint spaces of the source (README of knee-vhf-surfaces): femur–tibia ≥ 3.67 mm,
+  // femur–patella ≥ 2.38 mm (decimation moved the surfaces by < 0.05 mm).
+  auto closest = [&](rp::KneeStructure from, rp::KneeStructure to) {
+    double best = 1e9;
+    for (const auto& p : model->SurfacePoints(from, 20000)) best = std::min(best, model->SignedDistance(to, p.data()));
+    return best;
+  };
+  EXPECT_GT(closest(rp::KneeStructure::Femur, rp::KneeStructure::Tibia), 3.5);
+  EXPECT_GT(closest(rp::KneeStructure::Patella, rp::KneeStructure::Femur), 2.2);
+  // The generated soft tissues hold the bones: every bone point inside the body by ≥ 5 mm and
+  // the cortex thin at the joint, thick in the shafts.
+  const double fov[6] = {-1e9, 1e9, -1e9, 1e9, -150, 150};
+  for (const auto& bone : rp::KneeBones())
+    for (const auto& p : model->SurfacePoints(bone.Surface, 2000, fov))
+      ASSERT_LT(model->SignedDistance(rp::KneeStructure::Body, p.data()), -5.0) << bone.Name;
+  const double joint[3] = {0, 0, -5}, shaft[3] = {0, 0, -140};
+  EXPECT_LT(model->CorticalThickness(rp::KneeStructure::Tibia, joint), 1.5);
+  EXPECT_GT(model->CorticalThickness(rp::KneeStructure::Tibia, shaft), 3.5);
+}
+
+TEST(KneePhantom, ShippedAnatomyIsWithinFiveHundredthsOfAMillimetreOfTheSource) {
+  RP_REQUIRE_SHARED_DATA("knee-vhf-surfaces/tibia.vtp");
+  const fs::path source = fs::path(rptest::SharedDataPath("knee-vhf-surfaces"));
+  const auto model = RealKnee();
+  ASSERT_TRUE(model);
+  // The frame change the shipped files were made with.
+  std::ifstream frame(std::string(ROBOPLAN_RESOURCES_DIR) + "/Anatomy/KneeVHF/knee-vhf-surfaces_to_this_frame_4x4.txt");
+  double m[16];
+  for (double& v : m) ASSERT_TRUE(frame >> v);
+  vtkNew<vtkTransform> toAnatomy;
+  toAnatomy->SetMatrix(m);
+  const struct {
+    const char* File;
+    rp::KneeStructure Structure;
+  } parts[] = {{"femur.vtp", rp::KneeStructure::Femur},     {"tibia.vtp", rp::KneeStructure::Tibia},
+               {"fibula.vtp", rp::KneeStructure::Fibula},   {"patella.vtp", rp::KneeStructure::Patella},
+               {"ligament_acl.vtp", rp::KneeStructure::ACL}, {"cartilage_femur.vtp", rp::KneeStructure::FemoralCartilage}};
+  for (const auto& part : parts) {
+    vtkNew<vtkXMLPolyDataReader> reader;
+    reader->SetFileName((source / part.File).string().c_str());
+    vtkNew<vtkTransformPolyDataFilter> moved;
+    moved->SetInputConnection(reader->GetOutputPort());
+    moved->SetTransform(toAnatomy);
+    moved->Update();
+    vtkPolyData* original = moved->GetOutput();
+    ASSERT_GT(original->GetNumberOfPoints(), 1000) << part.File;
+    double worst = 0;
+    for (vtkIdType i = 0; i < original->GetNumberOfPoints(); ++i) {
+      const double* p = original->GetPoint(i);
+      if (std::abs(p[2]) > 165) continue;  // beyond the crop
+      worst = std::max(worst, std::abs(model->SignedDistance(part.Structure, p)));
+    }
+    EXPECT_LT(worst, 0.051) << part.File;
+  }
+}
+
+TEST(KneePhantom, RealPhantomLabelsAgreeWithVTKsVoxelizationOfTheSurfaces) {
+  const rp::KneePhantom& phantom = RealPhantom();
+  ASSERT_FALSE(phantom.Labels.Empty());
+  int dims[3];
+  phantom.Labels.Image->GetDimensions(dims);
+  EXPECT_EQ(dims[0], 110);
+  EXPECT_EQ(dims[2], 64);
+  // The labelmap is the rule at voxel centres (same rule as LabelAt).
+  int checked = 0, mismatched = 0;
+  for (int k = 0; k < dims[2]; k += 5)
+    for (int j = 0; j < dims[1]; j += 3)
+      for (int i = 0; i < dims[0]; i += 3) {
+        const double ijk[3] = {double(i), double(j), double(k)};
+        double ras[3];
+        phantom.Labels.IndexToRAS(ijk, ras);
+        ++checked;
+        mismatched += LabelAtIndex(phantom.Labels, i, j, k) != phantom.Model->LabelAt(ras);
+      }
+  EXPECT_GT(checked, 10000);
+  EXPECT_EQ(mismatched, 0);
+  // Each bone (cortical + trabecular + the cartilage painted over it, which the surface holds
+  // where they overlap) against vtkPolyDataToImageStencil on the same grid: Dice ≥ 0.98.
+  vtkNew<vtkMatrix4x4> rasToIJK;
+  vtkMatrix4x4::Invert(phantom.Labels.IJKToRAS, rasToIJK);
+  vtkNew<vtkTransform> toIJK;
+  toIJK->SetMatrix(rasToIJK);
+  const auto* labels = static_cast<const unsigned char*>(phantom.Labels.Image->GetScalarPointer());
+  for (const auto& bone : rp::KneeBones()) {
+    vtkNew<vtkTransformPolyDataFilter> surface;
+    surface->SetInputData(phantom.Model->Surface(bone.Surface));
+    surface->SetTransform(toIJK);
+    vtkNew<vtkPolyDataToImageStencil> stencil;
+    stencil->SetInputConnection(surface->GetOutputPort());
+    stencil->SetOutputOrigin(0, 0, 0);
+    stencil->SetOutputSpacing(1, 1, 1);
+    stencil->SetOutputWholeExtent(0, dims[0] - 1, 0, dims[1] - 1, 0, dims[2] - 1);
+    stencil->Update();
+    vtkImageStencilData* inside = stencil->GetOutput();
+    long both = 0, vtkCount = 0, ours = 0;
+    for (int k = 0; k < dims[2]; ++k)
+      for (int j = 0; j < dims[1]; ++j)
+        for (int i = 0; i < dims[0]; ++i) {
+          const unsigned char l = labels[(size_t(k) * dims[1] + j) * dims[0] + i];
+          const bool a = l == bone.Cortical || l == bone.Trabecular;
+          const bool b = inside->IsInside(i, j, k) != 0;
+          both += a && b;
+          ours += a;
+          vtkCount += b;
+        }
+    ASSERT_GT(vtkCount, 100) << bone.Name;
+    EXPECT_GT(2.0 * both / double(ours + vtkCount), 0.98) << bone.Name << ": ours " << ours << ", VTK " << vtkCount;
+  }
+}
+
+TEST(KneePhantom, RealPhantomHasTissueValuesAndTheMRPose) {
+  const rp::KneePhantom& phantom = RealPhantom();
+  ASSERT_FALSE(phantom.CT.Empty());
+  ASSERT_FALSE(phantom.MR.Empty());
+  int dims[3];
+  phantom.CT.Image->GetDimensions(dims);
+  // Mean HU of voxels deep inside fat and muscle (the same label two voxels around); the cortex
+  // of the shafts is dense.
+  double sum[rp::KneeLabelCount] = {}, count[rp::KneeLabelCount] = {};
+  short brightest = -1024;
+  for (int k = 2; k < dims[2] - 2; ++k)
+    for (int j = 2; j < dims[1] - 2; ++j)
+      for (int i = 2; i < dims[0] - 2; ++i) {
+        const int label = LabelAtIndex(phantom.Labels, i, j, k);
+        const short hu = *static_cast<short*>(phantom.CT.Image->GetScalarPointer(i, j, k));
+        if (label == rp::KneeFemurCortical) brightest = std::max(brightest, hu);
+        bool interior = true;
+        for (int d = 0; d < 6 && interior; ++d) {
+          int q[3] = {i, j, k};
+          q[d / 2] += (d % 2 ? 2 : -2);
+          interior = LabelAtIndex(phantom.Labels, q[0], q[1], q[2]) == label;
+        }
+        if (interior) sum[label] += hu, count[label] += 1;
+      }
+  for (int label : {rp::KneeFat, rp::KneeMuscle}) {
+    ASSERT_GT(count[label], 50) << label;
+    EXPECT_NEAR(sum[label] / count[label], rp::KneeTissues()[label].CTHounsfield, 8.0) << label;
+  }
+  EXPECT_GT(brightest, 1000);  // the femoral shaft's cortex is thicker than a voxel
+  // Trabecular bone: textured, densest under the joint.
+  ASSERT_GT(count[rp::KneeTibiaTrabecular], 50);
+  const double trabecular = sum[rp::KneeTibiaTrabecular] / count[rp::KneeTibiaTrabecular];
+  EXPECT_GT(trabecular, 120);
+  EXPECT_LT(trabecular, 320);
+  // The MR: bright fatty marrow where CTToMR puts the middle of the tibia 30 mm below the joint
+  // (the mean of its surface points at that height).
+  double deep[3] = {0, 0, -30}, sx = 0, sy = 0;
+  int n = 0;
+  for (const auto& p : phantom.Model->SurfacePoints(rp::KneeStructure::Tibia, 20000))
+    if (std::abs(p[2] + 30) < 2) sx += p[0], sy += p[1], ++n;
+  ASSERT_GT(n, 20);
+  deep[0] = sx / n, deep[1] = sy / n;
+  ASSERT_EQ(phantom.Model->LabelAt(deep), rp::KneeTibiaTrabecular);
+  EXPECT_GT(MRAtAnatomy(phantom, deep), 500);
+}
+
+TEST(KneePhantom, BadOptionsAndMissingAnatomyAreRefused) {
   rp::KneePhantomOptions options;
   options.CTDimensions = {10, 10, 10};
   options.CTSpacing = {1, 0, 1};
@@ -159,4 +382,16 @@ TEST(KneePhantom, BadOptionsAreRefused) {
   std::string error;
   EXPECT_FALSE(rp::GenerateKneePhantom(options, phantom, error));
   EXPECT_NE(error.find("spacing"), std::string::npos);
+  // Resources without the anatomy: the error names the missing file.
+  const fs::path empty = fs::path(ROBOPLAN_TEST_OUTPUT_DIR) / "no-resources";
+  fs::create_directories(empty);
+  const char* previous = std::getenv("ROBOPLAN_RESOURCES_DIR");
+  const std::string keep = previous ? previous : "";
+  setenv("ROBOPLAN_RESOURCES_DIR", empty.string().c_str(), 1);
+  error.clear();
+  rp::KneePhantomOptions real;
+  EXPECT_FALSE(rp::GenerateKneePhantom(real, phantom, error));
+  EXPECT_NE(error.find("femur.vtp"), std::string::npos) << error;
+  if (previous) setenv("ROBOPLAN_RESOURCES_DIR", keep.c_str(), 1);
+  else unsetenv("ROBOPLAN_RESOURCES_DIR");
 }

@@ -22,6 +22,7 @@
 #include "rpLPSRAS.h"
 #include "rpMemoryBudget.h"
 #include "rpNodeStorage.h"
+#include "rpSegmentationHeader.h"
 #include "rpVolumeIO.h"
 #include "vtkRPSegmentationNode.h"
 
@@ -30,53 +31,6 @@
 // (vtkMRMLSegmentationStorageNode) keys segments by their index N in "Segment<N>_*".
 namespace rp {
 namespace {
-
-const char* const TissueTag = "RoboPlan.TissueClass";
-
-std::string Trim(const std::string& s) {
-  const auto begin = s.find_first_not_of(" \t\r\n");
-  if (begin == std::string::npos) return {};
-  const auto end = s.find_last_not_of(" \t\r\n");
-  return s.substr(begin, end - begin + 1);
-}
-
-bool ParseInt(const std::string& text, long& value) {
-  const std::string t = Trim(text);
-  if (t.empty()) return false;
-  char* end = nullptr;
-  value = std::strtol(t.c_str(), &end, 10);
-  return end && *end == '\0';
-}
-
-bool ParseDoubles(const std::string& text, std::vector<double>& values) {
-  std::istringstream in(text);
-  values.clear();
-  std::string token;
-  while (in >> token) {
-    char* end = nullptr;
-    const double v = std::strtod(token.c_str(), &end);
-    if (!end || *end != '\0' || !std::isfinite(v)) return false;
-    values.push_back(v);
-  }
-  return true;
-}
-
-// "key1:value1|key2:value2|" (Slicer's tag list).
-std::map<std::string, std::string> ParseTags(const std::string& text) {
-  std::map<std::string, std::string> tags;
-  std::istringstream in(text);
-  std::string item;
-  while (std::getline(in, item, '|')) {
-    if (item.empty()) continue;
-    const auto colon = item.find(':');
-    if (colon == std::string::npos) {
-      tags[item] = "";
-    } else {
-      tags[item.substr(0, colon)] = item.substr(colon + 1);
-    }
-  }
-  return tags;
-}
 
 std::string FormatDouble(double v) {
   char buffer[64];
@@ -132,79 +86,6 @@ bool IsIntegerType(int vtkType) {
     default:
       return false;
   }
-}
-
-struct FileSegment {
-  vtkRPSegmentationNode::Segment Segment;
-  int Layer = 0;
-};
-
-// Segments described by the header, in index order. `error` names the first malformed key.
-bool ParseSegments(const std::string& path, const std::map<std::string, std::string>& metadata,
-                   std::vector<FileSegment>& segments, std::string& error) {
-  std::set<long> indices;
-  for (const auto& [key, value] : metadata) {
-    if (key.rfind("Segment", 0) != 0) continue;
-    const auto underscore = key.find('_');
-    if (underscore == std::string::npos || underscore == 7) continue;
-    long index = 0;
-    if (!ParseInt(key.substr(7, underscore - 7), index) || index < 0) continue;
-    indices.insert(index);
-  }
-  auto get = [&](long index, const std::string& field, std::string& value) {
-    auto it = metadata.find("Segment" + std::to_string(index) + "_" + field);
-    if (it == metadata.end()) return false;
-    value = it->second;
-    return true;
-  };
-  std::set<std::string> ids;
-  for (long index : indices) {
-    FileSegment fs;
-    auto& s = fs.Segment;
-    const std::string prefix = "Segment" + std::to_string(index) + "_";
-    if (!get(index, "ID", s.ID) || Trim(s.ID).empty()) {
-      error = "'" + path + "': " + prefix + "ID is missing or empty";
-      return false;
-    }
-    if (!ids.insert(s.ID).second) {
-      error = "'" + path + "': segment ID '" + s.ID + "' appears twice";
-      return false;
-    }
-    if (!get(index, "Name", s.Name)) s.Name = s.ID;
-    std::string text;
-    long value = 1;
-    // Files written before Slicer 4.11 have no label value: segment N is label N+1.
-    if (get(index, "LabelValue", text)) {
-      if (!ParseInt(text, value) || value <= 0) {
-        error = "'" + path + "': " + prefix + "LabelValue '" + text + "' is not a positive integer";
-        return false;
-      }
-    } else {
-      value = index + 1;
-    }
-    s.LabelValue = static_cast<int>(value);
-    long layer = 0;
-    if (get(index, "Layer", text) && (!ParseInt(text, layer) || layer < 0)) {
-      error = "'" + path + "': " + prefix + "Layer '" + text + "' is not a non-negative integer";
-      return false;
-    }
-    fs.Layer = static_cast<int>(layer);
-    if (get(index, "Color", text)) {
-      std::vector<double> rgb;
-      if (!ParseDoubles(text, rgb) || rgb.size() != 3) {
-        error = "'" + path + "': " + prefix + "Color '" + text + "' is not three numbers";
-        return false;
-      }
-      for (int c = 0; c < 3; ++c) s.Color[c] = std::clamp(rgb[static_cast<size_t>(c)], 0.0, 1.0);
-    }
-    if (get(index, "Tags", text)) {
-      const auto tags = ParseTags(text);
-      auto it = tags.find(TissueTag);
-      if (it != tags.end()) s.TissueClass = it->second;
-    }
-    segments.push_back(fs);
-  }
-  return true;
 }
 
 // Reads a 4-D multi-layer file (ITK sees the "list" axis as pixel components) into one labelmap
@@ -340,7 +221,7 @@ bool WriteSegmentationFile(const std::string& path, vtkRPSegmentationNode* node,
                                     " " + std::to_string(e[3]) + " " + std::to_string(e[4]) + " " + std::to_string(e[5]);
     }
     std::string tags = "Segmentation.Status:inprogress|";
-    if (!s.TissueClass.empty()) tags += std::string(TissueTag) + ":" + s.TissueClass + "|";
+    if (!s.TissueClass.empty()) tags += std::string(SegmentTissueTag) + ":" + s.TissueClass + "|";
     metadata[prefix + "Tags"] = tags;
   }
   metadata["Segmentation_MasterRepresentation"] = "Binary labelmap";
@@ -381,8 +262,8 @@ bool ReadSegmentationFile(const std::string& path, vtkRPSegmentationNode* node, 
       return false;
     }
   }
-  std::vector<FileSegment> segments;
-  if (!ParseSegments(path, metadata, segments, error)) return false;
+  std::vector<SegmentationHeaderSegment> segments;
+  if (!ParseSegmentationHeader(path, metadata, segments, error)) return false;
   if (segments.empty() && metadata.find("Segmentation_MasterRepresentation") == metadata.end() &&
       metadata.find("Segmentation_SourceRepresentation") == metadata.end()) {
     error = "'" + path + "': no Segment<N>_ID keys: not a Slicer segmentation file";

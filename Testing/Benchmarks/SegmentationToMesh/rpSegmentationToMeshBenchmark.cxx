@@ -51,6 +51,7 @@ Data& GetData() {
   static std::unique_ptr<Data> data = [] {
     auto d = std::make_unique<Data>();
     KneePhantomOptions options;
+    options.Anatomy = KneeAnatomy::Analytic;  // closed-form distances to score against
     options.Size = KneePhantomSize::Full;
     options.GenerateMR = false;
     std::string error;

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <vtkNew.h>
 
+#include "rpMarkupsFormat.h"
 #include "rpMarkupsIO.h"
 #include "rpNodeStorage.h"
 #include "vtkRPFiducialListNode.h"
@@ -329,3 +330,31 @@ TEST(MarkupsIO, RegisteredAsNodeStorage) {
 }
 
 }  // namespace
+
+// Labels as other tools write them round-trip: a label starting with '#' (a comment line in a
+// .fcsv unless quoted), commas, quotes and line breaks; a Latin-1 label read from a .fcsv
+// writes as .mrk.json (replaced, not thrown). Both failed before (found while writing the
+// markups fuzzer's write-back check).
+TEST(MarkupsIO, AwkwardLabelsRoundTrip) {
+  std::vector<rp::ControlPoint> points(3);
+  points[0].ID = "#1";
+  points[0].Label = "#hash, \"quoted\"";
+  points[1].Label = "two\r\nlines";
+  points[2].Label = std::string("caf\xE9");  // Latin-1, not UTF-8
+  for (int i = 0; i < 3; ++i) points[static_cast<size_t>(i)].Position[0] = i;
+  std::vector<rp::ControlPoint> back;
+  std::string error;
+  ASSERT_TRUE(rp::ParseFcsv(rp::FormatFcsv(points), "t.fcsv", back, error)) << error;
+  ASSERT_EQ(back.size(), 3u);
+  EXPECT_EQ(back[0].ID, "#1");
+  EXPECT_EQ(back[0].Label, "#hash, \"quoted\"");
+  EXPECT_EQ(back[1].Label, "two  lines");
+  const double color[3] = {1, 1, 1};
+  std::string json;
+  ASSERT_NO_THROW(json = rp::FormatMarkupsJson(points, color));
+  back.clear();
+  ASSERT_TRUE(rp::ParseMarkupsJson(json, "t.mrk.json", back, error)) << error;
+  ASSERT_EQ(back.size(), 3u);
+  EXPECT_EQ(back[0].Label, "#hash, \"quoted\"");
+  EXPECT_EQ(back[2].Label.substr(0, 3), "caf");
+}

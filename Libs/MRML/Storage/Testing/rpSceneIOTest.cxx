@@ -331,6 +331,23 @@ TEST(SceneIO, MissingAndCorruptDataFilesAreReportedByNameAndTheRestLoads) {
   EXPECT_EQ(loaded->GetNumberOfNodes(), 2);
   std::ofstream(dir / "future.rpscene") << "{\"format\": \"RoboPlan scene\", \"version\": 99, \"nodes\": []}";
   EXPECT_FALSE(rp::LoadScene(loaded, (dir / "future.rpscene").string()).Ok);
+  // Wrong JSON types (the first scene reader threw out of LoadScene on a number as an entry or a
+  // number as dataFile): each bad entry is reported by name and skipped, the good one loads.
+  std::ofstream(dir / "types.rpscene")
+      << R"({"format": "RoboPlan scene", "version": 1, "nodes": [
+            7,
+            {"class": "vtkRPModelNode", "id": "m1", "name": "Bad file", "dataFile": 3},
+            {"class": "vtkRPModelNode", "id": "m2", "name": "Bad attributes", "attributes": {"a": [1]}},
+            {"class": "vtkRPLinearTransformNode", "id": "t1", "name": "Good", "references": {}}]})";
+  const rp::SceneLoadReport types = rp::LoadScene(loaded, (dir / "types.rpscene").string());
+  ASSERT_TRUE(types.Ok) << types.Error;
+  EXPECT_EQ(types.NodesLoaded, 1);
+  ASSERT_EQ(types.Problems.size(), 3u);
+  EXPECT_NE(types.Problems[1].find("Bad file"), std::string::npos) << types.Problems[1];
+  EXPECT_NE(types.Problems[1].find("dataFile"), std::string::npos) << types.Problems[1];
+  EXPECT_NE(types.Problems[2].find("attributes"), std::string::npos) << types.Problems[2];
+  std::ofstream(dir / "version-text.rpscene") << R"({"format": "RoboPlan scene", "version": "1", "nodes": []})";
+  EXPECT_FALSE(rp::LoadScene(loaded, (dir / "version-text.rpscene").string()).Ok);
 }
 
 TEST(SceneIO, AFailedSaveKeepsTheLastGoodSceneFile) {

@@ -24,6 +24,7 @@ SurfaceError CompareToSurface(vtkPolyData* mesh, const SignedDistanceFunction& s
   SurfaceError result;
   if (!mesh || mesh->GetNumberOfPolys() == 0) return result;
   double sumSquares = 0, samples = 0;
+  std::vector<double> pooled;  // |distance| of every sample of both directions
   if (sdf) {
     // Mesh → truth: |sdf| at each vertex and triangle centroid, weighted by area (vertices carry a
     // third of their triangles' area each, centroids the triangle's own area).
@@ -80,6 +81,7 @@ SurfaceError CompareToSurface(vtkPolyData* mesh, const SignedDistanceFunction& s
       signedSum += w * d[i];
       weights += w;
       result.HausdorffMm = std::max(result.HausdorffMm, std::abs(d[i]));
+      pooled.push_back(std::abs(d[i]));
       sumSquares += d[i] * d[i];
       samples += 1;
     }
@@ -106,6 +108,7 @@ SurfaceError CompareToSurface(vtkPolyData* mesh, const SignedDistanceFunction& s
       sumSquares += v * v;
       samples += 1;
       result.HausdorffMm = std::max(result.HausdorffMm, v);
+      pooled.push_back(v);
     }
     result.TruthToMeshMeanMm = d.empty() ? 0.0 : sum / static_cast<double>(d.size());
   }
@@ -115,6 +118,11 @@ SurfaceError CompareToSurface(vtkPolyData* mesh, const SignedDistanceFunction& s
     result.MeanMm = sdf ? result.MeshToTruthMeanMm : result.TruthToMeshMeanMm;
   }
   result.RmsMm = samples > 0 ? std::sqrt(sumSquares / samples) : 0;
+  if (!pooled.empty()) {
+    auto at = pooled.begin() + static_cast<std::ptrdiff_t>(0.95 * (pooled.size() - 1));
+    std::nth_element(pooled.begin(), at, pooled.end());
+    result.Percentile95Mm = *at;
+  }
   return result;
 }
 

@@ -18,6 +18,7 @@ struct SurfaceError {
   double TruthToMeshMeanMm = 0;
   double RmsMm = 0;
   double HausdorffMm = 0;     // max of both directions
+  double Percentile95Mm = 0;  // 95th percentile of the distances of both directions (pooled)
   double SignedMeanMm = 0;    // mesh→truth signed (> 0 = mesh outside the truth)
 };
 

@@ -38,6 +38,7 @@ const Phantom& GetPhantom() {
   static Phantom* phantom = [] {
     auto* p = new Phantom;
     KneePhantomOptions options;
+    options.Anatomy = KneeAnatomy::Analytic;  // closed-form distances to score against
     options.GenerateMR = false;
     std::string error;
     if (!GenerateKneePhantom(options, p->Knee, error)) {

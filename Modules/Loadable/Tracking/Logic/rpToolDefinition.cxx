@@ -100,11 +100,14 @@ std::vector<std::string> DefaultToolFiles() {
 }
 
 ToolDefinition ReadToolDefinition(const std::string& path) {
-  std::ifstream in(path);
+  std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error("cannot open tool definition " + path);
-  nlohmann::json j;
+  return ParseToolDefinition(std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()), path);
+}
+
+ToolDefinition ParseToolDefinition(const std::string& text, const std::string& path) {
   try {
-    in >> j;
+    const nlohmann::json j = nlohmann::json::parse(text);
     ToolDefinition t;
     t.Name = j.at("name").get<std::string>();
     t.PartNumber = j.value("partNumber", t.Name);

@@ -42,6 +42,8 @@ struct ToolDefinition {
 /// Reads a tool definition JSON file (Resources/Tools/*.json). Throws std::runtime_error naming
 /// the file and the problem.
 ToolDefinition ReadToolDefinition(const std::string& path);
+/// The same from the file's text (`source` names it in messages). Throws std::runtime_error only.
+ToolDefinition ParseToolDefinition(const std::string& text, const std::string& source);
 std::vector<uint8_t> ReadBinaryFile(const std::string& path);  // throws std::runtime_error
 /// A tool file a user gives: a definition .json, or a bare NDI .rom (the tool is named after
 /// the file; no markers or trajectory). Throws std::runtime_error naming the file.

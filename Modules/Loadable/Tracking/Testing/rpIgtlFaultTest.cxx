@@ -204,8 +204,17 @@ TEST(IgtlFaults, OneGigabyteOfJunk) {
     std::strcpy(h.DeviceName, "Flood");
     h.BodySize = body;
     igtl::WriteHeader(header.data(), h);
+    // It reads what the server sends it (else it is a stalled peer too, dropped after StallSeconds).
+    std::atomic<bool> poured{false};
+    std::thread drain([&] {
+      char sink[4096];
+      while (!poured)
+        if (::recv(fd, sink, sizeof sink, MSG_DONTWAIT) <= 0) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    });
     ::send(fd, header.data(), header.size(), MSG_NOSIGNAL);
     framedBytes = Pour(fd, body, [](std::vector<uint8_t>&) {});
+    poured = true;
+    drain.join();
     ::close(fd);
   }, 1.0);
   EXPECT_EQ(framedBytes.load(), 1ull << 30);  // the server read all of it ...

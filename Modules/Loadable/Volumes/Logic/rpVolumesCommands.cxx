@@ -10,11 +10,13 @@
 #include <nlohmann/json.hpp>
 #include <vtkMatrix4x4.h>
 #include <vtkNew.h>
+#include <vtkPolyData.h>
 
 #include "rpArgParser.h"
 #include "rpDicomTransferSyntax.h"
 #include "rpNodeStorage.h"
 #include "rpKneePhantom.h"
+#include "rpModelIO.h"
 #include "rpProgress.h"
 #include "rpTransformIO.h"
 #include "rpVolumeFiles.h"
@@ -217,13 +219,18 @@ int RunConvertCommand(const std::vector<std::string>& arguments, std::ostream& o
 // ---------------------------------------------------------------------------------------------
 int RunPhantomCommand(const std::vector<std::string>& arguments, std::ostream& out, std::ostream& err) {
   ArgParser parser("phantom",
-                   "Write the built-in knee phantom: <out>/CT and <out>/MR as DICOM series (the MR is a "
+                   "Write the built-in knee phantom (the Visible Human Female's right knee, or analytic solids "
+                   "with --anatomy analytic): <out>/CT and <out>/MR as DICOM series (the MR is a "
                    "proton-density-like volume with 1.7 mm slices, in another pose), <out>/labels.nrrd "
-                   "(ground-truth labelmap on the CT grid), <out>/MRToCT-truth.tfm (the true transform "
-                   "that puts the MR onto the CT: ITK LPS 'from parent', as Slicer writes it) and "
-                   "<out>/phantom.json (tissues, labels, HU, the CT-to-MR matrix).");
+                   "(ground-truth labelmap on the CT grid), <out>/surfaces/*.vtp (the true surfaces, real "
+                   "anatomy only), <out>/MRToCT-truth.tfm (the true transform that puts the MR onto the CT: "
+                   "ITK LPS 'from parent', as Slicer writes it) and <out>/phantom.json (tissues, labels, HU, "
+                   "the CT-to-MR matrix).");
   parser.Option("out", "dir", "output folder (created)")
-      .Option("size", "small|full", "small: CT 96x96x64 (tests); full: CT 512x512x300 (benchmarks)", "small")
+      .Option("size", "small|demo|full",
+              "small: CT 96x96x64 (tests); demo: 192x192x128 (the demo); full: 512x512x300 (benchmarks)", "small")
+      .Option("anatomy", "real|analytic", "the real knee's surfaces or analytic solids with closed-form distances",
+              "real")
       .Option("seed", "n", "noise seed (same seed, same volumes)", "1")
       .Option("format", "dicom|nrrd", "volume format of CT and MR", "dicom");
   if (const int code = Parse(parser, arguments, out, err, "phantom"); code >= 0) return code;
@@ -232,8 +239,13 @@ int RunPhantomCommand(const std::vector<std::string>& arguments, std::ostream& o
     err << "roboplan phantom: --out <dir> is required\n";
     return 2;
   }
-  if (size != "small" && size != "full") {
-    err << "roboplan phantom: --size must be small or full, not '" << size << "'\n";
+  if (size != "small" && size != "demo" && size != "full") {
+    err << "roboplan phantom: --size must be small, demo or full, not '" << size << "'\n";
+    return 2;
+  }
+  const std::string anatomy = parser.Get("anatomy");
+  if (anatomy != "real" && anatomy != "analytic") {
+    err << "roboplan phantom: --anatomy must be real or analytic, not '" << anatomy << "'\n";
     return 2;
   }
   if (format != "dicom" && format != "nrrd") {
@@ -241,7 +253,8 @@ int RunPhantomCommand(const std::vector<std::string>& arguments, std::ostream& o
     return 2;
   }
   KneePhantomOptions options;
-  options.Size = size == "full" ? KneePhantomSize::Full : KneePhantomSize::Small;
+  options.Size = size == "full" ? KneePhantomSize::Full : size == "demo" ? KneePhantomSize::Demo : KneePhantomSize::Small;
+  options.Anatomy = anatomy == "analytic" ? KneeAnatomy::Analytic : KneeAnatomy::Real;
   try {
     const long seed = parser.GetInt("seed");
     if (seed < 0 || seed > 0xffffffffL) throw std::invalid_argument("--seed must be in 0..4294967295");
@@ -285,6 +298,21 @@ int RunPhantomCommand(const std::vector<std::string>& arguments, std::ostream& o
     err << "roboplan phantom: " << error << "\n";
     return 1;
   }
+  // The true surfaces (in the CT's RAS, written as LPS model files like every model).
+  nlohmann::json surfaces = nlohmann::json::object();
+  for (int s = 0; s < KneeStructureCount; ++s) {
+    const auto structure = static_cast<KneeStructure>(s);
+    vtkSmartPointer<vtkPolyData> surface = phantom.Model->Surface(structure);
+    if (!surface) continue;
+    fs::create_directories(root / "surfaces", ec);
+    const std::string name = KneeStructureName(structure);
+    const fs::path path = root / "surfaces" / (name + ".vtp");
+    if (!WriteModelFile(path.string(), surface, error)) {
+      err << "roboplan phantom: " << error << "\n";
+      return 1;
+    }
+    surfaces[name] = path.string();
+  }
   vtkNew<vtkMatrix4x4> mrToCT;
   vtkMatrix4x4::Invert(phantom.CTToMR, mrToCT);
   if (!WriteTransformFile((root / "MRToCT-truth.tfm").string(), mrToCT, error)) {
@@ -294,6 +322,8 @@ int RunPhantomCommand(const std::vector<std::string>& arguments, std::ostream& o
   nlohmann::json doc;
   doc["ok"] = true;
   doc["size"] = size;
+  doc["anatomy"] = phantom.Model->Description();
+  doc["surfaces"] = surfaces;
   doc["seed"] = options.Seed;
   doc["ct"] = VolumeJson(phantom.CT);
   doc["ct"]["path"] = ctPath;

@@ -82,7 +82,7 @@ TEST(VolumesCommands, PhantomDicomListingAndConversion) {
   for (const char* f : {"CT", "MR", "labels.nrrd", "MRToCT-truth.tfm", "phantom.json"}) EXPECT_TRUE(fs::exists(dir / f)) << f;
   const nlohmann::json info = nlohmann::json::parse(std::ifstream(dir / "phantom.json"));
   EXPECT_EQ(info["tissues"].size(), static_cast<size_t>(rp::KneeLabelCount));
-  EXPECT_EQ(info["ct"]["dimensions"], nlohmann::json({96, 96, 64}));
+  EXPECT_EQ(info["ct"]["dimensions"], nlohmann::json({110, 110, 64}));
 
   CommandRun r = Call(rp::RunDicomCommand, {dir.string(), "--json"});
   ASSERT_EQ(r.code, 0) << r.err;
@@ -98,7 +98,9 @@ TEST(VolumesCommands, PhantomDicomListingAndConversion) {
     }
   }
   EXPECT_EQ(modalities, (std::set<std::string>{"CT", "MR"}));
-  EXPECT_EQ(doc["nonDicomFiles"], 3);  // labels.nrrd, the .tfm and phantom.json
+  // labels.nrrd, the .tfm, phantom.json and the true surfaces of the real knee.
+  EXPECT_EQ(info["surfaces"].size(), 11u);
+  EXPECT_EQ(doc["nonDicomFiles"], 3 + info["surfaces"].size());
 
   // DICOM → NRRD → DICOM → NIfTI: the same voxels and geometry as the generator's CT.
   rp::KneePhantomOptions options;
@@ -111,7 +113,7 @@ TEST(VolumesCommands, PhantomDicomListingAndConversion) {
   ASSERT_EQ(Call(rp::RunConvertCommand, {(Dir() / "ct.nrrd").string(), (Dir() / "ct-dicom").string()}).code, 0);
   r = Call(rp::RunConvertCommand, {(Dir() / "ct-dicom").string(), (Dir() / "ct.nii.gz").string(), "--json"});
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_EQ(r.Json()["dimensions"], nlohmann::json({96, 96, 64}));
+  EXPECT_EQ(r.Json()["dimensions"], nlohmann::json({110, 110, 64}));
   for (const char* name : {"ct.nrrd", "ct-dicom", "ct.nii.gz"}) {
     rp::ImageVolume back;
     ASSERT_TRUE(rp::ReadVolume((Dir() / name).string(), back, error)) << error;
@@ -282,10 +284,12 @@ TEST(VolumesLogic, LoadAndRegisterIntoTheScene) {
   ASSERT_TRUE(rp::ReadTransformFile((dir / "MRToCT-truth.tfm").string(), truth, error)) << error;
   vtkNew<vtkMatrix4x4> mrToWorld;
   mr->GetParentTransformToWorld(mrToWorld);
-  // Bone-surface points of the analytic knee, seen in MR coordinates, land where the CT has them.
-  rp::KneeModel model;
+  // Bone-surface points of the knee, seen in MR coordinates, land where the CT has them.
+  std::string loadError;
+  const auto model = rp::LoadKneeSurfaceModel(loadError);
+  ASSERT_TRUE(model) << loadError;
   const double bounds[6] = {-70, 70, -70, 70, -75, 75};
-  const auto femur = model.SurfacePoints(rp::KneeStructure::Femur, 300, bounds);
+  const auto femur = model->SurfacePoints(rp::KneeStructure::Femur, 300, bounds);
   vtkNew<vtkMatrix4x4> ctToMR;
   vtkMatrix4x4::Invert(truth, ctToMR);
   std::vector<std::array<double, 3>> inMR;

@@ -48,9 +48,7 @@ void GeneratePhantom(DemoState& state) {
   } else if (state.Options.PhantomSize == "full") {
     options.Size = KneePhantomSize::Full;
   } else if (state.Options.PhantomSize == "demo") {
-    // Between the test and benchmark sizes: fine enough for bone and ligaments, fast on 2 cores.
-    options.CTDimensions = {192, 192, 128};
-    options.CTSpacing = {0.8, 0.8, 1.25};
+    options.Size = KneePhantomSize::Demo;
   } else {
     throw std::runtime_error("unknown phantom size '" + state.Options.PhantomSize + "' (small, demo, full)");
   }
@@ -199,16 +197,6 @@ void RegisterCTAndMR(DemoState& state) {
 }
 
 // ---- Stage: bones and soft tissues segmented on the CT and meshed (display + haptic LoD)
-struct BoneTruth {
-  const char* ID;
-  const char* Name;
-  KneeStructure Structure;
-  KneeLabel Cortical, Trabecular;
-};
-const BoneTruth Bones[] = {{"femur", "Femur", KneeStructure::Femur, KneeFemurCortical, KneeFemurTrabecular},
-                           {"tibia", "Tibia", KneeStructure::Tibia, KneeTibiaCortical, KneeTibiaTrabecular},
-                           {"fibula", "Fibula", KneeStructure::Fibula, KneeFibulaCortical, KneeFibulaTrabecular},
-                           {"patella", "Patella", KneeStructure::Patella, KneePatellaCortical, KneePatellaTrabecular}};
 
 // Dice of one segment's voxels against a set of truth labels (same grid).
 double Dice(vtkImageData* labels, int label, vtkImageData* truth, KneeLabel a, KneeLabel b) {
@@ -224,26 +212,31 @@ double Dice(vtkImageData* labels, int label, vtkImageData* truth, KneeLabel a, K
   return segmented + expected ? 2.0 * both / double(segmented + expected) : 0.0;
 }
 
-// A voxel of `label` in the truth labelmap nearest the label's centroid: the seed a user would click.
-bool SeedForLabel(const ImageVolume& truth, KneeLabel label, std::array<double, 3>& seedRAS) {
+// The click a user makes to grow a bone: a voxel of the bone bright enough for the threshold,
+// nearest the bone's centroid (thin trabecular bone may be below the threshold at the centroid).
+bool SeedForBone(const ImageVolume& truth, vtkImageData* ct, const KneeBone& bone, double lower,
+                 std::array<double, 3>& seedRAS) {
   int dims[3];
   truth.Image->GetDimensions(dims);
   const auto* t = static_cast<const unsigned char*>(truth.Image->GetScalarPointer());
+  auto inBone = [&](long n) { return t[n] == bone.Cortical || t[n] == bone.Trabecular; };
   double sum[3] = {0, 0, 0};
   long count = 0;
   for (int k = 0; k < dims[2]; ++k)
     for (int j = 0; j < dims[1]; ++j)
       for (int i = 0; i < dims[0]; ++i)
-        if (t[(long(k) * dims[1] + j) * dims[0] + i] == label) sum[0] += i, sum[1] += j, sum[2] += k, ++count;
+        if (inBone((long(k) * dims[1] + j) * dims[0] + i)) sum[0] += i, sum[1] += j, sum[2] += k, ++count;
   if (!count) return false;
   double best = 1e300, bestIJK[3] = {0, 0, 0};
   for (int k = 0; k < dims[2]; ++k)
     for (int j = 0; j < dims[1]; ++j)
-      for (int i = 0; i < dims[0]; ++i)
-        if (t[(long(k) * dims[1] + j) * dims[0] + i] == label) {
-          const double d = std::pow(i - sum[0] / count, 2) + std::pow(j - sum[1] / count, 2) + std::pow(k - sum[2] / count, 2);
-          if (d < best) best = d, bestIJK[0] = i, bestIJK[1] = j, bestIJK[2] = k;
-        }
+      for (int i = 0; i < dims[0]; ++i) {
+        const long n = (long(k) * dims[1] + j) * dims[0] + i;
+        if (!inBone(n) || ct->GetScalarComponentAsDouble(i, j, k, 0) < lower) continue;
+        const double d = std::pow(i - sum[0] / count, 2) + std::pow(j - sum[1] / count, 2) + std::pow(k - sum[2] / count, 2);
+        if (d < best) best = d, bestIJK[0] = i, bestIJK[1] = j, bestIJK[2] = k;
+      }
+  if (best == 1e300) return false;
   truth.IndexToRAS(bestIJK, seedRAS.data());
   return true;
 }
@@ -262,9 +255,9 @@ void SegmentAndMesh(DemoState& state) {
   std::vector<std::string> boneIDs;
   if (state.HasGroundTruth()) {
     // Region growing from one seed per bone (the click a user makes), bone preset thresholds.
-    for (const BoneTruth& b : Bones) {
+    for (const KneeBone& b : KneeBones()) {
       std::array<double, 3> seed;
-      if (!SeedForLabel(state.Phantom->Labels, b.Trabecular, seed)) continue;
+      if (!SeedForBone(state.Phantom->Labels, state.CT->GetImageData(), b, bone->Lower, seed)) continue;
       SegmentTarget target;
       target.ID = b.ID;
       target.Name = b.Name;
@@ -359,7 +352,7 @@ void SegmentAndMesh(DemoState& state) {
   double spacing[3];
   state.CT->GetSpacing(spacing);
   const double voxel = std::min({spacing[0], spacing[1], spacing[2]});
-  for (const BoneTruth& b : Bones) {
+  for (const KneeBone& b : KneeBones()) {
     const auto* segment = segmentation->GetSegmentByID(b.ID);
     if (!segment) continue;
     state.Report->AddFigureAbove(stage, std::string(b.Name) + ": Dice vs ground truth",
@@ -369,15 +362,18 @@ void SegmentAndMesh(DemoState& state) {
     for (const SegmentModels& m : built) {
       if (m.SegmentID != b.ID || !m.DisplayModel) continue;
       const auto model = state.Phantom->Model;
-      const KneeStructure structure = b.Structure;
+      const KneeStructure structure = b.Surface;
       const SurfaceError e = CompareToSurface(
           m.DisplayModel->GetPolyData(), [model, structure](const double p[3]) { return model->SignedDistance(structure, p); },
           model->SurfacePoints(structure, 4000, bounds), bounds);
-      state.Report->AddFigureBelow(stage, std::string(b.Name) + ": mean surface distance to the analytic bone",
-                                   e.MeanMm, "mm", 0.5 * voxel,
-                                   "target 0.5 voxel: threshold segmentation + mesh; " +
-                                       std::to_string(e.MeanMm / voxel).substr(0, 5) + " voxel; Hausdorff " +
+      // The targets the issue sets for a real CT (Dice >= 0.90, mean <= 0.8 mm), here against
+      // the phantom's true surfaces.
+      state.Report->AddFigureBelow(stage, std::string(b.Name) + ": mean surface distance to the true surface", e.MeanMm,
+                                   "mm", 0.8,
+                                   std::to_string(e.MeanMm / voxel).substr(0, 4) + " voxel; Hausdorff " +
                                        std::to_string(e.HausdorffMm).substr(0, 5) + " mm");
+      state.Report->AddFigure(stage, std::string(b.Name) + ": 95 % surface distance", e.Percentile95Mm, "mm",
+                              "both directions pooled, inside the CT less 3 mm");
     }
   }
 }

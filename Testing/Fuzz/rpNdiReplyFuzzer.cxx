@@ -1,5 +1,5 @@
 // libFuzzer target: NDI reply framing and the TX, BX and PHSR parsers on arbitrary bytes.
-// Build with -DROBOPLAN_BUILD_FUZZERS=ON and clang; run: rpNdiReplyFuzzer -max_total_time=60
+// Built by Testing/Fuzz (clang sub-build); ctest -L fuzz runs it on its committed corpus.
 #include <cstdint>
 #include <cstring>
 #include <memory>
