@@ -6,16 +6,28 @@
 #include <sys/un.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 
 #include "rpNdiProtocol.h"
+#include "rpResources.h"
 #include "rpSerialTransport.h"
 #include "rpToolPose.h"
 
 namespace rp {
+
+std::vector<std::string> DefaultToolFiles() {
+  std::vector<std::string> files;
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(ResourcePath("Tools"), ec))
+    if (entry.path().extension() == ".json") files.push_back(entry.path().string());
+  std::sort(files.begin(), files.end());
+  return files;
+}
 
 namespace {
 void PutU16(uint8_t* p, uint16_t v) {

@@ -17,6 +17,9 @@
 
 namespace rp {
 
+/// Resources/Tools/*.json, sorted: the tools a simulator carries unless told otherwise.
+std::vector<std::string> DefaultToolFiles();
+
 class PolarisSimulator {
  public:
   struct Options {

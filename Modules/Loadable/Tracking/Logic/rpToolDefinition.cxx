@@ -1,6 +1,5 @@
 #include "rpToolDefinition.h"
 
-#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -9,8 +8,6 @@
 #include <stdexcept>
 
 #include <nlohmann/json.hpp>
-
-#include "rpResources.h"
 
 namespace rp {
 
@@ -88,15 +85,6 @@ ToolDefinition ReadToolFile(const std::string& path) {
   tool.Name = std::filesystem::path(path).stem().string();
   tool.Rom = ReadBinaryFile(path);
   return tool;
-}
-
-std::vector<std::string> DefaultToolFiles() {
-  std::vector<std::string> files;
-  std::error_code ec;
-  for (const auto& entry : std::filesystem::directory_iterator(ResourcePath("Tools"), ec))
-    if (entry.path().extension() == ".json") files.push_back(entry.path().string());
-  std::sort(files.begin(), files.end());
-  return files;
 }
 
 ToolDefinition ReadToolDefinition(const std::string& path) {

@@ -48,8 +48,6 @@ std::vector<uint8_t> ReadBinaryFile(const std::string& path);  // throws std::ru
 /// A tool file a user gives: a definition .json, or a bare NDI .rom (the tool is named after
 /// the file; no markers or trajectory). Throws std::runtime_error naming the file.
 ToolDefinition ReadToolFile(const std::string& path);
-/// Resources/Tools/*.json, sorted (the tools of the simulator and of the demo).
-std::vector<std::string> DefaultToolFiles();
 
 /// Pose of a tool on its trajectory at time t (seconds): row-major 4x4 ToolToTracker.
 void EvaluateTrajectory(const ToolDefinition& tool, double t, double m[16]);
