@@ -6,7 +6,7 @@ packages=(
   libvtk9-dev libvtk9-qt-dev           # VTK 9.1 (+ Qt widgets)
   libinsighttoolkit5-dev               # ITK 5.2
   libdcmtk-dev                         # DCMTK 3.6.7
-  libgdcm-dev                          # GDCM 3.0: JPEG 2000 (OpenJPEG) and JPEG-LS (CharLS 2) pixel decoding
+  libgdcm-dev libcharls-dev            # GDCM 3.0 decodes JPEG 2000 (OpenJPEG); CharLS 2 decodes JPEG-LS
   dcmtk libgdcm-tools                  # dcmcjpeg, dcmcjpls, dcmcrle, dcmconv, dcmodify, gdcmconv: tests encode real series with them
   qtbase5-dev                          # Qt 5.15
   libeigen3-dev                        # Eigen 3.4

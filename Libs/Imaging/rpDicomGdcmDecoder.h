@@ -1,7 +1,6 @@
 #pragma once
-// Internal to RoboPlanImaging: the pixel data of JPEG 2000 (which DCMTK 3.6.7 cannot decode)
-// and JPEG-LS (see rpDicomTransferSyntax.h), decoded by GDCM 3.0 (Debian's libgdcm, the one
-// Debian's ITK links to; OpenJPEG 2.5 and CharLS 2 underneath).
+// Internal to RoboPlanImaging: the pixel data of JPEG 2000 (which DCMTK 3.6.7 cannot decode),
+// decoded by GDCM 3.0 (Debian's libgdcm, the one Debian's ITK links to; OpenJPEG 2.5 underneath).
 //
 // Only the pixels come from GDCM: headers, sorting and geometry stay with DCMTK, so a file
 // reads the same whichever library decodes its pixels.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -24,6 +25,7 @@
 
 #include "rpDicomCommon.h"
 #include "rpDicomGdcmDecoder.h"
+#include "rpDicomJpegLsDecoder.h"
 #include "rpDicomTransferSyntax.h"
 #include "rpLPSRAS.h"
 #include "rpMemoryBudget.h"
@@ -42,6 +44,11 @@ void InitializeDcmtk() {
     dcmEnableUnknownVRConversion.set(OFTrue);
     // DCMTK logs parser warnings on stderr; our messages say what went wrong instead.
     OFLog::configure(OFLogger::FATAL_LOG_LEVEL);
+    // Unregistered at exit, so the codec list is not reported as a leak.
+    std::atexit([]() {
+      DcmRLEDecoderRegistration::cleanup();
+      DJDecoderRegistration::cleanup();
+    });
   });
 }
 
@@ -493,6 +500,16 @@ bool DecodeFile(const SliceHeader& h, DcmFileFormat& format, DecodedPixels& pixe
     return false;
   }
   DcmDataset* ds = format.getDataset();
+  if (syntax && syntax->Decoder == PixelDecoder::CharLS) {
+    const size_t frameBytes = static_cast<size_t>(h.Rows) * h.Columns * static_cast<size_t>(h.BitsAllocated / 8);
+    if (!DecodeJpegLsPixels(ds, h.Frames, frameBytes, pixels.Owned, error)) {
+      error = TransferSyntaxLabel(h.TransferSyntax) + ": " + error;
+      return false;
+    }
+    pixels.Data = pixels.Owned.data();
+    pixels.Bytes = pixels.Owned.size();
+    return true;
+  }
   if (DcmXfer(ds->getOriginalXfer()).isEncapsulated()) {
     OFCondition c = ds->chooseRepresentation(EXS_LittleEndianExplicit, nullptr);
     if (c.bad() || !ds->canWriteXfer(EXS_LittleEndianExplicit)) {
@@ -861,7 +878,7 @@ bool ReadDicomVolume(const std::string& path, ImageVolume& volume, std::string& 
                      const DicomReadOptions& options, std::vector<std::string>* warnings,
                      const ProgressCallback& progress) {
   DicomScanResult scan;
-  if (!ScanDicom(path, scan, error)) return false;
+  if (!ScanDicom(path, scan, error, progress)) return false;
   auto listing = [](const std::vector<const DicomSeriesInfo*>& stacks) {
     std::string text;
     for (const DicomSeriesInfo* s : stacks) {

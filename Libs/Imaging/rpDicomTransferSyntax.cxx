@@ -13,8 +13,8 @@ const std::vector<TransferSyntaxInfo>& SupportedTransferSyntaxes() {
       {"1.2.840.10008.1.2.4.51", "JPEG Extended (process 2 & 4)", false, PixelDecoder::DCMTK},
       {"1.2.840.10008.1.2.4.57", "JPEG Lossless (process 14)", true, PixelDecoder::DCMTK},
       {"1.2.840.10008.1.2.4.70", "JPEG Lossless SV1 (process 14, selection value 1)", true, PixelDecoder::DCMTK},
-      {"1.2.840.10008.1.2.4.80", "JPEG-LS Lossless", true, PixelDecoder::GDCM},
-      {"1.2.840.10008.1.2.4.81", "JPEG-LS Near-Lossless", false, PixelDecoder::GDCM},
+      {"1.2.840.10008.1.2.4.80", "JPEG-LS Lossless", true, PixelDecoder::CharLS},
+      {"1.2.840.10008.1.2.4.81", "JPEG-LS Near-Lossless", false, PixelDecoder::CharLS},
       {"1.2.840.10008.1.2.4.90", "JPEG 2000 Lossless Only", true, PixelDecoder::GDCM},
       {"1.2.840.10008.1.2.4.91", "JPEG 2000 (lossless or lossy)", false, PixelDecoder::GDCM},
   };

@@ -1,21 +1,14 @@
 #pragma once
 // The DICOM transfer syntaxes RoboPlan reads, the one list of them: name, whether the
 // compression is lossless, and which library decodes the pixels. DCMTK parses every file and
-// decodes the uncompressed, deflated, RLE and JPEG syntaxes; GDCM decodes JPEG 2000 (OpenJPEG)
-// and JPEG-LS (CharLS 2).
-//
-// Why JPEG-LS goes to GDCM although DCMTK has a codec: DCMTK 3.6.7 bundles its own CharLS 1
-// fork (libdcmtkcharls) that exports JpegLsDecode, JpegLsReadHeader and JpegLsEncode under
-// the same unversioned names as Debian's CharLS 2 (libcharls.so.2, which GDCM links). In one
-// process the first one loaded serves both callers with the other's structures and argument
-// lists: DCMTK's JPEG-LS decoding then runs through CharLS 2 and corrupted the heap in our
-// tests. So libdcmjpls is never loaded and one CharLS serves the process.
+// decodes the uncompressed, deflated, RLE and JPEG syntaxes; GDCM decodes JPEG 2000 (OpenJPEG);
+// CharLS 2's own C API decodes JPEG-LS (why not DCMTK's or GDCM's: rpDicomJpegLsDecoder.h).
 #include <string>
 #include <vector>
 
 namespace rp {
 
-enum class PixelDecoder { DCMTK, GDCM };
+enum class PixelDecoder { DCMTK, GDCM, CharLS };
 
 struct TransferSyntaxInfo {
   std::string UID;

@@ -31,27 +31,41 @@
 
 namespace rp {
 
-bool LoadSceneOrDataFile(vtkRPScene* scene, const std::string& path, std::string& error,
-                         std::vector<std::string>* warnings) {
+BackgroundRead MakeDataRead(vtkRPScene* scene, const std::string& path) {
   if (std::filesystem::is_directory(path)) {
 #ifdef ROBOPLAN_VIEWER_HAVE_DICOM
     // A folder is a DICOM series (the only one in it).
-    ImageVolume volume;
-    std::vector<std::string> notes;
-    if (!ReadDicomVolume(path, volume, error, "", {}, &notes)) return false;
-    vtkNew<vtkRPScalarVolumeNode> node;
-    node->SetName(volume.Description.empty() ? std::filesystem::path(path).filename().string() : volume.Description);
-    CopyToNode(volume, node);
-    if (volume.Window <= 0) node->SetWindowLevelFromScalarRange();
-    scene->AddNode(node);
-    if (warnings) warnings->insert(warnings->end(), notes.begin(), notes.end());
-    return true;
+    return [path](BackgroundReadResult& result, const ProgressCallback& progress) {
+      ImageVolume volume;
+      if (!ReadDicomVolume(path, volume, result.Error, "", {}, &result.Warnings, progress)) return false;
+      auto node = vtkSmartPointer<vtkRPScalarVolumeNode>::New();
+      node->SetName(volume.Description.empty() ? std::filesystem::path(path).filename().string() : volume.Description);
+      CopyToNode(volume, node);
+      if (volume.Window <= 0) node->SetWindowLevelFromScalarRange();
+      result.Nodes.push_back(node);
+      return true;
+    };
 #else
-    error = path + ": is a folder, and this build has no DICOM reader";
-    return false;
+    return [path](BackgroundReadResult& result, const ProgressCallback&) {
+      result.Error = path + ": is a folder, and this build has no DICOM reader";
+      return false;
+    };
 #endif
   }
-  if (HasExtension(path, SceneFileExtension)) {
+  std::string error;
+  vtkSmartPointer<vtkRPNode> node = CreateNodeForFile(scene, path, error);
+  return [node, path, error](BackgroundReadResult& result, const ProgressCallback& progress) {
+    result.Error = error;
+    if (!node || !ReadNodeFile(node, path, result.Error)) return false;
+    if (progress) progress(1.0, "read");
+    result.Nodes.push_back(node);
+    return true;
+  };
+}
+
+bool LoadSceneOrDataFile(vtkRPScene* scene, const std::string& path, std::string& error,
+                         std::vector<std::string>* warnings) {
+  if (HasExtension(path, SceneFileExtension) && !std::filesystem::is_directory(path)) {
     SceneLoadReport report = LoadScene(scene, path);
     if (!report.Ok) {
       error = report.Error;
@@ -60,7 +74,14 @@ bool LoadSceneOrDataFile(vtkRPScene* scene, const std::string& path, std::string
     if (warnings) warnings->insert(warnings->end(), report.Problems.begin(), report.Problems.end());
     return true;
   }
-  return LoadDataFile(scene, path, error) != nullptr;
+  BackgroundReadResult result;
+  if (!MakeDataRead(scene, path)(result, nullptr)) {
+    error = result.Error;
+    return false;
+  }
+  for (const auto& node : result.Nodes) scene->AddNode(node);
+  if (warnings) warnings->insert(warnings->end(), result.Warnings.begin(), result.Warnings.end());
+  return true;
 }
 
 int RunViewer(int argc, char* argv[], ModuleManager& manager, vtkRPScene* scene, const std::vector<std::string>& files) {

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "rpBackgroundRead.h"
 #include "rpModule.h"
 
 class vtkRPScene;
@@ -17,6 +18,11 @@ class ModuleManager;
 int RunViewer(int argc, char* argv[], ModuleManager& manager, vtkRPScene* scene, const std::vector<std::string>& files);
 
 std::vector<rp::Command> ViewerCommands();
+
+/// The read of a data file or a DICOM series folder as a BackgroundRead (nodes made, not added to
+/// the scene). Call on the main thread; the returned read may run on any thread. Scene files
+/// (*.rpscene) have no such read: loading them changes the scene as it goes.
+BackgroundRead MakeDataRead(vtkRPScene* scene, const std::string& path);
 
 /// Loads a scene file (*.rpscene), a data file or a DICOM series folder into the scene. Problems that did not stop the
 /// load (e.g. one missing data file of a scene) go to `warnings`. False with `error` on failure.

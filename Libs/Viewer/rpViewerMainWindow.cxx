@@ -30,6 +30,7 @@
 #include <vtkGenericOpenGLRenderWindow.h>
 #include <vtkRenderWindowInteractor.h>
 
+#include "rpBackgroundRead.h"
 #include "rpModuleManager.h"
 #include "rpNodeStorage.h"
 #include "rpSceneIO.h"
@@ -426,9 +427,21 @@ void ViewerMainWindow::RefreshVolumeCombos() {
 bool ViewerMainWindow::LoadFile(const QString& path, QString* error) {
   std::string message;
   std::vector<std::string> warnings;
-  QApplication::setOverrideCursor(Qt::WaitCursor);
-  const bool ok = LoadSceneOrDataFile(this->Scene, path.toStdString(), message, &warnings);
-  QApplication::restoreOverrideCursor();
+  bool ok = false;
+  if (HasExtension(path.toStdString(), SceneFileExtension) && !QFileInfo(path).isDir()) {
+    // A scene file fills the scene as it reads: on this thread.
+    QApplication::setOverrideCursor(Qt::WaitCursor);
+    ok = LoadSceneOrDataFile(this->Scene, path.toStdString(), message, &warnings);
+    QApplication::restoreOverrideCursor();
+  } else {
+    BackgroundReadResult result = RunBackgroundRead(this, "Loading " + QFileInfo(path).fileName(),
+                                                    MakeDataRead(this->Scene, path.toStdString()));
+    ok = result.Ok;
+    message = result.Error;
+    warnings = result.Warnings;
+    if (ok)
+      for (const auto& node : result.Nodes) this->Scene->AddNode(node);
+  }
   if (!ok) {
     if (error) *error = QString::fromStdString(message);
     return false;
@@ -444,6 +457,11 @@ void ViewerMainWindow::ShowProblem(const QString& title, const QString& text) {
   QMessageBox::warning(this, title, text);
 }
 
+void ViewerMainWindow::LoadAndReport(const QString& path, const QString& title) {
+  QString error;
+  if (!this->LoadFile(path, &error) && error != "cancelled") this->ShowProblem(title, error);
+}
+
 void ViewerMainWindow::OpenDataFiles() {
   this->OpenDataFilesOfKind("Load data",
                             "Data (*.nrrd *.nhdr *.nii *.nii.gz *.mha *.mhd *.seg.nrrd *.vtp *.vtk *.stl *.ply *.obj "
@@ -452,17 +470,13 @@ void ViewerMainWindow::OpenDataFiles() {
 
 void ViewerMainWindow::OpenDataFilesOfKind(const QString& title, const QString& filter) {
   const QStringList files = QFileDialog::getOpenFileNames(this, title, QString(), filter + ";;All files (*)");
-  for (const QString& file : files) {
-    QString error;
-    if (!this->LoadFile(file, &error)) this->ShowProblem(title, error);
-  }
+  for (const QString& file : files) this->LoadAndReport(file, title);
 }
 
 void ViewerMainWindow::OpenScene() {
   const QString file = QFileDialog::getOpenFileName(this, "Load scene", QString(), "RoboPlan scene (*.rpscene)");
   if (file.isEmpty()) return;
-  QString error;
-  if (!this->LoadFile(file, &error)) this->ShowProblem("Load scene", error);
+  this->LoadAndReport(file, "Load scene");
 }
 
 void ViewerMainWindow::SaveSceneAs() {
@@ -487,24 +501,30 @@ void ViewerMainWindow::OpenDicomFolder() {
 #ifdef ROBOPLAN_VIEWER_HAVE_DICOM
   const QString folder = QFileDialog::getExistingDirectory(this, "Load DICOM folder");
   if (folder.isEmpty()) return;
-  QApplication::setOverrideCursor(Qt::WaitCursor);
-  DicomScanResult scan;
-  std::string error;
-  const bool scanned = ScanDicom(folder.toStdString(), scan, error);
-  QApplication::restoreOverrideCursor();
-  if (!scanned || scan.Series.empty()) {
-    this->ShowProblem("Load DICOM", scanned ? "No DICOM image series in " + folder : QString::fromStdString(error));
+  // Scan, then read the chosen stack, both on a worker thread.
+  auto scan = std::make_shared<DicomScanResult>();
+  const std::string folderPath = folder.toStdString();
+  const BackgroundReadResult scanned = RunBackgroundRead(
+      this, "Scanning " + QFileInfo(folder).fileName(),
+      [scan, folderPath](BackgroundReadResult& result, const ProgressCallback& progress) {
+        return ScanDicom(folderPath, *scan, result.Error, progress);
+      });
+  if (scanned.Cancelled) return;
+  if (!scanned.Ok || scan->Series.empty()) {
+    this->ShowProblem("Load DICOM", scanned.Ok ? "No DICOM image series in " + folder : QString::fromStdString(scanned.Error));
     return;
   }
   // The series picker: one line per series, problems shown.
   QStringList names;
-  for (const DicomSeriesInfo& series : scan.Series) {
-    QString line = QString("%1 %2 — %3 (%4 files, %5x%6)")
+  for (const DicomSeriesInfo& series : scan->Series) {
+    QString line = QString("%1 %2 — %3, %4 (%5x%6x%7)")
                        .arg(QString::fromStdString(series.Modality), QString::fromStdString(series.SeriesNumber),
-                            QString::fromStdString(series.SeriesDescription))
-                       .arg(series.Files.size())
+                            QString::fromStdString(series.SeriesDescription),
+                            QString::fromStdString(series.OrientationName))
                        .arg(series.Columns)
-                       .arg(series.Rows);
+                       .arg(series.Rows)
+                       .arg(series.Slices);
+    if (series.StackCount > 1) line += QString(" stack %1 of %2").arg(series.StackIndex).arg(series.StackCount);
     if (!series.Problem.empty()) line += " [" + QString::fromStdString(series.Problem) + "]";
     names << line;
   }
@@ -515,22 +535,26 @@ void ViewerMainWindow::OpenDicomFolder() {
     if (!ok) return;
     index = names.indexOf(chosen);
   }
-  const DicomSeriesInfo& series = scan.Series[static_cast<size_t>(index)];
-  ImageVolume volume;
-  std::vector<std::string> warnings;
-  QApplication::setOverrideCursor(Qt::WaitCursor);
-  const bool read = ReadDicomSeries(series, volume, error, {}, &warnings);
-  QApplication::restoreOverrideCursor();
-  if (!read) {
-    this->ShowProblem("Load DICOM", QString::fromStdString(error));
+  const DicomSeriesInfo series = scan->Series[static_cast<size_t>(index)];
+  const BackgroundReadResult read = RunBackgroundRead(
+      this, "Loading " + QString::fromStdString(series.SeriesDescription.empty() ? series.Modality : series.SeriesDescription),
+      [series](BackgroundReadResult& result, const ProgressCallback& progress) {
+        ImageVolume volume;
+        if (!ReadDicomSeries(series, volume, result.Error, {}, &result.Warnings, progress)) return false;
+        auto node = vtkSmartPointer<vtkRPScalarVolumeNode>::New();
+        node->SetName(series.SeriesDescription.empty() ? series.Modality : series.SeriesDescription);
+        CopyToNode(volume, node);
+        if (volume.Window <= 0) node->SetWindowLevelFromScalarRange();
+        result.Nodes.push_back(node);
+        return true;
+      });
+  if (read.Cancelled) return;
+  if (!read.Ok) {
+    this->ShowProblem("Load DICOM", QString::fromStdString(read.Error));
     return;
   }
-  vtkNew<vtkRPScalarVolumeNode> node;
-  node->SetName(series.SeriesDescription.empty() ? series.Modality : series.SeriesDescription);
-  CopyToNode(volume, node);
-  if (volume.Window <= 0) node->SetWindowLevelFromScalarRange();
-  this->Scene->AddNode(node);
-  for (const std::string& warning : warnings) this->statusBar()->showMessage(QString::fromStdString(warning), 10000);
+  for (const auto& node : read.Nodes) this->Scene->AddNode(node);
+  for (const std::string& warning : read.Warnings) this->statusBar()->showMessage(QString::fromStdString(warning), 10000);
 #endif
 }
 
@@ -541,8 +565,7 @@ void ViewerMainWindow::dragEnterEvent(QDragEnterEvent* event) {
 void ViewerMainWindow::dropEvent(QDropEvent* event) {
   for (const QUrl& url : event->mimeData()->urls()) {
     if (!url.isLocalFile()) continue;
-    QString error;
-    if (!this->LoadFile(url.toLocalFile(), &error)) this->ShowProblem("Load", error);
+    this->LoadAndReport(url.toLocalFile(), "Load");
   }
   event->acceptProposedAction();
 }
@@ -565,10 +588,7 @@ void ViewerMainWindow::RebuildRecentMenu() {
   this->RecentMenu->clear();
   const QStringList files = RecentFiles();
   for (const QString& file : files) {
-    this->RecentMenu->addAction(file, this, [this, file]() {
-      QString error;
-      if (!this->LoadFile(file, &error)) this->ShowProblem("Load", error);
-    });
+    this->RecentMenu->addAction(file, this, [this, file]() { this->LoadAndReport(file, "Load"); });
   }
   this->RecentMenu->setEnabled(!files.isEmpty());
 }

@@ -49,7 +49,10 @@ class ViewerMainWindow : public QMainWindow {
   QTreeWidget* GetDataTree() const { return this->DataTree; }
 
   /// Loads a scene or data file; adds it to the recent files. False with a message on failure
-  /// (nothing already loaded is lost).
+  /// (nothing already loaded is lost). Data files and DICOM series are read on a worker thread
+  /// behind a progress dialog that can cancel (the event loop keeps running; the scene changes
+  /// only here, on the main thread, once the read succeeded). A cancelled load returns false
+  /// with the error "cancelled" and leaves the scene unchanged.
   bool LoadFile(const QString& path, QString* error = nullptr);
   /// Sets the scene's layout node's arrangement (vtkRPLayoutNode::Arrangement) and shows it.
   void SetViewLayout(int layout);
@@ -85,6 +88,8 @@ class ViewerMainWindow : public QMainWindow {
   void AddRecentFile(const QString& path);
   void RebuildRecentMenu();
   void ShowProblem(const QString& title, const QString& text);
+  /// LoadFile, with a message box for a failure (not for a cancel).
+  void LoadAndReport(const QString& path, const QString& title);
 
   vtkRPScene* Scene;
   std::unique_ptr<ViewController> Controller;

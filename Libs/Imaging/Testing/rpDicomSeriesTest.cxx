@@ -72,7 +72,8 @@ rp::ImageVolume SmallCT() {
   return phantom.CT;
 }
 
-// Re-encodes a file in place with GDCM's own encoder (JPEG-LS, JPEG 2000).
+// Re-encodes a file in place with GDCM's own encoder (JPEG 2000 here: GDCM's JPEG-LS encoder
+// calls CharLS through names DCMTK's CharLS fork also exports, see rpDicomJpegLsDecoder.h).
 bool EncodeWithGdcm(const fs::path& file, gdcm::TransferSyntax::TSType syntax) {
   gdcm::ImageReader reader;
   reader.SetFileName(file.c_str());
@@ -256,9 +257,9 @@ TEST(DicomSeries, CompressedAndHeaderlessFilesDecode) {
   ASSERT_TRUE(rp::WriteDicomSeries(ct, dir.string(), {}, error)) << error;
   DJEncoderRegistration::registerCodecs();
   DcmRLEEncoderRegistration::registerCodecs();
-  // Re-encode: slices 1-2 JPEG lossless (process 14 SV1), 3-4 JPEG-LS lossless (GDCM's
-  // encoder), 5-6 RLE, 7 as a bare dataset without the Part-10 header: one series, three
-  // decoders.
+  // Re-encode: slices 1-2 JPEG lossless (process 14 SV1), 3-4 JPEG 2000 lossless (GDCM's
+  // encoder), 5-6 RLE, 7 as a bare dataset without the Part-10 header: one series, DCMTK and
+  // GDCM decoding side by side. (JPEG-LS: rpDicomTransferSyntaxTest, with the packaged tools.)
   int index = 0;
   std::vector<fs::path> files;
   for (const auto& e : fs::directory_iterator(dir)) files.push_back(e.path());
@@ -271,7 +272,7 @@ TEST(DicomSeries, CompressedAndHeaderlessFilesDecode) {
     if (index == 1 || index == 2) xfer = EXS_JPEGProcess14SV1;
     if (index == 5 || index == 6) xfer = EXS_RLELossless;
     if (index == 3 || index == 4) {
-      ASSERT_TRUE(EncodeWithGdcm(file, gdcm::TransferSyntax::JPEGLSLossless));
+      ASSERT_TRUE(EncodeWithGdcm(file, gdcm::TransferSyntax::JPEG2000Lossless));
     } else if (xfer != EXS_LittleEndianExplicit) {
       DJ_RPLossless params;
       ASSERT_TRUE(ds->chooseRepresentation(xfer, &params).good()) << index;

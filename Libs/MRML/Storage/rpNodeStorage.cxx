@@ -89,20 +89,32 @@ const NodeStorage* FindNodeStorageForFile(const std::string& path) {
   return best;
 }
 
-vtkRPNode* LoadDataFile(vtkRPScene* scene, const std::string& path, std::string& error) {
+vtkSmartPointer<vtkRPNode> CreateNodeForFile(vtkRPScene* scene, const std::string& path, std::string& error) {
   const NodeStorage* storage = FindNodeStorageForFile(path);
   if (!storage) {
     error = "'" + path + "': no reader for this file type";
     return nullptr;
   }
   vtkSmartPointer<vtkRPNode> node = scene->CreateNodeByClass(storage->NodeClassForFiles());
-  if (!node) {
-    error = "'" + path + "': node class " + storage->NodeClassForFiles() + " is not registered in the scene";
-    return nullptr;
+  if (!node) error = "'" + path + "': node class " + storage->NodeClassForFiles() + " is not registered in the scene";
+  return node;
+}
+
+bool ReadNodeFile(vtkRPNode* node, const std::string& path, std::string& error) {
+  const NodeStorage* storage = FindNodeStorageForFile(path);
+  if (!storage) {
+    error = "'" + path + "': no reader for this file type";
+    return false;
   }
-  if (!storage->Read(node, path, error)) return nullptr;
+  if (!storage->Read(node, path, error)) return false;
   if (auto* volume = vtkRPScalarVolumeNode::SafeDownCast(node)) volume->SetWindowLevelFromScalarRange();
   node->SetName(BaseNameWithoutExtension(path, *storage));
+  return true;
+}
+
+vtkRPNode* LoadDataFile(vtkRPScene* scene, const std::string& path, std::string& error) {
+  vtkSmartPointer<vtkRPNode> node = CreateNodeForFile(scene, path, error);
+  if (!node || !ReadNodeFile(node, path, error)) return nullptr;
   return scene->AddNode(node);
 }
 

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include <vtkSmartPointer.h>
+
 class vtkRPNode;
 class vtkRPScene;
 
@@ -50,6 +52,11 @@ bool HasExtension(const std::string& path, const std::string& extension);
 /// Loads a data file into a new node added to `scene` (name from the file name). Returns the
 /// node, or nullptr with `error` set; the scene is untouched on failure.
 vtkRPNode* LoadDataFile(vtkRPScene* scene, const std::string& path, std::string& error);
+/// The two halves of LoadDataFile, for reading off the main thread: CreateNodeForFile makes
+/// the node the file needs (main thread: it asks the scene's node registry), ReadNodeFile
+/// fills it from the file (any thread: the node is in no scene yet; name from the file name).
+vtkSmartPointer<vtkRPNode> CreateNodeForFile(vtkRPScene* scene, const std::string& path, std::string& error);
+bool ReadNodeFile(vtkRPNode* node, const std::string& path, std::string& error);
 /// Saves one node's data to `path` (format from the extension), atomically.
 bool SaveDataFile(vtkRPNode* node, const std::string& path, std::string& error);
 

@@ -1,6 +1,8 @@
 // Volumes benchmarks, each against the way a user would otherwise do it, in the same run:
 //  - reading a DICOM series: RoboPlan's DCMTK reader vs ITK's GDCM series reader
 //    (itk::ImageSeriesReader + GDCMImageIO + GDCMSeriesFileNames), same files, same voxels;
+//  - decode speed (MB/s) of every transfer syntax: the real knee CT (shared/data, 60 slices)
+//    re-encoded by the packages' tools, read by both (RoboPlan: DCMTK or GDCM per syntax);
 //  - CT-MR registration on the knee phantom: multi-resolution (ours) vs the same ITK v4
 //    components at a single resolution, from starts up to 30 degrees / 40 mm off: final error at
 //    the bone surface and time (capture range);
@@ -11,6 +13,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -24,6 +27,7 @@
 
 #include "rpBenchmarkChart.h"
 #include "rpDicomSeries.h"
+#include "rpDicomTestTools.h"
 #include "rpDicomWriter.h"
 #include "rpKneePhantom.h"
 #include "rpVolumeRegistration.h"
@@ -95,6 +99,87 @@ void BM_ReadDicomITKGDCM(benchmark::State& state) {
 BENCHMARK(BM_ReadDicomRoboPlan)->DenseRange(0, 2)->Unit(benchmark::kMillisecond)->MinTime(0.5);
 BENCHMARK(BM_ReadDicomITKGDCM)->DenseRange(0, 2)->Unit(benchmark::kMillisecond)->MinTime(0.5);
 
+// One encoded copy of the real knee CT per transfer syntax and tool.
+struct CodecCase {
+  std::string Name;
+  fs::path Dir;
+  double Megabytes = 0.0;  // decoded 16-bit pixel data
+};
+std::vector<CodecCase>& CodecCases() {
+  static std::vector<CodecCase> cases;
+  return cases;
+}
+
+void PrepareCodecCases() {
+  const fs::path source = fs::path(ROBOPLAN_SHARED_DATA_DIR) / "knee-ct-vhf" / "dicom";
+  if (!fs::exists(source)) {
+    std::fprintf(stderr, "no %s: decode speed per transfer syntax not measured\n", source.c_str());
+    return;
+  }
+  const std::vector<fs::path> files = rp::testing::DicomFiles(source, 60);
+  const fs::path root = fs::path(bench::OutputDirectory()) / "dicom-codecs";
+  fs::create_directories(root);
+  const std::string log = (root / "tools.log").string(), dcmodify = rp::testing::FindTool("dcmodify");
+  for (const rp::testing::DicomEncoder& e : rp::testing::DicomEncoders()) {
+    const std::string tool = rp::testing::FindTool(e.Tool);
+    if (tool.empty() || (!e.Prepare.empty() && dcmodify.empty())) {
+      std::fprintf(stderr, "%s: %s not installed (Debian package %s), not measured\n", e.Name.c_str(), e.Tool.c_str(),
+                   e.Package.c_str());
+      continue;
+    }
+    const fs::path dir = root / e.Name;
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    bool ok = true;
+    for (const fs::path& file : files) {
+      std::string in = file.string();
+      const fs::path copy = root / ("prepared-" + file.filename().string());
+      if (!e.Prepare.empty()) {
+        fs::copy_file(file, copy, fs::copy_options::overwrite_existing);
+        ok = ok && std::system(("\"" + dcmodify + "\" " + e.Prepare + " \"" + copy.string() + "\" >>\"" + log + "\" 2>&1").c_str()) == 0;
+        in = copy.string();
+      }
+      ok = ok && rp::testing::Encode(e, tool, in, (dir / file.filename()).string(), log) == 0;
+      fs::remove(copy);
+    }
+    if (!ok) {
+      std::fprintf(stderr, "%s: encoding failed (see %s), not measured\n", e.Name.c_str(), log.c_str());
+      continue;
+    }
+    ImageVolume v;
+    std::string error;
+    if (!ReadDicomVolume(dir.string(), v, error)) throw std::runtime_error(e.Name + ": " + error);
+    CodecCases().push_back({e.Name, dir, v.Image->GetNumberOfPoints() * 2.0 / 1e6});
+  }
+}
+
+// "jpegls-lossless-dcmcjpls" → "JLS LL (d)": chart labels that fit under their bars.
+std::string ShortLabel(std::string name) {
+  const std::pair<const char*, const char*> replacements[] = {
+      {"-dcmcjpls", " (d)"}, {"-dcmcrle", " (d)"}, {"-dcmconv", " (d)"}, {"-gdcm", " (g)"}, {"jpegls", "JLS"},
+      {"jpeg", "JPEG"}, {"j2k", "J2K"}, {"-lossless", " LL"}, {"-lossy", " lossy"}, {"-near", " near"},
+      {"-baseline", " base"}, {"-extended", " ext"}, {"-sv1", " SV1"}, {"-p14", " P14"}, {"implicit-little", "implicit"},
+      {"explicit-little", "explicit"}, {"explicit-big", "big endian"}, {"deflated", "deflate"}, {"rle", "RLE"},
+      {"raw", "raw"}};
+  for (const auto& [from, to] : replacements)
+    if (const size_t at = name.find(from); at != std::string::npos) name.replace(at, std::strlen(from), to);
+  return name;
+}
+
+void RegisterCodecBenchmarks() {
+  for (size_t i = 0; i < CodecCases().size(); ++i) {
+    const CodecCase c = CodecCases()[i];
+    benchmark::RegisterBenchmark(("BM_DecodeRoboPlan/" + c.Name).c_str(), [c](benchmark::State& state) {
+      for (auto _ : state) benchmark::DoNotOptimize(ReadOurs(c.Dir));
+      state.SetBytesProcessed(int64_t(state.iterations() * c.Megabytes * 1e6));
+    })->Unit(benchmark::kMillisecond)->MinTime(0.3);
+    benchmark::RegisterBenchmark(("BM_DecodeITKGDCM/" + c.Name).c_str(), [c](benchmark::State& state) {
+      for (auto _ : state) benchmark::DoNotOptimize(ReadItk(c.Dir));
+      state.SetBytesProcessed(int64_t(state.iterations() * c.Megabytes * 1e6));
+    })->Unit(benchmark::kMillisecond)->MinTime(0.3);
+  }
+}
+
 double Seconds(const std::function<void()>& f) {
   const auto t0 = std::chrono::steady_clock::now();
   f();
@@ -105,6 +190,8 @@ double Seconds(const std::function<void()>& f) {
 
 int main(int argc, char** argv) {
   PrepareCases();
+  PrepareCodecCases();
+  RegisterCodecBenchmarks();
   benchmark::Initialize(&argc, argv);
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
@@ -137,6 +224,40 @@ int main(int argc, char** argv) {
   readChart.LogX = readChart.LogY = true;
   if (!bench::WriteChartPNG(dir + "/volumes_dicom_read.png", {ours, itk}, readChart, error))
     std::fprintf(stderr, "chart: %s\n", error.c_str());
+
+  // ---- Decode speed per transfer syntax (best of 3), both readers, same files.
+  if (!CodecCases().empty()) {
+    std::vector<std::string> names;
+    bench::Series oursMBs{"RoboPlan (DCMTK, or GDCM for JPEG 2000 / JPEG-LS)", {}, {}},
+        itkMBs{"ITK ImageSeriesReader + GDCMImageIO", {}, {}};
+    std::vector<std::vector<double>> rows;
+    std::printf("\ndecode speed, knee CT (%.1f MB of 16-bit pixels):\n", CodecCases().front().Megabytes);
+    for (size_t i = 0; i < CodecCases().size(); ++i) {
+      const CodecCase& c = CodecCases()[i];
+      double a = 1e9, b = 1e9;
+      double va = 0, vb = 0;
+      for (int r = 0; r < 3; ++r) {
+        a = std::min(a, Seconds([&] { va = ReadOurs(c.Dir); }));
+        b = std::min(b, Seconds([&] { vb = ReadItk(c.Dir); }));
+      }
+      names.push_back(ShortLabel(c.Name));
+      oursMBs.Y.push_back(c.Megabytes / a);
+      itkMBs.Y.push_back(c.Megabytes / b);
+      rows.push_back({double(i), c.Megabytes / a, c.Megabytes / b});
+      figures["decodeMBs"].push_back({{"syntax", c.Name}, {"roboplan", c.Megabytes / a}, {"itkGdcm", c.Megabytes / b},
+                                      {"sameVoxel", va == vb}});
+      std::printf("  %-26s RoboPlan %7.1f MB/s   ITK+GDCM %7.1f MB/s%s\n", c.Name.c_str(), c.Megabytes / a,
+                  c.Megabytes / b, va == vb ? "" : "   (voxel (1,1,1) differs!)");
+    }
+    bench::WriteCSV(dir + "/volumes_decode_codecs.csv", {"codec_index", "roboplan_mb_s", "itk_gdcm_mb_s"}, rows, error);
+    bench::ChartOptions codecChart;
+    codecChart.Title = "Decoding a real CT series (knee, 60 slices) per transfer syntax";
+    codecChart.YLabel = "MB/s of decoded pixels (best of 3)";
+    codecChart.XLabel = "transfer syntax (encoder: (d) DCMTK tool, (g) gdcmconv)";
+    codecChart.Width = 1800;
+    if (!bench::WriteBarChartPNG(dir + "/volumes_decode_codecs.png", names, {oursMBs, itkMBs}, codecChart, error))
+      std::fprintf(stderr, "chart: %s\n", error.c_str());
+  }
 
   // ---- Registration capture range: multi-resolution vs single resolution, same starts.
   KneePhantomOptions options;

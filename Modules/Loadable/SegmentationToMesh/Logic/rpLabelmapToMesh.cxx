@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -18,7 +19,6 @@
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkPolyDataNormals.h>
-#include <vtkQuadricDecimation.h>
 #include <vtkSMPThreadLocal.h>
 #include <vtkSMPTools.h>
 #include <vtkSmartPointer.h>
@@ -26,6 +26,8 @@
 #include <vtkTriangleFilter.h>
 #include <vtkUnsignedCharArray.h>
 #include <vtkWindowedSincPolyDataFilter.h>
+
+#include "rpManifoldDecimation.h"
 
 namespace rp {
 
@@ -308,8 +310,8 @@ void ComputeVertexNormals(vtkPolyData* mesh) {
   for (polys->InitTraversal(); polys->GetNextCell(n, ids);) {
     if (n != 3) continue;
     points->GetPoint(ids[0], a), points->GetPoint(ids[1], b), points->GetPoint(ids[2], c);
-    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    const double f[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+    double f[3];
+    TriangleCross(a, b, c, f);
     for (int t = 0; t < 3; ++t)
       for (int d = 0; d < 3; ++d) acc[static_cast<size_t>(ids[t]) * 3 + d] += f[d];
   }
@@ -356,8 +358,8 @@ void OrientOutward(vtkPolyData* mesh) {
   for (polys->InitTraversal(); polys->GetNextCell(n, ids);) {
     if (n != 3) continue;
     points->GetPoint(ids[0], a), points->GetPoint(ids[1], b), points->GetPoint(ids[2], c);
-    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    const double f[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+    double f[3];
+    TriangleCross(a, b, c, f);
     normals->GetTuple(ids[0], nv);
     agreement += f[0] * nv[0] + f[1] * nv[1] + f[2] * nv[2];
   }
@@ -402,7 +404,9 @@ void FillStats(vtkPolyData* mesh, MeshStats& stats) {
   stats.VolumeErrorPercent =
       stats.LabelVolumeMm3 > 0 ? 100.0 * (stats.MeshVolumeMm3 - stats.LabelVolumeMm3) / stats.LabelVolumeMm3 : 0.0;
   CountBadEdges(mesh, stats.BoundaryEdges, stats.NonManifoldEdges);
+  stats.NonManifoldVertices = CountNonManifoldVertices(mesh);
   stats.Watertight = stats.Triangles > 0 && stats.BoundaryEdges == 0 && stats.NonManifoldEdges == 0;
+  stats.Manifold = stats.Watertight && stats.NonManifoldVertices == 0;
 }
 
 double Determinant3(const vtkMatrix4x4* m) {
@@ -537,23 +541,14 @@ bool DiscreteMesh(vtkImageData* labelmap, const vtkMatrix4x4* ijkToRAS, int labe
 
 void Decimate(vtkPolyData* mesh, double fraction, MeshStats& stats) {
   if (fraction <= 0) return;
-  vtkNew<vtkQuadricDecimation> decimate;
-  decimate->SetInputData(mesh);
-  decimate->SetTargetReduction(std::min(fraction, 0.99));
-  decimate->VolumePreservationOn();
-  decimate->Update();
-  vtkNew<vtkPolyData> result;
-  result->ShallowCopy(decimate->GetOutput());
-  long boundary = 0, nonManifold = 0;
-  CountBadEdges(result, boundary, nonManifold);
-  if (boundary || nonManifold || result->GetNumberOfPolys() == 0) {
-    stats.Warnings.push_back("quadric decimation broke watertightness (" + std::to_string(boundary) + " boundary, " +
-                             std::to_string(nonManifold) + " non-manifold edges); kept the undecimated mesh");
+  DecimationResult result;
+  const long target = static_cast<long>(std::ceil((1.0 - std::min(fraction, 0.99)) * mesh->GetNumberOfPolys()));
+  if (!DecimateManifold(mesh, target, 0.0, result)) {
+    stats.Warnings.push_back("decimation skipped: the mesh is not a closed manifold");
     return;
   }
-  result->GetPointData()->Initialize();
-  ComputeVertexNormals(result);
-  mesh->ShallowCopy(result);
+  ComputeVertexNormals(mesh);
+  stats.Method += ", edge collapse";
 }
 
 }  // namespace
@@ -583,6 +578,54 @@ void CountBadEdges(vtkPolyData* mesh, long& boundaryEdges, long& nonManifoldEdge
   }
 }
 
+long CountNonManifoldVertices(vtkPolyData* mesh) {
+  // Per vertex, the edges opposite it in its triangles (its link): a closed fan is one cycle.
+  const vtkIdType np = mesh->GetNumberOfPoints();
+  vtkCellArray* polys = mesh->GetPolys();
+  std::vector<vtkIdType> start(static_cast<size_t>(np) + 1, 0);
+  vtkIdType n;
+  const vtkIdType* ids;
+  for (polys->InitTraversal(); polys->GetNextCell(n, ids);)
+    if (n == 3)
+      for (int k = 0; k < 3; ++k) ++start[static_cast<size_t>(ids[k]) + 1];
+  for (size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
+  std::vector<std::array<vtkIdType, 2>> link(static_cast<size_t>(start.back()));
+  std::vector<vtkIdType> fill(start.begin(), start.end() - 1);
+  for (polys->InitTraversal(); polys->GetNextCell(n, ids);)
+    if (n == 3)
+      for (int k = 0; k < 3; ++k) link[static_cast<size_t>(fill[static_cast<size_t>(ids[k])]++)] = {ids[(k + 1) % 3], ids[(k + 2) % 3]};
+  std::atomic<long> bad{0};
+  vtkSMPTools::For(0, np, [&](vtkIdType v0, vtkIdType v1) {
+    std::vector<std::array<vtkIdType, 2>> edges;
+    long local = 0;
+    for (vtkIdType v = v0; v < v1; ++v) {
+      const size_t b = static_cast<size_t>(start[static_cast<size_t>(v)]), e = static_cast<size_t>(start[static_cast<size_t>(v) + 1]);
+      if (b == e) continue;
+      edges.assign(link.begin() + static_cast<long>(b), link.begin() + static_cast<long>(e));
+      // Walk the cycle from the first edge: a single fan visits every edge.
+      size_t visited = 1;
+      vtkIdType first = edges[0][0], at = edges[0][1];
+      edges[0] = {-1, -1};
+      bool closed = false;
+      while (!closed) {
+        bool found = false;
+        for (auto& edge : edges) {
+          if (edge[0] != at) continue;  // oriented fans: next edge starts where this one ends
+          at = edge[1];
+          edge = {-1, -1};
+          ++visited;
+          found = true;
+          break;
+        }
+        if (!found || at == first) closed = true;
+      }
+      if (at != first || visited != edges.size()) ++local;
+    }
+    bad += local;
+  });
+  return bad;
+}
+
 void MeshVolumeAndArea(vtkPolyData* mesh, double& volume, double& area) {
   volume = area = 0;
   vtkPoints* points = mesh->GetPoints();
@@ -601,8 +644,8 @@ void MeshVolumeAndArea(vtkPolyData* mesh, double& volume, double& area) {
         points->GetPoint(cell->GetId(0), a), points->GetPoint(cell->GetId(t), b), points->GetPoint(cell->GetId(t + 1), c);
         local[0] += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
                      a[2] * (b[0] * c[1] - b[1] * c[0])) / 6.0;
-        const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-        const double f[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+        double f[3];
+        TriangleCross(a, b, c, f);
         local[1] += 0.5 * std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
       }
     }
@@ -650,6 +693,7 @@ bool LabelmapToMesh(vtkImageData* labelmap, const vtkMatrix4x4* ijkToRAS, int la
   if (stats.TouchesBorder) stats.Warnings.push_back("segment touches the volume border: closed by padding (flat cap)");
 
   bool ok = false;
+  stats.Method = MeshMethodName(options.Method);
   if (options.Method == MeshMethod::Gaussian) {
     ok = GaussianMesh(labelmap, ijkToRAS, label, b, options, output, stats, error, progress);
     double volume = 0, area = 0;
@@ -660,6 +704,7 @@ bool LabelmapToMesh(vtkImageData* labelmap, const vtkMatrix4x4* ijkToRAS, int la
                                "): used the discrete surface");
       MeshOptions fallback = options;
       fallback.Method = MeshMethod::Discrete;
+      stats.Method = "discrete (gaussian failed)";
       error.clear();
       ok = DiscreteMesh(labelmap, ijkToRAS, label, b, fallback, output, stats, error, progress);
     }
@@ -702,97 +747,16 @@ bool LabelmapToMesh(vtkImageData* labelmap, const vtkMatrix4x4* ijkToRAS, int la
   if (!stats.Watertight) {
     stats.Warnings.push_back("mesh is not watertight: " + std::to_string(stats.BoundaryEdges) + " boundary and " +
                              std::to_string(stats.NonManifoldEdges) + " non-manifold edges");
+  } else if (!stats.Manifold) {
+    stats.Warnings.push_back("mesh has " + std::to_string(stats.NonManifoldVertices) + " non-manifold vertices");
   }
   stats.Seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   if (progress) progress(1.0, "done");
   return true;
 }
 
-namespace {
-// Largest distance from `mesh` vertices (and a subsample of `reference` vertices) to the other.
-double MaxDeviation(vtkPolyData* mesh, vtkPolyData* reference) {
-  auto oneWay = [](vtkPolyData* from, vtkPolyData* to) {
-    vtkNew<vtkStaticCellLocator> locator;
-    locator->SetDataSet(to);
-    locator->BuildLocator();
-    const vtkIdType n = from->GetNumberOfPoints();
-    const vtkIdType stride = std::max<vtkIdType>(1, n / 20000);
-    double worst = 0, p[3], closest[3], d2;
-    vtkIdType cell;
-    int sub;
-    for (vtkIdType id = 0; id < n; id += stride) {
-      from->GetPoint(id, p);
-      locator->FindClosestPoint(p, closest, cell, sub, d2);
-      worst = std::max(worst, std::sqrt(d2));
-    }
-    return worst;
-  };
-  return std::max(oneWay(mesh, reference), oneWay(reference, mesh));
-}
-}  // namespace
-
-bool LabelmapToMeshLOD(vtkImageData* labelmap, const vtkMatrix4x4* ijkToRAS, int label, MeshOptions options,
-                       const LevelOfDetail& lod, vtkPolyData* output, MeshStats& stats, std::string& error,
-                       const ProgressCallback& progress) {
-  if (lod.TargetTriangles <= 0 && lod.MaxErrorMm <= 0) {
-    return LabelmapToMesh(labelmap, ijkToRAS, label, options, output, stats, error, progress);
-  }
-  if (options.Method != MeshMethod::Gaussian) {
-    // Only the gaussian method has a grid step to search: meet a triangle target by decimation.
-    if (!LabelmapToMesh(labelmap, ijkToRAS, label, options, output, stats, error, progress)) return false;
-    if (lod.TargetTriangles > 0 && stats.Triangles > lod.TargetTriangles) {
-      options.DecimationFraction = 1.0 - static_cast<double>(lod.TargetTriangles) / stats.Triangles;
-      return LabelmapToMesh(labelmap, ijkToRAS, label, options, output, stats, error, progress);
-    }
-    return true;
-  }
-  const double baseStep[3] = {options.GridStep[0], options.GridStep[1], options.GridStep[2]};
-  vtkNew<vtkPolyData> reference;
-  MeshStats referenceStats;
-  if (!LabelmapToMesh(labelmap, ijkToRAS, label, options, reference, referenceStats, error)) return false;
-  double factor = 1.0;
-  if (lod.TargetTriangles > 0) {
-    long triangles = referenceStats.Triangles;
-    // Triangle count scales with 1 / step²: a few secant steps land close to the target.
-    for (int iteration = 0; iteration < 6 && triangles > lod.TargetTriangles; ++iteration) {
-      factor *= std::sqrt(static_cast<double>(triangles) / lod.TargetTriangles) * 1.03;
-      MeshOptions trial = options;
-      for (int a = 0; a < 3; ++a) trial.GridStep[a] = baseStep[a] * factor;
-      vtkNew<vtkPolyData> mesh;
-      MeshStats s;
-      if (!LabelmapToMesh(labelmap, ijkToRAS, label, trial, mesh, s, error)) break;
-      triangles = s.Triangles;
-    }
-  }
-  if (lod.MaxErrorMm > 0 && lod.TargetTriangles <= 0) {
-    // Coarsen while the deviation from the full-resolution surface stays within the target.
-    double best = 1.0;
-    for (double trialFactor = best * 1.3; trialFactor < 64; trialFactor *= 1.3) {
-      MeshOptions trial = options;
-      for (int a = 0; a < 3; ++a) trial.GridStep[a] = baseStep[a] * trialFactor;
-      vtkNew<vtkPolyData> mesh;
-      MeshStats s;
-      if (!LabelmapToMesh(labelmap, ijkToRAS, label, trial, mesh, s, error)) break;
-      if (MaxDeviation(mesh, reference) > lod.MaxErrorMm) break;
-      best = trialFactor;
-    }
-    factor = best;
-  }
-  MeshOptions final = options;
-  for (int a = 0; a < 3; ++a) final.GridStep[a] = baseStep[a] * factor;
-  if (!LabelmapToMesh(labelmap, ijkToRAS, label, final, output, stats, error, progress)) return false;
-  if (lod.TargetTriangles > 0 && stats.Triangles > lod.TargetTriangles) {
-    final.DecimationFraction = 1.0 - static_cast<double>(lod.TargetTriangles) / stats.Triangles;
-    if (!LabelmapToMesh(labelmap, ijkToRAS, label, final, output, stats, error, progress)) return false;
-  }
-  if (lod.MaxErrorMm > 0) {
-    const double deviation = MaxDeviation(output, reference);
-    if (deviation > lod.MaxErrorMm) {
-      stats.Warnings.push_back("level of detail deviates " + std::to_string(deviation) + " mm from the full surface (target " +
-                               std::to_string(lod.MaxErrorMm) + " mm)");
-    }
-  }
-  return true;
-}
+void ComputeMeshNormals(vtkPolyData* mesh) { ComputeVertexNormals(mesh); }
+double CorrectMeshVolume(vtkPolyData* mesh, double targetVolume) { return CorrectVolume(mesh, targetVolume); }
+void FillMeshStats(vtkPolyData* mesh, MeshStats& stats) { FillStats(mesh, stats); }
 
 }  // namespace rp

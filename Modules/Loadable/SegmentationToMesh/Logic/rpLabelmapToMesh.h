@@ -41,18 +41,11 @@ struct MeshOptions {
   /// Windowed sinc (methods sinc and slicer).
   int SincIterations = 20;
   double SincPassBand = 0.01;
-  /// Extra quadric decimation after contouring: fraction of triangles removed (0 = none).
-  /// Kept only if the result stays watertight.
+  /// Extra decimation after contouring: fraction of triangles removed (0 = none), by
+  /// topology-preserving edge collapses (rpManifoldDecimation: the mesh stays closed).
   double DecimationFraction = 0.0;
   /// Move vertices along normals so the mesh volume equals the labelmap volume.
   bool CorrectVolume = true;
-};
-
-/// Level of detail: a target triangle count and/or a maximum deviation from the full-resolution
-/// surface (mm). 0 = no target. The grid step is searched to meet them.
-struct LevelOfDetail {
-  long TargetTriangles = 0;
-  double MaxErrorMm = 0.0;
 };
 
 struct MeshStats {
@@ -67,7 +60,19 @@ struct MeshStats {
   double VolumeCorrectionMm = 0;  // normal offset applied by the volume correction
   long BoundaryEdges = 0;
   long NonManifoldEdges = 0;
+  long NonManifoldVertices = 0;
   bool Watertight = false;         // no boundary and no non-manifold edges
+  bool Manifold = false;           // watertight and every vertex one closed fan
+  /// How the mesh was made: "gaussian", "gaussian, grid 2.4 voxels, edge collapse", ...
+  std::string Method;
+  /// Largest deviation from the full-resolution surface (sampled, both ways; -1 = not measured).
+  double MaxDeviationMm = -1;
+  /// Level of detail: the triangle budget (0 = none) and whether the mesh meets it.
+  long BudgetTriangles = 0;
+  bool WithinBudget = true;
+  /// Components left out of a level of detail that could not hold them all (smallest first).
+  long DroppedComponents = 0;
+  double DroppedVolumeMm3 = 0;
   bool TouchesBorder = false;      // segment reaches the volume border (closed by padding)
   double GridStep[3] = {1, 1, 1};  // grid actually used
   double Seconds = 0;
@@ -81,13 +86,23 @@ bool LabelmapToMesh(vtkImageData* labelmap, const vtkMatrix4x4* ijkToRAS, int la
                     vtkPolyData* output, MeshStats& stats, std::string& error,
                     const ProgressCallback& progress = nullptr);
 
-/// Same with a level-of-detail target (the grid step and decimation are chosen to meet it).
-bool LabelmapToMeshLOD(vtkImageData* labelmap, const vtkMatrix4x4* ijkToRAS, int label, MeshOptions options,
-                       const LevelOfDetail& lod, vtkPolyData* output, MeshStats& stats, std::string& error,
-                       const ProgressCallback& progress = nullptr);
+/// Pieces of the pipeline, for levels of detail built on top of it (rpMeshLevelOfDetail):
+/// area-weighted vertex normals; vertices moved along them until the mesh encloses
+/// `targetVolume` (returns the offset, mm); stats of a finished mesh.
+void ComputeMeshNormals(vtkPolyData* mesh);
+double CorrectMeshVolume(vtkPolyData* mesh, double targetVolume);
+void FillMeshStats(vtkPolyData* mesh, MeshStats& stats);
+
+/// (b - a) x (c - a): twice the triangle's area along its normal.
+inline void TriangleCross(const double a[3], const double b[3], const double c[3], double f[3]) {
+  const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+  f[0] = u[1] * v[2] - u[2] * v[1], f[1] = u[2] * v[0] - u[0] * v[2], f[2] = u[0] * v[1] - u[1] * v[0];
+}
 
 /// Edge topology of a triangle mesh: edges used by one triangle (holes) and by more than two.
 void CountBadEdges(vtkPolyData* mesh, long& boundaryEdges, long& nonManifoldEdges);
+/// Vertices whose triangles do not form one closed fan (two sheets touching at a point).
+long CountNonManifoldVertices(vtkPolyData* mesh);
 /// Enclosed volume (mm³, positive for outward orientation) and area of a triangle mesh.
 void MeshVolumeAndArea(vtkPolyData* mesh, double& volume, double& area);
 

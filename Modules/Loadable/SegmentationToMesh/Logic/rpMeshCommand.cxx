@@ -11,6 +11,10 @@
 #include <vtkNew.h>
 
 #include "rpArgParser.h"
+#include "rpBoneSplit.h"
+#include "rpDicomSeries.h"
+#include "rpImageVolume.h"
+#include "rpLabelComparison.h"
 #include "rpLabelmapInput.h"
 #include "rpModelIO.h"
 #include "rpNodeStorage.h"
@@ -66,6 +70,14 @@ json StatsJson(const MeshStats& s) {
           {"boundaryEdges", s.BoundaryEdges},
           {"nonManifoldEdges", s.NonManifoldEdges},
           {"watertight", s.Watertight},
+          {"nonManifoldVertices", s.NonManifoldVertices},
+          {"manifold", s.Manifold},
+          {"method", s.Method},
+          {"maxDeviationMm", s.MaxDeviationMm},
+          {"budgetTriangles", s.BudgetTriangles},
+          {"withinBudget", s.WithinBudget},
+          {"droppedComponents", s.DroppedComponents},
+          {"droppedVolumeMm3", s.DroppedVolumeMm3},
           {"touchesBorder", s.TouchesBorder},
           {"gridStep", {s.GridStep[0], s.GridStep[1], s.GridStep[2]}},
           {"seconds", s.Seconds},
@@ -109,7 +121,7 @@ int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contex
       "mesh",
       "Segment a volume (threshold presets, region growing, confidence connected, morphology, components) or "
       "take a segmentation (.seg.nrrd), and write one closed surface per segment (display + haptic mesh) to --out.");
-  parser.Positional("input", "volume or labelmap (.nrrd, .nii.gz, .mha) or segmentation (.seg.nrrd)")
+  parser.Positional("input", "volume or labelmap (.nrrd, .nii.gz, .mha, DICOM folder) or segmentation (.seg.nrrd)")
       .Input(FileKind::Image, InputExtensions())
       .Option("out", "dir", "output folder (created)")
       .OutputFolder()
@@ -152,6 +164,15 @@ int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contex
       .Flag("fill-holes", "fill enclosed holes")
       .Flag("keep-largest", "keep the largest connected component")
       .Flag("keep-at-seed", "keep the component at the first seed")
+      .Flag("split-bones", "bones one by one from a CT: one segment per bone, touching bones split, table and "
+                           "specks dropped, knee bones named (femur, tibia, fibula, patella), others \"Bone N\"")
+      .Option("bone-seed", "R,A,S[:name]", "a point on a bone (RAS mm) naming it, or forcing a split (repeatable)")
+      .Repeatable()
+      .Option("min-bone-ml", "ml", "--split-bones: drop pieces smaller than this", "0.3")
+      .Number()
+      .AtLeast(0)
+      .Option("truth", "labelmap", "score each segment against this labelmap (Dice, surface distance)")
+      .Input(FileKind::LabelMap)
       .Option("split", "n", "split into up to n segments, one per component")
       .Integer()
       .AtLeast(1)
@@ -285,7 +306,22 @@ int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contex
   if (!scene) scene = ownScene;
   progress.Report(0.0, "loading " + input);
   std::string error;
-  vtkRPNode* loaded = LoadDataFile(scene, input, error);
+  vtkRPNode* loaded = nullptr;
+  if (fs::is_directory(input)) {
+    // A DICOM series (folder or DICOMDIR's folder).
+    ImageVolume series;
+    if (!ReadDicomVolume(input, series, error)) {
+      err << "roboplan mesh: " << error << "\n";
+      return 1;
+    }
+    vtkNew<vtkRPScalarVolumeNode> volume;
+    CopyToNode(series, volume.GetPointer());
+    volume->SetName(fs::path(input).filename().string());
+    scene->AddNode(volume);
+    loaded = volume;
+  } else {
+    loaded = LoadDataFile(scene, input, error);
+  }
   if (!loaded && HasExtension(input, ".seg.nrrd")) {
     // A plain labelmap named *.seg.nrrd (no Slicer segment keys): read it as a volume.
     vtkNew<vtkRPScalarVolumeNode> plain;
@@ -337,6 +373,55 @@ int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contex
       err << "roboplan mesh: --labels names the values of a labelmap, but '" << input
           << "' is taken as an intensity image (" << choice.Reason << ")\n";
       return 2;
+    }
+  }
+  json boneSplit;
+  if (!segmentation && parser.Has("split-bones")) {
+    auto* volume = vtkRPScalarVolumeNode::SafeDownCast(loaded);
+    BoneSplitOptions options;
+    if (parser.Has("lower")) options.LowerHU = parser.GetDouble("lower");
+    if (parser.Has("upper")) options.UpperHU = parser.GetDouble("upper");
+    options.MinBoneMl = parser.GetDouble("min-bone-ml");
+    for (const auto& text : parser.GetAll("bone-seed")) {
+      BoneSeed seed;
+      if (!ParseBoneSeed(text, seed, error)) {
+        err << "roboplan mesh: --bone-seed " << error << "\n";
+        return 2;
+      }
+      options.Seeds.push_back(seed);
+    }
+    for (const auto& p : seeds) options.Seeds.push_back({p, ""});
+    vtkNew<vtkRPSegmentationNode> created;
+    created->SetName(volume->GetName() + " bones");
+    BoneSplitResult split;
+    if (!SplitBones(volume, created, options, split, error,
+                    [&](double f, const std::string& m) { progress.Report(0.05 + 0.15 * f, "bones: " + m); })) {
+      err << "roboplan mesh: --split-bones: " << error << "\n";
+      return 1;
+    }
+    scene->AddNode(created);
+    segmentation = created;
+    json bones = json::array();
+    for (const auto& b : split.Bones)
+      bones.push_back({{"id", b.ID}, {"labelValue", b.LabelValue}, {"volumeMl", b.VolumeMl}, {"namedBy", b.NamedBy},
+                       {"centroidRAS", {b.CentroidRAS[0], b.CentroidRAS[1], b.CentroidRAS[2]}}});
+    boneSplit = {{"bones", bones}, {"splits", split.Splits}, {"droppedSpecks", split.DroppedSpecks},
+                 {"droppedSpecksMl", split.DroppedSpecksMl}, {"droppedOutsideBody", split.DroppedOutsideBody},
+                 {"droppedOutsideBodyMl", split.DroppedOutsideBodyMl}, {"notes", split.Notes},
+                 {"seconds", split.Seconds}};
+    if (!quiet) {
+      err << "bones: " << split.Bones.size() << " (" << split.Splits << " touching pair(s) split; dropped "
+          << split.DroppedSpecks << " speck(s) and " << split.DroppedOutsideBody
+          << " piece(s) outside the body outline)\n";
+      for (const auto& b : split.Bones)
+        err << "  " << b.ID << ": " << b.VolumeMl << " ml" << (b.NamedBy.empty() ? "" : ", named by " + b.NamedBy)
+            << "\n";
+      for (const auto& n : split.Notes) err << "  note: " << n << "\n";
+    }
+    const std::string segPath = (outDir / "segmentation.seg.nrrd").string();
+    if (!WriteSegmentationFile(segPath, segmentation, error)) {
+      err << "roboplan mesh: " << error << "\n";
+      return 1;
     }
   }
   if (!segmentation) {
@@ -465,11 +550,40 @@ int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contex
     save(m.HapticModel, "_haptic", m.Haptic, "haptic");
     segments.push_back(entry);
   }
+  json truthScores;
+  if (parser.Has("truth")) {
+    vtkNew<vtkRPScalarVolumeNode> truth;
+    LabelComparison comparison;
+    std::vector<int> labels;
+    for (const auto& s : segmentation->GetSegments()) labels.push_back(s.LabelValue);
+    if (!ReadVolumeFile(parser.Get("truth"), truth, error) ||
+        !CompareLabels(FromNode(segmentation), FromNode(truth), labels, comparison, error)) {
+      err << "roboplan mesh: --truth: " << error << "\n";
+      return 1;
+    }
+    truthScores = json::array();
+    for (const auto& score : comparison.Scores) {
+      const auto* s = segmentation->GetSegmentByLabel(score.Label);
+      const std::string name = s ? s->ID : std::to_string(score.Label);
+      truthScores.push_back({{"segment", name}, {"truthLabel", score.TruthLabel}, {"dice", score.Dice},
+                             {"meanSurfaceDistanceMm", score.MeanSurfaceDistanceMm},
+                             {"hausdorff95Mm", score.Hausdorff95Mm}, {"hausdorffMm", score.HausdorffMm}});
+      if (!quiet) {
+        err << "  " << name << " vs truth label " << score.TruthLabel << ": Dice " << score.Dice;
+        if (score.TruthLabel)
+          err << ", surface distance mean " << score.MeanSurfaceDistanceMm << " mm, 95 % " << score.Hausdorff95Mm
+              << " mm";
+        err << "\n";
+      }
+    }
+  }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   progress.Report(1.0, "done");
   if (parser.Json()) {
     json doc = {{"input", input}, {"inputKind", inputInfo}, {"out", outDir.string()}, {"ok", failures == 0},
                 {"segmentation", segmentationSteps}, {"segments", segments}, {"seconds", seconds}};
+    if (!boneSplit.is_null()) doc["boneSplit"] = boneSplit;
+    if (!truthScores.is_null()) doc["truth"] = truthScores;
     out << doc.dump(2) << "\n";
   } else {
     for (const auto& m : models) {
@@ -477,7 +591,10 @@ int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contex
       err << "  " << m.SegmentID << " (" << (m.TissueClass.empty() ? "no tissue class" : m.TissueClass)
                 << "): display " << m.Display.Triangles << " triangles, volume error "
                 << m.Display.VolumeErrorPercent << " %, " << (m.Display.Watertight ? "watertight" : "NOT watertight");
-      if (m.HapticModel) err << "; haptic " << m.Haptic.Triangles << " triangles";
+      if (m.HapticModel)
+        err << "; haptic " << m.Haptic.Triangles << " triangles (" << m.Haptic.Method << ", "
+            << (m.Haptic.Manifold ? "closed manifold" : "NOT a closed manifold") << ", max deviation "
+            << m.Haptic.MaxDeviationMm << " mm" << (m.Haptic.WithinBudget ? "" : ", OVER BUDGET") << ")";
       err << "\n";
     }
     err << "wrote " << models.size() - static_cast<size_t>(failures) << " segment(s) to " << outDir.string()

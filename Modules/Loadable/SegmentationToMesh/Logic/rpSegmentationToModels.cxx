@@ -9,6 +9,14 @@
 
 namespace rp {
 
+namespace {
+bool SameSurfaceOptions(const MeshOptions& a, const MeshOptions& b) {
+  return a.Method == b.Method && a.Sigma == b.Sigma && a.GridStep[0] == b.GridStep[0] && a.GridStep[1] == b.GridStep[1] &&
+         a.GridStep[2] == b.GridStep[2] && a.SincIterations == b.SincIterations && a.SincPassBand == b.SincPassBand &&
+         a.DecimationFraction == b.DecimationFraction && a.CorrectVolume == b.CorrectVolume;
+}
+}  // namespace
+
 std::vector<SegmentModels> BuildSegmentModels(vtkRPSegmentationNode* segmentation, const ModelBuildOptions& options,
                                               vtkRPScene* scene, const ProgressCallback& progress) {
   std::vector<SegmentModels> results;
@@ -66,8 +74,13 @@ std::vector<SegmentModels> BuildSegmentModels(vtkRPSegmentationNode* segmentatio
     r.DisplayModel = makeModel(display, false);
     if (options.MakeHaptic) {
       vtkNew<vtkPolyData> haptic;
+      // The display mesh is the full-resolution surface when it has no target of its own and the
+      // same options: the haptic level of detail starts from it instead of building it again.
+      const bool displayIsFull = options.DisplayLOD.TargetTriangles <= 0 && options.DisplayLOD.MaxErrorMm <= 0 &&
+                                 SameSurfaceOptions(options.Display, options.Haptic);
       if (!LabelmapToMeshLOD(segmentation->GetImageData(), segmentation->GetIJKToRASMatrix(), s->LabelValue,
-                             options.Haptic, options.HapticLOD, haptic, r.Haptic, r.Error, stage("haptic"))) {
+                             options.Haptic, options.HapticLOD, haptic, r.Haptic, r.Error, stage("haptic"),
+                             displayIsFull ? display.GetPointer() : nullptr, displayIsFull ? &r.Display : nullptr)) {
         r.Error = "segment '" + s->ID + "' (haptic mesh): " + r.Error;
         results.push_back(r);
         done += 1;

@@ -7,6 +7,7 @@
 #include <vtkSmartPointer.h>
 
 #include "rpLabelmapToMesh.h"
+#include "rpMeshLevelOfDetail.h"
 #include "rpProgress.h"
 
 class vtkRPModelNode;

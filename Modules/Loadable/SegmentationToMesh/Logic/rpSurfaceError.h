@@ -29,4 +29,10 @@ struct SurfaceError {
 SurfaceError CompareToSurface(vtkPolyData* mesh, const SignedDistanceFunction& sdf,
                               const std::vector<std::array<double, 3>>& truthPoints, const double* clipBounds = nullptr);
 
+/// A mesh against a reference mesh (e.g. a bone surface from another segmentation): distances
+/// from the mesh's vertices and triangle centroids (area-weighted) to the reference and back,
+/// signed by the side of the reference's closest triangle (> 0 = mesh outside the reference). With `clipBounds`, samples
+/// outside the box are ignored on both sides.
+SurfaceError CompareMeshes(vtkPolyData* mesh, vtkPolyData* reference, const double* clipBounds = nullptr);
+
 }  // namespace rp

@@ -22,6 +22,7 @@
 #include "rpMeshCommand.h"
 #include "rpModelIO.h"
 #include "rpSurfaceError.h"
+#include "rpTestOutput.h"
 #include "rpVolumeIO.h"
 #include "vtkRPSegmentationNode.h"
 
@@ -30,12 +31,7 @@ using json = nlohmann::json;
 
 namespace {
 
-fs::path TestDir(const std::string& name) {
-  const fs::path dir = fs::path(ROBOPLAN_TEST_OUTPUT_DIR) / "labelmap-input" / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path TestDir(const std::string& name) { return rptest::TestDir("labelmap-input/" + name); }
 
 struct MeshRun {
   int Code = -1;

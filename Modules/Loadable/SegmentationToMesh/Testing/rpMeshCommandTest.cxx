@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include <sys/wait.h>
@@ -178,4 +179,40 @@ TEST(MeshCommand, RealNiftiFileFromAnotherWriter) {
   EXPECT_NEAR(display["labelVolumeMm3"].get<double>(), 677196.0, 1.0);
   EXPECT_TRUE(display["watertight"].get<bool>());
   EXPECT_LT(std::abs(display["volumeErrorPercent"].get<double>()), 0.1);
+}
+
+TEST(MeshCommand, SplitBonesOfTheRealKneeCTWithTruth) {
+  RP_REQUIRE_SHARED_DATA("knee-ct-vhf");
+  const fs::path knee = rptest::SharedDataPath("knee-ct-vhf");
+  const fs::path dir = TestDir("split-bones");
+  const CommandRun run = Roboplan("mesh " + (knee / "dicom").string() + " --out " + (dir / "out").string() +
+                                      " --split-bones --truth " + (knee / "labels.nrrd").string() +
+                                      " --bone-seed -160,-308,420:fibula --no-haptic --json",
+                                  dir);
+  ASSERT_EQ(run.Code, 0) << run.Err;
+  const auto doc = nlohmann::json::parse(run.Out, nullptr, false);
+  ASSERT_TRUE(doc.is_object()) << run.Out;
+  std::map<std::string, nlohmann::json> bones;
+  for (const auto& b : doc["boneSplit"]["bones"]) bones[b["id"].get<std::string>()] = b;
+  ASSERT_TRUE(bones.count("tibia") && bones.count("fibula")) << doc["boneSplit"].dump();
+  EXPECT_EQ(bones["fibula"]["namedBy"], "seed");
+  EXPECT_EQ(bones["tibia"]["namedBy"], "knee anatomy");
+  for (const auto& score : doc["truth"]) {
+    if (score["segment"] == "tibia") {
+      EXPECT_EQ(score["truthLabel"], 1);
+      EXPECT_GT(score["dice"].get<double>(), 0.93);
+    }
+    if (score["segment"] == "fibula") {
+      EXPECT_EQ(score["truthLabel"], 2);
+    }
+  }
+  for (const auto& s : doc["segments"]) EXPECT_TRUE(s["display"]["watertight"].get<bool>()) << s["id"];
+  EXPECT_TRUE(fs::exists(dir / "out" / "tibia.vtp"));
+  EXPECT_TRUE(fs::exists(dir / "out" / "segmentation.seg.nrrd"));
+  // A seed off bone: exit 1 naming it.
+  const CommandRun off = Roboplan("mesh " + (knee / "dicom").string() + " --out " + (dir / "off").string() +
+                                      " --split-bones --bone-seed 0,0,0:nothing",
+                                  dir);
+  EXPECT_EQ(off.Code, 1);
+  EXPECT_NE(off.Err.find("'nothing' is not on bone"), std::string::npos) << off.Err;
 }

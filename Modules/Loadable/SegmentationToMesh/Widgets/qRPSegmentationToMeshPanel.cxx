@@ -27,6 +27,7 @@
 
 #include "rpLabelmapInput.h"
 #include "rpLabelmapToMesh.h"
+#include "rpMeshLevelOfDetail.h"
 #include "rpMaterial.h"
 #include "rpSegmentationToModels.h"
 #include "vtkRPFiducialListNode.h"

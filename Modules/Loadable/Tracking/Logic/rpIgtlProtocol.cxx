@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "rpLPSRAS.h"
+
 namespace rp {
 namespace igtl {
 
@@ -285,9 +287,7 @@ void ImageHeader::IjkToRas(double m[16]) const noexcept {
     }
     m[4 * r + 3] = centre;
   }
-  if (this->Coordinate == LPS)
-    for (int r = 0; r < 2; ++r)
-      for (int c = 0; c < 4; ++c) m[4 * r + c] = -m[4 * r + c];
+  if (this->Coordinate == LPS) FlipLPSRASIndexToSpace(m);
   m[12] = m[13] = m[14] = 0;
   m[15] = 1;
 }

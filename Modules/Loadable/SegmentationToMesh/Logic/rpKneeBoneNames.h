@@ -1,0 +1,20 @@
+#pragma once
+// Names of knee bones from their position and size (RAS), and a colour per bone name.
+#include <array>
+#include <string>
+#include <vector>
+
+#include "rpBoneSplit.h"
+
+namespace rp {
+
+/// Gives the unnamed bones of a knee CT their names (femur, tibia, fibula, patella) when the
+/// anatomy is recognisable; bones already named (by seeds) keep theirs and are used as
+/// landmarks. `ctBounds`: RAS bounds of the CT (bones cut by the field of view are judged by
+/// what is inside it).
+void NameKneeBones(std::vector<BoneInfo>& bones, const double ctBounds[6]);
+
+/// A colour for a bone: the same for the same name (femur, tibia, ...), distinct otherwise.
+std::array<double, 3> BoneColor(const std::string& name, int labelValue);
+
+}  // namespace rp
