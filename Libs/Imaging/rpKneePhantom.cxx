@@ -359,11 +359,14 @@ const char* KneeStructureName(KneeStructure structure) {
 
 const std::array<KneeBone, 4>& KneeBones() {
   static const std::array<KneeBone, 4> bones = {{
-      {"femur", "Femur", KneeStructure::Femur, KneeStructure::FemurMarrow, KneeFemurCortical, KneeFemurTrabecular},
-      {"tibia", "Tibia", KneeStructure::Tibia, KneeStructure::TibiaMarrow, KneeTibiaCortical, KneeTibiaTrabecular},
-      {"fibula", "Fibula", KneeStructure::Fibula, KneeStructure::FibulaMarrow, KneeFibulaCortical, KneeFibulaTrabecular},
+      {"femur", "Femur", KneeStructure::Femur, KneeStructure::FemurMarrow, KneeFemurCortical, KneeFemurTrabecular,
+       {0.95, 0.84, 0.57}},
+      {"tibia", "Tibia", KneeStructure::Tibia, KneeStructure::TibiaMarrow, KneeTibiaCortical, KneeTibiaTrabecular,
+       {0.60, 0.78, 0.95}},
+      {"fibula", "Fibula", KneeStructure::Fibula, KneeStructure::FibulaMarrow, KneeFibulaCortical, KneeFibulaTrabecular,
+       {0.62, 0.86, 0.58}},
       {"patella", "Patella", KneeStructure::Patella, KneeStructure::PatellaMarrow, KneePatellaCortical,
-       KneePatellaTrabecular},
+       KneePatellaTrabecular, {0.96, 0.62, 0.48}},
   }};
   return bones;
 }

@@ -78,12 +78,14 @@ struct KneeTissue {
 /// All tissues, indexed by label value (entry 0 is background/air).
 const std::vector<KneeTissue>& KneeTissues();
 
-/// The four bones: segment ID and name used by the demo, surface, and labels.
+/// The four bones: segment ID and name used by the demo, surface, labels, and a display colour
+/// per bone (so each bone can be told apart in pictures).
 struct KneeBone {
   const char* ID;    // "femur"
   const char* Name;  // "Femur"
   KneeStructure Surface, Marrow;
   KneeLabel Cortical, Trabecular;
+  std::array<double, 3> Color;
 };
 const std::array<KneeBone, 4>& KneeBones();
 
@@ -134,6 +136,12 @@ class KneeModel {
   virtual double MaxCorticalThickness() const = 0;
   /// Where the scanners centre their field of view (RAS): the leg's axis at the joint line.
   virtual void FieldOfViewCentre(double ras[3]) const { ras[0] = ras[1] = ras[2] = 0.0; }
+  /// The knee's own lateral and anterior directions (RAS unit vectors, in the axial plane): a
+  /// leg lies rotated in the scanner, and pictures look at the knee along its own axes.
+  virtual void KneeAxes(double lateral[3], double anterior[3]) const {
+    lateral[0] = 1, lateral[1] = 0, lateral[2] = 0;
+    anterior[0] = 0, anterior[1] = 1, anterior[2] = 0;
+  }
   /// Whether the tissues have the texture and density gradients of real bone (real anatomy) or
   /// are uniform (analytic solids: known means in every region).
   virtual bool RealisticTissue() const { return false; }

@@ -136,6 +136,10 @@ class KneeSurfaceModel : public KneeModel {
   double MaxCorticalThickness() const override { return kTibiaCortex.Diaphysis; }
   void FieldOfViewCentre(double ras[3]) const override;
   bool RealisticTissue() const override { return true; }
+  void KneeAxes(double lateral[3], double anterior[3]) const override {
+    lateral[0] = this->AxisU[0], lateral[1] = this->AxisU[1], lateral[2] = 0;
+    anterior[0] = this->AxisV[0], anterior[1] = this->AxisV[1], anterior[2] = 0;
+  }
   std::vector<std::array<double, 3>> SurfacePoints(KneeStructure structure, int count,
                                                    const double* boundsRAS) const override;
   vtkSmartPointer<vtkPolyData> Surface(KneeStructure structure) const override;

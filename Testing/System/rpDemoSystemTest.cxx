@@ -16,6 +16,7 @@
 
 #include "rpAtomicFile.h"
 #include "rpSceneIO.h"
+#include "rpSharedData.h"
 #include "rpTransformIO.h"
 #include "vtkRPFiducialListNode.h"
 #include "vtkRPLinearTransformNode.h"
@@ -28,6 +29,18 @@ namespace fs = std::filesystem;
 
 namespace {
 std::string Roboplan;
+
+// The figures of a demo run (report.json beside report.html).
+nlohmann::json Figures(const fs::path& out) {
+  std::string text, error;
+  if (!rp::ReadFile((out / "report.json").string(), text, error)) return nlohmann::json::array();
+  return nlohmann::json::parse(text)["figures"];
+}
+nlohmann::json FindFigure(const nlohmann::json& figures, const std::string& name) {
+  for (const auto& f : figures)
+    if (f["name"] == name) return f;
+  return nullptr;
+}
 
 int RunRoboplan(const std::string& arguments, std::string& output) {
   const std::string command = Roboplan + " " + arguments + " 2>&1";
@@ -53,6 +66,19 @@ TEST(Demo, SmallPhantomEndToEndAndSlicerConventions) {
   ASSERT_TRUE(rp::ReadFile((out / "report.html").string(), report, error));
   EXPECT_NE(report.find("Figures and targets"), std::string::npos);
   EXPECT_EQ(report.find("failed</td>"), std::string::npos) << "every stage ran";
+  // Every real bone of the phantom scored: Dice and surface distances to its true surface.
+  // (Region growing merges the fibula into the tibia at this 1.6 mm size; the femur and patella
+  // stand apart.)
+  const auto figures = Figures(out);
+  for (const char* bone : {"Femur", "Tibia", "Fibula", "Patella"}) {
+    ASSERT_FALSE(FindFigure(figures, std::string(bone) + ": Dice").is_null()) << bone;
+    EXPECT_FALSE(FindFigure(figures, std::string(bone) + ": mean surface distance to the true surface").is_null()) << bone;
+    EXPECT_FALSE(FindFigure(figures, std::string(bone) + ": 95 % surface distance").is_null()) << bone;
+  }
+  for (const char* bone : {"Femur", "Patella"}) {
+    EXPECT_GT(FindFigure(figures, std::string(bone) + ": Dice")["value"].get<double>(), 0.9) << bone;
+    EXPECT_LT(FindFigure(figures, std::string(bone) + ": 95 % surface distance")["value"].get<double>(), 16.0) << bone;
+  }
 
   // The scene opens with everything the workflow made.
   vtkNew<vtkRPScene> scene;
@@ -124,6 +150,35 @@ TEST(Demo, SmallPhantomEndToEndAndSlicerConventions) {
   EXPECT_TRUE(fs::exists(out / "tracking-navigation.txt"));
   EXPECT_TRUE(fs::exists(out / "registration-log.txt"));
   EXPECT_TRUE(fs::exists(out / "dicom" / "CT"));
+}
+
+TEST(Demo, ARealKneeCTIsScoredPerBoneAgainstItsLabels) {
+  RP_REQUIRE_SHARED_DATA("knee-ct-vhf/labels.nrrd");
+  const fs::path out = fs::path(ROBOPLAN_TEST_OUTPUT_DIR) / "demo-vhf";
+  fs::remove_all(out);
+  fs::create_directories(out);
+  // Names for the label values (Slicer colour table), as the data's README gives them.
+  const fs::path names = out / "labels.ctbl";
+  std::ofstream(names) << "# knee-ct-vhf\n1 tibia 128 174 128 255\n2 fibula 241 214 145 255\n3 patella 177 122 101 255\n";
+  const std::string data = rptest::SharedDataPath("knee-ct-vhf");
+  std::string output;
+  const int code = RunRoboplan("demo --haptic-seconds 1 --no-screenshots --data " + data + "/dicom --truth " + data +
+                                   "/labels.nrrd --truth-names " + names.string() + " --out " + (out / "run").string(),
+                               output);
+  ASSERT_EQ(code, 0) << output;
+  const auto figures = Figures(out / "run");
+  for (const char* bone : {"tibia", "fibula", "patella"}) {
+    const auto dice = FindFigure(figures, std::string(bone) + ": Dice");
+    ASSERT_FALSE(dice.is_null()) << bone << " not scored";
+    EXPECT_NE(dice["result"], "not scored") << bone;
+    EXPECT_FALSE(FindFigure(figures, std::string(bone) + ": mean surface distance to the truth label's surface").is_null())
+        << bone;
+  }
+  // The tibia is found (a bone segment overlaps it); how well is the segmentation's figure.
+  EXPECT_GT(FindFigure(figures, "tibia: Dice")["value"].get<double>(), 0.3);
+  // --truth without --data is a usage error.
+  EXPECT_EQ(RunRoboplan("demo --truth " + data + "/labels.nrrd --out " + (out / "x").string(), output), 2);
+  EXPECT_NE(output.find("--truth"), std::string::npos) << output;
 }
 
 TEST(Demo, ABadDataFolderFailsClearlyAndKeepsTheReport) {

@@ -15,7 +15,9 @@ int RunDemoCommand(rp::CommandContext& context) {
                        "write the scene, meshes, segmentation, fiducials, transforms, logs and report.html to the "
                        "output folder. Exits 1 if a stage fails (everything done so far is kept).");
   parser.Option("out", "dir", "output folder", "roboplan-demo")
-      .Option("data", "dicom folder", "run on a CT series instead of the phantom (no ground truth)")
+      .Option("data", "dicom folder", "run on a CT series instead of the phantom")
+      .Option("truth", "labelmap", "with --data: the CT's bones as a labelmap (any grid) to score each bone against")
+      .Option("truth-names", "label table", "names of --truth's label values (Slicer colour table or ITK-SNAP)")
       .Option("size", "small|demo|full", "phantom size", "demo")
       .Option("haptic-seconds", "s", "length of the haptic exploration", "4")
       .Flag("no-screenshots", "skip the 4-up pictures (no display needed)");
@@ -30,6 +32,12 @@ int RunDemoCommand(rp::CommandContext& context) {
   rp::DemoOptions options;
   options.OutputDirectory = parser.Get("out");
   options.DicomData = parser.Get("data");
+  options.TruthLabels = parser.Get("truth");
+  options.TruthNames = parser.Get("truth-names");
+  if ((!options.TruthLabels.empty() || !options.TruthNames.empty()) && options.DicomData.empty()) {
+    std::cerr << "roboplan demo: --truth and --truth-names go with --data (the phantom has its own truth)\n";
+    return 2;
+  }
   options.PhantomSize = parser.Get("size");
   try {
     options.HapticSeconds = parser.GetDouble("haptic-seconds");

@@ -11,6 +11,8 @@ namespace rp {
 struct DemoOptions {
   std::string OutputDirectory = "roboplan-demo";
   std::string DicomData;          // a user's CT series folder instead of the phantom ("" = phantom)
+  std::string TruthLabels;        // with DicomData: a labelmap of its bones to score against ("" = none)
+  std::string TruthNames;         // optional label table naming TruthLabels' values (Slicer .ctbl / ITK-SNAP)
   std::string PhantomSize = "demo";  // small | demo (default) | full
   double HapticSeconds = 4.0;     // haptic exploration length
   bool Screenshots = true;        // render 4-up pictures (needs a display or Xvfb)

@@ -207,9 +207,9 @@ void ExploreHaptically(DemoState& state) {
   for (const MaterialClamp& c : omni) clamped += c.Clamped();
   state.Report->AddFigureBelow(stage, "tissues clamped on the Phantom Omni", clamped, "", 0.5,
                                "stiffness above what the device renders stably (nominal limit, Colgate-Schenkel)");
-  const bool pictures = state.Options.Screenshots && std::getenv("DISPLAY");
-  if (!pictures) {
-    state.Report->AddNote("Haptics charts skipped: no display (run under xvfb-run or without --no-screenshots).");
+  std::string why;
+  if (!CanDrawPictures(state, why)) {
+    state.Report->AddNote("Haptics charts skipped: " + why + ".");
     return;
   }
   std::vector<std::string> tissues;

@@ -17,8 +17,7 @@ namespace fs = std::filesystem;
 
 namespace rp {
 
-bool DemoScreenshot(DemoState& state, const double slicePointRAS[3], const std::string& followNodeID,
-                    const std::string& file, std::string& error) {
+bool CanDrawPictures(const DemoState& state, std::string& error) {
   if (!state.Options.Screenshots) {
     error = "screenshots turned off (--no-screenshots)";
     return false;
@@ -27,6 +26,12 @@ bool DemoScreenshot(DemoState& state, const double slicePointRAS[3], const std::
     error = "no display (run under xvfb-run, as SuperBuild/setup.sh --demo does)";
     return false;
   }
+  return true;
+}
+
+bool DemoScreenshot(DemoState& state, const double slicePointRAS[3], const std::string& followNodeID,
+                    const std::string& file, std::string& error) {
+  if (!CanDrawPictures(state, error)) return false;
 #ifdef ROBOPLAN_WORKFLOW_HAVE_VIEWER
   ViewController controller(state.Scene);
   if (state.CT) controller.SetBackgroundVolumeID(state.CT->GetID());

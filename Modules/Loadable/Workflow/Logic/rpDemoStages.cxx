@@ -1,6 +1,7 @@
 #include "rpDemoStages.h"
 
 #include <algorithm>
+#include <cctype>
 #include <array>
 #include <cmath>
 #include <filesystem>
@@ -16,7 +17,10 @@
 #include "rpDicomSeries.h"
 #include "rpDicomWriter.h"
 #include "rpImageVolume.h"
+#include "rpBoneScores.h"
 #include "rpKneePhantom.h"
+#include "rpLabelTable.h"
+#include "rpVolumeFiles.h"
 #include "rpReport.h"
 #include "rpSegmentationEditor.h"
 #include "rpSegmentationToModels.h"
@@ -58,6 +62,8 @@ void GeneratePhantom(DemoState& state) {
     throw std::runtime_error("knee phantom: " + error);
   }
   state.Phantom = phantom;
+  phantom->Model->KneeAxes(state.KneeLateral.data(), state.KneeAnterior.data());
+  state.KneeAxesKnown = true;
   // The ground-truth labelmap is kept beside the scene for scoring (not a scene node).
   if (!WriteVolumeFile((fs::path(state.Output) / "ground-truth-labels.nrrd").string(), phantom->Labels.Image,
                        phantom->Labels.IJKToRAS, {}, error)) {
@@ -198,20 +204,6 @@ void RegisterCTAndMR(DemoState& state) {
 
 // ---- Stage: bones and soft tissues segmented on the CT and meshed (display + haptic LoD)
 
-// Dice of one segment's voxels against a set of truth labels (same grid).
-double Dice(vtkImageData* labels, int label, vtkImageData* truth, KneeLabel a, KneeLabel b) {
-  const auto* l = static_cast<const unsigned char*>(labels->GetScalarPointer());
-  const auto* t = static_cast<const unsigned char*>(truth->GetScalarPointer());
-  long both = 0, segmented = 0, expected = 0;
-  for (vtkIdType i = 0; i < labels->GetNumberOfPoints(); ++i) {
-    const bool s = l[i] == label, e = t[i] == a || t[i] == b;
-    both += s && e;
-    segmented += s;
-    expected += e;
-  }
-  return segmented + expected ? 2.0 * both / double(segmented + expected) : 0.0;
-}
-
 // The click a user makes to grow a bone: a voxel of the bone bright enough for the threshold,
 // nearest the bone's centroid (thin trabecular bone may be below the threshold at the centroid).
 bool SeedForBone(const ImageVolume& truth, vtkImageData* ct, const KneeBone& bone, double lower,
@@ -241,6 +233,81 @@ bool SeedForBone(const ImageVolume& truth, vtkImageData* ct, const KneeBone& bon
   return true;
 }
 
+// Each bone in its own colour: a knee bone's (by segment ID or name), else a distinct one.
+void ColourBones(vtkRPSegmentationNode* segmentation, const std::vector<std::string>& boneIDs) {
+  long other = 0;
+  for (const std::string& id : boneIDs) {
+    const vtkRPSegmentationNode::Segment* found = segmentation->GetSegmentByID(id);
+    if (!found) continue;
+    vtkRPSegmentationNode::Segment segment = *found;
+    std::string name = segment.Name;
+    std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return std::tolower(c); });
+    const KneeBone* bone = nullptr;
+    for (const KneeBone& b : KneeBones())
+      if (id == b.ID || name == b.ID) bone = &b;
+    const std::array<double, 3> colour = bone ? bone->Color : DefaultLabelColor(++other);
+    for (int c = 0; c < 3; ++c) segment.Color[c] = colour[c];
+    segmentation->SetSegment(segment);
+  }
+}
+
+// Per bone: Dice and surface distances against the phantom's truth or the user's --truth labels.
+void ScoreSegmentedBones(DemoState& state, const std::vector<SegmentModels>& built, const double bounds[6],
+                         const std::string& stage) {
+  std::string error;
+  std::vector<TruthBone> truth;
+  std::string against;
+  if (state.HasGroundTruth()) {
+    truth = PhantomTruthBones(state.Phantom->Labels, *state.Phantom->Model, state.Segmentation, error);
+    against = "the true surface";
+  } else if (!state.Options.TruthLabels.empty()) {
+    ImageVolume labels;
+    if (!ReadVolume(state.Options.TruthLabels, labels, error)) throw std::runtime_error("--truth: " + error);
+    std::vector<std::string> names;
+    if (!state.Options.TruthNames.empty()) {
+      LabelTable table;
+      if (!ReadLabelTable(state.Options.TruthNames, table, error)) throw std::runtime_error("--truth-names: " + error);
+      for (const LabelEntry& entry : table.Entries) {
+        if (entry.Value < 0 || entry.Value > 65535) continue;
+        if (names.size() <= size_t(entry.Value)) names.resize(size_t(entry.Value) + 1);
+        names[size_t(entry.Value)] = entry.Name;
+      }
+    }
+    truth = LabelmapTruthBones(labels, names, state.Segmentation, error);
+    against = "the truth label's surface";
+  } else {
+    state.Report->AddNotScored(stage, "Dice and surface distance per bone",
+                               "no ground truth for a user's CT (give one with --truth labels.nrrd)");
+    return;
+  }
+  if (truth.empty()) throw std::runtime_error("scoring: " + error);
+  double spacing[3];
+  state.CT->GetSpacing(spacing);
+  const double voxel = std::min({spacing[0], spacing[1], spacing[2]});
+  auto meshOf = [&](const std::string& segmentID) -> vtkPolyData* {
+    for (const SegmentModels& m : built)
+      if (m.SegmentID == segmentID && m.DisplayModel) return m.DisplayModel->GetPolyData();
+    return nullptr;
+  };
+  // The issue's targets for bones from a real CT: Dice >= 0.90, mean distance <= 0.8 mm.
+  for (const BoneScore& score : ScoreBones(truth, state.Segmentation, meshOf, bounds)) {
+    if (score.SegmentID.empty()) {
+      state.Report->AddFigureAbove(stage, score.Truth + ": Dice", 0.0, "", 0.9, "no segment overlaps this bone");
+      continue;
+    }
+    const std::string matched = "segment " + score.SegmentName;
+    state.Report->AddFigureAbove(stage, score.Truth + ": Dice", score.Dice, "", 0.9, matched);
+    if (!score.HasSurface) continue;
+    state.Report->AddFigureBelow(stage, score.Truth + ": mean surface distance to " + against, score.Surface.MeanMm,
+                                 "mm", 0.8,
+                                 matched + "; " + std::to_string(score.Surface.MeanMm / voxel).substr(0, 4) +
+                                     " voxel; inside the CT less 3 mm");
+    state.Report->AddFigure(stage, score.Truth + ": 95 % surface distance", score.Surface.Percentile95Mm, "mm",
+                            "both directions pooled; Hausdorff " + std::to_string(score.Surface.HausdorffMm).substr(0, 5) +
+                                " mm");
+  }
+}
+
 void SegmentAndMesh(DemoState& state) {
   const std::string stage = "Segmentation and meshing";
   std::string error;
@@ -262,7 +329,7 @@ void SegmentAndMesh(DemoState& state) {
       target.ID = b.ID;
       target.Name = b.Name;
       target.TissueClass = "bone";
-      target.Color = {bone->Color[0], bone->Color[1], bone->Color[2]};
+      target.Color = b.Color;  // each bone in its own colour
       target.MaxFraction = 0.3;
       // A bone that does not grow (e.g. a thin fibula at a coarse resolution) is reported and
       // skipped; the others go on.
@@ -286,6 +353,7 @@ void SegmentAndMesh(DemoState& state) {
     }
     boneIDs = edit.SegmentIDs;
   }
+  ColourBones(segmentation, boneIDs);
   if (boneIDs.empty()) throw std::runtime_error("no bone could be segmented");
   state.Runner->Progress(0.3, "soft tissue and fat");
   SegmentTarget softTarget{"soft-tissue", "Soft tissue", softPreset->TissueClass,
@@ -345,37 +413,14 @@ void SegmentAndMesh(DemoState& state) {
   } else {
     state.Report->AddNote("Segmentation 4-up picture skipped: " + error);
   }
-  if (!state.HasGroundTruth()) {
-    state.Report->AddNotScored(stage, "Dice and surface error", "no ground truth for a user's CT");
-    return;
+  if (DemoBoneViews(state, state.BoneModelIDs, "bones-3d.png", error)) {
+    state.Report->AddPicture(stage, "bones-3d.png",
+                             "The segmented bones as a surgeon looks at the knee: from the front and from the lateral "
+                             "side, each bone in its colour (display meshes).");
+  } else {
+    state.Report->AddNote("Bone pictures skipped: " + error);
   }
-  double spacing[3];
-  state.CT->GetSpacing(spacing);
-  const double voxel = std::min({spacing[0], spacing[1], spacing[2]});
-  for (const KneeBone& b : KneeBones()) {
-    const auto* segment = segmentation->GetSegmentByID(b.ID);
-    if (!segment) continue;
-    state.Report->AddFigureAbove(stage, std::string(b.Name) + ": Dice vs ground truth",
-                                 Dice(segmentation->GetImageData(), segment->LabelValue, state.Phantom->Labels.Image,
-                                      b.Cortical, b.Trabecular),
-                                 "", 0.9);
-    for (const SegmentModels& m : built) {
-      if (m.SegmentID != b.ID || !m.DisplayModel) continue;
-      const auto model = state.Phantom->Model;
-      const KneeStructure structure = b.Surface;
-      const SurfaceError e = CompareToSurface(
-          m.DisplayModel->GetPolyData(), [model, structure](const double p[3]) { return model->SignedDistance(structure, p); },
-          model->SurfacePoints(structure, 4000, bounds), bounds);
-      // The targets the issue sets for a real CT (Dice >= 0.90, mean <= 0.8 mm), here against
-      // the phantom's true surfaces.
-      state.Report->AddFigureBelow(stage, std::string(b.Name) + ": mean surface distance to the true surface", e.MeanMm,
-                                   "mm", 0.8,
-                                   std::to_string(e.MeanMm / voxel).substr(0, 4) + " voxel; Hausdorff " +
-                                       std::to_string(e.HausdorffMm).substr(0, 5) + " mm");
-      state.Report->AddFigure(stage, std::string(b.Name) + ": 95 % surface distance", e.Percentile95Mm, "mm",
-                              "both directions pooled, inside the CT less 3 mm");
-    }
-  }
+  ScoreSegmentedBones(state, built, bounds, stage);
 }
 
 }  // namespace

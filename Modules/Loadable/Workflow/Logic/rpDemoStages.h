@@ -37,6 +37,10 @@ struct DemoState {
   std::vector<std::string> BoneModelIDs, HapticModelIDs, DisplayModelIDs;
   std::string TrackerToRASID, StylusTipToStylusID, StylusToTrackerID;
   std::array<double, 3> StylusTip{};  // calibrated StylusTipToStylus offset
+  // The knee's own axes for pictures (the phantom's; the scanner's for a user's CT, lateral
+  // towards the fibula).
+  std::array<double, 3> KneeLateral{{1, 0, 0}}, KneeAnterior{{0, 1, 0}};
+  bool KneeAxesKnown = false;
   ToolDefinition StylusTruth;         // the simulated stylus (its true tip offset)
   bool HasGroundTruth() const { return static_cast<bool>(this->Phantom); }
 };
@@ -52,10 +56,16 @@ void CalibrateStylus(DemoState& state);
 void RegisterPatient(DemoState& state);
 void Navigate(DemoState& state);
 void MeasureSpeedAgainstAccuracy(DemoState& state);
+/// Whether pictures can be drawn in this run (screenshots on, a display); else why not.
+bool CanDrawPictures(const DemoState& state, std::string& error);
 /// A 4-up picture (axial, 3D, sagittal, coronal) of the scene into the output folder, slices at
 /// the point (or following the node's origin). False with `error` when it cannot be drawn here.
 bool DemoScreenshot(DemoState& state, const double slicePointRAS[3], const std::string& followNodeID,
                     const std::string& file, std::string& error);
+/// The bone models alone, each in its colour, from the front and from the lateral side, framed
+/// on the bones, into the output folder. False with `error` when it cannot be drawn here.
+bool DemoBoneViews(DemoState& state, const std::vector<std::string>& modelIDs, const std::string& file,
+                   std::string& error);
 
 /// The stages in order.
 std::vector<DemoStage> DemoStages();

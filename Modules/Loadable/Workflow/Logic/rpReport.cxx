@@ -1,8 +1,11 @@
 #include "rpReport.h"
 
+#include <cmath>
 #include <cstdio>
 #include <limits>
 #include <sstream>
+
+#include <nlohmann/json.hpp>
 
 #include "rpAtomicFile.h"
 
@@ -111,8 +114,27 @@ std::string Report::ToHtml() const {
   return html.str();
 }
 
+std::string Report::ToJson() const {
+  nlohmann::json doc;
+  doc["title"] = this->Title;
+  doc["stages"] = nlohmann::json::array();
+  for (const StageRecord& s : this->Stages)
+    doc["stages"].push_back({{"name", s.Name}, {"seconds", s.Seconds}, {"ok", s.Ok}, {"message", s.Message}});
+  doc["figures"] = nlohmann::json::array();
+  for (const Figure& f : this->Figures) {
+    const char* result = f.Result == Verdict::Pass ? "pass" : f.Result == Verdict::Fail ? "fail" : "not scored";
+    nlohmann::json value = std::isfinite(f.Value) ? nlohmann::json(f.Value) : nlohmann::json(nullptr);
+    doc["figures"].push_back({{"stage", f.Stage}, {"name", f.Name}, {"value", value}, {"unit", f.Unit},
+                              {"target", f.Target}, {"result", result}, {"note", f.Note}});
+  }
+  return doc.dump(2) + "\n";
+}
+
 bool Report::Write(const std::string& path, std::string& error) const {
-  return WriteFileAtomically(path, this->ToHtml(), error);
+  const std::string json = path.size() > 5 && path.substr(path.size() - 5) == ".html"
+                               ? path.substr(0, path.size() - 5) + ".json"
+                               : path + ".json";
+  return WriteFileAtomically(path, this->ToHtml(), error) && WriteFileAtomically(json, this->ToJson(), error);
 }
 
 }  // namespace rp

@@ -51,7 +51,12 @@ class Report {
   int CountFailed() const;
 
   std::string ToHtml() const;
-  /// Writes report.html atomically. Returns false with `error`.
+  /// The stages and figures as JSON (for scripts and tests): {"title", "stages": [...],
+  /// "figures": [{"stage", "name", "value" (null when not measured), "unit", "target", "result"
+  /// ("pass" | "fail" | "not scored"), "note"}]}.
+  std::string ToJson() const;
+  /// Writes the HTML report atomically, and the JSON beside it (same name, .json). Returns false
+  /// with `error`.
   bool Write(const std::string& path, std::string& error) const;
 
  private:

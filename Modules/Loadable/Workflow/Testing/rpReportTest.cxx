@@ -21,6 +21,10 @@ TEST(Report, FiguresAreScoredAgainstTheirTargets) {
   EXPECT_NE(html.find("no ground truth for a user's CT"), std::string::npos);
   EXPECT_NE(html.find("not scored"), std::string::npos);
   EXPECT_NE(html.find("FAIL"), std::string::npos);
+  const std::string json = report.ToJson();
+  EXPECT_NE(json.find("\"result\": \"fail\""), std::string::npos) << json;
+  EXPECT_NE(json.find("\"value\": null"), std::string::npos) << json;  // the figure not measured
+  EXPECT_NE(json.find("\"value\": 0.4"), std::string::npos) << json;
 }
 
 TEST(StageRunner, StopsAtTheFirstFailureAndRecordsIt) {
