@@ -3,7 +3,7 @@
 # with Ninja and ccache. Idempotent: a second run installs nothing and builds incrementally.
 #
 #   SuperBuild/setup.sh [--build-dir DIR] [--type Release|Debug|RelWithDebInfo]
-#                       [--sanitize address|undefined|thread] [--no-gui] [--no-benchmarks]
+#                       [--sanitize address|undefined|address,undefined|thread] [--no-gui] [--no-benchmarks]
 #                       [--test [ctest args...]] [--demo [demo args...]]
 set -euo pipefail
 src_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)

@@ -57,6 +57,15 @@ namespace {
 constexpr int RefreshIntervalMs = 33;  // ~30 Hz
 constexpr int MaxRecentFiles = 8;
 const char* const RecentFilesKey = "recentFiles";
+
+// "*.nrrd *.nii.gz ..." for a file dialog: every extension the storages read for these classes.
+QString FilePatterns(std::initializer_list<const char*> nodeClasses) {
+  QStringList patterns;
+  for (const char* nodeClass : nodeClasses)
+    for (const std::string& extension : ExtensionsForNodeClass(nodeClass)) patterns << "*" + QString::fromStdString(extension);
+  patterns.removeDuplicates();
+  return patterns.join(' ');
+}
 }  // namespace
 
 ViewerMainWindow::ViewerMainWindow(ModuleManager* manager, vtkRPScene* scene, QWidget* parent)
@@ -143,6 +152,14 @@ void ViewerMainWindow::BuildViews() {
     }
     grid->addWidget(widget, rows[kind], columns[kind]);
     this->ViewWidgets[static_cast<size_t>(kind)] = widget;
+    // Rendered by the display-rate timer: once per tick at most, only when changed, light while
+    // moving (rp::RenderScheduler).
+    this->Scheduler.AddView(
+        view, [view, widget]() {
+          view->MarkRendered();
+          widget->renderWindow()->Render();
+        },
+        [widget]() { return widget->isVisible(); });
   }
   this->setCentralWidget(this->ViewArea);
 }
@@ -172,18 +189,7 @@ void ViewerMainWindow::ApplyLayout() {
   }
 }
 
-int ViewerMainWindow::RenderPendingViews() {
-  int rendered = 0;
-  for (int kind = 0; kind < 4; ++kind) {
-    View* view = this->Controller->GetView(static_cast<ViewKind>(kind));
-    QVTKOpenGLNativeWidget* widget = this->ViewWidgets[static_cast<size_t>(kind)];
-    if (!view->NeedsRender() || !widget->isVisible()) continue;
-    view->MarkRendered();
-    widget->renderWindow()->Render();
-    ++rendered;
-  }
-  return rendered;
-}
+int ViewerMainWindow::RenderPendingViews() { return this->Scheduler.RenderPendingViews(); }
 
 void ViewerMainWindow::BuildMenus() {
   QMenu* file = this->menuBar()->addMenu("&File");
@@ -196,15 +202,15 @@ void ViewerMainWindow::BuildMenus() {
 #endif
   file->addAction("&Load data (volume, segmentation, model, fiducials, transform)...", this,
                   &ViewerMainWindow::OpenDataFiles, QKeySequence::Open);
-  const std::pair<const char*, const char*> kinds[] = {
-      {"Load &volume...", "Volumes (*.nrrd *.nhdr *.nii *.nii.gz *.mha *.mhd)"},
-      {"Load se&gmentation...", "Segmentations (*.seg.nrrd)"},
-      {"Load &model...", "Models (*.vtp *.vtk *.stl *.ply *.obj)"},
-      {"Load &fiducials...", "Fiducials (*.mrk.json *.fcsv)"},
-      {"Load &transform...", "Transforms (*.tfm *.txt *.h5)"}};
-  for (const auto& [title, filter] : kinds) {
+  // The formats are the storage registry's (rpNodeStorage), not a list of our own.
+  const std::pair<const char*, const char*> kinds[] = {{"Load &volume...", "vtkRPScalarVolumeNode"},
+                                                       {"Load se&gmentation...", "vtkRPSegmentationNode"},
+                                                       {"Load &model...", "vtkRPModelNode"},
+                                                       {"Load &fiducials...", "vtkRPFiducialListNode"},
+                                                       {"Load &transform...", "vtkRPLinearTransformNode"}};
+  for (const auto& [title, nodeClass] : kinds) {
     const QString caption = QString(title).remove('&').remove("...");
-    const QString files = filter;
+    const QString files = caption.mid(caption.indexOf(' ') + 1) + "s (" + FilePatterns({nodeClass}) + ")";
     file->addAction(title, this, [this, caption, files]() { this->OpenDataFilesOfKind(caption, files); });
   }
   file->addAction("Load &scene...", this, &ViewerMainWindow::OpenScene);
@@ -463,9 +469,11 @@ void ViewerMainWindow::LoadAndReport(const QString& path, const QString& title) 
 }
 
 void ViewerMainWindow::OpenDataFiles() {
-  this->OpenDataFilesOfKind("Load data",
-                            "Data (*.nrrd *.nhdr *.nii *.nii.gz *.mha *.mhd *.seg.nrrd *.vtp *.vtk *.stl *.ply *.obj "
-                            "*.mrk.json *.fcsv *.tfm *.txt *.h5)");
+  this->OpenDataFilesOfKind("Load data", "Data (" +
+                                             FilePatterns({"vtkRPScalarVolumeNode", "vtkRPSegmentationNode",
+                                                           "vtkRPModelNode", "vtkRPFiducialListNode",
+                                                           "vtkRPLinearTransformNode"}) +
+                                             ")");
 }
 
 void ViewerMainWindow::OpenDataFilesOfKind(const QString& title, const QString& filter) {

@@ -14,18 +14,25 @@ function(roboplan_vtk_autoinit target)
   endif()
 endfunction()
 
+# ROBOPLAN_SANITIZE: address, undefined, address,undefined (both in one build) or thread. Sets
+# ROBOPLAN_SANITIZER_FLAGS (also for sub-builds of other projects) and applies them to every target.
 macro(roboplan_setup_sanitizer)
+  set(ROBOPLAN_SANITIZER_FLAGS "")
   if(ROBOPLAN_SANITIZE STREQUAL "address")
-    add_compile_options(-fsanitize=address -fno-omit-frame-pointer)
-    add_link_options(-fsanitize=address)
+    set(ROBOPLAN_SANITIZER_FLAGS -fsanitize=address)
   elseif(ROBOPLAN_SANITIZE STREQUAL "undefined")
-    add_compile_options(-fsanitize=undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer)
-    add_link_options(-fsanitize=undefined)
+    set(ROBOPLAN_SANITIZER_FLAGS -fsanitize=undefined -fno-sanitize-recover=undefined)
+  elseif(ROBOPLAN_SANITIZE STREQUAL "address,undefined" OR ROBOPLAN_SANITIZE STREQUAL "address+undefined")
+    set(ROBOPLAN_SANITIZER_FLAGS -fsanitize=address,undefined -fno-sanitize-recover=undefined)
   elseif(ROBOPLAN_SANITIZE STREQUAL "thread")
-    add_compile_options(-fsanitize=thread -fno-omit-frame-pointer)
-    add_link_options(-fsanitize=thread)
+    set(ROBOPLAN_SANITIZER_FLAGS -fsanitize=thread)
   elseif(NOT ROBOPLAN_SANITIZE STREQUAL "")
-    message(FATAL_ERROR "ROBOPLAN_SANITIZE must be address, undefined, thread or empty")
+    message(FATAL_ERROR "ROBOPLAN_SANITIZE must be address, undefined, address,undefined, thread or empty")
+  endif()
+  if(ROBOPLAN_SANITIZER_FLAGS)
+    list(APPEND ROBOPLAN_SANITIZER_FLAGS -fno-omit-frame-pointer)
+    add_compile_options(${ROBOPLAN_SANITIZER_FLAGS})
+    add_link_options(${ROBOPLAN_SANITIZER_FLAGS})
   endif()
 endmacro()
 
@@ -79,6 +86,16 @@ function(roboplan_add_test name)
     set(A_TIMEOUT 300)
   endif()
   set_tests_properties(${name} PROPERTIES LABELS "${A_LABELS}" TIMEOUT ${A_TIMEOUT})
+  if(ROBOPLAN_SANITIZE)
+    # Sanitizer builds: stop on the first report, stacks for UBSan, third-party noise suppressed
+    # (Testing/Support/*.supp).
+    set(support ${PROJECT_SOURCE_DIR}/Testing/Support)
+    list(APPEND A_ENVIRONMENT
+      "ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:strict_string_checks=1:detect_stack_use_after_return=1"
+      "LSAN_OPTIONS=suppressions=${support}/lsan.supp:print_suppressions=0"
+      "UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1"
+      "TSAN_OPTIONS=suppressions=${support}/tsan.supp:halt_on_error=1:second_deadlock_stack=1")
+  endif()
   if(A_ENVIRONMENT)
     set_tests_properties(${name} PROPERTIES ENVIRONMENT "${A_ENVIRONMENT}")
   endif()

@@ -67,6 +67,17 @@ std::string ReadFirstBytes(const std::string& path, size_t count) {
 
 }  // namespace
 
+const std::vector<std::string>& ModelFileExtensions() {
+  static const std::vector<std::string> extensions = {".vtp", ".vtk", ".stl", ".ply", ".obj"};
+  return extensions;
+}
+
+std::string ModelFileExtensionsText() {
+  std::string text;
+  for (const std::string& extension : ModelFileExtensions()) text += (text.empty() ? "" : ", ") + extension;
+  return text;
+}
+
 bool ReadModelFile(const std::string& path, vtkPolyData* output, std::string& error) {
   if (!std::ifstream(path).good()) {
     error = "cannot open model file '" + path + "'";
@@ -127,7 +138,7 @@ bool ReadModelFile(const std::string& path, vtkPolyData* output, std::string& er
     mesh = reader->GetOutput();
     space = SpaceFromText(ReadFirstBytes(path, 1024));
   } else {
-    error = "'" + path + "': unknown model extension (use .vtp, .vtk, .stl, .ply, .obj)";
+    error = "'" + path + "': unknown model extension (use " + ModelFileExtensionsText() + ")";
     return false;
   }
   if (!mesh || mesh->GetNumberOfPoints() == 0) {
@@ -200,7 +211,7 @@ bool WriteModelFile(const std::string& path, vtkPolyData* polyData, std::string&
         ok = out.good();
       }
     } else {
-      err = "unknown model extension (use .vtp, .vtk, .stl, .ply, .obj)";
+      err = "unknown model extension (use " + ModelFileExtensionsText() + ")";
       return false;
     }
     if (!ok) err = "the VTK writer failed (disk full or no permission?)";
@@ -216,7 +227,7 @@ class ModelStorage : public NodeStorage {
   bool CanHandle(const vtkRPNode* node) const override {
     return node && const_cast<vtkRPNode*>(node)->IsA("vtkRPModelNode");
   }
-  std::vector<std::string> Extensions() const override { return {".vtp", ".vtk", ".stl", ".ply", ".obj"}; }
+  std::vector<std::string> Extensions() const override { return ModelFileExtensions(); }
   std::string NodeClassForFiles() const override { return "vtkRPModelNode"; }
   bool Write(vtkRPNode* node, const std::string& path, std::string& error) const override {
     return WriteModelFile(path, vtkRPModelNode::SafeDownCast(node)->GetPolyData(), error);

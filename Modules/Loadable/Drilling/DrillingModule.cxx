@@ -1,9 +1,15 @@
 // The Drilling module: remove bone with a spherical burr at the servo rate (the seed paper's
-// "drilling" of section 5). CLI: roboplan drill (Logic/rpDrillCommand.h).
+// "drilling" of section 5). Logic: vtkRPDrillingLogic; panel: qRPDrillingPanel; CLI: roboplan drill.
 #include <iostream>
+
+#include <vtkNew.h>
 
 #include "rpDrillCommand.h"
 #include "rpModule.h"
+#include "vtkRPDrillingLogic.h"
+#ifdef ROBOPLAN_BUILD_GUI
+#include "qRPDrillingPanel.h"
+#endif
 
 namespace {
 
@@ -11,10 +17,23 @@ class DrillingModule : public rp::Module {
  public:
   std::string Name() const override { return "Drilling"; }
   std::string Title() const override { return "Drilling"; }
+  void Setup(vtkRPScene* scene) override { this->LogicObject->SetScene(scene); }
+  vtkObject* Logic() override { return this->LogicObject; }
+  QWidget* CreatePanel(QWidget* parent) override {
+#ifdef ROBOPLAN_BUILD_GUI
+    return new qRPDrillingPanel(this->LogicObject, parent);
+#else
+    (void)parent;
+    return nullptr;
+#endif
+  }
   std::vector<rp::Command> Commands() override {
     return {{"drill", "drill a stroke into a bone with a burr at 1 kHz (removed volume, forces, timings)",
              [](rp::CommandContext& context) { return rp::RunDrillCommand(context.Arguments, std::cout, std::cerr); }}};
   }
+
+ private:
+  vtkNew<vtkRPDrillingLogic> LogicObject;
 };
 
 }  // namespace

@@ -65,15 +65,33 @@ void BlockMesher::Contour(int32_t slot) {
   const auto& block = this->Volume.BlockCoordinate(slot);
   const int base[3] = {block[0] * E, block[1] * E, block[2] * E};
   const auto& dims = this->Volume.Grid().Dimensions;
-  bool any = false;
-  for (int z = -1; z <= E + 1; ++z)
-    for (int y = -1; y <= E + 1; ++y)
-      for (int x = -1; x <= E + 1; ++x) {
-        const uint8_t q = this->Volume.Density(base[0] + x, base[1] + y, base[2] + z);
-        this->Field[size_t(FieldIndex(x, y, z))] = q;
-        any = any || (q > 0 && x >= 0 && y >= 0 && z >= 0 && x <= E && y <= E && z <= E);
+  // The block and one voxel before / two after it, read from the 3×3×3 blocks around (their
+  // slots looked up once; voxels of blocks not stored, or beyond the grid, are empty).
+  const std::atomic<uint8_t>* neighbours[3][3][3];
+  for (int dz = 0; dz < 3; ++dz)
+    for (int dy = 0; dy < 3; ++dy)
+      for (int dx = 0; dx < 3; ++dx) {
+        const int32_t n = this->Volume.Slot(block[0] + dx - 1, block[1] + dy - 1, block[2] + dz - 1);
+        neighbours[dz][dy][dx] = n < 0 ? nullptr : this->Volume.BlockDensities(n);
       }
-  if (!any) return;
+  bool anyBone = false, anySpace = false;  // over the cells' corners: a surface needs both
+  for (int z = -1; z <= E + 1; ++z) {
+    const int bz = z < 0 ? 0 : (z < E ? 1 : 2), lz = (z + E) & (E - 1);
+    for (int y = -1; y <= E + 1; ++y) {
+      const int by = y < 0 ? 0 : (y < E ? 1 : 2), ly = (y + E) & (E - 1);
+      for (int x = -1; x <= E + 1; ++x) {
+        const int bx = x < 0 ? 0 : (x < E ? 1 : 2), lx = (x + E) & (E - 1);
+        const std::atomic<uint8_t>* d = neighbours[bz][by][bx];
+        const uint8_t q = d ? d[lx | (ly << DrillVolume::BlockShift) | (lz << (2 * DrillVolume::BlockShift))].load(std::memory_order_relaxed) : 0;
+        this->Field[size_t(FieldIndex(x, y, z))] = q;
+        if (x >= 0 && y >= 0 && z >= 0 && x <= E && y <= E && z <= E) {
+          anyBone = anyBone || q > 127;
+          anySpace = anySpace || q <= 127;
+        }
+      }
+    }
+  }
+  if (!anyBone || !anySpace) return;
   std::fill(this->EdgeVertex.begin(), this->EdgeVertex.end(), -1);
   const DrillGrid& grid = this->Volume.Grid();
   const double h = grid.Spacing;

@@ -118,7 +118,7 @@ bool BoneCutter::ReachesProtected(const Vec3& center, double radius) const noexc
   return reached;
 }
 
-CutResult BoneCutter::Cut(const Vec3& center, double radius, double innerRadius) noexcept {
+CutResult BoneCutter::Cut(const Vec3& center, double radius, const Vec3& direction, double advance) noexcept {
   CutResult result;
   if (this->Mode != RestoreMode::None) return result;
   if (this->ReachesProtected(center, radius)) {
@@ -133,7 +133,12 @@ CutResult BoneCutter::Cut(const Vec3& center, double radius, double innerRadius)
   std::atomic<uint8_t>* densities = nullptr;
   const uint8_t* codes = nullptr;
   int32_t current = -1;
-  this->Volume.ForEachInShell(center, innerRadius, reach, [&](int32_t slot, int local, int i, int j, int k, const Vec3& w) {
+  const bool incremental = Norm2(direction) > 0;
+  // Closer than r − h − advance to the new centre is within r − h of the last one: empty.
+  const double inner = incremental ? std::max(0.0, radius - h - advance - 1e-9) : 0.0;
+  this->Volume.ForEachInShell(center, inner, reach, [&](int32_t slot, int local, int i, int j, int k, const Vec3& w) {
+    // Nearer the last centre than the new one (behind the bisecting plane): already carved.
+    if (incremental && Dot(w, direction) < -0.5 * advance - 1e-9) return;
     if (slot != current) current = slot, densities = this->Volume.BlockDensities(slot), codes = this->Volume.BlockMaterials(slot);
     const uint8_t q = densities[local].load(std::memory_order_relaxed);
     if (q == 0) return;

@@ -32,9 +32,10 @@ class BoneCutter {
   // ---- servo thread
   /// Carves the sphere (centre, radius). Refused, removing nothing, when it reaches a protected
   /// voxel (a protected bone voxel within radius + one voxel, or any protected voxel within the
-  /// radius). Voxels closer than `innerRadius` to the centre are known to be empty (the last
-  /// cut's) and skipped.
-  CutResult Cut(const Vec3& center, double radius, double innerRadius = 0) noexcept;
+  /// radius). When the last cut was the same sphere `advance` behind the centre along `direction`
+  /// (unit; zero when there was none), only what the new sphere adds is visited: voxels within
+  /// r − h − advance of the centre, and those behind the bisecting plane, cannot change.
+  CutResult Cut(const Vec3& center, double radius, const Vec3& direction = Vec3{}, double advance = 0) noexcept;
   /// True when a cut at (center, radius) would be refused.
   bool ReachesProtected(const Vec3& center, double radius) const noexcept;
   void BeginStroke() noexcept;

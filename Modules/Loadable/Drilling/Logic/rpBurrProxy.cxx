@@ -46,21 +46,22 @@ double BurrProxy::Sweep(const DrillVolume& volume, const Vec3& from, const Vec3&
     int32_t current = -1;
     volume.ForEachInShell(start, radius - h - Skin * h - 1e-9, radius + h + stepLength + 1e-9,
                           [&](int32_t slot, int local, int, int, int, const Vec3& w) {
+                            // Only voxels ahead of the move can be run into.
+                            const double b = Dot(w, step);
+                            if (b <= 0) return;
                             if (slot != current) current = slot, densities = volume.BlockDensities(slot);
                             const uint8_t q = densities[local].load(std::memory_order_relaxed);
                             if (q == 0) return;
                             const double w2 = Norm2(w);
                             const double c = w2 - touch2[q];
-                            const double b = Dot(w, step);
                             if (c <= 0) {
                               // Already touching (rounding of the densities puts half the voxels
                               // the burr rests on just inside): blocks a move that heads into it
                               // (within 60°), not one that slides past it.
                               if (s == 0) startOverlap = std::max(startOverlap, std::sqrt(touch2[q]) - std::sqrt(w2));
-                              if (b > 0 && b * b > 0.25 * w2 * a) best = 0;
+                              if (b * b > 0.25 * w2 * a) best = 0;
                               return;
                             }
-                            if (b <= 0) return;
                             const double disc = b * b - a * c;
                             if (disc < 0) return;
                             const double t = (b - std::sqrt(disc)) / a;
@@ -80,8 +81,9 @@ bool BurrProxy::Touching(const DrillVolume& volume, const Vec3& p, double radius
   const bool anyDirection = Norm2(pushDir) == 0;
   Vec3 sum{};
   int count = 0;
-  double stiffAhead = -1, stiffAny = -1, hardAhead = -1;
-  uint8_t stiffAheadMaterial = 0, stiffAnyMaterial = 0, hardAheadMaterial = 0;
+  double stiffAhead = -1, stiffAny = -1;
+  uint8_t stiffAheadMaterial = 0, stiffAnyMaterial = 0;
+  double aheadWeight[DrillVolume::MaxMaterials + 1] = {};  // contact weight ahead, per material
   double reach2[256];  // a voxel touches when |v − p| < its touch radius + the band
   for (int q = 0; q < 256; ++q) {
     const double t = std::max(0.0, TouchRadius(static_cast<uint8_t>(q), radius, h) + band);
@@ -100,14 +102,16 @@ bool BurrProxy::Touching(const DrillVolume& volume, const Vec3& p, double radius
     const double distance = std::sqrt(w2);
     const double gap = distance - TouchRadius(q, radius, h);
     ++count;
-    if (distance > 1e-12) sum -= w * (std::min(band - gap, 2 * band) / distance);  // inward normal (v → p)
+    const double weight = std::min(band - gap, 2 * band);
+    if (distance > 1e-12) sum -= w * (weight / distance);  // inward normal (v → p)
     const uint8_t m = codes[local] & DrillVolume::MaterialMask;
     if (m == 0 || size_t(m) > materials.size()) return;
     const Material& material = materials[m - 1];
     if (material.Stiffness > stiffAny) stiffAny = material.Stiffness, stiffAnyMaterial = m;
-    if (anyDirection || Dot(w, pushDir) > 0) {  // the voxel is ahead of the push
+    const double ahead = anyDirection ? 1.0 : Dot(w, pushDir) / std::max(distance, 1e-12);
+    if (ahead > 0) {  // the voxel is ahead of the push
       if (material.Stiffness > stiffAhead) stiffAhead = material.Stiffness, stiffAheadMaterial = m;
-      if (material.Hardness > hardAhead) hardAhead = material.Hardness, hardAheadMaterial = m;
+      aheadWeight[m] += weight * ahead;
     }
   });
   contact.Voxels = count;
@@ -116,7 +120,16 @@ bool BurrProxy::Touching(const DrillVolume& volume, const Vec3& p, double radius
   const double n = Norm(sum);
   contact.Normal = n > 1e-9 ? sum / n : Vec3{};
   contact.Material = stiffAheadMaterial ? stiffAheadMaterial : stiffAnyMaterial;
-  contact.CutMaterial = hardAheadMaterial;
+  contact.CutMaterial = 0;
+  contact.CutHardness = 0;
+  double total = 0, hardness = 0;
+  for (size_t m = 1; m <= materials.size() && m <= size_t(DrillVolume::MaxMaterials); ++m) {
+    total += aheadWeight[m];
+    hardness += aheadWeight[m] * materials[m - 1].Hardness;
+    if (aheadWeight[m] > 0 && (contact.CutMaterial == 0 || aheadWeight[m] > aheadWeight[contact.CutMaterial]))
+      contact.CutMaterial = static_cast<uint8_t>(m);
+  }
+  if (total > 0) contact.CutHardness = hardness / total;
   return true;
 }
 

@@ -29,7 +29,8 @@ struct BurrContact {
   Vec3 Anchor;              // the proxy moved onto the bone surface along the normal: the spring's end
   bool Refined = false;     // Anchor comes from the plane fit (else Anchor = proxy)
   uint8_t Material = 0;     // 1-based material resisting the push (stiffest ahead), 0: none
-  uint8_t CutMaterial = 0;  // 1-based hardest material ahead of the push (what the burr cuts), 0: none
+  uint8_t CutMaterial = 0;  // 1-based material most of the bone ahead of the push is (what the burr cuts), 0: none
+  double CutHardness = 0;   // mean hardness of the bone ahead of the push (weighted by contact)
 };
 
 class BurrProxy {

@@ -66,8 +66,10 @@ void ScanLabels(const T* labels, const int dims[3], const std::vector<int>& bone
           if (value == p) code |= ProtectedCode;
         if (code == 0) continue;
         const int ijk[3] = {i, j, k};
-        int* box = (code & BoneMask) ? boneBox : protectedBox;
-        for (int a = 0; a < 3; ++a) box[2 * a] = std::min(box[2 * a], ijk[a]), box[2 * a + 1] = std::max(box[2 * a + 1], ijk[a]);
+        for (int* box : {(code & BoneMask) ? boneBox : nullptr, (code & ProtectedCode) ? protectedBox : nullptr}) {
+          if (box == nullptr) continue;
+          for (int a = 0; a < 3; ++a) box[2 * a] = std::min(box[2 * a], ijk[a]), box[2 * a + 1] = std::max(box[2 * a + 1], ijk[a]);
+        }
         if (crop) {
           const int ci = i - crop->Lo[0], cj = j - crop->Lo[1], ck = k - crop->Lo[2];
           if (ci >= 0 && cj >= 0 && ck >= 0 && ci < crop->Dims[0] && cj < crop->Dims[1] && ck < crop->Dims[2])
@@ -188,26 +190,12 @@ bool BuildProtectedSurface(const Crop<uint8_t>& crop, const int box[6], const Af
   return true;
 }
 
-}  // namespace
-
-bool BuildDrillBone(const DrillBoneSource& source, const std::vector<Material>& materials, DrillVolume& bone,
-                    DrillVolume* protectedSurface, DrillBoneReport& report, std::string& error,
-                    const ProgressCallback& progress) {
+bool BuildSolid(const DrillBoneSource& source, const std::vector<Material>& materials, DrillVolume& bone,
+                DrillVolume* protectedSurface, DrillBoneReport& report, std::string& error,
+                const ProgressCallback& progress) {
   const auto start = std::chrono::steady_clock::now();
   report = DrillBoneReport{};
   vtkImageData* labels = source.Labels.Image;
-  if (labels == nullptr || labels->GetNumberOfPoints() == 0 || labels->GetPointData()->GetScalars() == nullptr) {
-    error = "drill bone: the segmentation has no labelmap";
-    return false;
-  }
-  if (!IsIntegerType(labels->GetScalarType()) || labels->GetNumberOfScalarComponents() != 1) {
-    error = "drill bone: the labelmap must hold integer labels (one component)";
-    return false;
-  }
-  if (source.BoneLabels.empty()) {
-    error = "drill bone: no bone segment chosen";
-    return false;
-  }
   if (!(source.Spacing >= 0.05 && source.Spacing <= 5.0)) {
     error = "drill bone: the voxel size must be between 0.05 and 5 mm";
     return false;
@@ -400,6 +388,42 @@ bool BuildDrillBone(const DrillBoneSource& source, const std::vector<Material>& 
   }
   if (progress) progress(1.0, "done");
   return true;
+}
+
+}  // namespace
+
+bool BuildDrillBone(const DrillBoneSource& source, const std::vector<Material>& materials, DrillVolume& bone,
+                    DrillVolume* protectedSurface, DrillBoneReport& report, std::string& error,
+                    const ProgressCallback& progress) {
+  vtkImageData* labels = source.Labels.Image;
+  if (labels == nullptr || labels->GetNumberOfPoints() == 0 || labels->GetPointData()->GetScalars() == nullptr) {
+    error = "drill bone: the segmentation has no labelmap";
+    return false;
+  }
+  if (!IsIntegerType(labels->GetScalarType()) || labels->GetNumberOfScalarComponents() != 1) {
+    error = "drill bone: the labelmap must hold integer labels (one component)";
+    return false;
+  }
+  if (source.BoneLabels.empty()) {
+    error = "drill bone: no bone segment chosen";
+    return false;
+  }
+  // Protected segments of a drillable tissue are solid bone too (felt, never removed).
+  DrillBoneSource solid = source;
+  for (size_t p = 0; p < source.ProtectedLabels.size(); ++p) {
+    const std::string tissue = p < source.ProtectedTissues.size() ? source.ProtectedTissues[p] : "";
+    bool drillable = false;
+    for (const Material& m : materials)
+      drillable = drillable || (!tissue.empty() && m.Tissue.size() == tissue.size() &&
+                                std::equal(tissue.begin(), tissue.end(), m.Tissue.begin(), [](char a, char b) {
+                                  return std::tolower(static_cast<unsigned char>(a)) == std::tolower(static_cast<unsigned char>(b));
+                                }));
+    if (drillable && std::find(solid.BoneLabels.begin(), solid.BoneLabels.end(), source.ProtectedLabels[p]) == solid.BoneLabels.end()) {
+      solid.BoneLabels.push_back(source.ProtectedLabels[p]);
+      solid.BoneTissues.push_back(tissue);
+    }
+  }
+  return BuildSolid(solid, materials, bone, protectedSurface, report, error, progress);
 }
 
 }  // namespace rp

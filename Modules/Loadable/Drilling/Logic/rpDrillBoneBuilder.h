@@ -8,8 +8,9 @@
 //    (materials.json: cortical "bone" ≥ 600 HU, "trabecular bone" below); in the surface ramp
 //    the brightest of the 8 CT voxels around it is used (partial volume thins the cortex);
 //  - without: the segment's tissue class when it is drillable, else the first drillable one.
-// Protected segments mark their voxels protected (bone or not); their own surface is built
-// alongside for the distance read-out. Only blocks near bone or protected voxels are stored.
+// Protected segments mark their voxels protected; one of a drillable tissue (e.g. the posterior
+// cortex) is solid bone the burr feels and never removes, another (a nerve's region) is space the
+// burr may enter but not cut in. Their own surface is built alongside for the distance read-out. Only blocks near bone or protected voxels are stored.
 #include <string>
 #include <vector>
 
@@ -24,6 +25,7 @@ struct DrillBoneSource {
   std::vector<int> BoneLabels;           // label values of the bone to drill
   std::vector<std::string> BoneTissues;  // tissue class per bone label ("" = unknown)
   std::vector<int> ProtectedLabels;      // label values of protected structures
+  std::vector<std::string> ProtectedTissues;  // their tissue classes: a drillable one (bone) is solid
   ImageVolume CT;                        // optional: HU for cortical / trabecular
   double Spacing = 0.3;                  // drill voxel size (mm)
   bool HasRegion = false;                // limit the grid to this RAS box

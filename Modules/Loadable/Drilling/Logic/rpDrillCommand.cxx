@@ -76,6 +76,33 @@ double FarthestChangeFromSegment(const DrillVolume& volume, const Vec3& a, const
   return farthest;
 }
 
+double FarthestChangeFromPath(const DrillVolume& volume, const std::vector<Vec3>& path) {
+  std::vector<Vec3> points;
+  for (const Vec3& p : path)
+    if (points.empty() || Norm(p - points.back()) >= 0.05) points.push_back(p);
+  if (!path.empty() && (points.empty() || Norm(path.back() - points.back()) > 0)) points.push_back(path.back());
+  if (points.size() == 1) points.push_back(points.front());
+  double farthest = 0;
+  for (size_t s = 0; s < volume.AllocatedBlocks(); ++s) {
+    const auto c = volume.BlockCoordinate(static_cast<int32_t>(s));
+    const auto* now = volume.BlockDensities(static_cast<int32_t>(s));
+    const uint8_t* original = volume.BlockOriginal(static_cast<int32_t>(s));
+    for (int v = 0; v < DrillVolume::BlockVoxels; ++v) {
+      if (now[v].load(std::memory_order_relaxed) == original[v]) continue;
+      const Vec3 p = volume.Grid().Center(c[0] * DrillVolume::BlockEdge + (v & 7), c[1] * DrillVolume::BlockEdge + ((v >> 3) & 7),
+                                          c[2] * DrillVolume::BlockEdge + (v >> 6));
+      double nearest = HUGE_VAL;
+      for (size_t i = 0; i + 1 < points.size(); ++i) {
+        const Vec3 ab = points[i + 1] - points[i];
+        const double t = Norm2(ab) > 0 ? std::clamp(Dot(p - points[i], ab) / Norm2(ab), 0.0, 1.0) : 0.0;
+        nearest = std::min(nearest, Norm2(p - (points[i] + ab * t)));
+      }
+      farthest = std::max(farthest, std::sqrt(nearest));
+    }
+  }
+  return farthest;
+}
+
 namespace {
 
 Vec3 ToVec3(const std::vector<double>& v) { return {v[0], v[1], v[2]}; }
@@ -168,7 +195,7 @@ int RunDrillCommand(const std::vector<std::string>& args, std::ostream& out, std
       .Option("timeout", "S", "give up after this much session time (default: three times the stroke at the feed rate + 5 s)")
       .Option("record", "FILE", "write the drill path (time, burr, proxy, force, removed volume per tick)")
       .Option("replay", "FILE", "drive the burr along a recorded drill path instead of --from/--to")
-      .Option("model", "FILE", "write the drilled bone's surface (.vtp, .vtk, .stl, .ply, .obj)")
+      .Option("model", "FILE", "write the drilled bone's surface (" + ModelFileExtensionsText() + ")")
       .Option("picture", "FILE.png", "render a picture of the tunnel (needs a display or Xvfb)")
       .Flag("realtime", "run the 1 kHz servo thread and the 30 Hz display thread on the wall clock (default: the same "
                         "ticks scripted on one thread, as fast as the CPU allows)");
@@ -293,10 +320,10 @@ int RunDrillCommand(const std::vector<std::string>& args, std::ostream& out, std
     }
     DrillBoneSource source;
     source.Labels = FromNode(segmentation);
-    std::vector<std::string> protectedTissues, protectedNames;
+    std::vector<std::string> protectedNames;
     if (!FindSegments(segmentation, parser.GetAll("segment"), source.BoneLabels, source.BoneTissues, boneNames, error) ||
-        !FindSegments(segmentation, parser.GetAll("protect"), source.ProtectedLabels, protectedTissues, protectedNames,
-                      error)) {
+        !FindSegments(segmentation, parser.GetAll("protect"), source.ProtectedLabels, source.ProtectedTissues,
+                      protectedNames, error)) {
       err << "roboplan drill: " << error << "\n";
       return 1;
     }

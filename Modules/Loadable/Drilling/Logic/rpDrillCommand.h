@@ -24,5 +24,7 @@ double CapsuleVolumeInBox(const Vec3& a, const Vec3& b, double r, const Vec3& lo
 /// Largest distance (mm) from the segment a–b of a voxel whose density differs from the bone as
 /// built (0 when nothing changed).
 double FarthestChangeFromSegment(const DrillVolume& volume, const Vec3& a, const Vec3& b);
+/// The same from a path (the burr centres of a run; decimated to 0.05 mm steps here).
+double FarthestChangeFromPath(const DrillVolume& volume, const std::vector<Vec3>& path);
 
 }  // namespace rp

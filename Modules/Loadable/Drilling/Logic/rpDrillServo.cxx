@@ -51,6 +51,7 @@ void DrillServo::Publish(const TickInfo& tick, uint32_t flags) noexcept {
   r.ProtectedDistance = static_cast<float>(s.ProtectedDistance);
   r.TickComputeUs = static_cast<float>(tick.PreviousComputeNs * 1e-3);
   r.Flags = flags;
+  r.CutMaterial = s.CutMaterial;
   this->Log.TryPush(r);
 }
 
@@ -106,9 +107,11 @@ void DrillServo::Tick(const TickInfo& tick) noexcept {
     this->ResetSeen = reset;
     this->UndoSeen = undo;
     this->Cut.StartReset();
+    this->HasCutCenter = false;  // the bone around the last cut comes back
   } else if (undo != this->UndoSeen) {
     this->UndoSeen = undo;
     this->Cut.StartUndo();
+    this->HasCutCenter = false;
   }
   this->Cut.Step();
 
@@ -142,7 +145,7 @@ void DrillServo::Tick(const TickInfo& tick) noexcept {
   if (on && contact.InContact && !contact.Embedded && contact.CutMaterial > 0 && !this->Cut.Restoring()) {
     const Vec3 push = hip - burr.Proxy;
     const double distance = Norm(push);
-    const double hardness = materials[contact.CutMaterial - 1].Hardness;
+    const double hardness = contact.CutHardness;  // of the bone ahead, weighted by contact
     const double maxForce = this->Render.Device().MaxForce > 0 ? this->Render.Device().MaxForce : 1.0;
     if (distance > 1e-9 && hardness > 0) {
       s.FeedMmPerS = this->Settings.FeedRate * std::min(1.0, Norm(burr.Force) / maxForce) *
@@ -159,10 +162,8 @@ void DrillServo::Tick(const TickInfo& tick) noexcept {
       const double advance = std::min(s.FeedMmPerS * dt, Norm(ahead));
       if (advance > 0) {
         const Vec3 center = this->CutCenter + ahead * (advance / Norm(ahead));
-        // Closer than r − h − advance to the new centre is within r − h of the last cut's: empty.
-        const double h = this->Volume.Spacing();
-        const double inner = fromLastCut ? std::max(0.0, radius - h - advance - 1e-9) : 0.0;
-        const CutResult cut = this->Cut.Cut(center, radius, inner);
+        const Vec3 direction = fromLastCut ? ahead / Norm(ahead) : Vec3{};
+        const CutResult cut = this->Cut.Cut(center, radius, direction, advance);
         refused = cut.Refused;
         s.Cutting = cut.Removed;
         if (!refused) {

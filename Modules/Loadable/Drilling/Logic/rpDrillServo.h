@@ -6,6 +6,7 @@
 //
 // Cutting: while the burr is on and presses on bone, the bone ahead of it recedes at
 //     v = FeedRate · (|F| / Fmax) · (rpm / ReferenceRpm) / hardness        (mm/s)
+// (hardness: the mean of the bone ahead of the burr, weighted by how much of it the burr touches)
 // (removal proportional to the contact force, the burr speed and 1/hardness, as in Archard's
 // wear law); each tick the burr's sphere is carved v·dt further towards the hand than the last
 // cut, and the proxy follows (within rpBurrProxy::Skin).
@@ -76,6 +77,7 @@ struct DrillRecord {
   float ProtectedDistance = 0;
   float TickComputeUs = 0;
   uint32_t Flags = 0;
+  int32_t CutMaterial = -1;  // 0-based material the burr was cutting (or pressing on), −1 none
 };
 namespace DrillRecordFlags {
 constexpr uint32_t BurrOn = 1, Contact = 2, Cutting = 4, Refused = 8, Clamped = 16, Embedded = 32, Watchdog = 64;

@@ -179,6 +179,10 @@ bool WriteTunnelPicture(const std::string& path, const TunnelPicture& picture, s
     error = "tunnel picture: no bone mesh";
     return false;
   }
+  if (Norm(picture.To - picture.From) < 1e-3) {
+    error = "tunnel picture: the stroke has no length";
+    return false;
+  }
   const Vec3 axis = Normalized(picture.To - picture.From);
   const Vec3 mid = (picture.From + picture.To) * 0.5;
   const double length = std::max(Norm(picture.To - picture.From), 1e-3);

@@ -131,6 +131,21 @@ TEST(DrillCommand, ARecordedPathReplaysToTheSameRemoval) {
   EXPECT_NE(broken.Err.find("broken.txt:2"), std::string::npos) << broken.Err;
 }
 
+TEST(DrillCommand, RealTimeStrokeOnTheServoAndDisplayThreads) {
+  // The 1 kHz servo thread, the 30 Hz display thread and the caller, on the wall clock.
+  const DrillRun run = Drill({"--block", "--shell", "0.5", "--block-bounds", "-8,-8,-8,8,8,8", "--burr-radius", "1.5",
+                              "--from", "0,0,10", "--to", "0,0,4", "--speed", "10", "--voxel", "0.4", "--realtime",
+                              "--json"});
+  ASSERT_EQ(run.Code, 0) << run.Err;
+  const auto doc = run.Json();
+  EXPECT_TRUE(doc["stroke"]["realtime"].get<bool>());
+  EXPECT_TRUE(doc["stroke"]["reachedTarget"].get<bool>()) << doc.dump(2);
+  EXPECT_GT(doc["ticks"].get<int>(), 300);
+  EXPECT_GT(doc["displayFrames"].get<int>(), 3);
+  EXPECT_GT(doc["removedVolumeMm3"].get<double>(), 10.0);
+  EXPECT_TRUE(doc["servo"].contains("periodP99Us"));
+}
+
 TEST(DrillCommand, LabelmapWithProtectedSegmentAndCT) {
   const fs::path dir = TestDir("labels");
   WriteBoneFiles(dir / "labels.nrrd", dir / "ct.nrrd");

@@ -82,7 +82,7 @@ int RunRegisterCommand(const std::vector<std::string>& arguments, std::ostream& 
       .Point()
       .Option("icp-points", "fiducials", "surface points digitized in the <from> space (.mrk.json or .fcsv)")
       .Input(FileKind::Points, fiducialFiles)
-      .Option("icp-model", "model", "surface model in the <to> space (.vtp, .vtk, .stl, .ply, .obj)")
+      .Option("icp-model", "model", "surface model in the <to> space (" + ModelFileExtensionsText() + ")")
       .Input(FileKind::Model, ExtensionsForNodeClass("vtkRPModelNode"))
       .Option("icp-inliers", "fraction", "fraction of the surface points kept by the trimmed ICP", "0.9")
       .Number()

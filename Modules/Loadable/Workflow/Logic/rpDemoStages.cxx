@@ -435,6 +435,7 @@ std::vector<DemoStage> DemoStages() {
       {"Patient-to-image registration (digitized landmarks)", RegisterPatient},
       {"Navigation: scripted tool path, re-slicing at the tip", Navigate},
       {"Haptic exploration at 1 kHz (simulated device)", ExploreHaptically},
+      {"Tibial tunnel drilled at 1 kHz (burr on a voxel tibia, PCL protected)", DrillTibialTunnel},
       {"Speed against accuracy (this patient, against the VTK way)", MeasureSpeedAgainstAccuracy},
   };
 }

@@ -56,6 +56,7 @@ void CalibrateStylus(DemoState& state);
 void RegisterPatient(DemoState& state);
 void Navigate(DemoState& state);
 void MeasureSpeedAgainstAccuracy(DemoState& state);
+void DrillTibialTunnel(DemoState& state);
 /// Whether pictures can be drawn in this run (screenshots on, a display); else why not.
 bool CanDrawPictures(const DemoState& state, std::string& error);
 /// A 4-up picture (axial, 3D, sagittal, coronal) of the scene into the output folder, slices at

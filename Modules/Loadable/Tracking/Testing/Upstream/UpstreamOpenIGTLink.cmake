@@ -25,12 +25,9 @@ include(ExternalProject)
 set(upstream_dir ${CMAKE_BINARY_DIR}/Testing/Oracles/openigtlink-3)
 set(ROBOPLAN_UPSTREAM_IGTL_BIN ${upstream_dir}/bin)
 set(upstream_flags "-w -g")  # not our code: no warnings
-if(ROBOPLAN_SANITIZE STREQUAL "address")
-  string(APPEND upstream_flags " -fsanitize=address -fno-omit-frame-pointer")
-elseif(ROBOPLAN_SANITIZE STREQUAL "undefined")
-  string(APPEND upstream_flags " -fsanitize=undefined -fno-omit-frame-pointer")
-elseif(ROBOPLAN_SANITIZE STREQUAL "thread")
-  string(APPEND upstream_flags " -fsanitize=thread -fno-omit-frame-pointer")
+if(ROBOPLAN_SANITIZER_FLAGS)  # the same sanitizers as our code (RoboPlanMacros.cmake)
+  list(JOIN ROBOPLAN_SANITIZER_FLAGS " " sanitizer_flags)
+  string(APPEND upstream_flags " ${sanitizer_flags}")
 endif()
 # The peers the tests run (PLUS and Slicer stand-ins); only these are built.
 set(ROBOPLAN_UPSTREAM_IGTL_PROGRAMS

@@ -1,0 +1,300 @@
+// Demo stage: a tibial tunnel for an ACL reconstruction, drilled with the burr at 1 kHz (the
+// Drilling module, issue 15). The tunnel is planned on the phantom's truth: from the
+// anteromedial tibial cortex to the centre of the ACL's tibial footprint; the PCL (just behind
+// the footprint: a tunnel placed too far back damages it) is the protected structure. The
+// segmented tibia (this run's segmentation, cortical/trabecular from the CT's HU) is drilled
+// along the axis by the simulated device; the report gives the removed volume against the bone
+// inside the planned tunnel, the closest approach to the PCL, the force along the path (chart),
+// timings, and a picture of the tunnel. The drilled tibia is added to the scene and the drill
+// path is kept (drill-tibial-tunnel.txt, replayable with `roboplan drill --replay`).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <stdexcept>
+
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+
+#include "rpBenchmarkChart.h"
+#include "rpDemoStages.h"
+#include "rpDrillAnalytic.h"
+#include "rpDrillBoneBuilder.h"
+#include "rpDrillCommand.h"
+#include "rpDrillRun.h"
+#include "rpDrillSession.h"
+#include "rpHapticSceneBridge.h"
+#include "rpKneePhantom.h"
+#include "rpReport.h"
+#include "rpSimulatedDevice.h"
+#include "rpStageRunner.h"
+#include "rpTunnelPicture.h"
+#include "vtkRPModelNode.h"
+#include "vtkRPScalarVolumeNode.h"
+#include "vtkRPScene.h"
+#include "vtkRPSegmentationNode.h"
+
+namespace fs = std::filesystem;
+
+namespace rp {
+namespace {
+
+constexpr double BurrRadius = 2.0;  // a 4 mm burr: the pilot of an 8–10 mm reamed tunnel
+constexpr double Voxel = 0.3;
+
+// The ACL's tibial footprint: the centroid of the ACL's surface within 1.5 mm of the tibia.
+bool AclFootprint(const DemoState& state, Vec3& footprint) {
+  const auto& model = *state.Phantom->Model;
+  Vec3 sum{};
+  int n = 0;
+  for (const auto& p : model.SurfacePoints(KneeStructure::ACL, 6000)) {
+    if (model.SignedDistance(KneeStructure::Tibia, p.data()) < 1.5) {
+      sum += Vec3{p[0], p[1], p[2]};
+      ++n;
+    }
+  }
+  if (n < 10) return false;
+  footprint = sum / n;
+  return true;
+}
+
+// The labels to drill: the run's segmentation with the PCL (from the phantom's truth) added as
+// one more label, in a copy (the scene's segmentation is left as it is).
+ImageVolume LabelsWithPCL(const DemoState& state, int boneLabel, int& pclLabel) {
+  ImageVolume labels = FromNode(state.Segmentation);
+  vtkNew<vtkImageData> copy;
+  copy->DeepCopy(labels.Image);
+  labels.Image = copy;
+  pclLabel = state.Segmentation->GetUnusedLabelValue();
+  vtkImageData* truth = state.Phantom->Labels.Image;
+  vtkDataArray* out = copy->GetPointData()->GetScalars();
+  vtkDataArray* in = truth->GetPointData()->GetScalars();
+  if (in->GetNumberOfTuples() != out->GetNumberOfTuples()) throw std::runtime_error("the truth labels are not on the CT grid");
+  for (vtkIdType i = 0; i < out->GetNumberOfTuples(); ++i)
+    if (in->GetTuple1(i) == KneePCL && out->GetTuple1(i) != boneLabel) out->SetTuple1(i, pclLabel);
+  return labels;
+}
+
+// Bone (mm³ per material) inside the planned tunnel: each voxel's density as built times its
+// coverage by the capsule (the same two-voxel ramp the burr carves).
+std::vector<double> PlannedVolume(const DrillVolume& bone, const Vec3& a, const Vec3& b, double r) {
+  std::vector<double> volume(bone.Materials().size(), 0.0);
+  const Vec3 ab = b - a;
+  const double ab2 = std::max(Norm2(ab), 1e-300), h = bone.Spacing();
+  for (size_t s = 0; s < bone.AllocatedBlocks(); ++s) {
+    const auto c = bone.BlockCoordinate(static_cast<int32_t>(s));
+    const uint8_t* original = bone.BlockOriginal(static_cast<int32_t>(s));
+    const uint8_t* codes = bone.BlockMaterials(static_cast<int32_t>(s));
+    for (int v = 0; v < DrillVolume::BlockVoxels; ++v) {
+      const int m = codes[v] & DrillVolume::MaterialMask;
+      if (original[v] == 0 || m == 0) continue;
+      const Vec3 p = bone.Grid().Center(c[0] * 8 + (v & 7), c[1] * 8 + ((v >> 3) & 7), c[2] * 8 + (v >> 6));
+      const double t = std::clamp(Dot(p - a, ab) / ab2, 0.0, 1.0);
+      const double coverage = 1.0 - DrillVolume::RampDensity(r - Norm(p - (a + ab * t)), h);
+      volume[size_t(m - 1)] += original[v] / 255.0 * coverage * bone.VoxelVolume();
+    }
+  }
+  return volume;
+}
+
+double Percentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<size_t>(std::ceil(q * v.size())) - (q > 0 ? 1 : 0))];
+}
+
+}  // namespace
+
+void DrillTibialTunnel(DemoState& state) {
+  const std::string stage = "Tibial tunnel (drilling)";
+  if (!state.HasGroundTruth()) {
+    state.Report->AddNotScored(stage, "tibial tunnel", "planned from the phantom's ACL footprint: no phantom with --data");
+    return;
+  }
+  const auto* tibia = state.Segmentation ? state.Segmentation->GetSegmentByID("tibia") : nullptr;
+  if (tibia == nullptr) {
+    state.Report->AddNotScored(stage, "tibial tunnel", "the tibia was not segmented in this run");
+    return;
+  }
+  // ---- the plan: anteromedial cortex → ACL footprint
+  Vec3 footprint;
+  if (!AclFootprint(state, footprint)) throw std::runtime_error("the phantom's ACL does not reach the tibia");
+  const Vec3 axis = Normalized(Vec3{12, -18, 28});  // up, back and lateral, as drill guides aim (right knee)
+  const auto& model = *state.Phantom->Model;
+  double exit = -1;
+  bool inside = false;
+  for (double t = 0.5; t < 90; t += 0.1) {
+    const Vec3 p = footprint - axis * t;
+    const double q[3] = {p.x, p.y, p.z};
+    const double d = model.SignedDistance(KneeStructure::Tibia, q);
+    if (d < 0) inside = true;
+    if (inside && d > 0) {
+      exit = t;
+      break;
+    }
+  }
+  if (exit < 0) throw std::runtime_error("the planned tunnel does not leave the tibia anteromedially");
+  // The burr starts clear of the bone (its whole sphere outside, 1 mm to spare), on the axis.
+  double start = exit;
+  for (; start < exit + 30; start += 0.1) {
+    const Vec3 p = footprint - axis * start;
+    const double q[3] = {p.x, p.y, p.z};
+    if (model.SignedDistance(KneeStructure::Tibia, q) > BurrRadius + 1.0) break;
+  }
+  const Vec3 from = footprint - axis * start, to = footprint + axis * 1.0;  // 1 mm into the joint
+  state.Runner->Progress(0.05, "voxel tibia");
+
+  // ---- the voxel tibia around the tunnel (cortical / trabecular from the CT), PCL protected
+  MaterialTable table;
+  std::string error;
+  if (!LoadMaterialTable(table, error)) throw std::runtime_error(error);
+  const std::vector<Material> materials = DrillableMaterials(table);
+  DrillBoneSource source;
+  int pcl = 0;
+  source.Labels = LabelsWithPCL(state, tibia->LabelValue, pcl);
+  source.BoneLabels = {tibia->LabelValue};
+  source.BoneTissues = {tibia->TissueClass};
+  source.ProtectedLabels = {pcl};
+  source.ProtectedTissues = {"ligament"};
+  if (state.CT) source.CT = FromNode(state.CT);
+  source.Spacing = Voxel;
+  source.HasRegion = true;
+  const Vec3 margin{15, 15, 15};
+  source.RegionLo = Min(from, to) - margin;
+  source.RegionHi = Max(from, to) + margin;
+  DrillVolume bone, protectedVolume;
+  DrillBoneReport built;
+  if (!BuildDrillBone(source, materials, bone, &protectedVolume, built, error)) throw std::runtime_error(error);
+  const TriangleMesh pclSurface = built.HasProtected ? ContourToTriangleMesh(protectedVolume) : TriangleMesh{};
+  BVH pclTree;
+  if (!pclSurface.Triangles.empty()) pclTree.Build(pclSurface);
+  const std::vector<double> planned = PlannedVolume(bone, from, to, BurrRadius);
+
+  // ---- drill it: the simulated hand pushes the burr along the axis at 5 mm/s
+  SimulatedDevice device;
+  auto path = std::make_shared<WaypointTrajectory>();
+  path->Set({0.0, Norm(to - from) / 5.0}, {from, to}, error);
+  device.SetTrajectory(path);
+  DrillServoOptions options;
+  options.RampSeconds = 0.05;
+  DrillServo servo(device, bone, options);
+  if (!pclTree.Empty()) servo.SetProtectedSurface(&pclTree);
+  DrillDisplay display(bone);
+  DrillRunOptions run;
+  const DrillControl on{true, BurrRadius, 60000};
+  run.Schedule = [on](double) { return on; };
+  run.Finished = [to](const DrillState& s) { return Norm(s.Proxy - to) < 0.05 || s.Stopped; };
+  run.MaxSeconds = 60;
+  run.RecordPath = (fs::path(state.Output) / "drill-tibial-tunnel.txt").string();
+  run.RecordInfo = {Voxel, options.FeedRate, options.ReferenceRpm, false};
+  run.Progress = [&state](double f, const std::string& m) { state.Runner->Progress(0.1 + 0.7 * f, m); };
+  vtkSmartPointer<vtkPolyData> mesh = display.Initialize();
+  run.OnMesh = [&mesh](vtkPolyData* m) { mesh = m; };
+  DrillRunResult result;
+  if (!RunDrill(servo, display, run, result, error)) throw std::runtime_error(error);
+  const DrillState& s = result.Final;
+
+  // ---- figures
+  double plannedTotal = 0;
+  for (double v : planned) plannedTotal += v;
+  const bool reached = Norm(s.Proxy - to) < 0.05;
+  state.Report->AddFigure(stage, "planned tunnel (4 mm burr) length", Norm(to - from), "mm",
+                          "anteromedial cortex → ACL footprint centre, 1 mm into the joint");
+  state.Report->AddFigure(stage, "bone inside the planned tunnel", plannedTotal, "mm³");
+  if (reached) {
+    state.Report->AddFigureBelow(stage, "removed volume against the planned tunnel's bone",
+                                 100 * std::fabs(s.RemovedTotalMm3 - plannedTotal) / plannedTotal, "%", 5.0,
+                                 std::to_string(static_cast<int>(s.RemovedTotalMm3 + 0.5)) + " mm³ removed");
+  } else {
+    state.Report->AddFigureBelow(stage, "burr reached the ACL footprint", 1.0, "", 0.5,
+                                 s.Stopped ? "stopped by the protected PCL" : "ran out of time");
+  }
+  for (size_t m = 0; m < materials.size(); ++m)
+    state.Report->AddFigure(stage, "removed " + materials[m].Tissue, s.RemovedMm3[m], "mm³",
+                            "planned " + std::to_string(static_cast<int>(planned[m] + 0.5)) + " mm³");
+  if (!pclTree.Empty())
+    state.Report->AddFigureAbove(stage, "closest approach of the burr to the PCL", s.ClosestApproach, "mm", 0.0,
+                                 s.RefusedTicks ? "the burr was stopped at it" : "the PCL was not reached");
+  std::vector<Vec3> burrPath;
+  double deviation = 0;
+  for (const DrillRecordLine& l : result.Records) {
+    burrPath.push_back(l.Record.Proxy);
+    if (l.Record.Flags & DrillRecordFlags::Cutting) {
+      const double t = std::clamp(Dot(l.Record.Proxy - from, axis), 0.0, Norm(to - from));
+      deviation = std::max(deviation, Norm(l.Record.Proxy - (from + axis * t)));
+    }
+  }
+  // The burr's centre rides within a skin (0.02 voxel) of its last cut: the bound is r + h + skin.
+  state.Report->AddFigureBelow(stage, "farthest removal from the burr's path", FarthestChangeFromPath(bone, burrPath), "mm",
+                               BurrRadius + Voxel * (1 + BurrProxy::Skin) + 1e-9, "burr radius + one voxel");
+  state.Report->AddFigure(stage, "largest deviation of the cutting burr from the planned axis", deviation, "mm",
+                          "the burr slides where the bone's surface is oblique to the push");
+  std::vector<double> contour;
+  for (const DisplayFrame& f : result.Frames) contour.push_back(f.ContourMs);
+  double peak = 0;
+  for (const DrillRecordLine& l : result.Records) peak = std::max(peak, Norm(l.Record.Force));
+  state.Report->AddFigureBelow(stage, "peak force on the hand", peak, "N", device.Info().MaxForce + 1e-6,
+                               "device maximum (eq. 6)");
+  state.Report->AddFigureBelow(stage, "servo tick p99 while drilling (thread CPU)", result.TickCompute.P99Us, "µs", 100.0,
+                               std::to_string(result.Ticks) + " ticks at 1 kHz, " + std::to_string(built.StoredBlocks) +
+                                   " blocks of 8³ at 0.3 mm");
+  BlockMesher whole(bone);
+  const auto wholeStart = std::chrono::steady_clock::now();
+  whole.ContourAll();
+  const double wholeMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - wholeStart).count();
+  state.Report->AddFigureBelow(stage, "dirty-block re-contour per 30 Hz frame, p95", Percentile(contour, 0.95), "ms", 10.0,
+                               "re-contouring this whole region takes " + std::to_string(static_cast<int>(wholeMs + 0.5)) +
+                                   " ms");
+
+  // ---- the drilled tibia in the scene
+  vtkNew<vtkRPModelNode> drilled;
+  drilled->SetName("Tibia (drilled)");
+  drilled->SetTissueClass("bone");
+  drilled->SetColor(0.95, 0.92, 0.82);
+  drilled->SetPolyData(mesh);
+  state.Scene->AddNode(drilled);
+  state.Runner->Progress(0.9, "pictures");
+
+  std::string why;
+  if (!CanDrawPictures(state, why)) {
+    state.Report->AddNote("Tibial tunnel pictures skipped: " + why + ".");
+    return;
+  }
+  // Force along the path: depth along the planned axis from the entry, per tissue being cut.
+  std::vector<bench::Series> series;
+  std::vector<std::pair<std::vector<double>, std::vector<double>>> curves(materials.size() + 1);
+  for (size_t i = 0; i < result.Records.size(); i += 5) {
+    const DrillRecord& r = result.Records[i].Record;
+    const size_t k = r.CutMaterial >= 0 && size_t(r.CutMaterial) < materials.size() ? size_t(r.CutMaterial) : materials.size();
+    curves[k].first.push_back(Dot(r.Proxy - from, axis));
+    curves[k].second.push_back(Norm(r.Force));
+  }
+  for (size_t k = 0; k < curves.size(); ++k)
+    if (!curves[k].first.empty())
+      series.push_back({k < materials.size() ? "cutting " + materials[k].Tissue : "not cutting", curves[k].first, curves[k].second, true});
+  bench::ChartOptions chart{"Force on the hand along the tibial tunnel (4 mm burr, 5 mm/s)",
+                            "burr centre along the planned axis (mm from its start)", "force (N)"};
+  if (!series.empty() && bench::WriteChartPNG((fs::path(state.Output) / "drill-force-along-tunnel.png").string(), series, chart, error))
+    state.Report->AddPicture(stage, "drill-force-along-tunnel.png",
+                             "Force against depth: high through the cortex (hard, slow to cut: the hand pushes at the "
+                             "device's maximum), lower in the trabecular bone, zero where the burr breaks into the joint.");
+  TunnelPicture picture;
+  picture.Bone = mesh;
+  picture.Volume = &bone;
+  picture.Materials = materials;
+  picture.From = from;
+  picture.To = to;
+  picture.Radius = BurrRadius;
+  for (size_t i = 0; i < result.Records.size(); i += 10) picture.Path.push_back(result.Records[i].Record.Proxy);
+  if (!pclSurface.Triangles.empty()) picture.Protected = TriangleMeshToPolyData(pclSurface);
+  picture.Title = "Tibial tunnel to the ACL footprint, PCL protected";
+  if (WriteTunnelPicture((fs::path(state.Output) / "drill-tibial-tunnel.png").string(), picture, error))
+    state.Report->AddPicture(stage, "drill-tibial-tunnel.png",
+                             "The drilled tibia (left) and a section through the tunnel's axis (right): cortical bone "
+                             "ivory, trabecular tan, drilled blue, the PCL red, the planned tunnel green.");
+  else
+    state.Report->AddNote("Tibial tunnel picture: " + error);
+}
+
+}  // namespace rp
