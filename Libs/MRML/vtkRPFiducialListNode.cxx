@@ -29,6 +29,16 @@ std::string vtkRPFiducialListNode::NextPointID() {
   return id;
 }
 
+std::string vtkRPFiducialListNode::LabelPrefix() const {
+  return (this->GetName().empty() ? std::string("F") : this->GetName()) + "-";
+}
+
+bool vtkRPFiducialListNode::IsGeneratedLabel(const std::string& label) const {
+  const std::string prefix = this->LabelPrefix();
+  return label.size() > prefix.size() && label.compare(0, prefix.size(), prefix) == 0 &&
+         label.find_first_not_of("0123456789", prefix.size()) == std::string::npos;
+}
+
 int vtkRPFiducialListNode::AddControlPoint(const double positionRAS[3], const std::string& label) {
   ControlPoint p;
   p.Label = label;
@@ -40,8 +50,7 @@ int vtkRPFiducialListNode::AddControlPoint(const ControlPoint& point) {
   ControlPoint p = point;
   if (p.ID.empty()) p.ID = this->NextPointID();
   if (p.Label.empty()) {
-    p.Label = (this->GetName().empty() ? std::string("F") : this->GetName()) + "-" +
-              std::to_string(this->Points.size() + 1);
+    p.Label = this->LabelPrefix() + std::to_string(this->Points.size() + 1);
   }
   this->Points.push_back(p);
   int index = static_cast<int>(this->Points.size() - 1);

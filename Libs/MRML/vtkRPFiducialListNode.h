@@ -38,6 +38,8 @@ class vtkRPFiducialListNode : public vtkRPTransformableNode {
   void RemoveAllControlPoints();
   /// Index of the point with this label, -1 when absent.
   int GetControlPointIndexByLabel(const std::string& label) const;
+  /// Whether a label is of the generated form "<list name>-<number>" (not one a user chose).
+  bool IsGeneratedLabel(const std::string& label) const;
 
   /// Display (used by the viewer).
   vtkGetVector3Macro(Color, double);
@@ -54,6 +56,7 @@ class vtkRPFiducialListNode : public vtkRPTransformableNode {
   vtkRPFiducialListNode(const vtkRPFiducialListNode&) = delete;
   void operator=(const vtkRPFiducialListNode&) = delete;
   std::string NextPointID();
+  std::string LabelPrefix() const;  // "<list name>-" ("F-" for an unnamed list)
   std::vector<ControlPoint> Points;
   int LastPointNumber = 0;
   double Color[3] = {1.0, 0.5, 0.5};

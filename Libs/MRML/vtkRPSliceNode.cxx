@@ -333,6 +333,8 @@ std::vector<vtkRPSliceNode*> vtkRPSliceNode::GetOrAddDefaultSliceNodes(vtkRPScen
 }
 
 void vtkRPSliceNode::JumpAllSlices(vtkRPScene* scene, const double ras[3]) {
+  if (!scene) return;
+  GetOrAddDefaultSliceNodes(scene);
   for (vtkRPSliceNode* node : GetSliceNodes(scene)) node->JumpSlice(ras);
 }
 

@@ -116,7 +116,8 @@ class vtkRPSliceNode : public vtkRPNode {
   /// Every slice node in the scene.
   static std::vector<vtkRPSliceNode*> GetSliceNodes(vtkRPScene* scene);
   static vtkRPSliceNode* GetSliceNode(vtkRPScene* scene, const std::string& layoutName);
-  /// Every slice plane passes through `ras` (slicer's JumpAllSlices, offset mode).
+  /// Every slice plane passes through `ras` (Slicer's JumpAllSlices, offset mode). Adds the
+  /// default slice nodes when missing, so the jump is scene state even before a viewer opens.
   static void JumpAllSlices(vtkRPScene* scene, const double ras[3]);
   /// Every slice follows a node's tip ("" stops). Adds the default slice nodes when missing.
   static bool SetAllSlicesFollow(vtkRPScene* scene, const std::string& nodeID);

@@ -14,6 +14,7 @@
 #include <vtkPolyData.h>
 #include <vtkPolyDataMapper.h>
 #include <vtkProperty.h>
+#include <vtkRenderStepsPass.h>
 #include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
 #include <vtkTextActor.h>
@@ -26,7 +27,6 @@
 #include "vtkRPModelSliceDisplayableManager.h"
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
-#include "vtkRPSegmentationSliceDisplayableManager.h"
 #include "vtkRPSliceLogic.h"
 #include "vtkRPSliceNode.h"
 #include "vtkRPToolDisplayableManager.h"
@@ -69,12 +69,17 @@ View::View(ViewKind kind, vtkRPScene* scene, vtkRPViewState* state, const SliceV
     this->Renderer->SetBackground(0, 0, 0);
     this->Renderer->GetActiveCamera()->ParallelProjectionOn();
     this->Managers.push_back(vtkSmartPointer<vtkRPVolumeSliceDisplayableManager>::New());
-    this->Managers.push_back(vtkSmartPointer<vtkRPSegmentationSliceDisplayableManager>::New());
     this->Managers.push_back(vtkSmartPointer<vtkRPModelSliceDisplayableManager>::New());
   } else {
     this->Renderer->SetBackground(0.76, 0.76, 0.90);
     this->Renderer->SetBackground2(0.45, 0.45, 0.62);
     this->Renderer->GradientBackgroundOn();
+    // See-through models (skin, muscle) are blended in drawing order rather than with VTK's
+    // default order-independent transparency, whose full-screen float passes cost a software
+    // renderer more than the rest of the frame; their back faces are culled (a closed shell seen
+    // from outside needs only its front), so the blend has one layer and order does not matter.
+    vtkNew<vtkRenderStepsPass> steps;
+    this->Renderer->SetPass(steps);
     this->Managers.push_back(vtkSmartPointer<vtkRPVolumeSliceDisplayableManager>::New());
     this->Managers.push_back(vtkSmartPointer<vtkRPModelDisplayableManager>::New());
     this->Marker = std::make_unique<OrientationMarker>(this->Renderer);
@@ -89,8 +94,7 @@ View::View(ViewKind kind, vtkRPScene* scene, vtkRPViewState* state, const SliceV
       mapper->SetInputConnection(this->CrossLines[i]->GetOutputPort());
       this->CrossActors[i]->SetMapper(mapper);
       this->CrossActors[i]->PickableOff();
-      this->CrossActors[i]->GetProperty()->SetLineWidth(1.0);
-      this->CrossActors[i]->GetProperty()->SetOpacity(0.8);
+      this->CrossActors[i]->GetProperty()->SetLineWidth(1.0);  // opaque: no translucent pass per frame
       this->CrossActors[i]->GetProperty()->LightingOff();
       this->Overlay->AddActor(this->CrossActors[i]);
     }
@@ -168,6 +172,12 @@ void View::DetachFromRenderWindow() {
 void View::RequestRender() {
   this->RenderRequested = true;
   if (this->OnRenderRequest) this->OnRenderRequest();
+}
+
+void View::SetInteractive(bool interactive) {
+  if (interactive == this->Interactive) return;
+  this->Interactive = interactive;
+  for (auto& manager : this->Managers) manager->SetInteractive(interactive);
 }
 
 void View::OnSliceNodeModified(vtkObject* caller, unsigned long, void* clientData, void*) {

@@ -73,6 +73,10 @@ class View {
   bool NeedsRender() const { return this->RenderRequested; }
   /// Clears the flag (the host calls this when it renders the window).
   void MarkRendered() { this->RenderRequested = false; }
+  /// Interactive level of detail (a tool moving): managers may draw lighter (decimated display
+  /// meshes). Set by rp::RenderScheduler before each render.
+  void SetInteractive(bool interactive);
+  bool GetInteractive() const { return this->Interactive; }
   /// Called on every RequestRender (e.g. to wake a host); optional.
   void SetRenderRequestCallback(std::function<void()> callback) { this->OnRenderRequest = std::move(callback); }
 
@@ -134,6 +138,7 @@ class View {
   std::unique_ptr<OrientationMarker> Marker;  // 3D: patient axes in a corner
   double LastAspect = 0;
   bool RenderRequested = true;
+  bool Interactive = false;
   std::function<void()> OnRenderRequest;
 };
 

@@ -152,6 +152,14 @@ void ViewerMainWindow::BuildViews() {
     }
     grid->addWidget(widget, rows[kind], columns[kind]);
     this->ViewWidgets[static_cast<size_t>(kind)] = widget;
+    // Rendered by the display-rate timer: once per tick at most, only when changed, light while
+    // moving (rp::RenderScheduler).
+    this->Scheduler.AddView(
+        view, [view, widget]() {
+          view->MarkRendered();
+          widget->renderWindow()->Render();
+        },
+        [widget]() { return widget->isVisible(); });
   }
   this->setCentralWidget(this->ViewArea);
 }
@@ -181,18 +189,7 @@ void ViewerMainWindow::ApplyLayout() {
   }
 }
 
-int ViewerMainWindow::RenderPendingViews() {
-  int rendered = 0;
-  for (int kind = 0; kind < 4; ++kind) {
-    View* view = this->Controller->GetView(static_cast<ViewKind>(kind));
-    QVTKOpenGLNativeWidget* widget = this->ViewWidgets[static_cast<size_t>(kind)];
-    if (!view->NeedsRender() || !widget->isVisible()) continue;
-    view->MarkRendered();
-    widget->renderWindow()->Render();
-    ++rendered;
-  }
-  return rendered;
-}
+int ViewerMainWindow::RenderPendingViews() { return this->Scheduler.RenderPendingViews(); }
 
 void ViewerMainWindow::BuildMenus() {
   QMenu* file = this->menuBar()->addMenu("&File");

@@ -14,6 +14,7 @@
 
 #include <vtkSmartPointer.h>
 
+#include "rpRenderScheduler.h"
 #include "rpSliceGeometry.h"
 
 class QAction;
@@ -105,6 +106,7 @@ class ViewerMainWindow : public QMainWindow {
   QMenu* RecentMenu = nullptr;
   QAction* PlaceFiducialAction = nullptr;
   QTimer RenderTimer;
+  RenderScheduler Scheduler;
   vtkSmartPointer<vtkCallbackCommand> SceneCallback;
   std::vector<unsigned long> SceneTags;
   vtkSmartPointer<vtkCallbackCommand> LayoutCallback;

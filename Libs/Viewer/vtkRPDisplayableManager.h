@@ -31,6 +31,8 @@ class vtkRPDisplayableManager : public vtkObject {
   void Finalize();
 
   rp::View* GetView() const { return this->View; }
+  /// Interactive level of detail (the view is redrawn tick after tick): draw lighter if it helps.
+  virtual void SetInteractive(bool interactive) { (void)interactive; }
   vtkRPScene* GetScene() const;
   vtkRPViewState* GetViewState() const;
   /// The slice node of a slice view (nullptr in 3D).

@@ -1,12 +1,18 @@
 #ifndef vtkRPFiducialDisplayableManager_h
 #define vtkRPFiducialDisplayableManager_h
-// Fiducial lists: a sphere per visible control point, with its label, in the list's colour
-// (selected points brighter). In a slice view only points within half a slice step of the
-// plane are drawn.
+// Fiducial lists: a sphere per visible control point, with its label, in the list's colour.
+// In a slice view only points within half a slice step of the plane are drawn. Labels are
+// screen text drawn over everything, laid out each time the view renders so that none
+// overprints another (rp::PlaceLabels) and all stay inside the view.
 #include <map>
 #include <memory>
 
+#include <vtkNew.h>
+
 #include "vtkRPDisplayableManager.h"
+
+class vtkCallbackCommand;
+class vtkRenderer;
 
 class vtkRPFiducialDisplayableManager : public vtkRPDisplayableManager {
  public:
@@ -19,19 +25,25 @@ class vtkRPFiducialDisplayableManager : public vtkRPDisplayableManager {
   void SetGlyphRadius(double radius);
 
  protected:
-  vtkRPFiducialDisplayableManager() = default;
+  vtkRPFiducialDisplayableManager();
   ~vtkRPFiducialDisplayableManager() override;
   bool CanDisplay(vtkRPNode* node) const override;
   void AddDisplay(vtkRPNode* node) override;
   void RemoveDisplay(vtkRPNode* node) override;
   void UpdateDisplay(vtkRPNode* node) override;
   void OnViewStateModified() override;
+  void OnInitialize() override;
+  void OnFinalize() override;
 
  private:
   vtkRPFiducialDisplayableManager(const vtkRPFiducialDisplayableManager&) = delete;
   void operator=(const vtkRPFiducialDisplayableManager&) = delete;
   struct Display;
+  void LayOutLabels();
   std::map<vtkRPNode*, std::unique_ptr<Display>> Displays;
+  vtkNew<vtkCallbackCommand> LayoutCallback;
+  vtkRenderer* LayoutRenderer = nullptr;
+  unsigned long LayoutTag = 0;
   double GlyphRadius = 2.0;
 };
 

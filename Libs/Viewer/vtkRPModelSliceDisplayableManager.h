@@ -2,13 +2,19 @@
 #define vtkRPModelSliceDisplayableManager_h
 // Models in a slice view: the outline where the slice plane cuts each visible model, in the
 // model's colour. The cut is evaluated in the model's own coordinates (the plane is moved by
-// the model's to-world transform), so a transformed model is never copied.
+// the model's to-world transform), so a transformed model is never copied; it runs when the
+// view renders (once per frame however often the plane moved) with rp::PlaneCutter, which looks
+// only at the triangles near the plane.
 #include <map>
 #include <memory>
 
+#include <vtkNew.h>
+
 #include "vtkRPDisplayableManager.h"
 
+class vtkCallbackCommand;
 class vtkPolyData;
+class vtkRenderer;
 
 class vtkRPModelSliceDisplayableManager : public vtkRPDisplayableManager {
  public:
@@ -19,13 +25,15 @@ class vtkRPModelSliceDisplayableManager : public vtkRPDisplayableManager {
   vtkPolyData* GetOutline(vtkRPNode* node);
 
  protected:
-  vtkRPModelSliceDisplayableManager() = default;
+  vtkRPModelSliceDisplayableManager();
   ~vtkRPModelSliceDisplayableManager() override;
   bool CanDisplay(vtkRPNode* node) const override;
   void AddDisplay(vtkRPNode* node) override;
   void RemoveDisplay(vtkRPNode* node) override;
   void UpdateDisplay(vtkRPNode* node) override;
   void OnViewStateModified() override;
+  void OnInitialize() override;
+  void OnFinalize() override;
 
  private:
   vtkRPModelSliceDisplayableManager(const vtkRPModelSliceDisplayableManager&) = delete;
@@ -33,6 +41,11 @@ class vtkRPModelSliceDisplayableManager : public vtkRPDisplayableManager {
   struct Outline;
   std::map<vtkRPNode*, std::unique_ptr<Outline>> Outlines;
   void UpdatePlane(Outline& outline, vtkRPNode* node);
+  void Cut(Outline& outline);
+  void CutDirtyOutlines();
+  vtkNew<vtkCallbackCommand> RenderCallback;
+  vtkRenderer* RenderTarget = nullptr;
+  unsigned long RenderTag = 0;
 };
 
 #endif

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <vector>
 
+#include <vtkAlgorithmOutput.h>
 #include <vtkCallbackCommand.h>
 #include <vtkDataArray.h>
 #include <vtkImageBlend.h>
@@ -18,6 +19,7 @@
 #include "vtkRPImageNode.h"
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
+#include "vtkRPSegmentationNode.h"
 #include "vtkRPSliceNode.h"
 
 vtkStandardNewMacro(vtkRPSliceLogic);
@@ -60,7 +62,7 @@ struct vtkRPSliceLogic::Layer {
   vtkNew<vtkImageResliceToColors> Reslice;
   vtkNew<vtkLookupTable> Table;
   vtkNew<vtkMatrix4x4> Axes;  // plane coordinates → volume IJK
-  vtkWeakPointer<vtkRPScalarVolumeNode> Volume;
+  vtkWeakPointer<vtkRPImageNode> Volume;
   unsigned long Tags[2] = {0, 0};
   double TableKey[4] = {std::nan(""), 0, 0, 0};  // window, level, air threshold, background?
   vtkMTimeType ImageTime = 0;
@@ -77,8 +79,8 @@ struct vtkRPSliceLogic::Layer {
 };
 
 vtkRPSliceLogic::vtkRPSliceLogic() {
-  this->Layers[0] = new Layer;
-  this->Layers[1] = new Layer;
+  for (Layer*& layer : this->Layers) layer = new Layer;
+  this->Layers[2]->Reslice->SetInterpolationModeToNearestNeighbor();  // labels must not blend
   this->Blend->SetBlendModeToNormal();  // keeps the first input's alpha: the patient mask
   this->Callback->SetClientData(this);
   this->Callback->SetCallback(&vtkRPSliceLogic::OnEvent);
@@ -87,10 +89,9 @@ vtkRPSliceLogic::vtkRPSliceLogic() {
 
 vtkRPSliceLogic::~vtkRPSliceLogic() {
   this->SetSliceNode(nullptr, nullptr);
-  this->ObserveVolumes(nullptr, nullptr);
+  this->ObserveLayers(nullptr, nullptr, nullptr);
   this->Layers[0]->Reslice->RemoveObserver(this->ResliceTag);
-  delete this->Layers[0];
-  delete this->Layers[1];
+  for (Layer* layer : this->Layers) delete layer;
 }
 
 void vtkRPSliceLogic::PrintSelf(ostream& os, vtkIndent indent) {
@@ -118,18 +119,19 @@ void vtkRPSliceLogic::OnEvent(vtkObject* caller, unsigned long event, void* clie
   self->Refresh();
 }
 
-void vtkRPSliceLogic::ObserveVolumes(vtkRPScalarVolumeNode* background, vtkRPScalarVolumeNode* foreground) {
-  vtkRPScalarVolumeNode* volumes[2] = {background, foreground};
-  for (int i = 0; i < 2; ++i) {
+void vtkRPSliceLogic::ObserveLayers(vtkRPScalarVolumeNode* background, vtkRPScalarVolumeNode* foreground,
+                                    vtkRPSegmentationNode* label) {
+  vtkRPImageNode* nodes[3] = {background, foreground, label};
+  for (int i = 0; i < 3; ++i) {
     Layer& layer = *this->Layers[i];
-    if (layer.Volume == volumes[i]) continue;
+    if (layer.Volume == nodes[i]) continue;
     if (layer.Volume) {
       for (unsigned long tag : layer.Tags) layer.Volume->RemoveObserver(tag);
     }
-    layer.Volume = volumes[i];
-    if (volumes[i]) {
-      layer.Tags[0] = volumes[i]->AddObserver(vtkCommand::ModifiedEvent, this->Callback);
-      layer.Tags[1] = volumes[i]->AddObserver(vtkRPNode::TransformModifiedEvent, this->Callback);
+    layer.Volume = nodes[i];
+    if (nodes[i]) {
+      layer.Tags[0] = nodes[i]->AddObserver(vtkCommand::ModifiedEvent, this->Callback);
+      layer.Tags[1] = nodes[i]->AddObserver(vtkRPNode::TransformModifiedEvent, this->Callback);
     }
   }
 }
@@ -232,6 +234,48 @@ bool vtkRPSliceLogic::UpdateLayer(Layer& layer, vtkRPScalarVolumeNode* volume, b
   return changed;
 }
 
+// The label layer: the segmentation's labels (nearest neighbour) to its segments' colours;
+// label values without a segment (0 among them) are transparent.
+bool vtkRPSliceLogic::UpdateLabelLayer(Layer& layer, vtkRPSegmentationNode* segmentation) {
+  bool changed = false;
+  vtkImageData* labels = segmentation->GetImageData();
+  if (layer.Reslice->GetInput() != labels) {
+    layer.Reslice->SetInputData(labels);
+    changed = true;
+  }
+  if (labels->GetMTime() != layer.ImageTime) {
+    layer.ImageTime = labels->GetMTime();
+    changed = true;
+  }
+  vtkNew<vtkMatrix4x4> ijkToWorld, worldToIJK, axes;
+  VolumeIJKToWorld(segmentation, ijkToWorld);
+  vtkMatrix4x4::Invert(ijkToWorld, worldToIJK);
+  vtkMatrix4x4::Multiply4x4(worldToIJK, this->PlaneToRAS, axes);
+  if (AssignIfDifferent(layer.Axes, axes)) {
+    layer.Axes->Modified();
+    changed = true;
+  }
+  // The segment table is the node's: rebuilt when the node changed (names, colours, labels).
+  const double key[4] = {double(segmentation->GetMTime()), 0, 0, 2};
+  if (!std::equal(key, key + 4, layer.TableKey)) {
+    std::copy(key, key + 4, layer.TableKey);
+    int maxLabel = 0;
+    for (const auto& segment : segmentation->GetSegments()) maxLabel = std::max(maxLabel, segment.LabelValue);
+    const int entries = std::min(maxLabel, 65535) + 1;
+    layer.Table->SetNumberOfTableValues(entries);
+    layer.Table->SetTableRange(-0.5, entries - 0.5);  // value v → entry v
+    for (int i = 0; i < entries; ++i) layer.Table->SetTableValue(i, 0, 0, 0, 0);
+    for (const auto& segment : segmentation->GetSegments()) {
+      if (segment.LabelValue > 0 && segment.LabelValue < entries) {
+        layer.Table->SetTableValue(segment.LabelValue, segment.Color[0], segment.Color[1], segment.Color[2], 1.0);
+      }
+    }
+    layer.Table->Modified();
+    changed = true;
+  }
+  return changed;
+}
+
 void vtkRPSliceLogic::Refresh() {
   vtkRPScene* scene = this->Scene;
   vtkRPSliceNode* node = this->SliceNode;
@@ -243,7 +287,12 @@ void vtkRPSliceLogic::Refresh() {
   if (!Usable(background)) background = nullptr;
   if (!Usable(foreground) || foreground == background) foreground = nullptr;
   if (!background && foreground) std::swap(background, foreground);
-  this->ObserveVolumes(background, foreground);
+  auto* label = scene && node ? vtkRPSegmentationNode::SafeDownCast(scene->GetNodeByID(node->GetLabelNodeID())) : nullptr;
+  if (label && (!label->GetImageData() || label->GetImageData()->GetNumberOfPoints() == 0 ||
+                !label->GetImageData()->GetPointData()->GetScalars() || label->GetNumberOfSegments() == 0)) {
+    label = nullptr;
+  }
+  this->ObserveLayers(background, foreground, label);
 
   bool changed = (background != nullptr) != this->Visible;
   this->Visible = background != nullptr;
@@ -282,12 +331,12 @@ void vtkRPSliceLogic::Refresh() {
     changed = true;
   }
 
-  Layer* used[2] = {this->Layers[0], foreground ? this->Layers[1] : nullptr};
+  Layer* used[3] = {this->Layers[0], foreground ? this->Layers[1] : nullptr, label ? this->Layers[2] : nullptr};
   vtkRPScalarVolumeNode* volumes[2] = {background, foreground};
-  for (int i = 0; i < 2; ++i) {
+  for (int i = 0; i < 3; ++i) {
     if (!used[i]) continue;
     Layer& layer = *used[i];
-    if (this->UpdateLayer(layer, volumes[i], i == 0)) changed = true;
+    if (i < 2 ? this->UpdateLayer(layer, volumes[i], i == 0) : this->UpdateLabelLayer(layer, label)) changed = true;
     double previousOrigin[3], previousSpacing[3];
     int previousExtent[6];
     layer.Reslice->GetOutputOrigin(previousOrigin);
@@ -300,18 +349,27 @@ void vtkRPSliceLogic::Refresh() {
       layer.Reslice->SetOutputExtent(0, nx - 1, 0, ny - 1, 0, 0);
     }
   }
-  // Blend inputs: the background, and the foreground over it with the node's opacity.
-  const int inputs = foreground ? 2 : 1;
-  if (this->Blend->GetNumberOfInputConnections(0) != inputs ||
-      this->Blend->GetInputConnection(0, 0) != this->Layers[0]->Reslice->GetOutputPort()) {
+  // Blend inputs: the background, the foreground over it, the labels over both, each with the
+  // node's opacity (the output keeps the background's alpha: the patient mask).
+  std::vector<vtkAlgorithmOutput*> inputs;
+  std::vector<double> opacities;
+  for (int i = 0; i < 3; ++i) {
+    if (!used[i]) continue;
+    inputs.push_back(used[i]->Reslice->GetOutputPort());
+    opacities.push_back(i == 0 ? 1.0 : i == 1 ? node->GetForegroundOpacity() : node->GetLabelOpacity());
+  }
+  bool sameInputs = this->Blend->GetNumberOfInputConnections(0) == static_cast<int>(inputs.size());
+  for (size_t i = 0; i < inputs.size() && sameInputs; ++i) sameInputs = this->Blend->GetInputConnection(0, static_cast<int>(i)) == inputs[i];
+  if (!sameInputs) {
     this->Blend->RemoveAllInputs();
-    this->Blend->AddInputConnection(this->Layers[0]->Reslice->GetOutputPort());
-    if (foreground) this->Blend->AddInputConnection(this->Layers[1]->Reslice->GetOutputPort());
+    for (vtkAlgorithmOutput* input : inputs) this->Blend->AddInputConnection(input);
     changed = true;
   }
-  if (foreground && this->Blend->GetOpacity(1) != node->GetForegroundOpacity()) {
-    this->Blend->SetOpacity(1, node->GetForegroundOpacity());
-    changed = true;
+  for (size_t i = 1; i < opacities.size(); ++i) {
+    if (this->Blend->GetOpacity(static_cast<int>(i)) != opacities[i]) {
+      this->Blend->SetOpacity(static_cast<int>(i), opacities[i]);
+      changed = true;
+    }
   }
   if (changed) this->Modified();
 }

@@ -2,8 +2,11 @@
 #define vtkRPSliceLogic_h
 // The picture of one slice node, computed once for every view that draws it (Slicer's
 // vtkMRMLSliceLogic + vtkMRMLSliceLayerLogic): the background and foreground volumes re-sliced
-// on the node's plane straight to colours (vtkImageResliceToColors: one pass, no float image)
-// and the foreground blended over the background with the node's opacity.
+// on the node's plane straight to colours (vtkImageResliceToColors: one pass, no float image),
+// the foreground blended over the background with the node's opacity, and the label layer (a
+// segmentation, nearest neighbour, in its segments' colours) over both with the label opacity.
+// Compositing here, not with translucent actors, keeps the views' rendering opaque (a
+// translucent prop costs a full-screen order-independent-transparency pass per frame).
 //
 // The output is RGBA. Its alpha marks where there is patient: the background's voxels above the
 // volume's air threshold (outside the volume is transparent too), so the 3D view lets the models
@@ -24,6 +27,7 @@ class vtkMatrix4x4;
 class vtkRPImageNode;
 class vtkRPScalarVolumeNode;
 class vtkRPScene;
+class vtkRPSegmentationNode;
 class vtkRPSliceNode;
 
 class vtkRPSliceLogic : public vtkObject {
@@ -70,13 +74,14 @@ class vtkRPSliceLogic : public vtkObject {
   void operator=(const vtkRPSliceLogic&) = delete;
   struct Layer;
   static void OnEvent(vtkObject* caller, unsigned long event, void* clientData, void* callData);
-  void ObserveVolumes(vtkRPScalarVolumeNode* background, vtkRPScalarVolumeNode* foreground);
+  void ObserveLayers(vtkRPScalarVolumeNode* background, vtkRPScalarVolumeNode* foreground, vtkRPSegmentationNode* label);
   bool UpdateLayer(Layer& layer, vtkRPScalarVolumeNode* volume, bool isBackground);
+  bool UpdateLabelLayer(Layer& layer, vtkRPSegmentationNode* segmentation);
 
   vtkWeakPointer<vtkRPScene> Scene;
   vtkWeakPointer<vtkRPSliceNode> SliceNode;
   unsigned long SliceNodeTag = 0;
-  Layer* Layers[2];
+  Layer* Layers[3];  // background, foreground, label
   vtkNew<vtkImageBlend> Blend;
   vtkNew<vtkMatrix4x4> PlaneToRAS;
   vtkNew<vtkCallbackCommand> Callback;

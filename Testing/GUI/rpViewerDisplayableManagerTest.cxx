@@ -19,6 +19,11 @@
 #include <vtkNew.h>
 #include <vtkPolyData.h>
 #include <vtkProperty.h>
+#include <vtkActor2DCollection.h>
+#include <vtkCoordinate.h>
+#include <vtkTextActor.h>
+#include <array>
+#include <string>
 
 #include "rpView.h"
 #include "rpViewController.h"
@@ -32,7 +37,6 @@
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
 #include "vtkRPSegmentationNode.h"
-#include "vtkRPSegmentationSliceDisplayableManager.h"
 #include "vtkRPSliceLogic.h"
 #include "vtkRPSliceNode.h"
 #include "vtkRPToolDisplayableManager.h"
@@ -263,6 +267,56 @@ TEST(ViewerDisplayableManagers, FiducialsShowOnTheirSliceAndIn3D) {
   EXPECT_EQ(threeD->GetNumberOfDisplayedNodes(), 0);
 }
 
+// Eight landmarks within 3 mm of each other (a crowded spot): rendered, no label overprints
+// another, in the 3D view and in the axial view, and every label is inside its view.
+TEST(ViewerDisplayableManagers, FiducialLabelsDoNotOverprint) {
+  vtkNew<vtkRPScene> scene;
+  ViewController controller(scene);
+  scene->AddNode(test::MakeVolume());
+  vtkNew<vtkRPFiducialListNode> list;
+  for (int i = 0; i < 8; ++i) {
+    const double p[3] = {test::Center[0] + 0.4 * i, test::Center[1] - 0.3 * i, test::Center[2]};
+    list->AddControlPoint(p, "landmark " + std::to_string(i + 1));
+  }
+  scene->AddNode(list);
+  vtkNew<vtkRenderWindow> window;
+  window->SetOffScreenRendering(1);
+  window->SetSize(600, 300);
+  const double left[4] = {0, 0, 0.5, 1}, right[4] = {0.5, 0, 1, 1};
+  controller.GetView(ViewKind::Axial)->AttachToRenderWindow(window, left);
+  controller.GetView(ViewKind::ThreeD)->AttachToRenderWindow(window, right);
+  controller.ResetCameras3D();
+  window->Render();
+  for (ViewKind kind : {ViewKind::Axial, ViewKind::ThreeD}) {
+    vtkRenderer* renderer = controller.GetView(kind)->GetOverlayRenderer();
+    std::vector<std::array<double, 4>> boxes;  // xmin, xmax, ymin, ymax
+    vtkActor2DCollection* actors = renderer->GetActors2D();
+    actors->InitTraversal();
+    while (vtkActor2D* actor = actors->GetNextActor2D()) {
+      auto* text = vtkTextActor::SafeDownCast(actor);
+      if (!text || !text->GetVisibility() || std::string(text->GetInput()).rfind("landmark", 0) != 0) continue;
+      std::array<double, 4> box;
+      text->GetBoundingBox(renderer, box.data());
+      const double* position = text->GetPositionCoordinate()->GetValue();
+      box = {position[0], position[0] + box[1] - box[0], position[1], position[1] + box[3] - box[2]};
+      boxes.push_back(box);
+    }
+    ASSERT_EQ(boxes.size(), 8u) << GetViewName(kind);
+    double vp[4];
+    renderer->GetViewport(vp);
+    for (size_t i = 0; i < boxes.size(); ++i) {
+      EXPECT_GE(boxes[i][0], vp[0] * 600 - 1e-6) << GetViewName(kind);
+      EXPECT_LE(boxes[i][1], vp[2] * 600 + 1e-6) << GetViewName(kind);
+      for (size_t j = 0; j < i; ++j) {
+        const bool overlap = boxes[i][0] < boxes[j][1] && boxes[j][0] < boxes[i][1] && boxes[i][2] < boxes[j][3] &&
+                             boxes[j][2] < boxes[i][3];
+        EXPECT_FALSE(overlap) << GetViewName(kind) << ": label " << i + 1 << " over label " << j + 1;
+      }
+    }
+  }
+  for (ViewKind kind : {ViewKind::Axial, ViewKind::ThreeD}) controller.GetView(kind)->DetachFromRenderWindow();
+}
+
 TEST(ViewerDisplayableManagers, ToolsAreDrawnAndSlicesFollowTheTip) {
   vtkNew<vtkRPScene> scene;
   ViewController controller(scene);
@@ -363,35 +417,39 @@ TEST(ViewerDisplayableManagers, SegmentationsOverlayTheSlicesInSegmentColours) {
   bone.Color[2] = 0;
   segmentation->SetSegment(bone);
   scene->AddNode(segmentation);
-  auto* overlays = controller.GetView(ViewKind::Axial)->GetDisplayableManager<vtkRPSegmentationSliceDisplayableManager>();
-  ASSERT_NE(overlays, nullptr);
+  // The segmentation is the slice nodes' label layer, composited into the slice pictures.
+  EXPECT_EQ(controller.GetSliceNode(ViewKind::Axial)->GetLabelNodeID(), segmentation->GetID());
+  controller.GetSliceNode(ViewKind::Axial)->SetLabelOpacity(1.0);
+  vtkRPSliceLogic* axial = controller.GetSliceLogic(ViewKind::Axial);
   const double inside[3] = {7, 7, 7};
   controller.SetSlicePointRAS(inside);
-  vtkImageData* overlay = overlays->GetOverlay(segmentation);
-  ASSERT_NE(overlay, nullptr);
-  // Axial screen x is patient left (-R): pixel i is at R = -(origin + i).
-  auto sample = [&](double r, double a) {
-    double origin[3], spacing[3];
-    overlay->GetOrigin(origin);
-    overlay->GetSpacing(spacing);
-    const int i = static_cast<int>(std::lround((-r - origin[0]) / spacing[0]));
-    const int j = static_cast<int>(std::lround((a - origin[1]) / spacing[1]));
-    return static_cast<unsigned char*>(overlay->GetScalarPointer(i, j, 0));
-  };
-  unsigned char* p = sample(7, 7);
-  EXPECT_EQ(p[0], 255);
-  EXPECT_EQ(p[1], 0);
-  EXPECT_EQ(p[3], 255);
-  EXPECT_EQ(sample(2, 7)[3], 0);   // label 0: transparent
-  EXPECT_EQ(sample(7, 12)[3], 0);
+  unsigned char rgba[4];
+  SampleSlice(axial, inside, rgba);
+  EXPECT_EQ(rgba[0], 255);  // the segment's red, opaque at label opacity 1
+  EXPECT_EQ(rgba[1], 0);
+  EXPECT_EQ(rgba[3], 255);
+  const double besideR[3] = {2, 7, 7}, besideA[3] = {7, 12, 7};  // label 0: the CT's grey shows
+  SampleSlice(axial, besideR, rgba);
+  EXPECT_EQ(rgba[0], rgba[1]);
+  SampleSlice(axial, besideA, rgba);
+  EXPECT_EQ(rgba[0], rgba[1]);
+  // At half opacity: half red over the grey.
+  controller.GetSliceNode(ViewKind::Axial)->SetLabelOpacity(0.5);
+  SampleSlice(axial, besideR, rgba);
+  const int grey = rgba[0];
+  SampleSlice(axial, inside, rgba);
+  EXPECT_NEAR(rgba[0], 0.5 * grey + 0.5 * 255, 2);
+  EXPECT_NEAR(rgba[1], 0.5 * grey, 2);
   // Off the box along S: nothing on this slice.
   const double above[3] = {7, 7, 12};
   controller.SetSlicePointRAS(above);
-  overlay = overlays->GetOverlay(segmentation);
-  ASSERT_NE(overlay, nullptr);
-  EXPECT_EQ(sample(7, 7)[3], 0);
+  SampleSlice(axial, above, rgba);
+  EXPECT_EQ(rgba[0], rgba[1]);
+  // Removed: the label layer is cleared.
   scene->RemoveNode(segmentation);
-  EXPECT_EQ(overlays->GetOverlay(segmentation), nullptr);
+  EXPECT_EQ(controller.GetSliceNode(ViewKind::Axial)->GetLabelNodeID(), "");
+  SampleSlice(axial, above, rgba);
+  EXPECT_EQ(rgba[0], rgba[1]);
 }
 
 TEST(ViewerDisplayableManagers, ClosingTheSceneEmptiesEveryViewAndAViewMayOutliveItsScene) {

@@ -11,7 +11,7 @@ import os
 import statistics
 
 CASE_COLUMNS = ["case", "status", "error", "failed_step", "seconds", "read_s", "mesh_s", "thumbnail_s", "truth_s",
-                "segments", "display_triangles", "haptic_triangles", "mean_dice", "host", "slurm_job", "input"]
+                "segments", "display_triangles", "haptic_triangles", "mean_dice", "segments_without_truth", "host", "slurm_job", "input"]
 SEGMENT_COLUMNS = ["case", "segment", "name", "tissue_class", "ok", "label_volume_mm3", "mesh_volume_mm3",
                    "volume_error_percent", "display_triangles", "haptic_triangles", "watertight", "truth_label",
                    "dice", "mean_surface_distance_mm", "hd95_mm", "error"]
@@ -29,7 +29,10 @@ def case_rows(metrics):
     steps = metrics.get("steps", {})
     segments = metrics.get("segments", [])
     truth = {t.get("segment"): t for t in metrics.get("truthMetrics", [])}
-    dice = [t["dice"] for t in truth.values() if isinstance(t.get("dice"), (int, float))]
+    # Mean Dice over segments that overlap a truth label; a segment with no truth label (e.g. a
+    # bone the truth does not label) is counted apart, not averaged in as a zero.
+    matched = [t for t in truth.values() if t.get("truthLabel") is not None]
+    dice = [t["dice"] for t in matched if isinstance(t.get("dice"), (int, float))]
     row = {"case": metrics["case"], "status": "ok" if metrics.get("ok") else "failed", "error": metrics.get("error", ""),
            "failed_step": metrics.get("failedStep", ""), "seconds": fmt(metrics.get("seconds")),
            "read_s": fmt(steps.get("read", {}).get("seconds")), "mesh_s": fmt(steps.get("mesh", {}).get("seconds")),
@@ -37,7 +40,8 @@ def case_rows(metrics):
            "truth_s": fmt(steps.get("truth", {}).get("seconds")), "segments": len(segments),
            "display_triangles": sum(s.get("displayTriangles") or 0 for s in segments),
            "haptic_triangles": sum(s.get("hapticTriangles") or 0 for s in segments),
-           "mean_dice": fmt(statistics.mean(dice)) if dice else "", "host": metrics.get("host", ""),
+           "mean_dice": fmt(statistics.mean(dice)) if dice else "",
+           "segments_without_truth": len(truth) - len(matched) if truth else "", "host": metrics.get("host", ""),
            "slurm_job": metrics.get("slurmJobId", ""), "input": metrics.get("input", "")}
     seg_rows = []
     for s in segments:

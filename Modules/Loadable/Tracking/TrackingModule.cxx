@@ -31,7 +31,7 @@ class TrackingModule : public rp::Module {
   }
   std::vector<rp::Command> Commands() override {
     return {
-        {"track", "track tools through --serial <port> (NDI) or --igtl <host:port>; rate, latency, status per tool",
+        {"track", "track tools from a pose source (--serial, --igtl, --replay, --simulate); pose, frame counts, rate, latency per tool",
          [](rp::CommandContext& c) { return rp::RunTrackCommand(c.Arguments, c.Scene, std::cout, std::cerr); }},
         {"pivot", "pivot calibration (StylusTipToStylus, RMSE) from a tracking recording",
          [](rp::CommandContext& c) { return rp::RunPivotCommand(c.Arguments, std::cout, std::cerr); }},

@@ -1,9 +1,13 @@
-// Tracking benchmarks.
+// Tracking benchmarks. The peer and "the library way" are upstream OpenIGTLink 3.x (PLUS's and
+// Slicer's library) when the oracle is built, else Debian's OpenIGTLink (ROBOPLAN_IGTL_LIBRARY_NAME).
 //  * Parsers (Google Benchmark): NDI BX/TX replies; an OpenIGTLink TRANSFORM decoded by our
-//    non-allocating parser vs the OpenIGTLink library's Unpack (what Slicer's connector does).
-//  * Ingestion on loopback, 10 tools, against a sender built with the OpenIGTLink library:
-//    throughput (flood) and sender-to-buffer latency at 20,000 TRANSFORM/s (paced), for our
-//    client and for the library's own receive loop (ClientSocket + MessageHeader + Unpack(CRC)).
+//    non-allocating parser vs the library's Unpack (what Slicer's connector does).
+//  * Sender to scene, 10 tools at 60 Hz (a tracker through PLUS): from the sender's time stamp
+//    to the tool node's ModifiedEvent in the scene, with the main thread woken by the source's
+//    data (ours) and with a 60 Hz display timer polling (the usual way; the panel before).
+//  * Ingestion on loopback, 10 tools: throughput (flood) and sender-to-buffer latency at 20,000
+//    TRANSFORM/s (paced), for our client and for the library's own receive loop (ClientSocket +
+//    MessageHeader + Unpack with CRC) in the same run.
 //  * Serial polling at 60 Hz against the simulator: CPU of the driver thread, BX vs TX.
 // Figures (JSON, CSV) and charts (PNG, needs a display: xvfb-run) go to
 // $ROBOPLAN_BENCHMARK_OUTPUT or ./benchmark-output.
@@ -27,6 +31,9 @@
 #include <igtlServerSocket.h>
 #include <igtlTransformMessage.h>
 #include <nlohmann/json.hpp>
+#include <poll.h>
+#include <vtkCallbackCommand.h>
+#include <vtkNew.h>
 
 #include "rpBenchmarkChart.h"
 #include "rpIgtlClient.h"
@@ -35,6 +42,9 @@
 #include "rpNdiTracker.h"
 #include "rpPolarisSimulator.h"
 #include "rpToolDefinition.h"
+#include "vtkRPScene.h"
+#include "vtkRPTrackedToolNode.h"
+#include "vtkRPTrackingLogic.h"
 #include "rpTrackingTestHelpers.h"
 
 using namespace rp;
@@ -302,7 +312,7 @@ IngestionResult RunLibraryLoop() {
   auto socket = ::igtl::ClientSocket::New();
   while (socket->ConnectToServer("127.0.0.1", sender.Port) != 0) std::this_thread::sleep_for(std::chrono::milliseconds(5));
   IngestionResult r;
-  r.Receiver = "OpenIGTLink library loop";
+  r.Receiver = std::string(ROBOPLAN_IGTL_LIBRARY_NAME) + " receive loop";
   std::atomic<uint64_t> received{0}, crcErrors{0};
   std::atomic<bool> measure{false};
   std::vector<uint64_t> histogram(IgtlClient::LatencyBins, 0);
@@ -359,6 +369,124 @@ void Summarise(IngestionResult& r) {
     r.SocketP99 = IgtlClient::HistogramPercentile(r.SocketHistogram, 0.99);
     r.SocketP999 = IgtlClient::HistogramPercentile(r.SocketHistogram, 0.999);
   }
+}
+
+// ---------------------------------------------------------------- sender to scene
+
+struct SceneLatency {
+  std::string Mode;
+  std::vector<uint64_t> Histogram = std::vector<uint64_t>(IgtlClient::LatencyBins, 0);  // 1 µs bins
+  uint64_t Sent = 0, Updates = 0;
+  double P50 = 0, P99 = 0, P999 = 0, Max = 0;
+};
+
+// A tracker behind PLUS: 10 tools, one TRANSFORM each per frame at 60 Hz, time stamped when sent.
+// `wakeOnData`: the main thread sleeps on the source's ready fd (RoboPlan); otherwise it polls
+// on a 60 Hz timer (the display-rate timer of a typical viewer).
+SceneLatency RunSenderToScene(bool wakeOnData, double seconds) {
+  SceneLatency r;
+  r.Mode = wakeOnData ? "RoboPlan: woken by the data" : "60 Hz display timer";
+  const int port = test::FreePort();
+  auto server = ::igtl::ServerSocket::New();
+  server->CreateServer(port);
+  std::atomic<bool> done{false};
+  std::atomic<uint64_t> sent{0};
+  std::thread sender([&] {
+    ::igtl::ClientSocket::Pointer s;
+    for (int i = 0; i < 100 && !(s = server->WaitForConnection(50)); ++i) {
+    }
+    if (!s) return;
+    char names[kTools][20];
+    for (int t = 0; t < kTools; ++t) std::snprintf(names[t], sizeof names[t], "Tool%dToTracker", t);
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));  // the client settles
+    const double period = 1.0 / 60.0;
+    double next = SteadySeconds();
+    const double end = next + seconds;
+    std::vector<uint8_t> batch;
+    while (next < end) {
+      const double wait = next - SteadySeconds();
+      if (wait > 0) std::this_thread::sleep_for(std::chrono::duration<double>(wait));
+      batch.clear();
+      for (int t = 0; t < kTools; ++t) {
+        const auto m = LibraryTransform(names[t], WallSeconds());
+        batch.insert(batch.end(), m.begin(), m.end());
+      }
+      if (!s->Send(batch.data(), static_cast<int>(batch.size()))) break;
+      sent += kTools;
+      next += period;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    done = true;
+    s->CloseSocket();
+  });
+  vtkNew<vtkRPScene> scene;
+  vtkNew<vtkRPTrackingLogic> logic;
+  logic->SetScene(scene);
+  logic->SetStaleTimeout(10);
+  IgtlClient::Options o;
+  o.Port = port;
+  o.ReconnectInitialSeconds = 0.01;
+  std::string error;
+  logic->AddSource(std::make_unique<IgtlClient>(o), error);
+  // Every tool node's ModifiedEvent: now − the sender's time stamp of the pose it shows.
+  struct Sink {
+    SceneLatency* Result;
+    bool Measure = false;
+  } sink{&r};
+  vtkNew<vtkCallbackCommand> onModified;
+  onModified->SetClientData(&sink);
+  onModified->SetCallback([](vtkObject* caller, unsigned long, void* data, void*) {
+    auto* s = static_cast<Sink*>(data);
+    auto* node = vtkRPTrackedToolNode::SafeDownCast(caller);
+    if (!s->Measure || !node) return;
+    const long bin = static_cast<long>((WallSeconds() - node->GetTimestamp()) * 1e6);
+    ++s->Result->Histogram[static_cast<size_t>(std::max(0L, std::min<long>(bin, IgtlClient::LatencyBins - 1)))];
+    ++s->Result->Updates;
+  });
+  vtkNew<vtkCallbackCommand> onAdded;
+  onAdded->SetClientData(onModified.Get());
+  onAdded->SetCallback([](vtkObject*, unsigned long, void* observer, void* node) {
+    if (auto* tool = vtkRPTrackedToolNode::SafeDownCast(static_cast<vtkObject*>(node)))
+      tool->AddObserver(vtkCommand::ModifiedEvent, static_cast<vtkCallbackCommand*>(observer));
+  });
+  scene->AddObserver(vtkRPScene::NodeAddedEvent, onAdded);
+  std::vector<pollfd> fds;
+  for (int fd : logic->GetReadyFds()) fds.push_back({fd, POLLIN, 0});
+  const double start = SteadySeconds();
+  double nextTick = start;
+  while (!done) {
+    if (wakeOnData) {
+      ::poll(fds.data(), fds.size(), 16);
+    } else {
+      nextTick += 1.0 / 60.0;
+      const double wait = nextTick - SteadySeconds();
+      if (wait > 0) std::this_thread::sleep_for(std::chrono::duration<double>(wait));
+    }
+    sink.Measure = SteadySeconds() - start > 0.5;  // after the tools exist and the client settled
+    logic->UpdateNodes(SteadySeconds());
+  }
+  sender.join();
+  server->CloseSocket();
+  r.Sent = sent;
+  r.P50 = IgtlClient::HistogramPercentile(r.Histogram, 0.50);
+  r.P99 = IgtlClient::HistogramPercentile(r.Histogram, 0.99);
+  r.P999 = IgtlClient::HistogramPercentile(r.Histogram, 0.999);
+  r.Max = IgtlClient::HistogramPercentile(r.Histogram, 1.0);
+  return r;
+}
+
+bench::Series Cdf(const std::string& name, const std::vector<uint64_t>& histogram) {
+  bench::Series s;
+  s.Name = name;
+  uint64_t total = 0, running = 0;
+  for (uint64_t c : histogram) total += c;
+  for (size_t i = 0; i < histogram.size() && total; ++i) {
+    if (!histogram[i]) continue;
+    running += histogram[i];
+    s.X.push_back((static_cast<double>(i) + 1) * 1e-3);
+    s.Y.push_back(100.0 * static_cast<double>(running) / static_cast<double>(total));
+  }
+  return s;
 }
 
 // ---------------------------------------------------------------- serial polling CPU
@@ -458,6 +586,19 @@ int main(int argc, char** argv) {
     }
     cdf.push_back(s);
   }
+  // Sender to scene: 10 tools at 60 Hz for 20 s, each way.
+  std::vector<SceneLatency> scene = {RunSenderToScene(true, 20), RunSenderToScene(false, 20)};
+  std::vector<bench::Series> sceneCdf;
+  for (const auto& r : scene) {
+    doc["senderToScene"].push_back({{"mode", r.Mode}, {"tools", kTools}, {"rateHz", 60}, {"sent", r.Sent},
+                                    {"nodeUpdates", r.Updates}, {"p50Ms", r.P50 * 1e3}, {"p99Ms", r.P99 * 1e3},
+                                    {"p999Ms", r.P999 * 1e3}, {"maxMs", r.Max * 1e3}});
+    std::cout << "sender to scene (" << r.Mode << "), 10 tools at 60 Hz: p50 " << r.P50 * 1e3 << " ms, p99 "
+              << r.P99 * 1e3 << " ms, p99.9 " << r.P999 * 1e3 << " ms, max " << r.Max * 1e3 << " ms; " << r.Updates
+              << " node updates of " << r.Sent << " poses sent\n";
+    sceneCdf.push_back(Cdf(r.Mode, r.Histogram));
+  }
+  doc["library"] = ROBOPLAN_IGTL_LIBRARY_NAME;
   std::vector<SerialResult> serial = {RunSerial(true, 5), RunSerial(false, 5)};
   for (const auto& s : serial) {
     doc["serial"].push_back({{"mode", s.Mode}, {"seconds", s.Seconds}, {"threadCpuSeconds", s.CpuSeconds},
@@ -497,6 +638,21 @@ int main(int argc, char** argv) {
       s.Y.push_back(100.0 * static_cast<double>(running) / static_cast<double>(total));
     }
     cdf.push_back(s);
+  }
+  {
+    bench::ChartOptions sceneChart;
+    sceneChart.Title = "Sender to scene: 10 tools at 60 Hz through OpenIGTLink (loopback)";
+    sceneChart.XLabel = "sender time stamp to tool node modified (ms)";
+    sceneChart.YLabel = "node updates at or below (%)";
+    sceneChart.LogX = true;
+    if (!bench::WriteChartPNG(dir + "/tracking_sender_to_scene_cdf.png", sceneCdf, sceneChart, error))
+      std::cerr << "chart: " << error << " (run under xvfb-run for PNG charts)\n";
+    std::vector<std::vector<double>> sceneRows;
+    for (size_t i = 0; i < scene[0].Histogram.size(); ++i)
+      if (scene[0].Histogram[i] || scene[1].Histogram[i])
+        sceneRows.push_back({static_cast<double>(i + 1), static_cast<double>(scene[0].Histogram[i]),
+                             static_cast<double>(scene[1].Histogram[i])});
+    bench::WriteCSV(dir + "/tracking_sender_to_scene.csv", {"latency_us", "woken_by_data", "timer_60hz"}, sceneRows, error);
   }
   chart.Title = "OpenIGTLink TRANSFORM latency (20,000 msg/s, 10 tools, loopback)";
   chart.XLabel = "latency (ms)";

@@ -23,12 +23,23 @@
 #include <vtkNew.h>
 
 #include "qRPHapticsPanel.h"
+#include "qRPSliceFollowCheckBox.h"
 #include "rpHapticSceneBridge.h"
 #include "rpHapticSession.h"
 #include "rpSimulatedDevice.h"
 #include "vtkRPHapticsLogic.h"
 #include "vtkRPModelNode.h"
 #include "vtkRPScene.h"
+#include "vtkRPLinearTransformNode.h"
+#include "vtkRPScalarVolumeNode.h"
+#include "vtkRPSliceNode.h"
+#ifdef ROBOPLAN_TEST_WITH_VIEWER
+#include <vtkImageData.h>
+#include "rpScreenshot.h"
+#include "rpViewController.h"
+#include "vtkRPLayoutNode.h"
+#include "vtkRPSliceLogic.h"
+#endif
 
 namespace {
 double BoneStiffness() {
@@ -142,4 +153,100 @@ TEST(HapticsPanel, PressIntoBoneSlabShowsStiffnessForceAndTissue) {
   int lines = 0;
   for (std::string line; std::getline(in, line);) ++lines;
   EXPECT_GT(lines, 500);  // ~1.2 s at 1 kHz
+}
+
+// The panel drives the views through the scene only: "Slices follow the haptic proxy" makes the
+// scene's slice nodes follow the HapticProxy node, so the slices pass through the point of
+// contact as the stylus moves; with a viewer on the scene, the rendered axial slice moves too.
+TEST(HapticsPanel, SlicesFollowTheProxyThroughTheScene) {
+  int argc = 1;
+  char name[] = "qRPHapticsPanelTest";
+  char* argv[] = {name};
+  QApplication app(argc, argv);
+  vtkNew<vtkRPScene> scene;
+  vtkNew<vtkRPModelNode> slab;  // top face at S = 0
+  slab->SetName("Slab");
+  slab->SetTissueClass("bone");
+  slab->SetHaptic(true);
+  slab->SetPolyData(rp::TriangleMeshToPolyData(rp::shapes::Box({-40, -40, -20}, {40, 40, 0})));
+  scene->AddNode(slab);
+  // A volume whose value is 100 × S (mm): the grey of the axial slice says where it is.
+  vtkNew<vtkImageData> image;
+  image->SetDimensions(41, 41, 61);
+  image->AllocateScalars(VTK_FLOAT, 1);
+  for (int k = 0; k < 61; ++k)
+    for (int j = 0; j < 41; ++j)
+      for (int i = 0; i < 41; ++i) *static_cast<float*>(image->GetScalarPointer(i, j, k)) = 100.0f * (k - 30);
+  vtkNew<vtkRPScalarVolumeNode> volume;
+  volume->SetImageData(image);
+  const double spacing[3] = {1, 1, 1}, origin[3] = {-20, -20, -30}, axes[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  volume->SetGeometry(spacing, origin, axes);
+  volume->SetWindowLevel(6000, 0);  // S from −30 to +30 mm → black to white
+  scene->AddNode(volume);
+#ifdef ROBOPLAN_TEST_WITH_VIEWER
+  rp::ViewController viewer(scene);  // a viewer on the same scene; the panel knows nothing of it
+#endif
+  vtkNew<vtkRPHapticsLogic> logic;
+  logic->SetScene(scene);
+  auto panel = std::make_unique<qRPHapticsPanel>(logic.GetPointer());
+  panel->LogPathEdit()->setText("");
+  auto pump = [&](double seconds) {
+    const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+    while (std::chrono::steady_clock::now() < end) {
+      app.processEvents();
+      panel->Update();
+      QThread::msleep(10);
+    }
+  };
+  panel->FollowProxyCheckBox()->setChecked(true);  // before the proxy exists: applied when it does
+  panel->StartStopButton()->click();
+  ASSERT_TRUE(panel->IsRunning()) << panel->StatusText().toStdString();
+  panel->StylusSpinBox(0)->setValue(3);
+  panel->StylusSpinBox(1)->setValue(-4);
+  panel->StylusSpinBox(2)->setValue(10);  // in free space the proxy is the stylus tip
+  pump(0.3);
+  vtkRPNode* proxy = scene->GetFirstNodeByName(rp::HapticProxyName);
+  ASSERT_NE(proxy, nullptr);
+  const auto slices = vtkRPSliceNode::GetSliceNodes(scene);
+  ASSERT_EQ(slices.size(), 3u);
+  for (vtkRPSliceNode* slice : slices) EXPECT_EQ(slice->GetFollowNodeID(), proxy->GetID()) << slice->GetName();
+  vtkRPSliceNode* red = vtkRPSliceNode::GetSliceNode(scene, "Red");
+  EXPECT_NEAR(red->GetSliceOffset(), 10.0, 0.05);
+  EXPECT_NEAR(vtkRPSliceNode::GetSliceNode(scene, "Yellow")->GetSliceOffset(), 3.0, 0.05);
+  EXPECT_NEAR(vtkRPSliceNode::GetSliceNode(scene, "Green")->GetSliceOffset(), -4.0, 0.05);
+#ifdef ROBOPLAN_TEST_WITH_VIEWER
+  rp::ScreenshotOptions options;
+  options.Width = options.Height = 64;
+  options.Layout = vtkRPLayoutNode::OneUpAxial;
+  vtkNew<vtkImageData> first, second;
+  std::string error;
+  ASSERT_TRUE(rp::RenderViews(viewer, options, first, error)) << error;
+  const int reslices = viewer.GetSliceLogic(rp::ViewKind::Axial)->GetNumberOfReslices();
+  // The grey at a pixel off the crosshair: S = 10 → (1000 + 3000) / 6000 of white.
+  const auto grey = [](vtkImageData* picture) { return static_cast<unsigned char*>(picture->GetScalarPointer(20, 44, 0))[0]; };
+  EXPECT_NEAR(grey(first), 4000.0 / 6000.0 * 255, 3);
+#endif
+  // Into the slab: the proxy stays on the surface (S = 0), the stylus goes 2 mm below it.
+  panel->StylusSpinBox(2)->setValue(-2);
+  pump(0.3);
+  EXPECT_NEAR(red->GetSliceOffset(), 0.0, 0.1);
+#ifdef ROBOPLAN_TEST_WITH_VIEWER
+  ASSERT_TRUE(rp::RenderViews(viewer, options, second, error)) << error;
+  EXPECT_GT(viewer.GetSliceLogic(rp::ViewKind::Axial)->GetNumberOfReslices(), reslices);
+  EXPECT_NEAR(grey(second), 3000.0 / 6000.0 * 255, 3);
+#endif
+  // Another module takes the slices over: the box unticks; unticking leaves them alone.
+  vtkNew<vtkRPLinearTransformNode> stylus;
+  scene->AddNode(stylus);
+  vtkRPSliceNode::SetAllSlicesFollow(scene, stylus->GetID());
+  pump(0.1);
+  EXPECT_FALSE(panel->FollowProxyCheckBox()->isChecked());
+  EXPECT_EQ(red->GetFollowNodeID(), stylus->GetID());
+  // Ticking again takes them back; unticking stops following.
+  panel->FollowProxyCheckBox()->setChecked(true);
+  pump(0.1);
+  EXPECT_EQ(red->GetFollowNodeID(), proxy->GetID());
+  panel->FollowProxyCheckBox()->setChecked(false);
+  EXPECT_EQ(red->GetFollowNodeID(), "");
+  panel.reset();
 }

@@ -18,7 +18,9 @@
 #include <vtkNew.h>
 #include <vtkPolyData.h>
 
+#include "qRPSliceFollowCheckBox.h"
 #include "rpDeviceProfiles.h"
+#include "rpHapticSceneBridge.h"
 #include "rpHapticSession.h"
 #include "vtkRPHapticsLogic.h"
 #include "vtkRPModelNode.h"
@@ -50,6 +52,9 @@ qRPHapticsPanel::qRPHapticsPanel(vtkRPHapticsLogic* logic, QWidget* parent) : QW
     connect(this->Stylus[k], QOverload<double>::of(&QDoubleSpinBox::valueChanged), this,
             [this](double) { this->SendStylusPose(); });
   }
+  this->FollowProxy = new qRPSliceFollowCheckBox("Slices follow the haptic proxy");
+  this->FollowProxy->SetScene(logic ? logic->GetScene() : nullptr);
+  form->addRow(this->FollowProxy);
   this->Tissue = new QLabel("-");
   this->Force = new QLabel("-");
   this->Penetration = new QLabel("-");
@@ -179,6 +184,11 @@ void qRPHapticsPanel::Stop() {
 void qRPHapticsPanel::Update() {
   if (!this->IsRunning()) return;
   this->Logic->Update();
+  // The proxy node appears with the session's first update: the slices follow it from then on.
+  if (vtkRPNode* proxy = this->Logic->GetScene()->GetFirstNodeByName(rp::HapticProxyName)) {
+    this->FollowProxy->SetFollowNodeID(proxy->GetID());
+  }
+  this->FollowProxy->Refresh();
   rp::HapticSession* session = this->Logic->GetSession();
   if (session == nullptr) return;
   rp::HapticState s;

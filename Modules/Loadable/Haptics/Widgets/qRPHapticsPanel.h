@@ -14,6 +14,7 @@ class QLabel;
 class QLineEdit;
 class QPushButton;
 class QTimer;
+class qRPSliceFollowCheckBox;
 class vtkRPHapticsLogic;
 
 class qRPHapticsPanel : public QWidget {
@@ -32,6 +33,9 @@ class qRPHapticsPanel : public QWidget {
   QDoubleSpinBox* StylusSpinBox(int axis) const { return this->Stylus[axis]; }
   /// The simulated device profile (item data: the profile key, e.g. "omni").
   QComboBox* DeviceComboBox() const { return this->Device; }
+  /// "Slices follow the haptic proxy": the scene's slice nodes follow the HapticProxy node (the
+  /// views re-slice at the point of contact; the panel never touches a view).
+  qRPSliceFollowCheckBox* FollowProxyCheckBox() const { return this->FollowProxy; }
   QPushButton* StartStopButton() const { return this->StartButton; }
   /// Where the session log (CSV, one row per servo tick) goes; empty: no log.
   QLineEdit* LogPathEdit() const { return this->LogPath; }
@@ -60,6 +64,7 @@ class qRPHapticsPanel : public QWidget {
   QLabel* Penetration;
   QLabel* Timing;
   QLabel* Missed;
+  qRPSliceFollowCheckBox* FollowProxy;
   QLabel* Clamps;
   QTimer* Timer;
   double ForceN = 0;

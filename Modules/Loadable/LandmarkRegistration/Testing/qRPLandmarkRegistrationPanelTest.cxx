@@ -24,6 +24,7 @@
 #include "vtkRPLandmarkRegistrationLogic.h"
 #include "vtkRPLinearTransformNode.h"
 #include "vtkRPScene.h"
+#include "vtkRPSliceNode.h"
 #include "vtkRPTrackedToolNode.h"
 
 namespace {
@@ -232,4 +233,50 @@ TEST(LandmarkRegistrationPanel, CollectRegisterApplyAndRejectSwap) {
   EXPECT_EQ(logic->GetToFiducials(), nullptr);
   EXPECT_EQ(table->rowCount(), 0);
   EXPECT_FALSE(panel.CollectPoint());
+}
+
+// Selecting a pair jumps the scene's slices to its image landmark (the views follow the scene;
+// the panel has no view); a physical point without an image point is shown where the
+// registration puts it; with the box unticked, selecting does not move the slices.
+TEST(LandmarkRegistrationPanel, SelectingAPointJumpsTheSlicesToIt) {
+  int argc = 1;
+  char name[] = "qRPLandmarkRegistrationPanelTest";
+  char* argv[] = {name};
+  QApplication app(argc, argv);
+  vtkNew<vtkRPScene> scene;
+  vtkNew<vtkRPFiducialListNode> image, physical;
+  image->SetName("ImageLandmarks");
+  physical->SetName("PhysicalLandmarks");
+  for (int i = 0; i < 3; ++i) image->AddControlPoint(Landmarks[i], "L" + std::to_string(i + 1));
+  for (int i = 0; i < 4; ++i) physical->AddControlPoint(Landmarks[i], "L" + std::to_string(i + 1));
+  scene->AddNode(image);
+  scene->AddNode(physical);
+  vtkNew<vtkRPLinearTransformNode> trackerToRAS;  // a registration shifting the physical points
+  vtkNew<vtkMatrix4x4> shift;
+  shift->SetElement(0, 3, 5);
+  trackerToRAS->SetMatrixTransformToParent(shift);
+  scene->AddNode(trackerToRAS);
+  physical->SetAndObserveTransformNodeID(trackerToRAS->GetID());
+  vtkNew<vtkRPLandmarkRegistrationLogic> logic;
+  qRPLandmarkRegistrationPanel panel(logic, scene);
+  panel.show();
+  ASSERT_TRUE(panel.SelectFromList("PhysicalLandmarks"));
+  ASSERT_TRUE(panel.SelectToList("ImageLandmarks"));
+  QTableWidget* table = panel.PairTable();
+  ASSERT_EQ(table->rowCount(), 4);
+  EXPECT_TRUE(panel.JumpSlicesCheckBox()->isChecked());
+
+  table->selectRow(1);
+  ASSERT_EQ(vtkRPSliceNode::GetSliceNodes(scene).size(), 3u);
+  EXPECT_DOUBLE_EQ(vtkRPSliceNode::GetSliceNode(scene, "Red")->GetSliceOffset(), Landmarks[1][2]);
+  EXPECT_DOUBLE_EQ(vtkRPSliceNode::GetSliceNode(scene, "Yellow")->GetSliceOffset(), Landmarks[1][0]);
+  EXPECT_DOUBLE_EQ(vtkRPSliceNode::GetSliceNode(scene, "Green")->GetSliceOffset(), Landmarks[1][1]);
+  // Row 4 has no image point: its physical point in RAS, through TrackerToRAS (+5 mm R).
+  table->selectRow(3);
+  EXPECT_DOUBLE_EQ(vtkRPSliceNode::GetSliceNode(scene, "Yellow")->GetSliceOffset(), Landmarks[3][0] + 5);
+  EXPECT_DOUBLE_EQ(vtkRPSliceNode::GetSliceNode(scene, "Red")->GetSliceOffset(), Landmarks[3][2]);
+  // Unticked: the slices stay.
+  panel.JumpSlicesCheckBox()->setChecked(false);
+  table->selectRow(0);
+  EXPECT_DOUBLE_EQ(vtkRPSliceNode::GetSliceNode(scene, "Red")->GetSliceOffset(), Landmarks[3][2]);
 }

@@ -21,6 +21,7 @@
 
 #include "rpTransformNames.h"
 #include "vtkRPLinearTransformNode.h"
+#include "vtkRPSliceNode.h"
 #include "vtkRPTrackedToolNode.h"
 
 namespace {
@@ -124,6 +125,9 @@ qRPLandmarkRegistrationPanel::qRPLandmarkRegistrationPanel(vtkRPLandmarkRegistra
   this->Table->setEditTriggers(QAbstractItemView::NoEditTriggers);
   this->Table->setSelectionBehavior(QAbstractItemView::SelectRows);
   this->Table->setSelectionMode(QAbstractItemView::SingleSelection);
+  this->JumpSlices = new QCheckBox("Jump slices to the selected point");
+  this->JumpSlices->setChecked(true);
+  this->JumpSlices->setToolTip("Selecting a row moves the slices through its image point (the views follow the scene)");
   this->CollectPointButton = new QPushButton("Collect point");
   this->CollectPointButton->setToolTip("Add the stylus tip to the physical list, matched to the next image point");
   this->RemovePointButton = new QPushButton("Remove physical point");
@@ -147,6 +151,7 @@ qRPLandmarkRegistrationPanel::qRPLandmarkRegistrationPanel(vtkRPLandmarkRegistra
   layout->addLayout(nodes);
   layout->addLayout(settings);
   layout->addWidget(this->Table, 1);
+  layout->addWidget(this->JumpSlices);
   layout->addLayout(buttons);
   layout->addWidget(this->Fre);
   layout->addWidget(this->Tre);
@@ -188,6 +193,9 @@ qRPLandmarkRegistrationPanel::qRPLandmarkRegistrationPanel(vtkRPLandmarkRegistra
   connect(this->RemovePointButton, &QPushButton::clicked, this, [this] { this->OnRemoveSelectedPoint(); });
   connect(this->RegisterPushButton, &QPushButton::clicked, this, [this] { this->Register(); });
   connect(this->ApplyToolsButton, &QPushButton::clicked, this, [this] { this->ApplyToTools(); });
+  connect(this->Table, &QTableWidget::currentCellChanged, this, [this](int row, int, int previousRow, int) {
+    if (row >= 0 && row != previousRow && this->JumpSlices->isChecked()) this->JumpSlicesToSelectedPoint();
+  });
 }
 
 qRPLandmarkRegistrationPanel::~qRPLandmarkRegistrationPanel() {
@@ -374,6 +382,21 @@ void qRPLandmarkRegistrationPanel::OnTargetFromSelectedRow() {
   this->UseTarget->setChecked(true);
   this->UpdatingWidgets = false;
   this->OnTargetChanged();
+}
+
+bool qRPLandmarkRegistrationPanel::JumpSlicesToSelectedPoint() {
+  const int row = this->Table->currentRow();
+  vtkRPFiducialListNode* to = this->ToList();
+  vtkRPFiducialListNode* from = this->FromList();
+  // World RAS: the image point, else the physical point through the registration (if applied).
+  vtkRPFiducialListNode* list = to && row >= 0 && row < to->GetNumberOfControlPoints() ? to
+                                : from && row >= 0 && row < from->GetNumberOfControlPoints() ? from
+                                                                                              : nullptr;
+  if (!list || !this->Scene) return false;
+  double ras[3];
+  list->GetNthControlPointPositionWorld(row, ras);
+  vtkRPSliceNode::JumpAllSlices(this->Scene, ras);
+  return true;
 }
 
 void qRPLandmarkRegistrationPanel::OnRemoveSelectedPoint() {

@@ -67,6 +67,11 @@ class qRPLandmarkRegistrationPanel : public QWidget {
   QComboBox* ModeComboBox() const { return this->Mode; }
   QDoubleSpinBox* TargetSpinBox(int axis) const { return this->Target[axis]; }
   QCheckBox* TargetCheckBox() const { return this->UseTarget; }
+  /// "Jump slices to the selected point" (on by default): selecting a row moves the scene's
+  /// slice nodes through its image point (or, without one, its registered physical point).
+  QCheckBox* JumpSlicesCheckBox() const { return this->JumpSlices; }
+  /// Jumps the slices to the selected row's point now; false when no row or point.
+  bool JumpSlicesToSelectedPoint();
 
   /// Rebuilds the combos from the scene and the table/labels from the logic (public for tests).
   void UpdateNodeCombos();
@@ -112,6 +117,7 @@ class qRPLandmarkRegistrationPanel : public QWidget {
   QPushButton* ApplyToolsButton;
   QPushButton* RemovePointButton;
   QCheckBox* AutoUpdate;
+  QCheckBox* JumpSlices;
   unsigned long SceneTags[4] = {0, 0, 0, 0};
   unsigned long LogicTag = 0;
   vtkWeakPointer<vtkRPFiducialListNode> ObservedFrom;

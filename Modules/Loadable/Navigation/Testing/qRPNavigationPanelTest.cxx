@@ -16,10 +16,13 @@
 #include <vtkSphereSource.h>
 
 #include "qRPNavigationPanel.h"
+#include "qRPSliceFollowCheckBox.h"
 #include "vtkRPLinearTransformNode.h"
 #include "vtkRPModelNode.h"
 #include "vtkRPNavigationLogic.h"
 #include "vtkRPScene.h"
+#include "vtkRPSliceNode.h"
+#include "vtkRPTrackedToolNode.h"
 
 TEST(NavigationPanel, DistanceToSphereGreenThenRedUnderWarning) {
   int argc = 1;
@@ -97,4 +100,59 @@ TEST(NavigationPanel, DistanceToSphereGreenThenRedUnderWarning) {
   EXPECT_EQ(panel.ModelList()->item(0)->checkState(), Qt::Checked);
   EXPECT_EQ(panel.ModelList()->item(2)->checkState(), Qt::Unchecked);
   EXPECT_EQ(panel.DistanceText(), "1.0 mm");
+}
+
+// "Slices follow the tool": the scene's slice nodes follow the tracked stylus tip (StylusTip
+// under StylusToTracker under TrackerToRAS); moving the tracker pose or the registration moves
+// the slices; choosing another tool moves them over to it.
+TEST(NavigationPanel, SlicesFollowTheTrackedStylus) {
+  int argc = 1;
+  char name[] = "qRPNavigationPanelTest";
+  char* argv[] = {name};
+  QApplication app(argc, argv);
+  vtkNew<vtkRPScene> scene;
+  vtkNew<vtkRPLinearTransformNode> trackerToRAS, tipToStylus, proxy;
+  trackerToRAS->SetName("TrackerToRAS");
+  tipToStylus->SetName("StylusTipToStylus");
+  proxy->SetName("HapticProxy");
+  vtkNew<vtkRPTrackedToolNode> stylus;
+  stylus->SetName("StylusToTracker");
+  for (vtkRPNode* node : std::initializer_list<vtkRPNode*>{trackerToRAS, stylus, tipToStylus, proxy}) scene->AddNode(node);
+  stylus->SetAndObserveTransformNodeID(trackerToRAS->GetID());
+  tipToStylus->SetAndObserveTransformNodeID(stylus->GetID());
+  vtkNew<vtkMatrix4x4> tip, pose, registration;
+  tip->SetElement(2, 3, -100);  // the tip 100 mm down the shaft
+  tipToStylus->SetMatrixTransformToParent(tip);
+  pose->SetElement(0, 3, 10);
+  pose->SetElement(1, 3, 20);
+  pose->SetElement(2, 3, 130);
+  stylus->SetMatrixTransformToParent(pose);  // tip at (10, 20, 30) in RAS
+
+  vtkNew<vtkRPNavigationLogic> logic;
+  logic->SetScene(scene);
+  qRPNavigationPanel panel(logic);
+  panel.show();
+  app.processEvents();
+  ASSERT_EQ(panel.ToolComboBox()->currentText(), "StylusTipToStylus");
+  panel.FollowToolCheckBox()->setChecked(true);
+  const auto slices = vtkRPSliceNode::GetSliceNodes(scene);
+  ASSERT_EQ(slices.size(), 3u);
+  EXPECT_DOUBLE_EQ(vtkRPSliceNode::GetSliceNode(scene, "Red")->GetSliceOffset(), 30);
+  EXPECT_DOUBLE_EQ(vtkRPSliceNode::GetSliceNode(scene, "Yellow")->GetSliceOffset(), 10);
+  EXPECT_DOUBLE_EQ(vtkRPSliceNode::GetSliceNode(scene, "Green")->GetSliceOffset(), 20);
+  // The tracker reports a new pose: the slices move with the tip.
+  pose->SetElement(2, 3, 145);
+  stylus->SetMatrixTransformToParent(pose);
+  EXPECT_DOUBLE_EQ(vtkRPSliceNode::GetSliceNode(scene, "Red")->GetSliceOffset(), 45);
+  // The registration changes (TrackerToRAS): the tip moves in RAS, so do the slices.
+  registration->SetElement(0, 3, -5);
+  trackerToRAS->SetMatrixTransformToParent(registration);
+  EXPECT_DOUBLE_EQ(vtkRPSliceNode::GetSliceNode(scene, "Yellow")->GetSliceOffset(), 5);
+  // Another tool chosen in the panel: the slices follow it instead.
+  panel.ToolComboBox()->setCurrentIndex(panel.ToolComboBox()->findText("HapticProxy"));
+  app.processEvents();
+  for (vtkRPSliceNode* slice : slices) EXPECT_EQ(slice->GetFollowNodeID(), proxy->GetID());
+  // Unticked: the slices stay where they are.
+  panel.FollowToolCheckBox()->setChecked(false);
+  for (vtkRPSliceNode* slice : slices) EXPECT_EQ(slice->GetFollowNodeID(), "");
 }

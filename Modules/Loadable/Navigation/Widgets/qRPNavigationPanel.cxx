@@ -14,6 +14,7 @@
 
 #include <vtkCallbackCommand.h>
 
+#include "qRPSliceFollowCheckBox.h"
 #include "vtkRPLinearTransformNode.h"
 #include "vtkRPModelNode.h"
 #include "vtkRPNavigationLogic.h"
@@ -31,6 +32,9 @@ qRPNavigationPanel::qRPNavigationPanel(vtkRPNavigationLogic* logic, QWidget* par
   auto* refresh = new QPushButton("Refresh node lists");
   form->addRow("Tool (tip at origin)", this->Tool);
   form->addRow("Warning distance", this->Warning);
+  this->FollowTool = new qRPSliceFollowCheckBox("Slices follow the tool");
+  this->FollowTool->SetScene(logic ? logic->GetScene() : nullptr);
+  form->addRow(this->FollowTool);
   this->Models = new QListWidget;
   this->Distance = new QLabel("-");
   QFont big = this->Distance->font();
@@ -83,6 +87,7 @@ void qRPNavigationPanel::OnTimer() {
   } else {
     this->Update();
   }
+  this->FollowTool->Refresh();
 }
 
 qRPNavigationPanel::~qRPNavigationPanel() {
@@ -133,6 +138,7 @@ void qRPNavigationPanel::RefreshNodeLists() {
 void qRPNavigationPanel::ApplySettings() {
   const std::string tool = this->Tool->currentData().toString().toStdString();
   if (tool != this->Logic->GetToolNodeID()) this->Logic->SetToolNodeID(tool);
+  this->FollowTool->SetFollowNodeID(tool);
   std::vector<std::string> models;
   for (int i = 0; i < this->Models->count(); ++i)
     if (this->Models->item(i)->checkState() == Qt::Checked)

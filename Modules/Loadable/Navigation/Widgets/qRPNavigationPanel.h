@@ -3,7 +3,7 @@
 // The Navigation module's Qt panel: pick the tool (a transform node whose origin is the tip,
 // e.g. StylusTipToStylus or HapticProxy), tick the models to measure to and a warning distance;
 // shows the tip-to-surface distance big, red under the warning distance, green otherwise, with
-// the closest model's name. vtkRPNavigationLogic does the work (and writes Navigation.*
+// the closest model's name; the slices can follow the tool (through the scene's slice nodes). vtkRPNavigationLogic does the work (and writes Navigation.*
 // attributes onto the tool node for the viewer); a 30 Hz timer refreshes the read-out.
 #include <QWidget>
 
@@ -16,6 +16,7 @@ class QListWidget;
 class QTimer;
 class vtkCallbackCommand;
 class vtkObject;
+class qRPSliceFollowCheckBox;
 class vtkRPNavigationLogic;
 
 class qRPNavigationPanel : public QWidget {
@@ -32,6 +33,9 @@ class qRPNavigationPanel : public QWidget {
   QComboBox* ToolComboBox() const { return this->Tool; }
   QListWidget* ModelList() const { return this->Models; }
   QDoubleSpinBox* WarningSpinBox() const { return this->Warning; }
+  /// "Slices follow the tool": the scene's slice nodes follow the chosen tool's tip (the views
+  /// re-slice at the tracked stylus; the panel never touches a view).
+  qRPSliceFollowCheckBox* FollowToolCheckBox() const { return this->FollowTool; }
   QString DistanceText() const;
   QString ClosestModelText() const;
   /// True when the distance is shown in the warning colour.
@@ -49,6 +53,7 @@ class qRPNavigationPanel : public QWidget {
   QComboBox* Tool;
   QListWidget* Models;
   QDoubleSpinBox* Warning;
+  qRPSliceFollowCheckBox* FollowTool;
   QLabel* Distance;
   QLabel* Closest;
   QTimer* Timer;

@@ -295,3 +295,41 @@ TEST(SegmentationToMeshPanel, LabelmapVolumeBecomesOneSegmentPerLabel) {
   EXPECT_TRUE(panel.HasError());
   EXPECT_TRUE(panel.StatusText().contains(".missing")) << panel.StatusText().toStdString();
 }
+
+TEST(SegmentationToMeshPanel, BonesOneByOneNamedBySeedLabels) {
+  App();
+  vtkNew<vtkRPScene> scene;
+  qRPSegmentationToMeshPanel panel(scene);
+  long sphereVoxels = 0;
+  auto ct = MakeSphereCT(sphereVoxels);
+  scene->AddNode(ct);
+  // Without seeds: one bone, "Bone 1", the ball's voxels less its partial-volume edge.
+  QTest::mouseClick(panel.SplitBonesButton, Qt::LeftButton);
+  ASSERT_FALSE(panel.HasError()) << panel.StatusText().toStdString();
+  vtkRPSegmentationNode* bones = panel.CurrentSegmentation();
+  ASSERT_NE(bones, nullptr);
+  ASSERT_EQ(bones->GetNumberOfSegments(), 1);
+  EXPECT_EQ(bones->GetNthSegment(0).ID, "Bone 1");
+  EXPECT_EQ(bones->GetNthSegment(0).TissueClass, "bone");
+  EXPECT_NEAR(static_cast<double>(CountLabel(bones, "Bone 1")) / sphereVoxels, 1.0, 0.05);
+  // A seed list: a labelled point names the bone; a generated label does not.
+  vtkNew<vtkRPFiducialListNode> seeds;
+  seeds->SetName("Seeds");
+  scene->AddNode(seeds);
+  seeds->AddControlPoint(kCentre, "humerus");
+  panel.SeedsCombo->setCurrentIndex(panel.SeedsCombo->findText("Seeds"));
+  QTest::mouseClick(panel.SplitBonesButton, Qt::LeftButton);
+  ASSERT_FALSE(panel.HasError()) << panel.StatusText().toStdString();
+  ASSERT_NE(panel.CurrentSegmentation(), bones) << "a new segmentation each time";
+  EXPECT_EQ(panel.CurrentSegmentation()->GetNthSegment(0).ID, "humerus");
+  EXPECT_TRUE(panel.StatusText().contains("named by seed")) << panel.StatusText().toStdString();
+  seeds->SetNthControlPointLabel(0, "Seeds-1");
+  QTest::mouseClick(panel.SplitBonesButton, Qt::LeftButton);
+  EXPECT_EQ(panel.CurrentSegmentation()->GetNthSegment(0).ID, "Bone 1");
+  // A seed off bone: a red error naming it.
+  const double outside[3] = {kOrigin[0] + 1, kOrigin[1] + 1, kOrigin[2] + 1};
+  seeds->AddControlPoint(outside, "skull");
+  QTest::mouseClick(panel.SplitBonesButton, Qt::LeftButton);
+  EXPECT_TRUE(panel.HasError());
+  EXPECT_TRUE(panel.StatusText().contains("'skull' is not on bone")) << panel.StatusText().toStdString();
+}

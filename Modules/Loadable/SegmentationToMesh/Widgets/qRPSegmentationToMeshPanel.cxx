@@ -25,6 +25,7 @@
 #include <vtkNew.h>
 #include <vtkPolyData.h>
 
+#include "rpBoneSplit.h"
 #include "rpLabelmapInput.h"
 #include "rpLabelmapToMesh.h"
 #include "rpMeshLevelOfDetail.h"
@@ -157,6 +158,10 @@ qRPSegmentationToMeshPanel::qRPSegmentationToMeshPanel(vtkRPScene* scene, QWidge
   else
     this->TissueCombo->setToolTip(QString::fromStdString(materialsError));
   this->ApplyButton = new QPushButton("Apply");
+  this->SplitBonesButton = new QPushButton("Bones one by one");
+  this->SplitBonesButton->setToolTip(
+      "One segment per bone of the CT: touching bones split, table and specks dropped, knee bones named; "
+      "the seed list's points name bones (by their labels) or force a split");
   auto* methodForm = new QFormLayout;
   methodForm->addRow("Method", this->MethodCombo);
   methodForm->addRow("Preset", this->PresetCombo);
@@ -167,7 +172,10 @@ qRPSegmentationToMeshPanel::qRPSegmentationToMeshPanel(vtkRPScene* scene, QWidge
   methodForm->addRow("Iterations", this->IterationsSpin);
   methodForm->addRow("Segment name", this->SegmentNameEdit);
   methodForm->addRow("Tissue class", this->TissueCombo);
-  methodForm->addRow(this->ApplyButton);
+  auto* applyRow = new QHBoxLayout;
+  applyRow->addWidget(this->ApplyButton);
+  applyRow->addWidget(this->SplitBonesButton);
+  methodForm->addRow(applyRow);
   auto* methodBox = new QGroupBox("Segment");
   methodBox->setLayout(methodForm);
 
@@ -259,6 +267,7 @@ qRPSegmentationToMeshPanel::qRPSegmentationToMeshPanel(vtkRPScene* scene, QWidge
   connect(this->PresetCombo, QOverload<int>::of(&QComboBox::currentIndexChanged), this,
           [this] { this->OnPresetChanged(); });
   connect(this->ApplyButton, &QPushButton::clicked, this, [this] { this->Apply(); });
+  connect(this->SplitBonesButton, &QPushButton::clicked, this, [this] { this->SplitBones(); });
   connect(this->ClosingButton, &QPushButton::clicked, this, [this] { this->ApplyMorphology(rp::Morphology::Closing); });
   connect(this->OpeningButton, &QPushButton::clicked, this, [this] { this->ApplyMorphology(rp::Morphology::Opening); });
   connect(this->FillHolesButton, &QPushButton::clicked, this,
@@ -389,6 +398,56 @@ vtkRPSegmentationNode* qRPSegmentationToMeshPanel::NewSegmentation() {
   this->SegmentationCombo->setCurrentIndex(index);
   this->RefreshSegments();
   return segmentation;
+}
+
+bool qRPSegmentationToMeshPanel::SplitBones() {
+  vtkRPScalarVolumeNode* volume = this->CurrentVolume();
+  if (!volume || !volume->GetImageData()) {
+    this->ShowError("Bones one by one: pick an input volume (a CT)");
+    return false;
+  }
+  rp::BoneSplitOptions options;
+  if (auto* list = vtkRPFiducialListNode::SafeDownCast(
+          this->Scene->GetNodeByID(this->SeedsCombo->currentData().toString().toStdString()))) {
+    for (int i = 0; i < list->GetNumberOfControlPoints(); ++i) {
+      rp::BoneSeed seed;
+      list->GetNthControlPointPositionWorld(i, seed.RAS.data());
+      // Only labels a user gave name bones (not the generated "<list>-<n>").
+      const std::string& label = list->GetNthControlPoint(i).Label;
+      seed.Name = list->IsGeneratedLabel(label) ? "" : label;
+      options.Seeds.push_back(seed);
+    }
+  }
+  vtkNew<vtkRPSegmentationNode> segmentation;
+  segmentation->SetName(volume->GetName() + " bones");
+  rp::BoneSplitResult result;
+  std::string error;
+  bool ok = false;
+  {
+    ProgressScope progress(this, "Bones one by one");
+    ok = rp::SplitBones(volume, segmentation, options, result, error, progress.Callback());
+  }
+  if (!ok) {
+    this->ShowError("Bones one by one failed: " + QString::fromStdString(error));
+    return false;
+  }
+  this->Scene->AddNode(segmentation);
+  this->SegmentationCombo->setCurrentIndex(
+      this->SegmentationCombo->findData(QString::fromStdString(segmentation->GetID())));
+  this->RefreshSegments();
+  QStringList lines;
+  for (const auto& b : result.Bones)
+    lines << QString("%1: %2 ml%3")
+                 .arg(QString::fromStdString(b.ID))
+                 .arg(b.VolumeMl, 0, 'f', 1)
+                 .arg(b.NamedBy.empty() ? QString() : " (named by " + QString::fromStdString(b.NamedBy) + ")");
+  lines << QString("%1 touching pair(s) split; dropped %2 speck(s), %3 piece(s) outside the body")
+               .arg(result.Splits)
+               .arg(result.DroppedSpecks)
+               .arg(result.DroppedOutsideBody);
+  for (const auto& note : result.Notes) lines << QString::fromStdString(note);
+  this->ShowStatus(lines.join("\n"));
+  return true;
 }
 
 bool qRPSegmentationToMeshPanel::LabelmapToSegments() {
@@ -665,7 +724,12 @@ bool qRPSegmentationToMeshPanel::CreateModels() {
       ids.push_back(model->GetID());
     }
     QString line = StatsText(QString::fromStdString(m.Name), m.Display);
-    if (m.HapticModel) line += QString("; haptic %1 triangles").arg(m.Haptic.Triangles);
+    if (m.HapticModel)
+      line += QString("; haptic %1 triangles (%2, max deviation %3 mm%4)")
+                  .arg(m.Haptic.Triangles)
+                  .arg(QString::fromStdString(m.Haptic.Method))
+                  .arg(m.Haptic.MaxDeviationMm, 0, 'f', 2)
+                  .arg(m.Haptic.Manifold ? ", closed" : ", NOT closed");
     lines << line;
   }
   if (!lines.isEmpty()) this->RemovePreview();

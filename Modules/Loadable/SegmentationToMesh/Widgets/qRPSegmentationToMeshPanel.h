@@ -2,10 +2,11 @@
 #define qRPSegmentationToMeshPanel_h
 // The SegmentationToMesh module's Qt panel: pick a volume and a target segmentation, segment one
 // tissue (threshold preset, manual thresholds, region growing or confidence connected from the
-// seeds of a fiducial list), or take the volume as a labelmap (one segment per label value, names
-// and colours from a label table), edit it (morphology, keep largest), then preview its surface (a
-// temporary "<segment> (preview)" model, replaced on each preview) or build the display + haptic
-// models into the scene. The panel only edits scene nodes; the viewer draws them.
+// seeds of a fiducial list), split a CT's bones one by one (the seed list's labels name them), or
+// take the volume as a labelmap (one segment per label value, names and colours from a label
+// table), edit it (morphology, keep largest), then preview its surface (a temporary
+// "<segment> (preview)" model, replaced on each preview) or build the display + haptic models into
+// the scene. The panel only edits scene nodes; the viewer draws them.
 #include <QWidget>
 
 #include <map>
@@ -50,6 +51,9 @@ class qRPSegmentationToMeshPanel : public QWidget {
   bool CreateModels();
   /// A new empty segmentation node, selected as the target.
   vtkRPSegmentationNode* NewSegmentation();
+  /// Bones one by one from the input volume (a CT): a new segmentation, one segment per bone;
+  /// the points of the seed list (if any) name bones by their labels or force a split.
+  bool SplitBones();
   /// The input volume as a labelmap: a new segmentation (a copy of its voxels), one segment per
   /// label value, named from the label table file when one is given.
   bool LabelmapToSegments();
@@ -79,6 +83,7 @@ class qRPSegmentationToMeshPanel : public QWidget {
   QLineEdit* SegmentNameEdit;
   QComboBox* TissueCombo;
   QPushButton* ApplyButton;
+  QPushButton* SplitBonesButton;
   QComboBox* SegmentCombo;
   QDoubleSpinBox* MorphologyRadiusSpin;
   QPushButton* ClosingButton;

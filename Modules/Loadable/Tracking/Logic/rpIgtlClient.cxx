@@ -1,6 +1,5 @@
 #include "rpIgtlClient.h"
 
-#include <fcntl.h>
 #include <netdb.h>
 #include <netinet/in.h>
 #include <netinet/tcp.h>
@@ -10,28 +9,39 @@
 #include <time.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
-#include <chrono>
 #include <cmath>
 #include <cstring>
+#include <stdexcept>
+
+#include "rpTransformNames.h"
 
 namespace rp {
 
 namespace {
 constexpr const char* kOurDeviceName = "RoboPlan";
+constexpr size_t kInitialBuffer = 64u << 10;
 
+bool Equals(const char* value, uint32_t size, const char* text) {
+  return size == std::strlen(text) && std::memcmp(value, text, size) == 0;
+}
+
+// PLUS's TransformStatus (or the older TransformValid) metadata; OK when absent.
 ToolState StateFromMetadata(const igtl::Body& body) {
   uint32_t n = 0;
-  const char* v = body.Find("TransformStatus", n);
-  if (v) {
-    const std::string s(v, n);
-    if (s == "OK") return ToolState::OK;
-    if (s == "OUT_OF_VOLUME") return ToolState::OutOfVolume;
+  if (const char* v = body.Find("TransformStatus", n)) {
+    if (Equals(v, n, "OK")) return ToolState::OK;
+    if (Equals(v, n, "OUT_OF_VOLUME")) return ToolState::OutOfVolume;
     return ToolState::Missing;  // MISSING, OUT_OF_VIEW, INVALID, anything else
   }
-  v = body.Find("TransformValid", n);
-  if (v && (std::string(v, n) == "false" || std::string(v, n) == "0")) return ToolState::Missing;
+  if (const char* v = body.Find("TransformValid", n))
+    if (Equals(v, n, "false") || Equals(v, n, "0")) return ToolState::Missing;
   return ToolState::OK;
+}
+
+void SwapBytes(uint8_t* data, size_t count, size_t width) {
+  for (size_t i = 0; i < count; ++i, data += width) std::reverse(data, data + width);
 }
 }  // namespace
 
@@ -43,27 +53,55 @@ IgtlClient::IgtlClient(Options options)
     this->Histogram[i].store(0, std::memory_order_relaxed);
     this->SocketHistogram[i].store(0, std::memory_order_relaxed);
   }
-  this->Buffer.resize(1u << 20);
+  this->Buffer.resize(kInitialBuffer);
 }
 
 IgtlClient::~IgtlClient() { this->Stop(); }
 
-void IgtlClient::Start() {
-  if (this->Thread.joinable()) return;
-  this->StopRequested = false;
-  this->Thread = std::thread([this] { this->Run(); });
+std::unique_ptr<PoseSource> IgtlClient::Create(const PoseSourceConfig& config) {
+  Options o;
+  std::tie(o.Host, o.Port) = config.HostAndPort();
+  const double version = config.Number("header-version", 1);
+  if (version != 1 && version != 2) throw std::invalid_argument("header-version must be 1 or 2");
+  o.HeaderVersion = static_cast<uint16_t>(version);
+  const std::string request = config.Option("request");
+  if (!request.empty() && request != "tdata" && request != "qtdata")
+    throw std::invalid_argument("request must be tdata or qtdata, got '" + request + "'");
+  o.RequestTrackingData = request == "tdata";
+  o.RequestQuaternionData = request == "qtdata";
+  o.TrackingIntervalMs = static_cast<int>(config.Number("interval-ms", o.TrackingIntervalMs));
+  return std::make_unique<IgtlClient>(o);
+}
+RP_REGISTER_POSE_SOURCE(igtl, "OpenIGTLink server (PLUS, Slicer, a scanner)", "127.0.0.1:18944", IgtlClient::Create);
+
+bool IgtlClient::Start(std::string&) {
+  this->Worker.Start([this] { this->Run(); });
+  return true;
 }
 
-void IgtlClient::Stop() {
-  if (!this->Thread.joinable()) return;
-  this->StopRequested = true;
-  this->Thread.join();
+void IgtlClient::Stop() { this->Worker.Stop(); }
+
+std::string IgtlClient::StatusText() const {
+  if (this->Connected()) return "connected to " + this->Opts.Host + ":" + std::to_string(this->Opts.Port);
+  const std::string error = this->Worker.LastError();
+  return "connecting" + (error.empty() ? std::string() : ": " + error);
+}
+
+nlohmann::json IgtlClient::StatisticsJson() const {
+  const auto s = this->GetStatistics();
+  return {{"connected", this->Connected()}, {"server", this->Opts.Host + ":" + std::to_string(this->Opts.Port)},
+          {"messages", s.Messages}, {"poses", s.Poses}, {"images", s.Images}, {"crcErrors", s.CrcErrors},
+          {"malformed", s.Malformed}, {"oversized", s.Oversized}, {"skipped", s.Skipped},
+          {"statusMessages", s.StatusMessages}, {"lastStatusCode", s.LastStatusCode}, {"strings", s.StringMessages},
+          {"connections", s.Connections}, {"connectAttempts", s.ConnectAttempts}, {"keepAlivesSent", s.KeepAlivesSent},
+          {"bytesReceived", s.BytesReceived}, {"lastError", this->LastError()}};
 }
 
 IgtlClient::Statistics IgtlClient::GetStatistics() const {
   Statistics s;
   s.Messages = this->Messages;
   s.Poses = this->PosesCount;
+  s.Images = this->ImagesCount;
   s.CrcErrors = this->CrcErrors;
   s.Malformed = this->Malformed;
   s.Oversized = this->Oversized;
@@ -74,24 +112,15 @@ IgtlClient::Statistics IgtlClient::GetStatistics() const {
   s.KeepAlivesSent = this->KeepAlives;
   s.Connections = this->Connections;
   s.ConnectAttempts = this->Attempts;
+  s.BytesReceived = this->Bytes;
   s.LastRtsStatus = this->LastRts;
   s.LastStatusCode = this->LastStatus;
   return s;
 }
 
 std::string IgtlClient::LastString() const {
-  std::lock_guard<std::mutex> lock(this->TextMutex);
+  std::lock_guard<std::mutex> lock(this->StringMutex);
   return this->LastStringText;
-}
-
-std::string IgtlClient::LastError() const {
-  std::lock_guard<std::mutex> lock(this->TextMutex);
-  return this->ErrorText;
-}
-
-void IgtlClient::Fail(const std::string& message) {
-  std::lock_guard<std::mutex> lock(this->TextMutex);
-  this->ErrorText = message;
 }
 
 std::vector<uint64_t> IgtlClient::SocketLatencyHistogram() const {
@@ -119,32 +148,21 @@ double IgtlClient::HistogramPercentile(const std::vector<uint64_t>& histogram, d
   return static_cast<double>(histogram.size()) * 1e-6;
 }
 
-bool IgtlClient::Sleep(double seconds) {
-  const double end = SteadySeconds() + seconds;
-  while (!this->StopRequested) {
-    const double left = end - SteadySeconds();
-    if (left <= 0) return true;
-    std::this_thread::sleep_for(std::chrono::duration<double>(std::min(left, 0.02)));
-  }
-  return false;
-}
-
 void IgtlClient::Run() {
-  double backoff = this->Opts.ReconnectInitialSeconds;
-  while (!this->StopRequested) {
+  Backoff backoff(this->Opts.ReconnectInitialSeconds, this->Opts.ReconnectMaxSeconds);
+  while (!this->Worker.StopRequested()) {
     ++this->Attempts;
     const int fd = this->ConnectOnce();
     if (fd >= 0) {
       ++this->Connections;
       this->IsConnected = true;
-      backoff = this->Opts.ReconnectInitialSeconds;
+      backoff.Reset();
       this->Session(fd);
       this->IsConnected = false;
+      this->Ready.Notify();  // the main thread shows the change of state
       ::close(fd);
     }
-    if (this->StopRequested) break;
-    this->Sleep(backoff);  // back off: a dead server costs a few wake-ups per second at most
-    backoff = std::min(2 * backoff, this->Opts.ReconnectMaxSeconds);
+    this->Worker.Sleep(backoff.Next());  // a dead server costs a few wake-ups per second at most
   }
 }
 
@@ -155,7 +173,7 @@ int IgtlClient::ConnectOnce() {
   addrinfo* result = nullptr;
   const std::string port = std::to_string(this->Opts.Port);
   if (getaddrinfo(this->Opts.Host.c_str(), port.c_str(), &hints, &result) != 0 || !result) {
-    this->Fail("cannot resolve host " + this->Opts.Host);
+    this->Worker.Fail("cannot resolve host " + this->Opts.Host);
     return -1;
   }
   int fd = -1;
@@ -180,7 +198,7 @@ int IgtlClient::ConnectOnce() {
   }
   freeaddrinfo(result);
   if (fd < 0) {
-    this->Fail("cannot connect to " + this->Opts.Host + ":" + port + ": " + error);
+    this->Worker.Fail("cannot connect to " + this->Opts.Host + ":" + port + ": " + error);
     return -1;
   }
   const int one = 1;
@@ -206,33 +224,35 @@ bool IgtlClient::SendAll(int fd, const uint8_t* data, size_t size) {
   return true;
 }
 
+bool IgtlClient::SendControl(int fd, const char* type) {
+  this->Writer.Begin(this->Opts.HeaderVersion, type, kOurDeviceName, WallSeconds(), 0);
+  this->Writer.Finish();
+  return this->SendAll(fd, this->Writer.Data(), this->Writer.Size());
+}
+
 void IgtlClient::Session(int fd) {
   const uint16_t version = this->Opts.HeaderVersion;
   for (const char* type : {this->Opts.RequestTrackingData ? "STT_TDATA" : nullptr,
                            this->Opts.RequestQuaternionData ? "STT_QTDATA" : nullptr}) {
     if (!type) continue;
     uint8_t* content = this->Writer.Begin(version, type, kOurDeviceName, WallSeconds(), igtl::StartTrackingSize);
-    igtl::EncodeStartTracking(this->Opts.TrackingIntervalMs, "Tracker", content);
+    igtl::EncodeStartTracking(this->Opts.TrackingIntervalMs, TrackerFrameName, content);
     this->Writer.Finish();
     this->SendAll(fd, this->Writer.Data(), this->Writer.Size());
   }
-  uint8_t* buffer = this->Buffer.data();
-  const size_t capacity = this->Buffer.size();
-  size_t begin = 0, end = 0;
-  uint64_t skipRemaining = 0;  // bytes of a too-large-to-buffer body still to discard
+  size_t begin = 0, end = 0;  // unparsed bytes: Buffer[begin, end)
   double lastReceive = SteadySeconds(), lastKeepAlive = lastReceive;
-  while (!this->StopRequested) {
+  while (!this->Worker.StopRequested()) {
     pollfd p{fd, POLLIN, 0};
     const int ready = ::poll(&p, 1, 20);
     const double now = SteadySeconds();
     if (ready > 0) {
-      if (begin > 0 && end == begin) begin = end = 0;
-      if (end == capacity && begin > 0) {  // compact to make room
-        std::memmove(buffer, buffer + begin, end - begin);
+      if (end == this->Buffer.size()) {  // compact to make room
+        std::memmove(this->Buffer.data(), this->Buffer.data() + begin, end - begin);
         end -= begin;
         begin = 0;
       }
-      iovec io{buffer + end, capacity - end};
+      iovec io{this->Buffer.data() + end, this->Buffer.size() - end};
       alignas(cmsghdr) char control[CMSG_SPACE(sizeof(timespec))];
       msghdr message{};
       message.msg_iov = &io;
@@ -248,73 +268,64 @@ void IgtlClient::Session(int fd) {
         }
       }
       if (n == 0) {
-        this->Fail(end > begin || skipRemaining ? "peer closed the connection in the middle of a message (truncated)"
-                                                : "peer closed the connection");
+        this->Worker.Fail(end > begin ? "peer closed the connection in the middle of a message (truncated)"
+                                      : "peer closed the connection");
         return;
       }
       if (n < 0) {
         if (errno == EAGAIN || errno == EINTR) continue;
-        this->Fail(std::string("receive failed: ") + std::strerror(errno));
+        this->Worker.Fail(std::string("receive failed: ") + std::strerror(errno));
         return;
       }
       lastReceive = now;
       end += static_cast<size_t>(n);
-      if (skipRemaining) {
-        const size_t drop = static_cast<size_t>(std::min<uint64_t>(skipRemaining, end - begin));
-        begin += drop;
-        skipRemaining -= drop;
-      }
-      while (!skipRemaining && end - begin >= igtl::HeaderSize) {
+      this->Bytes.fetch_add(static_cast<uint64_t>(n), std::memory_order_relaxed);
+      const uint64_t published = this->PosesCount.load(std::memory_order_relaxed) + this->ImagesCount.load(std::memory_order_relaxed);
+      while (end - begin >= igtl::HeaderSize) {
         igtl::Header header;
-        const igtl::Status status = igtl::ParseHeader(buffer + begin, header, this->Opts.MaxBodySize);
+        const igtl::Status status = igtl::ParseHeader(this->Buffer.data() + begin, header, this->Opts.MaxBodySize);
         if (status == igtl::Status::BadHeader) {
           ++this->Malformed;
-          this->Fail("malformed OpenIGTLink header (lost message boundary): reconnecting");
+          this->Worker.Fail("malformed OpenIGTLink header (lost message boundary): reconnecting");
           return;
         }
         if (status == igtl::Status::Oversized) {
           ++this->Oversized;
-          this->Fail(std::string("oversized ") + header.Type + " message (" + std::to_string(header.BodySize) +
-                     " bytes body, limit " + std::to_string(this->Opts.MaxBodySize) + "): closing the connection");
+          this->Worker.Fail(std::string("oversized ") + header.Type + " message (" + std::to_string(header.BodySize) +
+                            " bytes body, limit " + std::to_string(this->Opts.MaxBodySize) + "): closing the connection");
           return;
         }
-        const uint64_t total = igtl::HeaderSize + header.BodySize;
-        if (total > capacity) {  // allowed but larger than our buffer (e.g. an IMAGE): discard it
-          ++this->Messages;
-          ++this->Skipped;
-          const size_t have = end - begin;
-          begin = end;
-          skipRemaining = total - have;
-          break;
-        }
+        const size_t total = igtl::HeaderSize + static_cast<size_t>(header.BodySize);
         if (end - begin < total) {
-          if (begin + total > capacity) {  // make room for the rest of this message
-            std::memmove(buffer, buffer + begin, end - begin);
+          if (total > this->Buffer.size() - begin) {  // make room: move to the front, grow once if needed
+            std::memmove(this->Buffer.data(), this->Buffer.data() + begin, end - begin);
             end -= begin;
             begin = 0;
+            if (total > this->Buffer.size()) this->Buffer.resize(total);  // bounded by MaxBodySize
           }
           break;
         }
-        this->Dispatch(fd, header, buffer + begin + igtl::HeaderSize);
-        begin += static_cast<size_t>(total);
+        this->Dispatch(fd, header, this->Buffer.data() + begin + igtl::HeaderSize);
+        begin += total;
       }
+      if (begin == end) begin = end = 0;
+      if (this->PosesCount.load(std::memory_order_relaxed) + this->ImagesCount.load(std::memory_order_relaxed) != published)
+        this->Ready.Notify();  // one wake-up per batch received
     } else if (ready < 0 && errno != EINTR) {
-      this->Fail(std::string("poll failed: ") + std::strerror(errno));
+      this->Worker.Fail(std::string("poll failed: ") + std::strerror(errno));
       return;
     }
     if (ready > 0 && (p.revents & (POLLERR | POLLHUP)) && !(p.revents & POLLIN)) {
-      this->Fail("connection lost");
+      this->Worker.Fail("connection lost");
       return;
     }
     if (now - lastReceive > this->Opts.DeadSeconds) {
-      this->Fail("no data from the server for " + std::to_string(this->Opts.DeadSeconds) + " s: reconnecting");
+      this->Worker.Fail("no data from the server for " + std::to_string(this->Opts.DeadSeconds) + " s: reconnecting");
       return;
     }
     if (now - lastReceive > this->Opts.KeepAliveSeconds && now - lastKeepAlive > this->Opts.KeepAliveSeconds) {
-      this->Writer.Begin(version, "GET_STATUS", kOurDeviceName, WallSeconds(), 0);
-      this->Writer.Finish();
-      if (!this->SendAll(fd, this->Writer.Data(), this->Writer.Size())) {
-        this->Fail("send failed: connection lost");
+      if (!this->SendControl(fd, "GET_STATUS")) {
+        this->Worker.Fail("send failed: connection lost");
         return;
       }
       ++this->KeepAlives;
@@ -322,12 +333,8 @@ void IgtlClient::Session(int fd) {
     }
   }
   for (const char* type : {this->Opts.RequestTrackingData ? "STP_TDATA" : nullptr,
-                           this->Opts.RequestQuaternionData ? "STP_QTDATA" : nullptr}) {
-    if (!type) continue;
-    this->Writer.Begin(version, type, kOurDeviceName, WallSeconds(), 0);
-    this->Writer.Finish();
-    this->SendAll(fd, this->Writer.Data(), this->Writer.Size());
-  }
+                           this->Opts.RequestQuaternionData ? "STP_QTDATA" : nullptr})
+    if (type) this->SendControl(fd, type);
 }
 
 void IgtlClient::PublishPose(const char* name, size_t nameLength, const ToolPose& pose) {
@@ -350,18 +357,61 @@ void IgtlClient::PublishPose(const char* name, size_t nameLength, const ToolPose
   }
 }
 
+void IgtlClient::PublishImage(const char* name, size_t nameLength, const igtl::Header& header, const igtl::ImageHeader& h,
+                              const uint8_t* pixels) {
+  const int slot = this->ImageSlots.FindOrAdd(name, nameLength);
+  if (slot < 0) {
+    ++this->Skipped;
+    return;
+  }
+  ImageFrame& frame = this->ImageSlots.BeginWrite(slot);
+  for (int k = 0; k < 3; ++k) frame.Dimensions[k] = h.Size[k];
+  frame.Components = h.Components;
+  frame.ScalarType = h.ScalarType;
+  h.IjkToRas(frame.IjkToRas);
+  frame.Timestamp = header.TimestampSeconds();
+  frame.ReceiveTime = SteadySeconds();
+  frame.Pixels.resize(frame.ByteCount());  // allocates only when the size changes
+  const size_t voxel = static_cast<size_t>(h.Components) * ImageFrame::ScalarBytes(h.ScalarType);
+  if (h.IsWholeImage()) {
+    std::memcpy(frame.Pixels.data(), pixels, frame.Pixels.size());
+  } else {
+    // A sub-volume updates the image published last (or a blank one), row by row.
+    const ImageFrame* last = this->ImageSlots.LastPublished(slot);
+    if (last && last->SameLayout(frame)) std::memcpy(frame.Pixels.data(), last->Pixels.data(), frame.Pixels.size());
+    else std::fill(frame.Pixels.begin(), frame.Pixels.end(), uint8_t(0));
+    const size_t row = h.SubSize[0] * voxel;
+    for (size_t k = 0; k < h.SubSize[2]; ++k)
+      for (size_t j = 0; j < h.SubSize[1]; ++j) {
+        const size_t at = (((h.SubOffset[2] + k) * h.Size[1] + h.SubOffset[1] + j) * h.Size[0] + h.SubOffset[0]) * voxel;
+        std::memcpy(frame.Pixels.data() + at, pixels + (k * h.SubSize[1] + j) * row, row);
+      }
+  }
+  const size_t width = ImageFrame::ScalarBytes(h.ScalarType);
+  const bool hostLittle = [] {
+    const uint16_t probe = 1;
+    uint8_t first;
+    std::memcpy(&first, &probe, 1);
+    return first == 1;
+  }();
+  if (width > 1 && (h.Endian == igtl::ImageHeader::LittleEndian) != hostLittle)
+    SwapBytes(frame.Pixels.data(), frame.Pixels.size() / width, width);
+  this->ImageSlots.EndWrite(slot);
+  ++this->ImagesCount;
+}
+
 void IgtlClient::Dispatch(int fd, const igtl::Header& header, const uint8_t* data) {
   ++this->Messages;
   auto where = [&] { return std::string(header.Type) + " '" + header.DeviceName + "'"; };  // errors only
   if (this->Opts.CheckCrc && igtl::Crc64(data, header.BodySize) != header.Crc) {
     ++this->CrcErrors;
-    this->Fail("CRC mismatch in " + where() + ": message ignored");
+    this->Worker.Fail("CRC mismatch in " + where() + ": message ignored");
     return;
   }
   igtl::Body body;
   if (igtl::SplitBody(header, data, body) != igtl::Status::Ok) {
     ++this->Malformed;
-    this->Fail("malformed v3 extended header or metadata in " + where());
+    this->Worker.Fail("malformed v3 extended header or metadata in " + where());
     return;
   }
   // PLUS truncates names over 20 characters and puts the full one in metadata.
@@ -378,8 +428,8 @@ void IgtlClient::Dispatch(int fd, const igtl::Header& header, const uint8_t* dat
     double m[16];
     if (igtl::DecodeTransform(body.Content, body.ContentSize, m) != igtl::Status::Ok) {
       ++this->Malformed;
-      this->Fail("malformed TRANSFORM '" + std::string(name, nameLength) + "': body of " + std::to_string(body.ContentSize) +
-                 " bytes, expected 48 finite floats");
+      this->Worker.Fail("malformed TRANSFORM '" + std::string(name, nameLength) + "': body of " +
+                        std::to_string(body.ContentSize) + " bytes, expected 48 finite floats");
       return;
     }
     pose.FromMatrix(m);
@@ -388,35 +438,37 @@ void IgtlClient::Dispatch(int fd, const igtl::Header& header, const uint8_t* dat
   } else if (header.Is("POSITION")) {
     if (igtl::DecodePosition(body.Content, body.ContentSize, pose.Translation, pose.Quaternion) != igtl::Status::Ok) {
       ++this->Malformed;
-      this->Fail("malformed POSITION '" + std::string(name, nameLength) + "': body of " + std::to_string(body.ContentSize) + " bytes");
+      this->Worker.Fail("malformed POSITION '" + std::string(name, nameLength) + "': body of " +
+                        std::to_string(body.ContentSize) + " bytes");
       return;
     }
     pose.State = StateFromMetadata(body);
     this->PublishPose(name, nameLength, pose);
   } else if (header.Is("TDATA") || header.Is("QTDATA")) {
     const bool quaternion = header.Is("QTDATA");
+    const size_t elementSize = quaternion ? igtl::QtDataElementSize : igtl::TDataElementSize;
     int count = 0;
-    if (igtl::CountElements(body.ContentSize, quaternion ? 50 : 70, count) != igtl::Status::Ok) {
+    if (igtl::CountElements(body.ContentSize, elementSize, count) != igtl::Status::Ok) {
       ++this->Malformed;
-      this->Fail(std::string("malformed ") + header.Type + ": body of " + std::to_string(body.ContentSize) +
-                 " bytes is not a whole number of elements");
+      this->Worker.Fail(std::string("malformed ") + header.Type + ": body of " + std::to_string(body.ContentSize) +
+                        " bytes is not a whole number of elements");
       return;
     }
     for (int i = 0; i < count; ++i) {
       igtl::TrackingElement e;
       ToolPose p = pose;
       if (quaternion) {
-        igtl::DecodeQtDataElement(body.Content + 50 * i, e);
+        igtl::DecodeQtDataElement(body.Content + elementSize * static_cast<size_t>(i), e);
         std::copy(e.Position, e.Position + 3, p.Translation);
         const double n = std::sqrt(e.Quaternion[0] * e.Quaternion[0] + e.Quaternion[1] * e.Quaternion[1] +
                                    e.Quaternion[2] * e.Quaternion[2] + e.Quaternion[3] * e.Quaternion[3]);
-        if (!(n > 0.5 && n < 1.5)) {
+        if (!(n > 0.5 && n < 1.5) || !std::isfinite(e.Position[0] + e.Position[1] + e.Position[2])) {
           ++this->Malformed;
           continue;
         }
         for (int k = 0; k < 4; ++k) p.Quaternion[k] = e.Quaternion[k] / n;
       } else {
-        igtl::DecodeTDataElement(body.Content + 70 * i, e);
+        igtl::DecodeTDataElement(body.Content + elementSize * static_cast<size_t>(i), e);
         bool finite = true;
         for (int k = 0; k < 12; ++k) finite = finite && std::isfinite(e.Matrix[k]);
         if (!finite) {
@@ -425,9 +477,19 @@ void IgtlClient::Dispatch(int fd, const igtl::Header& header, const uint8_t* dat
         }
         p.FromMatrix(e.Matrix);
       }
-      p.State = ToolState::OK;
+      p.State = ToolState::OK;  // TDATA/QTDATA carry only tracked tools
       this->PublishPose(e.Name, std::strlen(e.Name), p);
     }
+  } else if (header.Is("IMAGE")) {
+    igtl::ImageHeader image;
+    const uint8_t* pixels = nullptr;
+    if (igtl::DecodeImage(body.Content, body.ContentSize, image, pixels) != igtl::Status::Ok) {
+      ++this->Malformed;
+      this->Worker.Fail("malformed IMAGE '" + std::string(name, nameLength) + "': header or size of the " +
+                        std::to_string(body.ContentSize) + "-byte body do not match");
+      return;
+    }
+    this->PublishImage(name, nameLength, header, image, pixels);
   } else if (header.Is("STATUS")) {
     int code = 0;
     char errorName[21];
@@ -451,11 +513,11 @@ void IgtlClient::Dispatch(int fd, const igtl::Header& header, const uint8_t* dat
     size_t length = 0;
     if (igtl::DecodeString(body.Content, body.ContentSize, encoding, text, length) != igtl::Status::Ok) {
       ++this->Malformed;
-      this->Fail("malformed STRING " + where());
+      this->Worker.Fail("malformed STRING " + where());
       return;
     }
     ++this->StringMessages;
-    std::lock_guard<std::mutex> lock(this->TextMutex);  // rare (command replies), not the pose path
+    std::lock_guard<std::mutex> lock(this->StringMutex);  // rare (command replies), not the pose path
     this->LastStringText.assign(text, length);
   } else if (header.Is("GET_STATUS")) {
     uint8_t* content = this->Writer.Begin(this->Opts.HeaderVersion, "STATUS", kOurDeviceName, WallSeconds(), igtl::StatusSize(""));

@@ -7,18 +7,15 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
-#include <chrono>
-#include <cmath>
 #include <cstring>
 
-#include "rpIgtlProtocol.h"
+#include "rpTransformNames.h"
 
 namespace rp {
 
 namespace {
-constexpr const char* kCoordinateName = "Tracker";  // device name of TDATA/QTDATA/RTS/STATUS
-
 const char* TransformStatus(ToolState s) {
   switch (s) {
     case ToolState::OK: return "OK";
@@ -47,7 +44,7 @@ bool IgtlServer::Start(std::string& error) {
     this->ListenFd = -1;
     return false;
   }
-  if (::bind(this->ListenFd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0 || ::listen(this->ListenFd, 8) != 0) {
+  if (::bind(this->ListenFd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0 || ::listen(this->ListenFd, 64) != 0) {
     error = "cannot listen on " + this->Opts.BindAddress + ":" + std::to_string(this->Opts.Port) + ": " + std::strerror(errno);
     ::close(this->ListenFd);
     this->ListenFd = -1;
@@ -56,21 +53,39 @@ bool IgtlServer::Start(std::string& error) {
   socklen_t len = sizeof addr;
   getsockname(this->ListenFd, reinterpret_cast<sockaddr*>(&addr), &len);
   this->BoundPort = ntohs(addr.sin_port);
-  this->StopRequested = false;
-  this->Thread = std::thread([this] { this->Run(); });
+  this->Worker.Start([this] { this->Run(); });
   return true;
 }
 
 void IgtlServer::Stop() {
-  if (this->Thread.joinable()) {
-    this->StopRequested = true;
-    this->Thread.join();
-  }
-  for (Client& c : this->Connections) ::close(c.Fd);
+  this->Worker.Stop();
+  for (Client& c : this->Connections)
+    if (c.Fd >= 0) ::close(c.Fd);
   this->Connections.clear();
   this->Clients = 0;
   if (this->ListenFd >= 0) ::close(this->ListenFd);
   this->ListenFd = -1;
+}
+
+IgtlServer::Statistics IgtlServer::GetStatistics() const {
+  Statistics s;
+  s.MessagesSent = this->Sent;
+  s.MessagesDropped = this->Dropped;
+  s.Accepted = this->Accepted;
+  s.Refused = this->Refused;
+  s.DroppedMalformed = this->Malformed;
+  s.DroppedStalled = this->Stalled;
+  s.Closed = this->Closed;
+  s.BytesSkipped = this->Skipped;
+  s.BytesReceived = this->Received;
+  return s;
+}
+
+void IgtlServer::Drop(Client& c, std::atomic<uint64_t>& reason) {
+  if (c.Fd < 0) return;
+  ::close(c.Fd);
+  c.Fd = -1;
+  ++reason;
 }
 
 bool IgtlServer::Send(Client& c) {
@@ -78,70 +93,131 @@ bool IgtlServer::Send(Client& c) {
   const uint8_t* data = this->Writer.Data();
   const size_t size = this->Writer.Size();
   size_t done = 0;
-  while (done < size) {
-    const ssize_t n = ::send(c.Fd, data + done, size - done, MSG_NOSIGNAL);
-    if (n > 0) {
-      done += static_cast<size_t>(n);
-      continue;
+  if (c.Queued.size() == c.QueuedSent) {  // nothing waiting: straight to the socket
+    const ssize_t n = ::send(c.Fd, data, size, MSG_NOSIGNAL | MSG_DONTWAIT);
+    if (n < 0 && errno != EAGAIN && errno != EINTR) {
+      this->Drop(c, this->Closed);  // gone
+      return false;
     }
-    if (n < 0 && (errno == EAGAIN || errno == EINTR)) {
-      pollfd p{c.Fd, POLLOUT, 0};
-      if (::poll(&p, 1, 200) == 1) continue;
+    done = n > 0 ? static_cast<size_t>(n) : 0;
+    if (done == size) {
+      ++this->Sent;
+      c.LastSend = SteadySeconds();
+      return true;
     }
-    ::close(c.Fd);  // slow or gone: drop this client
-    c.Fd = -1;
+    c.Queued.clear();
+    c.QueuedSent = 0;
+  }
+  // The client is behind: queue the rest of the message, up to the bound.
+  if (c.Queued.size() - c.QueuedSent + size - done > this->Opts.MaxQueuedOutput) {
+    ++this->Dropped;
     return false;
   }
+  c.Queued.insert(c.Queued.end(), data + done, data + size);
+  if (c.StalledSince == 0) c.StalledSince = SteadySeconds();
   ++this->Sent;
   c.LastSend = SteadySeconds();
   return true;
 }
 
-void IgtlServer::HandleInput(Client& c) {
-  while (c.Input.size() >= igtl::HeaderSize) {
-    igtl::Header h;
-    if (igtl::ParseHeader(c.Input.data(), h, 1u << 20) != igtl::Status::Ok) {
-      c.Input.clear();
-      ::shutdown(c.Fd, SHUT_RDWR);  // cannot find the next message: drop this client
-      return;
-    }
-    if (c.Input.size() < igtl::HeaderSize + h.BodySize) return;
-    if (h.Version >= 2) c.Version = 2;  // the client speaks v2+: answer with v3 framing
-    const double now = WallSeconds();
-    const uint8_t* body = c.Input.data() + igtl::HeaderSize;
-    igtl::Body split;
-    igtl::SplitBody(h, body, split);
-    if (h.Is("STT_TDATA") || h.Is("STT_QTDATA")) {
-      int32_t interval = 0;
-      if (split.ContentSize >= 4)
-        interval = static_cast<int32_t>((split.Content[0] << 24) | (split.Content[1] << 16) | (split.Content[2] << 8) | split.Content[3]);
-      c.TDataInterval = std::max(0.001, interval / 1000.0);
-      if (h.Is("STT_TDATA")) c.TData = true;
-      else c.QtData = true;
-      this->SendRts(c, h.Is("STT_TDATA") ? "RTS_TDATA" : "RTS_QTDATA", now);
-    } else if (h.Is("STP_TDATA")) {
-      c.TData = false;
-      this->SendRts(c, "RTS_TDATA", now);
-    } else if (h.Is("STP_QTDATA")) {
-      c.QtData = false;
-      this->SendRts(c, "RTS_QTDATA", now);
-    } else if (h.Is("GET_STATUS")) {
-      this->SendStatus(c, now);
-    }
-    c.Input.erase(c.Input.begin(), c.Input.begin() + static_cast<long>(igtl::HeaderSize + h.BodySize));
+void IgtlServer::Flush(Client& c, double now) {
+  if (c.Fd < 0 || c.Queued.size() == c.QueuedSent) return;
+  const ssize_t n = ::send(c.Fd, c.Queued.data() + c.QueuedSent, c.Queued.size() - c.QueuedSent, MSG_NOSIGNAL | MSG_DONTWAIT);
+  if (n < 0 && errno != EAGAIN && errno != EINTR) {
+    this->Drop(c, this->Closed);
+    return;
+  }
+  if (n > 0) {
+    c.QueuedSent += static_cast<size_t>(n);
+    c.StalledSince = now;  // progress
+  }
+  if (c.QueuedSent == c.Queued.size()) {
+    c.Queued.clear();
+    c.QueuedSent = 0;
+    c.StalledSince = 0;
+  } else if (now - c.StalledSince > this->Opts.StallSeconds) {
+    this->Drop(c, this->Stalled);  // reads nothing: it would hold output forever
   }
 }
 
 void IgtlServer::SendRts(Client& c, const char* type, double wall) {
-  igtl::EncodeRts(0, this->Writer.Begin(c.Version, type, kCoordinateName, wall, igtl::RtsSize));
+  igtl::EncodeRts(0, this->Writer.Begin(c.Version, type, TrackerFrameName, wall, igtl::RtsSize));
   this->Writer.Finish();
   this->Send(c);
 }
 
 void IgtlServer::SendStatus(Client& c, double wall) {
-  igtl::EncodeStatus(igtl::StatusOk, 0, "", "", this->Writer.Begin(c.Version, "STATUS", kCoordinateName, wall, igtl::StatusSize("")));
+  igtl::EncodeStatus(igtl::StatusOk, 0, "", "", this->Writer.Begin(c.Version, "STATUS", TrackerFrameName, wall, igtl::StatusSize("")));
   this->Writer.Finish();
   this->Send(c);
+}
+
+void IgtlServer::Receive(Client& c, uint8_t* scratch, size_t scratchSize) {
+  // Into the parse window, or, while skipping a body we do not keep, into scratch.
+  uint8_t* into = c.Skip ? scratch : c.Input.data() + c.InputUsed;
+  const size_t room = c.Skip ? std::min<uint64_t>(scratchSize, c.Skip) : c.Input.size() - c.InputUsed;
+  const ssize_t n = ::recv(c.Fd, into, room, MSG_DONTWAIT);
+  if (n == 0 || (n < 0 && errno != EAGAIN && errno != EINTR)) {
+    this->Drop(c, this->Closed);
+    return;
+  }
+  if (n < 0) return;
+  this->Received += static_cast<uint64_t>(n);
+  if (c.Skip) {
+    c.Skip -= static_cast<uint64_t>(n);
+    this->Skipped += static_cast<uint64_t>(n);
+    return;
+  }
+  c.InputUsed += static_cast<size_t>(n);
+  this->HandleInput(c);
+}
+
+void IgtlServer::HandleInput(Client& c) {
+  size_t at = 0;
+  while (c.Fd >= 0 && c.InputUsed - at >= igtl::HeaderSize) {
+    igtl::Header h;
+    const igtl::Status status = igtl::ParseHeader(c.Input.data() + at, h, UINT64_MAX);
+    if (status != igtl::Status::Ok) {
+      this->Drop(c, this->Malformed);  // cannot find the next message in this stream
+      return;
+    }
+    const uint64_t total = igtl::HeaderSize + h.BodySize;
+    if (total > c.Input.size()) {
+      // A body larger than any control message (an IMAGE, a flood): let it stream past.
+      const uint64_t have = c.InputUsed - at;
+      c.Skip = total - have;
+      this->Skipped += have;
+      at = c.InputUsed;
+      break;
+    }
+    if (c.InputUsed - at < total) break;  // the rest is still coming
+    const uint8_t* body = c.Input.data() + at + igtl::HeaderSize;
+    at += static_cast<size_t>(total);
+    if (igtl::Crc64(body, h.BodySize) != h.Crc) continue;  // damaged: ignore it, the stream is in step
+    if (h.Version >= 2) c.Version = 2;                      // the client speaks v2+: answer with v3 framing
+    igtl::Body split;
+    if (igtl::SplitBody(h, body, split) != igtl::Status::Ok) continue;
+    const double wall = WallSeconds();
+    if (h.Is("STT_TDATA") || h.Is("STT_QTDATA")) {
+      int32_t interval = 0;
+      char coordinate[33];
+      igtl::DecodeStartTracking(split.Content, split.ContentSize, interval, coordinate);
+      c.TDataInterval = std::max(0.001, interval / 1000.0);
+      (h.Is("STT_TDATA") ? c.TData : c.QtData) = true;
+      this->SendRts(c, h.Is("STT_TDATA") ? "RTS_TDATA" : "RTS_QTDATA", wall);
+    } else if (h.Is("STP_TDATA")) {
+      c.TData = false;
+      this->SendRts(c, "RTS_TDATA", wall);
+    } else if (h.Is("STP_QTDATA")) {
+      c.QtData = false;
+      this->SendRts(c, "RTS_QTDATA", wall);
+    } else if (h.Is("GET_STATUS")) {
+      this->SendStatus(c, wall);
+    }
+  }
+  if (c.Fd < 0) return;
+  std::memmove(c.Input.data(), c.Input.data() + at, c.InputUsed - at);
+  c.InputUsed -= at;
 }
 
 void IgtlServer::SendPoses(double now) {
@@ -156,6 +232,11 @@ void IgtlServer::SendPoses(double now) {
     if (s.Fresh) this->Fresh.push_back(i);
   }
   for (Client& c : this->Connections) {
+    if (c.Fd < 0) continue;
+    if (c.Queued.size() != c.QueuedSent) {  // behind: it gets the newest poses once it catches up
+      this->Dropped += this->Fresh.size();
+      continue;
+    }
     for (int slot : this->Fresh) {
       const ToolPose& pose = this->Reader.Last(slot).Pose;
       const bool valid = pose.State == ToolState::OK || pose.State == ToolState::OutOfVolume;
@@ -172,7 +253,7 @@ void IgtlServer::SendPoses(double now) {
     if ((c.TData || c.QtData) && now >= c.NextTData && !this->Valid.empty()) {
       c.NextTData = now + c.TDataInterval;
       if (c.TData) {
-        uint8_t* out = this->Writer.Begin(c.Version, "TDATA", kCoordinateName, wall, igtl::TDataElementSize * this->Valid.size());
+        uint8_t* out = this->Writer.Begin(c.Version, "TDATA", TrackerFrameName, wall, igtl::TDataElementSize * this->Valid.size());
         for (int slot : this->Valid) {
           double m[16];
           this->Reader.Last(slot).Pose.ToMatrix(m);
@@ -183,7 +264,7 @@ void IgtlServer::SendPoses(double now) {
         this->Send(c);
       }
       if (c.QtData) {
-        uint8_t* out = this->Writer.Begin(c.Version, "QTDATA", kCoordinateName, wall, igtl::QtDataElementSize * this->Valid.size());
+        uint8_t* out = this->Writer.Begin(c.Version, "QTDATA", TrackerFrameName, wall, igtl::QtDataElementSize * this->Valid.size());
         for (int slot : this->Valid) {
           const ToolPose& pose = this->Reader.Last(slot).Pose;
           igtl::EncodeQtDataElement(this->Source.Name(slot), igtl::TrackingType6D, pose.Translation, pose.Quaternion, out);
@@ -193,7 +274,29 @@ void IgtlServer::SendPoses(double now) {
         this->Send(c);
       }
     }
-    if (now - c.LastSend > this->Opts.KeepAliveSeconds) this->SendStatus(c, wall);
+    if (c.Fd >= 0 && now - c.LastSend > this->Opts.KeepAliveSeconds) this->SendStatus(c, wall);
+  }
+}
+
+void IgtlServer::Accept() {
+  for (;;) {
+    const int fd = ::accept4(this->ListenFd, nullptr, nullptr, SOCK_CLOEXEC | SOCK_NONBLOCK);
+    if (fd < 0) return;
+    if (static_cast<int>(this->Connections.size()) >= this->Opts.MaxClients) {
+      ::close(fd);  // full: the clients we serve keep their share
+      ++this->Refused;
+      continue;
+    }
+    const int one = 1;
+    setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+    if (this->Opts.SocketSendBuffer > 0)
+      setsockopt(fd, SOL_SOCKET, SO_SNDBUF, &this->Opts.SocketSendBuffer, sizeof this->Opts.SocketSendBuffer);
+    Client c;
+    c.Fd = fd;
+    c.LastSend = SteadySeconds();
+    c.Input.resize(this->Opts.InputWindow);
+    this->Connections.push_back(std::move(c));
+    ++this->Accepted;
   }
 }
 
@@ -201,48 +304,31 @@ void IgtlServer::Run() {
   const double period = 1.0 / std::max(1.0, this->Opts.SendHz);
   double nextSend = SteadySeconds();
   std::vector<pollfd> fds;
-  while (!this->StopRequested) {
+  std::vector<uint8_t> scratch(64u << 10);  // skipped bodies stream through it
+  while (!this->Worker.StopRequested()) {
     fds.clear();
     fds.push_back({this->ListenFd, POLLIN, 0});
-    for (const Client& c : this->Connections) fds.push_back({c.Fd, POLLIN, 0});
+    for (const Client& c : this->Connections)
+      fds.push_back({c.Fd, static_cast<short>(POLLIN | (c.Queued.size() != c.QueuedSent ? POLLOUT : 0)), 0});
     const double wait = std::max(0.0, nextSend - SteadySeconds());
     ::poll(fds.data(), fds.size(), static_cast<int>(wait * 1000) + 1);
-    if (fds[0].revents & POLLIN) {
-      const int fd = ::accept4(this->ListenFd, nullptr, nullptr, SOCK_CLOEXEC | SOCK_NONBLOCK);
-      if (fd >= 0) {
-        const int one = 1;
-        setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
-        Client c;
-        c.Fd = fd;
-        c.LastSend = SteadySeconds();
-        this->Connections.push_back(std::move(c));
-      }
-    }
-    for (size_t i = 1; i < fds.size(); ++i) {
-      if (!(fds[i].revents & (POLLIN | POLLHUP | POLLERR))) continue;
-      Client& c = this->Connections[i - 1];
-      uint8_t buffer[4096];
-      const ssize_t n = ::recv(c.Fd, buffer, sizeof buffer, 0);
-      if (n <= 0 && !(n < 0 && (errno == EAGAIN || errno == EINTR))) {
-        ::close(c.Fd);
-        c.Fd = -1;
-        continue;
-      }
-      if (n > 0) {
-        c.Input.insert(c.Input.end(), buffer, buffer + n);
-        this->HandleInput(c);
-      }
-    }
     const double now = SteadySeconds();
+    if (fds[0].revents & POLLIN) this->Accept();
+    for (size_t i = 1; i < fds.size(); ++i) {
+      Client& c = this->Connections[i - 1];
+      if (fds[i].revents & POLLOUT) this->Flush(c, now);
+      if (c.Fd >= 0 && (fds[i].revents & (POLLIN | POLLHUP | POLLERR))) this->Receive(c, scratch.data(), scratch.size());
+      if (c.Fd >= 0 && c.Queued.size() != c.QueuedSent && now - c.StalledSince > this->Opts.StallSeconds)
+        this->Drop(c, this->Stalled);
+    }
     if (now >= nextSend) {
       nextSend = std::max(nextSend + period, now);
       this->SendPoses(now);
     }
-    // Drop clients that went away or could not keep up.
-    for (auto it = this->Connections.begin(); it != this->Connections.end();) {
-      if (it->Fd < 0) it = this->Connections.erase(it);
-      else ++it;
-    }
+    // Forget clients that went away or were dropped.
+    this->Connections.erase(std::remove_if(this->Connections.begin(), this->Connections.end(),
+                                           [](const Client& c) { return c.Fd < 0; }),
+                            this->Connections.end());
     this->Clients = static_cast<int>(this->Connections.size());
   }
 }

@@ -1,21 +1,24 @@
 #pragma once
-// OpenIGTLink tracking server: streams the newest poses of a ToolPoseTable (e.g. the serial
-// driver's) to every connected client as TRANSFORM messages named as the table's slots (PLUS
-// naming, e.g. StylusToTracker),
-// and as TDATA/QTDATA to clients that asked with STT_TDATA/STT_QTDATA (answered RTS_*).
-// Sends STATUS keep-alives when idle and answers GET_STATUS. Binds 127.0.0.1 unless told
-// otherwise. Talks v1 headers until a client sends a v2 header (then v3 framing with
-// TransformStatus and IGTL_DEVICE_NAME metadata), as PLUS does. Messages are built with the
-// wire format of rpIgtlProtocol. One thread; nothing shared with callers except the pose table.
+// OpenIGTLink tracking server (`roboplan track --serve`): streams the newest poses of a
+// ToolPoseTable to every connected client as TRANSFORM messages named as the table's slots
+// (PLUS naming, e.g. StylusToTracker), and as TDATA/QTDATA to clients that ask with
+// STT_TDATA/STT_QTDATA (answered RTS_*). Sends STATUS keep-alives when idle and answers
+// GET_STATUS. Talks header v1 until a client sends a v2 header, then v3 framing with PLUS's
+// TransformStatus and IGTL_DEVICE_NAME metadata. Binds 127.0.0.1 unless told otherwise.
+//
+// A peer cannot take the others down: each client gets at most one read per loop turn, input
+// is parsed in a fixed window (bodies we do not need are skipped as they stream by), a stream
+// that loses the message boundary is closed, output a client does not read waits in a bounded
+// queue and a client that stalls is dropped, and connections beyond MaxClients are refused.
+// Memory is bounded by MaxClients × (input window + output queue).
 #include <atomic>
 #include <cstdint>
-#include <mutex>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "rpIgtlProtocol.h"
 #include "rpToolPose.h"
+#include "rpWorkerThread.h"
 
 namespace rp {
 
@@ -23,10 +26,20 @@ class IgtlServer {
  public:
   struct Options {
     std::string BindAddress = "127.0.0.1";
-    int Port = 18944;                  // 0: an ephemeral port (see Port())
-    double SendHz = 60.0;              // TRANSFORM rate per tool (only fresh poses are sent)
-    double KeepAliveSeconds = 0.25;    // STATUS(OK) after this much idle time
-    bool SendInvalid = false;          // PLUS default: only valid transforms (v1 peers)
+    int Port = 18944;                   // 0: an ephemeral port (see Port())
+    double SendHz = 60.0;               // TRANSFORM rate per tool (only fresh poses are sent)
+    double KeepAliveSeconds = 0.25;     // STATUS(OK) after this much idle time
+    bool SendInvalid = false;           // PLUS default: only valid transforms (v1 peers)
+    int MaxClients = 32;                // more are refused (closed at once)
+    size_t InputWindow = 64u << 10;     // the largest message we parse (control messages are tiny)
+    size_t MaxQueuedOutput = 1u << 20;  // per client; beyond it messages to that client are dropped
+    double StallSeconds = 2.0;          // a client that reads nothing this long is dropped
+    int SocketSendBuffer = 64 << 10;    // kernel buffer per client: seconds of poses, not minutes
+  };
+
+  struct Statistics {
+    uint64_t MessagesSent = 0, MessagesDropped = 0, Accepted = 0, Refused = 0;
+    uint64_t DroppedMalformed = 0, DroppedStalled = 0, Closed = 0, BytesSkipped = 0, BytesReceived = 0;
   };
 
   IgtlServer(const ToolPoseTable& source, Options options);
@@ -37,33 +50,43 @@ class IgtlServer {
   int Port() const { return this->BoundPort.load(); }
   int ClientCount() const { return this->Clients.load(); }
   uint64_t MessagesSent() const { return this->Sent.load(); }
+  Statistics GetStatistics() const;
 
  private:
   struct Client {
     int Fd = -1;
     uint16_t Version = 1;
     bool TData = false, QtData = false;
-    double TDataInterval = 0, NextTData = 0, LastSend = 0;
-    std::vector<uint8_t> Input;
+    double TDataInterval = 0, NextTData = 0, LastSend = 0, StalledSince = 0;
+    std::vector<uint8_t> Input;  // InputWindow bytes
+    size_t InputUsed = 0;
+    uint64_t Skip = 0;           // bytes of a body we do not keep, still to come
+    std::vector<uint8_t> Queued; // output the client has not taken yet
+    size_t QueuedSent = 0;
   };
   void Run();
+  void Accept();
+  void Receive(Client& c, uint8_t* scratch, size_t scratchSize);
+  void HandleInput(Client& c);
+  void Flush(Client& c, double now);
+  void Drop(Client& c, std::atomic<uint64_t>& reason);
   bool Send(Client& c);  // the message in Writer
   void SendRts(Client& c, const char* type, double wall);
   void SendStatus(Client& c, double wall);
-  void HandleInput(Client& c);
   void SendPoses(double now);
 
   const ToolPoseTable& Source;
   Options Opts;
   int ListenFd = -1;
-  std::thread Thread;
-  std::atomic<bool> StopRequested{false};
+  WorkerThread Worker;
   std::atomic<int> BoundPort{0}, Clients{0};
-  std::atomic<uint64_t> Sent{0};
+  std::atomic<uint64_t> Sent{0}, Dropped{0}, Accepted{0}, Refused{0}, Malformed{0}, Stalled{0}, Closed{0}, Skipped{0},
+      Received{0};
+  // server thread only
   std::vector<Client> Connections;
   ToolPoseReader Reader;
-  igtl::MessageWriter Writer;       // server thread only
-  std::vector<int> Fresh, Valid;    // slots, server thread only
+  igtl::MessageWriter Writer;
+  std::vector<int> Fresh, Valid;  // slots
 };
 
 }  // namespace rp

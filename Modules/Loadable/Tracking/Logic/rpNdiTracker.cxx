@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstring>
+#include <stdexcept>
 
 #include "rpToolDefinition.h"
 #include "rpTransformNames.h"
@@ -30,16 +31,44 @@ NdiTracker::NdiTracker(Options options) : Opts(std::move(options)) {
 
 NdiTracker::~NdiTracker() { this->Stop(); }
 
-void NdiTracker::Start() {
-  if (this->Thread.joinable()) return;
-  this->StopRequested = false;
-  this->Thread = std::thread([this] { this->Run(); });
+std::unique_ptr<PoseSource> NdiTracker::Create(const PoseSourceConfig& config) {
+  Options o;
+  o.Port = config.Address;
+  if (o.Port.empty()) throw std::invalid_argument("give the serial port (e.g. /dev/ttyUSB0)");
+  if (config.ToolFiles.empty()) throw std::invalid_argument("give at least one tool definition (.rom or .json)");
+  for (const std::string& file : config.ToolFiles) {
+    const ToolDefinition tool = ReadToolFile(file);  // throws std::runtime_error naming the file
+    o.Tools.push_back({tool.Name, tool.Rom});
+  }
+  const double rate = config.Number("rate", 60);
+  if (rate != 20 && rate != 30 && rate != 60) throw std::invalid_argument("rate must be 20, 30 or 60 (Hz)");
+  o.PollHz = rate;
+  o.RateCode = rate == 20 ? 0 : rate == 30 ? 1 : 2;
+  const std::string text = config.Option("text", "0");
+  o.Binary = !(text == "1" || text == "true" || text == "yes");
+  return std::make_unique<NdiTracker>(o);
+}
+RP_REGISTER_POSE_SOURCE(serial, "NDI Polaris/Aurora on a serial port (Combined API)", "/dev/ttyUSB0", NdiTracker::Create);
+
+bool NdiTracker::Start(std::string&) {
+  this->Worker.Start([this] { this->Run(); });
+  return true;
 }
 
-void NdiTracker::Stop() {
-  if (!this->Thread.joinable()) return;
-  this->StopRequested = true;
-  this->Thread.join();
+void NdiTracker::Stop() { this->Worker.Stop(); }
+
+std::string NdiTracker::StatusText() const {
+  const std::string error = this->LastError();
+  return std::string(StateName(this->GetState())) + (error.empty() ? "" : ": " + error);
+}
+
+nlohmann::json NdiTracker::StatisticsJson() const {
+  const auto s = this->GetStatistics();
+  return {{"state", StateName(this->GetState())}, {"port", this->Opts.Port}, {"firmware", this->FirmwareVersion()},
+          {"baud", this->NegotiatedBaud()}, {"frames", s.Frames}, {"crcErrors", s.CrcErrors}, {"timeouts", s.Timeouts},
+          {"frameGaps", s.FrameGaps}, {"deviceErrors", s.DeviceErrors}, {"malformedReplies", s.MalformedReplies},
+          {"lateReplies", s.LateReplies}, {"connections", s.Connections}, {"resets", s.Resets},
+          {"threadCpuSeconds", s.ThreadCpuSeconds}, {"lastError", this->LastError()}};
 }
 
 NdiTracker::Statistics NdiTracker::GetStatistics() const {
@@ -57,29 +86,9 @@ NdiTracker::Statistics NdiTracker::GetStatistics() const {
   return s;
 }
 
-std::string NdiTracker::LastError() const {
-  std::lock_guard<std::mutex> lock(this->TextMutex);
-  return this->ErrorText;
-}
-
 std::string NdiTracker::FirmwareVersion() const {
-  std::lock_guard<std::mutex> lock(this->TextMutex);
+  std::lock_guard<std::mutex> lock(this->VersionMutex);
   return this->Version;
-}
-
-void NdiTracker::Fail(const std::string& message) {
-  std::lock_guard<std::mutex> lock(this->TextMutex);
-  this->ErrorText = message;
-}
-
-bool NdiTracker::Sleep(double seconds) {
-  const double end = SteadySeconds() + seconds;
-  while (!this->StopRequested) {
-    const double left = end - SteadySeconds();
-    if (left <= 0) return true;
-    std::this_thread::sleep_for(std::chrono::duration<double>(std::min(left, 0.02)));
-  }
-  return false;
 }
 
 void NdiTracker::UpdateCpu() {
@@ -88,8 +97,8 @@ void NdiTracker::UpdateCpu() {
 }
 
 void NdiTracker::Run() {
-  double backoff = this->Opts.ReconnectInitialSeconds;
-  while (!this->StopRequested) {
+  Backoff backoff(this->Opts.ReconnectInitialSeconds, this->Opts.ReconnectMaxSeconds);
+  while (!this->Stopping()) {
     this->SetState(State::Connecting);
     bool ok = this->Connect();
     if (ok) {
@@ -98,19 +107,19 @@ void NdiTracker::Run() {
     }
     if (ok) {
       ++this->Connections;
-      backoff = this->Opts.ReconnectInitialSeconds;
+      backoff.Reset();
       this->SetState(State::Tracking);
       this->TrackLoop();
-      if (this->StopRequested) {
+      if (this->Stopping()) {
         this->Shutdown();
         break;
       }
     }
     if (this->Transport) this->Transport->Close();
-    if (this->StopRequested) break;
+    if (this->Stopping()) break;
     this->SetState(State::Disconnected);
-    this->Sleep(backoff);  // never a busy loop: back off up to ReconnectMaxSeconds
-    backoff = std::min(backoff * 2, this->Opts.ReconnectMaxSeconds);
+    this->Ready.Notify();  // the main thread shows the change of state
+    this->Worker.Sleep(backoff.Next());  // never a busy loop: back off up to ReconnectMaxSeconds
   }
   if (this->Transport) this->Transport->Close();
   this->UpdateCpu();
@@ -158,7 +167,7 @@ ndi::ParseResult NdiTracker::Command(const char* name, const char* args, int tim
   const size_t length = ndi::FormatCommand(command, sizeof command, name, args, args != nullptr);
   ndi::ParseResult result;
   result.Code = ndi::ParseCode::Incomplete;
-  for (int attempt = 0; attempt <= retries && !this->StopRequested; ++attempt) {
+  for (int attempt = 0; attempt <= retries && !this->Stopping(); ++attempt) {
     if (!this->Transport->Write(command, length)) {
       this->Fail(std::string(name) + ": " + this->Transport->LastError());
       result.Code = ndi::ParseCode::Truncated;
@@ -230,7 +239,7 @@ bool NdiTracker::Connect() {
   this->Baud = 9600;
   ndi::ParseResult r = this->Command("INIT", "", this->Opts.ProbeTimeoutMs, 0);
   if (r.Ok()) return true;
-  if (this->StopRequested || !this->Reset()) return false;
+  if (this->Stopping() || !this->Reset()) return false;
   r = this->Command("INIT", "", this->Opts.CommandTimeoutMs, this->Opts.Retries);
   if (!r.Ok()) this->Fail(Describe("INIT", r));
   return r.Ok();
@@ -243,7 +252,7 @@ bool NdiTracker::Configure() {
   if (!r.Ok()) r = this->Command("VER", "0", timeout, retries);
   if (!r.Ok()) return this->Fail(Describe("VER", r)), false;
   {
-    std::lock_guard<std::mutex> lock(this->TextMutex);
+    std::lock_guard<std::mutex> lock(this->VersionMutex);
     this->Version.assign(this->Payload, this->PayloadLength);
   }
 
@@ -257,7 +266,7 @@ bool NdiTracker::Configure() {
     r = this->Command("COMM", args, timeout, retries);
     if (r.Code == ndi::ParseCode::DeviceError && r.DeviceError == 0x06) continue;
     if (!r.Ok()) return this->Fail(Describe("COMM", r)), false;
-    this->Sleep(0.1);  // the device switches after its reply
+    this->Worker.Sleep(0.1);  // the device switches after its reply
     this->Transport->SetBaudRate(rate.Baud);
     this->Baud = rate.Baud;
     break;
@@ -391,6 +400,7 @@ bool NdiTracker::ProcessTrackingFrame(uint32_t& lastFrame) {
     }
     this->Table.Publish(slot, pose);
   }
+  this->Ready.Notify();
   return true;
 }
 
@@ -404,7 +414,7 @@ void NdiTracker::TrackLoop() {
   int consecutiveTimeouts = 0;
   uint32_t lastFrame = 0;
   uint64_t polls = 0;
-  while (!this->StopRequested) {
+  while (!this->Stopping()) {
     // Replies that came late (a slow device, after we timed out) are still good data: take them
     // now, so that the reply read next belongs to the poll sent next.
     int pending;
@@ -441,7 +451,7 @@ void NdiTracker::TrackLoop() {
 
 void NdiTracker::Shutdown() {
   const int timeout = 500;
-  this->StopRequested = false;  // let the few stop commands through
+  this->ShuttingDown = true;  // let the few stop commands through
   this->Command("TSTOP", "", timeout, 0);
   for (uint8_t h : this->Handles) {
     char args[3];
@@ -453,7 +463,7 @@ void NdiTracker::Shutdown() {
     this->Command("COMM", "00000", timeout, 0);
     this->Transport->SetBaudRate(9600);
   }
-  this->StopRequested = true;
+  this->ShuttingDown = false;
 }
 
 }  // namespace rp

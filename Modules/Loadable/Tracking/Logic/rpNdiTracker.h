@@ -1,8 +1,8 @@
 #pragma once
-// The NDI Combined API serial driver: one I/O thread that resets, probes and configures the
-// tracker, loads passive tool definitions, tracks (BX or TX polling at the frame rate) and
-// publishes each tool's newest pose into a ToolPoseTable. Unplug is detected and the whole
-// set-up repeated with back-off, without restarting the program.
+// The NDI Combined API serial driver (pose source "serial"): one I/O thread that resets, probes
+// and configures the tracker, loads passive tool definitions, tracks (BX or TX polling at the
+// frame rate) and publishes each tool's newest pose into a ToolPoseTable (slot <Tool>ToTracker).
+// Unplug is detected and the whole set-up repeated with back-off, without restarting the program.
 #include <atomic>
 #include <cstdint>
 #include <functional>
@@ -13,12 +13,14 @@
 #include <vector>
 
 #include "rpNdiProtocol.h"
+#include "rpPoseSource.h"
 #include "rpSerialTransport.h"
 #include "rpToolPose.h"
+#include "rpWorkerThread.h"
 
 namespace rp {
 
-class NdiTracker {
+class NdiTracker : public PoseSource {
  public:
   struct Tool {
     std::string Name;            // tool name, e.g. "Stylus" (slot "StylusToTracker" in the pose table)
@@ -60,19 +62,29 @@ class NdiTracker {
   };
 
   explicit NdiTracker(Options options);
-  ~NdiTracker();
+  ~NdiTracker() override;
+  /// From a configuration: Address = the port, ToolFiles, options "rate" (20|30|60 Hz) and
+  /// "text" (1: TX instead of BX). Throws std::invalid_argument / std::runtime_error.
+  static std::unique_ptr<PoseSource> Create(const PoseSourceConfig& config);
 
   /// Starts the I/O thread (returns at once; watch GetState()).
-  void Start();
+  bool Start(std::string& error) override;
+  void Start() {
+    std::string ignored;
+    this->Start(ignored);
+  }
   /// Stops tracking (TSTOP, PHF, COMM back to 9600) and joins the thread.
-  void Stop();
+  void Stop() override;
+  const ToolPoseTable& Poses() const override { return this->Table; }
+  bool Connected() const override { return this->GetState() == State::Tracking; }
+  std::string StatusText() const override;
+  nlohmann::json StatisticsJson() const override;
 
   State GetState() const { return static_cast<State>(this->CurrentState.load(std::memory_order_acquire)); }
   Statistics GetStatistics() const;
-  std::string LastError() const;
+  std::string LastError() const { return this->Worker.LastError(); }
   std::string FirmwareVersion() const;
   int NegotiatedBaud() const { return this->Baud.load(); }
-  const ToolPoseTable& Poses() const { return this->Table; }
 
  private:
   void Run();
@@ -87,16 +99,16 @@ class NdiTracker {
   ndi::ParseResult Command(const char* name, const char* args, int timeoutMs, int retries);
   /// Reads one frame into Frame/FrameLength. 0 ok, 1 timeout, -1 transport gone, 2 resync.
   int ReadFrame(int timeoutMs);
-  void Fail(const std::string& message);
-  bool Sleep(double seconds);  // false when stop was requested
+  void Fail(const std::string& message) { this->Worker.Fail(message); }
+  /// Stop requested (and not in the middle of the stop commands themselves).
+  bool Stopping() const { return this->Worker.StopRequested() && !this->ShuttingDown; }
   void SetState(State s) { this->CurrentState.store(static_cast<int>(s), std::memory_order_release); }
   void UpdateCpu();
 
   Options Opts;
   std::unique_ptr<SerialTransport> Transport;
   ToolPoseTable Table;
-  std::thread Thread;
-  std::atomic<bool> StopRequested{false};
+  WorkerThread Worker;
   std::atomic<int> CurrentState{0};
   std::atomic<int> Baud{9600};
 
@@ -104,10 +116,11 @@ class NdiTracker {
   std::atomic<uint64_t> Frames{0}, CrcErrors{0}, Timeouts{0}, FrameGaps{0}, DeviceErrors{0}, Malformed{0},
       Connections{0}, Resets{0}, LateReplies{0};
   std::atomic<double> CpuSeconds{0};
-  mutable std::mutex TextMutex;  // error and version text (error path only)
-  std::string ErrorText, Version;
+  mutable std::mutex VersionMutex;  // firmware text (set once per connection)
+  std::string Version;
 
   // I/O thread only
+  bool ShuttingDown = false;
   uint8_t Rx[16384];
   size_t RxLength = 0;
   size_t FrameLength = 0;  // the frame at Rx[0..FrameLength)

@@ -6,16 +6,28 @@
 #include <sys/un.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 
 #include "rpNdiProtocol.h"
+#include "rpResources.h"
 #include "rpSerialTransport.h"
 #include "rpToolPose.h"
 
 namespace rp {
+
+std::vector<std::string> DefaultToolFiles() {
+  std::vector<std::string> files;
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(ResourcePath("Tools"), ec))
+    if (entry.path().extension() == ".json") files.push_back(entry.path().string());
+  std::sort(files.begin(), files.end());
+  return files;
+}
 
 namespace {
 void PutU16(uint8_t* p, uint16_t v) {
@@ -117,17 +129,13 @@ bool PolarisSimulator::Start(std::string& error) {
       return false;
     }
   }
-  this->StopRequested = false;
   this->Unplugged = false;
-  this->Thread = std::thread([this] { this->Run(); });
+  this->Worker.Start([this] { this->Run(); });
   return true;
 }
 
 void PolarisSimulator::Stop() {
-  if (this->Thread.joinable()) {
-    this->StopRequested = true;
-    this->Thread.join();
-  }
+  this->Worker.Stop();
   this->ClosePty();
   if (this->BreakSocketFd >= 0) {
     ::close(this->BreakSocketFd);
@@ -205,10 +213,10 @@ void PolarisSimulator::PowerOnReset() {
 void PolarisSimulator::Run() {
   bool wasUnplugged = false;
   char buffer[4096];
-  while (!this->StopRequested) {
+  while (!this->Worker.StopRequested()) {
     if (this->Unplugged) {
       wasUnplugged = true;
-      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      this->Worker.Sleep(0.005);
       continue;
     }
     if (wasUnplugged) {  // a replugged device starts from power-on

@@ -13,8 +13,12 @@
 #include <vector>
 
 #include "rpToolDefinition.h"
+#include "rpWorkerThread.h"
 
 namespace rp {
+
+/// Resources/Tools/*.json, sorted: the tools a simulator carries unless told otherwise.
+std::vector<std::string> DefaultToolFiles();
 
 class PolarisSimulator {
  public:
@@ -94,8 +98,8 @@ class PolarisSimulator {
 
   Options Opts;
   std::vector<std::unique_ptr<ToolRuntime>> Tools;
-  std::thread Thread;
-  std::atomic<bool> StopRequested{false}, BreakPending{false}, Unplugged{false};
+  WorkerThread Worker;
+  std::atomic<bool> BreakPending{false}, Unplugged{false};
   std::atomic<int> CrcFaults{0}, Drops{0}, DelayMs{0};
   mutable std::mutex PtyMutex;  // guards the fds and paths against Unplug/Replug (not hot)
   int MasterFd = -1, KeepSlaveFd = -1, BreakSocketFd = -1;

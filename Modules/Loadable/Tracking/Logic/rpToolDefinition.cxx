@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <stdexcept>
@@ -76,6 +77,14 @@ std::vector<uint8_t> ReadBinaryFile(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error("cannot open " + path);
   return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+ToolDefinition ReadToolFile(const std::string& path) {
+  if (std::filesystem::path(path).extension() == ".json") return ReadToolDefinition(path);
+  ToolDefinition tool;
+  tool.Name = std::filesystem::path(path).stem().string();
+  tool.Rom = ReadBinaryFile(path);
+  return tool;
 }
 
 ToolDefinition ReadToolDefinition(const std::string& path) {

@@ -45,6 +45,9 @@ ToolDefinition ReadToolDefinition(const std::string& path);
 /// The same from the file's text (`source` names it in messages). Throws std::runtime_error only.
 ToolDefinition ParseToolDefinition(const std::string& text, const std::string& source);
 std::vector<uint8_t> ReadBinaryFile(const std::string& path);  // throws std::runtime_error
+/// A tool file a user gives: a definition .json, or a bare NDI .rom (the tool is named after
+/// the file; no markers or trajectory). Throws std::runtime_error naming the file.
+ToolDefinition ReadToolFile(const std::string& path);
 
 /// Pose of a tool on its trajectory at time t (seconds): row-major 4x4 ToolToTracker.
 void EvaluateTrajectory(const ToolDefinition& tool, double t, double m[16]);

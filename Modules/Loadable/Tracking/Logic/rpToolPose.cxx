@@ -104,6 +104,16 @@ int ToolPoseTable::FindOrAdd(const char* name, size_t length) noexcept {
   return n;
 }
 
+ToolPoseTable::StateCounts ToolPoseTable::Counts(int slot) const noexcept {
+  const auto& n = this->Slots[slot].ByState;
+  StateCounts c;
+  c.Ok = n[static_cast<int>(ToolState::OK)].load(std::memory_order_relaxed);
+  c.Missing = n[static_cast<int>(ToolState::Missing)].load(std::memory_order_relaxed);
+  c.OutOfVolume = n[static_cast<int>(ToolState::OutOfVolume)].load(std::memory_order_relaxed);
+  c.Disabled = n[static_cast<int>(ToolState::Disabled)].load(std::memory_order_relaxed);
+  return c;
+}
+
 const ToolPoseReader::Sample& ToolPoseReader::Poll(const ToolPoseTable& table, int slot) {
   Sample& s = this->Samples[slot];
   ToolPose pose;

@@ -48,18 +48,30 @@ class ToolPoseTable {
   int FindOrAdd(const char* name) noexcept { return this->FindOrAdd(name, std::strlen(name)); }
   /// Writer only (no lock): slot of a name or -1.
   int Find(const char* name, size_t length) const noexcept;
-  void Publish(int slot, const ToolPose& pose) noexcept { this->Slots[slot].Pose.Publish(pose); }
+  /// Writer: the newest pose of a slot (also counted by its state).
+  void Publish(int slot, const ToolPose& pose) noexcept {
+    std::atomic<uint64_t>& n = this->Slots[slot].ByState[static_cast<int>(pose.State) & 3];
+    n.store(n.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);  // one writer
+    this->Slots[slot].Pose.Publish(pose);
+  }
 
   /// Reader side.
   int Count() const noexcept { return this->NumberOfSlots.load(std::memory_order_acquire); }
   const char* Name(int slot) const noexcept { return this->Slots[slot].Name; }
   /// Returns how many poses were published to the slot so far (0: none yet).
   uint64_t Read(int slot, ToolPose& pose) const noexcept { return this->Slots[slot].Pose.Read(pose); }
+  /// Every pose published to a slot, by state (also those no reader saw).
+  struct StateCounts {
+    uint64_t Ok = 0, Missing = 0, OutOfVolume = 0, Disabled = 0;
+    uint64_t WithPose() const { return this->Ok + this->OutOfVolume; }  // frames that carry a pose
+  };
+  StateCounts Counts(int slot) const noexcept;
 
  private:
   struct Slot {
     char Name[NameLength] = {};
     LatestValue<ToolPose> Pose;
+    std::atomic<uint64_t> ByState[4] = {};  // poses published, by ToolState
   };
   std::array<Slot, Capacity> Slots;
   std::atomic<int> NumberOfSlots{0};

@@ -1,20 +1,22 @@
 #include "rpTrackingCommands.h"
 
+#include <poll.h>
+
 #include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <stdexcept>
 #include <thread>
 
 #include <nlohmann/json.hpp>
 #include <vtkNew.h>
 
 #include "rpArgParser.h"
-#include "rpIgtlClient.h"
 #include "rpIgtlServer.h"
-#include "rpNdiTracker.h"
 #include "rpPivotCalibration.h"
 #include "rpPolarisSimulator.h"
+#include "rpPoseSource.h"
 #include "rpProgress.h"
 #include "rpToolDefinition.h"
 #include "rpTrackingRecording.h"
@@ -22,10 +24,6 @@
 #include "vtkRPScene.h"
 #include "vtkRPTrackedToolNode.h"
 #include "vtkRPTrackingLogic.h"
-
-#ifndef ROBOPLAN_RESOURCES_DIR
-#define ROBOPLAN_RESOURCES_DIR ""
-#endif
 
 namespace rp {
 
@@ -42,197 +40,160 @@ int BadArguments(const ArgParser& parser, std::ostream& err) {
   return 2;
 }
 
-// A --rom argument: an NDI .rom file (tool named after the file) or a tool definition .json.
-NdiTracker::Tool LoadTool(const std::string& path) {
-  NdiTracker::Tool tool;
-  if (std::filesystem::path(path).extension() == ".json") {
-    const ToolDefinition d = ReadToolDefinition(path);
-    tool.Name = d.Name;
-    tool.Rom = d.Rom;
-  } else {
-    tool.Name = std::filesystem::path(path).stem().string();
-    tool.Rom = ReadBinaryFile(path);
-  }
-  return tool;
+std::string SourceKindsText() {
+  std::string text;
+  for (const auto& e : PoseSourceRegistry::Entries())
+    text += (text.empty() ? "" : ", ") + e.Kind + (e.AddressHint.empty() ? "" : " (" + e.AddressHint + ")");
+  return text;
 }
 
-std::vector<std::string> DefaultToolFiles() {
-  std::vector<std::string> files;
-  const std::string dir = std::string(ROBOPLAN_RESOURCES_DIR) + "/Tools";
-  std::error_code ec;
-  for (const auto& entry : std::filesystem::directory_iterator(dir, ec))
-    if (entry.path().extension() == ".json") files.push_back(entry.path().string());
-  std::sort(files.begin(), files.end());
-  return files;
+// The configuration from the command line: a kind (--serial/--igtl/--replay/--simulate are
+// short for --source KIND --address ...) and the options the user gave (the source's own
+// defaults otherwise). Throws std::invalid_argument.
+PoseSourceConfig SourceConfig(const ArgParser& parser) {
+  PoseSourceConfig config;
+  int given = 0;
+  for (const char* kind : {"serial", "igtl", "replay"}) {
+    if (!parser.Has(kind)) continue;
+    ++given;
+    config.Kind = kind;
+    config.Address = parser.Get(kind);
+  }
+  if (parser.Has("simulate")) {
+    ++given;
+    config.Kind = "simulator";
+  }
+  if (parser.Has("source")) {
+    ++given;
+    config.Kind = parser.Get("source");
+    config.Address = parser.Get("address");
+  }
+  if (given != 1)
+    throw std::invalid_argument("give exactly one of --serial <port>, --igtl <host:port>, --replay <file>, --simulate or "
+                                "--source <kind> (kinds: " + SourceKindsText() + ")");
+  config.ToolFiles = parser.GetAll("rom");
+  for (const char* option : {"rate", "header-version", "request", "speed"})
+    if (parser.Has(option)) config.Options[option] = parser.Get(option);
+  if (parser.Has("text")) config.Options["text"] = "1";
+  for (const std::string& pair : parser.GetAll("option")) {
+    const size_t eq = pair.find('=');
+    if (eq == std::string::npos || eq == 0) throw std::invalid_argument("--option expects KEY=VALUE, got '" + pair + "'");
+    config.Options[pair.substr(0, eq)] = pair.substr(eq + 1);
+  }
+  return config;
+}
+
+nlohmann::json PoseJson(const ToolPose& pose) {
+  double m[16];
+  pose.ToMatrix(m);
+  return {{"state", ToolStateName(pose.State)},
+          {"matrix", std::vector<double>(m, m + 16)},
+          {"position", {pose.Translation[0], pose.Translation[1], pose.Translation[2]}},
+          {"quaternion", {pose.Quaternion[0], pose.Quaternion[1], pose.Quaternion[2], pose.Quaternion[3]}},
+          {"timestamp", pose.Timestamp}};
 }
 }  // namespace
 
 int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std::ostream& out, std::ostream& err) {
-  ArgParser parser("track", "Track tools through a serial NDI link or OpenIGTLink; print rate, latency and status per tool.");
-  parser.Option("serial", "PORT", "serial port of an NDI Polaris (or a polaris-sim link)")
+  ArgParser parser("track", "Track tools from a pose source (an NDI tracker, an OpenIGTLink server, a recording, the "
+                            "simulator); print per tool the last pose, OK/MISSING/out-of-volume frames, rate and latency.");
+  parser.Option("serial", "PORT", "serial port of an NDI Polaris/Aurora (or a polaris-sim link)")
       .Option("igtl", "HOST:PORT", "OpenIGTLink server (e.g. PLUS at 127.0.0.1:18944)")
       .Option("replay", "FILE", "replay a recording (from --record) as if it were a tracker")
-      .Option("speed", "X", "replay speed factor", std::string("1"))
-      .Option("rom", "FILE", "passive tool definition (.rom, or a Resources/Tools .json); repeatable")
+      .Flag("simulate", "the built-in simulated Polaris (serial path on a pseudo-terminal)")
+      .Option("source", "KIND", "any registered pose source: " + SourceKindsText())
+      .Option("address", "ADDRESS", "with --source: port, HOST:PORT or file")
+      .Option("option", "KEY=VALUE", "a source option (e.g. noise=0.1); repeatable")
+      .Option("rom", "FILE", "tool definition (.rom, or a Resources/Tools .json); repeatable")
       .Option("seconds", "N", "how long to track", std::string("5"))
       .Option("record", "FILE", "record every pose to a file (replay, `roboplan pivot`)")
       .Option("stale", "S", "seconds without data before a tool is stale", std::string("0.5"))
       .Option("reference", "NAME", "reference tool: also report <Tool>ToReference")
-      .Option("rate", "HZ", "serial: camera frame rate via IRATE (20, 30 or 60) and poll rate", std::string("60"))
+      .Option("rate", "HZ", "serial/simulate: camera frame rate via IRATE (20, 30 or 60) and poll rate")
+      .Option("speed", "X", "replay speed factor")
       .Option("serve", "PORT", "also stream the poses as OpenIGTLink TRANSFORMs (PLUS style) on 127.0.0.1:PORT")
       .Option("request", "KIND", "igtl: ask the server to stream 'tdata' or 'qtdata' (STT_)")
-      .Option("header-version", "V", "igtl: header version we send: 1, or 2 (v3 framing; PLUS then sends status metadata)",
-              std::string("1"))
+      .Option("header-version", "V", "igtl: header version we send: 1, or 2 (v3 framing; PLUS then sends status metadata)")
       .Flag("text", "serial: poll TX (text) instead of BX (binary)");
   if (!parser.Parse(args)) return BadArguments(parser, err);
-  if (int(parser.Has("serial")) + int(parser.Has("igtl")) + int(parser.Has("replay")) != 1) {
-    err << "roboplan track: give exactly one of --serial <port>, --igtl <host:port> or --replay <file>\n" << parser.Usage();
-    return 2;
-  }
-  double seconds, stale, rate;
-  long headerVersion, servePort = -1;
+  double seconds, stale;
+  long servePort = -1;
+  PoseSourceConfig config;
+  std::unique_ptr<PoseSource> source;
   try {
     seconds = parser.GetDouble("seconds");
     stale = parser.GetDouble("stale");
-    rate = parser.GetDouble("rate");
-    headerVersion = parser.GetInt("header-version");
     if (parser.Has("serve")) servePort = parser.GetInt("serve");
+    config = SourceConfig(parser);
+    source = PoseSourceRegistry::Create(config);
+  } catch (const std::invalid_argument& e) {
+    err << "roboplan track: " << e.what() << "\n" << parser.Usage();
+    return 2;
   } catch (const std::exception& e) {
     err << "roboplan track: " << e.what() << "\n";
-    return 2;
-  }
-  if (rate != 20 && rate != 30 && rate != 60) {
-    err << "roboplan track: --rate must be 20, 30 or 60\n";
-    return 2;
-  }
-  if (headerVersion != 1 && headerVersion != 2) {
-    err << "roboplan track: --header-version must be 1 or 2\n";
-    return 2;
-  }
-  const std::string request = parser.Get("request");
-  if (!request.empty() && request != "tdata" && request != "qtdata") {
-    err << "roboplan track: --request must be tdata or qtdata\n";
-    return 2;
+    return 1;
   }
   const bool json = parser.Json();
-  std::unique_ptr<NdiTracker> serial;
-  std::unique_ptr<IgtlClient> igtlClient;
-  std::unique_ptr<Recording> replayed;
-  std::unique_ptr<RecordingPlayer> player;
-  const ToolPoseTable* table = nullptr;
-  if (parser.Has("serial")) {
-    NdiTracker::Options o;
-    o.Port = parser.Get("serial");
-    o.Binary = !parser.Has("text");
-    o.PollHz = rate;
-    o.RateCode = rate == 20 ? 0 : rate == 30 ? 1 : 2;
-    std::vector<std::string> roms = parser.GetAll("rom");
-    if (roms.empty()) {
-      err << "roboplan track: --serial needs at least one --rom <file> (tool definitions to load)\n";
-      return 2;
-    }
-    for (const std::string& rom : roms) {
-      try {
-        o.Tools.push_back(LoadTool(rom));
-      } catch (const std::exception& e) {
-        err << "roboplan track: " << e.what() << "\n";
-        return 1;
-      }
-    }
-    serial = std::make_unique<NdiTracker>(o);
-    table = &serial->Poses();
-    serial->Start();
-  } else if (parser.Has("replay")) {
-    double speed;
-    try {
-      speed = parser.GetDouble("speed");
-      replayed = std::make_unique<Recording>(Recording::Read(parser.Get("replay")));
-    } catch (const std::invalid_argument& e) {
-      err << "roboplan track: " << e.what() << "\n";
-      return 2;
-    } catch (const std::exception& e) {
-      err << "roboplan track: " << e.what() << "\n";
-      return 1;
-    }
-    player = std::make_unique<RecordingPlayer>(*replayed, speed);
-    table = &player->Poses();
-    player->Start();
-  } else {
-    const std::string target = parser.Get("igtl");
-    const size_t colon = target.rfind(':');
-    IgtlClient::Options o;
-    try {
-      if (colon == std::string::npos) throw std::invalid_argument("no port");
-      o.Host = target.substr(0, colon);
-      o.Port = std::stoi(target.substr(colon + 1));
-      if (o.Port <= 0 || o.Port > 65535) throw std::invalid_argument("port out of range");
-    } catch (const std::exception&) {
-      err << "roboplan track: --igtl expects HOST:PORT, got '" << target << "'\n";
-      return 2;
-    }
-    o.HeaderVersion = static_cast<uint16_t>(headerVersion);
-    o.RequestTrackingData = request == "tdata";
-    o.RequestQuaternionData = request == "qtdata";
-    igtlClient = std::make_unique<IgtlClient>(o);
-    table = &igtlClient->Poses();
-    igtlClient->Start();
+
+  vtkNew<vtkRPScene> ownScene;
+  vtkNew<vtkRPTrackingLogic> logic;
+  logic->SetScene(scene ? scene : ownScene.Get());
+  logic->SetStaleTimeout(stale);
+  if (parser.Has("reference")) logic->SetReferenceNodeName(ToolToTrackerName(parser.Get("reference")));
+  std::string error;
+  const int sourceId = logic->AddSource(std::move(source), error);
+  if (sourceId < 0) {
+    err << "roboplan track: " << error << "\n";
+    return 1;
   }
+  PoseSource* tracker = logic->GetSource(sourceId);
+  const ToolPoseTable& table = tracker->Poses();
 
   std::unique_ptr<IgtlServer> server;
   if (servePort >= 0) {
     IgtlServer::Options so;
     so.Port = static_cast<int>(servePort);
-    server = std::make_unique<IgtlServer>(*table, so);
-    std::string error;
+    server = std::make_unique<IgtlServer>(table, so);
     if (!server->Start(error)) {
       err << "roboplan track: " << error << "\n";
       return 1;
     }
     err << "track: serving OpenIGTLink on 127.0.0.1:" << server->Port() << "\n";
   }
-
-  vtkNew<vtkRPScene> ownScene;
-  vtkRPScene* target = scene ? scene : ownScene.Get();
-  vtkNew<vtkRPTrackingLogic> logic;
-  logic->SetScene(target);
-  logic->SetStaleTimeout(stale);
-  logic->AddPoseSource(table);
-  if (parser.Has("reference")) logic->SetReferenceNodeName(ToolToTrackerName(parser.Get("reference")));
-
   RecordingWriter recorder;
   ToolPoseReader recordReader;
-  if (parser.Has("record")) {
-    std::string error;
-    if (!recorder.Open(parser.Get("record"), error)) {
-      err << "roboplan track: " << error << "\n";
-      return 1;
-    }
+  const bool record = parser.Has("record");
+  if (record && !recorder.Open(parser.Get("record"), error)) {
+    err << "roboplan track: " << error << "\n";
+    return 1;
   }
+
   gInterrupted = false;
   auto previousInt = std::signal(SIGINT, OnSignal);
   TerminalProgress progress("track", json);
   const double start = SteadySeconds();
-  int tick = 0;
+  double nextReport = start;
+  std::vector<pollfd> ready;
+  for (int fd : logic->GetReadyFds()) ready.push_back({fd, POLLIN, 0});
   while (!gInterrupted) {
     const double now = SteadySeconds();
     if (now - start >= seconds) break;
-    // Record every pose (polled at 250 Hz, faster than any tracker), update nodes at ~60 Hz.
-    if (recorder.Count() || parser.Has("record")) {
-      for (int i = 0; i < table->Count(); ++i) {
-        const auto& s = recordReader.Poll(*table, i);
-        if (s.Fresh) recorder.Add(table->Name(i), s.Pose.ReceiveTime - start, s.Pose);
+    // Nodes follow the source as soon as it publishes (and at least every 16 ms, for staleness).
+    ::poll(ready.data(), ready.size(), static_cast<int>(std::min(16.0, 1e3 * (start + seconds - now))) + 1);
+    if (record) {
+      for (int i = 0; i < table.Count(); ++i) {
+        const auto& s = recordReader.Poll(table, i);
+        if (s.Fresh) recorder.Add(table.Name(i), s.Pose.ReceiveTime - start, s.Pose);
       }
     }
-    if (tick++ % 4 == 0) {
-      logic->UpdateNodes(now);
-      std::string status = serial ? NdiTracker::StateName(serial->GetState())
-                           : player ? (player->Finished() ? "replay finished" : "replaying")
-                                    : (igtlClient->Connected() ? "connected" : "connecting");
+    logic->UpdateNodes(SteadySeconds());
+    if (SteadySeconds() >= nextReport) {
+      nextReport += 0.25;
+      std::string status = tracker->StatusText();
       for (const auto& t : logic->GetToolStatistics())
         status += " | " + t.NodeName + " " + vtkRPTrackedToolNode::GetStatusAsString(t.Status);
-      progress.Report((now - start) / seconds, status);
+      progress.Report((SteadySeconds() - start) / seconds, status);
     }
-    std::this_thread::sleep_for(std::chrono::milliseconds(4));
   }
   std::signal(SIGINT, previousInt);
   logic->UpdateNodes(SteadySeconds());
@@ -241,53 +202,67 @@ int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std
 
   nlohmann::json doc;
   doc["seconds"] = elapsed;
-  doc["source"] = serial ? "serial" : player ? "replay" : "igtl";
-  std::string lastError;
-  if (serial) {
-    const auto s = serial->GetStatistics();
-    doc["device"] = {{"state", NdiTracker::StateName(serial->GetState())}, {"firmware", serial->FirmwareVersion()},
-                     {"baud", serial->NegotiatedBaud()}, {"frames", s.Frames}, {"crcErrors", s.CrcErrors},
-                     {"timeouts", s.Timeouts}, {"frameGaps", s.FrameGaps}, {"deviceErrors", s.DeviceErrors},
-                     {"connections", s.Connections}, {"resets", s.Resets}};
-    lastError = serial->LastError();
-    serial->Stop();
-  } else if (player) {
-    doc["device"] = {{"recording", parser.Get("replay")}, {"samples", replayed->Samples.size()}, {"finished", player->Finished()}};
-    player->Stop();
-  } else {
-    const auto s = igtlClient->GetStatistics();
-    doc["device"] = {{"connected", igtlClient->Connected()}, {"messages", s.Messages}, {"crcErrors", s.CrcErrors},
-                     {"malformed", s.Malformed}, {"oversized", s.Oversized}, {"skipped", s.Skipped},
-                     {"connections", s.Connections}, {"keepAlivesSent", s.KeepAlivesSent}};
-    lastError = igtlClient->LastError();
-    igtlClient->Stop();
-  }
-  doc["lastError"] = lastError;
+  doc["source"] = config.Kind;
+  doc["address"] = config.Address;
+  doc["status"] = tracker->StatusText();
+  doc["device"] = tracker->StatisticsJson();
   if (server) {
-    doc["served"] = {{"port", server->Port()}, {"messagesSent", server->MessagesSent()}};
-    server->Stop();
+    const auto s = server->GetStatistics();
+    doc["served"] = {{"port", server->Port()}, {"messagesSent", s.MessagesSent}, {"clientsAccepted", s.Accepted},
+                     {"clientsRefused", s.Refused}, {"messagesDropped", s.MessagesDropped}};
   }
   doc["tools"] = nlohmann::json::array();
-  uint64_t total = 0;
+  uint64_t withPose = 0;
   for (const auto& t : logic->GetToolStatistics()) {
-    total += t.Received;
-    doc["tools"].push_back({{"name", t.NodeName}, {"status", vtkRPTrackedToolNode::GetStatusAsString(t.Status)},
-                            {"received", t.Received}, {"dropped", t.Dropped},
-                            {"rateHz", elapsed > 0 ? static_cast<double>(t.Received) / elapsed : 0.0},
-                            {"latencyMs", t.LatencySeconds * 1e3}, {"errorRmsMm", t.ErrorRMS}});
+    withPose += t.Frames.WithPose();
+    nlohmann::json tool = {
+        {"name", t.NodeName},
+        {"status", vtkRPTrackedToolNode::GetStatusAsString(t.Status)},
+        {"frames", {{"ok", t.Frames.Ok}, {"missing", t.Frames.Missing}, {"outOfVolume", t.Frames.OutOfVolume},
+                    {"disabled", t.Frames.Disabled}}},
+        {"received", t.Frames.WithPose()},  // frames that carry a pose (OK, out of volume)
+        {"dropped", t.Dropped},
+        {"rateHz", elapsed > 0 ? static_cast<double>(t.Frames.WithPose()) / elapsed : 0.0},
+        {"latencyMs", t.LatencySeconds * 1e3},
+        {"meanLatencyMs", t.MeanLatencySeconds * 1e3},
+        {"maxLatencyMs", t.MaxLatencySeconds * 1e3},
+        {"errorRmsMm", t.ErrorRMS}};
+    tool["lastPose"] = t.HasPose ? PoseJson(t.LastPose) : nlohmann::json();
+    doc["tools"].push_back(tool);
   }
-  if (parser.Has("record")) doc["recorded"] = recorder.Count();
+  doc["images"] = nlohmann::json::array();
+  uint64_t images = 0;
+  for (const auto& i : logic->GetImageStatistics()) {
+    images += i.Frames;
+    doc["images"].push_back({{"name", i.NodeName}, {"frames", i.Frames}, {"shown", i.Shown},
+                             {"dimensions", {i.Dimensions[0], i.Dimensions[1], i.Dimensions[2]}},
+                             {"latencyMs", i.LatencySeconds * 1e3}});
+  }
+  if (record) doc["recorded"] = recorder.Count();
+  if (server) server->Stop();
+  logic->RemoveSource(sourceId);  // stops the device (TSTOP, PHF, COMM 9600 ...)
   if (json) {
     out << doc.dump(2) << "\n";
   } else {
-    out << "source: " << doc["source"].get<std::string>() << ", " << elapsed << " s\n";
+    out << "source: " << config.Kind << " " << config.Address << ", " << elapsed << " s: " << doc["status"].get<std::string>() << "\n";
     out << "device: " << doc["device"].dump() << "\n";
-    for (const auto& t : doc["tools"])
+    for (const auto& t : doc["tools"]) {
       out << "  " << t["name"].get<std::string>() << ": " << t["status"].get<std::string>() << ", "
-          << t["rateHz"].get<double>() << " Hz, latency " << t["latencyMs"].get<double>() << " ms, received "
-          << t["received"].get<uint64_t>() << ", dropped " << t["dropped"].get<uint64_t>() << "\n";
+          << t["rateHz"].get<double>() << " Hz, latency " << t["latencyMs"].get<double>() << " ms; frames OK "
+          << t["frames"]["ok"].get<uint64_t>() << ", missing " << t["frames"]["missing"].get<uint64_t>()
+          << ", out of volume " << t["frames"]["outOfVolume"].get<uint64_t>() << ", dropped " << t["dropped"].get<uint64_t>();
+      if (!t["lastPose"].is_null()) {
+        const auto& p = t["lastPose"]["position"];
+        out << "; last at (" << p[0].get<double>() << ", " << p[1].get<double>() << ", " << p[2].get<double>() << ") mm";
+      }
+      out << "\n";
+    }
+    for (const auto& i : doc["images"])
+      out << "  image " << i["name"].get<std::string>() << ": " << i["frames"].get<uint64_t>() << " frames "
+          << i["dimensions"].dump() << "\n";
   }
-  if (total == 0) {
+  if (withPose == 0 && images == 0) {
+    const std::string lastError = doc["device"].value("lastError", std::string());
     err << "roboplan track: no poses received" << (lastError.empty() ? "" : ": " + lastError) << "\n";
     return 1;
   }
@@ -324,14 +299,19 @@ int RunPivotCommand(const std::vector<std::string>& args, std::ostream& out, std
       }
     if (tool.empty() && !recording.Tools.empty()) tool = recording.Tools.front();
   }
-  if (recording.ToolIndex(tool) < 0) {
+  // A tool is named as recorded: "Stylus" (serial) or "StylusToTracker" (OpenIGTLink); either works.
+  auto indexOf = [&](const std::string& name) {
+    const int index = recording.ToolIndex(name);
+    return index >= 0 ? index : recording.ToolIndex(ToolToTrackerName(name));
+  };
+  if (indexOf(tool) < 0) {
     err << "roboplan pivot: no tool '" << tool << "' in " << parser.Get("recording") << "\n";
     return 1;
   }
   std::vector<ToolPose> poses;
   if (parser.Has("reference")) {
     // Pair each tool pose with the newest reference pose recorded before it.
-    const int toolIndex = recording.ToolIndex(tool), refIndex = recording.ToolIndex(parser.Get("reference"));
+    const int toolIndex = indexOf(tool), refIndex = indexOf(parser.Get("reference"));
     if (refIndex < 0) {
       err << "roboplan pivot: no reference tool '" << parser.Get("reference") << "' in the recording\n";
       return 1;
@@ -347,7 +327,7 @@ int RunPivotCommand(const std::vector<std::string>& args, std::ostream& out, std
       }
     }
   } else {
-    poses = recording.PosesOf(tool);
+    poses = recording.PosesOf(recording.Tools[static_cast<size_t>(indexOf(tool))]);
   }
   const PivotResult r = PivotCalibrate(poses, threshold);
   nlohmann::json doc = {{"tool", tool},

@@ -1,6 +1,7 @@
 #pragma once
 // CLI subcommands of the Tracking module (testable without the host):
-//   roboplan track --serial <port> | --igtl <host:port> [--rom <file> ...] [--seconds N] [--json]
+//   roboplan track --serial <port> | --igtl <host:port> | --replay <file> | --simulate | --source <kind>
+//                  [--rom <file> ...] [--seconds N] [--record <file>] [--serve <port>] [--json]
 //   roboplan pivot <recording> [--tool NAME] [--reference NAME] [--threshold MM] [--json]
 //   roboplan polaris-sim [--port-link <path>] [--tool <json> ...] [--rate 20|60] ...
 #include <atomic>

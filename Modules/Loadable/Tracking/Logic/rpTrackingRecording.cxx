@@ -111,40 +111,53 @@ void RecordingWriter::Close() {
   this->File = nullptr;
 }
 
-RecordingPlayer::RecordingPlayer(const Recording& recording, double speed, bool loop)
-    : Source(recording), Speed(speed > 0 ? speed : 1.0), Loop(loop) {
-  for (const std::string& name : recording.Tools) this->Slots.push_back(this->Table.FindOrAdd(ToolToTrackerName(name).c_str()));
+RecordingPlayer::RecordingPlayer(Recording recording, double speed, bool loop)
+    : Source(std::move(recording)), Speed(speed > 0 ? speed : 1.0), Loop(loop) {
+  for (const std::string& name : this->Source.Tools)
+    this->Slots.push_back(this->Table.FindOrAdd(ToolToTrackerName(name).c_str()));
 }
 
 RecordingPlayer::~RecordingPlayer() { this->Stop(); }
 
-void RecordingPlayer::Start() {
-  if (this->Thread.joinable()) return;
-  this->StopRequested = false;
+std::unique_ptr<PoseSource> RecordingPlayer::Create(const PoseSourceConfig& config) {
+  const double speed = config.Number("speed", 1.0);
+  if (!(speed > 0)) throw std::invalid_argument("speed must be > 0");
+  const std::string loop = config.Option("loop", "0");
+  return std::make_unique<RecordingPlayer>(Recording::Read(config.Address), speed, loop == "1" || loop == "true");
+}
+RP_REGISTER_POSE_SOURCE(replay, "a recording (roboplan track --record) played back", "session.txt", RecordingPlayer::Create);
+
+bool RecordingPlayer::Start(std::string&) {
   this->Done = false;
-  this->Thread = std::thread([this] {
-    do {
-      if (this->Source.Samples.empty()) break;
-      const double t0 = this->Source.Samples.front().Time;
-      const double start = SteadySeconds();
-      for (const auto& s : this->Source.Samples) {
-        if (this->StopRequested) break;
-        const double due = start + (s.Time - t0) / this->Speed;
-        const double wait = due - SteadySeconds();
-        if (wait > 0) std::this_thread::sleep_for(std::chrono::duration<double>(wait));
-        ToolPose p = s.Pose;
-        p.ReceiveTime = SteadySeconds();
-        const int slot = this->Slots[static_cast<size_t>(s.Tool)];
-        if (slot >= 0) this->Table.Publish(slot, p);
-      }
-    } while (this->Loop && !this->StopRequested);
-    this->Done = true;
-  });
+  this->Worker.Start([this] { this->Run(); });
+  return true;
 }
 
-void RecordingPlayer::Stop() {
-  this->StopRequested = true;
-  if (this->Thread.joinable()) this->Thread.join();
+void RecordingPlayer::Stop() { this->Worker.Stop(); }
+
+nlohmann::json RecordingPlayer::StatisticsJson() const {
+  return {{"samples", this->Source.Samples.size()}, {"played", this->Played.load()}, {"finished", this->Finished()},
+          {"speed", this->Speed}};
+}
+
+void RecordingPlayer::Run() {
+  do {
+    if (this->Source.Samples.empty()) break;
+    const double t0 = this->Source.Samples.front().Time;
+    const double start = SteadySeconds();
+    for (const auto& s : this->Source.Samples) {
+      const double due = start + (s.Time - t0) / this->Speed;
+      if (!this->Worker.Sleep(due - SteadySeconds())) break;
+      ToolPose p = s.Pose;
+      p.ReceiveTime = SteadySeconds();
+      const int slot = this->Slots[static_cast<size_t>(s.Tool)];
+      if (slot >= 0) this->Table.Publish(slot, p);
+      ++this->Played;
+      this->Ready.Notify();
+    }
+  } while (this->Loop && !this->Worker.StopRequested());
+  this->Done = true;
+  this->Ready.Notify();
 }
 
 }  // namespace rp

@@ -8,10 +8,11 @@
 #include <atomic>
 #include <cstdio>
 #include <string>
-#include <thread>
 #include <vector>
 
+#include "rpPoseSource.h"
 #include "rpToolPose.h"
+#include "rpWorkerThread.h"
 
 namespace rp {
 
@@ -46,24 +47,39 @@ class RecordingWriter {
   size_t Written = 0;
 };
 
-/// Replays a recording into a pose table from its own thread (the "tracker" of a replay).
-class RecordingPlayer {
+/// Replays a recording into a pose table from its own thread at the recorded pace (pose source
+/// "replay": the "tracker" of a replay). Tool names become transform names (Stylus →
+/// StylusToTracker; names that already end in ToTracker are kept).
+class RecordingPlayer : public PoseSource {
  public:
-  RecordingPlayer(const Recording& recording, double speed = 1.0, bool loop = false);
-  ~RecordingPlayer();
-  void Start();
-  void Stop();
+  explicit RecordingPlayer(Recording recording, double speed = 1.0, bool loop = false);
+  ~RecordingPlayer() override;
+  /// Address = the recording file; options "speed" (> 0) and "loop" (1). Throws
+  /// std::invalid_argument for a bad option, std::runtime_error for an unreadable recording.
+  static std::unique_ptr<PoseSource> Create(const PoseSourceConfig& config);
+
+  bool Start(std::string& error) override;
+  void Start() {
+    std::string ignored;
+    this->Start(ignored);
+  }
+  void Stop() override;
+  const ToolPoseTable& Poses() const override { return this->Table; }
+  bool Connected() const override { return !this->Done.load(); }
+  std::string StatusText() const override { return this->Finished() ? "replay finished" : "replaying"; }
+  nlohmann::json StatisticsJson() const override;
   bool Finished() const { return this->Done.load(); }
-  const ToolPoseTable& Poses() const { return this->Table; }
 
  private:
-  const Recording& Source;
+  void Run();
+  Recording Source;
   double Speed;
   bool Loop;
   ToolPoseTable Table;
   std::vector<int> Slots;
-  std::thread Thread;
-  std::atomic<bool> StopRequested{false}, Done{false};
+  WorkerThread Worker;
+  std::atomic<bool> Done{false};
+  std::atomic<uint64_t> Played{0};
 };
 
 }  // namespace rp

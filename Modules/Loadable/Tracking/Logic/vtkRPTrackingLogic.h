@@ -1,24 +1,35 @@
 #ifndef vtkRPTrackingLogic_h
 #define vtkRPTrackingLogic_h
-// The bridge between tracker I/O threads and the scene. Each pose source (the serial driver,
-// the OpenIGTLink client, a replay) publishes into a lock-free ToolPoseTable; UpdateNodes(),
-// called by a main-thread timer at display rate, copies the newest pose of every tool into its
-// vtkRPTrackedToolNode in one batch (Start/EndModify), marks tools stale after a timeout and
-// keeps per-tool rate and dropped counts. Nodes are looked up by ID at every update, so
-// deleting a node that receives data is safe (it is re-created when data arrives again, as
-// Slicer's OpenIGTLink connector does, unless AutoCreateNodes is off).
+// The bridge between pose sources and the scene. A source (rp::PoseSource: the serial driver,
+// the OpenIGTLink client, a replay, the simulator; made by the registry from a configuration)
+// runs its own I/O thread and publishes into lock-free tables. UpdateNodes(), called on the
+// main thread when a source signals new data (its ReadyFd) or by a display-rate timer, copies
+// the newest pose of every tool into its vtkRPTrackedToolNode and the newest image of every
+// image stream into its vtkRPScalarVolumeNode, in one batch; marks tools stale after a
+// timeout; and keeps per-tool counts (OK / MISSING / out of volume), rate and latency. Nodes
+// are looked up by ID at every update, so deleting a node that receives data is safe (it is
+// re-created when data arrives again, as Slicer's OpenIGTLink connector does, unless
+// AutoCreateNodes is off).
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include <vtkObject.h>
 
 #include "rpPivotCalibration.h"
+#include "rpPoseSource.h"
 #include "rpToolPose.h"
 
 class vtkRPScene;
 class vtkRPTrackedToolNode;
 class vtkRPLinearTransformNode;
+class vtkRPScalarVolumeNode;
+
+namespace rp {
+class ImageTable;
+struct ImageFrame;
+}  // namespace rp
 
 class vtkRPTrackingLogic : public vtkObject {
  public:
@@ -29,10 +40,21 @@ class vtkRPTrackingLogic : public vtkObject {
   void SetScene(vtkRPScene* scene);
   vtkRPScene* GetScene() const { return this->Scene; }
 
-  /// A table of poses written by another thread; node name = slot name (a transform name such
-  /// as StylusToTracker). The table must outlive the logic or be removed first. Returns an id.
-  int AddPoseSource(const rp::ToolPoseTable* table);
-  void RemovePoseSource(int sourceId);
+  /// Creates a source from the registry and starts it. Returns its id, or -1 with the reason.
+  int Connect(const rp::PoseSourceConfig& config, std::string& error);
+  /// Takes a source made elsewhere and starts it. Returns its id, or -1 with the reason.
+  int AddSource(std::unique_ptr<rp::PoseSource> source, std::string& error);
+  /// The source of an id (nullptr for unknown ids and plain tables).
+  rp::PoseSource* GetSource(int id) const;
+  /// Stops and deletes a source (or forgets a table). Its nodes stay in the scene.
+  void RemoveSource(int id);
+  /// Tables written by a thread of the caller's; node name = slot name (a transform name such
+  /// as StylusToTracker, or an image's device name). They must outlive the logic or be removed
+  /// first. Returns an id.
+  int AddPoseTable(const rp::ToolPoseTable* poses, const rp::ImageTable* images = nullptr);
+  /// File descriptors that become readable when a source has new data (for poll or a
+  /// QSocketNotifier); UpdateNodes clears them.
+  std::vector<int> GetReadyFds() const;
 
   /// Seconds without a fresh pose before a tool is shown as stale.
   vtkSetMacro(StaleTimeout, double);
@@ -42,19 +64,31 @@ class vtkRPTrackingLogic : public vtkObject {
   /// When set (e.g. "ReferenceToTracker"), every other tool also gets a <Tool>ToReference node.
   void SetReferenceNodeName(const std::string& name) { this->ReferenceName = name; }
 
-  /// Main thread: copy the newest poses into nodes. `now` in SteadySeconds(). Returns the
-  /// number of nodes modified.
+  /// Main thread: copy the newest poses and images into nodes. `now` in SteadySeconds().
+  /// Returns the number of nodes modified.
   int UpdateNodes(double now);
 
   struct ToolStatistics {
     std::string NodeName, NodeID;
-    int Status = 0;          // vtkRPTrackedToolNode::Status
-    uint64_t Received = 0, Dropped = 0;
-    double RateHz = 0;       // fresh poses per second (running estimate)
-    double LatencySeconds = 0;  // receive → node update, last fresh pose
+    int Status = 0;                   // vtkRPTrackedToolNode::Status
+    rp::ToolPoseTable::StateCounts Frames;  // every frame the source published, by state
+    uint64_t Dropped = 0;             // published but overwritten before an update saw them
+    double RateHz = 0;                // fresh poses per second (running estimate)
+    double LatencySeconds = 0;        // receive → node update, last fresh pose
+    double MeanLatencySeconds = 0, MaxLatencySeconds = 0;
     double ErrorRMS = -1;
+    bool HasPose = false;             // a pose with data (OK or out of volume) was seen
+    rp::ToolPose LastPose;            // the newest such pose
   };
   std::vector<ToolStatistics> GetToolStatistics() const;
+
+  struct ImageStatistics {
+    std::string NodeName, NodeID;
+    uint64_t Frames = 0, Shown = 0;   // published by the source, copied into the node
+    int Dimensions[3] = {0, 0, 0};
+    double LatencySeconds = 0;        // receive → node update, last frame
+  };
+  std::vector<ImageStatistics> GetImageStatistics() const;
 
   /// StylusTipToStylus as a child transform of the stylus node (created or updated).
   vtkRPLinearTransformNode* ApplyPivotCalibration(const rp::PivotResult& result, const std::string& stylusNodeName,
@@ -71,18 +105,33 @@ class vtkRPTrackingLogic : public vtkObject {
   struct Tool {
     std::string NodeName, NodeID;
     int Status = 0;
-    double LastFreshTime = 0, RateHz = 0, Latency = 0, ErrorRMS = -1;
-    uint64_t LastReceived = 0;
-    rp::ToolPose Pose;
-    bool HasPose = false;
+    double LastFreshTime = 0, RateHz = 0, Latency = 0, LatencySum = 0, MaxLatency = 0, ErrorRMS = -1;
+    uint64_t LastReceived = 0, Updates = 0;
+    rp::ToolPose Pose;                // newest (any state)
+    rp::ToolPose ValidPose;           // newest with data (OK, out of volume)
+    bool HasPose = false, HasValidPose = false;
+  };
+  struct Image {
+    std::string NodeName, NodeID;
+    uint64_t Published = 0, Shown = 0;
+    int Dimensions[3] = {0, 0, 0};
+    double Latency = 0;
   };
   struct Source {
+    std::unique_ptr<rp::PoseSource> Owned;  // null for plain tables
     const rp::ToolPoseTable* Table = nullptr;
+    const rp::ImageTable* Images = nullptr;
     rp::ToolPoseReader Reader;
-    std::vector<Tool> Tools;  // by slot
+    std::vector<Tool> Tools;    // by slot
+    std::vector<Image> Streams;  // by image slot
   };
   vtkRPTrackedToolNode* NodeFor(Tool& tool);
+  vtkRPScalarVolumeNode* VolumeFor(Image& image);
   void WriteNode(vtkRPTrackedToolNode* node, const rp::ToolPose& pose, int status, double errorRMS);
+  int UpdateTools(Source& source, double now, std::vector<const Tool*>& all, std::vector<const Tool*>& changed,
+                  const Tool*& reference);
+  int UpdateImages(Source& source, double now);
+  void WriteVolume(vtkRPScalarVolumeNode* node, const rp::ImageFrame& frame);
 
   vtkRPScene* Scene = nullptr;  // not owned (the host owns the scene)
   std::map<int, Source> Sources;

@@ -55,7 +55,7 @@ TEST(TrackingLogic, BatchUpdateStaleDroppedAndReference) {
   ToolPoseTable table;
   const int stylus = table.FindOrAdd("StylusToTracker");
   const int reference = table.FindOrAdd("ReferenceToTracker");
-  logic->AddPoseSource(&table);
+  logic->AddPoseTable(&table);
 
   int batches = 0;
   vtkNew<vtkCallbackCommand> counter;
@@ -88,7 +88,7 @@ TEST(TrackingLogic, BatchUpdateStaleDroppedAndReference) {
   EXPECT_DOUBLE_EQ(relative->GetMatrixTransformToParent()->GetElement(0, 3), 6.0);
   const auto stats = logic->GetToolStatistics();
   ASSERT_EQ(stats.size(), 2u);
-  EXPECT_EQ(stats[0].Received, 5u);
+  EXPECT_EQ(stats[0].Frames.Ok, 5u);
   EXPECT_EQ(stats[0].Dropped, 4u);
 
   // Nothing new: nodes untouched until the stale timeout, then marked stale once.
@@ -142,7 +142,7 @@ TEST(TrackingLogic, ConcurrentPublishingAndNodeDeletion) {
       std::this_thread::sleep_for(std::chrono::microseconds(500));
     }
   });
-  logic->AddPoseSource(&table);
+  logic->AddPoseTable(&table);
   for (int k = 0; k < 100; ++k) {
     logic->UpdateNodes(SteadySeconds());
     if (k % 10 == 5)
@@ -154,7 +154,7 @@ TEST(TrackingLogic, ConcurrentPublishingAndNodeDeletion) {
   logic->UpdateNodes(SteadySeconds());
   ASSERT_NE(ToolNode(scene, "BToTracker"), nullptr);
   uint64_t received = 0;
-  for (const auto& s : logic->GetToolStatistics()) received += s.Received;
+  for (const auto& s : logic->GetToolStatistics()) received += s.Frames.WithPose();
   EXPECT_GT(received, 200u);
 }
 
@@ -185,9 +185,9 @@ TEST(TrackingLogic, SimulatorThroughSerialAndOpenIGTLinkIntoTheScene) {
   vtkNew<vtkRPScene> serialScene, igtlScene;
   vtkNew<vtkRPTrackingLogic> serialLogic, igtlLogic;
   serialLogic->SetScene(serialScene);
-  serialLogic->AddPoseSource(&tracker.Poses());
+  serialLogic->AddPoseTable(&tracker.Poses());
   igtlLogic->SetScene(igtlScene);
-  igtlLogic->AddPoseSource(&client.Poses());
+  igtlLogic->AddPoseTable(&client.Poses());
   ASSERT_TRUE(WaitFor([&] {
     serialLogic->UpdateNodes(SteadySeconds());
     igtlLogic->UpdateNodes(SteadySeconds());

@@ -1,47 +1,42 @@
 #include "qRPTrackingPanel.h"
 
 #include <QComboBox>
-#include <QDir>
-#include <QFileInfo>
 #include <QFormLayout>
 #include <QHBoxLayout>
 #include <QHeaderView>
 #include <QLabel>
 #include <QLineEdit>
 #include <QPushButton>
+#include <QSocketNotifier>
 #include <QTableWidget>
 #include <QTimer>
 #include <QVBoxLayout>
 
-#include "rpIgtlClient.h"
-#include "rpNdiTracker.h"
 #include "rpPivotCalibration.h"
-#include "rpPolarisSimulator.h"
-#include "rpToolDefinition.h"
+#include "rpPoseSource.h"
+#include "rpResources.h"
+#include "rpTransformNames.h"
 #include "vtkRPTrackedToolNode.h"
 #include "vtkRPTrackingLogic.h"
 
-#ifndef ROBOPLAN_RESOURCES_DIR
-#define ROBOPLAN_RESOURCES_DIR ""
-#endif
-
 qRPTrackingPanel::qRPTrackingPanel(vtkRPTrackingLogic* logic, QWidget* parent) : QWidget(parent), Logic(logic) {
   auto* form = new QFormLayout;
-  this->Source = new QComboBox;
-  this->Source->addItems({"NDI serial", "OpenIGTLink", "Polaris simulator"});
-  this->Source->setCurrentIndex(Simulator);
+  this->Kind = new QComboBox;
+  for (const auto& entry : rp::PoseSourceRegistry::Entries())
+    this->Kind->addItem(QString::fromStdString(entry.Description), QString::fromStdString(entry.Kind));
+  this->Kind->setCurrentIndex(std::max(0, this->Kind->findData("simulator")));
   this->Address = new QLineEdit;
-  this->Address->setPlaceholderText("/dev/ttyUSB0  or  127.0.0.1:18944");
-  const QString tools = QString(ROBOPLAN_RESOURCES_DIR) + "/Tools/";
+  const QString tools = QString::fromStdString(rp::ResourcePath("Tools")) + "/";
   this->Tools = new QLineEdit(tools + "Stylus.json;" + tools + "Reference.json");
   this->ConnectButton = new QPushButton("Connect");
   this->State = new QLabel("not connected");
-  form->addRow("Source", this->Source);
+  this->State->setWordWrap(true);
+  form->addRow("Source", this->Kind);
   form->addRow("Port / address", this->Address);
   form->addRow("Tool definitions", this->Tools);
   form->addRow(this->ConnectButton, this->State);
-  this->Table = new QTableWidget(0, 5);
-  this->Table->setHorizontalHeaderLabels({"Tool", "Status", "Rate (Hz)", "Dropped", "Error (mm)"});
+  this->Table = new QTableWidget(0, 7);
+  this->Table->setHorizontalHeaderLabels({"Tool", "Status", "Rate (Hz)", "OK", "Missing", "Out of volume", "Error (mm)"});
   this->Table->horizontalHeader()->setSectionResizeMode(QHeaderView::Stretch);
   this->Table->setEditTriggers(QAbstractItemView::NoEditTriggers);
   this->PivotButton = new QPushButton("Pivot calibration (10 s)");
@@ -55,9 +50,14 @@ qRPTrackingPanel::qRPTrackingPanel(vtkRPTrackingLogic* logic, QWidget* parent) :
   layout->addLayout(pivotRow);
   this->Timer = new QTimer(this);
   this->Timer->setInterval(33);
+  this->Coalesce = new QTimer(this);
+  this->Coalesce->setSingleShot(true);
   connect(this->Timer, &QTimer::timeout, this, &qRPTrackingPanel::Update);
+  connect(this->Coalesce, &QTimer::timeout, this, &qRPTrackingPanel::Update);
   connect(this->ConnectButton, &QPushButton::clicked, this, &qRPTrackingPanel::OnConnectClicked);
   connect(this->PivotButton, &QPushButton::clicked, this, [this] { this->StartPivotCalibration(10); });
+  connect(this->Kind, QOverload<int>::of(&QComboBox::currentIndexChanged), this, &qRPTrackingPanel::ShowAddressHint);
+  this->ShowAddressHint();
 }
 
 qRPTrackingPanel::~qRPTrackingPanel() { this->Disconnect(); }
@@ -65,11 +65,12 @@ qRPTrackingPanel::~qRPTrackingPanel() { this->Disconnect(); }
 QString qRPTrackingPanel::StatusText() const { return this->State->text(); }
 QString qRPTrackingPanel::PivotText() const { return this->Pivot->text(); }
 bool qRPTrackingPanel::IsConnected() const { return this->SourceId >= 0; }
+rp::PoseSource* qRPTrackingPanel::Source() const { return this->Logic->GetSource(this->SourceId); }
 
-const rp::ToolPoseTable* qRPTrackingPanel::Poses() const {
-  if (this->Tracker) return &this->Tracker->Poses();
-  if (this->Client) return &this->Client->Poses();
-  return nullptr;
+void qRPTrackingPanel::ShowAddressHint() {
+  const std::string kind = this->Kind->currentData().toString().toStdString();
+  for (const auto& entry : rp::PoseSourceRegistry::Entries())
+    if (entry.Kind == kind) this->Address->setPlaceholderText(QString::fromStdString(entry.AddressHint));
 }
 
 void qRPTrackingPanel::OnConnectClicked() {
@@ -77,54 +78,26 @@ void qRPTrackingPanel::OnConnectClicked() {
     this->Disconnect();
     return;
   }
-  this->ConnectSource(static_cast<SourceKind>(this->Source->currentIndex()), this->Address->text(),
+  this->ConnectSource(this->Kind->currentData().toString(), this->Address->text(),
                       this->Tools->text().split(';', Qt::SkipEmptyParts));
 }
 
-bool qRPTrackingPanel::ConnectSource(SourceKind kind, const QString& address, const QStringList& toolFiles) {
+bool qRPTrackingPanel::ConnectSource(const QString& kind, const QString& address, const QStringList& toolFiles) {
   this->Disconnect();
-  try {
-    if (kind == OpenIGTLink) {
-      rp::IgtlClient::Options o;
-      const int colon = address.lastIndexOf(':');
-      bool ok = colon > 0;
-      o.Host = address.left(colon).toStdString();
-      o.Port = address.mid(colon + 1).toInt(&ok);
-      if (!ok) throw std::runtime_error("address must be HOST:PORT");
-      this->Client = std::make_unique<rp::IgtlClient>(o);
-      this->Client->Start();
-      this->SourceId = this->Logic->AddPoseSource(&this->Client->Poses());
-    } else {
-      rp::NdiTracker::Options o;
-      o.Port = address.toStdString();
-      std::vector<rp::ToolDefinition> definitions;
-      for (const QString& file : toolFiles) {
-        if (QFileInfo(file).suffix() == "json") {
-          definitions.push_back(rp::ReadToolDefinition(file.toStdString()));
-          o.Tools.push_back({definitions.back().Name, definitions.back().Rom});
-        } else {
-          o.Tools.push_back({QFileInfo(file).completeBaseName().toStdString(), rp::ReadBinaryFile(file.toStdString())});
-        }
-      }
-      if (o.Tools.empty()) throw std::runtime_error("give at least one tool definition");
-      if (kind == Simulator) {
-        rp::PolarisSimulator::Options so;
-        so.NoiseMm = 0.05;
-        this->Sim = std::make_unique<rp::PolarisSimulator>(so);
-        for (const auto& d : definitions) this->Sim->AddTool(d);
-        std::string error;
-        if (!this->Sim->Start(error)) throw std::runtime_error(error);
-        o.Port = this->Sim->PortPath();
-      }
-      if (o.Port.empty()) throw std::runtime_error("give the serial port");
-      this->Tracker = std::make_unique<rp::NdiTracker>(o);
-      this->Tracker->Start();
-      this->SourceId = this->Logic->AddPoseSource(&this->Tracker->Poses());
-    }
-  } catch (const std::exception& e) {
-    this->Disconnect();
-    this->State->setText(QString("error: ") + e.what());
+  rp::PoseSourceConfig config;
+  config.Kind = kind.toStdString();
+  config.Address = address.trimmed().toStdString();
+  for (const QString& file : toolFiles) config.ToolFiles.push_back(file.trimmed().toStdString());
+  std::string error;
+  this->SourceId = this->Logic->Connect(config, error);
+  if (this->SourceId < 0) {
+    this->State->setText(QString("error: ") + QString::fromStdString(error));
     return false;
+  }
+  for (int fd : this->Logic->GetReadyFds()) {
+    auto* notifier = new QSocketNotifier(fd, QSocketNotifier::Read, this);
+    connect(notifier, &QSocketNotifier::activated, this, &qRPTrackingPanel::OnSourceReady);
+    this->Notifiers.push_back(notifier);
   }
   this->ConnectButton->setText("Disconnect");
   this->Timer->start();
@@ -134,40 +107,49 @@ bool qRPTrackingPanel::ConnectSource(SourceKind kind, const QString& address, co
 
 void qRPTrackingPanel::Disconnect() {
   this->Timer->stop();
-  if (this->SourceId >= 0) this->Logic->RemovePoseSource(this->SourceId);
+  this->Coalesce->stop();
+  for (QSocketNotifier* notifier : this->Notifiers) delete notifier;  // before the source closes its fd
+  this->Notifiers.clear();
+  if (this->SourceId >= 0) this->Logic->RemoveSource(this->SourceId);  // stops the device (TSTOP ...)
   this->SourceId = -1;
-  this->Tracker.reset();  // stops its thread (TSTOP) before the simulator goes
-  this->Client.reset();
-  this->Sim.reset();
   this->PivotEnd = 0;
   this->ConnectButton->setText("Connect");
   this->State->setText("not connected");
 }
 
+void qRPTrackingPanel::OnSourceReady() {
+  // New data: into the scene now, unless the last update was less than MinUpdateMs ago.
+  const double wait = this->LastUpdate + MinUpdateMs * 1e-3 - rp::SteadySeconds();
+  if (wait <= 0) {
+    this->Update();
+  } else {
+    if (rp::PoseSource* source = this->Source()) source->DrainReady();  // the timer will look
+    if (!this->Coalesce->isActive()) this->Coalesce->start(static_cast<int>(wait * 1e3) + 1);
+  }
+}
+
 void qRPTrackingPanel::StartPivotCalibration(double seconds, const QString& toolNodeName) {
   this->PivotPoses.clear();
-  this->PivotTool = toolNodeName.toStdString();
+  this->PivotTool = toolNodeName.isEmpty() ? rp::ToolToTrackerName("Stylus") : toolNodeName.toStdString();
   this->PivotEnd = rp::SteadySeconds() + seconds;
   this->PivotLastCount = 0;
   this->Pivot->setText("pivot the stylus about its tip...");
 }
 
 void qRPTrackingPanel::Update() {
-  if (!this->IsConnected()) return;
+  rp::PoseSource* source = this->Source();
+  if (!source) return;
   const double now = rp::SteadySeconds();
+  this->LastUpdate = now;
   this->Logic->UpdateNodes(now);
-  if (this->Tracker) {
-    const QString error = QString::fromStdString(this->Tracker->LastError());
-    this->State->setText(QString(rp::NdiTracker::StateName(this->Tracker->GetState())) + (error.isEmpty() ? "" : ": " + error));
-  } else if (this->Client) {
-    this->State->setText(this->Client->Connected() ? "connected" : "connecting: " + QString::fromStdString(this->Client->LastError()));
-  }
+  this->State->setText(QString::fromStdString(source->StatusText()));
   const auto stats = this->Logic->GetToolStatistics();
   this->Table->setRowCount(static_cast<int>(stats.size()));
   for (int row = 0; row < static_cast<int>(stats.size()); ++row) {
     const auto& s = stats[static_cast<size_t>(row)];
     const QStringList cells = {QString::fromStdString(s.NodeName), vtkRPTrackedToolNode::GetStatusAsString(s.Status),
-                               QString::number(s.RateHz, 'f', 1), QString::number(s.Dropped),
+                               QString::number(s.RateHz, 'f', 1), QString::number(s.Frames.Ok),
+                               QString::number(s.Frames.Missing), QString::number(s.Frames.OutOfVolume),
                                s.ErrorRMS >= 0 ? QString::number(s.ErrorRMS, 'f', 3) : "-"};
     for (int c = 0; c < cells.size(); ++c) {
       auto* item = this->Table->item(row, c);
@@ -176,18 +158,15 @@ void qRPTrackingPanel::Update() {
     }
     this->Table->item(row, 1)->setForeground(s.Status == vtkRPTrackedToolNode::StatusOK ? Qt::darkGreen : Qt::red);
   }
-  // Pivot: every fresh stylus pose (read straight from the table, newest-only is enough at 30 Hz
-  // for a slow pivoting motion).
+  // Pivot: every fresh stylus pose (newest-only is enough for a slow pivoting motion).
   if (this->PivotEnd > 0) {
-    const rp::ToolPoseTable* table = this->Poses();
-    for (int i = 0; table && i < table->Count(); ++i) {
-      if (this->PivotTool != table->Name(i)) continue;
-      rp::ToolPose pose;
-      const uint64_t n = table->Read(i, pose);
-      if (n > this->PivotLastCount) {
-        this->PivotLastCount = n;
-        this->PivotPoses.push_back(pose);
-      }
+    const rp::ToolPoseTable& table = source->Poses();
+    const int slot = table.Find(this->PivotTool.c_str(), this->PivotTool.size());
+    rp::ToolPose pose;
+    const uint64_t n = slot >= 0 ? table.Read(slot, pose) : 0;
+    if (n > this->PivotLastCount) {
+      this->PivotLastCount = n;
+      this->PivotPoses.push_back(pose);
     }
     if (now >= this->PivotEnd) {
       this->PivotEnd = 0;

@@ -1,11 +1,12 @@
 #ifndef qRPTrackingPanel_h
 #define qRPTrackingPanel_h
-// The Tracking module's Qt panel: connect to an NDI tracker (serial), an OpenIGTLink server or
-// the built-in Polaris simulator; a table of tools with status, rate and dropped count; pivot
-// calibration of the stylus. A 30 Hz timer drives vtkRPTrackingLogic::UpdateNodes (main thread).
+// The Tracking module's Qt panel: connect any registered pose source (an NDI tracker on a
+// serial port, an OpenIGTLink server, a recording, the simulated Polaris) through
+// vtkRPTrackingLogic; a table of tools with status, rate and frame counts; pivot calibration
+// of the stylus. Nodes follow the source as soon as it publishes (its ReadyFd wakes the main
+// thread; at most every MinUpdateMs) and a 30 Hz timer refreshes staleness and the table.
 #include <QWidget>
 
-#include <memory>
 #include <string>
 #include <vector>
 
@@ -13,43 +14,46 @@ class QComboBox;
 class QLabel;
 class QLineEdit;
 class QPushButton;
+class QSocketNotifier;
 class QTableWidget;
 class QTimer;
 class vtkRPTrackingLogic;
 
 namespace rp {
-class IgtlClient;
-class NdiTracker;
-class PolarisSimulator;
-class ToolPoseTable;
+class PoseSource;
 struct ToolPose;
 }  // namespace rp
 
 class qRPTrackingPanel : public QWidget {
   Q_OBJECT
  public:
-  enum SourceKind { Serial = 0, OpenIGTLink = 1, Simulator = 2 };
+  static constexpr int MinUpdateMs = 8;  // nodes are not updated faster than this (~120 Hz)
   qRPTrackingPanel(vtkRPTrackingLogic* logic, QWidget* parent = nullptr);
   ~qRPTrackingPanel() override;
 
-  /// Connects; false with the reason in StatusText().
-  bool ConnectSource(SourceKind kind, const QString& address, const QStringList& toolFiles);
+  /// Connects a source of a registered kind ("serial", "igtl", "replay", "simulator", ...);
+  /// false with the reason in StatusText().
+  bool ConnectSource(const QString& kind, const QString& address, const QStringList& toolFiles);
   void Disconnect();
   bool IsConnected() const;
+  /// The connected source (nullptr when none), e.g. for its statistics.
+  rp::PoseSource* Source() const;
   /// Collects the stylus poses for `seconds`, then calibrates and adds StylusTipToStylus.
-  void StartPivotCalibration(double seconds, const QString& toolNodeName = "StylusToTracker");
+  /// An empty node name means the stylus, StylusToTracker.
+  void StartPivotCalibration(double seconds, const QString& toolNodeName = QString());
   QString StatusText() const;
   QString PivotText() const;
   QTableWidget* ToolTable() const { return this->Table; }
-  /// One timer tick (public for tests): update nodes, table, pivot collection.
+  /// One refresh (public for tests): update nodes, table, pivot collection.
   void Update();
 
  private:
   void OnConnectClicked();
-  const rp::ToolPoseTable* Poses() const;
+  void OnSourceReady();
+  void ShowAddressHint();
 
   vtkRPTrackingLogic* Logic;
-  QComboBox* Source;
+  QComboBox* Kind;
   QLineEdit* Address;
   QLineEdit* Tools;
   QPushButton* ConnectButton;
@@ -58,10 +62,10 @@ class qRPTrackingPanel : public QWidget {
   QLabel* Pivot;
   QTableWidget* Table;
   QTimer* Timer;
-  std::unique_ptr<rp::PolarisSimulator> Sim;
-  std::unique_ptr<rp::NdiTracker> Tracker;
-  std::unique_ptr<rp::IgtlClient> Client;
+  QTimer* Coalesce;  // a wake-up that came too soon after an update
+  std::vector<QSocketNotifier*> Notifiers;
   int SourceId = -1;
+  double LastUpdate = 0;
   double PivotEnd = 0;
   std::string PivotTool;
   std::vector<rp::ToolPose> PivotPoses;

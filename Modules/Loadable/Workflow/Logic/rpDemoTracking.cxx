@@ -202,10 +202,10 @@ void CalibrateStylus(DemoState& state) {
   state.Report->AddFigureBelow(stage, "tip offset error (vs the stylus definition)", tipError, "mm", 0.5);
   // Scene: TrackerToRAS (set by the registration), StylusToTracker, StylusTipToStylus.
   vtkNew<vtkRPLinearTransformNode> trackerToRAS;
-  trackerToRAS->SetName("TrackerToRAS");
+  trackerToRAS->SetName(TransformName(TrackerFrameName, "RAS"));
   state.Scene->AddNode(trackerToRAS);
   vtkNew<vtkRPTrackedToolNode> stylusNode;
-  stylusNode->SetName("StylusToTracker");
+  stylusNode->SetName(ToolToTrackerName(state.StylusTruth.Name));
   state.Scene->AddNode(stylusNode);
   stylusNode->SetAndObserveTransformNodeID(trackerToRAS->GetID());
   vtkNew<vtkRPLinearTransformNode> tip;

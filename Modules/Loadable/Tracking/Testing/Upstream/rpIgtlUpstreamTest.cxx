@@ -8,9 +8,9 @@
 //  * sockets, in process: our client against a PLUS-like v2 server made of upstream calls, our
 //    server against an upstream v2 client;
 //  * sockets, upstream's example programs (the peers users' software is made of): our client
-//    against TrackerServer, TrackingDataServer, QuaternionTrackingDataServer, StatusServer and
-//    StringServer; our server against ReceiveClient, TrackingDataClient and
-//    QuaternionTrackingDataClient.
+//    against TrackerServer, TrackingDataServer, QuaternionTrackingDataServer, StatusServer,
+//    StringServer and ImagerServer (IMAGE into a volume node); our server against
+//    ReceiveClient, TrackingDataClient and QuaternionTrackingDataClient.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -22,10 +22,20 @@
 #include <thread>
 #include <vector>
 
+#include <fstream>
+#include <iterator>
+
+#include <vtkImageData.h>
+#include <vtkMatrix4x4.h>
+#include <vtkNew.h>
+
 #include "rpIgtlClient.h"
 #include "rpIgtlProtocol.h"
 #include "rpIgtlServer.h"
 #include "rpTrackingTestHelpers.h"
+#include "vtkRPScalarVolumeNode.h"
+#include "vtkRPScene.h"
+#include "vtkRPTrackingLogic.h"
 
 #if ROBOPLAN_UPSTREAM_IGTL
 #include <igtlClientSocket.h>
@@ -966,6 +976,55 @@ TEST(IgtlUpstreamPrograms, StatusAndStringServersToOurClient) {
     EXPECT_EQ(client.GetStatistics().Malformed + client.GetStatistics().CrcErrors, 0u);
     ExpectNoSanitizerReport(peer.Output());
   }
+}
+
+// A scanner streaming images (PLUS's tracked ultrasound, a live slice): each IMAGE becomes the
+// volume node named after the device, geometry from the message, voxels as sent.
+TEST(IgtlUpstreamPrograms, ImagerServerIntoAVolumeNode) {
+  const std::string images = std::string(ROBOPLAN_UPSTREAM_IGTL_SOURCE) + "/Examples/Imager/img";
+  test::ChildProcess peer;
+  int port = 0;
+  ASSERT_TRUE(StartServer(peer, {Program("ImagerServer"), "20", images}, "ImagerServer.log", port));
+  vtkNew<vtkRPScene> scene;
+  vtkNew<vtkRPTrackingLogic> logic;
+  logic->SetScene(scene);
+  std::string error;
+  const int id = logic->AddSource(std::make_unique<IgtlClient>(ClientOptions(port)), error);
+  ASSERT_GE(id, 0) << error;
+  std::vector<vtkRPTrackingLogic::ImageStatistics> stats;
+  ASSERT_TRUE(test::WaitFor([&] {
+    logic->UpdateNodes(SteadySeconds());
+    stats = logic->GetImageStatistics();
+    return !stats.empty() && stats[0].Shown >= 3;
+  }, 10)) << logic->GetSource(id)->StatusText();
+  auto* node = vtkRPScalarVolumeNode::SafeDownCast(scene->GetFirstNodeByName("ImagerClient"));  // the device name
+  ASSERT_NE(node, nullptr);
+  EXPECT_EQ(scene->GetNodesByClass("vtkRPScalarVolumeNode").size(), 1u);  // updated in place, not one per frame
+  vtkImageData* image = node->GetImageData();
+  int dims[3];
+  image->GetDimensions(dims);
+  EXPECT_EQ(dims[0], 256);
+  EXPECT_EQ(dims[1], 256);
+  EXPECT_EQ(dims[2], 1);
+  EXPECT_EQ(image->GetScalarType(), VTK_UNSIGNED_CHAR);
+  // ImagerServer: spacing (1, 1, 5), directions diag(1, -1, 1), centre (0, 0, 0) in RAS: the first
+  // voxel is half the extent away from the centre.
+  const double expected[16] = {1, 0, 0, -127.5, 0, -1, 0, 127.5, 0, 0, 5, 0, 0, 0, 0, 1};
+  for (int i = 0; i < 16; ++i) EXPECT_NEAR(node->GetIJKToRASMatrix()->GetElement(i / 4, i % 4), expected[i], 1e-6) << i;
+  // The voxels are one of the files the server read, byte for byte.
+  const auto* voxels = static_cast<const uint8_t*>(image->GetScalarPointer());
+  int matches = 0;
+  for (int k = 1; k <= 5; ++k) {
+    std::ifstream f(images + "/igtlTestImage" + std::to_string(k) + ".raw", std::ios::binary);
+    const std::vector<uint8_t> raw((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    ASSERT_EQ(raw.size(), 65536u);
+    if (std::equal(raw.begin(), raw.end(), voxels)) ++matches;
+  }
+  EXPECT_EQ(matches, 1);
+  EXPECT_GT(node->GetWindow(), 0);
+  logic->RemoveSource(id);
+  peer.Kill();
+  ExpectNoSanitizerReport(peer.Output());
 }
 
 namespace {

@@ -1,0 +1,129 @@
+#include "rpPlaneCutter.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <vtkCellArray.h>
+#include <vtkCellArrayIterator.h>
+#include <vtkIdList.h>
+#include <vtkMath.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+
+namespace rp {
+
+PlaneCutter::PlaneCutter() = default;
+PlaneCutter::~PlaneCutter() = default;
+
+void PlaneCutter::SetInput(vtkPolyData* mesh) {
+  if (mesh == this->Input) return;
+  this->Input = mesh;
+  this->BuiltTime = 0;
+}
+
+// The geometry's own modification time (points and polygons): the polydata's MTime also moves
+// when only caches change (cell links, locators built by other users of the mesh).
+vtkMTimeType PlaneCutter::MeshTime() const {
+  vtkMTimeType time = 0;
+  if (vtkPoints* points = this->Input->GetPoints()) time = std::max(time, points->GetMTime());
+  if (vtkCellArray* polys = this->Input->GetPolys()) time = std::max(time, polys->GetMTime());
+  return time;
+}
+
+void PlaneCutter::Build(const double normal[3]) {
+  ++this->Builds;
+  this->BuiltTime = this->MeshTime();
+  this->BuiltNormal = {normal[0], normal[1], normal[2]};
+  this->Triangles.clear();
+  this->Buckets.clear();
+  vtkPoints* points = this->Input->GetPoints();
+  vtkCellArray* polys = this->Input->GetPolys();
+  const vtkIdType n = points ? points->GetNumberOfPoints() : 0;
+  this->Projection.resize(static_cast<size_t>(n));
+  for (vtkIdType i = 0; i < n; ++i) {
+    double p[3];
+    points->GetPoint(i, p);
+    this->Projection[static_cast<size_t>(i)] = vtkMath::Dot(p, normal);
+  }
+  if (n == 0 || !polys) return;
+  auto iter = vtk::TakeSmartPointer(polys->NewIterator());
+  vtkIdType size = 0;
+  const vtkIdType* ids = nullptr;
+  for (iter->GoToFirstCell(); !iter->IsDoneWithTraversal(); iter->GoToNextCell()) {
+    iter->GetCurrentCell(size, ids);
+    for (vtkIdType k = 1; k + 1 < size; ++k) this->Triangles.push_back({ids[0], ids[k], ids[k + 1]});
+  }
+  if (this->Triangles.empty()) return;
+  const auto [lo, hi] = std::minmax_element(this->Projection.begin(), this->Projection.end());
+  this->Lowest = *lo;
+  // About 32 triangles a bucket on average; a triangle goes into every bucket it spans.
+  const size_t buckets = std::clamp<size_t>(this->Triangles.size() / 32, 1, 1 << 16);
+  this->BucketWidth = std::max(1e-9, (*hi - *lo) / double(buckets));
+  this->Buckets.assign(buckets, {});
+  for (size_t t = 0; t < this->Triangles.size(); ++t) {
+    const auto& tri = this->Triangles[t];
+    double a = this->Projection[static_cast<size_t>(tri[0])], b = a;
+    for (int v = 1; v < 3; ++v) {
+      a = std::min(a, this->Projection[static_cast<size_t>(tri[v])]);
+      b = std::max(b, this->Projection[static_cast<size_t>(tri[v])]);
+    }
+    const size_t first = std::min(buckets - 1, static_cast<size_t>((a - this->Lowest) / this->BucketWidth));
+    const size_t last = std::min(buckets - 1, static_cast<size_t>((b - this->Lowest) / this->BucketWidth));
+    for (size_t k = first; k <= last; ++k) this->Buckets[k].push_back(static_cast<vtkIdType>(t));
+  }
+}
+
+vtkIdType PlaneCutter::Cut(const double normalIn[3], double offset, vtkPolyData* output) {
+  vtkNew<vtkPoints> points;
+  vtkNew<vtkCellArray> lines;
+  double normal[3] = {normalIn[0], normalIn[1], normalIn[2]};
+  const double length = vtkMath::Normalize(normal);
+  if (!this->Input || length <= 0 || !std::isfinite(offset)) {
+    output->SetPoints(points);
+    output->SetLines(lines);
+    return 0;
+  }
+  offset /= length;
+  const bool sameNormal = std::fabs(normal[0] - this->BuiltNormal[0]) < 1e-12 &&
+                          std::fabs(normal[1] - this->BuiltNormal[1]) < 1e-12 &&
+                          std::fabs(normal[2] - this->BuiltNormal[2]) < 1e-12;
+  if (!sameNormal || this->BuiltTime != this->MeshTime()) {
+    this->Build(normal);
+  }
+  vtkPoints* meshPoints = this->Input->GetPoints();
+  if (!this->Buckets.empty() && meshPoints) {
+    const double position = (offset - this->Lowest) / this->BucketWidth;
+    if (position >= 0 && position <= double(this->Buckets.size())) {
+      const size_t bucket = std::min(this->Buckets.size() - 1, static_cast<size_t>(position));
+      for (vtkIdType t : this->Buckets[bucket]) {
+        const auto& tri = this->Triangles[static_cast<size_t>(t)];
+        double d[3];
+        for (int v = 0; v < 3; ++v) d[v] = this->Projection[static_cast<size_t>(tri[v])] - offset;
+        // The segment joins the crossings of the edges whose ends lie on opposite sides.
+        double ends[2][3];
+        int found = 0;
+        for (int e = 0; e < 3 && found < 2; ++e) {
+          const int i = e, j = (e + 1) % 3;
+          if ((d[i] < 0) == (d[j] < 0)) continue;
+          double p[3], q[3];
+          meshPoints->GetPoint(tri[i], p);
+          meshPoints->GetPoint(tri[j], q);
+          const double s = d[i] / (d[i] - d[j]);
+          for (int c = 0; c < 3; ++c) ends[found][c] = p[c] + s * (q[c] - p[c]);
+          ++found;
+        }
+        if (found < 2) continue;
+        const vtkIdType a = points->InsertNextPoint(ends[0]);
+        const vtkIdType b = points->InsertNextPoint(ends[1]);
+        const vtkIdType segment[2] = {a, b};
+        lines->InsertNextCell(2, segment);
+      }
+    }
+  }
+  output->SetPoints(points);
+  output->SetLines(lines);
+  output->Modified();
+  return lines->GetNumberOfCells();
+}
+
+}  // namespace rp

@@ -1,0 +1,515 @@
+// Viewer frame time while touching (issue 14): the 4-up at 1400×1100 (four 700×550 views, as the
+// Qt viewer draws them: one render window per view) on the demo's scene, while the simulated
+// haptic device runs its 1 kHz servo loop along a stroke over the anatomy and the three slices
+// follow its proxy (the scene's slice nodes follow the HapticProxy node).
+//
+//  * Naive (what one writes first): every servo update is pushed to the scene at once and all
+//    four views are re-rendered at full detail, as fast as they go.
+//  * Display rate (the viewer): a 30 Hz tick copies the latest servo state into the scene once,
+//    re-slices only the slices whose plane moved, renders only the views that changed, with the
+//    display level of detail while the scene moves and one full-detail frame when it stops
+//    (rp::RenderScheduler, as the main window).
+//
+// Frame time = from the tick to the last view finished (glFinish), p50/p95 (ms), and frames per
+// second, as counters in the JSON (--benchmark_out) and in viewer-frames.json/.csv with a chart
+// (viewer-frame-times.png) in $ROBOPLAN_BENCHMARK_OUTPUT. Target: p95 ≤ 33 ms on 2 cores with
+// Mesa llvmpipe. Run under xvfb-run.
+//
+// The scene: $ROBOPLAN_VIEWER_BENCH_SCENE, else the demo's scene in <output>/viewer-scene (made
+// once with `roboplan demo --no-screenshots`, whatever anatomy the demo uses).
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+#include <vtkActor.h>
+#include <vtkAlgorithm.h>
+#include <vtkAlgorithmOutput.h>
+#include <vtkCellArray.h>
+#include <vtkMapper.h>
+#include <vtkPropCollection.h>
+#include <vtkRenderer.h>
+#include <vtkNew.h>
+#include <vtkImageAppend.h>
+#include <vtkPNGWriter.h>
+#include <vtkPolyData.h>
+#include <vtkWindowToImageFilter.h>
+#include <vtkRenderWindow.h>
+#include <vtkSmartPointer.h>
+
+#include "rpBenchmarkChart.h"
+#include "rpHapticSceneBridge.h"
+#include "rpHapticSession.h"
+#include "rpMaterial.h"
+#include "rpRenderScheduler.h"
+#include "rpSceneIO.h"
+#include "rpSimulatedDevice.h"
+#include "rpView.h"
+#include "rpViewController.h"
+#include "vtkRPModelNode.h"
+#include "vtkRPScene.h"
+#include "vtkRPSliceLogic.h"
+#include "vtkRPSliceNode.h"
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+constexpr int ViewWidth = 700, ViewHeight = 550;  // the 4-up at 1400 × 1100
+constexpr double StrokeSeconds = 8.0;
+constexpr double DisplayPeriod = 1.0 / 30.0;
+
+double Seconds() {
+  const char* text = std::getenv("ROBOPLAN_VIEWER_BENCH_SECONDS");
+  return text ? std::max(1.0, std::atof(text)) : StrokeSeconds;
+}
+
+// The demo's scene: made once, reused by later runs.
+std::string ScenePath(std::string& error) {
+  if (const char* path = std::getenv("ROBOPLAN_VIEWER_BENCH_SCENE")) return path;
+  const fs::path folder = fs::path(rp::bench::OutputDirectory()) / "viewer-scene";
+  const fs::path scene = folder / "scene.rpscene";
+  if (fs::exists(scene)) return scene.string();
+  std::cerr << "[viewer-bench] making the demo's scene in " << folder << " (roboplan demo)...\n";
+  const std::string command = std::string(ROBOPLAN_BINARY_DIR) + "/bin/roboplan demo --no-screenshots --haptic-seconds 1 --out '" +
+                              folder.string() + "' > '" + (folder.string() + ".log") + "' 2>&1";
+  fs::create_directories(folder);
+  if (std::system(command.c_str()) != 0 && !fs::exists(scene)) {
+    error = "roboplan demo failed (see " + folder.string() + ".log)";
+    return {};
+  }
+  return scene.string();
+}
+
+// A stroke over the anatomy in the device frame (= RAS here): around the haptic models' centre
+// at mid height, dipping in and out of the surfaces, ~40 mm/s, so the proxy slides on tissue and
+// all three slices move every frame.
+std::shared_ptr<rp::WaypointTrajectory> Stroke(const rp::HapticScene& scene, double seconds) {
+  rp::Vec3 lo{HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  for (const rp::Vec3& p : scene.Mesh.Points) lo = rp::Min(lo, p), hi = rp::Max(hi, p);
+  const rp::Vec3 centre = (lo + hi) * 0.5;
+  const double rx = 0.45 * (hi.x - lo.x), ry = 0.45 * (hi.y - lo.y), rz = 0.2 * (hi.z - lo.z);
+  std::vector<double> times;
+  std::vector<rp::Vec3> points;
+  const int samples = static_cast<int>(seconds * 50);
+  for (int i = 0; i <= samples; ++i) {
+    const double t = seconds * i / samples, a = 2 * M_PI * t / seconds;
+    const double in = 0.85 + 0.25 * std::sin(5 * a);  // in and out of the surface
+    times.push_back(t);
+    points.push_back({centre.x + in * rx * std::cos(a), centre.y + in * ry * std::sin(a), centre.z + rz * std::sin(2 * a)});
+  }
+  auto path = std::make_shared<rp::WaypointTrajectory>();
+  std::string error;
+  if (!path->Set(times, points, error)) return nullptr;
+  return path;
+}
+
+struct Percentiles {
+  double P50 = 0, P95 = 0, Max = 0, Mean = 0;
+};
+
+Percentiles Summarize(std::vector<double> ms) {
+  Percentiles p;
+  if (ms.empty()) return p;
+  std::sort(ms.begin(), ms.end());
+  auto at = [&ms](double q) { return ms[std::min(ms.size() - 1, static_cast<size_t>(q * double(ms.size() - 1) + 0.5))]; };
+  p.P50 = at(0.50);
+  p.P95 = at(0.95);
+  p.Max = ms.back();
+  for (double v : ms) p.Mean += v / double(ms.size());
+  return p;
+}
+
+size_t Triangles(vtkRPScene* scene, bool visibleOnly) {
+  size_t n = 0;
+  for (vtkRPNode* node : scene->GetNodesByClass("vtkRPModelNode")) {
+    auto* model = vtkRPModelNode::SafeDownCast(node);
+    if (visibleOnly && !model->GetVisibility()) continue;
+    if (model->GetPolyData()) n += static_cast<size_t>(model->GetPolyData()->GetNumberOfPolys());
+  }
+  return n;
+}
+
+// The scene, the viewer's four views in four offscreen windows, and a haptic session.
+class Rig {
+ public:
+  bool Open(std::string& error) {
+    const std::string path = ScenePath(error);
+    if (path.empty()) return false;
+    const rp::SceneLoadReport report = rp::LoadScene(this->Scene, path);
+    if (!report.Ok) {
+      error = report.Error;
+      return false;
+    }
+    this->SceneFile = path;
+    this->Controller = std::make_unique<rp::ViewController>(this->Scene);
+    for (int kind = 0; kind < 4; ++kind) {
+      vtkRenderWindow* window = this->Windows[static_cast<size_t>(kind)];
+      window->SetOffScreenRendering(1);
+      window->SetMultiSamples(0);
+      window->SetSize(ViewWidth, ViewHeight);
+      const double full[4] = {0, 0, 1, 1};
+      this->View(kind)->AttachToRenderWindow(window, full);
+    }
+    this->Controller->ResetCameras3D();
+    return true;
+  }
+
+  rp::View* View(int kind) const { return this->Controller->GetView(static_cast<rp::ViewKind>(kind)); }
+
+  bool StartHaptics(std::string& error) {
+    std::vector<std::string> warnings;
+    rp::HapticSession::Options options;
+    if (!rp::LoadMaterialTable(options.Materials, error)) return false;
+    auto preview = rp::HapticScene::Build(rp::CollectHapticMeshes(this->Scene, warnings), options.Materials, warnings, error);
+    if (!preview || preview->Tree.Empty()) {
+      error = "no haptic models in the scene (" + error + ")";
+      return false;
+    }
+    this->Device = std::make_unique<rp::SimulatedDevice>();
+    this->Device->SetTrajectory(Stroke(*preview, Seconds()));
+    this->Session = std::make_unique<rp::HapticSession>(*this->Device);
+    options.RampSeconds = 0.1;
+    if (!this->Session->Start(this->Scene, options, error)) return false;
+    this->Session->Update();  // the proxy node exists from here
+    vtkRPNode* proxy = this->Scene->GetFirstNodeByName(rp::HapticProxyName);
+    if (!proxy || !vtkRPSliceNode::SetAllSlicesFollow(this->Scene, proxy->GetID())) {
+      error = "no HapticProxy node to follow";
+      return false;
+    }
+    return true;
+  }
+
+  void StopHaptics() {
+    if (this->Session) this->Session->Stop();
+    vtkRPSliceNode::SetAllSlicesFollow(this->Scene, "");
+    this->Session.reset();
+    this->Device.reset();
+  }
+
+  // Renders a view and waits for the GPU (llvmpipe) to finish it.
+  void Render(int kind) {
+    vtkRenderWindow* window = this->Windows[static_cast<size_t>(kind)];
+    this->View(kind)->MarkRendered();
+    const auto t0 = Clock::now();
+    window->Render();
+    window->WaitForCompletion();
+    this->ViewMs[static_cast<size_t>(kind)] += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    ++this->ViewRenders[static_cast<size_t>(kind)];
+  }
+  std::array<double, 4> ViewMs{};
+  std::array<int, 4> ViewRenders{};
+
+  // The four views as the Qt viewer lays them out (axial | 3D over sagittal | coronal), PNG.
+  void SavePicture(const std::string& path) {
+    vtkNew<vtkImageAppend> top, bottom, rows;
+    top->SetAppendAxis(0);
+    bottom->SetAppendAxis(0);
+    rows->SetAppendAxis(1);
+    std::array<vtkNew<vtkWindowToImageFilter>, 4> grabs;
+    for (int kind = 0; kind < 4; ++kind) {
+      grabs[static_cast<size_t>(kind)]->SetInput(this->Windows[static_cast<size_t>(kind)]);
+      grabs[static_cast<size_t>(kind)]->SetInputBufferTypeToRGB();
+      grabs[static_cast<size_t>(kind)]->ReadFrontBufferOff();
+      grabs[static_cast<size_t>(kind)]->Update();
+    }
+    top->AddInputConnection(grabs[0]->GetOutputPort());     // axial
+    top->AddInputConnection(grabs[3]->GetOutputPort());     // 3D
+    bottom->AddInputConnection(grabs[1]->GetOutputPort());  // sagittal
+    bottom->AddInputConnection(grabs[2]->GetOutputPort());  // coronal
+    rows->AddInputConnection(bottom->GetOutputPort());      // VTK images grow upwards
+    rows->AddInputConnection(top->GetOutputPort());
+    vtkNew<vtkPNGWriter> writer;
+    writer->SetFileName(path.c_str());
+    writer->SetInputConnection(rows->GetOutputPort());
+    writer->Write();
+  }
+
+  int Reslices() const {
+    int n = 0;
+    for (int kind = 0; kind < 3; ++kind) n += this->Controller->GetSliceLogic(static_cast<rp::ViewKind>(kind))->GetNumberOfReslices();
+    return n;
+  }
+
+  vtkNew<vtkRPScene> Scene;
+  std::string SceneFile;
+  std::unique_ptr<rp::ViewController> Controller;
+  std::array<vtkNew<vtkRenderWindow>, 4> Windows;
+  std::unique_ptr<rp::SimulatedDevice> Device;
+  std::unique_ptr<rp::HapticSession> Session;
+};
+
+Rig* TheRig() {
+  static Rig* rig = [] {
+    auto* r = new Rig;
+    std::string error;
+    if (!r->Open(error)) {
+      std::cerr << "[viewer-bench] " << error << "\n";
+      delete r;
+      return static_cast<Rig*>(nullptr);
+    }
+    return r;
+  }();
+  return rig;
+}
+
+struct Run {
+  std::string Name;
+  std::vector<double> FrameMs, FrameAt;  // frame time and when it started (s)
+  std::vector<int> ViewsRendered;
+  int Reslices = 0;
+  double Seconds = 0;
+  std::array<double, 4> ViewMeanMs{};  // mean render time of each view (axial, sagittal, coronal, 3D)
+  double SceneMs = 0, PicturesMs = 0;  // summed: servo state into the scene; slice pictures
+};
+std::vector<Run> Runs;
+
+void Report(benchmark::State& state, const Run& run) {
+  const Percentiles p = Summarize(run.FrameMs);
+  state.counters["p50_ms"] = p.P50;
+  state.counters["p95_ms"] = p.P95;
+  state.counters["max_ms"] = p.Max;
+  state.counters["fps"] = double(run.FrameMs.size()) / std::max(1e-9, run.Seconds);
+  state.counters["frames"] = double(run.FrameMs.size());
+  double views = 0;
+  for (int v : run.ViewsRendered) views += v;
+  state.counters["views_per_frame"] = run.FrameMs.empty() ? 0 : views / double(run.FrameMs.size());
+  state.counters["reslices"] = run.Reslices;
+  std::cerr << "[viewer-bench] " << run.Name << ": " << run.FrameMs.size() << " frames in " << run.Seconds << " s, p50 "
+            << p.P50 << " ms, p95 " << p.P95 << " ms, max " << p.Max << " ms, "
+            << state.counters["fps"].value << " fps, " << state.counters["views_per_frame"].value << " views/frame, "
+            << run.Reslices << " reslices; per view (ms) axial " << run.ViewMeanMs[0] << ", sagittal "
+            << run.ViewMeanMs[1] << ", coronal " << run.ViewMeanMs[2] << ", 3D " << run.ViewMeanMs[3]
+            << "; per frame: scene update " << run.SceneMs / std::max<size_t>(1, run.FrameMs.size()) << " ms, slice pictures "
+            << run.PicturesMs / std::max<size_t>(1, run.FrameMs.size()) << " ms\n";
+}
+
+// Naive: every update pushed and all four views rendered at full detail, back to back.
+void BM_Viewer4Up_Naive(benchmark::State& state) {
+  Rig* rig = TheRig();
+  if (!rig) {
+    state.SkipWithError("no scene (see the message above)");
+    return;
+  }
+  for (auto _ : state) {
+    std::string error;
+    if (!rig->StartHaptics(error)) {
+      state.SkipWithError(error.c_str());
+      return;
+    }
+    Run run;
+    run.Name = "naive";
+    const int reslices = rig->Reslices();
+    const auto start = Clock::now();
+    while (std::chrono::duration<double>(Clock::now() - start).count() < Seconds()) {
+      const auto t0 = Clock::now();
+      rig->Session->Update();
+      for (int kind = 0; kind < 4; ++kind) rig->Render(kind);
+      const auto t1 = Clock::now();
+      run.FrameMs.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+      run.FrameAt.push_back(std::chrono::duration<double>(t0 - start).count());
+      run.ViewsRendered.push_back(4);
+    }
+    run.Seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    run.Reslices = rig->Reslices() - reslices;
+    for (size_t k = 0; k < 4; ++k) {
+      run.ViewMeanMs[k] = rig->ViewRenders[k] ? rig->ViewMs[k] / rig->ViewRenders[k] : 0.0;
+      rig->ViewMs[k] = 0;
+      rig->ViewRenders[k] = 0;
+    }
+    rig->StopHaptics();
+    Report(state, run);
+    Runs.push_back(run);
+  }
+}
+
+// The viewer's way: a 30 Hz display tick; only what changed is re-sliced and rendered.
+void BM_Viewer4Up_DisplayRate(benchmark::State& state) {
+  Rig* rig = TheRig();
+  if (!rig) {
+    state.SkipWithError("no scene (see the message above)");
+    return;
+  }
+  for (auto _ : state) {
+    std::string error;
+    if (!rig->StartHaptics(error)) {
+      state.SkipWithError(error.c_str());
+      return;
+    }
+    rp::RenderScheduler scheduler;
+    for (int kind = 0; kind < 4; ++kind) {
+      scheduler.AddView(rig->View(kind), [rig, kind]() { rig->Render(kind); });
+    }
+    Run run;
+    run.Name = "display rate";
+    const int reslices = rig->Reslices();
+    const auto start = Clock::now();
+    auto next = start;
+    while (std::chrono::duration<double>(Clock::now() - start).count() < Seconds()) {
+      next += std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(DisplayPeriod));
+      std::this_thread::sleep_until(next);
+      const auto t0 = Clock::now();
+      rig->Session->Update();
+      const auto tScene = Clock::now();
+      // The slice pictures (re-sliced only where the plane moved); rendering would do it anyway,
+      // done first here to see where the frame's time goes.
+      for (int kind = 0; kind < 3; ++kind) {
+        rig->Controller->GetSliceLogic(static_cast<rp::ViewKind>(kind))->GetOutputPort()->GetProducer()->Update();
+      }
+      const auto tPictures = Clock::now();
+      const int rendered = scheduler.RenderPendingViews();
+      const auto t1 = Clock::now();
+      if (rendered == 0) continue;
+      run.SceneMs += std::chrono::duration<double, std::milli>(tScene - t0).count();
+      run.PicturesMs += std::chrono::duration<double, std::milli>(tPictures - tScene).count();
+      run.FrameMs.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+      run.FrameAt.push_back(std::chrono::duration<double>(t0 - start).count());
+      run.ViewsRendered.push_back(rendered);
+      if (t1 > next) next = t1;  // a late frame: the next tick is a period from now, not at once
+    }
+    run.Seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    run.Reslices = rig->Reslices() - reslices;
+    for (size_t k = 0; k < 4; ++k) {
+      run.ViewMeanMs[k] = rig->ViewRenders[k] ? rig->ViewMs[k] / rig->ViewRenders[k] : 0.0;
+      rig->ViewMs[k] = 0;
+      rig->ViewRenders[k] = 0;
+    }
+    rig->SavePicture(rp::bench::OutputDirectory() + "/viewer-4up-while-touching.png");  // what was drawn
+    rig->StopHaptics();
+    Report(state, run);
+    Runs.push_back(run);
+  }
+}
+
+// Where a frame's time goes: each view rendered with one prop hidden at a time (the slices
+// held still), the difference to rendering everything. Printed, and in viewer-frames.json.
+nlohmann::json Breakdown;
+void BM_Viewer4Up_Breakdown(benchmark::State& state) {
+  Rig* rig = TheRig();
+  if (!rig) {
+    state.SkipWithError("no scene (see the message above)");
+    return;
+  }
+  const char* names[4] = {"axial", "sagittal", "coronal", "3d"};
+  for (auto _ : state) {
+    for (int kind = 0; kind < 4; ++kind) {
+      rp::View* view = rig->View(kind);
+      // Median of interleaved renders with and without a prop (robust to a busy machine).
+      auto median = [](std::vector<double> v) {
+        std::sort(v.begin(), v.end());
+        return v.empty() ? 0.0 : v[v.size() / 2];
+      };
+      auto once = [&]() {
+        const auto t0 = Clock::now();
+        rig->Render(kind);
+        return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+      };
+      std::vector<double> allTimes;
+      for (int i = 0; i < 15; ++i) allTimes.push_back(once());
+      const double all = median(allTimes);
+      nlohmann::json entry = {{"allMs", all}};
+      std::vector<vtkRenderer*> renderers = {view->GetRenderer()};
+      if (view->GetOverlayRenderer() != view->GetRenderer()) renderers.push_back(view->GetOverlayRenderer());
+      for (vtkRenderer* renderer : renderers) {
+        vtkPropCollection* props = renderer->GetViewProps();
+        props->InitTraversal();
+        std::vector<vtkProp*> list;
+        while (vtkProp* prop = props->GetNextProp()) list.push_back(prop);
+        for (vtkProp* prop : list) {
+          if (!prop->GetVisibility()) continue;
+          std::vector<double> with, without;
+          for (int i = 0; i < 9; ++i) {
+            with.push_back(once());
+            prop->VisibilityOff();
+            without.push_back(once());
+            prop->VisibilityOn();
+          }
+          const double saved = median(with) - median(without);
+          std::string label = prop->GetClassName();
+          if (auto* actor = vtkActor::SafeDownCast(prop)) {
+            if (auto* poly = vtkPolyData::SafeDownCast(actor->GetMapper() ? actor->GetMapper()->GetInputDataObject(0, 0) : nullptr)) {
+              label += " (" + std::to_string(poly->GetNumberOfCells()) + " cells)";
+            }
+          }
+          entry["props"].push_back({{"prop", label}, {"savedMs", saved}});
+          if (saved > 0.5) std::cerr << "[viewer-bench] " << names[kind] << ": " << label << " costs " << saved << " ms of " << all << "\n";
+        }
+      }
+      Breakdown[names[kind]] = entry;
+      std::cerr << "[viewer-bench] " << names[kind] << ": " << all << " ms still\n";
+    }
+  }
+}
+
+BENCHMARK(BM_Viewer4Up_Breakdown)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Viewer4Up_Naive)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Viewer4Up_DisplayRate)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void WriteFigures(const std::string& out) {
+  Rig* rig = TheRig();
+  nlohmann::json doc;
+  doc["view"] = {{"width", ViewWidth}, {"height", ViewHeight}, {"layout", "4up 1400x1100 (four windows)"}};
+  if (rig) {
+    doc["scene"] = {{"file", rig->SceneFile},
+                    {"trianglesVisible", Triangles(rig->Scene, true)},
+                    {"trianglesAll", Triangles(rig->Scene, false)}};
+  }
+  std::vector<rp::bench::Series> series;
+  for (const Run& run : Runs) {
+    const Percentiles p = Summarize(run.FrameMs);
+    doc["runs"][run.Name] = {{"frames", run.FrameMs.size()}, {"seconds", run.Seconds}, {"p50Ms", p.P50},
+                             {"p95Ms", p.P95}, {"maxMs", p.Max}, {"meanMs", p.Mean},
+                             {"fps", double(run.FrameMs.size()) / std::max(1e-9, run.Seconds)},
+                             {"reslices", run.Reslices}, {"targetP95Ms", 33.0},
+                             {"viewMeanMs", {{"axial", run.ViewMeanMs[0]}, {"sagittal", run.ViewMeanMs[1]},
+                                             {"coronal", run.ViewMeanMs[2]}, {"3d", run.ViewMeanMs[3]}}}};
+    rp::bench::Series s;
+    s.Name = run.Name;
+    s.X = run.FrameAt;
+    s.Y = run.FrameMs;
+    series.push_back(s);
+    std::vector<std::vector<double>> rows;
+    for (size_t i = 0; i < run.FrameMs.size(); ++i) rows.push_back({run.FrameAt[i], run.FrameMs[i], double(run.ViewsRendered[i])});
+    std::string error;
+    std::string file = run.Name;
+    std::replace(file.begin(), file.end(), ' ', '-');
+    rp::bench::WriteCSV(out + "/viewer-frames-" + file + ".csv", {"time_s", "frame_ms", "views_rendered"}, rows, error);
+  }
+  rp::bench::Series target;
+  target.Name = "33 ms (30 Hz)";
+  target.X = {0, Seconds()};
+  target.Y = {33, 33};
+  series.push_back(target);
+  if (!Breakdown.is_null()) doc["breakdown"] = Breakdown;
+  std::ofstream(out + "/viewer-frames.json") << doc.dump(2) << "\n";
+  rp::bench::ChartOptions chart{"4-up frame time while the haptic proxy moves (1400x1100, llvmpipe)", "time (s)",
+                                "frame time (ms)"};
+  std::string error;
+  if (!rp::bench::WriteChartPNG(out + "/viewer-frame-times.png", series, chart, error)) {
+    std::cerr << "[viewer-bench] chart: " << error << "\n";
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  const std::string out = rp::bench::OutputDirectory();
+  benchmark::RunSpecifiedBenchmarks();
+  WriteFigures(out);
+  benchmark::Shutdown();
+  return 0;
+}
