@@ -65,12 +65,6 @@ rp::AnalyticBone LongBone(const std::vector<rp::Material>& m) {
   return bone;
 }
 
-double Percentile(std::vector<double> v, double q) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<size_t>(std::ceil(q * v.size())) - (q > 0 ? 1 : 0))];
-}
-
 double Milliseconds(const std::chrono::steady_clock::time_point& start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
@@ -153,9 +147,9 @@ bool Tunnel(rp::DrillVolume& bone, double radius, GridFigures& f, bool realtime,
   f.TickP99 = result.TickCompute.P99Us;
   f.TickMax = result.TickCompute.MaxUs;
   f.Ticks = result.Ticks;
-  f.ContourP95 = Percentile(contour, 0.95);
-  f.ContourMax = Percentile(contour, 1.0);
-  f.AssembleP95 = Percentile(assemble, 0.95);
+  f.ContourP95 = rp::NearestRankPercentile(contour, 0.95);
+  f.ContourMax = rp::NearestRankPercentile(contour, 1.0);
+  f.AssembleP95 = rp::NearestRankPercentile(assemble, 0.95);
   f.Frames = result.Frames.size();
   for (double b : blocks) f.BlocksMean += b / std::max<size_t>(1, blocks.size());
   f.Removed = result.Final.RemovedTotalMm3;
@@ -289,7 +283,7 @@ nlohmann::json RealTibia(const std::vector<rp::Material>& m) {
           {"wholeBoneTriangles", whole.TriangleCount()},
           {"tunnelTickP99Us", result.TickCompute.P99Us},
           {"tunnelRemovedMm3", result.Final.RemovedTotalMm3},
-          {"tunnelDirtyBlockRecontourP95Ms", Percentile(contour, 0.95)},
+          {"tunnelDirtyBlockRecontourP95Ms", rp::NearestRankPercentile(contour, 0.95)},
           {"tunnelFrames", result.Frames.size()}};
 }
 

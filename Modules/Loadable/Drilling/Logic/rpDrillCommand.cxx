@@ -57,25 +57,6 @@ double CapsuleVolumeInBox(const Vec3& a, const Vec3& b, double r, const Vec3& lo
   return inside * d.x * d.y * d.z;
 }
 
-double FarthestChangeFromSegment(const DrillVolume& volume, const Vec3& a, const Vec3& b) {
-  const Vec3 ab = b - a;
-  const double ab2 = std::max(Norm2(ab), 1e-300);
-  double farthest = 0;
-  for (size_t s = 0; s < volume.AllocatedBlocks(); ++s) {
-    const auto c = volume.BlockCoordinate(static_cast<int32_t>(s));
-    const auto* now = volume.BlockDensities(static_cast<int32_t>(s));
-    const uint8_t* original = volume.BlockOriginal(static_cast<int32_t>(s));
-    for (int v = 0; v < DrillVolume::BlockVoxels; ++v) {
-      if (now[v].load(std::memory_order_relaxed) == original[v]) continue;
-      const Vec3 p = volume.Grid().Center(c[0] * DrillVolume::BlockEdge + (v & 7), c[1] * DrillVolume::BlockEdge + ((v >> 3) & 7),
-                                          c[2] * DrillVolume::BlockEdge + (v >> 6));
-      const double t = std::clamp(Dot(p - a, ab) / ab2, 0.0, 1.0);
-      farthest = std::max(farthest, Norm(p - (a + ab * t)));
-    }
-  }
-  return farthest;
-}
-
 double FarthestChangeFromPath(const DrillVolume& volume, const std::vector<Vec3>& path) {
   std::vector<Vec3> points;
   for (const Vec3& p : path)
@@ -107,13 +88,6 @@ namespace {
 
 Vec3 ToVec3(const std::vector<double>& v) { return {v[0], v[1], v[2]}; }
 nlohmann::json Json(const Vec3& v) { return nlohmann::json::array({v.x, v.y, v.z}); }
-
-double Percentile(std::vector<double> values, double q) {
-  if (values.empty()) return 0;
-  std::sort(values.begin(), values.end());
-  const size_t i = std::min(values.size() - 1, static_cast<size_t>(std::ceil(q * values.size())) - (q > 0 ? 1 : 0));
-  return values[i];
-}
 
 // Resolves segment references (ID, name or label value) against a segmentation.
 bool FindSegments(vtkRPSegmentationNode* segmentation, const std::vector<std::string>& refs, std::vector<int>& labels,
@@ -452,7 +426,7 @@ int RunDrillCommand(const std::vector<std::string>& args, std::ostream& out, std
     removedByTissue[materials[m].Tissue] = s.RemovedMm3[m];
     volumeByTissue[materials[m].Tissue] = m < built.VolumeMm3.size() ? built.VolumeMm3[m] : 0.0;
   }
-  const double farthest = FarthestChangeFromSegment(*bone, from, to);
+  const double farthest = FarthestChangeFromPath(*bone, {from, to});
   nlohmann::json doc = {
       {"bone",
        {{"source", block ? std::string("block") : parser.Get("segmentation")},
@@ -483,9 +457,9 @@ int RunDrillCommand(const std::vector<std::string>& args, std::ostream& out, std
       {"servoTickP99Us", result.TickCompute.P99Us},
       {"servoTickMaxUs", result.TickCompute.MaxUs},
       {"ticks", result.Ticks},
-      {"dirtyBlockRecontourP95Ms", Percentile(contourMs, 0.95)},
+      {"dirtyBlockRecontourP95Ms", NearestRankPercentile(contourMs, 0.95)},
       {"dirtyBlocksPerFrameMean", meanBlocks},
-      {"meshAssembleP95Ms", Percentile(assembleMs, 0.95)},
+      {"meshAssembleP95Ms", NearestRankPercentile(assembleMs, 0.95)},
       {"displayFrames", result.Frames.size()},
       {"wholeBoneRecontourMs", wholeMs},
       {"wholeBoneTriangles", whole.TriangleCount()},
@@ -564,7 +538,7 @@ int RunDrillCommand(const std::vector<std::string>& args, std::ostream& out, std
                   result.TickCompute.P99Us, static_cast<unsigned long long>(result.Ticks));
     out << line;
     std::snprintf(line, sizeof line, "display: %zu frames, dirty-block re-contour p95 %.2f ms (%.1f blocks), whole bone %.1f ms\n",
-                  result.Frames.size(), Percentile(contourMs, 0.95), meanBlocks, wholeMs);
+                  result.Frames.size(), NearestRankPercentile(contourMs, 0.95), meanBlocks, wholeMs);
     out << line;
     std::snprintf(line, sizeof line, "force: peak %.2f N, clamped %zu ticks\n", peak, clamped);
     out << line;

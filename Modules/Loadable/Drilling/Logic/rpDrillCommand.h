@@ -21,10 +21,9 @@ int RunDrillCommand(const std::vector<std::string>& args, std::ostream& out, std
 /// it lies wholly inside (πr²L + 4/3·πr³), else integrated numerically. `exact` says which.
 double CapsuleVolumeInBox(const Vec3& a, const Vec3& b, double r, const Vec3& lo, const Vec3& hi, bool& exact);
 
-/// Largest distance (mm) from the segment a–b of a voxel whose density differs from the bone as
-/// built (0 when nothing changed).
-double FarthestChangeFromSegment(const DrillVolume& volume, const Vec3& a, const Vec3& b);
-/// The same from a path (the burr centres of a run; decimated to 0.05 mm steps here).
+/// Largest distance (mm) from a path (the burr centres of a run, decimated to 0.05 mm steps here;
+/// or a straight stroke {a, b}) of a voxel whose density differs from the bone as built (0 when
+/// nothing changed).
 double FarthestChangeFromPath(const DrillVolume& volume, const std::vector<Vec3>& path);
 
 }  // namespace rp

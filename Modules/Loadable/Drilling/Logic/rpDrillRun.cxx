@@ -1,6 +1,8 @@
 #include "rpDrillRun.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <ctime>
 #include <thread>
 
@@ -118,6 +120,13 @@ bool RunDrill(DrillServo& servo, DrillDisplay& display, const DrillRunOptions& o
   result.WallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
   caller.Writer.Close();
   return true;
+}
+
+double NearestRankPercentile(std::vector<double> values, double q) {
+  if (values.empty()) return 0;
+  std::sort(values.begin(), values.end());
+  const size_t rank = static_cast<size_t>(std::ceil(q * static_cast<double>(values.size())));
+  return values[std::min(values.size() - 1, rank > 0 ? rank - 1 : 0)];
 }
 
 }  // namespace rp

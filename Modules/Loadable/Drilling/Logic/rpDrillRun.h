@@ -48,4 +48,7 @@ struct DrillRunResult {
 bool RunDrill(DrillServo& servo, DrillDisplay& display, const DrillRunOptions& options, DrillRunResult& result,
               std::string& error);
 
+/// Nearest-rank percentile (q in 0–1) of a run's timings, e.g. the frames' re-contour ms; 0 when empty.
+double NearestRankPercentile(std::vector<double> values, double q);
+
 }  // namespace rp

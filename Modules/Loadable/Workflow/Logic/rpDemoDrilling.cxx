@@ -98,12 +98,6 @@ std::vector<double> PlannedVolume(const DrillVolume& bone, const Vec3& a, const 
   return volume;
 }
 
-double Percentile(std::vector<double> v, double q) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<size_t>(std::ceil(q * v.size())) - (q > 0 ? 1 : 0))];
-}
-
 }  // namespace
 
 void DrillTibialTunnel(DemoState& state) {
@@ -243,7 +237,7 @@ void DrillTibialTunnel(DemoState& state) {
   const auto wholeStart = std::chrono::steady_clock::now();
   whole.ContourAll();
   const double wholeMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - wholeStart).count();
-  state.Report->AddFigureBelow(stage, "dirty-block re-contour per 30 Hz frame, p95", Percentile(contour, 0.95), "ms", 10.0,
+  state.Report->AddFigureBelow(stage, "dirty-block re-contour per 30 Hz frame, p95", NearestRankPercentile(contour, 0.95), "ms", 10.0,
                                "re-contouring this whole region takes " + std::to_string(static_cast<int>(wholeMs + 0.5)) +
                                    " ms");
 
