@@ -15,15 +15,19 @@ function(roboplan_vtk_autoinit target)
 endfunction()
 
 # ROBOPLAN_SANITIZE: address, undefined, address,undefined (both in one build) or thread. Sets
-# ROBOPLAN_SANITIZER_FLAGS (also for sub-builds of other projects) and applies them to every target.
+# ROBOPLAN_SANITIZER_FLAGS (also for sub-builds of other projects) and applies them to every target,
+# and ROBOPLAN_SANITIZER_TEST_ENVIRONMENT for every test (roboplan_add_test; plain add_test() calls
+# add it themselves). UBSan reports stay recoverable in the binaries so that the suppressions for
+# third-party headers work (an unrecoverable report cannot be suppressed); the tests' halt_on_error=1
+# still stops at the first report that is not suppressed.
 macro(roboplan_setup_sanitizer)
   set(ROBOPLAN_SANITIZER_FLAGS "")
   if(ROBOPLAN_SANITIZE STREQUAL "address")
     set(ROBOPLAN_SANITIZER_FLAGS -fsanitize=address)
   elseif(ROBOPLAN_SANITIZE STREQUAL "undefined")
-    set(ROBOPLAN_SANITIZER_FLAGS -fsanitize=undefined -fno-sanitize-recover=undefined)
+    set(ROBOPLAN_SANITIZER_FLAGS -fsanitize=undefined)
   elseif(ROBOPLAN_SANITIZE STREQUAL "address,undefined" OR ROBOPLAN_SANITIZE STREQUAL "address+undefined")
-    set(ROBOPLAN_SANITIZER_FLAGS -fsanitize=address,undefined -fno-sanitize-recover=undefined)
+    set(ROBOPLAN_SANITIZER_FLAGS -fsanitize=address,undefined)
   elseif(ROBOPLAN_SANITIZE STREQUAL "thread")
     set(ROBOPLAN_SANITIZER_FLAGS -fsanitize=thread)
   elseif(NOT ROBOPLAN_SANITIZE STREQUAL "")
@@ -33,6 +37,17 @@ macro(roboplan_setup_sanitizer)
     list(APPEND ROBOPLAN_SANITIZER_FLAGS -fno-omit-frame-pointer)
     add_compile_options(${ROBOPLAN_SANITIZER_FLAGS})
     add_link_options(${ROBOPLAN_SANITIZER_FLAGS})
+    # Stop on the first report, stacks for UBSan, third-party noise suppressed (Testing/Support/*.supp).
+    # No strict_string_checks: it reads past the length given to strndup (libxkbcommon-x11 passes
+    # buffers that are not NUL-terminated, which strndup allows).
+    set(_support ${PROJECT_SOURCE_DIR}/Testing/Support)
+    set(ROBOPLAN_SANITIZER_TEST_ENVIRONMENT
+      "ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:detect_stack_use_after_return=1"
+      "LSAN_OPTIONS=suppressions=${_support}/lsan.supp:print_suppressions=0"
+      "UBSAN_OPTIONS=suppressions=${_support}/ubsan.supp:print_stacktrace=1:halt_on_error=1"
+      "TSAN_OPTIONS=suppressions=${_support}/tsan.supp:halt_on_error=1:second_deadlock_stack=1")
+  else()
+    set(ROBOPLAN_SANITIZER_TEST_ENVIRONMENT "")
   endif()
 endmacro()
 
@@ -86,16 +101,7 @@ function(roboplan_add_test name)
     set(A_TIMEOUT 300)
   endif()
   set_tests_properties(${name} PROPERTIES LABELS "${A_LABELS}" TIMEOUT ${A_TIMEOUT})
-  if(ROBOPLAN_SANITIZE)
-    # Sanitizer builds: stop on the first report, stacks for UBSan, third-party noise suppressed
-    # (Testing/Support/*.supp).
-    set(support ${PROJECT_SOURCE_DIR}/Testing/Support)
-    list(APPEND A_ENVIRONMENT
-      "ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:strict_string_checks=1:detect_stack_use_after_return=1"
-      "LSAN_OPTIONS=suppressions=${support}/lsan.supp:print_suppressions=0"
-      "UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1"
-      "TSAN_OPTIONS=suppressions=${support}/tsan.supp:halt_on_error=1:second_deadlock_stack=1")
-  endif()
+  list(APPEND A_ENVIRONMENT ${ROBOPLAN_SANITIZER_TEST_ENVIRONMENT})
   if(A_ENVIRONMENT)
     set_tests_properties(${name} PROPERTIES ENVIRONMENT "${A_ENVIRONMENT}")
   endif()
