@@ -1,6 +1,7 @@
 #include "rpBenchmarkChart.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -51,6 +52,11 @@ void StyleChart(vtkChartXY* chart, const ChartOptions& options) {
 
 }  // namespace
 
+std::array<unsigned char, 3> SeriesColor(size_t index) {
+  const unsigned char* c = Palette[index % 8];
+  return {c[0], c[1], c[2]};
+}
+
 bool WriteChartPNG(const std::string& path, const std::vector<Series>& series, const ChartOptions& options,
                    std::string& error) {
   vtkNew<vtkContextView> view;
@@ -82,7 +88,7 @@ bool WriteChartPNG(const std::string& path, const std::vector<Series>& series, c
     }
     vtkPlot* plot = chart->AddPlot(s.Points ? vtkChart::POINTS : vtkChart::LINE);
     plot->SetInputData(table, 0, 1);
-    const unsigned char* c = Palette[index++ % 8];
+    const auto c = SeriesColor(index++);
     plot->SetColor(c[0], c[1], c[2], 255);
     plot->SetWidth(2.0);
     if (auto* points = vtkPlotPoints::SafeDownCast(plot)) points->SetMarkerStyle(vtkPlotPoints::CIRCLE);

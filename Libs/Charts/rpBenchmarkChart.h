@@ -1,6 +1,8 @@
 #pragma once
 // Figures and charts for benchmarks and reports: CSV tables and PNG line/scatter charts drawn
 // with VTK's chart classes in an offscreen window (needs an X display: run under xvfb-run).
+#include <array>
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -23,6 +25,9 @@ struct ChartOptions {
 /// Draws the series into a PNG. Returns false and sets `error` on failure.
 bool WriteChartPNG(const std::string& path, const std::vector<Series>& series, const ChartOptions& options,
                    std::string& error);
+
+/// The colour (RGB 0-255) WriteChartPNG draws its index-th series in (tests look for it).
+std::array<unsigned char, 3> SeriesColor(size_t index);
 
 /// Histogram as bars (bin centres in X, counts in Y).
 bool WriteHistogramPNG(const std::string& path, const std::vector<double>& binCenters,

@@ -1,20 +1,30 @@
 // The main job end to end: `roboplan demo` on the small phantom, then its output folder read back
 // with the conventions 3D Slicer documents (LPS in files, RAS in the scene, "from parent" ITK
-// transforms), and the failure path (a bad --data folder: clear error, non-zero exit, what was
-// done kept).
+// transforms), its bones scored against the real knee's surfaces and its pictures looked at
+// (each bone in its colour from the front and the side; every charted series drawn), a real
+// knee CT scored against its labels, and the failure path (a bad --data folder: clear error,
+// non-zero exit, what was done kept).
 #include <gtest/gtest.h>
 
+#include <array>
+#include <cmath>
 #include <cstdio>
+#include <cctype>
 #include <cstdlib>
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
+#include <vtkImageData.h>
 #include <vtkMatrix4x4.h>
+#include <vtkPNGReader.h>
 #include <vtkNew.h>
 
 #include "rpAtomicFile.h"
+#include "rpBenchmarkChart.h"
+#include "rpKneePhantom.h"
 #include "rpSceneIO.h"
 #include "rpSharedData.h"
 #include "rpTransformIO.h"
@@ -42,6 +52,96 @@ nlohmann::json FindFigure(const nlohmann::json& figures, const std::string& name
   return nullptr;
 }
 
+// An RGB picture read back from a PNG the demo wrote.
+struct Picture {
+  int Width = 0, Height = 0;
+  std::vector<std::array<unsigned char, 3>> Pixels;  // row by row, bottom row first (VTK)
+  const std::array<unsigned char, 3>& At(int x, int y) const { return Pixels[size_t(y) * size_t(Width) + size_t(x)]; }
+};
+bool ReadPicture(const fs::path& path, Picture& picture) {
+  if (!fs::exists(path)) return false;
+  vtkNew<vtkPNGReader> reader;
+  reader->SetFileName(path.string().c_str());
+  reader->Update();
+  vtkImageData* image = reader->GetOutput();
+  int dims[3];
+  image->GetDimensions(dims);
+  const int components = image->GetNumberOfScalarComponents();
+  if (dims[0] < 1 || dims[1] < 1 || components < 3) return false;
+  picture.Width = dims[0];
+  picture.Height = dims[1];
+  const auto* p = static_cast<const unsigned char*>(image->GetScalarPointer());
+  picture.Pixels.resize(size_t(dims[0]) * size_t(dims[1]));
+  for (size_t n = 0; n < picture.Pixels.size(); ++n)
+    picture.Pixels[n] = {p[n * size_t(components)], p[n * size_t(components) + 1], p[n * size_t(components) + 2]};
+  return true;
+}
+
+// Where a bone shows in one half of the bones picture: pixels whose hue (chromaticity, so light
+// and shade do not matter) is that bone's colour and no other bone's, and their mean column.
+struct BoneInPicture {
+  long Pixels = 0;
+  double MeanX = 0;
+  int MinY = 1 << 30, MaxY = -1;
+};
+std::array<BoneInPicture, 4> FindBones(const Picture& picture, int x0, int x1) {
+  auto chroma = [](double r, double g, double b) { return std::array<double, 2>{r / (r + g + b), g / (r + g + b)}; };
+  std::array<std::array<double, 2>, 4> bone;
+  for (size_t b = 0; b < 4; ++b) {
+    const auto& c = rp::KneeBones()[b].Color;
+    bone[b] = chroma(c[0], c[1], c[2]);
+  }
+  std::array<BoneInPicture, 4> found;
+  for (int y = 0; y < picture.Height; ++y)
+    for (int x = x0; x < x1; ++x) {
+      const auto& p = picture.At(x, y);
+      if (p[0] + p[1] + p[2] < 60) continue;  // too dark to tell
+      const auto c = chroma(p[0], p[1], p[2]);
+      size_t best = 4;
+      double bestDistance = 0.02;  // the grey-blue background is > 0.04 from every bone
+      for (size_t b = 0; b < 4; ++b) {
+        const double d = std::hypot(c[0] - bone[b][0], c[1] - bone[b][1]);
+        if (d < bestDistance) bestDistance = d, best = b;
+      }
+      if (best == 4) continue;
+      BoneInPicture& f = found[best];
+      f.MeanX += (x - f.MeanX) / double(++f.Pixels);
+      f.MinY = std::min(f.MinY, y);
+      f.MaxY = std::max(f.MaxY, y);
+    }
+  return found;
+}
+
+// Separate places (8-connected pieces of >= 10 pixels) a colour is drawn in.
+int PiecesOfColour(const Picture& picture, const std::array<unsigned char, 3>& colour) {
+  std::vector<char> seen(picture.Pixels.size(), 0);
+  int pieces = 0;
+  std::vector<std::pair<int, int>> stack;
+  for (int y = 0; y < picture.Height; ++y)
+    for (int x = 0; x < picture.Width; ++x) {
+      if (seen[size_t(y) * size_t(picture.Width) + size_t(x)] || picture.At(x, y) != colour) continue;
+      long size = 0;
+      stack.assign(1, {x, y});
+      seen[size_t(y) * size_t(picture.Width) + size_t(x)] = 1;
+      while (!stack.empty()) {
+        const auto [px, py] = stack.back();
+        stack.pop_back();
+        ++size;
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int qx = px + dx, qy = py + dy;
+            if (qx < 0 || qy < 0 || qx >= picture.Width || qy >= picture.Height) continue;
+            char& s = seen[size_t(qy) * size_t(picture.Width) + size_t(qx)];
+            if (s || picture.At(qx, qy) != colour) continue;
+            s = 1;
+            stack.emplace_back(qx, qy);
+          }
+      }
+      pieces += size >= 10;
+    }
+  return pieces;
+}
+
 int RunRoboplan(const std::string& arguments, std::string& output) {
   const std::string command = Roboplan + " " + arguments + " 2>&1";
   FILE* pipe = popen(command.c_str(), "r");
@@ -58,7 +158,12 @@ TEST(Demo, SmallPhantomEndToEndAndSlicerConventions) {
   const fs::path out = fs::path(ROBOPLAN_TEST_OUTPUT_DIR) / "demo";
   fs::remove_all(out);
   std::string output;
-  const int code = RunRoboplan("demo --size small --haptic-seconds 2 --no-screenshots --out " + out.string(), output);
+#ifdef ROBOPLAN_DEMO_DRAWS_PICTURES
+  const std::string pictures = "";  // the test runs on a virtual X server of its own
+#else
+  const std::string pictures = "--no-screenshots ";
+#endif
+  const int code = RunRoboplan("demo --size small --haptic-seconds 2 " + pictures + "--out " + out.string(), output);
   ASSERT_EQ(code, 0) << output;
   EXPECT_NE(output.find("[demo 1/"), std::string::npos) << "progress lines on the terminal";
   ASSERT_TRUE(fs::exists(out / "report.html"));
@@ -66,19 +171,61 @@ TEST(Demo, SmallPhantomEndToEndAndSlicerConventions) {
   ASSERT_TRUE(rp::ReadFile((out / "report.html").string(), report, error));
   EXPECT_NE(report.find("Figures and targets"), std::string::npos);
   EXPECT_EQ(report.find("failed</td>"), std::string::npos) << "every stage ran";
-  // Every real bone of the phantom scored: Dice and surface distances to its true surface.
-  // (Region growing merges the fibula into the tibia at this 1.6 mm size; the femur and patella
-  // stand apart.)
+  // Bones one by one: the four real bones of the phantom, each its own segment named from its
+  // position and size (no seeds), each scored against its true surface with the targets
+  // (Dice >= 0.90, mean surface distance <= 0.8 mm; at 1.6 mm voxels the split bones reach
+  // Dice 0.98 and 0.2-0.4 mm).
   const auto figures = Figures(out);
+  ASSERT_FALSE(FindFigure(figures, "bones found").is_null());
+  EXPECT_EQ(FindFigure(figures, "bones found")["value"].get<double>(), 4.0);
   for (const char* bone : {"Femur", "Tibia", "Fibula", "Patella"}) {
-    ASSERT_FALSE(FindFigure(figures, std::string(bone) + ": Dice").is_null()) << bone;
-    EXPECT_FALSE(FindFigure(figures, std::string(bone) + ": mean surface distance to the true surface").is_null()) << bone;
-    EXPECT_FALSE(FindFigure(figures, std::string(bone) + ": 95 % surface distance").is_null()) << bone;
+    const auto dice = FindFigure(figures, std::string(bone) + ": Dice");
+    ASSERT_FALSE(dice.is_null()) << bone;
+    std::string segment = bone;
+    segment[0] = char(std::tolower(segment[0]));
+    EXPECT_EQ(dice["note"], "segment " + segment) << bone << ": matched to the bone named after it";
+    EXPECT_GE(dice["value"].get<double>(), 0.9) << bone;
+    const auto mean = FindFigure(figures, std::string(bone) + ": mean surface distance to the true surface");
+    ASSERT_FALSE(mean.is_null()) << bone;
+    EXPECT_LE(mean["value"].get<double>(), 0.8) << bone;
+    const auto p95 = FindFigure(figures, std::string(bone) + ": 95 % surface distance");
+    ASSERT_FALSE(p95.is_null()) << bone;
+    EXPECT_LE(p95["value"].get<double>(), 3.0) << bone;
   }
-  for (const char* bone : {"Femur", "Patella"}) {
-    EXPECT_GT(FindFigure(figures, std::string(bone) + ": Dice")["value"].get<double>(), 0.9) << bone;
-    EXPECT_LT(FindFigure(figures, std::string(bone) + ": 95 % surface distance")["value"].get<double>(), 16.0) << bone;
+
+#ifdef ROBOPLAN_DEMO_DRAWS_PICTURES
+  // The bones as a surgeon looks at them: from the front (left half) and from the lateral side
+  // (right half), each bone in its colour, framed on the bones. From the front the patella lies
+  // over the femur and the fibula beside the tibia; from the side the patella stands in front of
+  // the femur and the fibula behind the tibia (opposite sides).
+  Picture bonesPicture;
+  ASSERT_TRUE(ReadPicture(out / "bones-3d.png", bonesPicture)) << "no bones-3d.png";
+  const int half = bonesPicture.Width / 2;
+  const auto anterior = FindBones(bonesPicture, 0, half), lateral = FindBones(bonesPicture, half, bonesPicture.Width);
+  enum { Femur, Tibia, Fibula, Patella };
+  for (int b : {Femur, Tibia, Fibula, Patella}) {
+    EXPECT_GT(anterior[size_t(b)].Pixels, 3000) << rp::KneeBones()[size_t(b)].Name << " from the front";
+    EXPECT_GT(lateral[size_t(b)].Pixels, 3000) << rp::KneeBones()[size_t(b)].Name << " from the side";
   }
+  for (const auto& view : {anterior, lateral}) {
+    const int top = std::max(view[Femur].MaxY, view[Patella].MaxY), bottom = std::min(view[Tibia].MinY, view[Fibula].MinY);
+    EXPECT_GT(top - bottom, bonesPicture.Height / 2) << "framed on the bones: they fill most of the height";
+  }
+  const double patellaFront = anterior[Patella].MeanX - anterior[Femur].MeanX;
+  const double patellaSide = lateral[Patella].MeanX - lateral[Femur].MeanX;
+  const double fibulaSide = lateral[Fibula].MeanX - lateral[Tibia].MeanX;
+  EXPECT_LT(std::abs(patellaFront), 0.5 * std::abs(patellaSide)) << "the patella over the femur from the front";
+  EXPECT_GT(std::abs(anterior[Fibula].MeanX - anterior[Tibia].MeanX), 20) << "the fibula beside the tibia";
+  EXPECT_LT(patellaSide * fibulaSide, 0) << "from the side, patella in front and fibula behind";
+
+  // The femur speed-against-accuracy chart draws every series its legend names (three: our two
+  // contour grids and Slicer's default pipeline): each series' colour in its legend swatch and
+  // somewhere in the plot.
+  Picture chart;
+  ASSERT_TRUE(ReadPicture(out / "speed-accuracy-mesh.png", chart)) << "no speed-accuracy-mesh.png";
+  for (size_t series = 0; series < 3; ++series)
+    EXPECT_GE(PiecesOfColour(chart, rp::bench::SeriesColor(series)), 2) << "series " << series << " not drawn";
+#endif
 
   // The scene opens with everything the workflow made.
   vtkNew<vtkRPScene> scene;
@@ -174,8 +321,15 @@ TEST(Demo, ARealKneeCTIsScoredPerBoneAgainstItsLabels) {
     EXPECT_FALSE(FindFigure(figures, std::string(bone) + ": mean surface distance to the truth label's surface").is_null())
         << bone;
   }
-  // The tibia is found (a bone segment overlaps it); how well is the segmentation's figure.
-  EXPECT_GT(FindFigure(figures, "tibia: Dice")["value"].get<double>(), 0.3);
+  // Bones one by one on a real CT: the tibia and the fibula touch once thresholded and are
+  // still two segments, each matched to its own label. The labels sit 0.75 mm median from the
+  // CT's bone edge (the data's README), so Dice is ~0.9-0.95 at best; the fibula's label misses
+  // part of the CT's own fibula (rpBoneSplitTest measures the same: 0.945 and 0.83).
+  EXPECT_EQ(FindFigure(figures, "tibia: Dice")["note"], "segment tibia");
+  EXPECT_EQ(FindFigure(figures, "fibula: Dice")["note"], "segment fibula");
+  EXPECT_GE(FindFigure(figures, "tibia: Dice")["value"].get<double>(), 0.93);
+  EXPECT_GE(FindFigure(figures, "fibula: Dice")["value"].get<double>(), 0.82);
+  EXPECT_LE(FindFigure(figures, "tibia: mean surface distance to the truth label's surface")["value"].get<double>(), 1.0);
   // --truth without --data is a usage error.
   EXPECT_EQ(RunRoboplan("demo --truth " + data + "/labels.nrrd --out " + (out / "x").string(), output), 2);
   EXPECT_NE(output.find("--truth"), std::string::npos) << output;

@@ -3,8 +3,11 @@
 //  * Parsers (Google Benchmark): NDI BX/TX replies; an OpenIGTLink TRANSFORM decoded by our
 //    non-allocating parser vs the library's Unpack (what Slicer's connector does).
 //  * Sender to scene, 10 tools at 60 Hz (a tracker through PLUS): from the sender's time stamp
-//    to the tool node's ModifiedEvent in the scene, with the main thread woken by the source's
-//    data (ours) and with a 60 Hz display timer polling (the usual way; the panel before).
+//    to the tool node's ModifiedEvent in the scene. Ours with the main thread woken by the
+//    source's data, and ours polled by a 60 Hz display timer; against the way Slicer's
+//    OpenIGTLinkIF (OpenIGTLinkIO) does it on the library: a receive thread putting each
+//    message into a mutex-guarded buffer per device, a 5 ms main-thread timer unpacking it
+//    (with CRC) into the node.
 //  * Ingestion on loopback, 10 tools: throughput (flood) and sender-to-buffer latency at 20,000
 //    TRANSFORM/s (paced), for our client and for the library's own receive loop (ClientSocket +
 //    MessageHeader + Unpack with CRC) in the same run.
@@ -24,6 +27,8 @@
 #include <cstring>
 #include <fstream>
 #include <iostream>
+#include <map>
+#include <mutex>
 #include <thread>
 
 #include <igtlClientSocket.h>
@@ -380,12 +385,114 @@ struct SceneLatency {
   double P50 = 0, P99 = 0, P999 = 0, Max = 0;
 };
 
+enum class SceneMode {
+  WokenByData,   // RoboPlan: the main thread sleeps on the source's ready fd
+  Timer60Hz,     // RoboPlan's client, polled by a 60 Hz display timer
+  LibraryTimer,  // the library as Slicer's OpenIGTLinkIF uses it (receive thread, locked buffer, 5 ms timer)
+};
+
+const char* SceneModeName(SceneMode mode) {
+  switch (mode) {
+    case SceneMode::WokenByData: return "RoboPlan: woken by the data";
+    case SceneMode::Timer60Hz: return "RoboPlan: 60 Hz display timer";
+    case SceneMode::LibraryTimer: return "OpenIGTLinkIF way: library thread + 5 ms timer";
+  }
+  return "";
+}
+
+// Slicer's OpenIGTLinkIF on the library (OpenIGTLinkIO's connector): a receive thread reads each
+// message (header, then body) into a mutex-guarded buffer per device name; the main thread's
+// 5 ms timer (qIGTLIOLogicController) takes the newest of each device, unpacks it with CRC and
+// writes the transform node.
+class LibraryConnector {
+public:
+  explicit LibraryConnector(int port) : Port(port) {
+    this->Thread = std::thread([this] { this->Receive(); });
+  }
+  ~LibraryConnector() {  // after the sender closed: the receive thread has seen the end of the stream
+    this->Stop = true;
+    if (this->Thread.joinable()) this->Thread.join();
+    this->Socket->CloseSocket();
+  }
+  // Main thread, every 5 ms: one node write per device that received a message since last time.
+  void Import(vtkRPScene* scene) {
+    std::map<std::string, std::vector<uint8_t>> taken;
+    {
+      std::lock_guard<std::mutex> lock(this->Mutex);
+      taken.swap(this->Pending);
+    }
+    if (taken.empty()) return;
+    scene->StartBatchProcess();
+    for (auto& [name, bytes] : taken) {
+      auto header = ::igtl::MessageHeader::New();
+      header->InitPack();
+      std::memcpy(header->GetPackPointer(), bytes.data(), static_cast<size_t>(header->GetPackSize()));
+      header->Unpack();
+      auto msg = ::igtl::TransformMessage::New();
+      msg->SetMessageHeader(header);
+      msg->AllocatePack();
+      std::memcpy(msg->GetPackBodyPointer(), bytes.data() + header->GetPackSize(), static_cast<size_t>(msg->GetPackBodySize()));
+      if (!(msg->Unpack(1) & ::igtl::MessageHeader::UNPACK_BODY)) continue;
+      ::igtl::Matrix4x4 m;
+      msg->GetMatrix(m);
+      unsigned int sec = 0, frac = 0;
+      header->GetTimeStamp(&sec, &frac);
+      vtkRPTrackedToolNode* node = nullptr;
+      for (vtkRPNode* candidate : scene->GetNodesByName(name))
+        if ((node = vtkRPTrackedToolNode::SafeDownCast(candidate))) break;
+      if (!node) {
+        vtkNew<vtkRPTrackedToolNode> created;
+        created->SetName(name.c_str());
+        scene->AddNode(created);
+        node = created;
+      }
+      double matrix[16];
+      for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) matrix[4 * i + j] = m[i][j];
+      const int wasModifying = node->StartModify();
+      node->SetMatrixTransformToParent(matrix);
+      node->SetStatus(vtkRPTrackedToolNode::StatusOK);
+      node->SetTimestamp(sec + frac / 4294967296.0);
+      node->EndModify(wasModifying);
+    }
+    scene->EndBatchProcess();
+  }
+
+private:
+  void Receive() {
+    while (!this->Stop && this->Socket->ConnectToServer("127.0.0.1", this->Port) != 0)
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    auto header = ::igtl::MessageHeader::New();
+    std::vector<uint8_t> message;
+    while (!this->Stop) {
+      header->InitPack();
+      const auto headerSize = header->GetPackSize();
+      message.resize(static_cast<size_t>(headerSize));  // the wire bytes (Unpack swaps the header in place)
+      if (static_cast<size_t>(ReceiveAll(this->Socket, message.data(), headerSize)) != static_cast<size_t>(headerSize)) return;
+      std::memcpy(header->GetPackPointer(), message.data(), static_cast<size_t>(headerSize));
+      header->Unpack();
+      const auto bodySize = header->GetBodySizeToRead();
+      message.resize(static_cast<size_t>(headerSize) + static_cast<size_t>(bodySize));
+      if (bodySize && static_cast<size_t>(ReceiveAll(this->Socket, message.data() + headerSize, bodySize)) != static_cast<size_t>(bodySize))
+        return;
+      std::lock_guard<std::mutex> lock(this->Mutex);
+      this->Pending[header->GetDeviceName()] = message;
+    }
+  }
+
+  int Port;
+  std::atomic<bool> Stop{false};
+  ::igtl::ClientSocket::Pointer Socket = ::igtl::ClientSocket::New();
+  std::mutex Mutex;
+  std::map<std::string, std::vector<uint8_t>> Pending;  // newest message per device
+  std::thread Thread;
+};
+
 // A tracker behind PLUS: 10 tools, one TRANSFORM each per frame at 60 Hz, time stamped when sent.
-// `wakeOnData`: the main thread sleeps on the source's ready fd (RoboPlan); otherwise it polls
-// on a 60 Hz timer (the display-rate timer of a typical viewer).
-SceneLatency RunSenderToScene(bool wakeOnData, double seconds) {
+SceneLatency RunSenderToScene(SceneMode mode, double seconds) {
   SceneLatency r;
-  r.Mode = wakeOnData ? "RoboPlan: woken by the data" : "60 Hz display timer";
+  r.Mode = SceneModeName(mode);
+  const bool wakeOnData = mode == SceneMode::WokenByData;
   const int port = test::FreePort();
   auto server = ::igtl::ServerSocket::New();
   server->CreateServer(port);
@@ -427,7 +534,11 @@ SceneLatency RunSenderToScene(bool wakeOnData, double seconds) {
   o.Port = port;
   o.ReconnectInitialSeconds = 0.01;
   std::string error;
-  logic->AddSource(std::make_unique<IgtlClient>(o), error);
+  std::unique_ptr<LibraryConnector> library;
+  if (mode == SceneMode::LibraryTimer)
+    library = std::make_unique<LibraryConnector>(port);
+  else
+    logic->AddSource(std::make_unique<IgtlClient>(o), error);
   // Every tool node's ModifiedEvent: now − the sender's time stamp of the pose it shows.
   struct Sink {
     SceneLatency* Result;
@@ -454,18 +565,23 @@ SceneLatency RunSenderToScene(bool wakeOnData, double seconds) {
   for (int fd : logic->GetReadyFds()) fds.push_back({fd, POLLIN, 0});
   const double start = SteadySeconds();
   double nextTick = start;
+  const double tick = mode == SceneMode::LibraryTimer ? 0.005 : 1.0 / 60.0;
   while (!done) {
     if (wakeOnData) {
       ::poll(fds.data(), fds.size(), 16);
     } else {
-      nextTick += 1.0 / 60.0;
+      nextTick += tick;
       const double wait = nextTick - SteadySeconds();
       if (wait > 0) std::this_thread::sleep_for(std::chrono::duration<double>(wait));
     }
     sink.Measure = SteadySeconds() - start > 0.5;  // after the tools exist and the client settled
-    logic->UpdateNodes(SteadySeconds());
+    if (library)
+      library->Import(scene);
+    else
+      logic->UpdateNodes(SteadySeconds());
   }
   sender.join();
+  library.reset();
   server->CloseSocket();
   r.Sent = sent;
   r.P50 = IgtlClient::HistogramPercentile(r.Histogram, 0.50);
@@ -587,7 +703,9 @@ int main(int argc, char** argv) {
     cdf.push_back(s);
   }
   // Sender to scene: 10 tools at 60 Hz for 20 s, each way.
-  std::vector<SceneLatency> scene = {RunSenderToScene(true, 20), RunSenderToScene(false, 20)};
+  std::vector<SceneLatency> scene;
+  for (SceneMode mode : {SceneMode::WokenByData, SceneMode::Timer60Hz, SceneMode::LibraryTimer})
+    scene.push_back(RunSenderToScene(mode, 20));
   std::vector<bench::Series> sceneCdf;
   for (const auto& r : scene) {
     doc["senderToScene"].push_back({{"mode", r.Mode}, {"tools", kTools}, {"rateHz", 60}, {"sent", r.Sent},
@@ -649,10 +767,11 @@ int main(int argc, char** argv) {
       std::cerr << "chart: " << error << " (run under xvfb-run for PNG charts)\n";
     std::vector<std::vector<double>> sceneRows;
     for (size_t i = 0; i < scene[0].Histogram.size(); ++i)
-      if (scene[0].Histogram[i] || scene[1].Histogram[i])
+      if (scene[0].Histogram[i] || scene[1].Histogram[i] || scene[2].Histogram[i])
         sceneRows.push_back({static_cast<double>(i + 1), static_cast<double>(scene[0].Histogram[i]),
-                             static_cast<double>(scene[1].Histogram[i])});
-    bench::WriteCSV(dir + "/tracking_sender_to_scene.csv", {"latency_us", "woken_by_data", "timer_60hz"}, sceneRows, error);
+                             static_cast<double>(scene[1].Histogram[i]), static_cast<double>(scene[2].Histogram[i])});
+    bench::WriteCSV(dir + "/tracking_sender_to_scene.csv",
+                    {"latency_us", "roboplan_woken_by_data", "roboplan_timer_60hz", "library_thread_timer_5ms"}, sceneRows, error);
   }
   chart.Title = "OpenIGTLink TRANSFORM latency (20,000 msg/s, 10 tools, loopback)";
   chart.XLabel = "latency (ms)";

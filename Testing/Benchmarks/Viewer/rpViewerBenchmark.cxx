@@ -212,6 +212,17 @@ class Rig {
   std::array<double, 4> ViewMs{};
   std::array<int, 4> ViewRenders{};
 
+  // Mean render time of each view since the last call (ms), and starts counting again.
+  std::array<double, 4> TakeViewMeanMs() {
+    std::array<double, 4> mean{};
+    for (size_t k = 0; k < 4; ++k) {
+      mean[k] = this->ViewRenders[k] ? this->ViewMs[k] / this->ViewRenders[k] : 0.0;
+      this->ViewMs[k] = 0;
+      this->ViewRenders[k] = 0;
+    }
+    return mean;
+  }
+
   // The four views as the Qt viewer lays them out (axial | 3D over sagittal | coronal), PNG.
   void SavePicture(const std::string& path) {
     vtkNew<vtkImageAppend> top, bottom, rows;
@@ -324,11 +335,7 @@ void BM_Viewer4Up_Naive(benchmark::State& state) {
     }
     run.Seconds = std::chrono::duration<double>(Clock::now() - start).count();
     run.Reslices = rig->Reslices() - reslices;
-    for (size_t k = 0; k < 4; ++k) {
-      run.ViewMeanMs[k] = rig->ViewRenders[k] ? rig->ViewMs[k] / rig->ViewRenders[k] : 0.0;
-      rig->ViewMs[k] = 0;
-      rig->ViewRenders[k] = 0;
-    }
+    run.ViewMeanMs = rig->TakeViewMeanMs();
     rig->StopHaptics();
     Report(state, run);
     Runs.push_back(run);
@@ -381,11 +388,7 @@ void BM_Viewer4Up_DisplayRate(benchmark::State& state) {
     }
     run.Seconds = std::chrono::duration<double>(Clock::now() - start).count();
     run.Reslices = rig->Reslices() - reslices;
-    for (size_t k = 0; k < 4; ++k) {
-      run.ViewMeanMs[k] = rig->ViewRenders[k] ? rig->ViewMs[k] / rig->ViewRenders[k] : 0.0;
-      rig->ViewMs[k] = 0;
-      rig->ViewRenders[k] = 0;
-    }
+    run.ViewMeanMs = rig->TakeViewMeanMs();
     rig->SavePicture(rp::bench::OutputDirectory() + "/viewer-4up-while-touching.png");  // what was drawn
     rig->StopHaptics();
     Report(state, run);

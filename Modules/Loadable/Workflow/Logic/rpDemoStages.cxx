@@ -18,6 +18,7 @@
 #include "rpDicomWriter.h"
 #include "rpImageVolume.h"
 #include "rpBoneScores.h"
+#include "rpBoneSplit.h"
 #include "rpKneePhantom.h"
 #include "rpLabelTable.h"
 #include "rpVolumeFiles.h"
@@ -204,35 +205,6 @@ void RegisterCTAndMR(DemoState& state) {
 
 // ---- Stage: bones and soft tissues segmented on the CT and meshed (display + haptic LoD)
 
-// The click a user makes to grow a bone: a voxel of the bone bright enough for the threshold,
-// nearest the bone's centroid (thin trabecular bone may be below the threshold at the centroid).
-bool SeedForBone(const ImageVolume& truth, vtkImageData* ct, const KneeBone& bone, double lower,
-                 std::array<double, 3>& seedRAS) {
-  int dims[3];
-  truth.Image->GetDimensions(dims);
-  const auto* t = static_cast<const unsigned char*>(truth.Image->GetScalarPointer());
-  auto inBone = [&](long n) { return t[n] == bone.Cortical || t[n] == bone.Trabecular; };
-  double sum[3] = {0, 0, 0};
-  long count = 0;
-  for (int k = 0; k < dims[2]; ++k)
-    for (int j = 0; j < dims[1]; ++j)
-      for (int i = 0; i < dims[0]; ++i)
-        if (inBone((long(k) * dims[1] + j) * dims[0] + i)) sum[0] += i, sum[1] += j, sum[2] += k, ++count;
-  if (!count) return false;
-  double best = 1e300, bestIJK[3] = {0, 0, 0};
-  for (int k = 0; k < dims[2]; ++k)
-    for (int j = 0; j < dims[1]; ++j)
-      for (int i = 0; i < dims[0]; ++i) {
-        const long n = (long(k) * dims[1] + j) * dims[0] + i;
-        if (!inBone(n) || ct->GetScalarComponentAsDouble(i, j, k, 0) < lower) continue;
-        const double d = std::pow(i - sum[0] / count, 2) + std::pow(j - sum[1] / count, 2) + std::pow(k - sum[2] / count, 2);
-        if (d < best) best = d, bestIJK[0] = i, bestIJK[1] = j, bestIJK[2] = k;
-      }
-  if (best == 1e300) return false;
-  truth.IndexToRAS(bestIJK, seedRAS.data());
-  return true;
-}
-
 // Each bone in its own colour: a knee bone's (by segment ID or name), else a distinct one.
 void ColourBones(vtkRPSegmentationNode* segmentation, const std::vector<std::string>& boneIDs) {
   long other = 0;
@@ -313,46 +285,28 @@ void SegmentAndMesh(DemoState& state) {
   std::string error;
   vtkNew<vtkRPSegmentationNode> segmentation;
   segmentation->SetName("KneeSegmentation");
-  if (!SegmentationEditor::InitializeFromVolume(state.CT, segmentation, error)) throw std::runtime_error(error);
-  const ThresholdPreset* bone = FindThresholdPreset("bone");
   const ThresholdPreset* softPreset = FindThresholdPreset("soft-tissue");
   const ThresholdPreset* fat = FindThresholdPreset("fat");
-  if (!bone || !softPreset || !fat) throw std::runtime_error("threshold presets bone/soft-tissue/fat missing");
-  EditResult edit;
-  std::vector<std::string> boneIDs;
-  if (state.HasGroundTruth()) {
-    // Region growing from one seed per bone (the click a user makes), bone preset thresholds.
-    for (const KneeBone& b : KneeBones()) {
-      std::array<double, 3> seed;
-      if (!SeedForBone(state.Phantom->Labels, state.CT->GetImageData(), b, bone->Lower, seed)) continue;
-      SegmentTarget target;
-      target.ID = b.ID;
-      target.Name = b.Name;
-      target.TissueClass = "bone";
-      target.Color = b.Color;  // each bone in its own colour
-      target.MaxFraction = 0.3;
-      // A bone that does not grow (e.g. a thin fibula at a coarse resolution) is reported and
-      // skipped; the others go on.
-      if (!SegmentationEditor::RegionGrow(state.CT, segmentation, target, {seed}, bone->Lower, bone->Upper, edit,
-                                          error) ||
-          edit.Voxels == 0 ||
-          !SegmentationEditor::ApplyMorphology(segmentation, b.ID, Morphology::FillHoles, 1.0, edit, error)) {
-        state.Report->AddNote(std::string(b.Name) + " not segmented: " + (error.empty() ? "no voxels grew" : error));
-        segmentation->RemoveSegment(b.ID);
-        error.clear();
-        continue;
-      }
-      boneIDs.push_back(b.ID);
-    }
-  } else {
-    // A user's CT: the bone preset, then one segment per connected bone (largest first).
-    SegmentTarget target{"bone", "Bone", "bone", {bone->Color[0], bone->Color[1], bone->Color[2]}, false, 0.5};
-    if (!SegmentationEditor::Threshold(state.CT, segmentation, target, bone->Lower, bone->Upper, edit, error) ||
-        !SegmentationEditor::SplitComponents(segmentation, "bone", 4, 500, edit, error)) {
-      throw std::runtime_error(error);
-    }
-    boneIDs = edit.SegmentIDs;
+  if (!softPreset || !fat) throw std::runtime_error("threshold presets soft-tissue/fat missing");
+  // Bones one by one, the same way for the phantom and a user's CT: threshold and fill, pieces
+  // outside the body dropped, touching bones split at narrow contacts, knee bones named from
+  // their position and size (no seeds: the phantom gets no help a real case would not get).
+  BoneSplitOptions splitOptions;
+  BoneSplitResult split;
+  if (!SplitBones(state.CT, segmentation, splitOptions, split, error, [&state](double f, const std::string& m) {
+        state.Runner->Progress(0.25 * f, "bones: " + m);
+      })) {
+    throw std::runtime_error("bones one by one: " + error);
   }
+  std::vector<std::string> boneIDs;
+  for (const BoneInfo& b : split.Bones) boneIDs.push_back(b.ID);
+  state.Report->AddFigure(stage, "bones found", double(split.Bones.size()), "",
+                          std::to_string(split.Splits) + " touching pair(s) split in " +
+                              std::to_string(split.Seconds).substr(0, 4) + " s; dropped " +
+                              std::to_string(split.DroppedSpecks) + " speck(s), " +
+                              std::to_string(split.DroppedOutsideBody) + " piece(s) outside the body");
+  for (const std::string& note : split.Notes) state.Report->AddNote("Bones one by one: " + note);
+  EditResult edit;
   ColourBones(segmentation, boneIDs);
   if (boneIDs.empty()) throw std::runtime_error("no bone could be segmented");
   state.Runner->Progress(0.3, "soft tissue and fat");
