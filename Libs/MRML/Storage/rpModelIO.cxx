@@ -170,6 +170,9 @@ bool WriteModelFile(const std::string& path, vtkPolyData* polyData, std::string&
       writer->SetFileName(target.c_str());
       writer->SetDataModeToAppended();
       writer->SetCompressorTypeToZLib();
+      // Level 1: a third of the default level's (5) time for files a few per cent larger; at the
+      // default, compressing the meshes took a quarter of `roboplan mesh` on a 512x512x300 labelmap.
+      writer->SetCompressionLevel(1);
       ok = writer->Write();
     } else if (HasExtension(path, ".vtk")) {
       vtkNew<vtkPolyDataWriter> writer;

@@ -1,0 +1,308 @@
+// Whole-process speed of `roboplan mesh` on a 512 x 512 x 300 two-label labelmap (gzip NRRD,
+// 0.7 x 0.7 x 1 mm, an ellipsoid and a torus), against Slicer's default pipeline on the same data
+// in the same run:
+//   slicer_compute   the labelmap already in memory, per label vtkDiscreteFlyingEdges3D → windowed
+//                    sinc (20 iterations, pass band 0.01, normalized coordinates) → vtkPolyDataNormals
+//                    (the baseline: compute only, no reading or writing);
+//   vtk_itk_script   what a user's script does: ITK reads the .nrrd.gz, the same VTK pipeline, one
+//                    .vtp per label (vtkXMLPolyDataWriter);
+//   roboplan_mesh    `roboplan mesh labels.nrrd --out DIR` as a child process (start to exit):
+//                    default (display + haptic meshes) and --no-haptic;
+//   read_nrrd_gz     reading the file alone (rp::ReadVolumeFile), to show what dominates.
+// Writes whole_process.{csv,json} and whole_process_seconds.png (bars) to $ROBOPLAN_BENCHMARK_OUTPUT.
+//
+//   xvfb-run -a ./bin/rpMeshWholeProcessBenchmark
+#include <benchmark/benchmark.h>
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include <itkImage.h>
+#include <itkImageFileReader.h>
+#include <itkNrrdImageIO.h>
+#include <nlohmann/json.hpp>
+#include <vtkDiscreteFlyingEdges3D.h>
+#include <vtkImageData.h>
+#include <vtkMatrix4x4.h>
+#include <vtkNew.h>
+#include <vtkPolyData.h>
+#include <vtkPolyDataNormals.h>
+#include <vtkWindowedSincPolyDataFilter.h>
+#include <vtkXMLPolyDataWriter.h>
+
+#include "rpBenchmarkChart.h"
+#include "rpVolumeIO.h"
+
+extern char** environ;
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr int Dims[3] = {512, 512, 300};
+constexpr double Spacing[3] = {0.7, 0.7, 1.0};
+
+fs::path WorkDir() { return fs::path(rp::bench::OutputDirectory()) / "whole_process_work"; }
+// Named as Slicer names labelmap volumes ("-label"), so `roboplan mesh` takes it as a labelmap.
+fs::path LabelmapPath() { return WorkDir() / "two-label.nrrd"; }
+
+// Label 1: an ellipsoid (radii 70, 55, 120 mm); label 2: a torus (R 45, r 14 mm) beside it.
+void WriteLabelmap() {
+  vtkNew<vtkImageData> image;
+  image->SetDimensions(Dims[0], Dims[1], Dims[2]);
+  image->AllocateScalars(VTK_UNSIGNED_CHAR, 1);
+  auto* v = static_cast<unsigned char*>(image->GetScalarPointer());
+  const double c1[3] = {-55, 0, 0}, c2[3] = {85, 10, 20};
+  for (int k = 0; k < Dims[2]; ++k)
+    for (int j = 0; j < Dims[1]; ++j)
+      for (int i = 0; i < Dims[0]; ++i) {
+        const double x = (i - Dims[0] / 2.0) * Spacing[0], y = (j - Dims[1] / 2.0) * Spacing[1],
+                     z = (k - Dims[2] / 2.0) * Spacing[2];
+        const double e = std::pow((x - c1[0]) / 70, 2) + std::pow((y - c1[1]) / 55, 2) + std::pow((z - c1[2]) / 120, 2);
+        const double ring = std::hypot(x - c2[0], y - c2[1]) - 45;
+        const double t = ring * ring + (z - c2[2]) * (z - c2[2]);
+        *v++ = e < 1 ? 1 : (t < 14 * 14 ? 2 : 0);
+      }
+  vtkNew<vtkMatrix4x4> ijkToRAS;
+  for (int a = 0; a < 3; ++a) {
+    ijkToRAS->SetElement(a, a, Spacing[a]);
+    ijkToRAS->SetElement(a, 3, -Dims[a] / 2.0 * Spacing[a]);
+  }
+  std::string error;
+  if (!rp::WriteVolumeFile(LabelmapPath().string(), image, ijkToRAS, {}, error, true)) {
+    std::fprintf(stderr, "writing the labelmap: %s\n", error.c_str());
+    std::exit(1);
+  }
+}
+
+// The labelmap in memory for the compute-only baseline (read once, outside the timing).
+vtkImageData* InMemoryLabelmap() {
+  static vtkNew<vtkImageData> image;
+  static bool loaded = [] {
+    vtkNew<vtkMatrix4x4> ijkToRAS;
+    rp::VolumeFileData data;
+    data.Image = image;
+    data.IJKToRAS = ijkToRAS;
+    std::string error;
+    if (!rp::ReadVolumeFile(LabelmapPath().string(), data, error)) {
+      std::fprintf(stderr, "%s\n", error.c_str());
+      std::exit(1);
+    }
+    return true;
+  }();
+  (void)loaded;
+  return image;
+}
+
+// Slicer's closed-surface conversion of one label (vtkBinaryLabelmapToClosedSurfaceConversionRule
+// with its defaults: smoothing factor 0.5 → pass band 0.01, 20 iterations, normals on).
+vtkSmartPointer<vtkPolyData> SlicerPipeline(vtkImageData* image, int label) {
+  vtkNew<vtkDiscreteFlyingEdges3D> contour;
+  contour->SetInputData(image);
+  contour->SetValue(0, label);
+  contour->ComputeNormalsOff();
+  contour->ComputeGradientsOff();
+  contour->ComputeScalarsOff();
+  vtkNew<vtkWindowedSincPolyDataFilter> smoother;
+  smoother->SetInputConnection(contour->GetOutputPort());
+  smoother->SetNumberOfIterations(20);
+  smoother->SetPassBand(0.01);
+  smoother->BoundarySmoothingOff();
+  smoother->FeatureEdgeSmoothingOff();
+  smoother->NonManifoldSmoothingOn();
+  smoother->NormalizeCoordinatesOn();
+  vtkNew<vtkPolyDataNormals> normals;
+  normals->SetInputConnection(smoother->GetOutputPort());
+  normals->ConsistencyOn();
+  normals->SplittingOff();
+  normals->Update();
+  return normals->GetOutput();
+}
+
+std::map<std::string, double> fastest;  // config → fastest seconds over the repetitions
+std::map<std::string, double> triangles;
+
+void Keep(const std::string& name, double seconds) {
+  auto it = fastest.find(name);
+  if (it == fastest.end() || seconds < it->second) fastest[name] = seconds;
+}
+
+double Since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+void BM_SlicerCompute(benchmark::State& state) {
+  vtkImageData* image = InMemoryLabelmap();
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    long n = 0;
+    for (int label : {1, 2}) n += SlicerPipeline(image, label)->GetNumberOfPolys();
+    Keep("slicer_compute", Since(t0));
+    triangles["slicer_compute"] = static_cast<double>(n);
+  }
+}
+
+void BM_VtkItkScript(benchmark::State& state) {
+  const fs::path out = WorkDir() / "vtk_itk";
+  fs::create_directories(out);
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    using Image = itk::Image<unsigned char, 3>;
+    auto reader = itk::ImageFileReader<Image>::New();
+    reader->SetImageIO(itk::NrrdImageIO::New());
+    reader->SetFileName(LabelmapPath().string());
+    reader->Update();
+    Image* itkImage = reader->GetOutput();
+    const auto size = itkImage->GetLargestPossibleRegion().GetSize();
+    vtkNew<vtkImageData> image;
+    image->SetDimensions(static_cast<int>(size[0]), static_cast<int>(size[1]), static_cast<int>(size[2]));
+    image->SetSpacing(itkImage->GetSpacing()[0], itkImage->GetSpacing()[1], itkImage->GetSpacing()[2]);
+    image->AllocateScalars(VTK_UNSIGNED_CHAR, 1);
+    std::memcpy(image->GetScalarPointer(), itkImage->GetBufferPointer(), size[0] * size[1] * size[2]);
+    for (int label : {1, 2}) {
+      vtkNew<vtkXMLPolyDataWriter> writer;
+      writer->SetInputData(SlicerPipeline(image, label));
+      writer->SetFileName((out / ("label" + std::to_string(label) + ".vtp")).string().c_str());
+      writer->Write();
+    }
+    Keep("vtk_itk_script", Since(t0));
+  }
+}
+
+// Runs `roboplan mesh` (stdout to a JSON file) and returns its wall time; the process' own
+// figure (from after argument parsing to the end) goes to `inside`.
+double RunRoboplan(const std::vector<std::string>& extra, const std::string& name, double& inside,
+                   benchmark::State& state) {
+  const fs::path exe = fs::read_symlink("/proc/self/exe").parent_path() / "roboplan";
+  const fs::path out = WorkDir() / name;
+  fs::remove_all(out);
+  std::vector<std::string> args = {exe.string(), "mesh", LabelmapPath().string(), "--out", out.string(), "--json"};
+  args.insert(args.end(), extra.begin(), extra.end());
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  const std::string jsonPath = (WorkDir() / (name + ".json")).string();
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 1, jsonPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
+  const auto t0 = std::chrono::steady_clock::now();
+  pid_t pid = 0;
+  int status = 0;
+  const int rc = posix_spawn(&pid, exe.c_str(), &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (rc != 0 || waitpid(pid, &status, 0) != pid || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+    state.SkipWithError(("roboplan mesh failed (" + exe.string() + ")").c_str());
+    return 0;
+  }
+  const double seconds = Since(t0);
+  std::ifstream in(jsonPath);
+  const auto doc = nlohmann::json::parse(in, nullptr, false);
+  inside = doc.is_object() ? doc.value("seconds", 0.0) : 0.0;
+  long n = 0;
+  if (doc.is_object())
+    for (const auto& s : doc["segments"]) n += s.contains("display") ? s["display"].value("triangles", 0L) : 0L;
+  triangles[name] = static_cast<double>(n);
+  return seconds;
+}
+
+void BM_RoboplanMesh(benchmark::State& state, std::vector<std::string> extra, std::string name) {
+  for (auto _ : state) {
+    double inside = 0;
+    const double seconds = RunRoboplan(extra, name, inside, state);
+    if (seconds <= 0) return;
+    Keep(name, seconds);
+    Keep(name + "_inside", inside);
+  }
+}
+
+void BM_ReadNrrdGz(benchmark::State& state) {
+  for (auto _ : state) {
+    vtkNew<vtkImageData> image;
+    vtkNew<vtkMatrix4x4> ijkToRAS;
+    rp::VolumeFileData data;
+    data.Image = image;
+    data.IJKToRAS = ijkToRAS;
+    std::string error;
+    const auto t0 = std::chrono::steady_clock::now();
+    if (!rp::ReadVolumeFile(LabelmapPath().string(), data, error)) {
+      state.SkipWithError(error.c_str());
+      return;
+    }
+    Keep("read_nrrd_gz", Since(t0));
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  fs::create_directories(WorkDir());
+  const auto t0 = std::chrono::steady_clock::now();
+  WriteLabelmap();
+  std::printf("labelmap %dx%dx%d written (%s, %.1f MB) in %.1f s\n", Dims[0], Dims[1], Dims[2],
+              LabelmapPath().c_str(), fs::file_size(LabelmapPath()) / 1e6, Since(t0));
+  auto reg = [](benchmark::internal::Benchmark* b) {
+    b->Iterations(1)->Repetitions(3)->Unit(benchmark::kMillisecond)->UseRealTime();
+  };
+  reg(benchmark::RegisterBenchmark("BM_SlicerCompute", BM_SlicerCompute));
+  reg(benchmark::RegisterBenchmark("BM_VtkItkScript", BM_VtkItkScript));
+  reg(benchmark::RegisterBenchmark("BM_RoboplanMesh/default", BM_RoboplanMesh, std::vector<std::string>{},
+                                   std::string("roboplan_mesh")));
+  reg(benchmark::RegisterBenchmark("BM_RoboplanMesh/no_haptic", BM_RoboplanMesh,
+                                   std::vector<std::string>{"--no-haptic"}, std::string("roboplan_mesh_no_haptic")));
+  reg(benchmark::RegisterBenchmark("BM_ReadNrrdGz", BM_ReadNrrdGz));
+  benchmark::RunSpecifiedBenchmarks();
+
+  const double baseline = fastest.count("slicer_compute") ? fastest["slicer_compute"] : 0;
+  const std::vector<std::pair<std::string, std::string>> order = {
+      {"slicer_compute", "Slicer default, compute only (baseline)"},
+      {"vtk_itk_script", "ITK read + Slicer pipeline + VTK write"},
+      {"roboplan_mesh", "roboplan mesh (process)"},
+      {"roboplan_mesh_inside", "  of which after start-up"},
+      {"roboplan_mesh_no_haptic", "roboplan mesh --no-haptic (process)"},
+      {"read_nrrd_gz", "reading the .nrrd (gzip) alone"}};
+  nlohmann::json doc = nlohmann::json::array();
+  std::vector<std::vector<double>> rows;
+  std::vector<std::string> categories;
+  rp::bench::Series bars;
+  bars.Name = "seconds (fastest of 3)";
+  for (size_t i = 0; i < order.size(); ++i) {
+    const auto& [key, label] = order[i];
+    if (!fastest.count(key)) continue;
+    const double s = fastest[key];
+    const double ratio = baseline > 0 ? s / baseline : 0;
+    std::printf("%-45s %7.3f s  %5.2fx baseline%s\n", label.c_str(), s, ratio,
+                triangles.count(key) ? ("  " + std::to_string(static_cast<long>(triangles[key])) + " triangles").c_str()
+                                     : "");
+    doc.push_back({{"config", key}, {"label", label}, {"seconds", s}, {"timesBaseline", ratio},
+                   {"triangles", triangles.count(key) ? triangles[key] : 0.0}});
+    rows.push_back({static_cast<double>(i), s, ratio});
+    categories.push_back(key);
+    bars.Y.push_back(s);
+  }
+  const std::string out = rp::bench::OutputDirectory();
+  std::string error;
+  rp::bench::WriteCSV(out + "/whole_process.csv", {"config_index", "seconds", "times_baseline"}, rows, error);
+  std::ofstream(out + "/whole_process.json") << doc.dump(2) << "\n";
+  rp::bench::ChartOptions chart;
+  chart.Title = "roboplan mesh, 512x512x300 two-label .nrrd (gzip): whole process vs Slicer's pipeline";
+  chart.YLabel = "seconds (2 cores, fastest of 3)";
+  chart.Width = 1200;
+  if (!rp::bench::WriteBarChartPNG(out + "/whole_process_seconds.png", categories, {bars}, chart, error))
+    std::fprintf(stderr, "chart: %s\n", error.c_str());
+  std::printf("wrote %s/whole_process.{csv,json} and whole_process_seconds.png\n", out.c_str());
+  benchmark::Shutdown();
+  return 0;
+}
