@@ -69,8 +69,12 @@ Eigen::Vector3d Apply(const vtkMatrix4x4* m, const Eigen::Vector3d& p) {
   return {out[0], out[1], out[2]};
 }
 
-// Tracks one stylus trajectory on a fresh simulator + driver and returns every distinct frame.
-std::vector<ToolPose> TrackStylus(const ToolDefinition& stylus, double seconds, uint32_t seed, std::string& stats) {
+// Tracks one stylus trajectory on a fresh simulator + driver and returns every distinct frame:
+// for `seconds`, and longer (up to 10 s more) until `minPoses` distinct frames
+// are in: as a user holds the stylus on a landmark until the tracker has enough frames. On a
+// loaded machine the 60 Hz frames arrive late; a fixed wall-clock window then saw too few.
+std::vector<ToolPose> TrackStylus(const ToolDefinition& stylus, double seconds, size_t minPoses, uint32_t seed,
+                                  std::string& stats) {
   PolarisSimulator::Options simOptions;
   simOptions.FrameRate = 60;
   simOptions.NoiseMm = 0.05;  // measurement jitter of a Polaris Spectra, per axis
@@ -102,7 +106,10 @@ std::vector<ToolPose> TrackStylus(const ToolDefinition& stylus, double seconds, 
   const std::string slotName = ToolToTrackerName(stylus.Name);
   const int slot = tracker.Poses().Find(slotName.c_str(), slotName.size());
   const double trackingStart = elapsed();
-  while (elapsed() - trackingStart < seconds) {
+  constexpr double maxExtraSeconds = 10;
+  for (;;) {
+    const double tracked = elapsed() - trackingStart;
+    if (tracked >= seconds && (poses.size() >= minPoses || tracked >= seconds + maxExtraSeconds)) break;
     ToolPose pose;
     if (slot >= 0 && tracker.Poses().Read(slot, pose) && pose.State == ToolState::OK && frames.insert(pose.Frame).second) {
       poses.push_back(pose);
@@ -188,7 +195,7 @@ void CalibrateStylus(DemoState& state) {
   stylus.Motion.PeriodSeconds = 2;
   std::string stats;
   state.Runner->Progress(0.1, "pivoting the stylus in the divot (simulated Polaris on a pty)");
-  const auto poses = TrackStylus(stylus, 3.0, 7, stats);
+  const auto poses = TrackStylus(stylus, 3.0, 90, 7, stats);
   WriteTrackingLog(state, "tracking-pivot.txt", stylus.Name, poses);
   const PivotResult pivot = PivotCalibrate(poses, 1.0, 10.0);
   if (!pivot.Valid || !pivot.Accepted) throw std::runtime_error("pivot calibration refused: " + pivot.Message);
@@ -249,7 +256,7 @@ void RegisterPatient(DemoState& state) {
       stylus.Motion.Euler[i] = 0;
     }
     std::string stats;
-    const auto poses = TrackStylus(stylus, 0.4, 100 + n, stats);
+    const auto poses = TrackStylus(stylus, 0.4, 12, 100 + n, stats);
     if (poses.size() < 5) throw std::runtime_error("landmark '" + label + "': the stylus was not seen (" + stats + ")");
     // The tip seen by the tracker with the calibrated offset, averaged over the held frames.
     Eigen::Vector3d tip = Eigen::Vector3d::Zero();
@@ -326,7 +333,7 @@ void Navigate(DemoState& state) {
   stylus.Motion.PeriodSeconds = 3;
   std::string stats;
   state.Runner->Progress(0.1, "tracking the stylus along its path");
-  const auto poses = TrackStylus(stylus, 3.0, 555, stats);
+  const auto poses = TrackStylus(stylus, 3.0, 90, 555, stats);
   if (poses.size() < 30) throw std::runtime_error("too few stylus poses along the path (" + stats + ")");
 
   WriteTrackingLog(state, "tracking-navigation.txt", stylus.Name, poses);
