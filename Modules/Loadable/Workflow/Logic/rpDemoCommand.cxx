@@ -21,14 +21,7 @@ int RunDemoCommand(const std::vector<std::string>& arguments, std::ostream& out,
       .Option("size", "small|demo|full", "phantom size", "demo")
       .Option("haptic-seconds", "s", "length of the haptic exploration", "4")
       .Flag("no-screenshots", "skip the 4-up pictures (no display needed)");
-  if (!parser.Parse(arguments)) {
-    if (parser.HelpRequested()) {
-      out << parser.Usage();
-      return 0;
-    }
-    err << "roboplan demo: " << parser.Error() << "\n\n" << parser.Usage();
-    return 2;
-  }
+  if (const auto exitCode = parser.ParseCommand(arguments, out, err)) return *exitCode;
   DemoOptions options;
   options.OutputDirectory = parser.Get("out");
   options.DicomData = parser.Get("data");
