@@ -17,7 +17,13 @@ if ! read -r -t 20 display <"$fifo" || [ -z "$display" ]; then
   rm -rf "$tmp"
   exit 1
 fi
-DISPLAY=":$display" "$@"
+# ASan builds: the GL driver is preloaded into the test (not into Xvfb) so that it is never
+# unloaded before LeakSanitizer's check (RoboPlanMacros.cmake, ROBOPLAN_GUI_TEST_PRELOAD).
+if [ -n "${ROBOPLAN_GUI_TEST_PRELOAD:-}" ]; then
+  DISPLAY=":$display" LD_PRELOAD="$ROBOPLAN_GUI_TEST_PRELOAD${LD_PRELOAD:+ $LD_PRELOAD}" "$@"
+else
+  DISPLAY=":$display" "$@"
+fi
 status=$?
 if [ $status -ne 0 ] && ! kill -0 "$server" 2>/dev/null; then
   echo "run-with-xvfb: the X server :$display exited during the test:" >&2
