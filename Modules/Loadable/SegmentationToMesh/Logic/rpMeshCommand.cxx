@@ -224,14 +224,7 @@ int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contex
       .Flag("no-volume-correction", "keep the raw surface (no volume correction)")
       .Option("format", Join(ModelFormats(), "|"), "model file format", "vtp")
       .OneOf();
-  if (!parser.Parse(arguments)) {
-    if (parser.HelpRequested()) {
-      out << parser.Usage();
-      return 0;
-    }
-    err << "roboplan mesh: " << parser.Error() << "\n\n" << parser.Usage();
-    return 2;
-  }
+  if (const auto exitCode = parser.ParseCommand(arguments, out, err)) return *exitCode;
   const auto t0 = std::chrono::steady_clock::now();
   const bool quiet = parser.Json();
   TerminalProgress progress("mesh", quiet);
