@@ -42,14 +42,7 @@ void ReportFailures(const rp::ModuleManager& manager) {
 
 int ListModules(const rp::ModuleManager& manager, const std::vector<std::string>& args) {
   rp::ArgParser parser("modules", "List the loaded modules, their commands and any module that failed to load.");
-  if (!parser.Parse(args)) {
-    if (parser.HelpRequested()) {
-      std::cout << parser.Usage();
-      return 0;
-    }
-    std::cerr << "roboplan modules: " << parser.Error() << "\n" << parser.Usage();
-    return 2;
-  }
+  if (const auto exitCode = parser.ParseCommand(args, std::cout, std::cerr)) return *exitCode;
   if (parser.Json()) {
     nlohmann::json doc;
     doc["modules"] = nlohmann::json::array();

@@ -234,6 +234,17 @@ std::string ArgParser::Check(const Spec& spec, const std::string& value) const {
   return {};
 }
 
+std::optional<int> ArgParser::ParseCommand(const std::vector<std::string>& args, std::ostream& out,
+                                           std::ostream& err) {
+  if (this->Parse(args)) return std::nullopt;
+  if (this->HelpRequested()) {
+    out << this->Usage();
+    return 0;
+  }
+  err << "roboplan " << this->Command << ": " << this->ErrorText << "\n\n" << this->Usage();
+  return 2;
+}
+
 bool ArgParser::Parse(const std::vector<std::string>& args) {
   this->Values.clear();
   this->ErrorText.clear();

@@ -9,6 +9,7 @@
 // (`--boutiques`), so neither can drift from the options the command accepts.
 #include <map>
 #include <optional>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -85,6 +86,10 @@ class ArgParser {
   /// Returns false on error (Error() says why) or when --help, --xml or --boutiques was asked
   /// (HelpRequested(): print Usage() and exit 0).
   bool Parse(const std::vector<std::string>& args);
+  /// Parse() for a `roboplan <command>`: nothing when the command should run; else its exit
+  /// code after printing — 0 with Usage() on `out` (--help, --xml, --boutiques), 2 with
+  /// "roboplan <command>: <error>" and the usage on `err`.
+  std::optional<int> ParseCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 
   bool HelpRequested() const { return this->Asked != Request::None; }
   Request Requested() const { return this->Asked; }

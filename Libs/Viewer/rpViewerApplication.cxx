@@ -143,14 +143,7 @@ int RunScreenshot(CommandContext& context) {
       .Option("layout", "name", "4up | 3d | axial | sagittal | coronal (default: the scene's, else 4up)")
       .Option("size", "WxH", "image size in pixels", std::string("800x800"))
       .Option("slice-point", "R,A,S", "where the slices cut (default: centre of the first volume)");
-  if (!parser.Parse(context.Arguments)) {
-    if (parser.HelpRequested()) {
-      std::cout << parser.Usage();
-      return 0;
-    }
-    std::cerr << "roboplan screenshot: " << parser.Error() << "\n" << parser.Usage();
-    return 2;
-  }
+  if (const auto exitCode = parser.ParseCommand(context.Arguments, std::cout, std::cerr)) return *exitCode;
   ScreenshotOptions options;
   if (!parser.Has("out")) {
     std::cerr << "roboplan screenshot: --out is required\n" << parser.Usage();

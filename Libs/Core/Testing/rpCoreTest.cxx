@@ -3,6 +3,7 @@
 #include <atomic>
 #include <cmath>
 #include <filesystem>
+#include <sstream>
 #include <thread>
 
 #include "rpArgParser.h"
@@ -45,6 +46,25 @@ TEST(ArgParser, DefaultsAndErrorsNameTheProblem) {
   EXPECT_FALSE(p.Parse({"--help"}));
   EXPECT_TRUE(p.HelpRequested());
   EXPECT_NE(p.Usage().find("--threshold <mm>"), std::string::npos);
+}
+
+// Every `roboplan <command>` parses through ParseCommand: run, help (exit 0, usage on out) or a
+// bad argument (exit 2, "roboplan <command>: <error>" and the usage on err).
+TEST(ArgParser, ParseCommandGivesTheExitCodeAndPrintsWhereItBelongs) {
+  rp::ArgParser p("thing", "test");
+  p.Positional("in", "input");
+  std::ostringstream out, err;
+  EXPECT_FALSE(p.ParseCommand({"a"}, out, err).has_value());
+  EXPECT_EQ(out.str() + err.str(), "");
+  EXPECT_EQ(p.ParseCommand({"--help"}, out, err), 0);
+  EXPECT_EQ(out.str().rfind("usage: roboplan thing", 0), 0u) << out.str();
+  EXPECT_EQ(err.str(), "");
+  out.str("");
+  EXPECT_EQ(p.ParseCommand({"a", "--bogus"}, out, err), 2);
+  EXPECT_EQ(out.str(), "");
+  EXPECT_EQ(err.str().rfind("roboplan thing: ", 0), 0u) << err.str();
+  EXPECT_NE(err.str().find("--bogus"), std::string::npos);
+  EXPECT_NE(err.str().find("usage: roboplan thing"), std::string::npos);
 }
 
 // A command declared with types, ranges, choices and files, as `register-volumes` is.

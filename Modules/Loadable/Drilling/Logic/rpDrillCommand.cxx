@@ -173,14 +173,7 @@ int RunDrillCommand(const std::vector<std::string>& args, std::ostream& out, std
       .Option("picture", "FILE.png", "render a picture of the tunnel (needs a display or Xvfb)")
       .Flag("realtime", "run the 1 kHz servo thread and the 30 Hz display thread on the wall clock (default: the same "
                         "ticks scripted on one thread, as fast as the CPU allows)");
-  if (!parser.Parse(args)) {
-    if (parser.HelpRequested()) {
-      out << parser.Usage();
-      return 0;
-    }
-    err << "roboplan drill: " << parser.Error() << "\n\n" << parser.Usage();
-    return 2;
-  }
+  if (const auto exitCode = parser.ParseCommand(args, out, err)) return *exitCode;
   const bool json = parser.Json();
   const bool replay = parser.Has("replay");
   double radius = 0, speed = 0, voxel = 0.3, rpm = 60000, feed = 2, shell = 0, margin = 0, timeout = -1;

@@ -154,14 +154,7 @@ int RunHapticsCommand(const std::vector<std::string>& arguments, vtkRPScene* sce
       .Option("spin", "us", "busy-wait this long before each deadline (smaller jitter, more CPU)", "100")
       .Number()
       .AtLeast(0);
-  if (!parser.Parse(arguments)) {
-    if (parser.HelpRequested()) {
-      out << parser.Usage();
-      return 0;
-    }
-    err << "roboplan haptics: " << parser.Error() << "\n\n" << parser.Usage();
-    return 2;
-  }
+  if (const auto exitCode = parser.ParseCommand(arguments, out, err)) return *exitCode;
   double seconds = -1, rate = 1000, spin = 100;
   long toolPoints = 1;
   try {

@@ -88,14 +88,7 @@ int RunRegisterCommand(const std::vector<std::string>& arguments, std::ostream& 
       .Number()
       .GreaterThan(0)
       .AtMost(1);
-  if (!parser.Parse(arguments)) {
-    if (parser.HelpRequested()) {
-      out << parser.Usage();
-      return 0;
-    }
-    err << "roboplan register: " << parser.Error() << "\n\n" << parser.Usage();
-    return 2;
-  }
+  if (const auto exitCode = parser.ParseCommand(arguments, out, err)) return *exitCode;
   // Types, ranges, choices and --out were checked by the parser (declared above).
   const std::string outPath = parser.Get("out");
   const std::string mode = parser.Get("mode");

@@ -61,10 +61,7 @@ class IgtlClient : public PoseSource {
   std::string StatusText() const override;
   nlohmann::json StatisticsJson() const override;
 
-  void Start() {
-    std::string ignored;
-    this->Start(ignored);
-  }
+  using PoseSource::Start;
   Statistics GetStatistics() const;
   std::string LastError() const { return this->Worker.LastError(); }
   /// Text of the last STRING message (PLUS command replies and the like).

@@ -69,10 +69,7 @@ class NdiTracker : public PoseSource {
 
   /// Starts the I/O thread (returns at once; watch GetState()).
   bool Start(std::string& error) override;
-  void Start() {
-    std::string ignored;
-    this->Start(ignored);
-  }
+  using PoseSource::Start;
   /// Stops tracking (TSTOP, PHF, COMM back to 9600) and joins the thread.
   void Stop() override;
   const ToolPoseTable& Poses() const override { return this->Table; }

@@ -45,6 +45,12 @@ class PoseSource {
   /// Starts the I/O thread and returns at once (the thread connects, with back-off). False,
   /// with the reason, only when the source cannot run at all.
   virtual bool Start(std::string& error) = 0;
+  /// Start for callers that watch Connected()/StatusText() rather than the error text (a
+  /// subclass that declares Start(std::string&) brings this in with `using PoseSource::Start;`).
+  bool Start() {
+    std::string ignored;
+    return this->Start(ignored);
+  }
   virtual void Stop() = 0;
   virtual const ToolPoseTable& Poses() const = 0;
   /// Images the source streams (OpenIGTLink IMAGE), or nullptr.

@@ -59,10 +59,7 @@ class RecordingPlayer : public PoseSource {
   static std::unique_ptr<PoseSource> Create(const PoseSourceConfig& config);
 
   bool Start(std::string& error) override;
-  void Start() {
-    std::string ignored;
-    this->Start(ignored);
-  }
+  using PoseSource::Start;
   void Stop() override;
   const ToolPoseTable& Poses() const override { return this->Table; }
   bool Connected() const override { return !this->Done.load(); }

@@ -65,14 +65,7 @@ int RunCompareLabelsCommand(const std::vector<std::string>& arguments, std::ostr
       .Integer()
       .AtLeast(1)
       .Repeatable();
-  if (!parser.Parse(arguments)) {
-    if (parser.HelpRequested()) {
-      out << parser.Usage();
-      return 0;
-    }
-    err << "roboplan compare-labels: " << parser.Error() << "\n\n" << parser.Usage();
-    return 2;
-  }
+  if (const auto exitCode = parser.ParseCommand(arguments, out, err)) return *exitCode;
   TerminalProgress progress("compare-labels", parser.Json());
   vtkNew<vtkRPScene> scene;
   ImageVolume test, truth;

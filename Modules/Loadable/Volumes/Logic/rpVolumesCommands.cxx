@@ -28,18 +28,6 @@ namespace fs = std::filesystem;
 namespace rp {
 namespace {
 
-// Parses; returns -1 to continue, or the exit code (help: 0, bad arguments: 2).
-int Parse(ArgParser& parser, const std::vector<std::string>& arguments, std::ostream& out, std::ostream& err,
-          const std::string& name) {
-  if (parser.Parse(arguments)) return -1;
-  if (parser.HelpRequested()) {
-    out << parser.Usage();
-    return 0;
-  }
-  err << "roboplan " << name << ": " << parser.Error() << "\n\n" << parser.Usage();
-  return 2;
-}
-
 std::string Fixed(double v, int digits = 3) {
   char buffer[64];
   std::snprintf(buffer, sizeof buffer, "%.*f", digits, v);
@@ -99,7 +87,7 @@ int RunDicomCommand(const std::vector<std::string>& arguments, std::ostream& out
                    "(<SeriesInstanceUID>#<n>) for `convert --series`. Non-DICOM files are skipped and "
                    "counted; corrupt files are named.");
   parser.Positional("folder", "folder, DICOMDIR or single DICOM file");
-  if (const int code = Parse(parser, arguments, out, err, "dicom"); code >= 0) return code;
+  if (const auto exitCode = parser.ParseCommand(arguments, out, err)) return *exitCode;
   TerminalProgress progress("dicom", parser.Json());
   DicomScanResult scan;
   std::string error;
@@ -177,7 +165,7 @@ int RunConvertCommand(const std::vector<std::string>& arguments, std::ostream& o
       .Flag("resample-irregular",
             "DICOM input: load a series with a missing slice or uneven spacing by resampling it onto a "
             "regular grid along the slice normal (refused otherwise)");
-  if (const int code = Parse(parser, arguments, out, err, "convert"); code >= 0) return code;
+  if (const auto exitCode = parser.ParseCommand(arguments, out, err)) return *exitCode;
   const std::string modality = parser.Get("modality");
   if (!modality.empty() && modality != "CT" && modality != "MR") {
     err << "roboplan convert: --modality must be CT or MR\n";
@@ -233,7 +221,7 @@ int RunPhantomCommand(const std::vector<std::string>& arguments, std::ostream& o
               "real")
       .Option("seed", "n", "noise seed (same seed, same volumes)", "1")
       .Option("format", "dicom|nrrd", "volume format of CT and MR", "dicom");
-  if (const int code = Parse(parser, arguments, out, err, "phantom"); code >= 0) return code;
+  if (const auto exitCode = parser.ParseCommand(arguments, out, err)) return *exitCode;
   const std::string dir = parser.Get("out"), size = parser.Get("size"), format = parser.Get("format");
   if (dir.empty()) {
     err << "roboplan phantom: --out <dir> is required\n";
@@ -401,7 +389,7 @@ int RunRegisterVolumesCommand(const std::vector<std::string>& arguments, std::os
               "a known MovingToFixed transform file (e.g. the phantom's MRToCT-truth.tfm): report the RMS "
               "difference over the fixed volume's central region")
       .Input(FileKind::Transform, transformFiles);
-  if (const int code = Parse(parser, arguments, out, err, "register-volumes"); code >= 0) return code;
+  if (const auto exitCode = parser.ParseCommand(arguments, out, err)) return *exitCode;
   // Types and ranges were checked by the parser (declared above).
   const std::string outPath = parser.Get("out");
   RigidRegistrationOptions options;
