@@ -12,8 +12,9 @@
 //
 // Frame time = from the tick to the last view finished (glFinish), p50/p95 (ms), and frames per
 // second, as counters in the JSON (--benchmark_out) and in viewer-frames.json/.csv with a chart
-// (viewer-frame-times.png) in $ROBOPLAN_BENCHMARK_OUTPUT. Target: p95 ≤ 33 ms on 2 cores with
-// Mesa llvmpipe. Run under xvfb-run.
+// (viewer-frame-times.png) in $ROBOPLAN_BENCHMARK_OUTPUT, with the 4-up as drawn while touching
+// (viewer-4up-while-touching.png) and the still frame after the tool stops (viewer-4up-still.png).
+// Target: p95 ≤ 33 ms on 2 cores with Mesa llvmpipe. Run under xvfb-run.
 //
 // The scene: $ROBOPLAN_VIEWER_BENCH_SCENE, else the demo's scene in <output>/viewer-scene (made
 // once with `roboplan demo --no-screenshots`, whatever anatomy the demo uses).
@@ -416,6 +417,12 @@ void BM_Viewer4Up_DisplayRate(benchmark::State& state) {
     run.ViewMeanMs = rig->TakeViewMeanMs();
     rig->SavePicture(rp::bench::OutputDirectory() + "/viewer-4up-while-touching.png");  // what was drawn
     rig->StopHaptics();
+    // The tool stopped: the next tick draws the moving views once more at full detail.
+    scheduler.RenderPendingViews();
+    scheduler.RenderPendingViews();
+    rig->WaitForFrame();
+    rig->SavePicture(rp::bench::OutputDirectory() + "/viewer-4up-still.png");
+    rig->TakeViewMeanMs();
     Report(state, run);
     Runs.push_back(run);
   }
