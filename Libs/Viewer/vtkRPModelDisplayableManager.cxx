@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include <vtkActor.h>
+#include <vtkCallbackCommand.h>
 #include <vtkCellArray.h>
 #include <vtkMassProperties.h>
 #include <vtkMatrix4x4.h>
@@ -117,30 +118,58 @@ void vtkRPModelDisplayableManager::RemoveDisplay(vtkRPNode* node) {
   this->Displays.erase(it);
 }
 
-// Interactive frames draw each visible model with its share of the budget (by its size among
-// the visible models); meshes already under their share are drawn as they are.
-void vtkRPModelDisplayableManager::ChooseDetail(vtkRPNode* node, Display& display) {
+// Each visible model gets its share of the budget (by its size among the visible models);
+// meshes already under their share are drawn as they are.
+vtkPolyData* vtkRPModelDisplayableManager::LightMesh(vtkRPNode* node, Display& display) {
   auto* model = vtkRPModelNode::SafeDownCast(node);
   vtkPolyData* mesh = model ? model->GetPolyData() : nullptr;
-  vtkMapper* wanted = display.Full;
-  if (this->Interactive && mesh && model->GetVisibility()) {
-    double visible = 0;
-    for (auto& entry : this->Displays) {
-      auto* other = vtkRPModelNode::SafeDownCast(entry.first);
-      if (other && other->GetVisibility()) visible += double(Triangles(other->GetPolyData()));
-    }
-    const double share = this->InteractiveTriangleBudget * double(Triangles(mesh)) / std::max(1.0, visible);
-    if (double(Triangles(mesh)) > 1.5 * share) {
-      if (!display.Decimated || display.DecimatedFrom != MeshTime(mesh) || std::fabs(display.DecimatedBudget - share) > 0.25 * share) {
-        display.Decimated = Decimate(mesh, share);
-        display.DecimatedFrom = MeshTime(mesh);
-        display.DecimatedBudget = share;
-        display.Light->SetInputData(display.Decimated);
-      }
-      wanted = display.Light;
-    }
+  if (!mesh || !model->GetVisibility()) return nullptr;
+  double visible = 0;
+  for (auto& entry : this->Displays) {
+    auto* other = vtkRPModelNode::SafeDownCast(entry.first);
+    if (other && other->GetVisibility()) visible += double(Triangles(other->GetPolyData()));
   }
+  const double share = this->InteractiveTriangleBudget * double(Triangles(mesh)) / std::max(1.0, visible);
+  if (double(Triangles(mesh)) <= 1.5 * share) {
+    display.DecimatedFrom = MeshTime(mesh);  // drawn as it is: nothing to prepare
+    return nullptr;
+  }
+  if (!display.Decimated || display.DecimatedFrom != MeshTime(mesh) || std::fabs(display.DecimatedBudget - share) > 0.25 * share) {
+    display.Decimated = Decimate(mesh, share);
+    display.DecimatedFrom = MeshTime(mesh);
+    display.DecimatedBudget = share;
+    display.Light->SetInputData(display.Decimated);
+  }
+  return display.Decimated;
+}
+
+void vtkRPModelDisplayableManager::ChooseDetail(vtkRPNode* node, Display& display) {
+  vtkMapper* wanted = this->Interactive && this->LightMesh(node, display) ? display.Light.GetPointer() : display.Full.GetPointer();
   if (display.Actor->GetMapper() != wanted) display.Actor->SetMapper(wanted);
+}
+
+void vtkRPModelDisplayableManager::PrepareInteractiveDetail() {
+  this->PreparePending = false;
+  for (auto& entry : this->Displays) this->LightMesh(entry.first, *entry.second);
+}
+
+// Before a render that follows new or changed models: their light copies are made now, with
+// every model of the scene known (so each is decimated once, to its final share).
+void vtkRPModelDisplayableManager::OnRenderStart(vtkObject*, unsigned long, void* clientData, void*) {
+  auto* self = static_cast<vtkRPModelDisplayableManager*>(clientData);
+  if (self->PreparePending) self->PrepareInteractiveDetail();
+}
+
+void vtkRPModelDisplayableManager::OnInitialize() {
+  this->RenderCallback = vtkSmartPointer<vtkCallbackCommand>::New();
+  this->RenderCallback->SetClientData(this);
+  this->RenderCallback->SetCallback(&vtkRPModelDisplayableManager::OnRenderStart);
+  this->RenderTag = this->GetView()->GetRenderer()->AddObserver(vtkCommand::StartEvent, this->RenderCallback);
+}
+
+void vtkRPModelDisplayableManager::OnFinalize() {
+  if (this->GetView() && this->RenderTag) this->GetView()->GetRenderer()->RemoveObserver(this->RenderTag);
+  this->RenderTag = 0;
 }
 
 void vtkRPModelDisplayableManager::UpdateDisplay(vtkRPNode* node) {
@@ -157,5 +186,7 @@ void vtkRPModelDisplayableManager::UpdateDisplay(vtkRPNode* node) {
   model->GetMatrixTransformToWorld(actor->GetUserMatrix());
   actor->GetUserMatrix()->Modified();
   actor->Modified();
+  // A model not yet given its light copy (new, or a new mesh while still): before the next render.
+  if (!this->Interactive && display.DecimatedFrom != MeshTime(model->GetPolyData())) this->PreparePending = true;
   this->ChooseDetail(node, display);
 }

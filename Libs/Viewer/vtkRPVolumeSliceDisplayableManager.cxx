@@ -2,9 +2,6 @@
 
 #include <vtkActor.h>
 #include <vtkCallbackCommand.h>
-#include <vtkImageActor.h>
-#include <vtkImageExtractComponents.h>
-#include <vtkImageMapper3D.h>
 #include <vtkMatrix4x4.h>
 #include <vtkNew.h>
 #include <vtkObjectFactory.h>
@@ -22,14 +19,12 @@
 
 vtkStandardNewMacro(vtkRPVolumeSliceDisplayableManager);
 
-// One slice node's picture in this view: an image actor (slice views) or a textured quad (3D).
+// One slice node's picture in this view: a quad in plane coordinates, placed by the plane's
+// matrix, textured with the RGBA picture as it is (no copy: the slice views used to draw the
+// colours through an image actor, which copied and converted the picture twice per frame).
 struct vtkRPVolumeSliceDisplayableManager::Picture {
   vtkRPSliceLogic* Logic = nullptr;
   unsigned long Tag = 0;
-  // Slice view: the colours only (the alpha is the 3D view's patient mask).
-  vtkNew<vtkImageExtractComponents> Colours;
-  vtkNew<vtkImageActor> Image;
-  // 3D: a quad in plane coordinates, placed by the plane's matrix, textured with the picture.
   vtkNew<vtkPlaneSource> Quad;
   vtkNew<vtkPolyDataMapper> QuadMapper;
   vtkNew<vtkTexture> Texture;
@@ -56,33 +51,27 @@ void vtkRPVolumeSliceDisplayableManager::OnInitialize() {
     auto* picture = new Picture;
     picture->Logic = logic;
     if (logic) picture->Tag = logic->AddObserver(vtkCommand::ModifiedEvent, this->LogicCallback);
-    if (view->IsSlice()) {
-      if (logic) picture->Colours->SetInputConnection(logic->GetOutputPort());
-      picture->Colours->SetComponents(0, 1, 2);
-      picture->Image->GetMapper()->SetInputConnection(picture->Colours->GetOutputPort());
-      picture->Image->InterpolateOn();
-      picture->Image->PickableOff();
-      if (logic) picture->Image->SetUserMatrix(logic->GetPlaneToRAS());
-      view->GetRenderer()->AddViewProp(picture->Image);
-    } else {
-      if (logic) picture->Texture->SetInputConnection(logic->GetOutputPort());
-      picture->Texture->InterpolateOn();
-      picture->Texture->SetColorModeToDirectScalars();
-      picture->QuadMapper->SetInputConnection(picture->Quad->GetOutputPort());
-      // Air is cut away rather than blended: discarded fragments write no depth, so the three
-      // planes and the models behind them are drawn correctly without sorting or peeling.
-      vtkOpenGLShaderProperty::SafeDownCast(picture->QuadActor->GetShaderProperty())
-          ->AddShaderReplacement(vtkShader::Fragment, "//VTK::TCoord::Impl", true,
-                                 "//VTK::TCoord::Impl\n  if (gl_FragData[0].a < 0.5) { discard; }\n", false);
-      picture->QuadActor->SetMapper(picture->QuadMapper);
-      picture->QuadActor->SetTexture(picture->Texture);
-      picture->QuadActor->ForceOpaqueOn();
-      picture->QuadActor->GetProperty()->LightingOff();
-      picture->QuadActor->GetProperty()->SetAmbient(1.0);
-      picture->QuadActor->GetProperty()->SetDiffuse(0.0);
-      if (logic) picture->QuadActor->SetUserMatrix(logic->GetPlaneToRAS());
-      view->GetRenderer()->AddViewProp(picture->QuadActor);
-    }
+    if (logic) picture->Texture->SetInputConnection(logic->GetOutputPort());
+    picture->Texture->InterpolateOn();
+    picture->Texture->SetColorModeToDirectScalars();
+    picture->QuadMapper->SetInputConnection(picture->Quad->GetOutputPort());
+    // Slice views show the colours on black (the alpha, the patient mask, is ignored). In 3D the
+    // air is cut away rather than blended: discarded fragments write no depth, so the three
+    // planes and the models behind them are drawn correctly without sorting or peeling.
+    vtkOpenGLShaderProperty::SafeDownCast(picture->QuadActor->GetShaderProperty())
+        ->AddShaderReplacement(vtkShader::Fragment, "//VTK::TCoord::Impl", true,
+                               view->IsSlice() ? "//VTK::TCoord::Impl\n  gl_FragData[0].a = 1.0;\n"
+                                               : "//VTK::TCoord::Impl\n  if (gl_FragData[0].a < 0.5) { discard; }\n",
+                               false);
+    picture->QuadActor->SetMapper(picture->QuadMapper);
+    picture->QuadActor->SetTexture(picture->Texture);
+    picture->QuadActor->ForceOpaqueOn();
+    picture->QuadActor->GetProperty()->LightingOff();
+    picture->QuadActor->GetProperty()->SetAmbient(1.0);
+    picture->QuadActor->GetProperty()->SetDiffuse(0.0);
+    if (view->IsSlice()) picture->QuadActor->PickableOff();
+    if (logic) picture->QuadActor->SetUserMatrix(logic->GetPlaneToRAS());
+    view->GetRenderer()->AddViewProp(picture->QuadActor);
     this->Pictures.push_back(picture);
     this->UpdatePicture(*picture);
   }
@@ -92,17 +81,10 @@ void vtkRPVolumeSliceDisplayableManager::OnFinalize() {
   rp::View* view = this->GetView();
   for (Picture* picture : this->Pictures) {
     if (picture->Logic) picture->Logic->RemoveObserver(picture->Tag);
-    if (view) {
-      view->GetRenderer()->RemoveViewProp(picture->Image);
-      view->GetRenderer()->RemoveViewProp(picture->QuadActor);
-    }
+    if (view) view->GetRenderer()->RemoveViewProp(picture->QuadActor);
     delete picture;
   }
   this->Pictures.clear();
-}
-
-vtkImageActor* vtkRPVolumeSliceDisplayableManager::GetImageActor() const {
-  return this->Pictures.empty() ? nullptr : this->Pictures[0]->Image.GetPointer();
 }
 
 vtkActor* vtkRPVolumeSliceDisplayableManager::GetSliceActor(int i) const {
@@ -112,10 +94,7 @@ vtkActor* vtkRPVolumeSliceDisplayableManager::GetSliceActor(int i) const {
 
 int vtkRPVolumeSliceDisplayableManager::GetNumberOfVisibleSlices() const {
   int visible = 0;
-  for (Picture* picture : this->Pictures) {
-    const bool shown = this->GetView() && this->GetView()->IsSlice() ? picture->Image->GetVisibility() : picture->QuadActor->GetVisibility();
-    visible += shown ? 1 : 0;
-  }
+  for (Picture* picture : this->Pictures) visible += picture->QuadActor->GetVisibility() ? 1 : 0;
   return visible;
 }
 
@@ -136,12 +115,9 @@ void vtkRPVolumeSliceDisplayableManager::OnViewStateModified() {
 void vtkRPVolumeSliceDisplayableManager::UpdatePicture(Picture& picture) {
   vtkRPSliceLogic* logic = picture.Logic;
   const bool hasImage = logic && logic->HasImage();
-  if (this->GetView()->IsSlice()) {
-    picture.Image->SetVisibility(hasImage);
-    return;
-  }
   vtkRPSliceNode* node = logic ? logic->GetSliceNode() : nullptr;
-  const bool visible = hasImage && node && node->GetSliceVisible();
+  // A slice view always shows its picture; the 3D view where the node says "show in 3D".
+  const bool visible = hasImage && (this->GetView()->IsSlice() || (node && node->GetSliceVisible()));
   picture.QuadActor->SetVisibility(visible);
   if (!visible) return;
   // The quad covers the picture's pixels (centres ± half a pixel), in plane coordinates.
@@ -151,3 +127,4 @@ void vtkRPVolumeSliceDisplayableManager::UpdatePicture(Picture& picture) {
   picture.Quad->SetPoint1(b[1] + h, b[2] - h, 0);
   picture.Quad->SetPoint2(b[0] - h, b[3] + h, 0);
 }
+

@@ -1,8 +1,8 @@
 #ifndef vtkRPVolumeSliceDisplayableManager_h
 #define vtkRPVolumeSliceDisplayableManager_h
 // Scalar volumes as their slice nodes show them (the pictures come from vtkRPSliceLogic, one per
-// slice node, shared by every view): in a slice view, the node's picture on its plane (colours
-// on black); in the 3D view, every slice node's picture placed in RAS where the node's
+// slice node, shared by every view), each as a textured quad: in a slice view, the node's
+// picture on its plane (colours on black); in the 3D view, every slice node's picture placed in RAS where the node's
 // SliceVisible is on, drawn only where there is patient (air is cut away, so the models behind
 // show through) and depth-tested as opaque geometry, so the three planes cross correctly.
 #include <vector>
@@ -13,7 +13,6 @@
 
 class vtkActor;
 class vtkCallbackCommand;
-class vtkImageActor;
 class vtkRPSliceLogic;
 
 class vtkRPVolumeSliceDisplayableManager : public vtkRPDisplayableManager {
@@ -21,9 +20,8 @@ class vtkRPVolumeSliceDisplayableManager : public vtkRPDisplayableManager {
   static vtkRPVolumeSliceDisplayableManager* New();
   vtkTypeMacro(vtkRPVolumeSliceDisplayableManager, vtkRPDisplayableManager);
 
-  /// Slice views: the image actor of the view's picture (tests, screenshots).
-  vtkImageActor* GetImageActor() const;
-  /// 3D: the actor of slice node i (0 axial/Red, 1 sagittal/Yellow, 2 coronal/Green).
+  /// The textured quad of picture i: in a slice view its one picture (i = 0); in 3D slice
+  /// node i's (0 axial/Red, 1 sagittal/Yellow, 2 coronal/Green).
   vtkActor* GetSliceActor(int i) const;
   /// Pictures shown (one in a slice view, three in 3D) that have an image.
   int GetNumberOfVisibleSlices() const;

@@ -6,7 +6,6 @@
 
 #include <gtest/gtest.h>
 #include <vtkActor.h>
-#include <vtkImageActor.h>
 #include <vtkAlgorithm.h>
 #include <vtkAlgorithmOutput.h>
 #include <vtkImageData.h>
@@ -90,7 +89,7 @@ TEST(ViewerDisplayableManagers, VolumeSlicesFollowTheSlicePointAndWindowLevel) {
   EXPECT_EQ(axialManager->GetNumberOfVisibleSlices(), 1);
   vtkRPSliceLogic* axial = controller.GetSliceLogic(ViewKind::Axial);
   EXPECT_TRUE(axial->HasImage());
-  EXPECT_EQ(axialManager->GetImageActor()->GetUserMatrix(), axial->GetPlaneToRAS());
+  EXPECT_EQ(axialManager->GetSliceActor(0)->GetUserMatrix(), axial->GetPlaneToRAS());
   // The plane passes through the slice point: SliceToRAS translation is the S offset.
   EXPECT_NEAR(axial->GetPlaneToRAS()->GetElement(2, 3), test::Center[2], 1e-9);
 

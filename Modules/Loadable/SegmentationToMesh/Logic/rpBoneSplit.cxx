@@ -305,13 +305,23 @@ void SolidifyBones(std::vector<int32_t>& group, const Box& box, const double spa
     if (claim[i] > 0) group[i] = claim[i];
 }
 
-// The edge of each bone where the CT says it is: voxels on a bone's surface (a face neighbour
-// outside the bone) below `edgeHU` are partial-volume voxels mostly outside the bone: peeled, in
-// `layers` passes. The threshold that finds bone (low, so thin cortex is kept) is not where its
-// edge is (half way between cortical bone and soft tissue).
+// The edge of each bone where the CT says it is: a surface voxel (a face neighbour outside the
+// bone) is a partial-volume voxel mostly outside the bone when its HU is below the half maximum
+// between the bone's local peak (the densest voxel of the same bone within `peakMm`) and the
+// soft tissue beside it (its outside face neighbours); peeled, in `layers` passes. The threshold
+// that finds bone (low, so a thin cortex is kept) is not where its edge is: a thick cortex
+// (1500 HU) has its edge near 750 HU, a thin one whose partial-volume peak is 600 HU near 300 HU.
+// `fixedHU` > 0 replaces the local half maximum by a fixed edge.
 template <typename T>
-void PeelEdges(const T* ct, const int dims[3], const Box& box, std::vector<int32_t>& group, double edgeHU, int layers) {
+void PeelEdges(const T* ct, const int dims[3], const double spacing[3], const Box& box, std::vector<int32_t>& group,
+               double fixedHU, double lowerHU, double peakMm, int layers) {
   const int* n = box.Size;
+  auto huAt = [&](int i, int j, int k) {
+    return static_cast<double>(
+        ct[(static_cast<size_t>(box.Lo[2] + k) * dims[1] + box.Lo[1] + j) * dims[0] + box.Lo[0] + i]);
+  };
+  int reach[3];
+  for (int a = 0; a < 3; ++a) reach[a] = std::max(1, static_cast<int>(std::lround(peakMm / spacing[a])));
   for (int pass = 0; pass < layers; ++pass) {
     std::vector<size_t> peel;
     for (int k = 0; k < n[2]; ++k)
@@ -320,19 +330,39 @@ void PeelEdges(const T* ct, const int dims[3], const Box& box, std::vector<int32
           const size_t idx = box.Index(i, j, k);
           const int32_t g = group[idx];
           if (!g) continue;
-          const double hu = static_cast<double>(
-              ct[(static_cast<size_t>(box.Lo[2] + k) * dims[1] + box.Lo[1] + j) * dims[0] + box.Lo[0] + i]);
-          if (hu >= edgeHU) continue;
+          const double hu = huAt(i, j, k);
           const int c[3] = {i, j, k};
           bool surface = false;
-          for (int a = 0; a < 3 && !surface; ++a)
+          double outsideSum = 0;
+          int outside = 0;
+          for (int a = 0; a < 3; ++a)
             for (int d : {-1, 1}) {
               int q[3] = {c[0], c[1], c[2]};
               q[a] += d;
               if (q[a] < 0 || q[a] >= n[a]) continue;  // the field of view's edge is not the bone's
-              if (group[box.Index(q[0], q[1], q[2])] != g) surface = true;
+              const int32_t other = group[box.Index(q[0], q[1], q[2])];
+              if (other == g) continue;
+              surface = true;
+              if (!other) outsideSum += huAt(q[0], q[1], q[2]), ++outside;
             }
-          if (surface) peel.push_back(idx);
+          if (!surface) continue;
+          double edge = fixedHU;
+          if (!(fixedHU > 0)) {
+            double peak = hu;
+            for (int dk = -reach[2]; dk <= reach[2]; ++dk)
+              for (int dj = -reach[1]; dj <= reach[1]; ++dj)
+                for (int di = -reach[0]; di <= reach[0]; ++di) {
+                  const int q[3] = {i + di, j + dj, k + dk};
+                  if (q[0] < 0 || q[1] < 0 || q[2] < 0 || q[0] >= n[0] || q[1] >= n[1] || q[2] >= n[2]) continue;
+                  if (group[box.Index(q[0], q[1], q[2])] == g) peak = std::max(peak, huAt(q[0], q[1], q[2]));
+                }
+            // Soft tissue beside the bone; never above the bone threshold (a neighbour bone's
+            // partial volume is not soft tissue).
+            const double background = outside ? std::min(outsideSum / outside, lowerHU) : lowerHU;
+            // Never below the threshold that found the bone.
+            edge = std::max(lowerHU, 0.5 * (peak + background));
+          }
+          if (hu < edge) peel.push_back(idx);
         }
     for (size_t idx : peel) group[idx] = 0;
   }
@@ -694,8 +724,8 @@ bool SplitBones(vtkRPImageNode* ct, vtkRPSegmentationNode* segmentation, const B
   SolidifyBones(group, box, spacing, options.FillRadiusMm);
   if (options.EdgeLayers > 0) {
     switch (image->GetScalarType()) {
-      vtkTemplateMacro(PeelEdges(static_cast<const VTK_TT*>(image->GetScalarPointer()), dims, box, group,
-                                 options.EdgeHU, options.EdgeLayers));
+      vtkTemplateMacro(PeelEdges(static_cast<const VTK_TT*>(image->GetScalarPointer()), dims, spacing, box, group,
+                                 options.EdgeHU, options.LowerHU, options.EdgePeakMm, options.EdgeLayers));
     }
   }
   groupSize.clear();

@@ -15,8 +15,9 @@
 //     than MinDepthMm shallower); a narrow contact (a joint) keeps them apart. Seeds (RAS)
 //     name bones and force a split: regions holding differently named seeds never merge;
 //  4. each bone is closed (FillRadiusMm) and filled on its own, so no joint space is filled,
-//     and its surface voxels below EdgeHU are peeled: the edge sits half way between cortical
-//     bone and soft tissue, not at the low threshold that found the bone;
+//     and its surface voxels below the local half maximum are peeled: the edge sits half way
+//     between the bone's local peak (a thin cortex has a low partial-volume peak) and the soft
+//     tissue beside it, not at the low threshold that found the bone;
 //  5. bones are named from seeds, then knee bones from position and size (rpKneeBoneNames:
 //     tibia = the large bone with a slender fibula behind it, femur = pieces above the tibial
 //     plateau, patella = small and anterior at the joint), the rest "Bone N". Pieces with one
@@ -46,8 +47,11 @@ struct BoneSplitOptions {
   /// Each bone, once split, is closed with a ball of this radius and its holes filled (marrow,
   /// low-density trabecular bone behind a thin cortex).
   double FillRadiusMm = 3.0;
-  /// The bone's edge: surface voxels below EdgeHU are peeled (EdgeLayers passes; 0 = none).
-  double EdgeHU = 600;
+  /// The bone's edge: surface voxels below the local half maximum between the bone's densest
+  /// voxel within EdgePeakMm and the soft tissue beside it are peeled (EdgeLayers passes; 0 =
+  /// none). EdgeHU > 0: a fixed edge instead.
+  double EdgeHU = 0;
+  double EdgePeakMm = 2.0;
   int EdgeLayers = 1;
   /// Watershed merge rule (see above).
   double NeckRatio = 0.6, MinDepthMm = 1.5;

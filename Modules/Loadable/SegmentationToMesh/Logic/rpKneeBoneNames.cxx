@@ -1,8 +1,10 @@
 #include "rpKneeBoneNames.h"
 
+#include "rpKneePhantom.h"
+
 #include <algorithm>
+#include <cctype>
 #include <cmath>
-#include <map>
 
 #include "rpLabelTable.h"
 
@@ -146,17 +148,22 @@ void NameKneeBones(std::vector<BoneInfo>& bones, const double ctBounds[6]) {
   }
 }
 
+bool KneeBoneColor(const std::string& name, std::array<double, 3>& color) {
+  // The knee bones' colours are the phantom's (rp::KneeBones(), one table for the demo, its
+  // pictures and `roboplan mesh`): "tibia left" is a tibia.
+  std::string base = name.substr(0, name.find(' '));
+  std::transform(base.begin(), base.end(), base.begin(), [](unsigned char c) { return std::tolower(c); });
+  for (const KneeBone& bone : KneeBones())
+    if (base == bone.ID) {
+      color = bone.Color;
+      return true;
+    }
+  return false;
+}
+
 std::array<double, 3> BoneColor(const std::string& name, int labelValue) {
-  // Bone shades for the knee bones (Slicer's bone colour and neighbours); others distinct.
-  static const std::map<std::string, std::array<double, 3>> colors = {
-      {"femur", {0.945, 0.839, 0.569}},
-      {"tibia", {0.902, 0.776, 0.612}},
-      {"fibula", {0.827, 0.690, 0.478}},
-      {"patella", {0.980, 0.902, 0.725}},
-  };
-  const std::string base = name.substr(0, name.find(' '));
-  const auto it = colors.find(base);
-  return it != colors.end() ? it->second : DefaultLabelColor(labelValue);
+  std::array<double, 3> color;
+  return KneeBoneColor(name, color) ? color : DefaultLabelColor(labelValue);
 }
 
 }  // namespace rp

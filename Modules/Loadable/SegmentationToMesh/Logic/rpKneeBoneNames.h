@@ -14,7 +14,10 @@ namespace rp {
 /// what is inside it).
 void NameKneeBones(std::vector<BoneInfo>& bones, const double ctBounds[6]);
 
-/// A colour for a bone: the same for the same name (femur, tibia, ...), distinct otherwise.
+/// A colour for a bone: a knee bone's (femur, tibia, fibula, patella, also "tibia left") from
+/// rp::KneeBones(), the one bone colour table; others DefaultLabelColor(labelValue).
 std::array<double, 3> BoneColor(const std::string& name, int labelValue);
+/// The knee bone colour for `name` (see BoneColor); false when it names no knee bone.
+bool KneeBoneColor(const std::string& name, std::array<double, 3>& color);
 
 }  // namespace rp

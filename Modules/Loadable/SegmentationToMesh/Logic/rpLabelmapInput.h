@@ -37,6 +37,10 @@ constexpr size_t MaxLabels = 1000;
 struct InputChoice {
   bool Labelmap = false;
   std::string Reason;  // e.g. "labelmap: 3 label values and a file name ending in -label"
+  /// The image's values when the auto rule looked at them (then `Scanned`): passed on to
+  /// LabelmapToSegmentation so a large labelmap is scanned once.
+  bool Scanned = false;
+  ImageValues Values;
 };
 
 InputChoice ChooseInputKind(InputKind requested, vtkImageData* image, const std::string& fileName,
@@ -49,8 +53,10 @@ bool LabelmapFileName(const std::string& fileName);
 /// are used as they are (not copied: pass a copy when the volume must stay independent);
 /// float/double images of whole numbers are converted to the smallest integer type that holds
 /// them. Fails, leaving `segmentation` untouched, on negative or fractional values, more than
-/// MaxLabels labels or no label at all. `table` may be null.
+/// MaxLabels labels or no label at all. `table` may be null. `known`: the values of `labels`
+/// already collected (CollectImageValues with a limit of MaxLabels + 1), or null.
 bool LabelmapToSegmentation(vtkImageData* labels, const vtkMatrix4x4* ijkToRAS, const LabelTable* table,
-                            vtkRPSegmentationNode* segmentation, std::string& error);
+                            vtkRPSegmentationNode* segmentation, std::string& error,
+                            const ImageValues* known = nullptr);
 
 }  // namespace rp

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 
+#include <vtkAOSDataArrayTemplate.h>
 #include <vtkCellArray.h>
 #include <vtkDiscreteFlyingEdges3D.h>
 #include <vtkFloatArray.h>
@@ -78,14 +79,15 @@ void FindBounds(const T* voxels, const int dims[3], long label, LabelBounds& b) 
       const int k = static_cast<int>(kk);
       for (int j = 0; j < dims[1]; ++j) {
         const T* row = voxels + (static_cast<size_t>(k) * dims[1] + j) * dims[0];
-        int first = -1, last = -1;
-        for (int i = 0; i < dims[0]; ++i) {
-          if (row[i] != value) continue;
-          if (first < 0) first = i;
-          last = i;
-          ++l.Count;
-        }
-        if (first < 0) continue;
+        // Count first (a branch-free loop the compiler vectorizes), then find the ends only in
+        // rows that hold the label: most rows of a large labelmap do not.
+        long count = 0;
+        for (int i = 0; i < dims[0]; ++i) count += row[i] == value;
+        if (count == 0) continue;
+        l.Count += count;
+        int first = 0, last = dims[0] - 1;
+        while (row[first] != value) ++first;
+        while (row[last] != value) --last;
         l.Lo[0] = std::min(l.Lo[0], first), l.Hi[0] = std::max(l.Hi[0], last);
         l.Lo[1] = std::min(l.Lo[1], j), l.Hi[1] = std::max(l.Hi[1], j);
         l.Lo[2] = std::min(l.Lo[2], k), l.Hi[2] = std::max(l.Hi[2], k);
@@ -99,6 +101,29 @@ void FindBounds(const T* voxels, const int dims[3], long label, LabelBounds& b) 
     for (int a = 0; a < 3; ++a) result.Lo[a] = std::min(result.Lo[a], l.Lo[a]), result.Hi[a] = std::max(result.Hi[a], l.Hi[a]);
   }
   b = result;
+}
+
+// A label's bounds, scanned once per labelmap version: a level of detail contours the same label
+// on several grids, and each scan reads the whole volume (78 M voxels for 512x512x300).
+// Per thread, so no lock; keyed by the image and its modification time (VTK's global counter).
+LabelBounds CachedBounds(vtkImageData* labelmap, const int dims[3], long label) {
+  struct Entry {
+    const void* Image = nullptr;
+    vtkMTimeType Time = 0;
+    long Label = 0;
+    LabelBounds Bounds;
+  };
+  thread_local std::array<Entry, 8> cache;
+  thread_local size_t next = 0;
+  const vtkMTimeType time = std::max(labelmap->GetMTime(), labelmap->GetPointData()->GetScalars()->GetMTime());
+  for (const Entry& e : cache)
+    if (e.Image == labelmap && e.Time == time && e.Label == label) return e.Bounds;
+  Entry& e = cache[next++ % cache.size()];
+  switch (labelmap->GetScalarType()) {
+    vtkTemplateMacro(FindBounds(static_cast<const VTK_TT*>(labelmap->GetScalarPointer()), dims, label, e.Bounds));
+  }
+  e.Image = labelmap, e.Time = time, e.Label = label;
+  return e.Bounds;
 }
 
 bool IntegerScalars(vtkImageData* image) {
@@ -298,6 +323,29 @@ void GridToRAS(vtkPolyData* mesh, const vtkMatrix4x4* ijkToRAS, const double sta
   });
 }
 
+// Points read without a virtual call per coordinate (float or double storage; else vtkPoints).
+struct PointsView {
+  explicit PointsView(vtkPoints* points) : Points(points) {
+    vtkDataArray* data = points->GetData();
+    if (auto* f = vtkAOSDataArrayTemplate<float>::FastDownCast(data)) this->F = f->GetPointer(0);
+    else if (auto* d = vtkAOSDataArrayTemplate<double>::FastDownCast(data)) this->D = d->GetPointer(0);
+  }
+  void Get(vtkIdType i, double x[3]) const {
+    if (this->F) {
+      const float* p = this->F + 3 * i;
+      x[0] = p[0], x[1] = p[1], x[2] = p[2];
+    } else if (this->D) {
+      const double* p = this->D + 3 * i;
+      x[0] = p[0], x[1] = p[1], x[2] = p[2];
+    } else {
+      this->Points->GetPoint(i, x);
+    }
+  }
+  vtkPoints* Points;
+  float* F = nullptr;
+  double* D = nullptr;
+};
+
 // Area-weighted vertex normals (outward for an outward-oriented mesh).
 void ComputeVertexNormals(vtkPolyData* mesh) {
   const vtkIdType np = mesh->GetNumberOfPoints();
@@ -383,13 +431,22 @@ double CorrectVolume(vtkPolyData* mesh, double targetVolume) {
   for (int pass = 0; pass < 8 && std::abs(targetVolume - volume) > 1e-5 * targetVolume; ++pass) {
     const double offset = (targetVolume - volume) / area;
     vtkPoints* points = mesh->GetPoints();
-    double p[3], n[3];
-    for (vtkIdType id = 0; id < mesh->GetNumberOfPoints(); ++id) {
-      points->GetPoint(id, p);
-      normals->GetTuple(id, n);
-      for (int a = 0; a < 3; ++a) p[a] += offset * n[a];
-      points->SetPoint(id, p);
-    }
+    const PointsView view(points);
+    vtkSMPTools::For(0, mesh->GetNumberOfPoints(), [&](vtkIdType b, vtkIdType e) {
+      double p[3], n[3];
+      for (vtkIdType id = b; id < e; ++id) {
+        normals->GetTuple(id, n);
+        if (view.F) {
+          for (int a = 0; a < 3; ++a) view.F[3 * id + a] += static_cast<float>(offset * n[a]);
+        } else if (view.D) {
+          for (int a = 0; a < 3; ++a) view.D[3 * id + a] += offset * n[a];
+        } else {
+          view.Get(id, p);
+          for (int a = 0; a < 3; ++a) p[a] += offset * n[a];
+          points->SetPoint(id, p);
+        }
+      }
+    });
     points->Modified();
     total += offset;
     MeshVolumeAndArea(mesh, volume, area);
@@ -632,16 +689,27 @@ void MeshVolumeAndArea(vtkPolyData* mesh, double& volume, double& area) {
   vtkCellArray* polys = mesh->GetPolys();
   if (!points || !polys || polys->GetNumberOfCells() == 0) return;
   // Triangle fans of every polygon, summed in parallel (meshes have millions of triangles).
+  const PointsView view(points);
+  // Ids read in place when the storage is vtkIdType-sized (then thread-safe), else copied.
+  const bool shared = polys->IsStorageShareable();
   vtkSMPThreadLocal<std::array<double, 2>> sums(std::array<double, 2>{0.0, 0.0});
   vtkSMPTools::For(0, polys->GetNumberOfCells(), [&](vtkIdType c0, vtkIdType c1) {
     auto& local = sums.Local();
-    vtkNew<vtkIdList> cell;
+    vtkNew<vtkIdList> copy;
     double a[3], b[3], c[3];
     for (vtkIdType cellId = c0; cellId < c1; ++cellId) {
-      polys->GetCellAtId(cellId, cell);
-      const vtkIdType n = cell->GetNumberOfIds();
+      vtkIdType n;
+      const vtkIdType* ids;
+      if (shared) {
+        polys->GetCellAtId(cellId, n, ids);
+      } else {
+        polys->GetCellAtId(cellId, copy);
+        n = copy->GetNumberOfIds(), ids = copy->GetPointer(0);
+      }
+      if (n < 3) continue;
+      view.Get(ids[0], a);
       for (vtkIdType t = 1; t + 1 < n; ++t) {
-        points->GetPoint(cell->GetId(0), a), points->GetPoint(cell->GetId(t), b), points->GetPoint(cell->GetId(t + 1), c);
+        view.Get(ids[t], b), view.Get(ids[t + 1], c);
         local[0] += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
                      a[2] * (b[0] * c[1] - b[1] * c[0])) / 6.0;
         double f[3];
@@ -678,10 +746,7 @@ bool LabelmapToMesh(vtkImageData* labelmap, const vtkMatrix4x4* ijkToRAS, int la
   }
   int dims[3];
   labelmap->GetDimensions(dims);
-  LabelBounds b;
-  switch (labelmap->GetScalarType()) {
-    vtkTemplateMacro(FindBounds(static_cast<const VTK_TT*>(labelmap->GetScalarPointer()), dims, label, b));
-  }
+  const LabelBounds b = CachedBounds(labelmap, dims, label);
   stats.LabelVoxels = b.Count;
   const double voxelVolume = std::abs(Determinant3(ijkToRAS));
   stats.LabelVolumeMm3 = static_cast<double>(b.Count) * voxelVolume;

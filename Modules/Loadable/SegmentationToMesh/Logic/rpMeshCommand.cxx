@@ -5,10 +5,14 @@
 #include <cctype>
 #include <chrono>
 #include <filesystem>
+#include <future>
+#include <map>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
 #include <vtkNew.h>
+#include <vtkPolyData.h>
+#include <vtkSmartPointer.h>
 
 #include "rpArgParser.h"
 #include "rpBoneSplit.h"
@@ -356,7 +360,8 @@ int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contex
       vtkNew<vtkRPSegmentationNode> created;
       created->SetName(volume->GetName() + " segmentation");
       if (!LabelmapToSegmentation(volume->GetImageData(), volume->GetIJKToRASMatrix(),
-                                  parser.Has("labels") ? &table : nullptr, created, error)) {
+                                  parser.Has("labels") ? &table : nullptr, created, error,
+                                  choice.Scanned ? &choice.Values : nullptr)) {
         err << "roboplan mesh: '" << input << "': " << error << "\n";
         return 1;
       }
@@ -513,9 +518,31 @@ int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contex
     for (int a = 0; a < 3; ++a) build.Haptic.GridStep[a] = build.Display.GridStep[a];
   }
   progress.Report(0.2, "meshing");
-  const auto models = BuildSegmentModels(segmentation, build, scene, [&](double f, const std::string& message) {
-    progress.Report(0.2 + 0.75 * f, message);
-  });
+  // Each segment's files are written on a thread of their own while the next segment meshes
+  // (compressing a large mesh takes about as long as making it).
+  struct Written {
+    bool Ok = true;
+    std::string Error;
+  };
+  auto modelPath = [&](const std::string& segmentID, const std::string& suffix) {
+    return (outDir / (SafeFileName(segmentID) + suffix + "." + format)).string();
+  };
+  std::map<std::string, std::future<Written>> writes;  // by file path
+  auto writeSegment = [&](const SegmentModels& m) {
+    for (const auto& [model, suffix] : {std::pair{m.DisplayModel, ""}, std::pair{m.HapticModel, "_haptic"}}) {
+      if (!model) continue;
+      const std::string path = modelPath(m.SegmentID, suffix);
+      vtkSmartPointer<vtkPolyData> mesh = model->GetPolyData();
+      writes[path] = std::async(std::launch::async, [path, mesh] {
+        Written w;
+        w.Ok = WriteModelFile(path, mesh, w.Error);
+        return w;
+      });
+    }
+  };
+  const auto models = BuildSegmentModels(
+      segmentation, build, scene,
+      [&](double f, const std::string& message) { progress.Report(0.2 + 0.75 * f, message); }, writeSegment);
   json segments = json::array();
   int failures = 0;
   for (const auto& m : models) {
@@ -528,13 +555,19 @@ int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contex
     }
     auto save = [&](vtkRPModelNode* model, const std::string& suffix, const MeshStats& stats, const char* key) {
       if (!model) return;
-      const std::string path = (outDir / (SafeFileName(m.SegmentID) + suffix + "." + format)).string();
+      const std::string path = modelPath(m.SegmentID, suffix);
       json stat = StatsJson(stats);
       stat["file"] = path;
-      if (!WriteModelFile(path, model->GetPolyData(), error)) {
+      const auto write = writes.find(path);
+      Written written;
+      if (write != writes.end())
+        written = write->second.get();
+      else  // a segment whose haptic mesh failed: its display mesh is still written
+        written.Ok = WriteModelFile(path, model->GetPolyData(), written.Error);
+      if (!written.Ok) {
         ++failures;
-        stat["error"] = error;
-        err << "roboplan mesh: " << error << "\n";
+        stat["error"] = written.Error;
+        err << "roboplan mesh: " << written.Error << "\n";
       }
       for (const auto& w : stats.Warnings) err << "roboplan mesh: " << m.SegmentID << suffix << ": " << w << "\n";
       entry[key] = stat;

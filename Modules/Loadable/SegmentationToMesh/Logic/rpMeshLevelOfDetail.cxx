@@ -15,31 +15,64 @@
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkSmartPointer.h>
-#include <vtkStaticCellLocator.h>
+#include <vtkSMPThreadLocal.h>
+#include <vtkSMPTools.h>
 
+#include "rpBVH.h"
 #include "rpManifoldDecimation.h"
 
 namespace rp {
 
+namespace {
+TriangleMesh ToTriangleMesh(vtkPolyData* mesh) {
+  TriangleMesh t;
+  const vtkIdType np = mesh->GetNumberOfPoints();
+  t.Points.resize(static_cast<size_t>(np));
+  double p[3];
+  for (vtkIdType i = 0; i < np; ++i) {
+    mesh->GetPoint(i, p);
+    t.Points[static_cast<size_t>(i)] = Vec3(p[0], p[1], p[2]);
+  }
+  vtkIdType n;
+  const vtkIdType* ids;
+  vtkCellArray* polys = mesh->GetPolys();
+  t.Triangles.reserve(static_cast<size_t>(polys->GetNumberOfCells()));
+  for (polys->InitTraversal(); polys->GetNextCell(n, ids);)
+    if (n == 3)
+      t.Triangles.push_back({static_cast<int32_t>(ids[0]), static_cast<int32_t>(ids[1]), static_cast<int32_t>(ids[2])});
+  return t;
+}
+}  // namespace
+
 double MaxSurfaceDeviation(vtkPolyData* mesh, vtkPolyData* reference) {
-  auto oneWay = [](vtkPolyData* from, vtkPolyData* to) {
-    vtkNew<vtkStaticCellLocator> locator;
-    locator->SetDataSet(to);
-    locator->BuildLocator();
-    const vtkIdType n = from->GetNumberOfPoints();
-    const vtkIdType stride = std::max<vtkIdType>(1, n / 20000);
-    double worst = 0, p[3], closest[3], d2;
-    vtkIdType cell;
-    int sub;
-    for (vtkIdType id = 0; id < n; id += stride) {
-      from->GetPoint(id, p);
-      locator->FindClosestPoint(p, closest, cell, sub, d2);
-      worst = std::max(worst, std::sqrt(d2));
-    }
-    return worst;
+  // Each way: the largest distance from a vertex of one surface to the other (exact closest
+  // points on a BVH, queried in parallel). Every vertex of the smaller surface; every k-th vertex
+  // of a larger one, at most MaxDeviationSamples (its vertices are spread over the whole surface,
+  // about a voxel apart, so the maximum is within a fraction of a voxel of the exact one).
+  auto oneWay = [](const TriangleMesh& from, const BVH& to) {
+    const size_t n = from.Points.size();
+    const size_t stride = std::max<size_t>(1, (n + MaxDeviationSamples - 1) / MaxDeviationSamples);
+    const vtkIdType samples = static_cast<vtkIdType>((n + stride - 1) / stride);
+    vtkSMPThreadLocal<double> worst(0.0);
+    vtkSMPTools::For(0, samples, [&](vtkIdType b, vtkIdType e) {
+      double& w = worst.Local();
+      ClosestPointHit hit;
+      for (vtkIdType i = b; i < e; ++i)
+        if (to.ClosestPoint(from.Points[static_cast<size_t>(i) * stride], HUGE_VAL, hit))
+          w = std::max(w, hit.Distance2);
+    });
+    double result = 0;
+    for (double w : worst) result = std::max(result, w);
+    return std::sqrt(result);
   };
   if (!mesh || !reference || mesh->GetNumberOfPolys() == 0 || reference->GetNumberOfPolys() == 0) return -1;
-  return std::max(oneWay(mesh, reference), oneWay(reference, mesh));
+  const TriangleMesh a = ToTriangleMesh(mesh), b = ToTriangleMesh(reference);
+  BVH bvhA, bvhB;
+  vtkSMPTools::For(0, 2, [&](vtkIdType i0, vtkIdType i1) {
+    for (vtkIdType i = i0; i < i1; ++i) (i == 0 ? bvhA : bvhB).Build(i == 0 ? a : b);
+  });
+  if (bvhA.Empty() || bvhB.Empty()) return -1;
+  return std::max(oneWay(a, bvhB), oneWay(b, bvhA));
 }
 
 namespace {

@@ -38,7 +38,10 @@ bool LabelmapToMeshLOD(vtkImageData* labelmap, const vtkMatrix4x4* ijkToRAS, int
                        const ProgressCallback& progress = nullptr, vtkPolyData* fullResolution = nullptr,
                        const MeshStats* fullResolutionStats = nullptr);
 
-/// Largest distance between two surfaces, sampled (about 20,000 vertices each way).
+/// Vertices of a surface whose distance MaxSurfaceDeviation measures, at most (every k-th).
+constexpr size_t MaxDeviationSamples = 20000;
+/// Largest distance between two surfaces: from every vertex of each (every k-th vertex, at most
+/// MaxDeviationSamples, of a larger one) to the closest point of the other. -1 when either is empty.
 double MaxSurfaceDeviation(vtkPolyData* mesh, vtkPolyData* reference);
 
 }  // namespace rp

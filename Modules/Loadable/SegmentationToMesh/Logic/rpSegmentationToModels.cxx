@@ -18,7 +18,8 @@ bool SameSurfaceOptions(const MeshOptions& a, const MeshOptions& b) {
 }  // namespace
 
 std::vector<SegmentModels> BuildSegmentModels(vtkRPSegmentationNode* segmentation, const ModelBuildOptions& options,
-                                              vtkRPScene* scene, const ProgressCallback& progress) {
+                                              vtkRPScene* scene, const ProgressCallback& progress,
+                                              const std::function<void(const SegmentModels&)>& done) {
   std::vector<SegmentModels> results;
   if (!segmentation) return results;
   std::vector<const vtkRPSegmentationNode::Segment*> segments;
@@ -38,7 +39,7 @@ std::vector<SegmentModels> BuildSegmentModels(vtkRPSegmentationNode* segmentatio
     }
   }
   const double parts = static_cast<double>(segments.size()) * (options.MakeHaptic ? 2 : 1);
-  double done = 0;
+  double finished = 0;
   for (const auto* s : segments) {
     SegmentModels r;
     r.SegmentID = s->ID;
@@ -46,7 +47,7 @@ std::vector<SegmentModels> BuildSegmentModels(vtkRPSegmentationNode* segmentatio
     r.TissueClass = s->TissueClass;
     auto stage = [&](const std::string& what) -> ProgressCallback {
       if (!progress) return nullptr;
-      const double base = done;
+      const double base = finished;
       return [&, base, what](double f, const std::string& message) {
         progress((base + f) / parts, r.Name + " " + what + ": " + message);
       };
@@ -67,10 +68,10 @@ std::vector<SegmentModels> BuildSegmentModels(vtkRPSegmentationNode* segmentatio
                            options.Display, options.DisplayLOD, display, r.Display, r.Error, stage("display"))) {
       r.Error = "segment '" + s->ID + "': " + r.Error;
       results.push_back(r);
-      done += options.MakeHaptic ? 2 : 1;
+      finished += options.MakeHaptic ? 2 : 1;
       continue;
     }
-    done += 1;
+    finished += 1;
     r.DisplayModel = makeModel(display, false);
     if (options.MakeHaptic) {
       vtkNew<vtkPolyData> haptic;
@@ -83,14 +84,15 @@ std::vector<SegmentModels> BuildSegmentModels(vtkRPSegmentationNode* segmentatio
                              displayIsFull ? display.GetPointer() : nullptr, displayIsFull ? &r.Display : nullptr)) {
         r.Error = "segment '" + s->ID + "' (haptic mesh): " + r.Error;
         results.push_back(r);
-        done += 1;
+        finished += 1;
         continue;
       }
-      done += 1;
+      finished += 1;
       r.HapticModel = makeModel(haptic, true);
     }
     r.Ok = true;
     results.push_back(r);
+    if (done) done(results.back());
   }
   return results;
 }

@@ -1,6 +1,7 @@
 #pragma once
 // Segmentation → model nodes: per segment a display mesh and (optionally) a coarser haptic mesh,
 // each with its own level-of-detail target; both carry the segment's tissue class and colour.
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -34,8 +35,11 @@ struct SegmentModels {
 };
 
 /// Builds the models of the requested segments; adds them to `scene` when given. A segment that
-/// fails (e.g. empty) is reported in its entry and the others are still built.
+/// fails (e.g. empty) is reported in its entry and the others are still built. `done` is called
+/// with each segment's entry as soon as it is built (e.g. to write its files while the next
+/// segment meshes; its meshes are not touched again here).
 std::vector<SegmentModels> BuildSegmentModels(vtkRPSegmentationNode* segmentation, const ModelBuildOptions& options,
-                                              vtkRPScene* scene = nullptr, const ProgressCallback& progress = nullptr);
+                                              vtkRPScene* scene = nullptr, const ProgressCallback& progress = nullptr,
+                                              const std::function<void(const SegmentModels&)>& done = nullptr);
 
 }  // namespace rp

@@ -19,6 +19,7 @@
 #include "rpImageVolume.h"
 #include "rpBoneScores.h"
 #include "rpBoneSplit.h"
+#include "rpKneeBoneNames.h"
 #include "rpKneePhantom.h"
 #include "rpLabelTable.h"
 #include "rpVolumeFiles.h"
@@ -205,19 +206,16 @@ void RegisterCTAndMR(DemoState& state) {
 
 // ---- Stage: bones and soft tissues segmented on the CT and meshed (display + haptic LoD)
 
-// Each bone in its own colour: a knee bone's (by segment ID or name), else a distinct one.
+// Each bone in its own colour: a knee bone's (by segment ID or name, rp::BoneColor: the one bone
+// colour table), else a distinct one.
 void ColourBones(vtkRPSegmentationNode* segmentation, const std::vector<std::string>& boneIDs) {
   long other = 0;
   for (const std::string& id : boneIDs) {
     const vtkRPSegmentationNode::Segment* found = segmentation->GetSegmentByID(id);
     if (!found) continue;
     vtkRPSegmentationNode::Segment segment = *found;
-    std::string name = segment.Name;
-    std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return std::tolower(c); });
-    const KneeBone* bone = nullptr;
-    for (const KneeBone& b : KneeBones())
-      if (id == b.ID || name == b.ID) bone = &b;
-    const std::array<double, 3> colour = bone ? bone->Color : DefaultLabelColor(++other);
+    std::array<double, 3> colour;
+    if (!KneeBoneColor(id, colour) && !KneeBoneColor(segment.Name, colour)) colour = DefaultLabelColor(++other);
     for (int c = 0; c < 3; ++c) segment.Color[c] = colour[c];
     segmentation->SetSegment(segment);
   }
