@@ -30,7 +30,7 @@ OrientationMarker::OrientationMarker(vtkRenderer* viewRenderer, double size) : V
   this->Cube->PickableOff();
   this->Renderer->AddViewProp(this->Cube);
   this->Renderer->InteractiveOff();
-  this->Renderer->SetLayer(1);
+  this->Renderer->SetLayer(2);  // over the view's two layers
   this->Callback->SetClientData(this);
   this->Callback->SetCallback(&OrientationMarker::OnViewRender);
   this->Tag = viewRenderer->AddObserver(vtkCommand::StartEvent, this->Callback);
@@ -45,6 +45,7 @@ void OrientationMarker::Attach(vtkRenderWindow* window, const double viewViewpor
   this->Detach();
   this->Window = window;
   std::copy(viewViewport, viewViewport + 4, this->ViewViewport);
+  window->SetNumberOfLayers(std::max(3, window->GetNumberOfLayers()));
   window->AddRenderer(this->Renderer);
   this->UpdateCamera();
 }

@@ -21,6 +21,7 @@
 #include <vtkTextProperty.h>
 
 #include "rpOrientationMarker.h"
+#include "vtkRPCachedRenderPass.h"
 #include "vtkRPFiducialDisplayableManager.h"
 #include "vtkRPModelDisplayableManager.h"
 #include "vtkRPModelNode.h"
@@ -74,12 +75,18 @@ View::View(ViewKind kind, vtkRPScene* scene, vtkRPViewState* state, const SliceV
     this->Renderer->SetBackground(0.76, 0.76, 0.90);
     this->Renderer->SetBackground2(0.45, 0.45, 0.62);
     this->Renderer->GradientBackgroundOn();
-    // See-through models (skin, muscle) are blended in drawing order rather than with VTK's
+    // Layer 0 holds what stands still while a tool moves (models, labels of the view): its
+    // picture and depth are kept between frames (vtkRPCachedRenderPass). Layer 1 holds what
+    // moves (tools, the slices in 3D, fiducials): drawn every frame over the kept picture,
+    // depth-tested against the models, so opaque models hide them and see-through tissue does
+    // not dim them. Both blend see-through surfaces in drawing order rather than with VTK's
     // default order-independent transparency, whose full-screen float passes cost a software
     // renderer more than the rest of the frame; their back faces are culled (a closed shell seen
     // from outside needs only its front), so the blend has one layer and order does not matter.
+    this->Renderer->SetPass(this->ModelLayer);
+    this->Overlay->PreserveDepthBufferOn();
     vtkNew<vtkRenderStepsPass> steps;
-    this->Renderer->SetPass(steps);
+    this->Overlay->SetPass(steps);
     this->Managers.push_back(vtkSmartPointer<vtkRPVolumeSliceDisplayableManager>::New());
     this->Managers.push_back(vtkSmartPointer<vtkRPModelDisplayableManager>::New());
     this->Marker = std::make_unique<OrientationMarker>(this->Renderer);
@@ -144,9 +151,7 @@ vtkRPSliceLogic* View::GetSliceLogic() const {
   return this->IsSlice() ? this->Slices.Logics[static_cast<size_t>(this->Kind)] : nullptr;
 }
 
-vtkRenderer* View::GetOverlayRenderer() const {
-  return this->IsSlice() ? this->Overlay.GetPointer() : this->Renderer.GetPointer();
-}
+vtkRenderer* View::GetOverlayRenderer() const { return this->Overlay; }
 
 void View::AttachToRenderWindow(vtkRenderWindow* window, const double viewport[4]) {
   this->DetachFromRenderWindow();
@@ -155,7 +160,7 @@ void View::AttachToRenderWindow(vtkRenderWindow* window, const double viewport[4
   this->Renderer->SetViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
   this->Overlay->SetViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
   window->AddRenderer(this->Renderer);
-  if (this->IsSlice()) window->AddRenderer(this->Overlay);
+  window->AddRenderer(this->Overlay);
   if (this->Marker) this->Marker->Attach(window, viewport);
   this->UpdateSliceCamera();
   this->RequestRender();
@@ -175,10 +180,25 @@ void View::RequestRender() {
 }
 
 void View::SetInteractive(bool interactive) {
+  // While only layer 1 moves (a tool, the slices following it) the kept picture of the models is
+  // copied and they stay at full detail; they are drawn light only while the camera moves (the
+  // cause, not "the models were drawn last frame", which the switch to light meshes itself causes).
+  if (!this->IsSlice() && this->ModelLayer->GetCaching()) {
+    const vtkMTimeType cameraTime = this->Renderer->GetActiveCamera()->GetMTime();
+    interactive = interactive && cameraTime != this->CameraTimeAtLastFrame;
+    this->CameraTimeAtLastFrame = cameraTime;
+  }
   if (interactive == this->Interactive) return;
   this->Interactive = interactive;
   for (auto& manager : this->Managers) manager->SetInteractive(interactive);
 }
+
+void View::SetModelLayerCaching(bool caching) {
+  this->ModelLayer->SetCaching(caching);
+  this->RequestRender();
+}
+
+bool View::GetModelLayerCaching() const { return this->ModelLayer->GetCaching(); }
 
 void View::OnSliceNodeModified(vtkObject* caller, unsigned long, void* clientData, void*) {
   auto* self = static_cast<View*>(clientData);

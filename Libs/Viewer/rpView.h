@@ -4,8 +4,9 @@
 // follows the node's plane, field of view and pan; zooming and panning change the node. The 3D
 // view shows every slice node's picture in RAS. A view renders into any render window at a
 // viewport, so the same code draws in a Qt widget and in an offscreen window for screenshots.
-// Slice views have two layers: the image (layer 0) and overlays (layer 1: outlines, fiducials,
-// tools, crosshair) drawn on top. Displayable managers ask for a render; the host renders views
+// Every view has two layers: slice views the image (layer 0) and overlays (layer 1: outlines,
+// fiducials, tools, crosshair) drawn on top; the 3D view the models (layer 0, kept between
+// frames while they stand still) and what moves (layer 1: tools, slices, fiducials). Displayable managers ask for a render; the host renders views
 // whose NeedsRender() is true.
 #include <array>
 #include <functional>
@@ -14,6 +15,7 @@
 
 #include <vtkNew.h>
 #include <vtkSmartPointer.h>
+#include <vtkType.h>
 #include <vtkWeakPointer.h>
 
 #include "rpSliceGeometry.h"
@@ -24,6 +26,7 @@ class vtkCallbackCommand;
 class vtkLineSource;
 class vtkRenderWindow;
 class vtkRenderer;
+class vtkRPCachedRenderPass;
 class vtkRPDisplayableManager;
 class vtkRPScene;
 class vtkRPSliceLogic;
@@ -59,10 +62,17 @@ class View {
   /// Every slice node and picture (the 3D view draws them all).
   const SliceViewNodes& GetSliceViewNodes() const { return this->Slices; }
 
-  /// Layer 0 (images in slice views; everything in 3D).
+  /// Layer 0: the image in slice views; in 3D the models (their picture kept between frames).
   vtkRenderer* GetRenderer() const { return this->Renderer; }
-  /// Where overlays go: layer 1 in slice views, the main renderer in 3D (depth-tested there).
+  /// Layer 1, drawn every frame on top: outlines, fiducials, tools, crosshair in slice views;
+  /// tools, fiducials and the slices in 3D (depth-tested against the models there).
   vtkRenderer* GetOverlayRenderer() const;
+  /// 3D: keep the models' picture between frames while they stand still (on by default); off
+  /// renders every model every frame.
+  void SetModelLayerCaching(bool caching);
+  bool GetModelLayerCaching() const;
+  /// 3D: the pass that keeps the models' picture (frames rendered and copied).
+  vtkRPCachedRenderPass* GetModelLayerPass() const { return this->ModelLayer; }
 
   /// Adds the view's renderers to a window at a viewport (xmin, ymin, xmax, ymax in 0..1).
   void AttachToRenderWindow(vtkRenderWindow* window, const double viewport[4]);
@@ -126,6 +136,7 @@ class View {
   SliceViewNodes Slices;
   vtkNew<vtkRenderer> Renderer;
   vtkNew<vtkRenderer> Overlay;
+  vtkNew<vtkRPCachedRenderPass> ModelLayer;  // 3D: layer 0's pass
   vtkRenderWindow* Window = nullptr;
   std::vector<vtkSmartPointer<vtkRPDisplayableManager>> Managers;
   vtkNew<vtkCallbackCommand> SliceCallback;
@@ -137,6 +148,7 @@ class View {
   vtkNew<vtkTextActor> CornerText;
   std::unique_ptr<OrientationMarker> Marker;  // 3D: patient axes in a corner
   double LastAspect = 0;
+  vtkMTimeType CameraTimeAtLastFrame = 0;  // 3D: the camera's modification time at the last SetInteractive
   bool RenderRequested = true;
   bool Interactive = false;
   std::function<void()> OnRenderRequest;

@@ -5,12 +5,14 @@
 #include <vector>
 
 #include <vtkCallbackCommand.h>
+#include <vtkCamera.h>
 #include <vtkCellPicker.h>
 #include <vtkDataArray.h>
 #include <vtkImageData.h>
 #include <vtkMath.h>
 #include <vtkMatrix4x4.h>
 #include <vtkPointData.h>
+#include <vtkRenderer.h>
 
 #include "rpView.h"
 #include "vtkRPFiducialListNode.h"
@@ -315,12 +317,25 @@ bool ViewController::ClickInSliceView(ViewKind kind, double x, double y) {
 bool ViewController::ClickIn3DView(double x, double y) {
   if (this->State->GetInteractionMode() != vtkRPViewState::ModePlaceFiducial) return false;
   View* view = this->GetView(ViewKind::ThreeD);
-  vtkNew<vtkCellPicker> picker;
-  picker->SetTolerance(0.0005);
-  if (!picker->Pick(x, y, 0, view->GetRenderer())) return false;
-  double ras[3];
-  picker->GetPickPosition(ras);
-  return this->PlaceFiducial(ras) != nullptr;
+  // Models are in layer 0, the slices in layer 1: the hit nearest the camera wins.
+  double camera[3];
+  view->GetRenderer()->GetActiveCamera()->GetPosition(camera);
+  bool hit = false;
+  double ras[3], nearest = 0;
+  for (vtkRenderer* layer : {view->GetRenderer(), view->GetOverlayRenderer()}) {
+    vtkNew<vtkCellPicker> picker;
+    picker->SetTolerance(0.0005);
+    if (!picker->Pick(x, y, 0, layer)) continue;
+    double position[3];
+    picker->GetPickPosition(position);
+    const double distance = vtkMath::Distance2BetweenPoints(position, camera);
+    if (!hit || distance < nearest) {
+      std::copy(position, position + 3, ras);
+      nearest = distance;
+      hit = true;
+    }
+  }
+  return hit && this->PlaceFiducial(ras) != nullptr;
 }
 
 vtkRPFiducialListNode* ViewController::PlaceFiducial(const double ras[3]) {

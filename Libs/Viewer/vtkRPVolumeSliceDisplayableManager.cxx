@@ -71,17 +71,23 @@ void vtkRPVolumeSliceDisplayableManager::OnInitialize() {
     picture->QuadActor->GetProperty()->SetDiffuse(0.0);
     if (view->IsSlice()) picture->QuadActor->PickableOff();
     if (logic) picture->QuadActor->SetUserMatrix(logic->GetPlaneToRAS());
-    view->GetRenderer()->AddViewProp(picture->QuadActor);
+    // A slice view's image is its layer 0; in 3D the slices move with the slice point, so they
+    // are drawn with what moves (layer 1), over the models' kept picture.
+    this->LayerOf(view)->AddViewProp(picture->QuadActor);
     this->Pictures.push_back(picture);
     this->UpdatePicture(*picture);
   }
+}
+
+vtkRenderer* vtkRPVolumeSliceDisplayableManager::LayerOf(rp::View* view) {
+  return view->IsSlice() ? view->GetRenderer() : view->GetOverlayRenderer();
 }
 
 void vtkRPVolumeSliceDisplayableManager::OnFinalize() {
   rp::View* view = this->GetView();
   for (Picture* picture : this->Pictures) {
     if (picture->Logic) picture->Logic->RemoveObserver(picture->Tag);
-    if (view) view->GetRenderer()->RemoveViewProp(picture->QuadActor);
+    if (view) this->LayerOf(view)->RemoveViewProp(picture->QuadActor);
     delete picture;
   }
   this->Pictures.clear();

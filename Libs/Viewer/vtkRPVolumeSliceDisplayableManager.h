@@ -4,7 +4,8 @@
 // slice node, shared by every view), each as a textured quad: in a slice view, the node's
 // picture on its plane (colours on black); in the 3D view, every slice node's picture placed in RAS where the node's
 // SliceVisible is on, drawn only where there is patient (air is cut away, so the models behind
-// show through) and depth-tested as opaque geometry, so the three planes cross correctly.
+// show through) and depth-tested as opaque geometry, so the three planes cross correctly; in 3D
+// they are drawn with what moves (layer 1), so the models' picture is kept while they move.
 #include <vector>
 
 #include <vtkSmartPointer.h>
@@ -13,7 +14,11 @@
 
 class vtkActor;
 class vtkCallbackCommand;
+class vtkRenderer;
 class vtkRPSliceLogic;
+namespace rp {
+class View;
+}
 
 class vtkRPVolumeSliceDisplayableManager : public vtkRPDisplayableManager {
  public:
@@ -44,6 +49,8 @@ class vtkRPVolumeSliceDisplayableManager : public vtkRPDisplayableManager {
   struct Picture;
   static void OnLogicModified(vtkObject* caller, unsigned long, void* clientData, void*);
   void UpdatePicture(Picture& picture);
+  /// The renderer the pictures go to: a slice view's layer 0, the 3D view's layer 1.
+  static vtkRenderer* LayerOf(rp::View* view);
 
   std::vector<Picture*> Pictures;
   vtkSmartPointer<vtkCallbackCommand> LogicCallback;

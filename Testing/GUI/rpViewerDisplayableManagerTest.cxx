@@ -21,12 +21,15 @@
 #include <vtkActor2DCollection.h>
 #include <vtkCoordinate.h>
 #include <vtkTextActor.h>
+#include <algorithm>
 #include <array>
+#include <vector>
 #include <string>
 
 #include "rpView.h"
 #include "rpViewController.h"
 #include "rpViewerTestScene.h"
+#include "vtkRPCachedRenderPass.h"
 #include "vtkRPFiducialDisplayableManager.h"
 #include "vtkRPFiducialListNode.h"
 #include "vtkRPLinearTransformNode.h"
@@ -517,6 +520,114 @@ TEST(ViewerDisplayableManagers, ClickIn3DPlacesAFiducialOnTheModelSurface) {
   // Off the model: nothing hit, nothing placed.
   EXPECT_FALSE(controller.ClickIn3DView(2, 2));
   EXPECT_EQ(list->GetNumberOfControlPoints(), 1);
+  view->DetachFromRenderWindow();
+}
+
+// The 3D view keeps the models' picture while only a tool moves: the frame copies it (colour and
+// depth) and draws the tool over it, and what it shows is what rendering everything shows —
+// the tool at its new place, hidden behind the opaque model, seen beside it.
+TEST(ViewerDisplayableManagers, The3DViewKeepsTheModelsPictureWhileAToolMoves) {
+  vtkNew<vtkRPScene> scene;
+  ViewController controller(scene);
+  auto model = test::MakeSphereModel();
+  model->SetColor(0.0, 0.0, 1.0);
+  scene->AddNode(model);
+  vtkNew<vtkRPLinearTransformNode> tool;
+  tool->SetName("Tip");
+  tool->SetAttribute("Viewer.Glyph", "sphere");
+  tool->SetAttribute("Viewer.GlyphRadius", "6");
+  tool->SetAttribute("Viewer.Color", "1,0,0");
+  scene->AddNode(tool);
+  vtkNew<vtkRenderWindow> window;
+  window->SetOffScreenRendering(1);
+  window->SetMultiSamples(0);
+  window->SetSize(240, 240);
+  const double full[4] = {0, 0, 1, 1};
+  View* view = controller.GetView(ViewKind::ThreeD);
+  view->AttachToRenderWindow(window, full);
+  view->ResetCamera();
+  vtkRPCachedRenderPass* models = view->GetModelLayerPass();
+  ASSERT_NE(models, nullptr);
+  ASSERT_TRUE(view->GetModelLayerCaching());
+
+  // The pixel (RGB) where a RAS point lands, from the window's picture.
+  auto pixelAt = [&](const double ras[3], unsigned char rgb[3]) {
+    double display[2];
+    view->RASToDisplay(ras, display);
+    const int x = static_cast<int>(display[0]), y = static_cast<int>(display[1]);
+    unsigned char* data = window->GetPixelData(x, y, x, y, 1);
+    std::copy(data, data + 3, rgb);
+    delete[] data;
+  };
+  auto moveTool = [&](const double ras[3]) {
+    vtkNew<vtkMatrix4x4> pose;
+    for (int a = 0; a < 3; ++a) pose->SetElement(a, 3, ras[a]);
+    tool->SetMatrixTransformToParent(pose);
+  };
+  auto picture = [&]() {
+    const int* size = window->GetSize();
+    unsigned char* data = window->GetPixelData(0, 0, size[0] - 1, size[1] - 1, 1);
+    std::vector<unsigned char> bytes(data, data + 3 * size[0] * size[1]);
+    delete[] data;
+    return bytes;
+  };
+
+  // Beside the sphere (up and to the patient's right of it, seen from the front): the tool is seen.
+  const double beside[3] = {test::ModelCenter[0] + 21, test::ModelCenter[1], test::ModelCenter[2] + 21};
+  moveTool(beside);
+  window->Render();
+  const int rendersBefore = models->GetNumberOfRenders();
+  unsigned char rgb[3];
+  pixelAt(beside, rgb);
+  EXPECT_GT(rgb[0], 150);
+  EXPECT_LT(rgb[2], 80);
+
+  // Behind it (posterior): a copied frame; the kept depth hides the tool behind the model.
+  const double behind[3] = {test::ModelCenter[0], test::ModelCenter[1] - 2 * test::SphereRadius, test::ModelCenter[2]};
+  moveTool(behind);
+  window->Render();
+  EXPECT_EQ(models->GetNumberOfRenders(), rendersBefore);
+  EXPECT_FALSE(models->GetLastFrameRendered());
+  pixelAt(behind, rgb);
+  EXPECT_LT(rgb[0], 60) << "the tool shows through the opaque model";
+  EXPECT_GT(rgb[2], 100);
+  pixelAt(beside, rgb);
+  EXPECT_GT(rgb[2], 150) << "the tool's old place still shows it, not the background";
+  const std::vector<unsigned char> copied = picture();
+
+  // The same frame with every model drawn again: the same pixels.
+  view->SetModelLayerCaching(false);
+  window->Render();
+  EXPECT_TRUE(models->GetLastFrameRendered());
+  EXPECT_EQ(picture(), copied);
+  view->SetModelLayerCaching(true);
+
+  // A model changing (its colour) is drawn again; so is a turned camera.
+  window->Render();
+  const int renders = models->GetNumberOfRenders();
+  window->Render();
+  EXPECT_EQ(models->GetNumberOfRenders(), renders);
+  model->SetColor(0.0, 1.0, 0.0);
+  window->Render();
+  EXPECT_EQ(models->GetNumberOfRenders(), renders + 1);
+  const double centre[3] = {test::ModelCenter[0], test::ModelCenter[1], test::ModelCenter[2]};
+  pixelAt(centre, rgb);
+  EXPECT_GT(rgb[1], 100);
+  EXPECT_LT(rgb[2], 60);
+  view->GetRenderer()->GetActiveCamera()->Azimuth(30);
+  window->Render();
+  EXPECT_EQ(models->GetNumberOfRenders(), renders + 2);
+  // The camera turning tick after tick: the models are drawn light; once only the tool moves
+  // again (the kept picture copied), they are whole.
+  view->SetInteractive(true);
+  EXPECT_TRUE(view->GetInteractive());
+  view->SetInteractive(false);
+  window->Render();
+  moveTool(beside);
+  window->Render();
+  EXPECT_FALSE(models->GetLastFrameRendered());
+  view->SetInteractive(true);
+  EXPECT_FALSE(view->GetInteractive());
   view->DetachFromRenderWindow();
 }
 

@@ -57,6 +57,7 @@
 #include "rpSceneIO.h"
 #include "rpSimulatedDevice.h"
 #include "rpView.h"
+#include "vtkRPCachedRenderPass.h"
 #include "rpViewController.h"
 #include "vtkRPModelNode.h"
 #include "vtkRPScene.h"
@@ -304,7 +305,9 @@ struct Run {
   std::string Name;
   std::vector<double> FrameMs, FrameAt;  // frame time and when it started (s)
   std::vector<int> ViewsRendered;
+  std::vector<std::array<double, 4>> FrameViewMs;  // per frame: each view's render call (ms)
   int Reslices = 0;
+  int ModelLayerRenders = 0, ModelLayerCopies = 0;  // 3D frames that drew the models / copied their kept picture
   double Seconds = 0;
   std::array<double, 4> ViewMeanMs{};  // mean render time of each view (axial, sagittal, coronal, 3D)
   double SceneMs = 0, PicturesMs = 0;  // summed: servo state into the scene; slice pictures
@@ -322,10 +325,13 @@ void Report(benchmark::State& state, const Run& run) {
   for (int v : run.ViewsRendered) views += v;
   state.counters["views_per_frame"] = run.FrameMs.empty() ? 0 : views / double(run.FrameMs.size());
   state.counters["reslices"] = run.Reslices;
+  state.counters["model_layer_renders"] = run.ModelLayerRenders;
+  state.counters["model_layer_copies"] = run.ModelLayerCopies;
   std::cerr << "[viewer-bench] " << run.Name << ": " << run.FrameMs.size() << " frames in " << run.Seconds << " s, p50 "
             << p.P50 << " ms, p95 " << p.P95 << " ms, max " << p.Max << " ms, "
             << state.counters["fps"].value << " fps, " << state.counters["views_per_frame"].value << " views/frame, "
-            << run.Reslices << " reslices; per view (ms) axial " << run.ViewMeanMs[0] << ", sagittal "
+            << run.Reslices << " reslices, 3D models drawn " << run.ModelLayerRenders << " / kept picture copied "
+            << run.ModelLayerCopies << "; per view (ms) axial " << run.ViewMeanMs[0] << ", sagittal "
             << run.ViewMeanMs[1] << ", coronal " << run.ViewMeanMs[2] << ", 3D " << run.ViewMeanMs[3]
             << "; per frame: scene update " << run.SceneMs / std::max<size_t>(1, run.FrameMs.size()) << " ms, slice pictures "
             << run.PicturesMs / std::max<size_t>(1, run.FrameMs.size()) << " ms\n";
@@ -346,6 +352,7 @@ void BM_Viewer4Up_Naive(benchmark::State& state) {
     }
     Run run;
     run.Name = "naive";
+    rig->View(3)->SetModelLayerCaching(false);  // every model drawn every tick
     const int reslices = rig->Reslices();
     const auto start = Clock::now();
     while (std::chrono::duration<double>(Clock::now() - start).count() < Seconds()) {
@@ -362,6 +369,7 @@ void BM_Viewer4Up_Naive(benchmark::State& state) {
     run.Reslices = rig->Reslices() - reslices;
     run.ViewMeanMs = rig->TakeViewMeanMs();
     rig->StopHaptics();
+    rig->View(3)->SetModelLayerCaching(true);
     Report(state, run);
     Runs.push_back(run);
   }
@@ -387,6 +395,8 @@ void BM_Viewer4Up_DisplayRate(benchmark::State& state) {
     Run run;
     run.Name = "display rate";
     const int reslices = rig->Reslices();
+    vtkRPCachedRenderPass* models = rig->View(3)->GetModelLayerPass();
+    const int modelRenders = models->GetNumberOfRenders(), modelCopies = models->GetNumberOfCopies();
     const auto start = Clock::now();
     auto next = start;
     while (std::chrono::duration<double>(Clock::now() - start).count() < Seconds()) {
@@ -401,6 +411,7 @@ void BM_Viewer4Up_DisplayRate(benchmark::State& state) {
         rig->Controller->GetSliceLogic(static_cast<rp::ViewKind>(kind))->GetOutputPort()->GetProducer()->Update();
       }
       const auto tPictures = Clock::now();
+      const std::array<double, 4> viewMsBefore = rig->ViewMs;
       const int rendered = scheduler.RenderPendingViews();
       rig->WaitForFrame();
       const auto t1 = Clock::now();
@@ -410,10 +421,15 @@ void BM_Viewer4Up_DisplayRate(benchmark::State& state) {
       run.FrameMs.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
       run.FrameAt.push_back(std::chrono::duration<double>(t0 - start).count());
       run.ViewsRendered.push_back(rendered);
+      std::array<double, 4> viewMs{};
+      for (size_t k = 0; k < 4; ++k) viewMs[k] = rig->ViewMs[k] - viewMsBefore[k];
+      run.FrameViewMs.push_back(viewMs);
       if (t1 > next) next = t1;  // a late frame: the next tick is a period from now, not at once
     }
     run.Seconds = std::chrono::duration<double>(Clock::now() - start).count();
     run.Reslices = rig->Reslices() - reslices;
+    run.ModelLayerRenders = models->GetNumberOfRenders() - modelRenders;
+    run.ModelLayerCopies = models->GetNumberOfCopies() - modelCopies;
     run.ViewMeanMs = rig->TakeViewMeanMs();
     rig->SavePicture(rp::bench::OutputDirectory() + "/viewer-4up-while-touching.png");  // what was drawn
     rig->StopHaptics();
@@ -527,6 +543,7 @@ void WriteFigures(const std::string& out) {
                              {"p95Ms", p.P95}, {"maxMs", p.Max}, {"meanMs", p.Mean},
                              {"fps", double(run.FrameMs.size()) / std::max(1e-9, run.Seconds)},
                              {"reslices", run.Reslices}, {"targetP95Ms", 33.0},
+                             {"modelLayerRenders", run.ModelLayerRenders}, {"modelLayerCopies", run.ModelLayerCopies},
                              {"viewMeanMs", {{"axial", run.ViewMeanMs[0]}, {"sagittal", run.ViewMeanMs[1]},
                                              {"coronal", run.ViewMeanMs[2]}, {"3d", run.ViewMeanMs[3]}}}};
     rp::bench::Series s;
@@ -535,11 +552,16 @@ void WriteFigures(const std::string& out) {
     s.Y = run.FrameMs;
     series.push_back(s);
     std::vector<std::vector<double>> rows;
-    for (size_t i = 0; i < run.FrameMs.size(); ++i) rows.push_back({run.FrameAt[i], run.FrameMs[i], double(run.ViewsRendered[i])});
+    for (size_t i = 0; i < run.FrameMs.size(); ++i) {
+      std::vector<double> row = {run.FrameAt[i], run.FrameMs[i], double(run.ViewsRendered[i])};
+      for (size_t k = 0; k < 4; ++k) row.push_back(i < run.FrameViewMs.size() ? run.FrameViewMs[i][k] : std::nan(""));
+      rows.push_back(row);
+    }
     std::string error;
     std::string file = run.Name;
     std::replace(file.begin(), file.end(), ' ', '-');
-    rp::bench::WriteCSV(out + "/viewer-frames-" + file + ".csv", {"time_s", "frame_ms", "views_rendered"}, rows, error);
+    rp::bench::WriteCSV(out + "/viewer-frames-" + file + ".csv",
+                        {"time_s", "frame_ms", "views_rendered", "axial_ms", "sagittal_ms", "coronal_ms", "3d_ms"}, rows, error);
   }
   rp::bench::Series target;
   target.Name = "33 ms (30 Hz)";
