@@ -56,6 +56,9 @@ class PoseSource {
   /// Images the source streams (OpenIGTLink IMAGE), or nullptr.
   virtual const ImageTable* Images() const { return nullptr; }
   virtual bool Connected() const = 0;
+  /// True once the source has nothing more to give (a recording played to its end); a live
+  /// tracker never finishes.
+  virtual bool Finished() const { return false; }
   /// One line for a status bar: "tracking", "connecting: cannot open /dev/ttyUSB0: ...".
   virtual std::string StatusText() const = 0;
   /// Counters and device facts (frames, CRC errors, reconnections, firmware ...).

@@ -105,7 +105,7 @@ int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std
       .Option("address", "ADDRESS", "with --source: port, HOST:PORT or file")
       .Option("option", "KEY=VALUE", "a source option (e.g. noise=0.1); repeatable")
       .Option("rom", "FILE", "tool definition (.rom, or a Resources/Tools .json); repeatable")
-      .Option("seconds", "N", "how long to track", std::string("5"))
+      .Option("seconds", "N", "how long to track (a replay ends with its recording)", std::string("5"))
       .Option("record", "FILE", "record every pose to a file (replay, `roboplan pivot`)")
       .Option("stale", "S", "seconds without data before a tool is stale", std::string("0.5"))
       .Option("reference", "NAME", "reference tool: also report <Tool>ToReference")
@@ -177,7 +177,7 @@ int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std
   for (int fd : logic->GetReadyFds()) ready.push_back({fd, POLLIN, 0});
   while (!gInterrupted) {
     const double now = SteadySeconds();
-    if (now - start >= seconds) break;
+    if (now - start >= seconds || tracker->Finished()) break;  // a replay ends with its recording
     // Nodes follow the source as soon as it publishes (and at least every 16 ms, for staleness).
     ::poll(ready.data(), ready.size(), static_cast<int>(std::min(16.0, 1e3 * (start + seconds - now))) + 1);
     if (record) {

@@ -65,7 +65,7 @@ class RecordingPlayer : public PoseSource {
   bool Connected() const override { return !this->Done.load(); }
   std::string StatusText() const override { return this->Finished() ? "replay finished" : "replaying"; }
   nlohmann::json StatisticsJson() const override;
-  bool Finished() const { return this->Done.load(); }
+  bool Finished() const override { return this->Done.load(); }
 
  private:
   void Run();
