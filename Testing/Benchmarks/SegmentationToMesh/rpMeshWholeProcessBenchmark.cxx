@@ -8,7 +8,8 @@
 //                    .vtp per label (vtkXMLPolyDataWriter);
 //   roboplan_mesh    `roboplan mesh labels.nrrd --out DIR` as a child process (start to exit):
 //                    default (display + haptic meshes) and --no-haptic;
-//   read_nrrd_gz     reading the file alone (rp::ReadVolumeFile), to show what dominates.
+//   read_nrrd_gz     reading the file alone (rp::ReadVolumeFile: libdeflate), to show what dominates,
+//                    beside read_nrrd_gz_itk, ITK's ImageFileReader + NrrdImageIO (zlib) on the same file.
 // Writes whole_process.{csv,json} and whole_process_seconds.png (bars) to $ROBOPLAN_BENCHMARK_OUTPUT.
 //
 //   xvfb-run -a ./bin/rpMeshWholeProcessBenchmark
@@ -244,6 +245,17 @@ void BM_ReadNrrdGz(benchmark::State& state) {
   }
 }
 
+void BM_ReadNrrdGzITK(benchmark::State& state) {
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    auto reader = itk::ImageFileReader<itk::Image<unsigned char, 3>>::New();
+    reader->SetImageIO(itk::NrrdImageIO::New());
+    reader->SetFileName(LabelmapPath().string());
+    reader->Update();
+    Keep("read_nrrd_gz_itk", Since(t0));
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -263,6 +275,7 @@ int main(int argc, char** argv) {
   reg(benchmark::RegisterBenchmark("BM_RoboplanMesh/no_haptic", BM_RoboplanMesh,
                                    std::vector<std::string>{"--no-haptic"}, std::string("roboplan_mesh_no_haptic")));
   reg(benchmark::RegisterBenchmark("BM_ReadNrrdGz", BM_ReadNrrdGz));
+  reg(benchmark::RegisterBenchmark("BM_ReadNrrdGzITK", BM_ReadNrrdGzITK));
   benchmark::RunSpecifiedBenchmarks();
 
   const double baseline = fastest.count("slicer_compute") ? fastest["slicer_compute"] : 0;
@@ -272,7 +285,8 @@ int main(int argc, char** argv) {
       {"roboplan_mesh", "roboplan mesh (process)"},
       {"roboplan_mesh_inside", "  of which after start-up"},
       {"roboplan_mesh_no_haptic", "roboplan mesh --no-haptic (process)"},
-      {"read_nrrd_gz", "reading the .nrrd (gzip) alone"}};
+      {"read_nrrd_gz", "reading the .nrrd (gzip) alone"},
+      {"read_nrrd_gz_itk", "  the same with ITK's NrrdImageIO"}};
   nlohmann::json doc = nlohmann::json::array();
   std::vector<std::vector<double>> rows;
   std::vector<std::string> categories;
