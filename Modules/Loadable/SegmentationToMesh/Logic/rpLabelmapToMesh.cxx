@@ -460,8 +460,10 @@ void FillStats(vtkPolyData* mesh, MeshStats& stats) {
   MeshVolumeAndArea(mesh, stats.MeshVolumeMm3, stats.AreaMm2);
   stats.VolumeErrorPercent =
       stats.LabelVolumeMm3 > 0 ? 100.0 * (stats.MeshVolumeMm3 - stats.LabelVolumeMm3) / stats.LabelVolumeMm3 : 0.0;
-  CountBadEdges(mesh, stats.BoundaryEdges, stats.NonManifoldEdges);
-  stats.NonManifoldVertices = CountNonManifoldVertices(mesh);
+  const MeshTopology topology = CountTopology(mesh);
+  stats.BoundaryEdges = topology.BoundaryEdges;
+  stats.NonManifoldEdges = topology.NonManifoldEdges;
+  stats.NonManifoldVertices = topology.NonManifoldVertices;
   stats.Watertight = stats.Triangles > 0 && stats.BoundaryEdges == 0 && stats.NonManifoldEdges == 0;
   stats.Manifold = stats.Watertight && stats.NonManifoldVertices == 0;
 }
@@ -596,6 +598,19 @@ bool DiscreteMesh(vtkImageData* labelmap, const vtkMatrix4x4* ijkToRAS, int labe
   return true;
 }
 
+// Sorted edge keys, one per use of an edge by a triangle: a run of one is a boundary edge, a run
+// of more than two a non-manifold edge.
+template <typename Key>
+void CountEdgeUses(const std::vector<Key>& sorted, long& boundary, long& nonManifold) {
+  for (size_t i = 0; i < sorted.size();) {
+    size_t j = i + 1;
+    while (j < sorted.size() && sorted[j] == sorted[i]) ++j;
+    if (j - i == 1) ++boundary;
+    else if (j - i > 2) ++nonManifold;
+    i = j;
+  }
+}
+
 void Decimate(vtkPolyData* mesh, double fraction, MeshStats& stats) {
   if (fraction <= 0) return;
   DecimationResult result;
@@ -626,39 +641,49 @@ void CountBadEdges(vtkPolyData* mesh, long& boundaryEdges, long& nonManifoldEdge
     }
   }
   vtkSMPTools::Sort(edges.begin(), edges.end());
-  for (size_t i = 0; i < edges.size();) {
-    size_t j = i + 1;
-    while (j < edges.size() && edges[j] == edges[i]) ++j;
-    if (j - i == 1) ++boundaryEdges;
-    else if (j - i > 2) ++nonManifoldEdges;
-    i = j;
-  }
+  CountEdgeUses(edges, boundaryEdges, nonManifoldEdges);
 }
 
-long CountNonManifoldVertices(vtkPolyData* mesh) {
-  // Per vertex, the edges opposite it in its triangles (its link): a closed fan is one cycle.
+long CountNonManifoldVertices(vtkPolyData* mesh) { return CountTopology(mesh).NonManifoldVertices; }
+
+MeshTopology CountTopology(vtkPolyData* mesh) {
+  // Per vertex, the edges opposite it in its triangles (its link): a closed fan is one cycle, and
+  // edge (v, w) lies in as many triangles as v's link has edges ending at w.
   const vtkIdType np = mesh->GetNumberOfPoints();
   vtkCellArray* polys = mesh->GetPolys();
   std::vector<vtkIdType> start(static_cast<size_t>(np) + 1, 0);
+  bool triangles = true;  // only triangles with three different corners: else edges the general way
   vtkIdType n;
   const vtkIdType* ids;
-  for (polys->InitTraversal(); polys->GetNextCell(n, ids);)
+  for (polys->InitTraversal(); polys->GetNextCell(n, ids);) {
+    if (n != 3 || ids[0] == ids[1] || ids[1] == ids[2] || ids[0] == ids[2]) triangles = false;
     if (n == 3)
       for (int k = 0; k < 3; ++k) ++start[static_cast<size_t>(ids[k]) + 1];
+  }
   for (size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
   std::vector<std::array<vtkIdType, 2>> link(static_cast<size_t>(start.back()));
   std::vector<vtkIdType> fill(start.begin(), start.end() - 1);
   for (polys->InitTraversal(); polys->GetNextCell(n, ids);)
     if (n == 3)
       for (int k = 0; k < 3; ++k) link[static_cast<size_t>(fill[static_cast<size_t>(ids[k])]++)] = {ids[(k + 1) % 3], ids[(k + 2) % 3]};
-  std::atomic<long> bad{0};
+  std::atomic<long> badVertices{0}, boundaryEdges{0}, nonManifoldEdges{0};
   vtkSMPTools::For(0, np, [&](vtkIdType v0, vtkIdType v1) {
     std::vector<std::array<vtkIdType, 2>> edges;
-    long local = 0;
+    std::vector<vtkIdType> ends;
+    long bad = 0, boundary = 0, nonManifold = 0;
     for (vtkIdType v = v0; v < v1; ++v) {
       const size_t b = static_cast<size_t>(start[static_cast<size_t>(v)]), e = static_cast<size_t>(start[static_cast<size_t>(v) + 1]);
       if (b == e) continue;
       edges.assign(link.begin() + static_cast<long>(b), link.begin() + static_cast<long>(e));
+      if (triangles) {
+        // Each edge (v, w) once, from its smaller end.
+        ends.clear();
+        for (const auto& edge : edges)
+          for (vtkIdType w : edge)
+            if (w > v) ends.push_back(w);
+        std::sort(ends.begin(), ends.end());
+        CountEdgeUses(ends, boundary, nonManifold);
+      }
       // Walk the cycle from the first edge: a single fan visits every edge.
       size_t visited = 1;
       vtkIdType first = edges[0][0], at = edges[0][1];
@@ -676,11 +701,18 @@ long CountNonManifoldVertices(vtkPolyData* mesh) {
         }
         if (!found || at == first) closed = true;
       }
-      if (at != first || visited != edges.size()) ++local;
+      if (at != first || visited != edges.size()) ++bad;
     }
-    bad += local;
+    badVertices += bad, boundaryEdges += boundary, nonManifoldEdges += nonManifold;
   });
-  return bad;
+  MeshTopology topology;
+  topology.NonManifoldVertices = badVertices;
+  if (triangles) {
+    topology.BoundaryEdges = boundaryEdges, topology.NonManifoldEdges = nonManifoldEdges;
+  } else {
+    CountBadEdges(mesh, topology.BoundaryEdges, topology.NonManifoldEdges);
+  }
+  return topology;
 }
 
 void MeshVolumeAndArea(vtkPolyData* mesh, double& volume, double& area) {
