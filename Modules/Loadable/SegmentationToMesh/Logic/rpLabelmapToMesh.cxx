@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
 
 #include <vtkAOSDataArrayTemplate.h>
 #include <vtkCellArray.h>
@@ -200,50 +201,50 @@ void GaussianResample(const T* voxels, const int dims[3], long label, const Labe
   Kernel1D ky = MakeKernel(gridStart[1] - b.Lo[1], step[1], outDims[1], inDims[1], sigma[1]);
   Kernel1D kz = MakeKernel(gridStart[2] - b.Lo[2], step[2], outDims[2], inDims[2], sigma[2]);
 
-  // Pass x: mask rows (inDims y, z) → A[outX x inY x inZ].
+  // Passes x and y, one input slice at a time: mask rows → A[outX x inY] (a buffer per thread,
+  // small enough to stay in cache) → B[outX x outY x inZ]. B is left uninitialized (every value
+  // is written below): zeroing it first took a serial pass over tens of MB.
   const size_t nxo = static_cast<size_t>(outDims[0]);
-  std::vector<float> A(nxo * inDims[1] * inDims[2]);
-  vtkSMPTools::For(0, static_cast<vtkIdType>(inDims[1]) * inDims[2], [&](vtkIdType r0, vtkIdType r1) {
-    std::vector<float> row(static_cast<size_t>(inDims[0]));
-    for (vtkIdType r = r0; r < r1; ++r) {
-      const int jj = static_cast<int>(r % inDims[1]), kk = static_cast<int>(r / inDims[1]);
-      const T* in = voxels + (static_cast<size_t>(b.Lo[2] + kk) * dims[1] + (b.Lo[1] + jj)) * dims[0] + b.Lo[0];
-      bool any = false;
-      for (int i = 0; i < inDims[0]; ++i) {
-        row[static_cast<size_t>(i)] = in[i] == value ? 1.0f : 0.0f;
-        any = any || in[i] == value;
-      }
-      float* out = A.data() + static_cast<size_t>(r) * nxo;
-      if (!any) {
-        std::fill(out, out + nxo, 0.0f);
-        continue;
-      }
-      for (size_t o = 0; o < nxo; ++o) {
-        const float* w = kx.Weights.data() + kx.Offset[o];
-        const float* x = row.data() + kx.First[o];
-        float sum = 0;
-        for (int t = 0; t < kx.Count[o]; ++t) sum += w[t] * x[t];
-        out[o] = sum;
-      }
-    }
-  });
-  // Pass y: A → B[outX x outY x inZ].
   const size_t nyo = static_cast<size_t>(outDims[1]);
-  std::vector<float> B(nxo * nyo * inDims[2]);
-  vtkSMPTools::For(0, static_cast<vtkIdType>(inDims[2]) * outDims[1], [&](vtkIdType r0, vtkIdType r1) {
-    for (vtkIdType r = r0; r < r1; ++r) {
-      const size_t oy = static_cast<size_t>(r % outDims[1]), kk = static_cast<size_t>(r / outDims[1]);
-      float* out = B.data() + (kk * nyo + oy) * nxo;
-      std::fill(out, out + nxo, 0.0f);
-      const float* w = ky.Weights.data() + ky.Offset[oy];
-      for (int t = 0; t < ky.Count[oy]; ++t) {
-        const float* in = A.data() + (kk * inDims[1] + static_cast<size_t>(ky.First[oy] + t)) * nxo;
-        const float wt = w[t];
-        for (size_t x = 0; x < nxo; ++x) out[x] += wt * in[x];
+  std::unique_ptr<float[]> B(new float[nxo * nyo * static_cast<size_t>(inDims[2])]);
+  vtkSMPThreadLocal<std::vector<float>> sliceA;
+  vtkSMPTools::For(0, inDims[2], [&](vtkIdType k0, vtkIdType k1) {
+    std::vector<float>& A = sliceA.Local();
+    A.resize(nxo * static_cast<size_t>(inDims[1]));
+    std::vector<float> row(static_cast<size_t>(inDims[0]));
+    for (vtkIdType kk = k0; kk < k1; ++kk) {
+      for (int jj = 0; jj < inDims[1]; ++jj) {
+        const T* in = voxels + (static_cast<size_t>(b.Lo[2] + kk) * dims[1] + (b.Lo[1] + jj)) * dims[0] + b.Lo[0];
+        bool any = false;
+        for (int i = 0; i < inDims[0]; ++i) {
+          row[static_cast<size_t>(i)] = in[i] == value ? 1.0f : 0.0f;
+          any = any || in[i] == value;
+        }
+        float* out = A.data() + static_cast<size_t>(jj) * nxo;
+        if (!any) {
+          std::fill(out, out + nxo, 0.0f);
+          continue;
+        }
+        for (size_t o = 0; o < nxo; ++o) {
+          const float* w = kx.Weights.data() + kx.Offset[o];
+          const float* x = row.data() + kx.First[o];
+          float sum = 0;
+          for (int t = 0; t < kx.Count[o]; ++t) sum += w[t] * x[t];
+          out[o] = sum;
+        }
+      }
+      for (size_t oy = 0; oy < nyo; ++oy) {
+        float* out = B.get() + (static_cast<size_t>(kk) * nyo + oy) * nxo;
+        std::fill(out, out + nxo, 0.0f);
+        const float* w = ky.Weights.data() + ky.Offset[oy];
+        for (int t = 0; t < ky.Count[oy]; ++t) {
+          const float* in = A.data() + static_cast<size_t>(ky.First[oy] + t) * nxo;
+          const float wt = w[t];
+          for (size_t x = 0; x < nxo; ++x) out[x] += wt * in[x];
+        }
       }
     }
   });
-  std::vector<float>().swap(A);
   // Pass z: B → field[outX x outY x outZ].
   const size_t plane = nxo * nyo;
   vtkSMPTools::For(0, outDims[2], [&](vtkIdType z0, vtkIdType z1) {
@@ -252,7 +253,7 @@ void GaussianResample(const T* voxels, const int dims[3], long label, const Labe
       std::fill(out, out + plane, 0.0f);
       const float* w = kz.Weights.data() + kz.Offset[static_cast<size_t>(oz)];
       for (int t = 0; t < kz.Count[static_cast<size_t>(oz)]; ++t) {
-        const float* in = B.data() + static_cast<size_t>(kz.First[static_cast<size_t>(oz)] + t) * plane;
+        const float* in = B.get() + static_cast<size_t>(kz.First[static_cast<size_t>(oz)] + t) * plane;
         const float wt = w[t];
         for (size_t x = 0; x < plane; ++x) out[x] += wt * in[x];
       }
