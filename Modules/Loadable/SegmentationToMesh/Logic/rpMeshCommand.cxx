@@ -534,8 +534,12 @@ int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contex
       if (!model || writes.count(path)) continue;  // not built yet, or already being written
       vtkSmartPointer<vtkPolyData> mesh = model->GetPolyData();
       writes[path] = std::async(std::launch::async, [path, mesh] {
+        // A copy of its own: the display mesh is still read while the haptic mesh is made, and
+        // writing runs it through a VTK pipeline, which marks its input (update time, ranges).
+        auto own = vtkSmartPointer<vtkPolyData>::New();
+        own->DeepCopy(mesh);
         Written w;
-        w.Ok = WriteModelFile(path, mesh, w.Error);
+        w.Ok = WriteModelFile(path, own, w.Error);
         return w;
       });
     }
