@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace rp {
 
@@ -83,46 +84,78 @@ inline uint64_t SpreadBits(uint64_t v) noexcept {
   v = (v | v << 2) & 0x1249249249249249ULL;
   return v;
 }
+
+// Sorts (code, index) pairs by code, keeping the order of equal codes: least significant digit
+// first, 11 bits a pass, skipping digits every key shares. Several times faster than std::sort
+// for the hundreds of thousands of triangles of a display mesh; the same order (the input comes
+// in index order), so the same tree.
+void RadixSortByCode(std::vector<std::pair<uint64_t, uint32_t>>& keys) {
+  constexpr int Bits = 11;
+  constexpr size_t Buckets = size_t(1) << Bits;
+  std::vector<std::pair<uint64_t, uint32_t>> other(keys.size());
+  std::vector<size_t> count(Buckets);
+  for (int shift = 0; shift < 64; shift += Bits) {
+    std::fill(count.begin(), count.end(), 0);
+    for (const auto& k : keys) ++count[(k.first >> shift) & (Buckets - 1)];
+    if (std::any_of(count.begin(), count.end(), [&](size_t c) { return c == keys.size(); })) continue;
+    size_t sum = 0;
+    for (size_t& c : count) sum += std::exchange(c, sum);
+    for (const auto& k : keys) other[count[(k.first >> shift) & (Buckets - 1)]++] = k;
+    keys.swap(other);
+  }
+}
+
 }  // namespace
 
 void BVH::Build(const TriangleMesh& mesh, int leafSize) {
   this->Nodes.clear();
   this->Tris.clear();
-  std::vector<Tri> all;
-  all.reserve(mesh.Triangles.size());
-  Vec3 lo{HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-  for (size_t i = 0; i < mesh.Triangles.size(); ++i) {
+  auto corners = [&](uint32_t i, Vec3& a, Vec3& b, Vec3& c) {
     const auto& t = mesh.Triangles[i];
-    Tri tri{mesh.Points[t[0]], mesh.Points[t[1]], mesh.Points[t[2]], {}, static_cast<uint32_t>(i)};
-    tri.Normal = Cross(tri.B - tri.A, tri.C - tri.A);
-    if (Norm2(tri.Normal) == 0) continue;
-    const Vec3 c = (tri.A + tri.B + tri.C) / 3.0;
-    lo = Min(lo, c);
-    hi = Max(hi, c);
-    all.push_back(tri);
+    a = mesh.Points[static_cast<size_t>(t[0])], b = mesh.Points[static_cast<size_t>(t[1])],
+    c = mesh.Points[static_cast<size_t>(t[2])];
+  };
+  // The triangles with an area, and the box of their centroids; no copy of the corners yet.
+  std::vector<std::pair<uint64_t, uint32_t>> keys;
+  keys.reserve(mesh.Triangles.size());
+  Vec3 lo{HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  for (uint32_t i = 0; i < static_cast<uint32_t>(mesh.Triangles.size()); ++i) {
+    Vec3 a, b, c;
+    corners(i, a, b, c);
+    if (Norm2(Cross(b - a, c - a)) == 0) continue;
+    const Vec3 centroid = (a + b + c) / 3.0;
+    lo = Min(lo, centroid);
+    hi = Max(hi, centroid);
+    keys.push_back({0, i});
   }
-  if (all.empty()) return;
+  if (keys.empty()) return;
   // Sort along the Z-order curve of the centroids.
   const Vec3 extent = hi - lo;
   const double cells = static_cast<double>((1u << 21) - 1);
   const Vec3 scale{extent.x > 0 ? cells / extent.x : 0, extent.y > 0 ? cells / extent.y : 0,
                    extent.z > 0 ? cells / extent.z : 0};
-  std::vector<std::pair<uint64_t, uint32_t>> keys(all.size());
-  for (size_t i = 0; i < all.size(); ++i) {
-    const Vec3 c = (all[i].A + all[i].B + all[i].C) / 3.0 - lo;
-    keys[i] = {SpreadBits(static_cast<uint64_t>(c.x * scale.x)) | SpreadBits(static_cast<uint64_t>(c.y * scale.y)) << 1 |
-                   SpreadBits(static_cast<uint64_t>(c.z * scale.z)) << 2,
-               static_cast<uint32_t>(i)};
+  for (auto& key : keys) {
+    Vec3 a, b, c;
+    corners(key.second, a, b, c);
+    const Vec3 centroid = (a + b + c) / 3.0 - lo;
+    key.first = SpreadBits(static_cast<uint64_t>(centroid.x * scale.x)) |
+                SpreadBits(static_cast<uint64_t>(centroid.y * scale.y)) << 1 |
+                SpreadBits(static_cast<uint64_t>(centroid.z * scale.z)) << 2;
   }
-  std::sort(keys.begin(), keys.end());
-  this->Tris.resize(all.size());
-  std::vector<uint64_t> codes(all.size());
-  for (size_t i = 0; i < keys.size(); ++i) {
-    this->Tris[i] = all[keys[i].second];
-    codes[i] = keys[i].first;
+  RadixSortByCode(keys);
+  this->Tris.reserve(keys.size());
+  std::vector<uint64_t> codes;
+  codes.reserve(keys.size());
+  for (const auto& [code, i] : keys) {
+    Tri tri;
+    corners(i, tri.A, tri.B, tri.C);
+    tri.Normal = Cross(tri.B - tri.A, tri.C - tri.A);
+    tri.Source = i;
+    this->Tris.push_back(tri);
+    codes.push_back(code);
   }
   leafSize = std::max(1, leafSize);
-  this->Nodes.reserve(2 * all.size() + 1);
+  this->Nodes.reserve(2 * this->Tris.size() + 1);
   this->BuildRange(codes, 0, static_cast<uint32_t>(this->Tris.size()), 0, leafSize);
 }
 

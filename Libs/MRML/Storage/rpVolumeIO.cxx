@@ -17,6 +17,7 @@
 #include "rpLPSRAS.h"
 #include "rpMemoryBudget.h"
 #include "rpNodeStorage.h"
+#include "rpNrrdGzipVoxels.h"
 #include "vtkRPImageNode.h"
 #include "vtkRPScalarVolumeNode.h"
 
@@ -130,7 +131,10 @@ bool ReadVolumeFile(const std::string& path, VolumeFileData& data, std::string& 
       region.SetSize(axis, static_cast<itk::SizeValueType>(dims[axis]));
     }
     io->SetIORegion(region);
-    io->Read(image->GetScalarPointer());
+    const size_t bytes = static_cast<size_t>(size[0] * size[1] * size[2]) * io->GetComponentSize();
+    if (!HasExtension(path, ".nrrd") ||
+        !ReadNrrdGzipVoxels(path, image->GetScalarPointer(), bytes, io->GetComponentSize()))
+      io->Read(image->GetScalarPointer());
 
     std::map<std::string, std::string> metadata;
     const itk::MetaDataDictionary& dictionary = io->GetMetaDataDictionary();

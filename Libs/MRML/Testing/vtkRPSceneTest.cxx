@@ -1,7 +1,10 @@
 // Scene, node, reference and transform-chain behaviour with hand-computed answers.
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include <vtkCallbackCommand.h>
+#include <vtkImageData.h>
 #include <vtkMatrix4x4.h>
 #include <vtkNew.h>
 #include <vtkSmartPointer.h>
@@ -227,4 +230,28 @@ TEST(Volume, GeometryFromSpacingOriginDirections) {
   EXPECT_DOUBLE_EQ(s[2], 2.0);
   EXPECT_DOUBLE_EQ(o[1], 20);
   EXPECT_DOUBLE_EQ(volume->GetIJKToRASMatrix()->GetElement(0, 0), -0.5);
+}
+
+TEST(Volume, WindowLevelSpansTheVoxelRange) {
+  // Integer voxels (a fast min/max of our own) and float voxels (VTK's range, which skips NaN).
+  vtkNew<vtkRPScalarVolumeNode> volume;
+  vtkNew<vtkImageData> ct;
+  ct->SetDimensions(300, 200, 50);  // 3 M voxels: several parallel chunks
+  ct->AllocateScalars(VTK_SHORT, 1);
+  auto* v = static_cast<short*>(ct->GetScalarPointer());
+  for (vtkIdType i = 0; i < 300 * 200 * 50; ++i) v[i] = static_cast<short>(i % 1000);
+  v[1234567] = -1024, v[2999999] = 3071;
+  volume->SetImageData(ct);
+  volume->SetWindowLevelFromScalarRange();
+  EXPECT_DOUBLE_EQ(volume->GetWindow(), 4095);
+  EXPECT_DOUBLE_EQ(volume->GetLevel(), 1023.5);
+  vtkNew<vtkImageData> dose;
+  dose->SetDimensions(4, 1, 1);
+  dose->AllocateScalars(VTK_FLOAT, 1);
+  auto* f = static_cast<float*>(dose->GetScalarPointer());
+  f[0] = 0.5f, f[1] = std::numeric_limits<float>::quiet_NaN(), f[2] = 2.5f, f[3] = 1.0f;
+  volume->SetImageData(dose);
+  volume->SetWindowLevelFromScalarRange();
+  EXPECT_DOUBLE_EQ(volume->GetWindow(), 2.0);
+  EXPECT_DOUBLE_EQ(volume->GetLevel(), 1.5);
 }

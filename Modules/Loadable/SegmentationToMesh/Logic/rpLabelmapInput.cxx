@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <limits>
 #include <map>
@@ -30,9 +32,10 @@ bool ParseInputKind(const std::string& text, InputKind& kind) {
 
 namespace {
 
-// 8- and 16-bit images: a histogram over the type's whole range. Four interleaved histograms:
-// a labelmap is long runs of one value, and one histogram would make every increment wait for
-// the previous one to the same bin (a store-to-load chain, 4x slower on a 512x512x300 labelmap).
+// 8- and 16-bit images: a histogram over the type's whole range. A labelmap is long runs of one
+// value: 16 bytes of voxels equal to their first (two 8-byte compares) are counted with one
+// increment, 4x faster on a 512x512x300 labelmap. Other blocks go to four interleaved histograms:
+// one would make every increment wait for the previous one to the same bin (a store-to-load chain).
 template <typename T>
 void SmallTypeValues(const T* v, vtkIdType n, ImageValues& out) {
   constexpr long offset = -static_cast<long>(std::numeric_limits<T>::lowest());
@@ -42,12 +45,25 @@ void SmallTypeValues(const T* v, vtkIdType n, ImageValues& out) {
   vtkSMPTools::For(0, n, [&](vtkIdType b, vtkIdType e) {
     long* h = local.Local().data();
     auto bin = [&](vtkIdType i) { return static_cast<size_t>(static_cast<long>(v[i]) + offset); };
+    constexpr int block = static_cast<int>(16 / sizeof(T));
     vtkIdType i = b;
-    for (; i + lanes <= e; i += lanes) {
-      ++h[bin(i)];
-      ++h[bins + bin(i + 1)];
-      ++h[2 * bins + bin(i + 2)];
-      ++h[3 * bins + bin(i + 3)];
+    for (; i + block <= e; i += block) {
+      T repeated[block / 2];
+      std::fill(repeated, repeated + block / 2, v[i]);
+      uint64_t pattern, first, second;
+      std::memcpy(&pattern, repeated, 8);
+      std::memcpy(&first, v + i, 8);
+      std::memcpy(&second, v + i + block / 2, 8);
+      if (first == pattern && second == pattern) {
+        h[bin(i)] += block;
+        continue;
+      }
+      for (int k = 0; k < block; k += lanes) {
+        ++h[bin(i + k)];
+        ++h[bins + bin(i + k + 1)];
+        ++h[2 * bins + bin(i + k + 2)];
+        ++h[3 * bins + bin(i + k + 3)];
+      }
     }
     for (; i < e; ++i) ++h[bin(i)];
   });

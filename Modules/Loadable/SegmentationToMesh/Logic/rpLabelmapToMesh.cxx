@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
 
 #include <vtkAOSDataArrayTemplate.h>
 #include <vtkCellArray.h>
@@ -200,50 +201,50 @@ void GaussianResample(const T* voxels, const int dims[3], long label, const Labe
   Kernel1D ky = MakeKernel(gridStart[1] - b.Lo[1], step[1], outDims[1], inDims[1], sigma[1]);
   Kernel1D kz = MakeKernel(gridStart[2] - b.Lo[2], step[2], outDims[2], inDims[2], sigma[2]);
 
-  // Pass x: mask rows (inDims y, z) → A[outX x inY x inZ].
+  // Passes x and y, one input slice at a time: mask rows → A[outX x inY] (a buffer per thread,
+  // small enough to stay in cache) → B[outX x outY x inZ]. B is left uninitialized (every value
+  // is written below): zeroing it first took a serial pass over tens of MB.
   const size_t nxo = static_cast<size_t>(outDims[0]);
-  std::vector<float> A(nxo * inDims[1] * inDims[2]);
-  vtkSMPTools::For(0, static_cast<vtkIdType>(inDims[1]) * inDims[2], [&](vtkIdType r0, vtkIdType r1) {
-    std::vector<float> row(static_cast<size_t>(inDims[0]));
-    for (vtkIdType r = r0; r < r1; ++r) {
-      const int jj = static_cast<int>(r % inDims[1]), kk = static_cast<int>(r / inDims[1]);
-      const T* in = voxels + (static_cast<size_t>(b.Lo[2] + kk) * dims[1] + (b.Lo[1] + jj)) * dims[0] + b.Lo[0];
-      bool any = false;
-      for (int i = 0; i < inDims[0]; ++i) {
-        row[static_cast<size_t>(i)] = in[i] == value ? 1.0f : 0.0f;
-        any = any || in[i] == value;
-      }
-      float* out = A.data() + static_cast<size_t>(r) * nxo;
-      if (!any) {
-        std::fill(out, out + nxo, 0.0f);
-        continue;
-      }
-      for (size_t o = 0; o < nxo; ++o) {
-        const float* w = kx.Weights.data() + kx.Offset[o];
-        const float* x = row.data() + kx.First[o];
-        float sum = 0;
-        for (int t = 0; t < kx.Count[o]; ++t) sum += w[t] * x[t];
-        out[o] = sum;
-      }
-    }
-  });
-  // Pass y: A → B[outX x outY x inZ].
   const size_t nyo = static_cast<size_t>(outDims[1]);
-  std::vector<float> B(nxo * nyo * inDims[2]);
-  vtkSMPTools::For(0, static_cast<vtkIdType>(inDims[2]) * outDims[1], [&](vtkIdType r0, vtkIdType r1) {
-    for (vtkIdType r = r0; r < r1; ++r) {
-      const size_t oy = static_cast<size_t>(r % outDims[1]), kk = static_cast<size_t>(r / outDims[1]);
-      float* out = B.data() + (kk * nyo + oy) * nxo;
-      std::fill(out, out + nxo, 0.0f);
-      const float* w = ky.Weights.data() + ky.Offset[oy];
-      for (int t = 0; t < ky.Count[oy]; ++t) {
-        const float* in = A.data() + (kk * inDims[1] + static_cast<size_t>(ky.First[oy] + t)) * nxo;
-        const float wt = w[t];
-        for (size_t x = 0; x < nxo; ++x) out[x] += wt * in[x];
+  std::unique_ptr<float[]> B(new float[nxo * nyo * static_cast<size_t>(inDims[2])]);
+  vtkSMPThreadLocal<std::vector<float>> sliceA;
+  vtkSMPTools::For(0, inDims[2], [&](vtkIdType k0, vtkIdType k1) {
+    std::vector<float>& A = sliceA.Local();
+    A.resize(nxo * static_cast<size_t>(inDims[1]));
+    std::vector<float> row(static_cast<size_t>(inDims[0]));
+    for (vtkIdType kk = k0; kk < k1; ++kk) {
+      for (int jj = 0; jj < inDims[1]; ++jj) {
+        const T* in = voxels + (static_cast<size_t>(b.Lo[2] + kk) * dims[1] + (b.Lo[1] + jj)) * dims[0] + b.Lo[0];
+        bool any = false;
+        for (int i = 0; i < inDims[0]; ++i) {
+          row[static_cast<size_t>(i)] = in[i] == value ? 1.0f : 0.0f;
+          any = any || in[i] == value;
+        }
+        float* out = A.data() + static_cast<size_t>(jj) * nxo;
+        if (!any) {
+          std::fill(out, out + nxo, 0.0f);
+          continue;
+        }
+        for (size_t o = 0; o < nxo; ++o) {
+          const float* w = kx.Weights.data() + kx.Offset[o];
+          const float* x = row.data() + kx.First[o];
+          float sum = 0;
+          for (int t = 0; t < kx.Count[o]; ++t) sum += w[t] * x[t];
+          out[o] = sum;
+        }
+      }
+      for (size_t oy = 0; oy < nyo; ++oy) {
+        float* out = B.get() + (static_cast<size_t>(kk) * nyo + oy) * nxo;
+        std::fill(out, out + nxo, 0.0f);
+        const float* w = ky.Weights.data() + ky.Offset[oy];
+        for (int t = 0; t < ky.Count[oy]; ++t) {
+          const float* in = A.data() + static_cast<size_t>(ky.First[oy] + t) * nxo;
+          const float wt = w[t];
+          for (size_t x = 0; x < nxo; ++x) out[x] += wt * in[x];
+        }
       }
     }
   });
-  std::vector<float>().swap(A);
   // Pass z: B → field[outX x outY x outZ].
   const size_t plane = nxo * nyo;
   vtkSMPTools::For(0, outDims[2], [&](vtkIdType z0, vtkIdType z1) {
@@ -252,7 +253,7 @@ void GaussianResample(const T* voxels, const int dims[3], long label, const Labe
       std::fill(out, out + plane, 0.0f);
       const float* w = kz.Weights.data() + kz.Offset[static_cast<size_t>(oz)];
       for (int t = 0; t < kz.Count[static_cast<size_t>(oz)]; ++t) {
-        const float* in = B.data() + static_cast<size_t>(kz.First[static_cast<size_t>(oz)] + t) * plane;
+        const float* in = B.get() + static_cast<size_t>(kz.First[static_cast<size_t>(oz)] + t) * plane;
         const float wt = w[t];
         for (size_t x = 0; x < plane; ++x) out[x] += wt * in[x];
       }
@@ -460,8 +461,10 @@ void FillStats(vtkPolyData* mesh, MeshStats& stats) {
   MeshVolumeAndArea(mesh, stats.MeshVolumeMm3, stats.AreaMm2);
   stats.VolumeErrorPercent =
       stats.LabelVolumeMm3 > 0 ? 100.0 * (stats.MeshVolumeMm3 - stats.LabelVolumeMm3) / stats.LabelVolumeMm3 : 0.0;
-  CountBadEdges(mesh, stats.BoundaryEdges, stats.NonManifoldEdges);
-  stats.NonManifoldVertices = CountNonManifoldVertices(mesh);
+  const MeshTopology topology = CountTopology(mesh);
+  stats.BoundaryEdges = topology.BoundaryEdges;
+  stats.NonManifoldEdges = topology.NonManifoldEdges;
+  stats.NonManifoldVertices = topology.NonManifoldVertices;
   stats.Watertight = stats.Triangles > 0 && stats.BoundaryEdges == 0 && stats.NonManifoldEdges == 0;
   stats.Manifold = stats.Watertight && stats.NonManifoldVertices == 0;
 }
@@ -596,6 +599,19 @@ bool DiscreteMesh(vtkImageData* labelmap, const vtkMatrix4x4* ijkToRAS, int labe
   return true;
 }
 
+// Sorted edge keys, one per use of an edge by a triangle: a run of one is a boundary edge, a run
+// of more than two a non-manifold edge.
+template <typename Key>
+void CountEdgeUses(const std::vector<Key>& sorted, long& boundary, long& nonManifold) {
+  for (size_t i = 0; i < sorted.size();) {
+    size_t j = i + 1;
+    while (j < sorted.size() && sorted[j] == sorted[i]) ++j;
+    if (j - i == 1) ++boundary;
+    else if (j - i > 2) ++nonManifold;
+    i = j;
+  }
+}
+
 void Decimate(vtkPolyData* mesh, double fraction, MeshStats& stats) {
   if (fraction <= 0) return;
   DecimationResult result;
@@ -626,39 +642,49 @@ void CountBadEdges(vtkPolyData* mesh, long& boundaryEdges, long& nonManifoldEdge
     }
   }
   vtkSMPTools::Sort(edges.begin(), edges.end());
-  for (size_t i = 0; i < edges.size();) {
-    size_t j = i + 1;
-    while (j < edges.size() && edges[j] == edges[i]) ++j;
-    if (j - i == 1) ++boundaryEdges;
-    else if (j - i > 2) ++nonManifoldEdges;
-    i = j;
-  }
+  CountEdgeUses(edges, boundaryEdges, nonManifoldEdges);
 }
 
-long CountNonManifoldVertices(vtkPolyData* mesh) {
-  // Per vertex, the edges opposite it in its triangles (its link): a closed fan is one cycle.
+long CountNonManifoldVertices(vtkPolyData* mesh) { return CountTopology(mesh).NonManifoldVertices; }
+
+MeshTopology CountTopology(vtkPolyData* mesh) {
+  // Per vertex, the edges opposite it in its triangles (its link): a closed fan is one cycle, and
+  // edge (v, w) lies in as many triangles as v's link has edges ending at w.
   const vtkIdType np = mesh->GetNumberOfPoints();
   vtkCellArray* polys = mesh->GetPolys();
   std::vector<vtkIdType> start(static_cast<size_t>(np) + 1, 0);
+  bool triangles = true;  // only triangles with three different corners: else edges the general way
   vtkIdType n;
   const vtkIdType* ids;
-  for (polys->InitTraversal(); polys->GetNextCell(n, ids);)
+  for (polys->InitTraversal(); polys->GetNextCell(n, ids);) {
+    if (n != 3 || ids[0] == ids[1] || ids[1] == ids[2] || ids[0] == ids[2]) triangles = false;
     if (n == 3)
       for (int k = 0; k < 3; ++k) ++start[static_cast<size_t>(ids[k]) + 1];
+  }
   for (size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
   std::vector<std::array<vtkIdType, 2>> link(static_cast<size_t>(start.back()));
   std::vector<vtkIdType> fill(start.begin(), start.end() - 1);
   for (polys->InitTraversal(); polys->GetNextCell(n, ids);)
     if (n == 3)
       for (int k = 0; k < 3; ++k) link[static_cast<size_t>(fill[static_cast<size_t>(ids[k])]++)] = {ids[(k + 1) % 3], ids[(k + 2) % 3]};
-  std::atomic<long> bad{0};
+  std::atomic<long> badVertices{0}, boundaryEdges{0}, nonManifoldEdges{0};
   vtkSMPTools::For(0, np, [&](vtkIdType v0, vtkIdType v1) {
     std::vector<std::array<vtkIdType, 2>> edges;
-    long local = 0;
+    std::vector<vtkIdType> ends;
+    long bad = 0, boundary = 0, nonManifold = 0;
     for (vtkIdType v = v0; v < v1; ++v) {
       const size_t b = static_cast<size_t>(start[static_cast<size_t>(v)]), e = static_cast<size_t>(start[static_cast<size_t>(v) + 1]);
       if (b == e) continue;
       edges.assign(link.begin() + static_cast<long>(b), link.begin() + static_cast<long>(e));
+      if (triangles) {
+        // Each edge (v, w) once, from its smaller end.
+        ends.clear();
+        for (const auto& edge : edges)
+          for (vtkIdType w : edge)
+            if (w > v) ends.push_back(w);
+        std::sort(ends.begin(), ends.end());
+        CountEdgeUses(ends, boundary, nonManifold);
+      }
       // Walk the cycle from the first edge: a single fan visits every edge.
       size_t visited = 1;
       vtkIdType first = edges[0][0], at = edges[0][1];
@@ -676,11 +702,18 @@ long CountNonManifoldVertices(vtkPolyData* mesh) {
         }
         if (!found || at == first) closed = true;
       }
-      if (at != first || visited != edges.size()) ++local;
+      if (at != first || visited != edges.size()) ++bad;
     }
-    bad += local;
+    badVertices += bad, boundaryEdges += boundary, nonManifoldEdges += nonManifold;
   });
-  return bad;
+  MeshTopology topology;
+  topology.NonManifoldVertices = badVertices;
+  if (triangles) {
+    topology.BoundaryEdges = boundaryEdges, topology.NonManifoldEdges = nonManifoldEdges;
+  } else {
+    CountBadEdges(mesh, topology.BoundaryEdges, topology.NonManifoldEdges);
+  }
+  return topology;
 }
 
 void MeshVolumeAndArea(vtkPolyData* mesh, double& volume, double& area) {

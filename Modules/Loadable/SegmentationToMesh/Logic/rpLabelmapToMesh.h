@@ -103,6 +103,13 @@ inline void TriangleCross(const double a[3], const double b[3], const double c[3
 void CountBadEdges(vtkPolyData* mesh, long& boundaryEdges, long& nonManifoldEdges);
 /// Vertices whose triangles do not form one closed fan (two sheets touching at a point).
 long CountNonManifoldVertices(vtkPolyData* mesh);
+struct MeshTopology {
+  long BoundaryEdges = 0, NonManifoldEdges = 0, NonManifoldVertices = 0;
+};
+/// All three counts in one parallel pass over every vertex's fan (the edges counted from both
+/// ends' fans instead of one global sort of every edge); the same numbers as CountBadEdges and
+/// CountNonManifoldVertices.
+MeshTopology CountTopology(vtkPolyData* mesh);
 /// Enclosed volume (mm³, positive for outward orientation) and area of a triangle mesh.
 void MeshVolumeAndArea(vtkPolyData* mesh, double& volume, double& area);
 

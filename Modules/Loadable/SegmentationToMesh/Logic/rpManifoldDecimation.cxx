@@ -186,9 +186,8 @@ class Decimator {
 bool DecimateManifold(vtkPolyData* mesh, long targetTriangles, double maxErrorMm, DecimationResult& result) {
   result = DecimationResult();
   if (!mesh || !mesh->GetPoints() || mesh->GetNumberOfPolys() == 0) return false;
-  long boundary = 0, nonManifold = 0;
-  CountBadEdges(mesh, boundary, nonManifold);
-  if (boundary || nonManifold || CountNonManifoldVertices(mesh) > 0) return false;
+  const MeshTopology topology = CountTopology(mesh);
+  if (topology.BoundaryEdges || topology.NonManifoldEdges || topology.NonManifoldVertices) return false;
   Decimator d;
   d.P.resize(static_cast<size_t>(mesh->GetNumberOfPoints()));
   for (vtkIdType i = 0; i < mesh->GetNumberOfPoints(); ++i) mesh->GetPoint(i, d.P[static_cast<size_t>(i)].data());

@@ -518,8 +518,8 @@ int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contex
     for (int a = 0; a < 3; ++a) build.Haptic.GridStep[a] = build.Display.GridStep[a];
   }
   progress.Report(0.2, "meshing");
-  // Each segment's files are written on a thread of their own while the next segment meshes
-  // (compressing a large mesh takes about as long as making it).
+  // Each model's file is written on a thread of its own as soon as the model is built, while
+  // the rest meshes (compressing a large mesh takes a good part of the time making it took).
   struct Written {
     bool Ok = true;
     std::string Error;
@@ -530,12 +530,16 @@ int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contex
   std::map<std::string, std::future<Written>> writes;  // by file path
   auto writeSegment = [&](const SegmentModels& m) {
     for (const auto& [model, suffix] : {std::pair{m.DisplayModel, ""}, std::pair{m.HapticModel, "_haptic"}}) {
-      if (!model) continue;
-      const std::string path = modelPath(m.SegmentID, suffix);
+      const std::string path = model ? modelPath(m.SegmentID, suffix) : std::string();
+      if (!model || writes.count(path)) continue;  // not built yet, or already being written
       vtkSmartPointer<vtkPolyData> mesh = model->GetPolyData();
       writes[path] = std::async(std::launch::async, [path, mesh] {
+        // A copy of its own: the display mesh is still read while the haptic mesh is made, and
+        // writing runs it through a VTK pipeline, which marks its input (update time, ranges).
+        auto own = vtkSmartPointer<vtkPolyData>::New();
+        own->DeepCopy(mesh);
         Written w;
-        w.Ok = WriteModelFile(path, mesh, w.Error);
+        w.Ok = WriteModelFile(path, own, w.Error);
         return w;
       });
     }

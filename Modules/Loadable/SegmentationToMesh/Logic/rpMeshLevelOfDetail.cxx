@@ -9,6 +9,7 @@
 #include <vector>
 
 #include <vtkCellArray.h>
+#include <vtkCellArrayIterator.h>
 #include <vtkMatrix4x4.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
@@ -37,9 +38,14 @@ TriangleMesh ToTriangleMesh(vtkPolyData* mesh) {
   const vtkIdType* ids;
   vtkCellArray* polys = mesh->GetPolys();
   t.Triangles.reserve(static_cast<size_t>(polys->GetNumberOfCells()));
-  for (polys->InitTraversal(); polys->GetNextCell(n, ids);)
+  // An iterator of its own, not the array's traversal cursor: the mesh may be written to a file
+  // on another thread meanwhile (read-only there too).
+  auto cells = vtk::TakeSmartPointer(polys->NewIterator());
+  for (cells->GoToFirstCell(); !cells->IsDoneWithTraversal(); cells->GoToNextCell()) {
+    cells->GetCurrentCell(n, ids);
     if (n == 3)
       t.Triangles.push_back({static_cast<int32_t>(ids[0]), static_cast<int32_t>(ids[1]), static_cast<int32_t>(ids[2])});
+  }
   return t;
 }
 }  // namespace

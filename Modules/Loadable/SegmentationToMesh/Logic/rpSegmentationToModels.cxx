@@ -73,6 +73,7 @@ std::vector<SegmentModels> BuildSegmentModels(vtkRPSegmentationNode* segmentatio
     }
     finished += 1;
     r.DisplayModel = makeModel(display, false);
+    if (done && options.MakeHaptic) done(r);
     if (options.MakeHaptic) {
       vtkNew<vtkPolyData> haptic;
       // The display mesh is the full-resolution surface when it has no target of its own and the

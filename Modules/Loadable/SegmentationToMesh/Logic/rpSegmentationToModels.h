@@ -36,8 +36,9 @@ struct SegmentModels {
 
 /// Builds the models of the requested segments; adds them to `scene` when given. A segment that
 /// fails (e.g. empty) is reported in its entry and the others are still built. `done` is called
-/// with each segment's entry as soon as it is built (e.g. to write its files while the next
-/// segment meshes; its meshes are not touched again here).
+/// with a segment's entry as soon as its display model is built (HapticModel still empty) and
+/// again when its haptic model is, e.g. to write each file while the rest meshes: a model's
+/// mesh is only read here after its call.
 std::vector<SegmentModels> BuildSegmentModels(vtkRPSegmentationNode* segmentation, const ModelBuildOptions& options,
                                               vtkRPScene* scene = nullptr, const ProgressCallback& progress = nullptr,
                                               const std::function<void(const SegmentModels&)>& done = nullptr);

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -269,4 +270,35 @@ TEST(LabelmapInput, FractionalBoundsOnIntegerImagesRoundInward) {
              " --input-kind intensity --lower 0.4 --upper 0.6 --no-haptic");
   EXPECT_EQ(run.Code, 1);
   EXPECT_NE(run.Err.find("no whole number"), std::string::npos) << run.Err;
+}
+
+TEST(LabelmapInput, ValueCountsMatchAVoxelByVoxelCount) {
+  // Runs of one value (counted 16 voxels at a time), noise between them, a tail shorter than a
+  // block; 8-bit and signed 16-bit voxels.
+  auto check = [](int type, auto sample) {
+    using T = decltype(sample);
+    vtkNew<vtkImageData> image;
+    image->SetDimensions(101, 37, 23);  // not a multiple of 16
+    image->AllocateScalars(type, 1);
+    auto* v = static_cast<T*>(image->GetScalarPointer());
+    const vtkIdType n = image->GetNumberOfPoints();
+    std::map<long, long> expected;
+    for (vtkIdType i = 0; i < n; ++i) {
+      const bool run = (i / 200) % 3 != 0;
+      v[i] = static_cast<T>(run ? (i / 600) % 4 : static_cast<long>((i * 7919) % 251) - (sizeof(T) > 1 ? 100 : 0));
+      ++expected[static_cast<long>(v[i])];
+    }
+    const rp::ImageValues values = rp::CollectImageValues(image, 10000);
+    ASSERT_EQ(values.Values.size(), expected.size());
+    size_t k = 0;
+    for (const auto& [value, count] : expected) {
+      EXPECT_EQ(values.Values[k], value);
+      EXPECT_EQ(values.Counts[k], count) << "value " << value;
+      ++k;
+    }
+    EXPECT_EQ(values.Min, static_cast<double>(expected.begin()->first));
+    EXPECT_EQ(values.Max, static_cast<double>(expected.rbegin()->first));
+  };
+  check(VTK_UNSIGNED_CHAR, static_cast<unsigned char>(0));
+  check(VTK_SHORT, static_cast<short>(0));
 }

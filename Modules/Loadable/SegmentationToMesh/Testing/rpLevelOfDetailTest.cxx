@@ -5,14 +5,17 @@
 // Also the edge-collapse decimation alone: closed manifold in, closed manifold out, at any target.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <random>
 
+#include <vtkCellArray.h>
 #include <vtkImageData.h>
 #include <vtkMatrix4x4.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
+#include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkSphereSource.h>
 #include <vtkTriangleFilter.h>
@@ -215,4 +218,78 @@ TEST(LevelOfDetail, EdgeCollapseKeepsAClosedManifoldAtAnyTarget) {
   const vtkIdType before = open->GetNumberOfPolys();
   EXPECT_FALSE(DecimateManifold(open, 10, 0, r));
   EXPECT_EQ(open->GetNumberOfPolys(), before);
+}
+
+namespace {
+// An octahedron (8 outward triangles on 6 corners), shifted by `offset` point ids.
+std::vector<std::array<vtkIdType, 3>> Octahedron(vtkIdType offset) {
+  std::vector<std::array<vtkIdType, 3>> t = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4},
+                                             {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+  for (auto& tri : t)
+    for (vtkIdType& id : tri) id += offset;
+  return t;
+}
+
+vtkSmartPointer<vtkPolyData> Mesh(vtkIdType points, const std::vector<std::vector<vtkIdType>>& cells) {
+  auto mesh = vtkSmartPointer<vtkPolyData>::New();
+  vtkNew<vtkPoints> p;
+  for (vtkIdType i = 0; i < points; ++i) p->InsertNextPoint(static_cast<double>(i), static_cast<double>(i * i % 7), 0.0);
+  mesh->SetPoints(p);
+  vtkNew<vtkCellArray> polys;
+  for (const auto& c : cells) polys->InsertNextCell(static_cast<vtkIdType>(c.size()), c.data());
+  mesh->SetPolys(polys);
+  return mesh;
+}
+
+std::vector<std::vector<vtkIdType>> Cells(const std::vector<std::array<vtkIdType, 3>>& triangles) {
+  std::vector<std::vector<vtkIdType>> cells;
+  for (const auto& t : triangles) cells.push_back({t[0], t[1], t[2]});
+  return cells;
+}
+}  // namespace
+
+TEST(Topology, OnePassCountsMatchKnownAnswersAndTheEdgeSort) {
+  struct Case {
+    const char* What;
+    vtkSmartPointer<vtkPolyData> Mesh;
+    long Boundary, NonManifoldEdges, NonManifoldVertices;
+  };
+  auto open = Octahedron(0);
+  open.pop_back();  // a triangular hole: 3 boundary edges, its 3 corners' fans open
+  auto bowTie = Octahedron(0);
+  for (const auto& t : Octahedron(5)) bowTie.push_back(t);  // two octahedra sharing point 5
+  std::vector<std::vector<vtkIdType>> fin = {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}};  // edge 0-1 in three
+  std::vector<std::vector<vtkIdType>> quad = {{0, 1, 2, 3}};                    // not triangles
+  std::vector<std::vector<vtkIdType>> degenerate = {{0, 1, 1}, {0, 1, 2}};      // a repeated corner
+  const std::vector<Case> cases = {
+      {"closed octahedron", Mesh(6, Cells(Octahedron(0))), 0, 0, 0},
+      {"octahedron with a hole", Mesh(6, Cells(open)), 3, 0, 3},
+      {"two octahedra touching at a point", Mesh(11, Cells(bowTie)), 0, 0, 1},
+      {"three triangles on one edge", Mesh(5, fin), 6, 1, 5},
+      {"one quad", Mesh(4, quad), 4, 0, 0},
+      {"a triangle with a repeated corner", Mesh(3, degenerate), 3, 1, 3},  // edge 0-1 counted 3 times
+  };
+  for (const auto& c : cases) {
+    const MeshTopology topology = CountTopology(c.Mesh);
+    EXPECT_EQ(topology.BoundaryEdges, c.Boundary) << c.What;
+    EXPECT_EQ(topology.NonManifoldEdges, c.NonManifoldEdges) << c.What;
+    EXPECT_EQ(topology.NonManifoldVertices, c.NonManifoldVertices) << c.What;
+    long boundary = -1, nonManifold = -1;
+    CountBadEdges(c.Mesh, boundary, nonManifold);
+    EXPECT_EQ(topology.BoundaryEdges, boundary) << c.What;
+    EXPECT_EQ(topology.NonManifoldEdges, nonManifold) << c.What;
+  }
+  // A large closed mesh: the same counts as the global edge sort, in parallel chunks.
+  vtkNew<vtkSphereSource> sphere;
+  sphere->SetThetaResolution(300);
+  sphere->SetPhiResolution(300);
+  vtkNew<vtkTriangleFilter> triangulate;
+  triangulate->SetInputConnection(sphere->GetOutputPort());
+  triangulate->Update();
+  const MeshTopology topology = CountTopology(triangulate->GetOutput());
+  long boundary = -1, nonManifold = -1;
+  CountBadEdges(triangulate->GetOutput(), boundary, nonManifold);
+  EXPECT_EQ(topology.BoundaryEdges, boundary);
+  EXPECT_EQ(topology.NonManifoldEdges, nonManifold);
+  EXPECT_EQ(topology.NonManifoldVertices, 0);
 }
