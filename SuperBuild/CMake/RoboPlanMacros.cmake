@@ -91,10 +91,14 @@ endmacro()
 
 # roboplan_set_test_run(<test> <timeout s> [<VAR=value>...]): the test's timeout (scaled by the
 # sanitizer's factor) and environment (with the sanitizer's), for every test, ours or plain add_test.
+# The factor also reaches the tests' own waits (ROBOPLAN_TEST_TIME_FACTOR, Testing/Support/rpTestTime.h).
 function(roboplan_set_test_run name timeout)
   math(EXPR timeout "${timeout} * ${ROBOPLAN_SANITIZER_TIMEOUT_FACTOR}")
   set_tests_properties(${name} PROPERTIES TIMEOUT ${timeout})
   set(environment ${ARGN} ${ROBOPLAN_SANITIZER_TEST_ENVIRONMENT})
+  if(ROBOPLAN_SANITIZER_TIMEOUT_FACTOR GREATER 1)
+    list(APPEND environment "ROBOPLAN_TEST_TIME_FACTOR=${ROBOPLAN_SANITIZER_TIMEOUT_FACTOR}")
+  endif()
   if(environment)
     set_tests_properties(${name} PROPERTIES ENVIRONMENT "${environment}")
   endif()
