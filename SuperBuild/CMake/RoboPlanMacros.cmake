@@ -16,10 +16,11 @@ endfunction()
 
 # ROBOPLAN_SANITIZE: address, undefined, address,undefined (both in one build) or thread. Sets
 # ROBOPLAN_SANITIZER_FLAGS (also for sub-builds of other projects) and applies them to every target,
-# and ROBOPLAN_SANITIZER_TEST_ENVIRONMENT for every test (roboplan_add_test; plain add_test() calls
-# add it themselves). UBSan reports stay recoverable in the binaries so that the suppressions for
-# third-party headers work (an unrecoverable report cannot be suppressed); the tests' halt_on_error=1
-# still stops at the first report that is not suppressed.
+# and ROBOPLAN_SANITIZER_TEST_ENVIRONMENT and ROBOPLAN_SANITIZER_TIMEOUT_FACTOR for every test
+# (roboplan_set_test_run, which roboplan_add_test calls; plain add_test() calls call it themselves).
+# UBSan reports stay recoverable in the binaries so that the suppressions for third-party headers
+# work (an unrecoverable report cannot be suppressed); the tests' halt_on_error=1 still stops at
+# the first report that is not suppressed.
 macro(roboplan_setup_sanitizer)
   set(ROBOPLAN_SANITIZER_FLAGS "")
   if(ROBOPLAN_SANITIZE STREQUAL "address")
@@ -46,6 +47,15 @@ macro(roboplan_setup_sanitizer)
       "LSAN_OPTIONS=suppressions=${_support}/lsan.supp:print_suppressions=0"
       "UBSAN_OPTIONS=suppressions=${_support}/ubsan.supp:print_stacktrace=1:halt_on_error=1"
       "TSAN_OPTIONS=suppressions=${_support}/tsan.supp:halt_on_error=1:second_deadlock_stack=1")
+    # TSan intercepts pthread create/join/mutex/condvar even inside the uninstrumented VTK and ITK,
+    # but not the futex waits of TBB's scheduler or of the std::future ITK's pool hands work back
+    # through, so with the default back-ends it reports their workers' writes as races with the
+    # caller. Under TSan both toolkits use back-ends built on std::thread/pthread whose joins it sees:
+    # ITK's PlatformMultiThreader and VTK's STDThread SMP back-end (compiled into Debian's VTK 9.1).
+    if(ROBOPLAN_SANITIZE STREQUAL "thread")
+      list(APPEND ROBOPLAN_SANITIZER_TEST_ENVIRONMENT
+        "ITK_GLOBAL_DEFAULT_THREADER=Platform" "VTK_SMP_BACKEND_IN_USE=STDThread")
+    endif()
     # GUI tests under LeakSanitizer: Mesa's GLX vendor library and its DRI driver are unloaded
     # when the display closes, before the leak check, so the driver's leaks have stacks in an
     # unknown module that lsan.supp cannot match (56-byte blocks reported from every GL test).
@@ -69,7 +79,30 @@ macro(roboplan_setup_sanitizer)
   else()
     set(ROBOPLAN_SANITIZER_TEST_ENVIRONMENT "")
   endif()
+  # Test timeouts are set for the plain build; TSan runs code 5-15x slower, ASan about 2x.
+  if(ROBOPLAN_SANITIZE STREQUAL "thread")
+    set(ROBOPLAN_SANITIZER_TIMEOUT_FACTOR 4)
+  elseif(ROBOPLAN_SANITIZER_FLAGS)
+    set(ROBOPLAN_SANITIZER_TIMEOUT_FACTOR 2)
+  else()
+    set(ROBOPLAN_SANITIZER_TIMEOUT_FACTOR 1)
+  endif()
 endmacro()
+
+# roboplan_set_test_run(<test> <timeout s> [<VAR=value>...]): the test's timeout (scaled by the
+# sanitizer's factor) and environment (with the sanitizer's), for every test, ours or plain add_test.
+# The factor also reaches the tests' own waits (ROBOPLAN_TEST_TIME_FACTOR, Testing/Support/rpTestTime.h).
+function(roboplan_set_test_run name timeout)
+  math(EXPR timeout "${timeout} * ${ROBOPLAN_SANITIZER_TIMEOUT_FACTOR}")
+  set_tests_properties(${name} PROPERTIES TIMEOUT ${timeout})
+  set(environment ${ARGN} ${ROBOPLAN_SANITIZER_TEST_ENVIRONMENT})
+  if(ROBOPLAN_SANITIZER_TIMEOUT_FACTOR GREATER 1)
+    list(APPEND environment "ROBOPLAN_TEST_TIME_FACTOR=${ROBOPLAN_SANITIZER_TIMEOUT_FACTOR}")
+  endif()
+  if(environment)
+    set_tests_properties(${name} PROPERTIES ENVIRONMENT "${environment}")
+  endif()
+endfunction()
 
 # roboplan_add_library(<name> [STATIC|SHARED] SOURCES ... [PUBLIC_LIBS ...] [PRIVATE_LIBS ...])
 # Include directory is the calling folder.
@@ -120,11 +153,8 @@ function(roboplan_add_test name)
   if(NOT A_TIMEOUT)
     set(A_TIMEOUT 300)
   endif()
-  set_tests_properties(${name} PROPERTIES LABELS "${A_LABELS}" TIMEOUT ${A_TIMEOUT})
-  list(APPEND A_ENVIRONMENT ${ROBOPLAN_SANITIZER_TEST_ENVIRONMENT})
-  if(A_ENVIRONMENT)
-    set_tests_properties(${name} PROPERTIES ENVIRONMENT "${A_ENVIRONMENT}")
-  endif()
+  set_tests_properties(${name} PROPERTIES LABELS "${A_LABELS}")
+  roboplan_set_test_run(${name} ${A_TIMEOUT} ${A_ENVIRONMENT})
 endfunction()
 
 # roboplan_add_benchmark(<name> SOURCES ... LIBS ...)

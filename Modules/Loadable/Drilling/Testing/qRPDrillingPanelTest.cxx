@@ -24,6 +24,7 @@
 #include <vtkPolyData.h>
 
 #include "qRPDrillingPanel.h"
+#include "rpTestTime.h"
 #include "vtkRPDrillingLogic.h"
 #include "vtkRPModelNode.h"
 #include "vtkRPScene.h"
@@ -94,7 +95,8 @@ TEST(DrillingPanel, BuildDrillUndoProtectedResetPicture) {
   ASSERT_GT(pointsBefore, 100);
 
   auto pump = [&](double seconds, const std::function<bool()>& until = nullptr) {
-    const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+    const auto end =
+        std::chrono::steady_clock::now() + std::chrono::duration<double>(rptest::WaitSeconds(seconds));
     while (std::chrono::steady_clock::now() < end) {
       app.processEvents();
       panel->Update();
