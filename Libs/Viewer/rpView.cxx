@@ -8,6 +8,7 @@
 #include <vtkCallbackCommand.h>
 #include <vtkCamera.h>
 #include <vtkCoordinate.h>
+#include <vtkCullerCollection.h>
 #include <vtkLineSource.h>
 #include <vtkMath.h>
 #include <vtkMatrix4x4.h>
@@ -64,9 +65,13 @@ View::View(ViewKind kind, vtkRPScene* scene, vtkRPViewState* state, const SliceV
     : Kind(kind), Scene(scene), State(state), Slices(slices) {
   this->Renderer->SetLayer(0);
   this->Overlay->SetLayer(1);
+  // What moves is a few props, all in view: the frustum culler asked every one for its bounds
+  // each frame (a pipeline update each), about a millisecond of a slice view's frame.
+  this->Overlay->GetCullers()->RemoveAllItems();
   this->Overlay->InteractiveOff();
   this->Overlay->SetActiveCamera(this->Renderer->GetActiveCamera());
   if (this->IsSlice()) {
+    this->Renderer->GetCullers()->RemoveAllItems();  // the picture alone
     this->Renderer->SetBackground(0, 0, 0);
     this->Renderer->GetActiveCamera()->ParallelProjectionOn();
     this->Managers.push_back(vtkSmartPointer<vtkRPVolumeSliceDisplayableManager>::New());

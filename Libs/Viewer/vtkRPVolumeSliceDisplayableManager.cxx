@@ -1,11 +1,19 @@
 #include "vtkRPVolumeSliceDisplayableManager.h"
 
+#include <algorithm>
+
 #include <vtkActor.h>
+#include <vtkAlgorithm.h>
+#include <vtkAlgorithmOutput.h>
 #include <vtkCallbackCommand.h>
+#include <vtkCamera.h>
+#include <vtkDataArray.h>
+#include <vtkImageData.h>
 #include <vtkMatrix4x4.h>
 #include <vtkNew.h>
 #include <vtkObjectFactory.h>
 #include <vtkOpenGLShaderProperty.h>
+#include <vtkPointData.h>
 #include <vtkPolyDataMapper.h>
 #include <vtkPlaneSource.h>
 #include <vtkProperty.h>
@@ -13,15 +21,17 @@
 #include <vtkShader.h>
 #include <vtkTexture.h>
 
+#include "rpPictureResample.h"
 #include "rpView.h"
 #include "vtkRPSliceLogic.h"
 #include "vtkRPSliceNode.h"
+#include "vtkRPViewportImageActor.h"
 
 vtkStandardNewMacro(vtkRPVolumeSliceDisplayableManager);
 
-// One slice node's picture in this view: a quad in plane coordinates, placed by the plane's
-// matrix, textured with the RGBA picture as it is (no copy: the slice views used to draw the
-// colours through an image actor, which copied and converted the picture twice per frame).
+// One slice node's picture in this view. In 3D a quad in plane coordinates, placed by the
+// plane's matrix, textured with the RGBA picture as it is. In a slice view the picture
+// resampled onto the view's pixels (Screen), put into the framebuffer as it is (ScreenActor).
 struct vtkRPVolumeSliceDisplayableManager::Picture {
   vtkRPSliceLogic* Logic = nullptr;
   unsigned long Tag = 0;
@@ -29,6 +39,10 @@ struct vtkRPVolumeSliceDisplayableManager::Picture {
   vtkNew<vtkPolyDataMapper> QuadMapper;
   vtkNew<vtkTexture> Texture;
   vtkNew<vtkActor> QuadActor;
+  vtkNew<vtkImageData> Screen;
+  vtkNew<vtkRPViewportImageActor> ScreenActor;
+  // What Screen was resampled from: the picture's time, the viewport's size, the pixel map.
+  double ScreenKey[9] = {-1, 0, 0, 0, 0, 0, 0, 0, 0};
 };
 
 vtkRPVolumeSliceDisplayableManager::vtkRPVolumeSliceDisplayableManager() {
@@ -50,57 +64,135 @@ void vtkRPVolumeSliceDisplayableManager::OnInitialize() {
   for (vtkRPSliceLogic* logic : logics) {
     auto* picture = new Picture;
     picture->Logic = logic;
+    this->Pictures.push_back(picture);
     if (logic) picture->Tag = logic->AddObserver(vtkCommand::ModifiedEvent, this->LogicCallback);
+    if (view->IsSlice()) {
+      picture->ScreenActor->SetInputData(picture->Screen);
+      view->GetRenderer()->AddViewProp(picture->ScreenActor);
+      this->UpdatePicture(*picture);
+      continue;
+    }
     if (logic) picture->Texture->SetInputConnection(logic->GetOutputPort());
     picture->Texture->InterpolateOn();
     picture->Texture->SetColorModeToDirectScalars();
     picture->QuadMapper->SetInputConnection(picture->Quad->GetOutputPort());
-    // Slice views show the colours on black (the alpha, the patient mask, is ignored). In 3D the
-    // air is cut away rather than blended: discarded fragments write no depth, so the three
+    // The air is cut away rather than blended: discarded fragments write no depth, so the three
     // planes and the models behind them are drawn correctly without sorting or peeling.
     vtkOpenGLShaderProperty::SafeDownCast(picture->QuadActor->GetShaderProperty())
         ->AddShaderReplacement(vtkShader::Fragment, "//VTK::TCoord::Impl", true,
-                               view->IsSlice() ? "//VTK::TCoord::Impl\n  gl_FragData[0].a = 1.0;\n"
-                                               : "//VTK::TCoord::Impl\n  if (gl_FragData[0].a < 0.5) { discard; }\n",
-                               false);
+                               "//VTK::TCoord::Impl\n  if (gl_FragData[0].a < 0.5) { discard; }\n", false);
     picture->QuadActor->SetMapper(picture->QuadMapper);
     picture->QuadActor->SetTexture(picture->Texture);
     picture->QuadActor->ForceOpaqueOn();
     picture->QuadActor->GetProperty()->LightingOff();
     picture->QuadActor->GetProperty()->SetAmbient(1.0);
     picture->QuadActor->GetProperty()->SetDiffuse(0.0);
-    if (view->IsSlice()) picture->QuadActor->PickableOff();
     if (logic) picture->QuadActor->SetUserMatrix(logic->GetPlaneToRAS());
-    // A slice view's image is its layer 0; in 3D the slices move with the slice point, so they
-    // are drawn with what moves (layer 1), over the models' kept picture.
-    this->LayerOf(view)->AddViewProp(picture->QuadActor);
-    this->Pictures.push_back(picture);
+    // The slices move with the slice point, so they are drawn with what moves (layer 1), over
+    // the models' kept picture.
+    view->GetOverlayRenderer()->AddViewProp(picture->QuadActor);
     this->UpdatePicture(*picture);
+  }
+  // A slice view makes its screen picture when it renders: the camera and size are known then,
+  // and many slice moves between two frames cost one resampling.
+  if (view->IsSlice()) {
+    this->RenderCallback->SetClientData(this);
+    this->RenderCallback->SetCallback([](vtkObject*, unsigned long, void* clientData, void*) {
+      auto* self = static_cast<vtkRPVolumeSliceDisplayableManager*>(clientData);
+      for (Picture* picture : self->Pictures) self->UpdateScreenPicture(*picture);
+    });
+    this->RenderTarget = view->GetRenderer();
+    this->RenderTag = this->RenderTarget->AddObserver(vtkCommand::StartEvent, this->RenderCallback);
   }
 }
 
-vtkRenderer* vtkRPVolumeSliceDisplayableManager::LayerOf(rp::View* view) {
-  return view->IsSlice() ? view->GetRenderer() : view->GetOverlayRenderer();
+// The picture resampled at the slice view's pixels. Pixel (i, j)'s centre is a point of the
+// plane (the slice camera looks along the normal with a parallel projection); its place in the
+// picture follows from the plane's coordinates, the picture's first pixel and its spacing.
+void vtkRPVolumeSliceDisplayableManager::UpdateScreenPicture(Picture& picture) {
+  vtkRPSliceLogic* logic = picture.Logic;
+  vtkRenderer* renderer = this->RenderTarget;
+  if (!logic || !renderer || !picture.ScreenActor->GetVisibility()) return;
+  vtkAlgorithm* producer = logic->GetOutputPort()->GetProducer();
+  producer->Update();
+  vtkImageData* source = vtkImageData::SafeDownCast(producer->GetOutputDataObject(0));
+  int width = 0, height = 0, x0 = 0, y0 = 0;
+  renderer->GetTiledSizeAndOrigin(&width, &height, &x0, &y0);
+  vtkCamera* camera = renderer->GetActiveCamera();
+  if (!source || width <= 0 || height <= 0) return;
+  // Display pixel centre → normalized device coordinates → RAS → plane → picture pixel.
+  vtkNew<vtkMatrix4x4> worldToDevice, deviceToWorld, rasToPlane;
+  worldToDevice->DeepCopy(camera->GetCompositeProjectionTransformMatrix(renderer->GetTiledAspectRatio(), -1, 1));
+  vtkMatrix4x4::Invert(worldToDevice, deviceToWorld);
+  vtkMatrix4x4::Invert(logic->GetPlaneToRAS(), rasToPlane);
+  const double* bounds = logic->GetPlaneBounds();
+  const double spacing = logic->GetPixelSpacing();
+  auto pictureIndex = [&](double i, double j, double uv[2]) {
+    const double device[4] = {2.0 * (i + 0.5) / width - 1.0, 2.0 * (j + 0.5) / height - 1.0, 0.0, 1.0};
+    double ras[4], plane[4];
+    deviceToWorld->MultiplyPoint(device, ras);
+    for (int k = 0; k < 3; ++k) ras[k] /= ras[3];
+    rasToPlane->MultiplyPoint(ras, plane);
+    uv[0] = (plane[0] - bounds[0]) / spacing;
+    uv[1] = (plane[1] - bounds[2]) / spacing;
+  };
+  rp::PixelMap map;
+  double alongI[2], alongJ[2];
+  pictureIndex(0, 0, map.Origin);
+  pictureIndex(1, 0, alongI);
+  pictureIndex(0, 1, alongJ);
+  for (int c = 0; c < 2; ++c) {
+    map.AlongI[c] = alongI[c] - map.Origin[c];
+    map.AlongJ[c] = alongJ[c] - map.Origin[c];
+  }
+  // The same picture at the same pixels: nothing to do (a tool moving in the view, say). The
+  // map, not the camera's time, decides: the camera is set again whenever the slice node is.
+  const double key[9] = {double(source->GetMTime()), double(width), double(height), map.Origin[0], map.Origin[1],
+                         map.AlongI[0], map.AlongI[1], map.AlongJ[0], map.AlongJ[1]};
+  if (std::equal(key, key + 9, picture.ScreenKey)) return;
+  std::copy(key, key + 9, picture.ScreenKey);
+  int dims[3];
+  picture.Screen->GetDimensions(dims);
+  if (dims[0] != width || dims[1] != height || !picture.Screen->GetPointData()->GetScalars()) {
+    picture.Screen->SetDimensions(width, height, 1);
+    picture.Screen->AllocateScalars(VTK_UNSIGNED_CHAR, 4);
+  }
+  source->GetDimensions(dims);
+  vtkDataArray* colours = source->GetPointData()->GetScalars();
+  const bool usable = colours && colours->GetNumberOfComponents() == 4 && colours->GetDataType() == VTK_UNSIGNED_CHAR;
+  rp::ResampleOpaqueRGBA(usable ? static_cast<const unsigned char*>(colours->GetVoidPointer(0)) : nullptr, dims[0], dims[1],
+                         map, static_cast<unsigned char*>(picture.Screen->GetScalarPointer()), width, height);
+  picture.Screen->GetPointData()->GetScalars()->Modified();
+  picture.Screen->Modified();
 }
 
 void vtkRPVolumeSliceDisplayableManager::OnFinalize() {
   rp::View* view = this->GetView();
+  if (this->RenderTarget) this->RenderTarget->RemoveObserver(this->RenderTag);
+  this->RenderTarget = nullptr;
   for (Picture* picture : this->Pictures) {
     if (picture->Logic) picture->Logic->RemoveObserver(picture->Tag);
-    if (view) this->LayerOf(view)->RemoveViewProp(picture->QuadActor);
+    if (view) view->GetOverlayRenderer()->RemoveViewProp(picture->QuadActor);
+    if (view) view->GetRenderer()->RemoveViewProp(picture->ScreenActor);
     delete picture;
   }
   this->Pictures.clear();
 }
 
 vtkActor* vtkRPVolumeSliceDisplayableManager::GetSliceActor(int i) const {
-  if (i < 0 || i >= static_cast<int>(this->Pictures.size())) return nullptr;
+  if (this->RenderTarget || i < 0 || i >= static_cast<int>(this->Pictures.size())) return nullptr;
   return this->Pictures[static_cast<size_t>(i)]->QuadActor;
+}
+
+vtkRPViewportImageActor* vtkRPVolumeSliceDisplayableManager::GetScreenPictureActor() const {
+  return this->RenderTarget && !this->Pictures.empty() ? this->Pictures[0]->ScreenActor.GetPointer() : nullptr;
 }
 
 int vtkRPVolumeSliceDisplayableManager::GetNumberOfVisibleSlices() const {
   int visible = 0;
-  for (Picture* picture : this->Pictures) visible += picture->QuadActor->GetVisibility() ? 1 : 0;
+  for (Picture* picture : this->Pictures) {
+    visible += (this->RenderTarget ? picture->ScreenActor->GetVisibility() : picture->QuadActor->GetVisibility()) ? 1 : 0;
+  }
   return visible;
 }
 
@@ -123,7 +215,12 @@ void vtkRPVolumeSliceDisplayableManager::UpdatePicture(Picture& picture) {
   const bool hasImage = logic && logic->HasImage();
   vtkRPSliceNode* node = logic ? logic->GetSliceNode() : nullptr;
   // A slice view always shows its picture; the 3D view where the node says "show in 3D".
-  const bool visible = hasImage && (this->GetView()->IsSlice() || (node && node->GetSliceVisible()));
+  if (this->GetView()->IsSlice()) {
+    picture.ScreenActor->SetVisibility(hasImage);
+    picture.QuadActor->SetVisibility(false);
+    return;
+  }
+  const bool visible = hasImage && node && node->GetSliceVisible();
   picture.QuadActor->SetVisibility(visible);
   if (!visible) return;
   // The quad covers the picture's pixels (centres ± half a pixel), in plane coordinates.

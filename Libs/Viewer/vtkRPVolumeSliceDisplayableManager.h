@@ -1,13 +1,17 @@
 #ifndef vtkRPVolumeSliceDisplayableManager_h
 #define vtkRPVolumeSliceDisplayableManager_h
 // Scalar volumes as their slice nodes show them (the pictures come from vtkRPSliceLogic, one per
-// slice node, shared by every view), each as a textured quad: in a slice view, the node's
-// picture on its plane (colours on black); in the 3D view, every slice node's picture placed in RAS where the node's
-// SliceVisible is on, drawn only where there is patient (air is cut away, so the models behind
-// show through) and depth-tested as opaque geometry, so the three planes cross correctly; in 3D
-// they are drawn with what moves (layer 1), so the models' picture is kept while they move.
+// slice node, shared by every view). In a slice view, the node's picture resampled onto the
+// view's pixels when it renders (colours on black) and copied into the framebuffer as it is
+// (vtkRPViewportImageActor): a software rasterizer spent more on a textured quad covering the
+// view than on the rest of the view. In the 3D view, every slice node's picture as a textured
+// quad placed in RAS where the node's SliceVisible is on, drawn only where there is patient (air
+// is cut away, so the models behind show through) and depth-tested as opaque geometry, so the
+// three planes cross correctly; drawn with what moves (layer 1), so the models' picture is kept
+// while they move.
 #include <vector>
 
+#include <vtkNew.h>
 #include <vtkSmartPointer.h>
 
 #include "vtkRPDisplayableManager.h"
@@ -16,6 +20,7 @@ class vtkActor;
 class vtkCallbackCommand;
 class vtkRenderer;
 class vtkRPSliceLogic;
+class vtkRPViewportImageActor;
 namespace rp {
 class View;
 }
@@ -25,9 +30,11 @@ class vtkRPVolumeSliceDisplayableManager : public vtkRPDisplayableManager {
   static vtkRPVolumeSliceDisplayableManager* New();
   vtkTypeMacro(vtkRPVolumeSliceDisplayableManager, vtkRPDisplayableManager);
 
-  /// The textured quad of picture i: in a slice view its one picture (i = 0); in 3D slice
-  /// node i's (0 axial/Red, 1 sagittal/Yellow, 2 coronal/Green).
+  /// 3D: the textured quad of slice node i's picture (0 axial/Red, 1 sagittal/Yellow, 2
+  /// coronal/Green); nullptr in a slice view.
   vtkActor* GetSliceActor(int i) const;
+  /// A slice view: its picture at the view's pixels; nullptr in 3D.
+  vtkRPViewportImageActor* GetScreenPictureActor() const;
   /// Pictures shown (one in a slice view, three in 3D) that have an image.
   int GetNumberOfVisibleSlices() const;
 
@@ -49,11 +56,14 @@ class vtkRPVolumeSliceDisplayableManager : public vtkRPDisplayableManager {
   struct Picture;
   static void OnLogicModified(vtkObject* caller, unsigned long, void* clientData, void*);
   void UpdatePicture(Picture& picture);
-  /// The renderer the pictures go to: a slice view's layer 0, the 3D view's layer 1.
-  static vtkRenderer* LayerOf(rp::View* view);
+  void UpdateScreenPicture(Picture& picture);
 
   std::vector<Picture*> Pictures;
   vtkSmartPointer<vtkCallbackCommand> LogicCallback;
+  // A slice view's layer 0, observed to make the screen picture as it starts rendering.
+  vtkNew<vtkCallbackCommand> RenderCallback;
+  vtkRenderer* RenderTarget = nullptr;
+  unsigned long RenderTag = 0;
 };
 
 #endif

@@ -44,6 +44,7 @@
 #include "vtkRPToolDisplayableManager.h"
 #include "vtkRPTrackedToolNode.h"
 #include "vtkRPViewState.h"
+#include "vtkRPViewportImageActor.h"
 #include "vtkRPVolumeSliceDisplayableManager.h"
 
 using namespace rp;
@@ -72,6 +73,27 @@ void SampleSlice(vtkRPSliceLogic* logic, const double ras[3], unsigned char rgba
   for (int c = 0; c < 4; ++c) rgba[c] = pixel[c];
 }
 
+// An offscreen window for one view, no multisampling (pixels are compared exactly).
+vtkSmartPointer<vtkRenderWindow> OffscreenWindow(int width, int height) {
+  auto window = vtkSmartPointer<vtkRenderWindow>::New();
+  window->SetOffScreenRendering(1);
+  window->SetMultiSamples(0);
+  window->SetSize(width, height);
+  return window;
+}
+
+// The RGB of the window pixel where a RAS point lands in a view.
+void PixelAt(View* view, vtkRenderWindow* window, const double ras[3], unsigned char rgb[3]) {
+  double display[2];
+  view->RASToDisplay(ras, display);
+  const int x = static_cast<int>(display[0]), y = static_cast<int>(display[1]);
+  const int* size = window->GetSize();
+  ASSERT_TRUE(x >= 0 && x < size[0] && y >= 0 && y < size[1]) << "the point is outside the window";
+  unsigned char* data = window->GetPixelData(x, y, x, y, 1);
+  std::copy(data, data + 3, rgb);
+  delete[] data;
+}
+
 }  // namespace
 
 TEST(ViewerDisplayableManagers, VolumeSlicesFollowTheSlicePointAndWindowLevel) {
@@ -92,7 +114,8 @@ TEST(ViewerDisplayableManagers, VolumeSlicesFollowTheSlicePointAndWindowLevel) {
   EXPECT_EQ(axialManager->GetNumberOfVisibleSlices(), 1);
   vtkRPSliceLogic* axial = controller.GetSliceLogic(ViewKind::Axial);
   EXPECT_TRUE(axial->HasImage());
-  EXPECT_EQ(axialManager->GetSliceActor(0)->GetUserMatrix(), axial->GetPlaneToRAS());
+  EXPECT_NE(axialManager->GetScreenPictureActor(), nullptr);  // drawn at the view's pixels
+  EXPECT_EQ(axialManager->GetSliceActor(0), nullptr);
   // The plane passes through the slice point: SliceToRAS translation is the S offset.
   EXPECT_NEAR(axial->GetPlaneToRAS()->GetElement(2, 3), test::Center[2], 1e-9);
 
@@ -152,6 +175,59 @@ TEST(ViewerDisplayableManagers, VolumeSlicesFollowTheSlicePointAndWindowLevel) {
   EXPECT_EQ(controller.GetBackgroundVolume(), nullptr);
   EXPECT_EQ(axialManager->GetNumberOfVisibleSlices(), 0);
   EXPECT_EQ(threeD->GetNumberOfVisibleSlices(), 0);
+}
+
+// A slice view draws its picture resampled at its own pixels (vtkRPViewportImageActor): the
+// pixel under a RAS point shows the picture's colour there, in a viewport that does not start at
+// the window's corner, after a zoom and a pan too; black where the plane leaves the volume; a
+// render with nothing changed re-uses the uploaded picture.
+TEST(ViewerDisplayableManagers, TheSliceViewShowsItsPictureAtItsOwnPixels) {
+  vtkNew<vtkRPScene> scene;
+  ViewController controller(scene);
+  scene->AddNode(test::MakeVolume());
+  auto window = OffscreenWindow(400, 260);
+  const double right[4] = {0.5, 0, 1, 1};
+  View* view = controller.GetView(ViewKind::Axial);
+  view->AttachToRenderWindow(window, right);
+  view->ResetCamera();
+  window->Render();
+  auto* manager = view->GetDisplayableManager<vtkRPVolumeSliceDisplayableManager>();
+  ASSERT_NE(manager, nullptr);
+  vtkRPViewportImageActor* actor = manager->GetScreenPictureActor();
+  ASSERT_NE(actor, nullptr);
+  vtkRPSliceLogic* axial = controller.GetSliceLogic(ViewKind::Axial);
+
+  auto pixelAt = [&](const double ras[3], unsigned char rgb[3]) {
+    double display[2];
+    view->RASToDisplay(ras, display);
+    ASSERT_GE(display[0], 200) << "the point is not in the view's viewport (the window's right half)";
+    PixelAt(view, window, ras, rgb);
+  };
+  const double ball[3] = {test::Center[0] + 5, test::Center[1] - 4, test::Center[2]};
+  const double tissue[3] = {test::Center[0] + 30, test::Center[1] + 30, test::Center[2]};  // in view after the zoom
+  // Beyond the volume (±40 mm in A), inside the view, off the crosshair (which passes the centre).
+  const double air[3] = {test::Center[0] + 20, test::Center[1] + 45, test::Center[2]};
+  for (int pass = 0; pass < 2; ++pass) {
+    for (const double* ras : {ball, tissue}) {
+      unsigned char expected[4] = {0, 0, 0, 0}, shown[3] = {0, 0, 0};
+      SampleSlice(axial, ras, expected);
+      pixelAt(ras, shown);
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(shown[c], expected[c], 2.0) << "pass " << pass << " channel " << c;
+    }
+    unsigned char shown[3] = {1, 1, 1};
+    pixelAt(air, shown);
+    EXPECT_EQ(shown[0] + shown[1] + shown[2], 0) << "pass " << pass;
+    // Zoomed in and panned: the same points, at other pixels, the same colours.
+    const double pan[3] = {-3.0, 4.0, 0.0};
+    view->Zoom(1.3);
+    view->Pan(pan);
+    window->Render();
+  }
+  const int uploads = actor->GetNumberOfUploads();
+  window->Render();  // nothing changed
+  EXPECT_EQ(actor->GetNumberOfUploads(), uploads);
+  EXPECT_GT(actor->GetNumberOfDraws(), 2);
+  view->DetachFromRenderWindow();
 }
 
 TEST(ViewerDisplayableManagers, ForegroundBlendsOverBackground) {
@@ -538,10 +614,7 @@ TEST(ViewerDisplayableManagers, The3DViewKeepsTheModelsPictureWhileAToolMoves) {
   tool->SetAttribute("Viewer.GlyphRadius", "6");
   tool->SetAttribute("Viewer.Color", "1,0,0");
   scene->AddNode(tool);
-  vtkNew<vtkRenderWindow> window;
-  window->SetOffScreenRendering(1);
-  window->SetMultiSamples(0);
-  window->SetSize(240, 240);
+  auto window = OffscreenWindow(240, 240);
   const double full[4] = {0, 0, 1, 1};
   View* view = controller.GetView(ViewKind::ThreeD);
   view->AttachToRenderWindow(window, full);
@@ -550,15 +623,7 @@ TEST(ViewerDisplayableManagers, The3DViewKeepsTheModelsPictureWhileAToolMoves) {
   ASSERT_NE(models, nullptr);
   ASSERT_TRUE(view->GetModelLayerCaching());
 
-  // The pixel (RGB) where a RAS point lands, from the window's picture.
-  auto pixelAt = [&](const double ras[3], unsigned char rgb[3]) {
-    double display[2];
-    view->RASToDisplay(ras, display);
-    const int x = static_cast<int>(display[0]), y = static_cast<int>(display[1]);
-    unsigned char* data = window->GetPixelData(x, y, x, y, 1);
-    std::copy(data, data + 3, rgb);
-    delete[] data;
-  };
+  auto pixelAt = [&](const double ras[3], unsigned char rgb[3]) { PixelAt(view, window, ras, rgb); };
   auto moveTool = [&](const double ras[3]) {
     vtkNew<vtkMatrix4x4> pose;
     for (int a = 0; a < 3; ++a) pose->SetElement(a, 3, ras[a]);

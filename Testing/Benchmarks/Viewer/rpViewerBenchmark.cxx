@@ -26,12 +26,15 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <iostream>
 #include <memory>
 #include <string>
 #include <thread>
 #include <vector>
+
+#include <time.h>
 
 #include <nlohmann/json.hpp>
 #include <vtkActor.h>
@@ -72,6 +75,13 @@ namespace {
 constexpr int ViewWidth = 700, ViewHeight = 550;  // the 4-up at 1400 × 1100
 constexpr double StrokeSeconds = 8.0;
 constexpr double DisplayPeriod = 1.0 / 30.0;
+
+// CPU time (ms) of the calling thread, or of the whole process (llvmpipe's threads included).
+double CpuMs(clockid_t clock) {
+  timespec t{};
+  clock_gettime(clock, &t);
+  return 1e3 * double(t.tv_sec) + 1e-6 * double(t.tv_nsec);
+}
 
 double Seconds() {
   const char* text = std::getenv("ROBOPLAN_VIEWER_BENCH_SECONDS");
@@ -311,6 +321,9 @@ struct Run {
   double Seconds = 0;
   std::array<double, 4> ViewMeanMs{};  // mean render time of each view (axial, sagittal, coronal, 3D)
   double SceneMs = 0, PicturesMs = 0;  // summed: servo state into the scene; slice pictures
+  // Summed over the frames: CPU time of the main thread and of the whole process. Beside the
+  // frame time they tell whether a frame is work (CPU busy) or waiting (for llvmpipe, X).
+  double MainCpuMs = 0, ProcessCpuMs = 0, FrameSumMs = 0;
 };
 std::vector<Run> Runs;
 
@@ -334,7 +347,14 @@ void Report(benchmark::State& state, const Run& run) {
             << run.ModelLayerCopies << "; per view (ms) axial " << run.ViewMeanMs[0] << ", sagittal "
             << run.ViewMeanMs[1] << ", coronal " << run.ViewMeanMs[2] << ", 3D " << run.ViewMeanMs[3]
             << "; per frame: scene update " << run.SceneMs / std::max<size_t>(1, run.FrameMs.size()) << " ms, slice pictures "
-            << run.PicturesMs / std::max<size_t>(1, run.FrameMs.size()) << " ms\n";
+            << run.PicturesMs / std::max<size_t>(1, run.FrameMs.size()) << " ms";
+  if (run.FrameSumMs > 0) {
+    // The haptic servo thread's CPU is in the process time too (about 1 ms of each 1 ms tick
+    // when it spins; it sleeps here), so this is an upper bound of the rendering's CPU.
+    std::cerr << "; main thread busy " << 100.0 * run.MainCpuMs / run.FrameSumMs << " % of the frame time, process CPU "
+              << run.ProcessCpuMs / run.FrameSumMs << " cores";
+  }
+  std::cerr << "\n";
 }
 
 // Naive: every update pushed and all four views rendered at full detail, back to back.
@@ -403,6 +423,7 @@ void BM_Viewer4Up_DisplayRate(benchmark::State& state) {
       next += std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(DisplayPeriod));
       std::this_thread::sleep_until(next);
       const auto t0 = Clock::now();
+      const double main0 = CpuMs(CLOCK_THREAD_CPUTIME_ID), process0 = CpuMs(CLOCK_PROCESS_CPUTIME_ID);
       rig->Session->Update();
       const auto tScene = Clock::now();
       // The slice pictures (re-sliced only where the plane moved); rendering would do it anyway,
@@ -416,6 +437,9 @@ void BM_Viewer4Up_DisplayRate(benchmark::State& state) {
       rig->WaitForFrame();
       const auto t1 = Clock::now();
       if (rendered == 0) continue;
+      run.MainCpuMs += CpuMs(CLOCK_THREAD_CPUTIME_ID) - main0;
+      run.ProcessCpuMs += CpuMs(CLOCK_PROCESS_CPUTIME_ID) - process0;
+      run.FrameSumMs += std::chrono::duration<double, std::milli>(t1 - t0).count();
       run.SceneMs += std::chrono::duration<double, std::milli>(tScene - t0).count();
       run.PicturesMs += std::chrono::duration<double, std::milli>(tPictures - tScene).count();
       run.FrameMs.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
@@ -470,6 +494,15 @@ void BM_Viewer4Up_Breakdown(benchmark::State& state) {
       std::vector<double> allTimes;
       for (int i = 0; i < 15; ++i) allTimes.push_back(once());
       const double all = median(allTimes);
+      // A slice view whose slice moves (one step back and forth): its picture re-sliced before
+      // the clock starts, so the time is the view's own (resampling, outlines, text, drawing).
+      auto moving = [&]() {
+        vtkRPSliceLogic* logic = rig->Controller->GetSliceLogic(static_cast<rp::ViewKind>(kind));
+        static int step = 0;
+        rig->Controller->MoveSlice(static_cast<rp::ViewKind>(kind), (step++ % 2) ? 1 : -1);
+        logic->GetOutputPort()->GetProducer()->Update();
+        return once();
+      };
       nlohmann::json entry = {{"allMs", all}};
       std::vector<vtkRenderer*> renderers = {view->GetRenderer()};
       if (view->GetOverlayRenderer() != view->GetRenderer()) renderers.push_back(view->GetOverlayRenderer());
@@ -492,30 +525,41 @@ void BM_Viewer4Up_Breakdown(benchmark::State& state) {
         entry["emptyMs"] = median(empty);
         std::cerr << "[viewer-bench] " << names[kind] << ": nothing drawn " << median(empty) << " ms\n";
       }
-      for (vtkRenderer* renderer : renderers) {
-        vtkPropCollection* props = renderer->GetViewProps();
-        props->InitTraversal();
-        std::vector<vtkProp*> list;
-        while (vtkProp* prop = props->GetNextProp()) list.push_back(prop);
-        for (vtkProp* prop : list) {
-          if (!prop->GetVisibility()) continue;
-          std::vector<double> with, without;
-          for (int i = 0; i < 9; ++i) {
-            with.push_back(once());
-            prop->VisibilityOff();
-            without.push_back(once());
-            prop->VisibilityOn();
-          }
-          const double saved = median(with) - median(without);
-          std::string label = prop->GetClassName();
-          if (auto* actor = vtkActor::SafeDownCast(prop)) {
-            if (auto* poly = vtkPolyData::SafeDownCast(actor->GetMapper() ? actor->GetMapper()->GetInputDataObject(0, 0) : nullptr)) {
-              label += " (" + std::to_string(poly->GetNumberOfCells()) + " cells)";
+      // Each visible prop's cost: renders with it and without it, interleaved.
+      auto propCosts = [&](const std::function<double()>& render, const char* key, const char* when) {
+        for (vtkRenderer* renderer : renderers) {
+          vtkPropCollection* props = renderer->GetViewProps();
+          props->InitTraversal();
+          std::vector<vtkProp*> list;
+          while (vtkProp* prop = props->GetNextProp()) list.push_back(prop);
+          for (vtkProp* prop : list) {
+            if (!prop->GetVisibility()) continue;
+            std::vector<double> with, without;
+            for (int i = 0; i < 9; ++i) {
+              with.push_back(render());
+              prop->VisibilityOff();
+              without.push_back(render());
+              prop->VisibilityOn();
             }
+            const double saved = median(with) - median(without);
+            std::string label = prop->GetClassName();
+            if (auto* actor = vtkActor::SafeDownCast(prop)) {
+              if (auto* poly = vtkPolyData::SafeDownCast(actor->GetMapper() ? actor->GetMapper()->GetInputDataObject(0, 0) : nullptr)) {
+                label += " (" + std::to_string(poly->GetNumberOfCells()) + " cells)";
+              }
+            }
+            entry[key].push_back({{"prop", label}, {"savedMs", saved}});
+            if (saved > 0.3) std::cerr << "[viewer-bench] " << names[kind] << when << ": " << label << " costs " << saved << " ms\n";
           }
-          entry["props"].push_back({{"prop", label}, {"savedMs", saved}});
-          if (saved > 0.3) std::cerr << "[viewer-bench] " << names[kind] << ": " << label << " costs " << saved << " ms of " << all << "\n";
         }
+      };
+      propCosts(once, "props", "");
+      if (view->IsSlice()) {
+        std::vector<double> movingTimes;
+        for (int i = 0; i < 15; ++i) movingTimes.push_back(moving());
+        entry["movingMs"] = median(movingTimes);
+        std::cerr << "[viewer-bench] " << names[kind] << ": " << median(movingTimes) << " ms while its slice moves\n";
+        propCosts(moving, "propsMoving", " while its slice moves");
       }
       Breakdown[names[kind]] = entry;
       std::cerr << "[viewer-bench] " << names[kind] << ": " << all << " ms still\n";
@@ -523,6 +567,37 @@ void BM_Viewer4Up_Breakdown(benchmark::State& state) {
   }
 }
 
+// A frame in which all three slices move, without the haptic loop: the slices stepped, the
+// pictures re-sliced, the four views rendered. Beside the display-rate run's frames in which all
+// three move it tells what the 1 kHz servo thread costs the frame on two cores.
+void BM_Viewer4Up_MovingFrame(benchmark::State& state) {
+  Rig* rig = TheRig();
+  if (!rig) {
+    state.SkipWithError("no scene (see the message above)");
+    return;
+  }
+  std::vector<double> frames;
+  int step = 0;
+  for (auto _ : state) {
+    for (int i = 0; i < 40; ++i, ++step) {
+      const auto t0 = Clock::now();
+      for (int kind = 0; kind < 3; ++kind) rig->Controller->MoveSlice(static_cast<rp::ViewKind>(kind), step % 2 ? 1 : -1);
+      for (int kind = 0; kind < 3; ++kind) {
+        rig->Controller->GetSliceLogic(static_cast<rp::ViewKind>(kind))->GetOutputPort()->GetProducer()->Update();
+      }
+      for (int kind = 0; kind < 4; ++kind) rig->Submit(kind);
+      rig->WaitForFrame();
+      frames.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+    }
+  }
+  rig->TakeViewMeanMs();
+  const Percentiles p = Summarize(frames);
+  state.counters["p50_ms"] = p.P50;
+  state.counters["p95_ms"] = p.P95;
+  std::cerr << "[viewer-bench] all three slices moving, no haptic loop: p50 " << p.P50 << " ms, p95 " << p.P95 << " ms\n";
+}
+
+BENCHMARK(BM_Viewer4Up_MovingFrame)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Viewer4Up_Breakdown)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Viewer4Up_Naive)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Viewer4Up_DisplayRate)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
