@@ -3,8 +3,8 @@
 // something the renderer draws has changed — a prop shown or hidden, its redraw time (mapper
 // input, property, texture, matrix), the camera, a light, the viewport's size — renders the
 // props as usual (vtkRenderStepsPass) into a colour and a depth texture; every frame then copies
-// both into the window (colour by a blit, depth by VTK's depth-blit quad, as their formats
-// differ). The 3D view's models are still while a tool moves and the slices follow it: such a
+// both into the window by one framebuffer blit (the depth texture takes the window's depth
+// format for it; VTK's depth-blit quad where it cannot). The 3D view's models are still while a tool moves and the slices follow it: such a
 // frame costs the two copies instead of rasterizing every model again (on Mesa's llvmpipe the
 // knee's models took ~20 ms of a frame at their light level of detail), and the moving layer —
 // tools, the slices in 3D — is drawn on top by the next renderer, depth-tested against the kept
@@ -50,6 +50,8 @@ class vtkRPCachedRenderPass : public vtkDepthImageProcessingPass {
   vtkTextureObject* Depth = nullptr;
   std::vector<unsigned long long> Kept;  // the signature the textures were rendered with
   bool Valid = false;
+  bool DepthByBlit = false;       // the depth texture has the window's format: blit it
+  bool DepthBlitChecked = false;  // the first depth blit was checked for a GL error
   bool Caching = true;
   bool LastFrameRendered = false;
   int Renders = 0;
