@@ -102,9 +102,10 @@ void vtkRPCachedRenderPass::Render(const vtkRenderState* s) {
   this->NumberOfRenderedProps = 0;
   vtkRenderer* renderer = s->GetRenderer();
   auto* window = vtkOpenGLRenderWindow::SafeDownCast(renderer->GetRenderWindow());
-  if (!window || !this->DelegatePass || s->GetFrameBuffer() || window->GetMultiSamples() > 1) {
-    // Not an OpenGL window, rendered inside another pass's framebuffer, or a multisampled window
-    // (a blit into it from single-sampled textures is not allowed everywhere): no copies.
+  if (!this->Caching || !window || !this->DelegatePass || s->GetFrameBuffer() || window->GetMultiSamples() > 1) {
+    // Nothing kept, not an OpenGL window, rendered inside another pass's framebuffer, or a
+    // multisampled window (a blit into it from single-sampled textures is not allowed
+    // everywhere): the props straight into the window, no copies.
     if (this->DelegatePass) this->DelegatePass->Render(s);
     if (this->DelegatePass) this->NumberOfRenderedProps = this->DelegatePass->GetNumberOfRenderedProps();
     this->LastFrameRendered = true;
@@ -131,7 +132,7 @@ void vtkRPCachedRenderPass::Render(const vtkRenderState* s) {
     this->Framebuffer->SetContext(window);
   }
 
-  this->LastFrameRendered = !this->Caching || !this->Valid || Signature(s, width, height) != this->Kept;
+  this->LastFrameRendered = !this->Valid || Signature(s, width, height) != this->Kept;
   if (this->LastFrameRendered) {
     this->Framebuffer->SaveCurrentBindingsAndBuffers();
     this->RenderDelegate(s, width, height, width, height, this->Framebuffer, this->Color, this->Depth);
