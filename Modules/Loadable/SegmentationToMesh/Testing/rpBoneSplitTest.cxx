@@ -210,14 +210,18 @@ TEST(BoneSplit, CTTableCablesAndSpecksAreDropped) {
   EXPECT_GE(result.DroppedOutsideBody, 2) << "the table and the cable";
 }
 
-TEST(BoneSplit, SeedsNameBonesAndForceASplit) {
-  const SDF peanut = Union({Ball(-6, 0, 0, 12), Ball(6, 0, 0, 12)});
+// One peanut-shaped bone (two 12 mm balls 12 mm apart along R) in a 35 mm body, 1 mm voxels.
+static vtkSmartPointer<vtkRPScalarVolumeNode> PeanutCT() {
   Scene scene;
-  scene.Bones = {peanut};
+  scene.Bones = {Union({Ball(-6, 0, 0, 12), Ball(6, 0, 0, 12)})};
   scene.Body = Ball(0, 0, 0, 35);
   const int dims[3] = {60, 40, 40};
   const double origin[3] = {-30, -20, -20};
-  auto ct = MakeCT(scene, dims, origin);
+  return MakeCT(scene, dims, origin);
+}
+
+TEST(BoneSplit, SeedsNameBonesAndForceASplit) {
+  auto ct = PeanutCT();
   vtkNew<vtkRPSegmentationNode> bones;
   BoneSplitOptions options;
   BoneSplitResult result;
@@ -264,13 +268,7 @@ TEST(BoneSplit, SeedsNameBonesAndForceASplit) {
 // The split must not depend on VTK's SMP back-end: its TBB sort ordered the watershed's equal
 // distances unlike STDThread's and Sequential's (seeded lobes 6.36/5.36 ml against 6.39/5.32).
 TEST(BoneSplit, TheSplitIsTheSameOnEverySMPBackend) {
-  const SDF peanut = Union({Ball(-6, 0, 0, 12), Ball(6, 0, 0, 12)});
-  Scene scene;
-  scene.Bones = {peanut};
-  scene.Body = Ball(0, 0, 0, 35);
-  const int dims[3] = {60, 40, 40};
-  const double origin[3] = {-30, -20, -20};
-  auto ct = MakeCT(scene, dims, origin);
+  auto ct = PeanutCT();
   BoneSplitOptions options;
   options.Seeds = {{{-8, 0, 0}, "left lobe"}, {{8, 0, 0}, "right lobe"}};
   // TBB's scheduler waits on futexes ThreadSanitizer cannot see: not run under TSan.
