@@ -17,6 +17,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   clang libclang-rt-14-dev             # libFuzzer targets of every parser (ctest -L fuzz)
   xvfb xauth libgl1-mesa-dri libglx-mesa0  # offscreen rendering with Mesa's software OpenGL
+  gdb                                  # rpXvfbTeardownTest stages Xvfb's SIGTERM race with it
   snakemake                            # workflow/: cohorts, locally or on a cluster
   slurm-wlm munge                      # the workflow's Slurm test starts a one-node cluster
 )
