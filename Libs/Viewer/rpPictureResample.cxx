@@ -40,34 +40,44 @@ struct Taps {
 };
 
 // The usual case (the slice camera's axes are the plane's): weights per column and per row
-// computed once, each pixel four 32-bit reads and six 64-bit multiplies.
+// computed once, and the filter is separable. Each target row first mixes its two source rows
+// (one pass over the source columns it uses, in 16-bit lanes), then each pixel mixes two of
+// those: two reads and two 64-bit multiplies a pixel, where a 2×2 tap costs four and six.
 void ResampleAxisAligned(const std::uint32_t* source, int width, int height, const PixelMap& map,
                          std::uint32_t* target, int targetWidth, int targetHeight) {
   const Taps columns(targetWidth, map.Origin[0], map.AlongI[0], width);
   const Taps rows(targetHeight, map.Origin[1], map.AlongJ[1], height);
+  int firstColumn = width, lastColumn = -1;  // the source columns any target pixel reads
+  for (int i = 0; i < targetWidth; ++i) {
+    if (!columns.Inside[i]) continue;
+    firstColumn = std::min(firstColumn, columns.First[i]);
+    lastColumn = std::max(lastColumn, columns.Second[i]);
+  }
+  constexpr std::uint64_t Lanes = 0x00FF00FF00FF00FFull;
   vtkSMPTools::For(0, targetHeight, 32, [&](int firstRow, int endRow) {
+    std::vector<std::uint64_t> mixed(static_cast<size_t>(width));  // one target row's source row, mixed
     for (int j = firstRow; j < endRow; ++j) {
       std::uint32_t* out = target + static_cast<std::int64_t>(j) * targetWidth;
-      if (!rows.Inside[j]) {
+      if (!rows.Inside[j] || lastColumn < 0) {
         std::fill(out, out + targetWidth, Opaque);
         continue;
       }
       const std::uint32_t* bottom = source + static_cast<std::int64_t>(rows.First[j]) * width;
       const std::uint32_t* top = source + static_cast<std::int64_t>(rows.Second[j]) * width;
       const std::uint64_t wy = rows.Weight[j];
+      // Every lane stays below 2^16: 255·256 plus the rounding half.
+      for (int k = firstColumn; k <= lastColumn; ++k) {
+        mixed[static_cast<size_t>(k)] = ((Spread(bottom[k]) * (256 - wy) + Spread(top[k]) * wy + Half) >> 8) & Lanes;
+      }
       for (int i = 0; i < targetWidth; ++i) {
         if (!columns.Inside[i]) {
           out[i] = Opaque;
           continue;
         }
-        const int a = columns.First[i], b = columns.Second[i];
         const std::uint64_t wx = columns.Weight[i];
-        // Every lane stays below 2^16: 255·256 plus the rounding half.
-        const std::uint64_t low = Spread(bottom[a]) * (256 - wx) + Spread(bottom[b]) * wx + Half;
-        const std::uint64_t high = Spread(top[a]) * (256 - wx) + Spread(top[b]) * wx + Half;
-        const std::uint64_t mixed =
-            ((low >> 8) & 0x00FF00FF00FF00FFull) * (256 - wy) + ((high >> 8) & 0x00FF00FF00FF00FFull) * wy + Half;
-        out[i] = Gather((mixed >> 8) & 0x00FF00FF00FF00FFull) | Opaque;
+        const std::uint64_t sum = mixed[static_cast<size_t>(columns.First[i])] * (256 - wx) +
+                                  mixed[static_cast<size_t>(columns.Second[i])] * wx + Half;
+        out[i] = Gather((sum >> 8) & Lanes) | Opaque;
       }
     }
   });

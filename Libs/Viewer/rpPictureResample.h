@@ -1,6 +1,7 @@
 #pragma once
 // A slice picture resampled onto a view's pixel grid (what vtkRPVolumeSliceDisplayableManager
-// hands to vtkRPViewportImageActor): bilinear, in parallel over rows, no allocation.
+// hands to vtkRPViewportImageActor): bilinear, in parallel over rows; it allocates only its
+// per-call tables (a few kB), never per pixel.
 
 namespace rp {
 

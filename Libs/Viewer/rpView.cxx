@@ -104,6 +104,7 @@ View::View(ViewKind kind, vtkRPScene* scene, vtkRPViewState* state, const SliceV
     for (int i = 0; i < 2; ++i) {
       vtkNew<vtkPolyDataMapper> mapper;
       mapper->SetInputConnection(this->CrossLines[i]->GetOutputPort());
+      vtkRPDisplayableManager::SkipVertexShift(mapper);  // moves with the slice point
       this->CrossActors[i]->SetMapper(mapper);
       this->CrossActors[i]->PickableOff();
       this->CrossActors[i]->GetProperty()->SetLineWidth(1.0);  // opaque: no translucent pass per frame

@@ -1,6 +1,8 @@
 #include "vtkRPDisplayableManager.h"
 
 #include <vtkCallbackCommand.h>
+#include <vtkOpenGLPolyDataMapper.h>
+#include <vtkOpenGLVertexBufferObject.h>
 
 #include "rpView.h"
 #include "vtkRPNode.h"
@@ -25,6 +27,12 @@ vtkRPDisplayableManager::~vtkRPDisplayableManager() {
   this->SceneCallback->Delete();
   this->NodeCallback->Delete();
   this->StateCallback->Delete();
+}
+
+void vtkRPDisplayableManager::SkipVertexShift(vtkMapper* mapper) {
+  if (auto* gl = vtkOpenGLPolyDataMapper::SafeDownCast(mapper)) {
+    gl->SetVBOShiftScaleMethod(vtkOpenGLVertexBufferObject::DISABLE_SHIFT_SCALE);
+  }
 }
 
 vtkRPScene* vtkRPDisplayableManager::GetScene() const { return this->Scene; }

@@ -12,6 +12,7 @@
 #include <vtkWeakPointer.h>
 
 class vtkCallbackCommand;
+class vtkMapper;
 class vtkRPNode;
 class vtkRPScene;
 class vtkRPSliceNode;
@@ -31,6 +32,10 @@ class vtkRPDisplayableManager : public vtkObject {
   void Finalize();
 
   rp::View* GetView() const { return this->View; }
+  /// For geometry rebuilt while a tool moves (outlines, crosshair, slice quads), in mm near the
+  /// patient: VTK's automatic vertex shift-and-scale would find the points' range on every
+  /// upload (a parallel pass over a few thousand points: thread wake-ups, not arithmetic).
+  static void SkipVertexShift(vtkMapper* mapper);
   /// Interactive level of detail (the view is redrawn tick after tick): draw lighter if it helps.
   virtual void SetInteractive(bool interactive) { (void)interactive; }
   vtkRPScene* GetScene() const;

@@ -33,6 +33,7 @@ struct vtkRPModelSliceDisplayableManager::Outline {
   Outline() {
     this->Mapper->SetInputData(this->Lines);
     this->Mapper->ScalarVisibilityOff();
+    vtkRPDisplayableManager::SkipVertexShift(this->Mapper);  // re-cut whenever the slice moves
     this->Actor->SetMapper(this->Mapper);
     this->Actor->GetProperty()->SetLineWidth(2.0);
     this->Actor->GetProperty()->LightingOff();

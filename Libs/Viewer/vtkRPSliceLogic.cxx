@@ -7,14 +7,18 @@
 #include <vtkAlgorithmOutput.h>
 #include <vtkCallbackCommand.h>
 #include <vtkDataArray.h>
-#include <vtkImageBlend.h>
+#include <vtkImageAlgorithm.h>
 #include <vtkImageData.h>
-#include <vtkImageResliceToColors.h>
-#include <vtkLookupTable.h>
+#include <vtkInformation.h>
+#include <vtkInformationVector.h>
 #include <vtkMath.h>
 #include <vtkMatrix4x4.h>
 #include <vtkObjectFactory.h>
 #include <vtkPointData.h>
+#include <vtkSmartPointer.h>
+#include <vtkStreamingDemandDrivenPipeline.h>
+
+#include "rpSliceComposite.h"
 
 #include "vtkRPImageNode.h"
 #include "vtkRPScalarVolumeNode.h"
@@ -23,6 +27,88 @@
 #include "vtkRPSliceNode.h"
 
 vtkStandardNewMacro(vtkRPSliceLogic);
+
+// The picture as a pipeline source (what the views update lazily when they render): the layers
+// as the logic last set them, composited in one pass (rp::CompositeSlice). It keeps its own copy
+// of what it draws, so a view holding its output never reaches into a deleted logic.
+class vtkRPSlicePicture : public vtkImageAlgorithm {
+ public:
+  static vtkRPSlicePicture* New();
+  vtkTypeMacro(vtkRPSlicePicture, vtkImageAlgorithm);
+
+  struct Layer {
+    vtkSmartPointer<vtkImageData> Image;
+    double PlaneToIJK[3][4] = {};
+    bool Nearest = false;
+    std::vector<std::uint32_t> Colors;
+    double TableMin = 0, TableScale = 1, Opacity = 1;
+  };
+  std::vector<Layer> Layers;  // bottom first; set them, then Modified()
+  double Origin[2] = {0, 0};  // pixel (0, 0), plane coordinates
+  double Spacing = 1;
+  int Size[2] = {1, 1};
+  int Executions = 0;
+  rp::SliceLayoutCache Layouts;
+
+  // A volume's voxels changed in place count too.
+  vtkMTimeType GetMTime() override {
+    vtkMTimeType time = this->Superclass::GetMTime();
+    for (const Layer& layer : this->Layers) {
+      if (layer.Image) time = std::max(time, layer.Image->GetMTime());
+    }
+    return time;
+  }
+
+ protected:
+  vtkRPSlicePicture() { this->SetNumberOfInputPorts(0); }
+
+  int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector* outputs) override {
+    vtkInformation* info = outputs->GetInformationObject(0);
+    const int extent[6] = {0, this->Size[0] - 1, 0, this->Size[1] - 1, 0, 0};
+    info->Set(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent, 6);
+    info->Set(vtkDataObject::ORIGIN(), this->Origin[0], this->Origin[1], 0.0);
+    info->Set(vtkDataObject::SPACING(), this->Spacing, this->Spacing, 1.0);
+    vtkDataObject::SetPointDataActiveScalarInfo(info, VTK_UNSIGNED_CHAR, 4);
+    return 1;
+  }
+
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector* outputs) override {
+    vtkImageData* output = vtkImageData::GetData(outputs);
+    output->SetExtent(0, this->Size[0] - 1, 0, this->Size[1] - 1, 0, 0);
+    output->SetOrigin(this->Origin[0], this->Origin[1], 0);
+    output->SetSpacing(this->Spacing, this->Spacing, 1);
+    output->AllocateScalars(VTK_UNSIGNED_CHAR, 4);
+    std::vector<rp::SliceLayer> layers;
+    std::vector<const vtkImageData*> images;
+    for (const Layer& layer : this->Layers) {
+      rp::SliceLayer l = rp::SliceLayerOf(layer.Image, layer.PlaneToIJK, this->Origin, this->Spacing);
+      if (!l.Scalars || layer.Colors.empty()) continue;
+      l.Nearest = layer.Nearest;
+      l.Table = layer.Colors.data();
+      l.TableSize = static_cast<int>(layer.Colors.size());
+      l.TableMin = layer.TableMin;
+      l.TableScale = layer.TableScale;
+      l.Opacity = layer.Opacity;
+      this->Layouts.Apply(layer.Image, l);
+      images.push_back(layer.Image);
+      layers.push_back(l);
+    }
+    this->Layouts.Keep(images);
+    auto* picture = static_cast<std::uint32_t*>(output->GetScalarPointer());
+    if (layers.empty()) {
+      std::fill(picture, picture + static_cast<std::size_t>(this->Size[0]) * this->Size[1], 0u);
+    } else {
+      rp::CompositeSlice(layers.data(), static_cast<int>(layers.size()), this->Size[0], this->Size[1], picture);
+    }
+    ++this->Executions;
+    return 1;
+  }
+
+ private:
+  vtkRPSlicePicture(const vtkRPSlicePicture&) = delete;
+  void operator=(const vtkRPSlicePicture&) = delete;
+};
+vtkStandardNewMacro(vtkRPSlicePicture);
 
 namespace {
 
@@ -59,47 +145,49 @@ double MinSpacing(vtkRPScalarVolumeNode* volume) {
 }  // namespace
 
 struct vtkRPSliceLogic::Layer {
-  vtkNew<vtkImageResliceToColors> Reslice;
-  vtkNew<vtkLookupTable> Table;
+  vtkWeakPointer<vtkImageData> Image;
   vtkNew<vtkMatrix4x4> Axes;  // plane coordinates → volume IJK
+  bool Nearest = false;
+  std::vector<std::uint32_t> Colors;  // RGBA8: value v → entry (v − TableMin) · TableScale
+  double TableMin = 0, TableScale = 1;
   vtkWeakPointer<vtkRPImageNode> Volume;
   unsigned long Tags[2] = {0, 0};
   double TableKey[4] = {std::nan(""), 0, 0, 0};  // window, level, air threshold, background?
   vtkMTimeType ImageTime = 0;
   double AirThreshold = 0;
   vtkMTimeType AirThresholdImageTime = 0;
-  Layer() {
-    this->Reslice->SetOutputDimensionality(2);
-    this->Reslice->SetInterpolationModeToLinear();
-    this->Reslice->SetResliceAxes(this->Axes);
-    this->Reslice->SetLookupTable(this->Table);
-    this->Reslice->SetOutputFormatToRGBA();
-    this->Reslice->SetBackgroundColor(0, 0, 0, 0);  // outside the volume: transparent
-  }
 };
 
-vtkRPSliceLogic::vtkRPSliceLogic() {
+namespace {
+// RGBA in [0, 1] as an RGBA8 word (R first in memory), rounded as vtkLookupTable stores it.
+std::uint32_t PackColor(double r, double g, double b, double a) {
+  auto byte = [](double v) { return static_cast<std::uint32_t>(std::clamp(v, 0.0, 1.0) * 255.0 + 0.5); };
+  return byte(r) | byte(g) << 8 | byte(b) << 16 | byte(a) << 24;
+}
+}  // namespace
+
+vtkRPSliceLogic::vtkRPSliceLogic() : Picture(vtkRPSlicePicture::New()) {
   for (Layer*& layer : this->Layers) layer = new Layer;
-  this->Layers[2]->Reslice->SetInterpolationModeToNearestNeighbor();  // labels must not blend
-  this->Blend->SetBlendModeToNormal();  // keeps the first input's alpha: the patient mask
+  this->Layers[2]->Nearest = true;  // labels must not blend
   this->Callback->SetClientData(this);
   this->Callback->SetCallback(&vtkRPSliceLogic::OnEvent);
-  this->ResliceTag = this->Layers[0]->Reslice->AddObserver(vtkCommand::EndEvent, this->Callback);
 }
 
 vtkRPSliceLogic::~vtkRPSliceLogic() {
   this->SetSliceNode(nullptr, nullptr);
   this->ObserveLayers(nullptr, nullptr, nullptr);
-  this->Layers[0]->Reslice->RemoveObserver(this->ResliceTag);
   for (Layer* layer : this->Layers) delete layer;
+  this->Picture->Delete();
 }
 
 void vtkRPSliceLogic::PrintSelf(ostream& os, vtkIndent indent) {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "Visible: " << this->Visible << " Reslices: " << this->ResliceCount << "\n";
+  os << indent << "Visible: " << this->Visible << " Reslices: " << this->GetNumberOfReslices() << "\n";
 }
 
-vtkAlgorithmOutput* vtkRPSliceLogic::GetOutputPort() { return this->Blend->GetOutputPort(); }
+vtkAlgorithmOutput* vtkRPSliceLogic::GetOutputPort() { return this->Picture->GetOutputPort(); }
+
+int vtkRPSliceLogic::GetNumberOfReslices() const { return this->Picture->Executions; }
 
 void vtkRPSliceLogic::SetSliceNode(vtkRPScene* scene, vtkRPSliceNode* sliceNode) {
   if (this->SliceNode && this->SliceNodeTag) this->SliceNode->RemoveObserver(this->SliceNodeTag);
@@ -110,12 +198,8 @@ void vtkRPSliceLogic::SetSliceNode(vtkRPScene* scene, vtkRPSliceNode* sliceNode)
   this->Refresh();
 }
 
-void vtkRPSliceLogic::OnEvent(vtkObject* caller, unsigned long event, void* clientData, void*) {
+void vtkRPSliceLogic::OnEvent(vtkObject*, unsigned long, void* clientData, void*) {
   auto* self = static_cast<vtkRPSliceLogic*>(clientData);
-  if (event == vtkCommand::EndEvent && caller == self->Layers[0]->Reslice.GetPointer()) {
-    ++self->ResliceCount;
-    return;
-  }
   self->Refresh();
 }
 
@@ -185,8 +269,8 @@ double vtkRPSliceLogic::ComputeAirThreshold(vtkRPScalarVolumeNode* volume) {
 bool vtkRPSliceLogic::UpdateLayer(Layer& layer, vtkRPScalarVolumeNode* volume, bool isBackground) {
   bool changed = false;
   vtkImageData* image = volume->GetImageData();
-  if (layer.Reslice->GetInput() != image) {
-    layer.Reslice->SetInputData(image);
+  if (layer.Image != image) {
+    layer.Image = image;
     changed = true;
   }
   if (image->GetMTime() != layer.ImageTime) {
@@ -220,15 +304,15 @@ bool vtkRPSliceLogic::UpdateLayer(Layer& layer, vtkRPScalarVolumeNode* volume, b
       last = std::max(hi, layer.AirThreshold + margin);
     }
     const int entries = 1024;
-    layer.Table->SetNumberOfTableValues(entries);
-    layer.Table->SetTableRange(first, last);
+    layer.Colors.resize(entries);
+    layer.TableMin = first;
+    layer.TableScale = entries / (last - first);
     for (int k = 0; k < entries; ++k) {
       const double value = first + (k + 0.5) * (last - first) / entries;
       const double grey = std::clamp((value - lo) / window, 0.0, 1.0);
       const double alpha = !isBackground || value >= layer.AirThreshold ? 1.0 : 0.0;
-      layer.Table->SetTableValue(k, grey, grey, grey, alpha);
+      layer.Colors[static_cast<size_t>(k)] = PackColor(grey, grey, grey, alpha);
     }
-    layer.Table->Modified();
     changed = true;
   }
   return changed;
@@ -239,8 +323,8 @@ bool vtkRPSliceLogic::UpdateLayer(Layer& layer, vtkRPScalarVolumeNode* volume, b
 bool vtkRPSliceLogic::UpdateLabelLayer(Layer& layer, vtkRPSegmentationNode* segmentation) {
   bool changed = false;
   vtkImageData* labels = segmentation->GetImageData();
-  if (layer.Reslice->GetInput() != labels) {
-    layer.Reslice->SetInputData(labels);
+  if (layer.Image != labels) {
+    layer.Image = labels;
     changed = true;
   }
   if (labels->GetMTime() != layer.ImageTime) {
@@ -262,15 +346,15 @@ bool vtkRPSliceLogic::UpdateLabelLayer(Layer& layer, vtkRPSegmentationNode* segm
     int maxLabel = 0;
     for (const auto& segment : segmentation->GetSegments()) maxLabel = std::max(maxLabel, segment.LabelValue);
     const int entries = std::min(maxLabel, 65535) + 1;
-    layer.Table->SetNumberOfTableValues(entries);
-    layer.Table->SetTableRange(-0.5, entries - 0.5);  // value v → entry v
-    for (int i = 0; i < entries; ++i) layer.Table->SetTableValue(i, 0, 0, 0, 0);
+    layer.Colors.assign(static_cast<size_t>(entries), 0u);
+    layer.TableMin = -0.5;  // value v → entry v
+    layer.TableScale = 1.0;
     for (const auto& segment : segmentation->GetSegments()) {
       if (segment.LabelValue > 0 && segment.LabelValue < entries) {
-        layer.Table->SetTableValue(segment.LabelValue, segment.Color[0], segment.Color[1], segment.Color[2], 1.0);
+        layer.Colors[static_cast<size_t>(segment.LabelValue)] =
+            PackColor(segment.Color[0], segment.Color[1], segment.Color[2], 1.0);
       }
     }
-    layer.Table->Modified();
     changed = true;
   }
   return changed;
@@ -335,41 +419,45 @@ void vtkRPSliceLogic::Refresh() {
   vtkRPScalarVolumeNode* volumes[2] = {background, foreground};
   for (int i = 0; i < 3; ++i) {
     if (!used[i]) continue;
-    Layer& layer = *used[i];
-    if (i < 2 ? this->UpdateLayer(layer, volumes[i], i == 0) : this->UpdateLabelLayer(layer, label)) changed = true;
-    double previousOrigin[3], previousSpacing[3];
-    int previousExtent[6];
-    layer.Reslice->GetOutputOrigin(previousOrigin);
-    layer.Reslice->GetOutputSpacing(previousSpacing);
-    layer.Reslice->GetOutputExtent(previousExtent);
-    if (previousOrigin[0] != xmin || previousOrigin[1] != ymin || previousSpacing[0] != spacing ||
-        previousExtent[1] != nx - 1 || previousExtent[3] != ny - 1 || previousExtent[0] != 0 || previousExtent[2] != 0) {
-      layer.Reslice->SetOutputOrigin(xmin, ymin, 0);
-      layer.Reslice->SetOutputSpacing(spacing, spacing, 1);
-      layer.Reslice->SetOutputExtent(0, nx - 1, 0, ny - 1, 0, 0);
-    }
+    if (i < 2 ? this->UpdateLayer(*used[i], volumes[i], i == 0) : this->UpdateLabelLayer(*used[i], label)) changed = true;
   }
-  // Blend inputs: the background, the foreground over it, the labels over both, each with the
-  // node's opacity (the output keeps the background's alpha: the patient mask).
-  std::vector<vtkAlgorithmOutput*> inputs;
-  std::vector<double> opacities;
+  // The background, the foreground over it, the labels over both, each with the node's opacity
+  // (the picture keeps the background's alpha: the patient mask).
+  std::vector<vtkRPSlicePicture::Layer> layers;
   for (int i = 0; i < 3; ++i) {
     if (!used[i]) continue;
-    inputs.push_back(used[i]->Reslice->GetOutputPort());
-    opacities.push_back(i == 0 ? 1.0 : i == 1 ? node->GetForegroundOpacity() : node->GetLabelOpacity());
+    const Layer& layer = *used[i];
+    vtkRPSlicePicture::Layer drawn;
+    drawn.Image = layer.Image.GetPointer();
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 4; ++c) drawn.PlaneToIJK[r][c] = layer.Axes->GetElement(r, c);
+    drawn.Nearest = layer.Nearest;
+    drawn.TableMin = layer.TableMin;
+    drawn.TableScale = layer.TableScale;
+    drawn.Opacity = i == 0 ? 1.0 : i == 1 ? node->GetForegroundOpacity() : node->GetLabelOpacity();
+    layers.push_back(std::move(drawn));
   }
-  bool sameInputs = this->Blend->GetNumberOfInputConnections(0) == static_cast<int>(inputs.size());
-  for (size_t i = 0; i < inputs.size() && sameInputs; ++i) sameInputs = this->Blend->GetInputConnection(0, static_cast<int>(i)) == inputs[i];
-  if (!sameInputs) {
-    this->Blend->RemoveAllInputs();
-    for (vtkAlgorithmOutput* input : inputs) this->Blend->AddInputConnection(input);
+  vtkRPSlicePicture* picture = this->Picture;
+  if (layers.size() != picture->Layers.size()) changed = true;
+  for (size_t i = 0; i < layers.size() && !changed; ++i) {
+    const auto& a = layers[i];
+    const auto& b = picture->Layers[i];
+    changed = a.Image != b.Image || a.Opacity != b.Opacity || a.Nearest != b.Nearest;
+  }
+  if (picture->Origin[0] != xmin || picture->Origin[1] != ymin || picture->Spacing != spacing ||
+      picture->Size[0] != nx || picture->Size[1] != ny) {
     changed = true;
   }
-  for (size_t i = 1; i < opacities.size(); ++i) {
-    if (this->Blend->GetOpacity(static_cast<int>(i)) != opacities[i]) {
-      this->Blend->SetOpacity(static_cast<int>(i), opacities[i]);
-      changed = true;
-    }
+  if (!changed) return;
+  for (size_t i = 0, k = 0; i < 3; ++i) {
+    if (used[i]) layers[k++].Colors = used[i]->Colors;
   }
-  if (changed) this->Modified();
+  picture->Layers = std::move(layers);
+  picture->Origin[0] = xmin;
+  picture->Origin[1] = ymin;
+  picture->Spacing = spacing;
+  picture->Size[0] = nx;
+  picture->Size[1] = ny;
+  picture->Modified();
+  this->Modified();
 }

@@ -2,9 +2,10 @@
 #define vtkRPSliceLogic_h
 // The picture of one slice node, computed once for every view that draws it (Slicer's
 // vtkMRMLSliceLogic + vtkMRMLSliceLayerLogic): the background and foreground volumes re-sliced
-// on the node's plane straight to colours (vtkImageResliceToColors: one pass, no float image),
-// the foreground blended over the background with the node's opacity, and the label layer (a
-// segmentation, nearest neighbour, in its segments' colours) over both with the label opacity.
+// on the node's plane straight to colours, the foreground blended over the background with the
+// node's opacity, and the label layer (a segmentation, nearest neighbour, in its segments'
+// colours) over both with the label opacity — all in one pass per pixel (rp::CompositeSlice),
+// where VTK's way is a vtkImageResliceToColors per layer and a vtkImageBlend.
 // Compositing here, not with translucent actors, keeps the views' rendering opaque (a
 // translucent prop costs a full-screen order-independent-transparency pass per frame).
 //
@@ -22,13 +23,13 @@
 
 class vtkAlgorithmOutput;
 class vtkCallbackCommand;
-class vtkImageBlend;
 class vtkMatrix4x4;
 class vtkRPImageNode;
 class vtkRPScalarVolumeNode;
 class vtkRPScene;
 class vtkRPSegmentationNode;
 class vtkRPSliceNode;
+class vtkRPSlicePicture;
 
 class vtkRPSliceLogic : public vtkObject {
  public:
@@ -52,7 +53,7 @@ class vtkRPSliceLogic : public vtkObject {
   /// In-plane size of a picture pixel (mm).
   double GetPixelSpacing() const { return this->PixelSpacing; }
   /// Times the re-slicing actually ran (tests and benchmarks: "re-slice only what changed").
-  int GetNumberOfReslices() const { return this->ResliceCount; }
+  int GetNumberOfReslices() const;
 
   /// The value under which a volume is air (transparent in 3D): −400 HU for a CT (its values go
   /// below −900), else 10 % of the way from the 1st to the 99th percentile.
@@ -82,15 +83,13 @@ class vtkRPSliceLogic : public vtkObject {
   vtkWeakPointer<vtkRPSliceNode> SliceNode;
   unsigned long SliceNodeTag = 0;
   Layer* Layers[3];  // background, foreground, label
-  vtkNew<vtkImageBlend> Blend;
+  vtkRPSlicePicture* Picture;  // the pipeline source the views update (owned)
   vtkNew<vtkMatrix4x4> PlaneToRAS;
   vtkNew<vtkCallbackCommand> Callback;
   double PlaneBounds[4] = {0, 0, 0, 0};
   double PixelSpacing = 1.0;
   bool Visible = false;
   bool SliceVisible = true;  // the node's "show in 3D", so the 3D view hears when it changes
-  int ResliceCount = 0;
-  unsigned long ResliceTag = 0;
 };
 
 #endif

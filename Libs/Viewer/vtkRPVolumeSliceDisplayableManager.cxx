@@ -76,6 +76,7 @@ void vtkRPVolumeSliceDisplayableManager::OnInitialize() {
     picture->Texture->InterpolateOn();
     picture->Texture->SetColorModeToDirectScalars();
     picture->QuadMapper->SetInputConnection(picture->Quad->GetOutputPort());
+    SkipVertexShift(picture->QuadMapper);  // moves with its slice
     // The air is cut away rather than blended: discarded fragments write no depth, so the three
     // planes and the models behind them are drawn correctly without sorting or peeling.
     vtkOpenGLShaderProperty::SafeDownCast(picture->QuadActor->GetShaderProperty())
