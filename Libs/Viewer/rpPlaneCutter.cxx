@@ -5,6 +5,8 @@
 
 #include <vtkCellArray.h>
 #include <vtkCellArrayIterator.h>
+#include <vtkFloatArray.h>
+#include <vtkIdTypeArray.h>
 #include <vtkIdList.h>
 #include <vtkMath.h>
 #include <vtkPoints.h>
@@ -78,7 +80,8 @@ vtkIdType PlaneCutter::Cut(const double normalIn[3], double offset, vtkPolyData*
   vtkNew<vtkCellArray> lines;
   double normal[3] = {normalIn[0], normalIn[1], normalIn[2]};
   const double length = vtkMath::Normalize(normal);
-  if (!this->Input || length <= 0 || !std::isfinite(offset)) {
+  vtkPoints* meshPoints = this->Input ? this->Input->GetPoints() : nullptr;
+  if (!meshPoints || length <= 0 || !std::isfinite(offset)) {
     output->SetPoints(points);
     output->SetLines(lines);
     return 0;
@@ -90,40 +93,61 @@ vtkIdType PlaneCutter::Cut(const double normalIn[3], double offset, vtkPolyData*
   if (!sameNormal || this->BuiltTime != this->MeshTime()) {
     this->Build(normal);
   }
-  vtkPoints* meshPoints = this->Input->GetPoints();
-  if (!this->Buckets.empty() && meshPoints) {
-    const double position = (offset - this->Lowest) / this->BucketWidth;
-    if (position >= 0 && position <= double(this->Buckets.size())) {
-      const size_t bucket = std::min(this->Buckets.size() - 1, static_cast<size_t>(position));
-      for (vtkIdType t : this->Buckets[bucket]) {
-        const auto& tri = this->Triangles[static_cast<size_t>(t)];
-        double d[3];
-        for (int v = 0; v < 3; ++v) d[v] = this->Projection[static_cast<size_t>(tri[v])] - offset;
-        // The segment joins the crossings of the edges whose ends lie on opposite sides.
-        double ends[2][3];
-        int found = 0;
-        for (int e = 0; e < 3 && found < 2; ++e) {
-          const int i = e, j = (e + 1) % 3;
-          if ((d[i] < 0) == (d[j] < 0)) continue;
-          double p[3], q[3];
-          meshPoints->GetPoint(tri[i], p);
-          meshPoints->GetPoint(tri[j], q);
-          const double s = d[i] / (d[i] - d[j]);
-          for (int c = 0; c < 3; ++c) ends[found][c] = p[c] + s * (q[c] - p[c]);
-          ++found;
-        }
-        if (found < 2) continue;
-        const vtkIdType a = points->InsertNextPoint(ends[0]);
-        const vtkIdType b = points->InsertNextPoint(ends[1]);
-        const vtkIdType segment[2] = {a, b};
-        lines->InsertNextCell(2, segment);
-      }
-    }
+  const std::vector<vtkIdType>* bucket = nullptr;
+  const double position = this->Buckets.empty() ? -1 : (offset - this->Lowest) / this->BucketWidth;
+  if (position >= 0 && position <= double(this->Buckets.size())) {
+    bucket = &this->Buckets[std::min(this->Buckets.size() - 1, static_cast<size_t>(position))];
   }
+  // At most one segment a triangle of the bucket: the output is sized once and written in place
+  // (a slice view re-cuts every frame while a tool moves; inserting point by point cost more
+  // than the geometry). Float points are read directly, others through vtkPoints.
+  vtkNew<vtkFloatArray> coordinates;
+  coordinates->SetNumberOfComponents(3);
+  coordinates->SetNumberOfTuples(bucket ? 2 * static_cast<vtkIdType>(bucket->size()) : 0);
+  float* out = coordinates->GetPointer(0);
+  auto* floats = vtkFloatArray::FastDownCast(meshPoints->GetData());
+  const float* in = floats ? floats->GetPointer(0) : nullptr;
+  auto point = [&](vtkIdType id, double p[3]) {
+    if (in) {
+      for (int c = 0; c < 3; ++c) p[c] = in[3 * id + c];
+    } else {
+      meshPoints->GetPoint(id, p);
+    }
+  };
+  vtkIdType segments = 0;
+  for (size_t k = 0; bucket && k < bucket->size(); ++k) {
+    const auto& tri = this->Triangles[static_cast<size_t>((*bucket)[k])];
+    double d[3];
+    for (int v = 0; v < 3; ++v) d[v] = this->Projection[static_cast<size_t>(tri[v])] - offset;
+    // The segment joins the crossings of the edges whose ends lie on opposite sides.
+    int found = 0;
+    for (int e = 0; e < 3 && found < 2; ++e) {
+      const int i = e, j = (e + 1) % 3;
+      if ((d[i] < 0) == (d[j] < 0)) continue;
+      double p[3], q[3];
+      point(tri[i], p);
+      point(tri[j], q);
+      const double s = d[i] / (d[i] - d[j]);
+      float* end = out + 3 * (2 * segments + found);
+      for (int c = 0; c < 3; ++c) end[c] = static_cast<float>(p[c] + s * (q[c] - p[c]));
+      ++found;
+    }
+    if (found == 2) ++segments;
+  }
+  coordinates->SetNumberOfTuples(2 * segments);
+  points->SetData(coordinates);
+  vtkNew<vtkIdTypeArray> offsets, connectivity;
+  offsets->SetNumberOfTuples(segments + 1);
+  connectivity->SetNumberOfTuples(2 * segments);
+  vtkIdType* o = offsets->GetPointer(0);
+  vtkIdType* c = connectivity->GetPointer(0);
+  for (vtkIdType k = 0; k <= segments; ++k) o[k] = 2 * k;
+  for (vtkIdType k = 0; k < 2 * segments; ++k) c[k] = k;
+  lines->SetData(offsets, connectivity);
   output->SetPoints(points);
   output->SetLines(lines);
   output->Modified();
-  return lines->GetNumberOfCells();
+  return segments;
 }
 
 }  // namespace rp
