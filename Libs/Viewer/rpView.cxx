@@ -33,6 +33,7 @@
 #include "vtkRPSliceNode.h"
 #include "vtkRPToolDisplayableManager.h"
 #include "vtkRPViewState.h"
+#include "vtkRPViewportImageActor.h"
 #include "vtkRPVolumeSliceDisplayableManager.h"
 
 namespace rp {
@@ -120,6 +121,9 @@ View::View(ViewKind kind, vtkRPScene* scene, vtkRPViewState* state, const SliceV
   this->CornerText->GetPositionCoordinate()->SetCoordinateSystemToViewport();
   this->CornerText->GetPositionCoordinate()->SetValue(6, 6);
   (this->IsSlice() ? this->Overlay.GetPointer() : this->Renderer.GetPointer())->AddActor2D(this->CornerText);
+  // While a tool moves the slice the offset changes every frame: drawn from cached glyphs into
+  // the slice picture, it costs no FreeType rendering and no texture upload per frame.
+  if (this->IsSlice()) this->CornerGlyphs.SetStyle(this->CornerText->GetTextProperty());
 
   for (auto& manager : this->Managers) manager->Initialize(this);
 
@@ -218,7 +222,22 @@ void View::OnSliceNodeModified(vtkObject* caller, unsigned long, void* clientDat
 
 void View::OnRenderStart(vtkObject*, unsigned long, void* clientData, void*) {
   auto* self = static_cast<View*>(clientData);
-  if (self->IsSlice() && self->GetViewportAspect() != self->LastAspect) self->UpdateSliceCamera();
+  if (!self->IsSlice()) return;
+  if (self->GetViewportAspect() != self->LastAspect) self->UpdateSliceCamera();
+  // The text actor only where no slice picture carries the text.
+  bool drawnInPicture = false;
+  for (auto& manager : self->Managers) {
+    if (auto* slices = vtkRPVolumeSliceDisplayableManager::SafeDownCast(manager)) {
+      vtkProp* picture = slices->GetScreenPictureActor();
+      drawnInPicture = drawnInPicture || (picture && picture->GetVisibility());
+    }
+  }
+  self->CornerText->SetVisibility(!drawnInPicture);
+}
+
+void View::DrawCornerText(unsigned char* picture, int width, int height) {
+  // Where the text actor stands: 6 pixels in from the view's lower-left corner.
+  this->CornerGlyphs.Draw(this->CornerString, 6, 6, picture, width, height);
 }
 
 double View::GetViewportAspect() const {
@@ -327,6 +346,7 @@ void View::UpdateCornerText() {
     std::snprintf(text, sizeof(text), "3D");
   }
   this->CornerText->SetInput(text);
+  this->CornerString = text;
 }
 
 bool View::ComputeFramingBounds(double bounds[6]) const {

@@ -11,6 +11,7 @@
 #include <array>
 #include <functional>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include <vtkNew.h>
@@ -18,6 +19,7 @@
 #include <vtkType.h>
 #include <vtkWeakPointer.h>
 
+#include "rpGlyphText.h"
 #include "rpSliceGeometry.h"
 
 class vtkActor;
@@ -120,6 +122,12 @@ class View {
     return nullptr;
   }
 
+  /// Slice views: the corner text (orientation and offset). The volume slice manager draws it
+  /// into the slice picture (DrawCornerText) when it draws one; otherwise a text actor shows it.
+  const std::string& GetCornerString() const { return this->CornerString; }
+  /// Draws the corner text over an RGBA picture of the view's size (rows from the bottom).
+  void DrawCornerText(unsigned char* picture, int width, int height);
+
  private:
   static void OnSliceNodeModified(vtkObject* caller, unsigned long, void* clientData, void*);
   static void OnRenderStart(vtkObject*, unsigned long, void* clientData, void*);
@@ -145,7 +153,9 @@ class View {
   unsigned long RenderTag = 0;
   vtkNew<vtkLineSource> CrossLines[2];
   vtkNew<vtkActor> CrossActors[2];
-  vtkNew<vtkTextActor> CornerText;
+  vtkNew<vtkTextActor> CornerText;  // 3D; slice views while no picture carries the text
+  std::string CornerString;
+  GlyphText CornerGlyphs;  // slice views: the text drawn into the picture
   std::unique_ptr<OrientationMarker> Marker;  // 3D: patient axes in a corner
   double LastAspect = 0;
   vtkMTimeType CameraTimeAtLastFrame = 0;  // 3D: the camera's modification time at the last SetInteractive

@@ -1,6 +1,7 @@
 #include "vtkRPVolumeSliceDisplayableManager.h"
 
 #include <algorithm>
+#include <string>
 
 #include <vtkActor.h>
 #include <vtkAlgorithm.h>
@@ -43,6 +44,7 @@ struct vtkRPVolumeSliceDisplayableManager::Picture {
   vtkNew<vtkRPViewportImageActor> ScreenActor;
   // What Screen was resampled from: the picture's time, the viewport's size, the pixel map.
   double ScreenKey[9] = {-1, 0, 0, 0, 0, 0, 0, 0, 0};
+  std::string ScreenText;  // the view's corner text drawn into it
 };
 
 vtkRPVolumeSliceDisplayableManager::vtkRPVolumeSliceDisplayableManager() {
@@ -150,8 +152,11 @@ void vtkRPVolumeSliceDisplayableManager::UpdateScreenPicture(Picture& picture) {
   // map, not the camera's time, decides: the camera is set again whenever the slice node is.
   const double key[9] = {double(source->GetMTime()), double(width), double(height), map.Origin[0], map.Origin[1],
                          map.AlongI[0], map.AlongI[1], map.AlongJ[0], map.AlongJ[1]};
-  if (std::equal(key, key + 9, picture.ScreenKey)) return;
+  rp::View* view = this->GetView();
+  const std::string text = view ? view->GetCornerString() : std::string();
+  if (std::equal(key, key + 9, picture.ScreenKey) && text == picture.ScreenText) return;
   std::copy(key, key + 9, picture.ScreenKey);
+  picture.ScreenText = text;
   int dims[3];
   picture.Screen->GetDimensions(dims);
   if (dims[0] != width || dims[1] != height || !picture.Screen->GetPointData()->GetScalars()) {
@@ -163,6 +168,7 @@ void vtkRPVolumeSliceDisplayableManager::UpdateScreenPicture(Picture& picture) {
   const bool usable = colours && colours->GetNumberOfComponents() == 4 && colours->GetDataType() == VTK_UNSIGNED_CHAR;
   rp::ResampleOpaqueRGBA(usable ? static_cast<const unsigned char*>(colours->GetVoidPointer(0)) : nullptr, dims[0], dims[1],
                          map, static_cast<unsigned char*>(picture.Screen->GetScalarPointer()), width, height);
+  if (view) view->DrawCornerText(static_cast<unsigned char*>(picture.Screen->GetScalarPointer()), width, height);
   picture.Screen->GetPointData()->GetScalars()->Modified();
   picture.Screen->Modified();
 }

@@ -316,6 +316,7 @@ struct Run {
   std::vector<double> FrameMs, FrameAt;  // frame time and when it started (s)
   std::vector<int> ViewsRendered;
   std::vector<std::array<double, 4>> FrameViewMs;  // per frame: each view's render call (ms)
+  std::vector<double> FrameSceneMs, FramePicturesMs;  // per frame: servo state into the scene; slice pictures (ms)
   int Reslices = 0;
   int ModelLayerRenders = 0, ModelLayerCopies = 0;  // 3D frames that drew the models / copied their kept picture
   double Seconds = 0;
@@ -448,6 +449,8 @@ void BM_Viewer4Up_DisplayRate(benchmark::State& state) {
       std::array<double, 4> viewMs{};
       for (size_t k = 0; k < 4; ++k) viewMs[k] = rig->ViewMs[k] - viewMsBefore[k];
       run.FrameViewMs.push_back(viewMs);
+      run.FrameSceneMs.push_back(std::chrono::duration<double, std::milli>(tScene - t0).count());
+      run.FramePicturesMs.push_back(std::chrono::duration<double, std::milli>(tPictures - tScene).count());
       if (t1 > next) next = t1;  // a late frame: the next tick is a period from now, not at once
     }
     run.Seconds = std::chrono::duration<double>(Clock::now() - start).count();
@@ -635,13 +638,17 @@ void WriteFigures(const std::string& out) {
     for (size_t i = 0; i < run.FrameMs.size(); ++i) {
       std::vector<double> row = {run.FrameAt[i], run.FrameMs[i], double(run.ViewsRendered[i])};
       for (size_t k = 0; k < 4; ++k) row.push_back(i < run.FrameViewMs.size() ? run.FrameViewMs[i][k] : std::nan(""));
+      row.push_back(i < run.FrameSceneMs.size() ? run.FrameSceneMs[i] : std::nan(""));
+      row.push_back(i < run.FramePicturesMs.size() ? run.FramePicturesMs[i] : std::nan(""));
       rows.push_back(row);
     }
     std::string error;
     std::string file = run.Name;
     std::replace(file.begin(), file.end(), ' ', '-');
     rp::bench::WriteCSV(out + "/viewer-frames-" + file + ".csv",
-                        {"time_s", "frame_ms", "views_rendered", "axial_ms", "sagittal_ms", "coronal_ms", "3d_ms"}, rows, error);
+                        {"time_s", "frame_ms", "views_rendered", "axial_ms", "sagittal_ms", "coronal_ms", "3d_ms", "scene_ms",
+                         "pictures_ms"},
+                        rows, error);
   }
   rp::bench::Series target;
   target.Name = "33 ms (30 Hz)";
