@@ -26,6 +26,7 @@ class RenderScheduler {
     std::function<bool()> Shown;
     bool ChangedLastTick = false;
     bool Interactive = false;  // the last frame was drawn at the interactive level of detail
+    bool RenderNow = false, InteractiveNow = false;  // this tick's decision
   };
   std::vector<Entry> Entries;
 };

@@ -161,6 +161,14 @@ vtkRPSliceLogic* View::GetSliceLogic() const {
   return this->IsSlice() ? this->Slices.Logics[static_cast<size_t>(this->Kind)] : nullptr;
 }
 
+void View::StartPicture() {
+  if (vtkRPSliceLogic* logic = this->GetSliceLogic()) logic->StartPicture();
+}
+
+void View::WaitForPicture() {
+  if (vtkRPSliceLogic* logic = this->GetSliceLogic()) logic->WaitForPicture();
+}
+
 vtkRenderer* View::GetOverlayRenderer() const { return this->Overlay; }
 
 void View::AttachToRenderWindow(vtkRenderWindow* window, const double viewport[4]) {

@@ -83,6 +83,10 @@ class View {
 
   void RequestRender();
   bool NeedsRender() const { return this->RenderRequested; }
+  /// Slice views: starts making the slice picture on a worker thread (vtkRPSliceLogic::
+  /// StartPicture), for a render that comes after another view's; WaitForPicture() waits for it.
+  void StartPicture();
+  void WaitForPicture();
   /// Clears the flag (the host calls this when it renders the window).
   void MarkRendered() { this->RenderRequested = false; }
   /// Interactive level of detail (a tool moving): managers may draw lighter (decimated display

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <future>
 #include <vector>
 
 #include <vtkAlgorithmOutput.h>
@@ -17,6 +18,7 @@
 #include <vtkPointData.h>
 #include <vtkSmartPointer.h>
 #include <vtkStreamingDemandDrivenPipeline.h>
+#include <vtkUnsignedCharArray.h>
 
 #include "rpSliceComposite.h"
 
@@ -31,6 +33,15 @@ vtkStandardNewMacro(vtkRPSliceLogic);
 // The picture as a pipeline source (what the views update lazily when they render): the layers
 // as the logic last set them, composited in one pass (rp::CompositeSlice). It keeps its own copy
 // of what it draws, so a view holding its output never reaches into a deleted logic.
+//
+// Start() composites on a worker thread ahead of the render that needs the picture (the render
+// scheduler starts the three pictures of a tick, then renders the views: the sagittal and
+// coronal pictures are made while the axial view draws and waits for llvmpipe). The pipeline's
+// RequestData then waits for that result instead of compositing. The worker reads only what
+// Start() prepared on the calling thread (the layers' voxels, tables and the output array);
+// Wait() is called before anything it reads may change, and the scheduler waits for every
+// started picture before its tick ends, so no composite outlives the tick (volumes are edited
+// between ticks, never during one).
 class vtkRPSlicePicture : public vtkImageAlgorithm {
  public:
   static vtkRPSlicePicture* New();
@@ -43,12 +54,12 @@ class vtkRPSlicePicture : public vtkImageAlgorithm {
     std::vector<std::uint32_t> Colors;
     double TableMin = 0, TableScale = 1, Opacity = 1;
   };
-  std::vector<Layer> Layers;  // bottom first; set them, then Modified()
+  std::vector<Layer> Layers;  // bottom first; Wait(), set them, then Modified()
   double Origin[2] = {0, 0};  // pixel (0, 0), plane coordinates
   double Spacing = 1;
   int Size[2] = {1, 1};
   int Executions = 0;
-  rp::SliceLayoutCache Layouts;
+  int MadeAhead = 0;  // pictures RequestData took from a Start()ed composite
 
   // A volume's voxels changed in place count too.
   vtkMTimeType GetMTime() override {
@@ -59,8 +70,21 @@ class vtkRPSlicePicture : public vtkImageAlgorithm {
     return time;
   }
 
+  /// Starts compositing on a worker thread if the picture is out of date and none is running.
+  void Start() {
+    if (this->Job.valid() || this->GetMTime() == this->MadeFor) return;
+    this->JobFor = this->GetMTime();
+    this->JobPixels = this->Prepare();
+    this->Job = std::async(std::launch::async, [this]() { this->Composite(this->JobPixels); });
+  }
+  /// Waits for a started composite (its result is kept for RequestData).
+  void Wait() {
+    if (this->Job.valid()) this->Job.get();
+  }
+
  protected:
   vtkRPSlicePicture() { this->SetNumberOfInputPorts(0); }
+  ~vtkRPSlicePicture() override { this->Wait(); }
 
   int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector* outputs) override {
     vtkInformation* info = outputs->GetInformationObject(0);
@@ -77,8 +101,30 @@ class vtkRPSlicePicture : public vtkImageAlgorithm {
     output->SetExtent(0, this->Size[0] - 1, 0, this->Size[1] - 1, 0, 0);
     output->SetOrigin(this->Origin[0], this->Origin[1], 0);
     output->SetSpacing(this->Spacing, this->Spacing, 1);
-    output->AllocateScalars(VTK_UNSIGNED_CHAR, 4);
-    std::vector<rp::SliceLayer> layers;
+    this->Wait();
+    vtkSmartPointer<vtkUnsignedCharArray> pixels;
+    if (this->JobPixels && this->JobFor == this->GetMTime()) {
+      pixels = this->JobPixels;  // made ahead by Start()
+      ++this->MadeAhead;
+    } else {
+      pixels = this->Prepare();
+      this->Composite(pixels);
+    }
+    this->JobPixels = nullptr;
+    output->GetPointData()->SetScalars(pixels);
+    this->MadeFor = this->GetMTime();
+    ++this->Executions;
+    return 1;
+  }
+
+ private:
+  vtkRPSlicePicture(const vtkRPSlicePicture&) = delete;
+  void operator=(const vtkRPSlicePicture&) = delete;
+
+  // On the calling thread: the layers as the compositor reads them (the layout copies made here
+  // when missing) and the array it writes.
+  vtkSmartPointer<vtkUnsignedCharArray> Prepare() {
+    this->Prepared.clear();
     std::vector<const vtkImageData*> images;
     for (const Layer& layer : this->Layers) {
       rp::SliceLayer l = rp::SliceLayerOf(layer.Image, layer.PlaneToIJK, this->Origin, this->Spacing);
@@ -91,22 +137,31 @@ class vtkRPSlicePicture : public vtkImageAlgorithm {
       l.Opacity = layer.Opacity;
       this->Layouts.Apply(layer.Image, l);
       images.push_back(layer.Image);
-      layers.push_back(l);
+      this->Prepared.push_back(l);
     }
     this->Layouts.Keep(images);
-    auto* picture = static_cast<std::uint32_t*>(output->GetScalarPointer());
-    if (layers.empty()) {
-      std::fill(picture, picture + static_cast<std::size_t>(this->Size[0]) * this->Size[1], 0u);
-    } else {
-      rp::CompositeSlice(layers.data(), static_cast<int>(layers.size()), this->Size[0], this->Size[1], picture);
-    }
-    ++this->Executions;
-    return 1;
+    auto pixels = vtkSmartPointer<vtkUnsignedCharArray>::New();
+    pixels->SetNumberOfComponents(4);
+    pixels->SetNumberOfTuples(static_cast<vtkIdType>(this->Size[0]) * this->Size[1]);
+    return pixels;
   }
 
- private:
-  vtkRPSlicePicture(const vtkRPSlicePicture&) = delete;
-  void operator=(const vtkRPSlicePicture&) = delete;
+  // On any thread: reads only Prepared, writes only `pixels`.
+  void Composite(vtkUnsignedCharArray* pixels) {
+    auto* picture = reinterpret_cast<std::uint32_t*>(pixels->GetPointer(0));
+    if (this->Prepared.empty()) {
+      std::fill(picture, picture + static_cast<std::size_t>(this->Size[0]) * this->Size[1], 0u);
+    } else {
+      rp::CompositeSlice(this->Prepared.data(), static_cast<int>(this->Prepared.size()), this->Size[0], this->Size[1], picture);
+    }
+  }
+
+  rp::SliceLayoutCache Layouts;
+  std::vector<rp::SliceLayer> Prepared;
+  std::future<void> Job;
+  vtkSmartPointer<vtkUnsignedCharArray> JobPixels;
+  vtkMTimeType JobFor = 0;   // the MTime the started composite is for
+  vtkMTimeType MadeFor = 0;  // the MTime of the output
 };
 vtkStandardNewMacro(vtkRPSlicePicture);
 
@@ -188,6 +243,14 @@ void vtkRPSliceLogic::PrintSelf(ostream& os, vtkIndent indent) {
 vtkAlgorithmOutput* vtkRPSliceLogic::GetOutputPort() { return this->Picture->GetOutputPort(); }
 
 int vtkRPSliceLogic::GetNumberOfReslices() const { return this->Picture->Executions; }
+
+void vtkRPSliceLogic::StartPicture() {
+  if (this->Visible) this->Picture->Start();
+}
+
+void vtkRPSliceLogic::WaitForPicture() { this->Picture->Wait(); }
+
+int vtkRPSliceLogic::GetNumberOfPicturesMadeAhead() const { return this->Picture->MadeAhead; }
 
 void vtkRPSliceLogic::SetSliceNode(vtkRPScene* scene, vtkRPSliceNode* sliceNode) {
   if (this->SliceNode && this->SliceNodeTag) this->SliceNode->RemoveObserver(this->SliceNodeTag);
@@ -452,6 +515,7 @@ void vtkRPSliceLogic::Refresh() {
   for (size_t i = 0, k = 0; i < 3; ++i) {
     if (used[i]) layers[k++].Colors = used[i]->Colors;
   }
+  picture->Wait();  // a composite started ahead reads the layers
   picture->Layers = std::move(layers);
   picture->Origin[0] = xmin;
   picture->Origin[1] = ymin;

@@ -54,6 +54,15 @@ class vtkRPSliceLogic : public vtkObject {
   double GetPixelSpacing() const { return this->PixelSpacing; }
   /// Times the re-slicing actually ran (tests and benchmarks: "re-slice only what changed").
   int GetNumberOfReslices() const;
+  /// Starts making the picture on a worker thread if it is out of date, so that it is ready (or
+  /// nearly) when a view updates the output port; the render scheduler calls it for the views it
+  /// is about to render. The output is the same as without it.
+  void StartPicture();
+  /// Waits for a picture StartPicture() began (the scheduler, before its tick ends: volumes may
+  /// change between ticks).
+  void WaitForPicture();
+  /// Pictures the output took from a StartPicture() (tests and benchmarks).
+  int GetNumberOfPicturesMadeAhead() const;
 
   /// The value under which a volume is air (transparent in 3D): −400 HU for a CT (its values go
   /// below −900), else 10 % of the way from the 1st to the 99th percentile.

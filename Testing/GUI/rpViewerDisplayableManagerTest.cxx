@@ -251,6 +251,54 @@ TEST(ViewerDisplayableManagers, ForegroundBlendsOverBackground) {
   EXPECT_EQ(rgba[0], 255);
 }
 
+// The picture made ahead on a worker thread (StartPicture, as the render scheduler does for the
+// views after the first) is the picture made when the view updates, byte for byte; a slice moved
+// while one is being made gives the new plane's picture, not the old one.
+TEST(ViewerDisplayableManagers, APictureMadeAheadIsThePictureMadeOnDemand) {
+  vtkNew<vtkRPScene> scene;
+  ViewController controller(scene);
+  auto ct = test::MakeVolume();
+  scene->AddNode(ct);
+  auto mr = test::MakeVolume();
+  mr->SetName("MR");
+  scene->AddNode(mr);
+  controller.SetForegroundOpacity(0.4);
+  vtkRPSliceLogic* sagittal = controller.GetSliceLogic(ViewKind::Sagittal);
+  // A second logic on the same node makes its pictures on demand only.
+  vtkNew<vtkRPSliceLogic> onDemand;
+  onDemand->SetSliceNode(scene, controller.GetSliceNode(ViewKind::Sagittal));
+  auto picture = [](vtkRPSliceLogic* logic) {
+    vtkAlgorithm* producer = logic->GetOutputPort()->GetProducer();
+    producer->Update();
+    auto* image = vtkImageData::SafeDownCast(producer->GetOutputDataObject(0));
+    auto* bytes = static_cast<const unsigned char*>(image->GetScalarPointer());
+    return std::vector<unsigned char>(bytes, bytes + 4 * image->GetNumberOfPoints());
+  };
+  double point[3] = {test::Center[0] + 3.3, test::Center[1] - 2.1, test::Center[2] + 1.7};
+  for (int step = 0; step < 3; ++step) {
+    point[0] += 1.37;
+    controller.SetSlicePointRAS(point);
+    const int before = sagittal->GetNumberOfReslices();
+    const int aheadBefore = sagittal->GetNumberOfPicturesMadeAhead();
+    sagittal->StartPicture();
+    if (step == 2) {
+      // Moved again while the picture is being made: the started one is for the old plane.
+      point[0] += 2.1;
+      controller.SetSlicePointRAS(point);
+    }
+    const auto ahead = picture(sagittal);
+    const auto made = picture(onDemand);
+    ASSERT_FALSE(made.empty());
+    EXPECT_EQ(ahead, made) << "step " << step;
+    EXPECT_EQ(sagittal->GetNumberOfReslices(), before + 1) << "one picture per change, step " << step;
+    EXPECT_EQ(sagittal->GetNumberOfPicturesMadeAhead(), aheadBefore + (step == 2 ? 0 : 1))
+        << "the picture made ahead is used unless the plane moved since, step " << step;
+    sagittal->StartPicture();  // up to date: starts nothing
+    sagittal->WaitForPicture();
+    EXPECT_EQ(sagittal->GetNumberOfReslices(), before + 1);
+  }
+}
+
 TEST(ViewerDisplayableManagers, ModelsAppearUpdateAndDisappear) {
   vtkNew<vtkRPScene> scene;
   ViewController controller(scene);
