@@ -194,10 +194,11 @@ void SliceLayoutCache::Keep(const std::vector<const vtkImageData*>& images) {
                      this->Copies.end());
 }
 
-void CompositeSlice(const SliceLayer* layers, int count, int width, int height, std::uint32_t* picture) {
+void CompositeSlice(const SliceLayer* layers, int count, int width, int height, std::uint32_t* picture,
+                    bool parallel) {
   if (width <= 0 || height <= 0) return;
   const int bands = (height + Band - 1) / Band;
-  vtkSMPTools::For(0, bands, 1, [&](int firstBand, int endBand) {
+  auto composite = [&](int firstBand, int endBand) {
     Sampled sampled;
     for (int x0 = 0; x0 < width; x0 += Chunk)
       for (int y = firstBand * Band; y < std::min(height, endBand * Band); ++y) {
@@ -228,7 +229,12 @@ void CompositeSlice(const SliceLayer* layers, int count, int width, int height, 
           }
         }
       }
-  });
+  };
+  if (parallel) {
+    vtkSMPTools::For(0, bands, 1, composite);
+  } else {
+    composite(0, bands);
+  }
 }
 
 }  // namespace rp

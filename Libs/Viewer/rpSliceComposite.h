@@ -44,8 +44,10 @@ SliceLayer SliceLayerOf(vtkImageData* image, const double planeToIJK[3][4], cons
 /// Fills `picture` (width × height RGBA8 words, rows from the bottom) with the layers, the first
 /// at the bottom. Outside a volume (beyond half a voxel of its edge voxels' centres, as
 /// vtkImageReslice's border) a layer is transparent; the first layer's transparency is the
-/// picture's.
-void CompositeSlice(const SliceLayer* layers, int count, int width, int height, std::uint32_t* picture);
+/// picture's. In parallel over rows (vtkSMPTools) unless `parallel` is false: VTK 9.1's
+/// vtkSMPTools may be entered by one thread at a time, so a worker thread composites alone.
+void CompositeSlice(const SliceLayer* layers, int count, int width, int height, std::uint32_t* picture,
+                    bool parallel = true);
 
 /// Copies of volumes with another axis fastest in memory. A picture row steps along the plane's
 /// first axis; through a CT stored axially, a sagittal row steps across the CT's rows, and each

@@ -75,7 +75,7 @@ class vtkRPSlicePicture : public vtkImageAlgorithm {
     if (this->Job.valid() || this->GetMTime() == this->MadeFor) return;
     this->JobFor = this->GetMTime();
     this->JobPixels = this->Prepare();
-    this->Job = std::async(std::launch::async, [this]() { this->Composite(this->JobPixels); });
+    this->Job = std::async(std::launch::async, [this]() { this->Composite(this->JobPixels, false); });
   }
   /// Waits for a started composite (its result is kept for RequestData).
   void Wait() {
@@ -146,13 +146,15 @@ class vtkRPSlicePicture : public vtkImageAlgorithm {
     return pixels;
   }
 
-  // On any thread: reads only Prepared, writes only `pixels`.
-  void Composite(vtkUnsignedCharArray* pixels) {
+  // On any thread: reads only Prepared, writes only `pixels`. A worker composites alone (VTK
+  // 9.1's vtkSMPTools keeps its "in a parallel region" flag unguarded: one thread at a time).
+  void Composite(vtkUnsignedCharArray* pixels, bool parallel = true) {
     auto* picture = reinterpret_cast<std::uint32_t*>(pixels->GetPointer(0));
     if (this->Prepared.empty()) {
       std::fill(picture, picture + static_cast<std::size_t>(this->Size[0]) * this->Size[1], 0u);
     } else {
-      rp::CompositeSlice(this->Prepared.data(), static_cast<int>(this->Prepared.size()), this->Size[0], this->Size[1], picture);
+      rp::CompositeSlice(this->Prepared.data(), static_cast<int>(this->Prepared.size()), this->Size[0], this->Size[1],
+                         picture, parallel);
     }
   }
 
