@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <future>
+#include <system_error>
 #include <vector>
 
 #include <vtkAlgorithmOutput.h>
@@ -75,7 +76,11 @@ class vtkRPSlicePicture : public vtkImageAlgorithm {
     if (this->Job.valid() || this->GetMTime() == this->MadeFor) return;
     this->JobFor = this->GetMTime();
     this->JobPixels = this->Prepare();
-    this->Job = std::async(std::launch::async, [this]() { this->Composite(this->JobPixels, false); });
+    try {
+      this->Job = std::async(std::launch::async, [this]() { this->Composite(this->JobPixels, false); });
+    } catch (const std::system_error&) {
+      this->JobPixels = nullptr;  // no thread to be had: RequestData makes it as before
+    }
   }
   /// Waits for a started composite (its result is kept for RequestData).
   void Wait() {
