@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include <vtkCellArray.h>
 #include <vtkCellArrayIterator.h>
@@ -37,7 +38,8 @@ void PlaneCutter::Build(const double normal[3]) {
   this->BuiltTime = this->MeshTime();
   this->BuiltNormal = {normal[0], normal[1], normal[2]};
   this->Triangles.clear();
-  this->Buckets.clear();
+  this->BucketStart.clear();
+  this->BucketTriangles.clear();
   vtkPoints* points = this->Input->GetPoints();
   vtkCellArray* polys = this->Input->GetPolys();
   const vtkIdType n = points ? points->GetNumberOfPoints() : 0;
@@ -56,12 +58,9 @@ void PlaneCutter::Build(const double normal[3]) {
     for (vtkIdType k = 1; k + 1 < size; ++k) this->Triangles.push_back({ids[0], ids[k], ids[k + 1]});
   }
   if (this->Triangles.empty()) return;
-  const auto [lo, hi] = std::minmax_element(this->Projection.begin(), this->Projection.end());
-  this->Lowest = *lo;
-  // About 32 triangles a bucket on average; a triangle goes into every bucket it spans.
-  const size_t buckets = std::clamp<size_t>(this->Triangles.size() / 32, 1, 1 << 16);
-  this->BucketWidth = std::max(1e-9, (*hi - *lo) / double(buckets));
-  this->Buckets.assign(buckets, {});
+  // Each triangle's extent along the normal.
+  std::vector<std::pair<double, double>> extents(this->Triangles.size());
+  double lowest = VTK_DOUBLE_MAX, highest = -VTK_DOUBLE_MAX, sum = 0;
   for (size_t t = 0; t < this->Triangles.size(); ++t) {
     const auto& tri = this->Triangles[t];
     double a = this->Projection[static_cast<size_t>(tri[0])], b = a;
@@ -69,10 +68,37 @@ void PlaneCutter::Build(const double normal[3]) {
       a = std::min(a, this->Projection[static_cast<size_t>(tri[v])]);
       b = std::max(b, this->Projection[static_cast<size_t>(tri[v])]);
     }
-    const size_t first = std::min(buckets - 1, static_cast<size_t>((a - this->Lowest) / this->BucketWidth));
-    const size_t last = std::min(buckets - 1, static_cast<size_t>((b - this->Lowest) / this->BucketWidth));
-    for (size_t k = first; k <= last; ++k) this->Buckets[k].push_back(static_cast<vtkIdType>(t));
+    extents[t] = {a, b};
+    lowest = std::min(lowest, a);
+    highest = std::max(highest, b);
+    sum += b - a;
   }
+  this->Lowest = lowest;
+  // Buckets about as wide as a triangle is tall along the normal, so a triangle falls in about
+  // two of them: a cut reads the triangles near the plane, and the index stays a few entries a
+  // triangle (buckets of a fixed count were a hundredth of a millimetre on a fine mesh, and a
+  // triangle sat in fifty of them: hundreds of MB per model and normal).
+  const double range = highest - lowest;
+  this->BucketWidth = std::max({sum / double(this->Triangles.size()), range / 65536.0, 1e-9});
+  const size_t buckets = std::max<size_t>(1, static_cast<size_t>(range / this->BucketWidth) + 1);
+  auto bucketOf = [&](double x) { return std::min(buckets - 1, static_cast<size_t>((x - lowest) / this->BucketWidth)); };
+  // Compressed rows: count, prefix sums, fill.
+  this->BucketStart.assign(buckets + 1, 0);
+  for (const auto& [a, b] : extents) {
+    for (size_t k = bucketOf(a); k <= bucketOf(b); ++k) ++this->BucketStart[k + 1];
+  }
+  for (size_t k = 0; k < buckets; ++k) this->BucketStart[k + 1] += this->BucketStart[k];
+  this->BucketTriangles.resize(this->BucketStart[buckets]);
+  std::vector<std::uint32_t> fill(this->BucketStart.begin(), this->BucketStart.end() - 1);
+  for (size_t t = 0; t < extents.size(); ++t) {
+    for (size_t k = bucketOf(extents[t].first); k <= bucketOf(extents[t].second); ++k) {
+      this->BucketTriangles[fill[k]++] = static_cast<std::uint32_t>(t);
+    }
+  }
+}
+
+double PlaneCutter::GetEntriesPerTriangle() const {
+  return this->Triangles.empty() ? 0.0 : double(this->BucketTriangles.size()) / double(this->Triangles.size());
 }
 
 vtkIdType PlaneCutter::Cut(const double normalIn[3], double offset, vtkPolyData* output) {
@@ -93,17 +119,22 @@ vtkIdType PlaneCutter::Cut(const double normalIn[3], double offset, vtkPolyData*
   if (!sameNormal || this->BuiltTime != this->MeshTime()) {
     this->Build(normal);
   }
-  const std::vector<vtkIdType>* bucket = nullptr;
-  const double position = this->Buckets.empty() ? -1 : (offset - this->Lowest) / this->BucketWidth;
-  if (position >= 0 && position <= double(this->Buckets.size())) {
-    bucket = &this->Buckets[std::min(this->Buckets.size() - 1, static_cast<size_t>(position))];
+  // The triangles of the bucket the plane falls in: [first, last).
+  const std::uint32_t* first = nullptr;
+  const std::uint32_t* last = nullptr;
+  const size_t buckets = this->BucketStart.empty() ? 0 : this->BucketStart.size() - 1;
+  const double position = buckets ? (offset - this->Lowest) / this->BucketWidth : -1;
+  if (position >= 0 && position <= double(buckets)) {
+    const size_t bucket = std::min(buckets - 1, static_cast<size_t>(position));
+    first = this->BucketTriangles.data() + this->BucketStart[bucket];
+    last = this->BucketTriangles.data() + this->BucketStart[bucket + 1];
   }
   // At most one segment a triangle of the bucket: the output is sized once and written in place
   // (a slice view re-cuts every frame while a tool moves; inserting point by point cost more
   // than the geometry). Float points are read directly, others through vtkPoints.
   vtkNew<vtkFloatArray> coordinates;
   coordinates->SetNumberOfComponents(3);
-  coordinates->SetNumberOfTuples(bucket ? 2 * static_cast<vtkIdType>(bucket->size()) : 0);
+  coordinates->SetNumberOfTuples(2 * static_cast<vtkIdType>(last - first));
   float* out = coordinates->GetPointer(0);
   auto* floats = vtkFloatArray::FastDownCast(meshPoints->GetData());
   const float* in = floats ? floats->GetPointer(0) : nullptr;
@@ -115,8 +146,8 @@ vtkIdType PlaneCutter::Cut(const double normalIn[3], double offset, vtkPolyData*
     }
   };
   vtkIdType segments = 0;
-  for (size_t k = 0; bucket && k < bucket->size(); ++k) {
-    const auto& tri = this->Triangles[static_cast<size_t>((*bucket)[k])];
+  for (const std::uint32_t* t = first; t != last; ++t) {
+    const auto& tri = this->Triangles[*t];
     double d[3];
     for (int v = 0; v < 3; ++v) d[v] = this->Projection[static_cast<size_t>(tri[v])] - offset;
     // The segment joins the crossings of the edges whose ends lie on opposite sides.

@@ -2,11 +2,13 @@
 // The outline where a plane cuts a triangle mesh, fast for the case a slice view has: the plane
 // moves along a fixed normal (a slice following a tool) many times a second. For a normal, each
 // triangle's extent along it ([min, max] of its vertices' projections) is sorted once into
-// buckets; a cut then looks only at the triangles of the bucket the plane falls in — a few
-// thousand of a million — instead of evaluating every point and cell as vtkCutter does. The
-// buckets are rebuilt when the mesh or the normal changes. The output is line segments (two
-// points each, not merged), in the mesh's coordinates.
+// buckets about as wide as a triangle is tall along the normal (a triangle in about two); a cut
+// then looks only at the triangles of the bucket the plane falls in — a few thousand of a
+// million — instead of evaluating every point and cell as vtkCutter does. The buckets are
+// rebuilt when the mesh or the normal changes. The output is line segments (two points each,
+// not merged), in the mesh's coordinates.
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include <vtkNew.h>
@@ -31,6 +33,8 @@ class PlaneCutter {
   vtkIdType Cut(const double normal[3], double offset, vtkPolyData* output);
   /// Times the buckets were (re)built (tests).
   int GetNumberOfBuilds() const { return this->Builds; }
+  /// Bucket entries per triangle, the index's size (tests).
+  double GetEntriesPerTriangle() const;
 
  private:
   void Build(const double normal[3]);
@@ -42,7 +46,8 @@ class PlaneCutter {
   std::vector<std::array<vtkIdType, 3>> Triangles;  // polys as triangles (fans for polygons)
   std::vector<double> Projection;                   // n·p for every point
   double Lowest = 0, BucketWidth = 1;
-  std::vector<std::vector<vtkIdType>> Buckets;      // triangle indices overlapping each bucket
+  std::vector<std::uint32_t> BucketStart;      // bucket k's triangles: BucketTriangles[BucketStart[k], BucketStart[k + 1])
+  std::vector<std::uint32_t> BucketTriangles;  // triangle indices overlapping each bucket
   int Builds = 0;
 };
 

@@ -1,5 +1,6 @@
 // The fast plane cut against the known answer (a sphere's circle) and against vtkCutter on the
-// same mesh (same total outline length), and the buckets built once per normal.
+// same mesh (same total outline length), the buckets built once per normal, and an index of a
+// few entries a triangle.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -55,6 +56,9 @@ TEST(PlaneCutter, SphereCutIsACircleAndMatchesVtkCutter) {
     }
   }
   EXPECT_EQ(cutter.GetNumberOfBuilds(), 1);  // moving along one normal needs no rebuild
+  // The index holds each triangle in a few buckets, not in dozens (its memory).
+  EXPECT_GT(cutter.GetEntriesPerTriangle(), 1.0);
+  EXPECT_LE(cutter.GetEntriesPerTriangle(), 4.0);
 
   // An oblique plane: the same outline as VTK's cutter (length to a part in a million).
   const double oblique[3] = {0.3, -0.5, 0.8};
