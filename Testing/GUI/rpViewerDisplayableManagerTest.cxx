@@ -23,6 +23,7 @@
 #include <vtkTextActor.h>
 #include <algorithm>
 #include <array>
+#include <utility>
 #include <vector>
 #include <string>
 
@@ -230,15 +231,23 @@ TEST(ViewerDisplayableManagers, TheSliceViewShowsItsPictureAtItsOwnPixels) {
   view->DetachFromRenderWindow();
 }
 
-TEST(ViewerDisplayableManagers, ForegroundBlendsOverBackground) {
-  vtkNew<vtkRPScene> scene;
-  ViewController controller(scene);
+namespace {
+// A CT and an "MR" (the test volume twice), added in that order: the MR becomes the foreground.
+std::pair<vtkSmartPointer<vtkRPScalarVolumeNode>, vtkSmartPointer<vtkRPScalarVolumeNode>> AddCTAndMR(vtkRPScene* scene) {
   auto ct = test::MakeVolume();
   scene->AddNode(ct);
   auto mr = test::MakeVolume();
   mr->SetName("MR");
-  mr->SetWindowLevel(1, 2000);  // everything at or below 2000 is black in the MR
   scene->AddNode(mr);
+  return {ct, mr};
+}
+}  // namespace
+
+TEST(ViewerDisplayableManagers, ForegroundBlendsOverBackground) {
+  vtkNew<vtkRPScene> scene;
+  ViewController controller(scene);
+  auto [ct, mr] = AddCTAndMR(scene);
+  mr->SetWindowLevel(1, 2000);  // everything at or below 2000 is black in the MR
   EXPECT_EQ(controller.GetSliceNode(ViewKind::Axial)->GetForegroundVolumeID(), mr->GetID());
   controller.SetForegroundOpacity(0.5);
   ct->SetWindowLevel(1, 0);  // everything above 0 is white in the CT
@@ -257,11 +266,7 @@ TEST(ViewerDisplayableManagers, ForegroundBlendsOverBackground) {
 TEST(ViewerDisplayableManagers, APictureMadeAheadIsThePictureMadeOnDemand) {
   vtkNew<vtkRPScene> scene;
   ViewController controller(scene);
-  auto ct = test::MakeVolume();
-  scene->AddNode(ct);
-  auto mr = test::MakeVolume();
-  mr->SetName("MR");
-  scene->AddNode(mr);
+  AddCTAndMR(scene);
   controller.SetForegroundOpacity(0.4);
   vtkRPSliceLogic* sagittal = controller.GetSliceLogic(ViewKind::Sagittal);
   // A second logic on the same node makes its pictures on demand only.
