@@ -21,6 +21,7 @@
 #include "rpArgParser.h"
 #include "rpModuleManager.h"
 #include "rpNodeStorage.h"
+#include "rpSceneFormats.h"
 #include "rpSceneIO.h"
 #include "rpScreenshot.h"
 #include "rpViewController.h"
@@ -65,13 +66,16 @@ BackgroundRead MakeDataRead(vtkRPScene* scene, const std::string& path) {
 
 bool LoadSceneOrDataFile(vtkRPScene* scene, const std::string& path, std::string& error,
                          std::vector<std::string>* warnings) {
-  if (HasExtension(path, SceneFileExtension) && !std::filesystem::is_directory(path)) {
-    SceneLoadReport report = LoadScene(scene, path);
-    if (!report.Ok) {
+  if (IsSceneFileName(path) && !std::filesystem::is_directory(path)) {
+    SceneTransferReport report;
+    if (!ReadSceneFile(path, scene, report)) {
       error = report.Error;
       return false;
     }
-    if (warnings) warnings->insert(warnings->end(), report.Problems.begin(), report.Problems.end());
+    if (warnings) {
+      for (const auto& skip : report.Skipped) warnings->push_back(skip.What + ": " + skip.Why);
+      warnings->insert(warnings->end(), report.Warnings.begin(), report.Warnings.end());
+    }
     return true;
   }
   BackgroundReadResult result;
@@ -138,7 +142,7 @@ bool ReexecUnderXvfb(const std::vector<std::string>& arguments) {
 
 int RunScreenshot(CommandContext& context) {
   ArgParser parser("screenshot", "Render a scene headless (offscreen) into one PNG: the views of a layout.");
-  parser.Positional("files", "scene (*.rpscene), data files or DICOM series folders to load", true, true)
+  parser.Positional("files", "scene (*.rpscene, Slicer's *.mrml, *.mrb), data files or DICOM series folders to load", true, true)
       .Option("out", "png", "output PNG file")
       .Option("layout", "name", "4up | 3d | axial | sagittal | coronal (default: the scene's, else 4up)")
       .Option("size", "WxH", "image size in pixels", std::string("800x800"))
