@@ -454,7 +454,13 @@ bool ReadMrmlBundle(const std::string& path, vtkRPScene* scene, SceneTransferRep
     return false;
   }
   const bool ok = ReadScene((fs::path(folder.Path()) / FindMainScene(entries)).string(), scene, report, true);
-  if (!ok) report.Error = "'" + path + "': " + report.Error;
+  if (!ok) {
+    // Name the scene inside the bundle, not the temporary folder it was unpacked to.
+    const std::string temporary = folder.Path() + "/";
+    for (size_t at = report.Error.find(temporary); at != std::string::npos; at = report.Error.find(temporary))
+      report.Error.erase(at, temporary.size());
+    report.Error = "'" + path + "': " + report.Error;
+  }
   return ok;
 }
 

@@ -1,6 +1,5 @@
 // Writing a vtkRPScene as 3D Slicer's .mrml scene or .mrb bundle (rpMrmlScene.h), the way
 // vtkMRMLScene::Commit and vtkMRMLNode::WriteXML write them.
-#include <cctype>
 #include <filesystem>
 #include <set>
 
@@ -84,12 +83,6 @@ struct WriteContext {
   }
 };
 
-std::string SafeFileName(const std::string& name) {
-  std::string out;
-  for (char c : name) out += (std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_') ? c : '_';
-  return out.empty() ? std::string("node") : out;
-}
-
 // The main element of a node: ID, name, attributes (ours and our extra fields), transform link.
 XmlNode MainElement(WriteContext& context, vtkRPNode* node, const Mapping& mapping) {
   XmlNode element;
@@ -112,9 +105,9 @@ XmlNode MainElement(WriteContext& context, vtkRPNode* node, const Mapping& mappi
 // Writes the node's data file under Data/ and adds its storage element. False: reported.
 bool AddStorage(WriteContext& context, vtkRPNode* node, XmlNode& main, const std::string& tag,
                 const std::string& mrmlClass, const std::string& extension) {
-  std::string fileName = "Data/" + SafeFileName(node->GetName()) + extension;
+  std::string fileName = "Data/" + DataFileBaseName(node->GetName()) + extension;
   for (int n = 2; context.FileNames.count(fileName); ++n)
-    fileName = "Data/" + SafeFileName(node->GetName()) + "_" + std::to_string(n) + extension;
+    fileName = "Data/" + DataFileBaseName(node->GetName()) + "_" + std::to_string(n) + extension;
   context.FileNames.insert(fileName);
   std::string error;
   const NodeStorage* storage = FindNodeStorageForFile(fileName);
