@@ -175,7 +175,8 @@ vtkSmartPointer<vtkRPNode> NewNode(ReadContext& context, const MrmlElement& elem
     context.Report->Warnings.push_back("node '" + node->GetName() + "': RoboPlan fields ignored (" + e.what() + ")");
   }
   for (const auto& [key, value] : attributes) node->SetAttribute(key, value);
-  if (!element.Ref("transform").empty()) node->AddNodeReferenceID(vtkRPTransformableNode::TransformRole(), element.Ref("transform"));
+  if (!element.Ref("transform").empty() && node->IsA("vtkRPTransformableNode"))
+    node->AddNodeReferenceID(vtkRPTransformableNode::TransformRole(), element.Ref("transform"));
   return node;
 }
 
@@ -365,15 +366,18 @@ void BreakTransformCycles(ReadContext& context) {
   }
 }
 
-// Links to nodes that were not loaded (unknown types, missing files) are dropped, not left dangling.
+// Links to nodes that were not loaded (unknown types, missing files), and parent links to nodes that
+// are no transforms, are dropped, not left dangling.
 void DropDanglingReferences(ReadContext& context) {
-  std::set<std::string> loaded;
-  for (auto& node : context.Loaded) loaded.insert(node->GetID());
+  std::map<std::string, vtkRPNode*> loaded;
+  for (auto& node : context.Loaded) loaded[node->GetID()] = node;
   for (auto& node : context.Loaded) {
     for (const std::string& role : node->GetReferenceRoles()) {
       for (int n = node->GetNumberOfNodeReferences(role) - 1; n >= 0; --n) {
         const std::string id = node->GetNodeReferenceID(role, n);
-        if (!loaded.count(id)) node->RemoveReferencesTo(id);
+        const bool parentIsNoTransform = role == vtkRPTransformableNode::TransformRole() && loaded.count(id) &&
+                                         !loaded[id]->IsA("vtkRPLinearTransformNode");
+        if (!loaded.count(id) || parentIsNoTransform) node->RemoveReferencesTo(id);
       }
     }
   }

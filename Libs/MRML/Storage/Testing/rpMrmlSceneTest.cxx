@@ -399,11 +399,13 @@ TEST(MrmlScene, CyclesMissingFilesAndUnknownNodeTypesAreReportedAndTheRestLoads)
          "<VolumeArchetypeStorage id=\"S1\" fileName=\"Data/gone.nrrd\"></VolumeArchetypeStorage>\n"
          "<Volume id=\"V\" name=\"CT\" references=\"storage:S1;transform:T1;\"></Volume>\n"
          "<LinearTransform id=\"T3\" name=\"C\" references=\"transform:T2;\" matrixTransformToParent=\"1 0 0 3 0 1 0 0 0 0 1 0 0 0 0 1\"></LinearTransform>\n"
+         "<Layout id=\"L1\" currentViewArrangement=\"4\"></Layout>\n"
+         "<LinearTransform id=\"T4\" name=\"D\" transformNodeRef=\"L1\"></LinearTransform>\n"
          "</MRML>\n";
   vtkNew<vtkRPScene> scene;
   rp::SceneTransferReport report;
   ASSERT_TRUE(rp::ReadMrmlScene((dir / "scene.mrml").string(), scene, report)) << report.Error;
-  EXPECT_EQ(report.NodesByType["LinearTransform"], 3);
+  EXPECT_EQ(report.NodesByType["LinearTransform"], 4);
   ASSERT_EQ(report.Warnings.size(), 1u);
   EXPECT_NE(report.Warnings[0].find("Camera x2"), std::string::npos) << report.Warnings[0];
   EXPECT_NE(report.Warnings[0].find("Sequence x1"), std::string::npos);
@@ -418,6 +420,9 @@ TEST(MrmlScene, CyclesMissingFilesAndUnknownNodeTypesAreReportedAndTheRestLoads)
   ASSERT_NE(a, nullptr);
   EXPECT_FALSE(a->IsInParentChain(b) && b->IsInParentChain(a));
   EXPECT_EQ(Named<vtkRPLinearTransformNode>(scene, "C")->GetParentTransformNode(), b);
+  // A parent that is no transform (a layout node) is no parent.
+  EXPECT_EQ(Named<vtkRPLinearTransformNode>(scene, "D")->GetNumberOfNodeReferences("transform"), 0);
+  EXPECT_EQ(vtkRPLayoutNode::GetOrAddLayoutNode(scene)->GetViewArrangement(), vtkRPLayoutNode::OneUp3D);
 }
 
 TEST(MrmlScene, ConvertPrintsWhatItReadAndWroteAndExitsOneNamingAMissingFile) {
