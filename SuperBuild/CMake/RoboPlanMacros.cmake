@@ -165,7 +165,9 @@ function(roboplan_add_benchmark name)
   endif()
   cmake_parse_arguments(A "" "" "SOURCES;LIBS" ${ARGN})
   add_executable(${name} ${A_SOURCES})
-  target_link_libraries(${name} PRIVATE roboplan_warnings ${A_LIBS} benchmark::benchmark)
+  # Testing/Benchmarks/rpBenchmarkMain.h: the run's conditions in every benchmark's output.
+  target_include_directories(${name} PRIVATE ${PROJECT_SOURCE_DIR}/Testing/Benchmarks)
+  target_link_libraries(${name} PRIVATE roboplan_warnings ${A_LIBS} RoboPlanBenchmarkCommon benchmark::benchmark)
   roboplan_vtk_autoinit(${name})
   target_compile_definitions(${name} PRIVATE
     ROBOPLAN_SHARED_DATA_DIR="${ROBOPLAN_SHARED_DATA_DIR}"
