@@ -40,12 +40,20 @@ std::string CommandLine(const std::string& command) {
   return read ? Trim(buffer) : "";
 }
 
+// The commit the build was made from (written at each build), and the source tree's now if it moved.
 std::string GitCommit() {
+  std::ifstream in(ROBOPLAN_BUILD_COMMIT_FILE);
+  std::string built;
+  std::getline(in, built);
+  built = Trim(built);
   const std::string git = "git -C '" + std::string(ROBOPLAN_SOURCE_DIR) + "' ";
-  const std::string commit = CommandLine(git + "rev-parse --short=12 HEAD");
-  if (commit.empty()) return "unknown (no git checkout at " + std::string(ROBOPLAN_SOURCE_DIR) + ")";
-  const bool dirty = !CommandLine(git + "status --porcelain --untracked-files=no").empty();
-  return commit + (dirty ? " (with uncommitted changes)" : "");
+  std::string now = CommandLine(git + "rev-parse --short=12 HEAD");
+  if (!now.empty() && !CommandLine(git + "status --porcelain --untracked-files=no").empty()) {
+    now += " (with uncommitted changes)";
+  }
+  if (built.empty()) built = "unknown";
+  if (now.empty() || now == built) return built;
+  return built + " (source tree now at " + now + ")";
 }
 
 std::string ReadCpuModel() {

@@ -3,9 +3,10 @@
 // user cannot reproduce is not a result, and on a shared 2-core virtual machine a timing depends on
 // the build, the X server, the GL driver and what else ran as much as on the code.
 //
-// Conditions::Start() records, at the start of a run: the date, the source tree's git commit, the
-// build type and compiler, the CPU model, the hardware and usable threads and VTK's SMP back-end,
-// the load average and the CPU counters of /proc/stat. Finish() records them again at the end:
+// Conditions::Start() records, at the start of a run: the date, the git commit the build was made
+// from (and the source tree's, when it moved on since), the build type and compiler, the CPU
+// model, the hardware and usable threads and VTK's SMP back-end, the load average and the CPU
+// counters of /proc/stat. Finish() records them again at the end:
 // the load average after, and over the run the CPU time the hypervisor stole and the share of the
 // machine's CPU that was busy. The GL renderer and version come from a small probe window at
 // Start() (on the X display rp::EnsureXDisplay finds or starts) or from a render window that drew
