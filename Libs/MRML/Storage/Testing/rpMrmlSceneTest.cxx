@@ -21,6 +21,7 @@
 #include <vtkPolyDataReader.h>
 #include <vtkSphereSource.h>
 
+#include "rpDataLoader.h"
 #include "rpModelIO.h"
 #include "rpMrmlScene.h"
 #include "rpMrmlText.h"
@@ -285,6 +286,12 @@ TEST(MrmlScene, APlanRoundTripsThroughAnMrbAndNothingIsLeftBesideIt) {
   ASSERT_TRUE(rp::ReadMrmlBundle((dir / "plan.mrb").string(), loaded, read)) << read.Error;
   EXPECT_TRUE(read.Skipped.empty()) << read.FirstProblem();
   ExpectSamePlan(original, loaded);
+  // The one loader (the viewer, `roboplan plan.mrb`, `screenshot`) reads it the same way.
+  vtkNew<vtkRPScene> viaLoader;
+  const rp::LoadResult result = rp::LoadPath(viaLoader, (dir / "plan.mrb").string());
+  ASSERT_TRUE(result.Ok) << result.Error;
+  EXPECT_EQ(result.Reader, "3D Slicer scene");
+  ExpectSamePlan(original, viaLoader);
 }
 
 TEST(MrmlScene, OldLinkAttributesDoubleEncodedNamesAndLegacyModelCoordinatesReadAsSlicerReadsThem) {
