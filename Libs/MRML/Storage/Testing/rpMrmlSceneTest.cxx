@@ -28,6 +28,7 @@
 #include "rpSceneFormats.h"
 #include "rpSharedData.h"
 #include "rpTestOutput.h"
+#include "rpVolumeIO.h"
 #include "vtkRPFiducialListNode.h"
 #include "vtkRPLayoutNode.h"
 #include "vtkRPLinearTransformNode.h"
@@ -338,6 +339,32 @@ TEST(MrmlScene, OldLinkAttributesDoubleEncodedNamesAndLegacyModelCoordinatesRead
   EXPECT_DOUBLE_EQ(out[0], 10);
   EXPECT_DOUBLE_EQ(out[1], 1);
   EXPECT_EQ(slicer5->GetParentTransformNode(), nullptr);
+}
+
+TEST(MrmlScene, ALabelMapVolumeGoesBackToSlicerAsALabelMapVolume) {
+  const fs::path dir = TestDir("mrml-labelmap");
+  fs::create_directories(dir / "Data");
+  vtkNew<vtkRPScene> source;
+  MakePlan(source);
+  std::string error;
+  ASSERT_TRUE(rp::WriteVolumeFile((dir / "Data" / "labels.nrrd").string(), Named<vtkRPSegmentationNode>(source, "Knee segmentation"), error)) << error;
+  std::ofstream(dir / "in.mrml") << "<MRML>\n"
+                                    "<VolumeArchetypeStorage id=\"S\" fileName=\"Data/labels.nrrd\"></VolumeArchetypeStorage>\n"
+                                    "<LabelMapVolume id=\"L\" name=\"labels\" references=\"storage:S;\"></LabelMapVolume>\n"
+                                    "</MRML>\n";
+  vtkNew<vtkRPScene> scene, again;
+  rp::SceneTransferReport report;
+  ASSERT_TRUE(rp::ReadMrmlScene((dir / "in.mrml").string(), scene, report)) << report.Error;
+  auto* labels = Named<vtkRPScalarVolumeNode>(scene, "labels");
+  ASSERT_NE(labels, nullptr) << report.FirstProblem();
+  EXPECT_EQ(labels->GetImageData()->GetScalarRange()[1], 2);
+  ASSERT_TRUE(rp::WriteMrmlScene(scene, (dir / "out.mrml").string(), report)) << report.Error;
+  const std::string text = ReadText(dir / "out.mrml");
+  EXPECT_NE(text.find("<LabelMapVolume\n  id=\"vtkMRMLLabelMapVolumeNode1\""), std::string::npos) << text;
+  EXPECT_NE(text.find("<LabelMapVolumeDisplay"), std::string::npos);
+  EXPECT_EQ(text.find("Slicer.LabelMapVolume"), std::string::npos);  // our marker stays ours
+  ASSERT_TRUE(rp::ReadMrmlScene((dir / "out.mrml").string(), again, report)) << report.Error;
+  EXPECT_EQ(Named<vtkRPScalarVolumeNode>(again, "labels")->GetAttribute("Slicer.LabelMapVolume"), "true");
 }
 
 TEST(MrmlScene, BadBundlesAreRefusedWithoutWritingAnythingOrLosingTheScene) {
