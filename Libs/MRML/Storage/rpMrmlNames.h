@@ -11,6 +11,9 @@ namespace rp {
 /// MRML tag maps to (e.g. a tracked tool written as a LinearTransform).
 constexpr const char* MrmlOwnPrefix = "RoboPlan.";
 constexpr const char* MrmlOwnClassAttribute = "RoboPlan.Class";
+/// Our node attribute that marks a scalar volume read from a Slicer label map volume, so that it
+/// is written back as one (LabelMapVolume); not itself written to MRML.
+constexpr const char* MrmlLabelMapAttribute = "Slicer.LabelMapVolume";
 
 /// Display and storage node tags of the node types we read (they are read with their node).
 bool IsMrmlHelperTag(const std::string& tag);

@@ -193,6 +193,7 @@ vtkSmartPointer<vtkRPNode> ReadVolume(ReadContext& context, const MrmlElement& e
   if (!ReadData(context, element, node, [&](const std::string& path, std::string& why) { return ReadThroughRegistry(node, path, why); }))
     return nullptr;
   volume->SetWindowLevelFromScalarRange();
+  if (element.Tag == "LabelMapVolume" || element.Att("labelMap") == "1") volume->SetAttribute(MrmlLabelMapAttribute, "true");
   const MrmlElement* display = context.Linked(element, "display");
   std::vector<double> window, level;
   if (display && ParseNumbers(display->Att("window"), window, 1) && ParseNumbers(display->Att("level"), level, 1))

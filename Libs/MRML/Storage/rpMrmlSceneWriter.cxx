@@ -53,7 +53,12 @@ const Mapping Mappings[] = {
     {"vtkRPSliceNode", "Slice", "vtkMRMLSliceNode"},
     {"vtkRPLayoutNode", "Layout", "vtkMRMLLayoutNode"}};
 
+// A scalar volume that came from a Slicer label map goes back as one.
+const Mapping LabelMapMapping = {"vtkRPScalarVolumeNode", "LabelMapVolume", "vtkMRMLLabelMapVolumeNode"};
+
 const Mapping* MappingFor(vtkRPNode* node) {
+  if (node->IsA("vtkRPScalarVolumeNode") && node->GetAttribute(MrmlLabelMapAttribute) == "true")
+    return &LabelMapMapping;
   for (const Mapping& mapping : Mappings)
     if (node->IsA(mapping.OurClass)) return &mapping;
   return nullptr;
@@ -91,7 +96,7 @@ XmlNode MainElement(WriteContext& context, vtkRPNode* node, const Mapping& mappi
   element.Name = node->GetName();
   element.Hidden = node->GetHideFromEditors();
   for (const auto& [key, value] : node->GetAttributes())
-    if (key.rfind(MrmlOwnPrefix, 0) != 0) element.Attributes[key] = value;
+    if (key.rfind(MrmlOwnPrefix, 0) != 0 && key != MrmlLabelMapAttribute) element.Attributes[key] = value;
   vtkRPNode::PropertyMap properties;
   node->WriteProperties(properties);
   for (const auto& [key, value] : properties)
@@ -150,6 +155,13 @@ bool WriteVolume(WriteContext& context, vtkRPNode* node, XmlNode& main) {
   display.Add("autoWindowLevel", "0");
   display.Add("interpolate", "1");
   display.References.push_back({"colorNodeID", {"vtkMRMLColorTableNodeGrey"}});
+  return true;
+}
+
+bool WriteLabelMap(WriteContext& context, vtkRPNode* node, XmlNode& main) {
+  if (!AddStorage(context, node, main, "VolumeArchetypeStorage", "vtkMRMLVolumeArchetypeStorageNode", ".nrrd")) return false;
+  XmlNode& display = AddDisplay(context, main, "LabelMapVolumeDisplay", "vtkMRMLLabelMapVolumeDisplayNode");
+  display.References.push_back({"colorNodeID", {"vtkMRMLColorTableNodeLabels"}});  // Slicer's default
   return true;
 }
 
@@ -259,7 +271,8 @@ bool WriteLayout(WriteContext&, vtkRPNode* node, XmlNode& main) {
 using NodeWriter = bool (*)(WriteContext&, vtkRPNode*, XmlNode&);
 NodeWriter WriterFor(const std::string& tag) {
   static const std::map<std::string, NodeWriter> writers = {
-      {"Volume", WriteVolume},         {"Segmentation", WriteSegmentation}, {"Model", WriteModel},
+      {"Volume", WriteVolume},         {"LabelMapVolume", WriteLabelMap}, {"Segmentation", WriteSegmentation},
+      {"Model", WriteModel},
       {"LinearTransform", WriteTransform}, {"MarkupsFiducial", WriteFiducials}, {"Slice", WriteSlice},
       {"Layout", WriteLayout}};
   return writers.at(tag);
