@@ -389,9 +389,11 @@ int RunPivotCommand(const std::vector<std::string>& args, std::ostream& out, std
 }
 
 int RunPolarisSimCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err, const std::atomic<bool>* stop) {
-  ArgParser parser("polaris-sim", "A simulated NDI Polaris on a pseudo-terminal: prints the port to open.");
+  ArgParser parser("polaris-sim", "A simulated NDI Polaris on a pseudo-terminal, or over TCP as a Polaris Vega: prints the "
+                                  "port to open.");
   parser.Option("port-link", "PATH", "symlink to the pty (kept across replug); breaks arrive on PATH.break")
-      .Option("tool", "FILE", "tool definition .json (default: every Resources/Tools/*.json); repeatable")
+      .Option("tcp", "PORT", "serve the Combined API over TCP on 127.0.0.1:PORT (a Vega/Lyra; 0: any free port)")
+      .Option("tool", "FILE", "tool definition .json or NDI .rom (default: every Resources/Tools/*.json); repeatable")
       .Option("rate", "HZ", "frame rate: 20 (Vicra) or 60 (Spectra)", std::string("60"))
       .Option("noise", "MM", "translation noise (standard deviation)", std::string("0.05"))
       .Option("noise-deg", "DEG", "rotation noise (standard deviation)", std::string("0.02"))
@@ -405,6 +407,7 @@ int RunPolarisSimCommand(const std::vector<std::string>& args, std::ostream& out
     o.NoiseMm = parser.GetDouble("noise");
     o.NoiseDeg = parser.GetDouble("noise-deg");
     if (parser.Has("seconds")) seconds = parser.GetDouble("seconds");
+    if (parser.Has("tcp")) o.TcpPort = static_cast<int>(parser.GetInt("tcp"));
   } catch (const std::exception& e) {
     err << "roboplan polaris-sim: " << e.what() << "\n";
     return 2;
@@ -418,7 +421,7 @@ int RunPolarisSimCommand(const std::vector<std::string>& args, std::ostream& out
   if (files.empty()) files = DefaultToolFiles();
   std::vector<ToolDefinition> tools;
   try {
-    for (const auto& f : files) tools.push_back(ReadToolDefinition(f));
+    for (const auto& f : files) tools.push_back(ReadToolFile(f));  // a .rom: its markers, standing still
   } catch (const std::exception& e) {
     err << "roboplan polaris-sim: " << e.what() << "\n";
     return 1;
@@ -451,7 +454,8 @@ int RunPolarisSimCommand(const std::vector<std::string>& args, std::ostream& out
   } else {
     out << sim.PortPath() << std::endl;  // first line: the port to open
     err << "polaris-sim: " << tools.size() << " tools at " << o.FrameRate << " Hz on " << sim.SlavePath()
-        << "; try: roboplan track --serial " << sim.PortPath() << " --rom <Resources/Tools/Stylus.json>\n";
+        << "; try: roboplan track " << (sim.Tcp() ? "--ndi-tcp " : "--serial ") << sim.PortPath()
+        << " --rom <Resources/Tools/Stylus.json>\n";
   }
   gInterrupted = false;
   auto previousInt = std::signal(SIGINT, OnSignal);
