@@ -297,3 +297,34 @@ TEST_P(NdiDriver, SlowRepliesAreWaitedForOrTakenLate) {
   EXPECT_LE(static_cast<double>(n1 - n0), frames + 6.0);
   EXPECT_GE(static_cast<double>(n1 - n0), 0.5 * frames);
 }
+
+TEST_P(NdiDriver, SimulatorTracksAToolFromARomItWasNotGiven) {
+  // The camera knows no tools; the driver uploads a ROM (PVWR) it has never seen: the simulator
+  // makes a tool of it, with the ROM's part number and markers, and tracks it standing still.
+  PolarisSimulator::Options options;
+  if (Serial()) options.LinkPath = OutputDir() + "/romonly";
+  else options.TcpPort = 0;
+  PolarisSimulator sim(options);
+  std::string error;
+  ASSERT_TRUE(sim.Start(error)) << error;
+  const std::vector<std::array<double, 3>> markers = {{0, 0, 0}, {0, 0, 50}, {0, 25, 100}, {0, -25, 135}};
+  NdiTracker::Options o;
+  o.Port = sim.PortPath();
+  o.Tcp = !Serial();
+  o.Tools = {{"Probe", rom::Build("RP-PROBE-7", markers)}};
+  o.CommandTimeoutMs = 1000;
+  NdiTracker tracker(o);
+  tracker.Start();
+  ASSERT_TRUE(WaitFor([&] { return test::Newest(tracker.Poses(), "ProbeToTracker").State == ToolState::OK; }, 5))
+      << tracker.LastError();
+  EXPECT_EQ(sim.ToolNames(), std::vector<std::string>{"RP-PROBE-7"});
+  const auto geometry = sim.ToolMarkers("RP-PROBE-7");
+  ASSERT_EQ(geometry.size(), markers.size());
+  for (size_t m = 0; m < markers.size(); ++m)
+    for (size_t k = 0; k < 3; ++k) EXPECT_FLOAT_EQ(geometry[m][k], markers[m][k]);
+  double truth[16], got[16];
+  ASSERT_TRUE(sim.TruePose("RP-PROBE-7", 0, truth));
+  test::Newest(tracker.Poses(), "ProbeToTracker").ToMatrix(got);
+  for (int i = 0; i < 12; ++i) EXPECT_NEAR(got[i], truth[i], i % 4 == 3 ? 1e-3 : 1e-6) << i;
+  tracker.Stop();
+}
