@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "rpPlusConfiguration.h"
+#include "rpPolarisSimulator.h"
 #include "rpPlusTracking.h"
 #include "rpSharedData.h"
 #include "rpTrackingCommands.h"
@@ -288,4 +289,34 @@ TEST(PlusConfiguration, RunsOnTheSimulatorAndServesStylusTipToReference) {
   }
   EXPECT_TRUE(found) << out.str();
   EXPECT_NE(err.str().find("CaptureDevice"), std::string::npos) << err.str();  // the refusal message
+}
+
+TEST(PlusConfiguration, VegaConfigurationRunsOverTcpAgainstTheSimulatorCarryingOnlyTheRomsItIsSent) {
+  RP_REQUIRE_SHARED_DATA(kConfigs);
+  // A simulated Vega on 127.0.0.1 that knows no tool: the driver uploads the file's 8700248.rom,
+  // the simulator tracks it standing still at (-300, 0, -1500) mm, and StylusTipToReference is
+  // served as StylusToReference * StylusTipToStylus (the Vega file's tool frame is Reference).
+  PolarisSimulator::Options options;
+  options.TcpPort = 0;
+  PolarisSimulator vega(options);
+  std::string error;
+  ASSERT_TRUE(vega.Start(error)) << error;
+  std::ostringstream out, err;
+  ASSERT_EQ(RunTrackCommand({"--plus-config", kConfigs + "PlusDeviceSet_Server_NDIVega.xml", "--ndi-tcp", vega.PortPath(),
+                             "--seconds", "1.5", "--serve", "0", "--json"},
+                            nullptr, out, err),
+            0)
+      << err.str();
+  const auto doc = nlohmann::json::parse(out.str());
+  EXPECT_EQ(doc["source"], "tcp");
+  EXPECT_EQ(doc["device"]["link"], "tcp");
+  EXPECT_EQ(vega.ToolNames(), std::vector<std::string>{"8700248"});
+  ASSERT_EQ(doc["plusTransforms"].size(), 1u);
+  const auto& t = doc["plusTransforms"][0];
+  EXPECT_EQ(t["name"], "StylusTipToReference");
+  EXPECT_EQ(t["state"], "OK");
+  EXPECT_NEAR(t["position"][0].get<double>(), -300.0 + 0.0180449, 1e-3);
+  EXPECT_NEAR(t["position"][1].get<double>(), -0.00144002, 1e-3);
+  EXPECT_NEAR(t["position"][2].get<double>(), -1500.0 - 88.5321, 1e-3);
+  EXPECT_NE(err.str().find("VideoDevice (OpenCVVideo)"), std::string::npos) << err.str();  // refused, the rest ran
 }
