@@ -71,6 +71,8 @@ void PolarisSimulator::AddTool(const ToolDefinition& tool) {
   auto runtime = std::make_unique<ToolRuntime>();
   runtime->Definition = tool;
   if (runtime->Definition.Rom.empty()) runtime->Definition.Rom = rom::Build(tool.PartNumber, tool.Markers);
+  std::string error;  // a ROM that does not read leaves the geometry empty: always visible
+  rom::Read(runtime->Definition.Rom.data(), runtime->Definition.Rom.size(), runtime->Rom, error);
   std::lock_guard<std::mutex> lock(this->ToolsMutex);
   this->Tools.push_back(std::move(runtime));
 }
@@ -94,6 +96,7 @@ int PolarisSimulator::ToolForRom(const std::vector<uint8_t>& image) {
   tool.Motion.Type = ToolTrajectory::Static;
   for (int k = 0; k < 3; ++k) tool.Motion.Center[k] = this->Opts.VolumeCenter[k];
   tool.Motion.Center[0] += 150.0 * static_cast<double>(this->Tools.size()) - 300.0;
+  runtime->Rom = definition;
   std::lock_guard<std::mutex> lock(this->ToolsMutex);
   this->Tools.push_back(std::move(runtime));
   return static_cast<int>(this->Tools.size() - 1);
@@ -586,6 +589,32 @@ void PolarisSimulator::HandleCommand(const char* line, size_t length) {
   this->ReplyError(0x01);
 }
 
+bool PolarisSimulator::MarkersVisible(const ToolRuntime& tool, const double m[16]) {
+  const rom::Definition& g = tool.Rom;
+  if (g.Markers.empty()) return true;
+  const double cosMax = std::cos(std::min(180, std::max(0, g.MaxMarkerAngleDeg)) * M_PI / 180.0);
+  int visible = 0;
+  for (size_t i = 0; i < g.Markers.size(); ++i) {
+    const auto& p = g.Markers[i];
+    const auto& nn = i < g.Normals.size() ? g.Normals[i] : rom::Vec3{0, 0, 0};
+    double world[3], normal[3], distance = 0, length = 0;
+    for (int r = 0; r < 3; ++r) {
+      world[r] = m[4 * r] * p[0] + m[4 * r + 1] * p[1] + m[4 * r + 2] * p[2] + m[4 * r + 3];
+      normal[r] = m[4 * r] * nn[0] + m[4 * r + 1] * nn[1] + m[4 * r + 2] * nn[2];
+      distance += world[r] * world[r];
+      length += normal[r] * normal[r];
+    }
+    if (length < 1e-12) {  // no normal given: seen from everywhere
+      ++visible;
+      continue;
+    }
+    // Towards the camera (the tracker origin) is -world.
+    const double facing = -(normal[0] * world[0] + normal[1] * world[1] + normal[2] * world[2]) / std::sqrt(distance * length);
+    if (facing >= cosMax) ++visible;
+  }
+  return visible >= std::max(1, g.MinimumMarkers);
+}
+
 void PolarisSimulator::BuildTracking(bool binary) {
   const uint32_t frame = this->CurrentFrame();
   const double t = (frame - 1) / this->Rate + this->TrackingStart;
@@ -609,7 +638,9 @@ void PolarisSimulator::BuildTracking(bool binary) {
     }
     uint32_t port = ndi::PortOccupied | ndi::PortInitialized | ndi::PortEnabled;
     const ToolRuntime* tool = h.Tool >= 0 ? this->Tools[static_cast<size_t>(h.Tool)].get() : nullptr;
-    if (!tool || tool->Occluded) {
+    double m[16];
+    if (tool) EvaluateTrajectory(tool->Definition, t, m);
+    if (!tool || tool->Occluded || (this->Opts.MarkerVisibility && !MarkersVisible(*tool, m))) {
       text += "MISSING";
       PutHex(text, port, 8);
       PutHex(text, frame, 8);
@@ -620,8 +651,6 @@ void PolarisSimulator::BuildTracking(bool binary) {
       n += 8;
       continue;
     }
-    double m[16];
-    EvaluateTrajectory(tool->Definition, t, m);
     ToolPose pose;
     pose.FromMatrix(m);
     const double sigmaT = this->Opts.NoiseMm, sigmaR = this->Opts.NoiseDeg * M_PI / 180.0;

@@ -37,6 +37,9 @@ class PolarisSimulator {
     uint32_t Seed = 1;
     bool AcceptBreak = true;        // false: ignore breaks (host must use the RESET command)
     int TcpPort = -1;               // >= 0: serve TCP on 127.0.0.1 instead of a pty (0: any free port)
+    /// A tool is MISSING when fewer than its ROM's minimum markers face the camera (at the
+    /// tracker origin) within the ROM's maximum marker angle (its marker normals).
+    bool MarkerVisibility = false;
   };
 
   struct Counters {
@@ -95,8 +98,11 @@ class PolarisSimulator {
   };
   struct ToolRuntime {
     ToolDefinition Definition;
+    rom::Definition Rom;  // geometry as the camera sees it: normals, minimum markers, maximum angle
     std::atomic<bool> Occluded{false}, OutOfVolume{false};
   };
+  /// Enough markers of the tool face the camera at pose m (row-major ToolToTracker).
+  static bool MarkersVisible(const ToolRuntime& tool, const double m[16]);
 
   void Run();
   bool OpenPty(std::string& error);

@@ -328,3 +328,37 @@ TEST_P(NdiDriver, SimulatorTracksAToolFromARomItWasNotGiven) {
   for (int i = 0; i < 12; ++i) EXPECT_NEAR(got[i], truth[i], i % 4 == 3 ? 1e-3 : 1e-6) << i;
   tracker.Stop();
 }
+
+TEST_P(NdiDriver, SimulatorSeesOnlyToolsWhoseRomMarkersFaceTheCamera) {
+  // With marker visibility on, the ROM's geometry decides: normals +z, a 90 degree maximum angle,
+  // three markers needed. The same tool facing the camera is tracked, turned away it is MISSING.
+  PolarisSimulator::Options options;
+  options.MarkerVisibility = true;
+  if (Serial()) options.LinkPath = OutputDir() + "/visibility";
+  else options.TcpPort = 0;
+  PolarisSimulator sim(options);
+  ToolDefinition facing;
+  facing.Name = facing.PartNumber = "Facing";
+  facing.Markers = {{0, 0, 0}, {0, 50, 0}, {40, 0, 0}, {-30, 70, 0}};
+  facing.Rom = rom::Build(facing.PartNumber, facing.Markers);
+  ToolDefinition away = facing;
+  away.Name = away.PartNumber = "Away";
+  away.Rom = rom::Build(away.PartNumber, away.Markers);
+  away.Motion.Center[0] = 150;
+  away.Motion.Euler[2] = 180;  // turned about x: the normals point away from the camera
+  sim.AddTool(facing);
+  sim.AddTool(away);
+  std::string error;
+  ASSERT_TRUE(sim.Start(error)) << error;
+  NdiTracker::Options o;
+  o.Port = sim.PortPath();
+  o.Tcp = !Serial();
+  o.Tools = {{"Facing", facing.Rom}, {"Away", away.Rom}};
+  o.CommandTimeoutMs = 1000;
+  NdiTracker tracker(o);
+  tracker.Start();
+  ASSERT_TRUE(WaitFor([&] { return test::Newest(tracker.Poses(), "FacingToTracker").State == ToolState::OK; }, 5))
+      << tracker.LastError();
+  EXPECT_EQ(test::Newest(tracker.Poses(), "AwayToTracker").State, ToolState::Missing);
+  tracker.Stop();
+}
