@@ -5,6 +5,7 @@
 #include <vtkSmartPointer.h>
 
 #include "rpModule.h"
+#include "rpDeviceCommands.h"
 #include "rpTrackingCommands.h"
 #include "vtkRPTrackingLogic.h"
 #ifdef ROBOPLAN_BUILD_GUI
@@ -35,6 +36,8 @@ class TrackingModule : public rp::Module {
          [](rp::CommandContext& c) { return rp::RunTrackCommand(c.Arguments, c.Scene, std::cout, std::cerr); }},
         {"pivot", "pivot calibration (StylusTipToStylus, RMSE) from a tracking recording",
          [](rp::CommandContext& c) { return rp::RunPivotCommand(c.Arguments, std::cout, std::cerr); }},
+        {"tool-info", "an NDI tool definition (.rom) or tool .json: markers, normals, part number, checksum (--json, --write)",
+         [](rp::CommandContext& c) { return rp::RunToolInfoCommand(c.Arguments, std::cout, std::cerr); }},
         {"polaris-sim", "a simulated NDI Polaris on a pseudo-terminal (prints the port to open)",
          [](rp::CommandContext& c) { return rp::RunPolarisSimCommand(c.Arguments, std::cout, std::cerr); }},
     };

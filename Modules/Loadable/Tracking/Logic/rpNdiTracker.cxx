@@ -7,6 +7,8 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "rpSerialTransport.h"
+#include "rpTcpTransport.h"
 #include "rpToolDefinition.h"
 #include "rpTransformNames.h"
 
@@ -31,10 +33,11 @@ NdiTracker::NdiTracker(Options options) : Opts(std::move(options)) {
 
 NdiTracker::~NdiTracker() { this->Stop(); }
 
-std::unique_ptr<PoseSource> NdiTracker::Create(const PoseSourceConfig& config) {
-  Options o;
+namespace {
+// Tools and rate options shared by the serial and the TCP source.
+NdiTracker::Options OptionsFrom(const PoseSourceConfig& config) {
+  NdiTracker::Options o;
   o.Port = config.Address;
-  if (o.Port.empty()) throw std::invalid_argument("give the serial port (e.g. /dev/ttyUSB0)");
   if (config.ToolFiles.empty()) throw std::invalid_argument("give at least one tool definition (.rom or .json)");
   for (const std::string& file : config.ToolFiles) {
     const ToolDefinition tool = ReadToolFile(file);  // throws std::runtime_error naming the file
@@ -46,9 +49,35 @@ std::unique_ptr<PoseSource> NdiTracker::Create(const PoseSourceConfig& config) {
   o.RateCode = rate == 20 ? 0 : rate == 30 ? 1 : 2;
   const std::string text = config.Option("text", "0");
   o.Binary = !(text == "1" || text == "true" || text == "yes");
+  return o;
+}
+}  // namespace
+
+std::unique_ptr<PoseSource> NdiTracker::Create(const PoseSourceConfig& config) {
+  if (config.Address.empty()) throw std::invalid_argument("give the serial port (e.g. /dev/ttyUSB0)");
+  return std::make_unique<NdiTracker>(OptionsFrom(config));
+}
+
+std::unique_ptr<PoseSource> NdiTracker::CreateTcp(const PoseSourceConfig& config) {
+  std::string host, error;
+  int port;
+  if (!ParseNdiTcpAddress(config.Address, host, port, error)) throw std::invalid_argument(error);
+  Options o = OptionsFrom(config);
+  o.Tcp = true;
   return std::make_unique<NdiTracker>(o);
 }
+
+std::unique_ptr<NdiTransport> NdiTracker::MakeTransport() const {
+  if (this->Opts.TransportFactory) return this->Opts.TransportFactory();
+  if (!this->Opts.Tcp) return MakeSerialTransport(this->Opts.Port);
+  std::string host, error;
+  int port = NdiTcpDefaultPort;
+  ParseNdiTcpAddress(this->Opts.Port, host, port, error);  // checked by CreateTcp; a bad one fails to connect
+  return std::make_unique<TcpTransport>(host, port);
+}
+
 RP_REGISTER_POSE_SOURCE(serial, "NDI Polaris/Aurora on a serial port (Combined API)", "/dev/ttyUSB0", NdiTracker::Create);
+RP_REGISTER_POSE_SOURCE(tcp, "NDI Polaris Vega/Lyra over Ethernet (Combined API, TCP)", "host:8765", NdiTracker::CreateTcp);
 
 bool NdiTracker::Start(std::string&) {
   this->Worker.Start([this] { this->Run(); });
@@ -64,7 +93,8 @@ std::string NdiTracker::StatusText() const {
 
 nlohmann::json NdiTracker::StatisticsJson() const {
   const auto s = this->GetStatistics();
-  return {{"state", StateName(this->GetState())}, {"port", this->Opts.Port}, {"firmware", this->FirmwareVersion()},
+  return {{"state", StateName(this->GetState())}, {"port", this->Opts.Port}, {"link", this->Opts.Tcp ? "tcp" : "serial"},
+          {"firmware", this->FirmwareVersion()},
           {"baud", this->NegotiatedBaud()}, {"frames", s.Frames}, {"crcErrors", s.CrcErrors}, {"timeouts", s.Timeouts},
           {"frameGaps", s.FrameGaps}, {"deviceErrors", s.DeviceErrors}, {"malformedReplies", s.MalformedReplies},
           {"lateReplies", s.LateReplies}, {"connections", s.Connections}, {"resets", s.Resets},
@@ -230,14 +260,17 @@ bool NdiTracker::Reset() {
 }
 
 bool NdiTracker::Connect() {
-  this->Transport = this->Opts.TransportFactory ? this->Opts.TransportFactory() : MakeSerialTransport(this->Opts.Port);
+  this->Transport = this->MakeTransport();
   this->RxLength = this->FrameLength = 0;
   if (!this->Transport->Open()) {
     this->Fail(this->Transport->LastError());
     return false;
   }
   this->Baud = 9600;
-  ndi::ParseResult r = this->Command("INIT", "", this->Opts.ProbeTimeoutMs, 0);
+  // A serial probe is short (a device at another baud rate never answers); a Vega's first INIT
+  // over TCP can take seconds (PLUS gives it 5).
+  const int probeMs = this->Transport->HasBaudRate() ? this->Opts.ProbeTimeoutMs : this->Opts.CommandTimeoutMs;
+  ndi::ParseResult r = this->Command("INIT", "", probeMs, 0);
   if (r.Ok()) return true;
   if (this->Stopping() || !this->Reset()) return false;
   r = this->Command("INIT", "", this->Opts.CommandTimeoutMs, this->Opts.Retries);
@@ -260,6 +293,7 @@ bool NdiTracker::Configure() {
   static const struct { char Code; int Baud; } kRates[] = {
       {'7', 1228739}, {'6', 921600}, {'A', 230400}, {'5', 115200}, {'4', 57600}, {'3', 38400}, {'2', 19200}};
   for (const auto& rate : kRates) {
+    if (!this->Transport->HasBaudRate()) break;  // TCP: no COMM
     if (rate.Baud > this->Opts.MaxBaud) continue;
     if (!this->Transport->SetBaudRate(rate.Baud) || !this->Transport->SetBaudRate(9600)) continue;
     const char args[6] = {rate.Code, '0', '0', '0', '0', '\0'};

@@ -1,8 +1,9 @@
 #pragma once
-// The NDI Combined API serial driver (pose source "serial"): one I/O thread that resets, probes
+// The NDI Combined API driver (pose sources "serial" and "tcp"): one I/O thread that resets, probes
 // and configures the tracker, loads passive tool definitions, tracks (BX or TX polling at the
 // frame rate) and publishes each tool's newest pose into a ToolPoseTable (slot <Tool>ToTracker).
 // Unplug is detected and the whole set-up repeated with back-off, without restarting the program.
+// The link is an NdiTransport: a serial port, or TCP to a Polaris Vega/Lyra (no COMM, no break).
 #include <atomic>
 #include <cstdint>
 #include <functional>
@@ -14,7 +15,7 @@
 
 #include "rpNdiProtocol.h"
 #include "rpPoseSource.h"
-#include "rpSerialTransport.h"
+#include "rpNdiTransport.h"
 #include "rpToolPose.h"
 #include "rpWorkerThread.h"
 
@@ -28,7 +29,8 @@ class NdiTracker : public PoseSource {
   };
 
   struct Options {
-    std::string Port;
+    std::string Port;                    // serial port, or HOST[:PORT] when Tcp
+    bool Tcp = false;                    // the Combined API over TCP (Vega, Lyra; port 8765)
     std::vector<Tool> Tools;
     bool Binary = true;                  // BX:0801 (else TX:0001)
     int MaxBaud = 1228739;               // fastest COMM rate to try
@@ -42,7 +44,7 @@ class NdiTracker : public PoseSource {
     double ReconnectInitialSeconds = 0.1;
     double ReconnectMaxSeconds = 2.0;
     /// Makes the transport (tests inject one; default: MakeSerialTransport(Port)).
-    std::function<std::unique_ptr<SerialTransport>()> TransportFactory;
+    std::function<std::unique_ptr<NdiTransport>()> TransportFactory;
   };
 
   enum class State : int { Stopped = 0, Connecting, Configuring, Tracking, Disconnected };
@@ -66,6 +68,8 @@ class NdiTracker : public PoseSource {
   /// From a configuration: Address = the port, ToolFiles, options "rate" (20|30|60 Hz) and
   /// "text" (1: TX instead of BX). Throws std::invalid_argument / std::runtime_error.
   static std::unique_ptr<PoseSource> Create(const PoseSourceConfig& config);
+  /// The same over TCP: Address = HOST[:PORT] (port 8765 by default).
+  static std::unique_ptr<PoseSource> CreateTcp(const PoseSourceConfig& config);
 
   /// Starts the I/O thread (returns at once; watch GetState()).
   bool Start(std::string& error) override;
@@ -101,9 +105,10 @@ class NdiTracker : public PoseSource {
   bool Stopping() const { return this->Worker.StopRequested() && !this->ShuttingDown; }
   void SetState(State s) { this->CurrentState.store(static_cast<int>(s), std::memory_order_release); }
   void UpdateCpu();
+  std::unique_ptr<NdiTransport> MakeTransport() const;
 
   Options Opts;
-  std::unique_ptr<SerialTransport> Transport;
+  std::unique_ptr<NdiTransport> Transport;
   ToolPoseTable Table;
   WorkerThread Worker;
   std::atomic<int> CurrentState{0};

@@ -1,12 +1,15 @@
 #include "rpPolarisSimulator.h"
 
+#include <arpa/inet.h>
 #include <fcntl.h>
+#include <netinet/in.h>
 #include <poll.h>
 #include <sys/socket.h>
 #include <sys/un.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -68,7 +71,49 @@ void PolarisSimulator::AddTool(const ToolDefinition& tool) {
   auto runtime = std::make_unique<ToolRuntime>();
   runtime->Definition = tool;
   if (runtime->Definition.Rom.empty()) runtime->Definition.Rom = rom::Build(tool.PartNumber, tool.Markers);
+  std::string error;  // a ROM that does not read leaves the geometry empty: always visible
+  rom::Read(runtime->Definition.Rom.data(), runtime->Definition.Rom.size(), runtime->Rom, error);
+  std::lock_guard<std::mutex> lock(this->ToolsMutex);
   this->Tools.push_back(std::move(runtime));
+}
+
+int PolarisSimulator::ToolForRom(const std::vector<uint8_t>& image) {
+  for (size_t t = 0; t < this->Tools.size(); ++t) {
+    const auto& known = this->Tools[t]->Definition.Rom;
+    if (known.size() <= image.size() && std::equal(known.begin(), known.end(), image.begin())) return static_cast<int>(t);
+  }
+  // A definition we were not given: a tool of its own, its geometry from the ROM, standing still
+  // in the volume (a row of such tools 150 mm apart), as a camera tracks any tool it is sent.
+  rom::Definition definition;
+  std::string error;
+  if (!rom::Read(image.data(), image.size(), definition, error)) return -1;
+  auto runtime = std::make_unique<ToolRuntime>();
+  ToolDefinition& tool = runtime->Definition;
+  tool.PartNumber = definition.PartNumber;
+  tool.Name = definition.PartNumber.empty() ? "ROM" + std::to_string(this->Tools.size() + 1) : definition.PartNumber;
+  tool.Markers = definition.Markers;
+  tool.Rom.assign(image.begin(), image.begin() + static_cast<long>(rom::Size));
+  tool.Motion.Type = ToolTrajectory::Static;
+  for (int k = 0; k < 3; ++k) tool.Motion.Center[k] = this->Opts.VolumeCenter[k];
+  tool.Motion.Center[0] += 150.0 * static_cast<double>(this->Tools.size()) - 300.0;
+  runtime->Rom = definition;
+  std::lock_guard<std::mutex> lock(this->ToolsMutex);
+  this->Tools.push_back(std::move(runtime));
+  return static_cast<int>(this->Tools.size() - 1);
+}
+
+std::vector<std::string> PolarisSimulator::ToolNames() const {
+  std::lock_guard<std::mutex> lock(this->ToolsMutex);
+  std::vector<std::string> names;
+  for (const auto& t : this->Tools) names.push_back(t->Definition.Name);
+  return names;
+}
+
+std::vector<std::array<double, 3>> PolarisSimulator::ToolMarkers(const std::string& toolName) const {
+  std::lock_guard<std::mutex> lock(this->ToolsMutex);
+  for (const auto& t : this->Tools)
+    if (t->Definition.Name == toolName) return t->Definition.Markers;
+  return {};
 }
 
 double PolarisSimulator::Now() const { return SteadySeconds() - this->StartTime; }
@@ -114,8 +159,12 @@ bool PolarisSimulator::Start(std::string& error) {
   this->StartTime = SteadySeconds();
   this->PowerOnReset();
   this->Rate = this->Opts.FrameRate;
-  if (!this->OpenPty(error)) return false;
-  if (!this->Opts.LinkPath.empty()) {
+  if (this->Tcp()) {
+    if (!this->OpenListener(error)) return false;
+  } else if (!this->OpenPty(error)) {
+    return false;
+  }
+  if (!this->Tcp() && !this->Opts.LinkPath.empty()) {
     const std::string socketPath = this->Opts.LinkPath + ".break";
     ::unlink(socketPath.c_str());
     this->BreakSocketFd = ::socket(AF_UNIX, SOCK_DGRAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
@@ -137,12 +186,48 @@ bool PolarisSimulator::Start(std::string& error) {
 void PolarisSimulator::Stop() {
   this->Worker.Stop();
   this->ClosePty();
+  if (this->ListenFd >= 0) ::close(this->ListenFd);
+  this->ListenFd = -1;
   if (this->BreakSocketFd >= 0) {
     ::close(this->BreakSocketFd);
     this->BreakSocketFd = -1;
     ::unlink((this->Opts.LinkPath + ".break").c_str());
   }
-  if (!this->Opts.LinkPath.empty()) ::unlink(this->Opts.LinkPath.c_str());
+  if (!this->Tcp() && !this->Opts.LinkPath.empty()) ::unlink(this->Opts.LinkPath.c_str());
+}
+
+bool PolarisSimulator::OpenListener(std::string& error) {
+  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
+  const int one = 1;
+  sockaddr_in addr{};
+  addr.sin_family = AF_INET;
+  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);  // loopback only
+  // After an Unplug the same port again, so that a driver retrying its address finds it.
+  const int port = this->BoundPort > 0 ? this->BoundPort.load() : this->Opts.TcpPort;
+  addr.sin_port = htons(static_cast<uint16_t>(port));
+  socklen_t length = sizeof addr;
+  if (fd < 0 || ::setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one) != 0 ||
+      ::bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0 || ::listen(fd, 4) != 0 ||
+      ::getsockname(fd, reinterpret_cast<sockaddr*>(&addr), &length) != 0) {
+    error = "cannot listen on 127.0.0.1:" + std::to_string(port) + ": " + std::strerror(errno);
+    if (fd >= 0) ::close(fd);
+    return false;
+  }
+  std::lock_guard<std::mutex> lock(this->PtyMutex);
+  this->ListenFd = fd;
+  this->BoundPort = ntohs(addr.sin_port);
+  return true;
+}
+
+void PolarisSimulator::AcceptClient() {
+  const int fd = ::accept4(this->ListenFd, nullptr, nullptr, SOCK_CLOEXEC | SOCK_NONBLOCK);
+  if (fd < 0) return;
+  // One host at a time, as the Vega's API port: a new connection replaces the old one (a host
+  // reconnecting after a network fault must not find the device taken by its own dead socket).
+  std::lock_guard<std::mutex> lock(this->PtyMutex);
+  if (this->MasterFd >= 0) ::close(this->MasterFd);
+  this->MasterFd = fd;
+  this->Input.clear();
 }
 
 std::string PolarisSimulator::SlavePath() const {
@@ -151,6 +236,7 @@ std::string PolarisSimulator::SlavePath() const {
 }
 
 std::string PolarisSimulator::PortPath() const {
+  if (this->Tcp()) return "127.0.0.1:" + std::to_string(this->BoundPort.load());
   return this->Opts.LinkPath.empty() ? this->SlavePath() : this->Opts.LinkPath;
 }
 
@@ -159,25 +245,30 @@ void PolarisSimulator::Unplug() {
   // The port disappears, as /dev/ttyUSB0 does when a USB-serial cable is pulled. A link left
   // pointing at the closed pty would name whatever pty the system hands out next under that
   // number (another process's, another simulator's): a host retrying the path would talk to it.
-  if (!this->Opts.LinkPath.empty()) ::unlink(this->Opts.LinkPath.c_str());
+  if (!this->Tcp() && !this->Opts.LinkPath.empty()) ::unlink(this->Opts.LinkPath.c_str());
   // The thread stops touching the fds within one poll period; close them under the lock.
   std::this_thread::sleep_for(std::chrono::milliseconds(20));
   this->ClosePty();
+  std::lock_guard<std::mutex> lock(this->PtyMutex);
+  if (this->ListenFd >= 0) ::close(this->ListenFd);
+  this->ListenFd = -1;
 }
 
 bool PolarisSimulator::Replug(std::string& error) {
-  if (!this->OpenPty(error)) return false;
+  if (this->Tcp() ? !this->OpenListener(error) : !this->OpenPty(error)) return false;
   this->BreakPending = false;
   this->Unplugged = false;  // the thread resets the device state when it sees the new pty
   return true;
 }
 
 void PolarisSimulator::SetOccluded(const std::string& toolName, bool occluded) {
+  std::lock_guard<std::mutex> lock(this->ToolsMutex);
   for (auto& t : this->Tools)
     if (t->Definition.Name == toolName) t->Occluded = occluded;
 }
 
 void PolarisSimulator::SetOutOfVolume(const std::string& toolName, bool outOfVolume) {
+  std::lock_guard<std::mutex> lock(this->ToolsMutex);
   for (auto& t : this->Tools)
     if (t->Definition.Name == toolName) t->OutOfVolume = outOfVolume;
 }
@@ -188,6 +279,7 @@ PolarisSimulator::Counters PolarisSimulator::GetCounters() const {
 }
 
 bool PolarisSimulator::TruePose(const std::string& toolName, double t, double m[16]) const {
+  std::lock_guard<std::mutex> lock(this->ToolsMutex);
   for (auto& tool : this->Tools) {
     if (tool->Definition.Name == toolName) {
       EvaluateTrajectory(tool->Definition, t, m);
@@ -233,25 +325,36 @@ void PolarisSimulator::Run() {
         this->Reply("RESET");
       }
     }
-    int master;
+    int master, listener;
     {
       std::lock_guard<std::mutex> lock(this->PtyMutex);
       master = this->MasterFd;
+      listener = this->ListenFd;
     }
-    if (master < 0) {
+    if (master < 0 && listener < 0) {
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
       continue;
     }
-    pollfd fds[2] = {{master, POLLIN, 0}, {this->BreakSocketFd, POLLIN, 0}};
-    const int ready = ::poll(fds, this->BreakSocketFd >= 0 ? 2 : 1, 5);
+    pollfd fds[3] = {{master, POLLIN, 0}, {this->BreakSocketFd, POLLIN, 0}, {listener, POLLIN, 0}};
+    const int ready = ::poll(fds, 3, 5);  // negative descriptors are ignored
     if (ready <= 0 || this->Unplugged) continue;
+    if (fds[2].revents & POLLIN) this->AcceptClient();
     if (this->BreakSocketFd >= 0 && (fds[1].revents & POLLIN)) {
       char message[64];
       while (::recv(this->BreakSocketFd, message, sizeof message, 0) > 0) this->BreakPending = true;
     }
-    if (fds[0].revents & POLLIN) {
+    if (fds[0].revents & (POLLIN | POLLHUP | POLLERR)) {
       const ssize_t n = ::read(master, buffer, sizeof buffer);
       if (n > 0) this->Input.append(buffer, static_cast<size_t>(n));
+      if (this->Tcp() && (n == 0 || (n < 0 && errno != EAGAIN && errno != EINTR))) {
+        std::lock_guard<std::mutex> lock(this->PtyMutex);  // the host hung up: wait for the next one
+        if (this->MasterFd == master) {
+          ::close(master);
+          this->MasterFd = -1;
+        }
+        this->Input.clear();
+        continue;
+      }
       if (this->Input.size() > 65536) this->Input.clear();  // garbage: nobody sends this much
       size_t cr;
       while ((cr = this->Input.find('\r')) != std::string::npos) {
@@ -280,7 +383,8 @@ void PolarisSimulator::SendRaw(uint8_t* data, size_t length, bool ascii) {
   if (this->MasterFd < 0 || this->Unplugged) return;
   size_t done = 0;
   while (done < length) {
-    const ssize_t n = ::write(this->MasterFd, data + done, length - done);
+    const ssize_t n = this->Tcp() ? ::send(this->MasterFd, data + done, length - done, MSG_NOSIGNAL)
+                                  : ::write(this->MasterFd, data + done, length - done);
     if (n <= 0) return;  // host not reading: a real device drops it too
     done += static_cast<size_t>(n);
   }
@@ -437,11 +541,7 @@ void PolarisSimulator::HandleCommand(const char* line, size_t length) {
     if (name == "PINIT") {
       std::string error;
       if (!rom::Validate(h->Rom, error)) return this->ReplyError(0x40);
-      h->Tool = -1;
-      for (size_t t = 0; t < this->Tools.size(); ++t) {
-        const auto& rom = this->Tools[t]->Definition.Rom;
-        if (std::equal(rom.begin(), rom.end(), h->Rom.begin())) h->Tool = static_cast<int>(t);
-      }
+      h->Tool = this->ToolForRom(h->Rom);
       h->Initialized = true;
       std::lock_guard<std::mutex> lock(this->CountersMutex);
       ++this->Count.LoadedTools;
@@ -489,6 +589,32 @@ void PolarisSimulator::HandleCommand(const char* line, size_t length) {
   this->ReplyError(0x01);
 }
 
+bool PolarisSimulator::MarkersVisible(const ToolRuntime& tool, const double m[16]) {
+  const rom::Definition& g = tool.Rom;
+  if (g.Markers.empty()) return true;
+  const double cosMax = std::cos(std::min(180, std::max(0, g.MaxMarkerAngleDeg)) * M_PI / 180.0);
+  int visible = 0;
+  for (size_t i = 0; i < g.Markers.size(); ++i) {
+    const auto& p = g.Markers[i];
+    const auto& nn = i < g.Normals.size() ? g.Normals[i] : rom::Vec3{0, 0, 0};
+    double world[3], normal[3], distance = 0, length = 0;
+    for (int r = 0; r < 3; ++r) {
+      world[r] = m[4 * r] * p[0] + m[4 * r + 1] * p[1] + m[4 * r + 2] * p[2] + m[4 * r + 3];
+      normal[r] = m[4 * r] * nn[0] + m[4 * r + 1] * nn[1] + m[4 * r + 2] * nn[2];
+      distance += world[r] * world[r];
+      length += normal[r] * normal[r];
+    }
+    if (length < 1e-12) {  // no normal given: seen from everywhere
+      ++visible;
+      continue;
+    }
+    // Towards the camera (the tracker origin) is -world.
+    const double facing = -(normal[0] * world[0] + normal[1] * world[1] + normal[2] * world[2]) / std::sqrt(distance * length);
+    if (facing >= cosMax) ++visible;
+  }
+  return visible >= std::max(1, g.MinimumMarkers);
+}
+
 void PolarisSimulator::BuildTracking(bool binary) {
   const uint32_t frame = this->CurrentFrame();
   const double t = (frame - 1) / this->Rate + this->TrackingStart;
@@ -512,7 +638,9 @@ void PolarisSimulator::BuildTracking(bool binary) {
     }
     uint32_t port = ndi::PortOccupied | ndi::PortInitialized | ndi::PortEnabled;
     const ToolRuntime* tool = h.Tool >= 0 ? this->Tools[static_cast<size_t>(h.Tool)].get() : nullptr;
-    if (!tool || tool->Occluded) {
+    double m[16];
+    if (tool) EvaluateTrajectory(tool->Definition, t, m);
+    if (!tool || tool->Occluded || (this->Opts.MarkerVisibility && !MarkersVisible(*tool, m))) {
       text += "MISSING";
       PutHex(text, port, 8);
       PutHex(text, frame, 8);
@@ -523,8 +651,6 @@ void PolarisSimulator::BuildTracking(bool binary) {
       n += 8;
       continue;
     }
-    double m[16];
-    EvaluateTrajectory(tool->Definition, t, m);
     ToolPose pose;
     pose.FromMatrix(m);
     const double sigmaT = this->Opts.NoiseMm, sigmaR = this->Opts.NoiseDeg * M_PI / 180.0;

@@ -1,10 +1,15 @@
 #pragma once
-// A simulated NDI Polaris speaking the Combined API on a pseudo-terminal, for tests, demos and
-// the `roboplan polaris-sim` command. Tools follow scripted trajectories with measurement
+// A simulated NDI Polaris speaking the Combined API on a pseudo-terminal, or over TCP on
+// 127.0.0.1 as a Polaris Vega/Lyra does on Ethernet, for tests, demos and the `roboplan
+// polaris-sim` command. A tool definition uploaded with PVWR that matches none of the tools it
+// was given becomes a tool of its own, its geometry and part number from the ROM (standing
+// still in the volume), as a real camera tracks any tool whose ROM it is sent. Tools follow scripted trajectories with measurement
 // noise; faults (occlusion, out of volume, CRC errors, slow and dropped replies, unplug) are
 // injected through thread-safe calls. The serial break arrives out of band (DeliverBreak(), or
 // a datagram on the unix socket `<link>.break` when a link path is given).
+#include <array>
 #include <atomic>
+#include <memory>
 #include <cstdint>
 #include <mutex>
 #include <random>
@@ -31,6 +36,10 @@ class PolarisSimulator {
     std::string LinkPath;           // symlink to the pty (kept across replug) + "<link>.break" socket
     uint32_t Seed = 1;
     bool AcceptBreak = true;        // false: ignore breaks (host must use the RESET command)
+    int TcpPort = -1;               // >= 0: serve TCP on 127.0.0.1 instead of a pty (0: any free port)
+    /// A tool is MISSING when fewer than its ROM's minimum markers face the camera (at the
+    /// tracker origin) within the ROM's maximum marker angle (its marker normals).
+    bool MarkerVisibility = false;
   };
 
   struct Counters {
@@ -47,8 +56,12 @@ class PolarisSimulator {
   void AddTool(const ToolDefinition& tool);
   bool Start(std::string& error);
   void Stop();
-  /// Path a driver opens: the link when one was given, the pty slave otherwise.
+  /// What a driver opens: the link when one was given, the pty slave otherwise; over TCP
+  /// "127.0.0.1:PORT".
   std::string PortPath() const;
+  bool Tcp() const { return this->Opts.TcpPort >= 0; }
+  /// The TCP port served (after Start), 0 on a pty.
+  int TcpPort() const { return this->BoundPort.load(); }
   std::string SlavePath() const;
 
   // ---- fault injection (any thread)
@@ -59,7 +72,8 @@ class PolarisSimulator {
   void SetReplyDelay(int milliseconds) { this->DelayMs = milliseconds; }
   void DeliverBreak() { this->BreakPending = true; }
   /// Pulls the cable: closes the pty (the host reads EIO) and removes the link (the port is gone
-  /// until Replug, so a host retrying it cannot open a recycled pty number).
+  /// until Replug, so a host retrying it cannot open a recycled pty number); over TCP closes the
+  /// connection and stops listening (connections are refused until Replug).
   void Unplug();
   /// Plugs it back: a new pty (the link, when given, is re-pointed) in power-on state.
   bool Replug(std::string& error);
@@ -67,6 +81,10 @@ class PolarisSimulator {
   Counters GetCounters() const;
   /// The tool's true pose (no noise) at time t since start, row-major 4x4 ToolToTracker.
   bool TruePose(const std::string& toolName, double t, double m[16]) const;
+  /// Names of the tools it tracks: those given, then those made from uploaded ROMs (part number).
+  std::vector<std::string> ToolNames() const;
+  /// The markers of a tool (from its definition or its ROM); empty when unknown.
+  std::vector<std::array<double, 3>> ToolMarkers(const std::string& toolName) const;
   double Now() const;  // seconds since Start
 
  private:
@@ -80,12 +98,18 @@ class PolarisSimulator {
   };
   struct ToolRuntime {
     ToolDefinition Definition;
+    rom::Definition Rom;  // geometry as the camera sees it: normals, minimum markers, maximum angle
     std::atomic<bool> Occluded{false}, OutOfVolume{false};
   };
+  /// Enough markers of the tool face the camera at pose m (row-major ToolToTracker).
+  static bool MarkersVisible(const ToolRuntime& tool, const double m[16]);
 
   void Run();
   bool OpenPty(std::string& error);
   void ClosePty();
+  bool OpenListener(std::string& error);
+  void AcceptClient();
+  int ToolForRom(const std::vector<uint8_t>& rom);
   void PowerOnReset();
   void HandleCommand(const char* line, size_t length);
   void Reply(const char* payload);
@@ -98,11 +122,13 @@ class PolarisSimulator {
 
   Options Opts;
   std::vector<std::unique_ptr<ToolRuntime>> Tools;
+  mutable std::mutex ToolsMutex;  // Tools grows on the simulator thread (PINIT of a new ROM)
   WorkerThread Worker;
   std::atomic<bool> BreakPending{false}, Unplugged{false};
   std::atomic<int> CrcFaults{0}, Drops{0}, DelayMs{0};
   mutable std::mutex PtyMutex;  // guards the fds and paths against Unplug/Replug (not hot)
-  int MasterFd = -1, KeepSlaveFd = -1, BreakSocketFd = -1;
+  int MasterFd = -1, KeepSlaveFd = -1, BreakSocketFd = -1, ListenFd = -1;  // MasterFd: the TCP client over TCP
+  std::atomic<int> BoundPort{0};
   std::string Slave;
   double StartTime = 0;
 

@@ -1,5 +1,5 @@
 #pragma once
-// Byte transport under the NDI driver: a POSIX serial port (termios; termios2/BOTHER for 921600
+// The serial NdiTransport: a POSIX serial port (termios; termios2/BOTHER for 921600
 // and 1228739 baud) or a pseudo-terminal. A pty carries no serial break, so "send break" is a
 // hook the owner supplies (the simulator is told out of band: a callback in-process, a unix
 // datagram socket `<port>.break` across processes).
@@ -7,26 +7,11 @@
 #include <memory>
 #include <string>
 
+#include "rpNdiTransport.h"
+
 namespace rp {
 
-class SerialTransport {
- public:
-  virtual ~SerialTransport() = default;
-  virtual bool Open() = 0;
-  virtual void Close() = 0;
-  virtual bool IsOpen() const = 0;
-  /// Writes all bytes; false on error (the port went away).
-  virtual bool Write(const void* data, size_t length) = 0;
-  /// Waits up to timeoutMs for bytes: >0 bytes read, 0 timeout, -1 the port went away.
-  virtual long Read(void* data, size_t capacity, int timeoutMs) = 0;
-  virtual bool SetBaudRate(int baud) = 0;
-  virtual bool SendBreak(int milliseconds) = 0;
-  /// Discards pending input and output.
-  virtual void Flush() = 0;
-  virtual const std::string& LastError() const = 0;
-};
-
-class PosixSerialTransport : public SerialTransport {
+class PosixSerialTransport : public NdiTransport {
  public:
   explicit PosixSerialTransport(std::string path);
   ~PosixSerialTransport() override;

@@ -11,67 +11,6 @@
 
 namespace rp {
 
-namespace rom {
-
-namespace {
-void PutF32(std::vector<uint8_t>& b, size_t at, double v) {
-  const float f = static_cast<float>(v);
-  uint32_t bits;
-  std::memcpy(&bits, &f, 4);
-  for (int i = 0; i < 4; ++i) b[at + i] = static_cast<uint8_t>(bits >> (8 * i));
-}
-uint16_t Checksum(const std::vector<uint8_t>& b) {
-  uint32_t sum = 0;
-  for (size_t i = 6; i < b.size(); ++i) sum += b[i];
-  return static_cast<uint16_t>(sum & 0xFFFF);
-}
-}  // namespace
-
-std::vector<uint8_t> Build(const std::string& partNumber, const std::vector<std::array<double, 3>>& markers) {
-  std::vector<uint8_t> b(Size, 0);
-  std::memcpy(b.data(), "NDI\0", 4);
-  std::memcpy(b.data() + 8, partNumber.data(), std::min<size_t>(partNumber.size(), 20));
-  const size_t count = std::min<size_t>(markers.size(), 20);
-  b[28] = static_cast<uint8_t>(count);
-  for (size_t m = 0; m < count; ++m)
-    for (int k = 0; k < 3; ++k) PutF32(b, 72 + 12 * m + 4 * k, markers[m][k]);
-  for (size_t m = 0; m < count; ++m) PutF32(b, 312 + 12 * m + 8, 1.0);  // normals face the camera (+z)
-  const uint16_t sum = Checksum(b);
-  b[4] = static_cast<uint8_t>(sum & 0xFF);
-  b[5] = static_cast<uint8_t>(sum >> 8);
-  return b;
-}
-
-bool Validate(const std::vector<uint8_t>& bytes, std::string& error) {
-  if (bytes.size() < 72) {
-    error = "tool definition too short (" + std::to_string(bytes.size()) + " bytes)";
-    return false;
-  }
-  if (bytes.size() > 1024) {
-    error = "tool definition larger than 1024 bytes";
-    return false;
-  }
-  if (std::memcmp(bytes.data(), "NDI", 3) != 0) {
-    error = "not an NDI tool definition (no \"NDI\" signature)";
-    return false;
-  }
-  const uint16_t stored = static_cast<uint16_t>(bytes[4] | (bytes[5] << 8));
-  if (stored != Checksum(bytes)) {
-    error = "tool definition checksum mismatch";
-    return false;
-  }
-  return true;
-}
-
-std::string PartNumber(const std::vector<uint8_t>& bytes) {
-  if (bytes.size() < 28) return {};
-  const char* p = reinterpret_cast<const char*>(bytes.data() + 8);
-  return std::string(p, strnlen(p, 20));
-}
-
-int MarkerCount(const std::vector<uint8_t>& bytes) { return bytes.size() > 28 ? bytes[28] : 0; }
-
-}  // namespace rom
 
 std::vector<uint8_t> ReadBinaryFile(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -84,6 +23,12 @@ ToolDefinition ReadToolFile(const std::string& path) {
   ToolDefinition tool;
   tool.Name = std::filesystem::path(path).stem().string();
   tool.Rom = ReadBinaryFile(path);
+  rom::Definition definition;
+  std::string error;  // an unreadable ROM is still handed to the tracker, which names the problem
+  if (rom::Read(tool.Rom.data(), tool.Rom.size(), definition, error)) {
+    tool.PartNumber = definition.PartNumber;
+    tool.Markers = definition.Markers;
+  }
   return tool;
 }
 

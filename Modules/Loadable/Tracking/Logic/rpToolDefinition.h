@@ -6,19 +6,10 @@
 #include <string>
 #include <vector>
 
+#include "rpNdiRom.h"
+
 namespace rp {
 
-/// Reverse-engineered ROM layout (see the protocol notes): 752 bytes, "NDI\0", u16 checksum of
-/// bytes 6..end at 4, marker count at 28, marker positions at 72, normals at 312. We also keep a
-/// part number (20 chars) at 8 so a simulator can tell tools apart.
-namespace rom {
-constexpr size_t Size = 752;
-std::vector<uint8_t> Build(const std::string& partNumber, const std::vector<std::array<double, 3>>& markers);
-/// Checks the signature, size and checksum; error says what is wrong.
-bool Validate(const std::vector<uint8_t>& bytes, std::string& error);
-std::string PartNumber(const std::vector<uint8_t>& bytes);
-int MarkerCount(const std::vector<uint8_t>& bytes);
-}  // namespace rom
 
 /// Where a simulated tool goes: tip pivoting about a fixed point, a circle, or standing still.
 struct ToolTrajectory {
@@ -46,7 +37,8 @@ ToolDefinition ReadToolDefinition(const std::string& path);
 ToolDefinition ParseToolDefinition(const std::string& text, const std::string& source);
 std::vector<uint8_t> ReadBinaryFile(const std::string& path);  // throws std::runtime_error
 /// A tool file a user gives: a definition .json, or a bare NDI .rom (the tool is named after
-/// the file; no markers or trajectory). Throws std::runtime_error naming the file.
+/// the file; markers and part number from the ROM when it reads, no trajectory). Throws
+/// std::runtime_error naming the file.
 ToolDefinition ReadToolFile(const std::string& path);
 
 /// Pose of a tool on its trajectory at time t (seconds): row-major 4x4 ToolToTracker.

@@ -13,6 +13,7 @@
 #include <vtkNew.h>
 
 #include "rpArgParser.h"
+#include "rpDeviceCommands.h"
 #include "rpIgtlServer.h"
 #include "rpPivotCalibration.h"
 #include "rpPolarisSimulator.h"
@@ -63,13 +64,19 @@ PoseSourceConfig SourceConfig(const ArgParser& parser) {
     ++given;
     config.Kind = "simulator";
   }
+  if (parser.Has("ndi-tcp")) {  // a Polaris Vega/Lyra on Ethernet
+    ++given;
+    config.Kind = "tcp";
+    config.Address = parser.Get("ndi-tcp");
+  }
   if (parser.Has("source")) {
     ++given;
     config.Kind = parser.Get("source");
     config.Address = parser.Get("address");
   }
   if (given != 1)
-    throw std::invalid_argument("give exactly one of --serial <port>, --igtl <host:port>, --replay <file>, --simulate or "
+    throw std::invalid_argument("give exactly one of --serial <port>, --ndi-tcp <host[:8765]>, --igtl <host:port>, --replay <file>, "
+                                "--simulate, --plus-config <file> or "
                                 "--source <kind> (kinds: " + SourceKindsText() + ")");
   config.ToolFiles = parser.GetAll("rom");
   for (const char* option : {"rate", "header-version", "request", "speed"})
@@ -98,6 +105,7 @@ int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std
   ArgParser parser("track", "Track tools from a pose source (an NDI tracker, an OpenIGTLink server, a recording, the "
                             "simulator); print per tool the last pose, OK/MISSING/out-of-volume frames, rate and latency.");
   parser.Option("serial", "PORT", "serial port of an NDI Polaris/Aurora (or a polaris-sim link)")
+      .Option("ndi-tcp", "HOST[:PORT]", "NDI Polaris Vega/Lyra over Ethernet (Combined API, port 8765 by default)")
       .Option("igtl", "HOST:PORT", "OpenIGTLink server (e.g. PLUS at 127.0.0.1:18944)")
       .Option("replay", "FILE", "replay a recording (from --record) as if it were a tracker")
       .Flag("simulate", "the built-in simulated Polaris (serial path on a pseudo-terminal)")
@@ -115,7 +123,9 @@ int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std
       .Option("request", "KIND", "igtl: ask the server to stream 'tdata' or 'qtdata' (STT_)")
       .Option("header-version", "V", "igtl: header version we send: 1, or 2 (v3 framing; PLUS then sends status metadata)")
       .Flag("text", "serial: poll TX (text) instead of BX (binary)");
+  AddPlusTrackOptions(parser);
   if (!parser.Parse(args)) return BadArguments(parser, err);
+  PlusTrack plus;  // --plus-config: the configuration's tracker, transforms and server
   double seconds, stale;
   long servePort = -1;
   PoseSourceConfig config;
@@ -124,8 +134,16 @@ int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std
     seconds = parser.GetDouble("seconds");
     stale = parser.GetDouble("stale");
     if (parser.Has("serve")) servePort = parser.GetInt("serve");
-    config = SourceConfig(parser);
-    source = PoseSourceRegistry::Create(config);
+    if (parser.Has("plus-config")) {
+      const int code = PreparePlusTrack(parser, plus, out, err);
+      if (code >= 0) return code;
+      config = plus.Config;
+      source = std::move(plus.Source);
+      if (servePort < 0) servePort = plus.ServePort;
+    } else {
+      config = SourceConfig(parser);
+      source = PoseSourceRegistry::Create(config);
+    }
   } catch (const std::invalid_argument& e) {
     err << "roboplan track: " << e.what() << "\n" << parser.Usage();
     return 2;
@@ -153,7 +171,11 @@ int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std
   if (servePort >= 0) {
     IgtlServer::Options so;
     so.Port = static_cast<int>(servePort);
-    server = std::make_unique<IgtlServer>(table, so);
+    if (plus.Relay) {  // PLUS's served names (chains through its transforms), its send and keep-alive settings
+      so.SendInvalid = plus.SendInvalid;
+      so.KeepAliveSeconds = plus.KeepAliveSeconds;
+    }
+    server = std::make_unique<IgtlServer>(plus.Relay ? plus.Relay->Output() : table, so);
     if (!server->Start(error)) {
       err << "roboplan track: " << error << "\n";
       return 1;
@@ -186,6 +208,7 @@ int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std
         if (s.Fresh) recorder.Add(table.Name(i), s.Pose.ReceiveTime - start, s.Pose);
       }
     }
+    if (plus.Relay) plus.Relay->Update();
     logic->UpdateNodes(SteadySeconds());
     if (SteadySeconds() >= nextReport) {
       nextReport += 0.25;
@@ -210,6 +233,15 @@ int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std
     const auto s = server->GetStatistics();
     doc["served"] = {{"port", server->Port()}, {"messagesSent", s.MessagesSent}, {"clientsAccepted", s.Accepted},
                      {"clientsRefused", s.Refused}, {"messagesDropped", s.MessagesDropped}};
+  }
+  if (plus.Relay) {  // the PLUS transforms as served: newest status of each
+    const ToolPoseTable& served = plus.Relay->Output();
+    for (int i = 0; i < served.Count(); ++i) {
+      ToolPose pose;
+      const uint64_t n = served.Read(i, pose);
+      doc["plusTransforms"].push_back({{"name", served.Name(i)}, {"published", n}, {"state", n ? ToolStateName(pose.State) : "NONE"},
+                                       {"position", {pose.Translation[0], pose.Translation[1], pose.Translation[2]}}});
+    }
   }
   doc["tools"] = nlohmann::json::array();
   uint64_t withPose = 0;
@@ -357,9 +389,11 @@ int RunPivotCommand(const std::vector<std::string>& args, std::ostream& out, std
 }
 
 int RunPolarisSimCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err, const std::atomic<bool>* stop) {
-  ArgParser parser("polaris-sim", "A simulated NDI Polaris on a pseudo-terminal: prints the port to open.");
+  ArgParser parser("polaris-sim", "A simulated NDI Polaris on a pseudo-terminal, or over TCP as a Polaris Vega: prints the "
+                                  "port to open.");
   parser.Option("port-link", "PATH", "symlink to the pty (kept across replug); breaks arrive on PATH.break")
-      .Option("tool", "FILE", "tool definition .json (default: every Resources/Tools/*.json); repeatable")
+      .Option("tcp", "PORT", "serve the Combined API over TCP on 127.0.0.1:PORT (a Vega/Lyra; 0: any free port)")
+      .Option("tool", "FILE", "tool definition .json or NDI .rom (default: every Resources/Tools/*.json); repeatable")
       .Option("rate", "HZ", "frame rate: 20 (Vicra) or 60 (Spectra)", std::string("60"))
       .Option("noise", "MM", "translation noise (standard deviation)", std::string("0.05"))
       .Option("noise-deg", "DEG", "rotation noise (standard deviation)", std::string("0.02"))
@@ -373,6 +407,7 @@ int RunPolarisSimCommand(const std::vector<std::string>& args, std::ostream& out
     o.NoiseMm = parser.GetDouble("noise");
     o.NoiseDeg = parser.GetDouble("noise-deg");
     if (parser.Has("seconds")) seconds = parser.GetDouble("seconds");
+    if (parser.Has("tcp")) o.TcpPort = static_cast<int>(parser.GetInt("tcp"));
   } catch (const std::exception& e) {
     err << "roboplan polaris-sim: " << e.what() << "\n";
     return 2;
@@ -386,7 +421,7 @@ int RunPolarisSimCommand(const std::vector<std::string>& args, std::ostream& out
   if (files.empty()) files = DefaultToolFiles();
   std::vector<ToolDefinition> tools;
   try {
-    for (const auto& f : files) tools.push_back(ReadToolDefinition(f));
+    for (const auto& f : files) tools.push_back(ReadToolFile(f));  // a .rom: its markers, standing still
   } catch (const std::exception& e) {
     err << "roboplan polaris-sim: " << e.what() << "\n";
     return 1;
@@ -419,7 +454,8 @@ int RunPolarisSimCommand(const std::vector<std::string>& args, std::ostream& out
   } else {
     out << sim.PortPath() << std::endl;  // first line: the port to open
     err << "polaris-sim: " << tools.size() << " tools at " << o.FrameRate << " Hz on " << sim.SlavePath()
-        << "; try: roboplan track --serial " << sim.PortPath() << " --rom <Resources/Tools/Stylus.json>\n";
+        << "; try: roboplan track " << (sim.Tcp() ? "--ndi-tcp " : "--serial ") << sim.PortPath()
+        << " --rom <Resources/Tools/Stylus.json>\n";
   }
   gInterrupted = false;
   auto previousInt = std::signal(SIGINT, OnSignal);

@@ -1,6 +1,7 @@
-// NDI serial driver against the Polaris simulator on a pseudo-terminal: set-up (reset by break
-// and by the RESET command), tool loading, tracking (BX and TX), occlusion, out of volume, a CRC
-// fault, a dropped reply, unplug and replug.
+// NDI driver against the Polaris simulator, over both links (parameterized): a pseudo-terminal
+// (serial) and TCP on 127.0.0.1 (a Polaris Vega/Lyra): set-up (reset by break and by the RESET
+// command), tool loading, tracking (BX and TX), occlusion, out of volume, a CRC fault, a
+// dropped reply, unplug and replug.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -31,9 +32,12 @@ ToolDefinition Tool(const std::string& name) {
   return ReadToolDefinition(std::string(ROBOPLAN_RESOURCES_DIR) + "/Tools/" + name + ".json");
 }
 
+enum class Link { Serial, Tcp };
+
 struct Rig {
-  explicit Rig(const std::string& link, PolarisSimulator::Options options = {}, bool binary = true) {
-    options.LinkPath = OutputDir() + "/" + link;
+  Rig(Link kind, const std::string& link, PolarisSimulator::Options options = {}, bool binary = true) : Kind(kind) {
+    if (kind == Link::Tcp) options.TcpPort = 0;  // a free port on 127.0.0.1
+    else options.LinkPath = OutputDir() + "/" + link;
     options.FrameRate = 60;
     Stylus = Tool("Stylus");
     Reference = Tool("Reference");
@@ -45,6 +49,7 @@ struct Rig {
     EXPECT_TRUE(Started) << error;
     NdiTracker::Options o;
     o.Port = Sim->PortPath();
+    o.Tcp = kind == Link::Tcp;
     o.Tools = {{"Stylus", Stylus.Rom}, {"Reference", Reference.Rom}};
     o.Binary = binary;
     o.CommandTimeoutMs = 1000;
@@ -63,6 +68,7 @@ struct Rig {
   ToolPose Newest(const char* name, uint64_t* count = nullptr) { return test::Newest(Tracker->Poses(), name, count); }
   ToolState NewestState(const char* name) { return Newest(name).State; }
 
+  Link Kind;
   ToolDefinition Stylus, Reference;
   std::unique_ptr<PolarisSimulator> Sim;
   NdiTracker::Options TrackerOptions;
@@ -77,18 +83,28 @@ void TipPosition(const ToolPose& pose, const std::array<double, 3>& tip, double 
   for (int r = 0; r < 3; ++r) out[r] = m[4 * r] * tip[0] + m[4 * r + 1] * tip[1] + m[4 * r + 2] * tip[2] + m[4 * r + 3];
 }
 
+class NdiDriver : public ::testing::TestWithParam<Link> {
+ protected:
+  Link Kind() const { return this->GetParam(); }
+  bool Serial() const { return this->GetParam() == Link::Serial; }
+};
+
 }  // namespace
 
-TEST(NdiDriver, TracksSimulatedToolsWithBx) {
-  Rig rig("bx");
+INSTANTIATE_TEST_SUITE_P(Links, NdiDriver, ::testing::Values(Link::Serial, Link::Tcp),
+                         [](const ::testing::TestParamInfo<Link>& info) { return info.param == Link::Serial ? "Serial" : "Tcp"; });
+
+TEST_P(NdiDriver, TracksSimulatedToolsWithBx) {
+  Rig rig(Kind(), "bx");
   ASSERT_TRUE(rig.Started);
   rig.StartTracker();
   ASSERT_TRUE(rig.WaitTracking()) << rig.Tracker->LastError();
   const auto counters = rig.Sim->GetCounters();
-  EXPECT_EQ(counters.Baud, 1228739);  // fastest COMM rate negotiated
+  // Serial: the fastest COMM rate negotiated; TCP: no COMM at all (a socket has no baud rate).
+  EXPECT_EQ(counters.Baud, Serial() ? 1228739 : 9600);
   EXPECT_EQ(counters.LoadedTools, 2);
   EXPECT_TRUE(counters.Tracking);
-  EXPECT_EQ(rig.Tracker->NegotiatedBaud(), 1228739);
+  EXPECT_EQ(rig.Tracker->NegotiatedBaud(), Serial() ? 1228739 : 9600);
   EXPECT_NE(rig.Tracker->FirmwareVersion().find("Polaris"), std::string::npos);
 
   // The static reference: exactly its scripted pose (float precision of BX).
@@ -123,8 +139,8 @@ TEST(NdiDriver, TracksSimulatedToolsWithBx) {
   EXPECT_EQ(rig.Sim->GetCounters().Baud, 9600);   // and COMM back to 9600
 }
 
-TEST(NdiDriver, TracksWithTextTxReplies) {
-  Rig rig("tx", {}, /*binary=*/false);
+TEST_P(NdiDriver, TracksWithTextTxReplies) {
+  Rig rig(Kind(), "tx", {}, /*binary=*/false);
   ASSERT_TRUE(rig.Started);
   rig.StartTracker();
   ASSERT_TRUE(rig.WaitTracking()) << rig.Tracker->LastError();
@@ -137,21 +153,23 @@ TEST(NdiDriver, TracksWithTextTxReplies) {
   EXPECT_EQ(rig.Tracker->GetStatistics().MalformedReplies, 0u);
 }
 
-TEST(NdiDriver, ResetByBreakWhenTheProbeFails) {
-  Rig rig("break");
+TEST_P(NdiDriver, ResetByBreakWhenTheProbeFails) {
+  Rig rig(Kind(), "break");
   ASSERT_TRUE(rig.Started);
   rig.Sim->DropNextReplies(1);  // the INIT probe goes unanswered (device at another baud)
   rig.StartTracker();
   ASSERT_TRUE(rig.WaitTracking()) << rig.Tracker->LastError();
   EXPECT_EQ(rig.Tracker->GetStatistics().Resets, 1u);
-  EXPECT_EQ(rig.Sim->GetCounters().Breaks, 1u);   // delivered out of band (the .break socket)
-  EXPECT_EQ(rig.Sim->GetCounters().Resets, 0u);   // no RESET command was needed
+  // Serial: the break, delivered out of band (the .break socket), no RESET command needed.
+  // TCP has no break: the RESET command does it.
+  EXPECT_EQ(rig.Sim->GetCounters().Breaks, Serial() ? 1u : 0u);
+  EXPECT_EQ(rig.Sim->GetCounters().Resets, Serial() ? 0u : 1u);
 }
 
-TEST(NdiDriver, ResetCommandWhenNoBreakArrives) {
+TEST_P(NdiDriver, ResetCommandWhenNoBreakArrives) {
   PolarisSimulator::Options options;
   options.AcceptBreak = false;
-  Rig rig("nobreak", options);
+  Rig rig(Kind(), "nobreak", options);
   ASSERT_TRUE(rig.Started);
   rig.Sim->DropNextReplies(1);
   rig.StartTracker();
@@ -159,8 +177,8 @@ TEST(NdiDriver, ResetCommandWhenNoBreakArrives) {
   EXPECT_EQ(rig.Sim->GetCounters().Resets, 1u);
 }
 
-TEST(NdiDriver, OcclusionOutOfVolumeCrcFaultDroppedReply) {
-  Rig rig("faults");
+TEST_P(NdiDriver, OcclusionOutOfVolumeCrcFaultDroppedReply) {
+  Rig rig(Kind(), "faults");
   ASSERT_TRUE(rig.Started);
   rig.StartTracker();
   ASSERT_TRUE(rig.WaitTracking()) << rig.Tracker->LastError();
@@ -193,8 +211,8 @@ TEST(NdiDriver, OcclusionOutOfVolumeCrcFaultDroppedReply) {
   EXPECT_EQ(after.Connections, 1u);
 }
 
-TEST(NdiDriver, UnplugAndReplugReconnects) {
-  Rig rig("unplug");
+TEST_P(NdiDriver, UnplugAndReplugReconnects) {
+  Rig rig(Kind(), "unplug");
   ASSERT_TRUE(rig.Started);
   rig.StartTracker();
   ASSERT_TRUE(rig.WaitTracking()) << rig.Tracker->LastError();
@@ -210,7 +228,8 @@ TEST(NdiDriver, UnplugAndReplugReconnects) {
   ASSERT_TRUE(stranger.Start(strangerError)) << strangerError;
   std::this_thread::sleep_for(std::chrono::milliseconds(500));  // a few failed reconnects (back-off)
   EXPECT_EQ(stranger.GetCounters().Commands, 0u) << "the driver opened " << stranger.SlavePath();
-  EXPECT_NE(rig.Tracker->LastError().find("cannot open"), std::string::npos) << rig.Tracker->LastError();
+  EXPECT_NE(rig.Tracker->LastError().find(Serial() ? "cannot open" : "cannot connect"), std::string::npos)
+      << rig.Tracker->LastError();
   uint64_t before = 0;
   rig.Newest("StylusToTracker", &before);
   std::string error;
@@ -221,8 +240,8 @@ TEST(NdiDriver, UnplugAndReplugReconnects) {
   EXPECT_EQ(rig.Sim->GetCounters().LoadedTools, 2);  // tools loaded again on the new link
 }
 
-TEST(NdiDriver, BadRomAndBadPortGiveClearErrors) {
-  Rig rig("badrom");
+TEST_P(NdiDriver, BadRomAndBadPortGiveClearErrors) {
+  Rig rig(Kind(), "badrom");
   ASSERT_TRUE(rig.Started);
   std::vector<uint8_t> garbage(752, 0x42);
   rig.TrackerOptions.Tools.push_back({"Broken", garbage});
@@ -232,17 +251,18 @@ TEST(NdiDriver, BadRomAndBadPortGiveClearErrors) {
   EXPECT_EQ(rig.NewestState("StylusToTracker"), ToolState::OK);
 
   NdiTracker::Options o;
-  o.Port = OutputDir() + "/no-such-port";
+  o.Tcp = !Serial();
+  o.Port = Serial() ? OutputDir() + "/no-such-port" : "127.0.0.1:" + std::to_string(FreePort());  // nobody listens
   o.ReconnectInitialSeconds = 0.05;
   NdiTracker absent(o);
   absent.Start();
   EXPECT_TRUE(WaitFor([&] { return absent.GetState() == NdiTracker::State::Disconnected; }, 1));
-  EXPECT_NE(absent.LastError().find("cannot open"), std::string::npos) << absent.LastError();
+  EXPECT_NE(absent.LastError().find(Serial() ? "cannot open" : "cannot connect"), std::string::npos) << absent.LastError();
   absent.Stop();
 }
 
-TEST(NdiDriver, SlowRepliesAreWaitedForOrTakenLate) {
-  Rig rig("slow");
+TEST_P(NdiDriver, SlowRepliesAreWaitedForOrTakenLate) {
+  Rig rig(Kind(), "slow");
   ASSERT_TRUE(rig.Started);
   rig.StartTracker();
   ASSERT_TRUE(rig.WaitTracking()) << rig.Tracker->LastError();
@@ -276,4 +296,69 @@ TEST(NdiDriver, SlowRepliesAreWaitedForOrTakenLate) {
   // scheduled late and a poll it misses is not made up (23 of 30 in a loaded suite run).
   EXPECT_LE(static_cast<double>(n1 - n0), frames + 6.0);
   EXPECT_GE(static_cast<double>(n1 - n0), 0.5 * frames);
+}
+
+TEST_P(NdiDriver, SimulatorTracksAToolFromARomItWasNotGiven) {
+  // The camera knows no tools; the driver uploads a ROM (PVWR) it has never seen: the simulator
+  // makes a tool of it, with the ROM's part number and markers, and tracks it standing still.
+  PolarisSimulator::Options options;
+  if (Serial()) options.LinkPath = OutputDir() + "/romonly";
+  else options.TcpPort = 0;
+  PolarisSimulator sim(options);
+  std::string error;
+  ASSERT_TRUE(sim.Start(error)) << error;
+  const std::vector<std::array<double, 3>> markers = {{0, 0, 0}, {0, 0, 50}, {0, 25, 100}, {0, -25, 135}};
+  NdiTracker::Options o;
+  o.Port = sim.PortPath();
+  o.Tcp = !Serial();
+  o.Tools = {{"Probe", rom::Build("RP-PROBE-7", markers)}};
+  o.CommandTimeoutMs = 1000;
+  NdiTracker tracker(o);
+  tracker.Start();
+  ASSERT_TRUE(WaitFor([&] { return test::Newest(tracker.Poses(), "ProbeToTracker").State == ToolState::OK; }, 5))
+      << tracker.LastError();
+  EXPECT_EQ(sim.ToolNames(), std::vector<std::string>{"RP-PROBE-7"});
+  const auto geometry = sim.ToolMarkers("RP-PROBE-7");
+  ASSERT_EQ(geometry.size(), markers.size());
+  for (size_t m = 0; m < markers.size(); ++m)
+    for (size_t k = 0; k < 3; ++k) EXPECT_FLOAT_EQ(geometry[m][k], markers[m][k]);
+  double truth[16], got[16];
+  ASSERT_TRUE(sim.TruePose("RP-PROBE-7", 0, truth));
+  test::Newest(tracker.Poses(), "ProbeToTracker").ToMatrix(got);
+  for (int i = 0; i < 12; ++i) EXPECT_NEAR(got[i], truth[i], i % 4 == 3 ? 1e-3 : 1e-6) << i;
+  tracker.Stop();
+}
+
+TEST_P(NdiDriver, SimulatorSeesOnlyToolsWhoseRomMarkersFaceTheCamera) {
+  // With marker visibility on, the ROM's geometry decides: normals +z, a 90 degree maximum angle,
+  // three markers needed. The same tool facing the camera is tracked, turned away it is MISSING.
+  PolarisSimulator::Options options;
+  options.MarkerVisibility = true;
+  if (Serial()) options.LinkPath = OutputDir() + "/visibility";
+  else options.TcpPort = 0;
+  PolarisSimulator sim(options);
+  ToolDefinition facing;
+  facing.Name = facing.PartNumber = "Facing";
+  facing.Markers = {{0, 0, 0}, {0, 50, 0}, {40, 0, 0}, {-30, 70, 0}};
+  facing.Rom = rom::Build(facing.PartNumber, facing.Markers);
+  ToolDefinition away = facing;
+  away.Name = away.PartNumber = "Away";
+  away.Rom = rom::Build(away.PartNumber, away.Markers);
+  away.Motion.Center[0] = 150;
+  away.Motion.Euler[2] = 180;  // turned about x: the normals point away from the camera
+  sim.AddTool(facing);
+  sim.AddTool(away);
+  std::string error;
+  ASSERT_TRUE(sim.Start(error)) << error;
+  NdiTracker::Options o;
+  o.Port = sim.PortPath();
+  o.Tcp = !Serial();
+  o.Tools = {{"Facing", facing.Rom}, {"Away", away.Rom}};
+  o.CommandTimeoutMs = 1000;
+  NdiTracker tracker(o);
+  tracker.Start();
+  ASSERT_TRUE(WaitFor([&] { return test::Newest(tracker.Poses(), "FacingToTracker").State == ToolState::OK; }, 5))
+      << tracker.LastError();
+  EXPECT_EQ(test::Newest(tracker.Poses(), "AwayToTracker").State, ToolState::Missing);
+  tracker.Stop();
 }

@@ -245,7 +245,7 @@ TEST(NdiRom, BuildAndValidate) {
   EXPECT_EQ(rom::MarkerCount(bytes), 3);
   bytes[100] ^= 0xFF;
   EXPECT_FALSE(rom::Validate(bytes, error));
-  EXPECT_EQ(error, "tool definition checksum mismatch");
+  EXPECT_EQ(error.rfind("tool definition checksum mismatch", 0), 0u) << error;
 }
 
 // Randomised robustness: mutate and cut valid replies; the parsers must never read out of

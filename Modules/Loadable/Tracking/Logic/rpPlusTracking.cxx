@@ -1,0 +1,137 @@
+#include "rpPlusTracking.h"
+
+#include <stdexcept>
+
+#include <Eigen/Core>
+
+#include "rpNdiTracker.h"
+#include "rpSimulatedPolaris.h"
+#include "rpToolDefinition.h"
+#include "rpTransformNames.h"
+
+namespace rp {
+
+namespace {
+Eigen::Matrix4d RowMajor(const double m[16]) {
+  Eigen::Matrix4d out;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) out(r, c) = m[4 * r + c];
+  return out;
+}
+}  // namespace
+
+void BuildRepository(const plus::Configuration& c, const plus::NdiTracker* tracker, TransformRepository& repo,
+                     std::vector<int>& liveEdges, std::vector<plus::Refusal>& refused) {
+  std::string error;
+  for (const plus::FixedTransform& t : c.Transforms)
+    if (!repo.SetFixed(t.From, t.To, RowMajor(t.Matrix), error)) refused.push_back({"Transform " + t.From + "To" + t.To, error});
+  liveEdges.clear();
+  if (!tracker) return;
+  for (const plus::Tool& tool : tracker->Tools) {
+    const int edge = repo.DeclareLive(tool.Id, tracker->ToolReferenceFrame, error);
+    if (edge < 0) refused.push_back({"tool " + tool.Id, error});
+    liveEdges.push_back(edge);
+  }
+}
+
+nlohmann::json ServedTransformsJson(const plus::Configuration& c, const plus::NdiTracker* tracker,
+                                    std::vector<plus::Refusal>* refused) {
+  TransformRepository repo;
+  std::vector<int> edges;
+  std::vector<plus::Refusal> problems;
+  BuildRepository(c, tracker, repo, edges, problems);
+  nlohmann::json served = nlohmann::json::array();
+  for (const plus::TransformName& n : c.OpenIGTLinkServer.TransformNames) {
+    std::string from = n.From, to = n.To, error;
+    if ((from.empty() || to.empty()) && !SplitTransformName(n.Name, from, to, error)) {
+      problems.push_back({"served transform " + n.Name, error});
+      continue;
+    }
+    const std::string chain = repo.Describe(repo.Prepare(from, to));
+    if (chain.empty())
+      problems.push_back({"served transform " + n.Name,
+                          "cannot be computed: " + from + " and " + to + " are not connected by the tools and CoordinateDefinitions"});
+    else served.push_back({{"name", n.Name}, {"from", from}, {"to", to}, {"chain", chain}});
+  }
+  if (refused) refused->insert(refused->end(), problems.begin(), problems.end());
+  return served;
+}
+
+std::unique_ptr<PoseSource> MakePlusPoseSource(const plus::NdiTracker& tracker, const std::string& address, bool simulate) {
+  if (tracker.Tools.empty()) throw std::invalid_argument("tracker " + tracker.Id + " has no tool RoboPlan can load");
+  std::vector<ToolDefinition> tools;
+  for (const plus::Tool& t : tracker.Tools) {
+    ToolDefinition tool = ReadToolFile(t.RomPath);  // markers and part number from the ROM
+    tool.Name = t.Id;                               // PLUS names a tool by its DataSource Id
+    tool.Motion.Type = ToolTrajectory::Static;
+    tool.Motion.Center[0] = -200.0 + 150.0 * static_cast<double>(tools.size());
+    tools.push_back(tool);
+  }
+  NdiTracker::Options driver;
+  if (tracker.AcquisitionRate > 0) {
+    driver.PollHz = tracker.AcquisitionRate;  // PLUS polls at AcquisitionRate; the camera keeps its own rate
+  }
+  if (simulate) {
+    PolarisSimulator::Options so;
+    so.NoiseMm = 0.05;
+    so.NoiseDeg = 0.02;
+    return std::make_unique<SimulatedPolaris>(so, tools, driver);
+  }
+  for (const ToolDefinition& t : tools) driver.Tools.push_back({t.Name, t.Rom});
+  driver.Tcp = tracker.Tcp();
+  driver.Port = !address.empty() ? address
+                : tracker.Tcp()  ? tracker.NetworkHostname + ":" + std::to_string(tracker.NetworkPort)
+                                 : tracker.SerialDevice;
+  if (driver.Port.empty())
+    throw std::invalid_argument("tracker " + tracker.Id + " names no serial port or network host: give --serial PORT or --ndi-tcp HOST");
+  if (tracker.BaudRate > 0 && !driver.Tcp) driver.MaxBaud = tracker.BaudRate;  // PLUS sets exactly this rate
+  return std::make_unique<NdiTracker>(driver);
+}
+
+PlusTransformRelay::PlusTransformRelay(const plus::Configuration& c, const plus::NdiTracker& tracker, const ToolPoseTable& live)
+    : Live(live) {
+  std::vector<int> edges;
+  BuildRepository(c, &tracker, this->Repo, edges, this->Problems);
+  for (size_t t = 0; t < tracker.Tools.size(); ++t) {
+    const std::string slot = ToolToTrackerName(tracker.Tools[t].Id);
+    const int index = this->Live.Find(slot.c_str(), slot.size());
+    if (index >= 0 && edges[t] >= 0) this->Inputs.push_back({index, edges[t]});
+  }
+  for (const plus::TransformName& n : c.OpenIGTLinkServer.TransformNames) {
+    std::string from = n.From, to = n.To, error;
+    if ((from.empty() || to.empty()) && !SplitTransformName(n.Name, from, to, error)) continue;
+    const int slot = this->Served.FindOrAdd(n.Name.c_str());
+    if (slot >= 0) this->Outputs.push_back({this->Repo.Prepare(from, to), slot});
+  }
+}
+
+void PlusTransformRelay::Update() noexcept {
+  bool fresh = false;
+  double newest = 0;
+  for (const Input& in : this->Inputs) {
+    const auto& sample = this->Reader.Poll(this->Live, in.LiveSlot);
+    if (!sample.Fresh) continue;
+    fresh = true;
+    newest = std::max(newest, sample.Pose.ReceiveTime);
+    double m[16];
+    sample.Pose.ToMatrix(m);
+    const bool valid = sample.Pose.State == ToolState::OK || sample.Pose.State == ToolState::OutOfVolume;
+    this->Repo.SetLive(in.Edge, RowMajor(m), valid ? TransformStatus::OK : TransformStatus::Missing);
+  }
+  if (!fresh) return;
+  for (const ServedName& out : this->Outputs) {
+    Eigen::Matrix4d matrix;
+    TransformStatus status;
+    this->Repo.Evaluate(out.Path, matrix, status);
+    ToolPose pose;
+    double m[16];
+    for (int r = 0; r < 4; ++r)
+      for (int c = 0; c < 4; ++c) m[4 * r + c] = matrix(r, c);
+    pose.FromMatrix(m);
+    pose.Timestamp = pose.ReceiveTime = newest;
+    pose.State = status == TransformStatus::OK ? ToolState::OK : ToolState::Missing;
+    this->Served.Publish(out.Slot, pose);
+  }
+}
+
+}  // namespace rp
