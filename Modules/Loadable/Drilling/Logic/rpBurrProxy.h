@@ -56,8 +56,8 @@ class BurrProxy {
   static constexpr double TouchBand = 0.25;
   /// Overlap (in voxels) beyond which the burr counts as embedded.
   static constexpr double EmbeddedDepth = 0.75;
-  /// Points of the shell: 1.4 voxels apart on a 2 mm burr at 0.2 mm, 2.1 on a 3 mm one.
-  static constexpr int ShellPoints = 640;
+  /// Points of the shell: 0.36 mm apart on a 2 mm burr, 0.54 mm on a 3 mm one (any voxel size).
+  static constexpr int ShellPoints = 384;
   /// The shell's unit directions (computed once, on first use: Reset() does it before any tick).
   static const Vec3* ShellDirections() noexcept;
 

@@ -61,7 +61,8 @@ std::string MachineLoadReading(const MachineLoad& l, uint64_t missed, uint64_t o
     machine += (machine.empty() ? "" : ", ") + std::to_string(l.MajorFaults) + " major page faults";
   if (!machine.empty()) return "the machine: " + machine;
   return overruns > 0 ? "RoboPlan: ticks computed longer than the period, with no steal or preemption"
-                      : "RoboPlan or the timer: late wake-ups with no steal, preemption or major fault";
+                      : "the host or the timer: woken late although no tick overran and there was no steal (counted "
+                        "in 10 ms ticks: shorter stalls do not show), preemption or major fault";
 }
 
 }  // namespace rp

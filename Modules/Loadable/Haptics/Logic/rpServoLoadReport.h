@@ -17,7 +17,8 @@ nlohmann::json MachineLoadJson(const MachineLoad& load);
 /// 0 major / 12 minor faults; memory locked; pinned to CPU 1 (5 threads moved off)".
 std::string MachineLoadSummary(const MachineLoad& load);
 /// Whose the misses are: "no misses", "the machine: ..." (steal, preemption or major faults
-/// during the run) or "RoboPlan: ..." (none of those: the tick's own compute or the timer).
+/// during the run), "RoboPlan: ..." (ticks overran the period) or "the host or the timer: ..."
+/// (late wake-ups with none of those; steal is counted in 10 ms ticks, so shorter stalls hide).
 std::string MachineLoadReading(const MachineLoad& load, uint64_t missedDeadlines, uint64_t overruns);
 
 }  // namespace rp
