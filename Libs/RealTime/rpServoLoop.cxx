@@ -4,6 +4,7 @@
 #include <sched.h>
 #include <time.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -81,6 +82,9 @@ void ServoLoop::Stop() {
   if (!this->Thread.joinable()) return;
   this->StopRequested.store(true, std::memory_order_release);
   this->Thread.join();
+  if (this->Isolated) RestoreOtherThreads();
+  if (this->Locked) UnlockProcessMemory();
+  this->Isolated = this->Locked = false;
 }
 
 void ServoLoop::Run(ServoTask* task, Options options) noexcept {
@@ -89,18 +93,15 @@ void ServoLoop::Run(ServoTask* task, Options options) noexcept {
     param.sched_priority = options.Priority;
     this->GotRealTime.store(pthread_setschedparam(pthread_self(), SCHED_FIFO, &param) == 0);
   }
-  if (options.CpuAffinity >= 0) {
-    cpu_set_t set;
-    CPU_ZERO(&set);
-    CPU_SET(options.CpuAffinity, &set);
-    pthread_setaffinity_np(pthread_self(), sizeof(set), &set);
-  }
+  this->PrepareThread(options);
   this->StartState.store(1, std::memory_order_release);
 
   const int64_t period = static_cast<int64_t>(std::llround(1e9 / options.RateHz));
   const int64_t missThreshold = static_cast<int64_t>(options.MissThresholdS * 1e9);
   const int64_t spin = static_cast<int64_t>(options.SpinUs * 1e3);
   task->ServoStarted();
+  LoadMeter meter;
+  meter.Begin(this->LoadFigures.Cpu);
   const int64_t origin = NowNs() + period;
   int64_t deadline = origin;
   int64_t lastStart = 0;
@@ -137,7 +138,40 @@ void ServoLoop::Run(ServoTask* task, Options options) noexcept {
       this->Missed.fetch_add(1, std::memory_order_relaxed);
     }
   }
+  meter.End();
   task->ServoStopping();
+  const MachineLoad where = this->LoadFigures;
+  this->LoadFigures = meter.Result();
+  this->LoadFigures.Cpu = where.Cpu;
+  this->LoadFigures.OthersMovedOff = where.OthersMovedOff;
+  this->LoadFigures.ThreadsMoved = where.ThreadsMoved;
+  this->LoadFigures.MemoryLocked = where.MemoryLocked;
+  this->LoadFigures.MemoryLockNote = where.MemoryLockNote;
+}
+
+void ServoLoop::PrepareThread(const Options& options) noexcept {
+  MachineLoad& where = this->LoadFigures;
+  where = MachineLoad{};
+  if (options.LockMemory) {
+    this->Locked = LockProcessMemory(where.MemoryLockNote);
+    where.MemoryLocked = this->Locked;
+  } else {
+    where.MemoryLockNote = "not requested";
+  }
+  if (options.CpuAffinity < 0) return;
+  std::string note;
+  if (options.MoveOthersOff) {
+    const int moved = PinAndIsolate(options.CpuAffinity, note);
+    where.Cpu = moved >= 0 ? options.CpuAffinity : -1;
+    where.OthersMovedOff = moved > 0;
+    where.ThreadsMoved = std::max(0, moved);
+    this->Isolated = moved > 0;
+  } else {
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    CPU_SET(options.CpuAffinity, &set);
+    if (pthread_setaffinity_np(pthread_self(), sizeof(set), &set) == 0) where.Cpu = options.CpuAffinity;
+  }
 }
 
 ServoStats ServoLoop::Stats() const {

@@ -2,12 +2,16 @@
 // A fixed-rate servo thread (e.g. the 1 kHz haptic loop) on an absolute-time schedule: it sleeps
 // until each period's deadline (clock_nanosleep TIMER_ABSTIME on CLOCK_MONOTONIC) so errors do not
 // accumulate, asks for SCHED_FIFO when the system permits, and measures every period, every
-// tick's compute time and the wake-up lateness. The loop itself never allocates, locks or logs.
+// tick's compute time and the wake-up lateness. Around the loop (never inside it) it locks memory
+// (mlockall), may pin itself to a CPU with the process's other threads moved off it, and records
+// what the machine did to it (rp::MachineLoad: steal, preemption, page faults). The loop itself
+// never allocates, locks or logs.
 #include <atomic>
 #include <cstdint>
 #include <string>
 #include <thread>
 
+#include "rpMachineLoad.h"
 #include "rpTimingHistogram.h"
 
 namespace rp {
@@ -46,6 +50,9 @@ class ServoLoop {
     int Priority = 80;              // SCHED_FIFO priority when permitted
     double MissThresholdS = 0.5e-3; // lateness counted as a missed deadline
     int CpuAffinity = -1;           // pin to this CPU when >= 0
+    bool MoveOthersOff = true;      // with CpuAffinity: move the process's other threads (display,
+                                    // I/O, main) off that CPU while the loop runs
+    bool LockMemory = true;         // mlockall while the loop runs (when permitted), stack prefaulted
     double SpinUs = 0;              // sleep until this long before the deadline, then spin:
                                     // trades CPU for a smaller timer wake-up latency
   };
@@ -71,12 +78,17 @@ class ServoLoop {
   void InjectStall(double seconds) { this->StallNs.store(static_cast<int64_t>(seconds * 1e9)); }
 
   ServoStats Stats() const;
+  /// What the machine did to the loop over the last run (steal, preemption, faults, memory
+  /// lock, pinning): valid after Stop().
+  const MachineLoad& Load() const { return this->LoadFigures; }
   const TimingHistogram& PeriodHistogram() const { return this->PeriodHist; }
   const TimingHistogram& ComputeHistogram() const { return this->ComputeHist; }
   void ResetStats();  // only while stopped
 
  private:
   void Run(ServoTask* task, Options options) noexcept;
+  /// On the servo thread before its first tick: memory lock, CPU pinning.
+  void PrepareThread(const Options& options) noexcept;
 
   std::thread Thread;
   std::atomic<bool> StopRequested{false};
@@ -85,6 +97,8 @@ class ServoLoop {
   std::atomic<uint64_t> Ticks{0}, Missed{0}, Overruns{0};
   std::atomic<int64_t> StallNs{0};
   std::string Note;
+  MachineLoad LoadFigures;  // written by the servo thread before/after its loop, read after join
+  bool Locked = false, Isolated = false;
   TimingHistogram PeriodHist{1000, 20000};    // 1 µs bins to 20 ms
   TimingHistogram ComputeHist{100, 20000};    // 0.1 µs bins to 2 ms
   TimingHistogram LatenessHist{1000, 20000};  // 1 µs bins to 20 ms

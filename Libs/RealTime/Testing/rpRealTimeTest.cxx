@@ -1,9 +1,13 @@
-// Servo loop start/stop and timing statistics, histogram percentiles, SPSC ring.
+// Servo loop start/stop and timing statistics, histogram percentiles, SPSC ring; the load meter
+// against what the test itself did (sleeps, CPU, page faults).
 #include <gtest/gtest.h>
 
 #include <atomic>
 #include <chrono>
 #include <thread>
+
+#include <sys/mman.h>
+#include <time.h>
 
 #include "rpAllocationCounter.h"
 #include "rpServoLoop.h"
@@ -147,4 +151,58 @@ TEST(SpscRing, TwoThreadsDeliverEverythingInOrder) {
     }
   }
   producer.join();
+}
+
+TEST(LoadMeter, CountsTheThreadsOwnSleepsCpuAndFaults) {
+  rp::LoadMeter meter;
+  meter.Begin();
+  // 20 sleeps: at least 20 voluntary context switches.
+  for (int i = 0; i < 20; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  // 0.1 s of this thread's CPU.
+  const auto spinStart = std::chrono::steady_clock::now();
+  timespec cpu0, cpu1;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &cpu0);
+  volatile double sink = 0;
+  do {
+    for (int i = 0; i < 10000; ++i) sink = sink + i;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &cpu1);
+  } while ((cpu1.tv_sec - cpu0.tv_sec) + 1e-9 * (cpu1.tv_nsec - cpu0.tv_nsec) < 0.1 &&
+           std::chrono::steady_clock::now() - spinStart < std::chrono::seconds(5));
+  // 256 fresh pages touched: at least 256 minor faults.
+  const size_t pages = 256, page = 4096;
+  char* memory = static_cast<char*>(mmap(nullptr, pages * page, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0));
+  ASSERT_NE(memory, MAP_FAILED);
+  for (size_t p = 0; p < pages; ++p) memory[p * page] = 1;
+  munmap(memory, pages * page);
+  meter.End();
+  const rp::MachineLoad& l = meter.Result();
+  ASSERT_TRUE(l.HasThread);
+  EXPECT_GE(l.VoluntarySwitches, 20u);
+  EXPECT_GE(l.ThreadCpuSeconds, 0.1 - 0.011);  // getrusage's resolution
+  EXPECT_GE(l.MinorFaults, pages);
+  EXPECT_EQ(l.MajorFaults, 0u);
+  if (l.HasSteal) {
+    EXPECT_GT(l.Cpus, 0);
+    EXPECT_GE(l.MachineCpuSeconds, 0.0);
+    EXPECT_LE(l.StealSeconds, l.MachineCpuSeconds + 1e-9);
+  }
+}
+
+TEST(ServoLoop, ReportsWhatTheMachineDidOverTheRun) {
+  CountingTask task;
+  rp::ServoLoop loop;
+  rp::ServoLoop::Options options;
+  options.RequestRealTimePriority = false;
+  std::string error;
+  ASSERT_TRUE(loop.Start(&task, options, error)) << error;
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  loop.Stop();
+  const rp::MachineLoad& l = loop.Load();
+  ASSERT_TRUE(l.HasThread);
+  // It sleeps to every deadline: about one voluntary switch per tick.
+  EXPECT_GE(l.VoluntarySwitches, task.Count.load() / 2);
+  EXPECT_GT(l.Seconds, 0.1);
+  EXPECT_FALSE(l.MemoryLockNote.empty());
+  EXPECT_EQ(l.Cpu, -1);
+  EXPECT_EQ(task.AllocationsInTicks, 0u);
 }

@@ -126,40 +126,48 @@ CutResult BoneCutter::Cut(const Vec3& center, double radius, const Vec3& directi
     return result;
   }
   const double h = this->Volume.Spacing();
-  VoxelBox changed;
-  for (int a = 0; a < 3; ++a) changed.Lo[a] = INT32_MAX, changed.Hi[a] = INT32_MIN;
   int64_t units = 0;
-  const double reach = radius + h;
+  const double reach = radius + h, reach2 = reach * reach, half = 0.5 / h;
   std::atomic<uint8_t>* densities = nullptr;
   const uint8_t* codes = nullptr;
-  int32_t current = -1;
+  int32_t current = -1, snapped = -1;
   const bool incremental = Norm2(direction) > 0;
   // Closer than r − h − advance to the new centre is within r − h of the last one: empty.
   const double inner = incremental ? std::max(0.0, radius - h - advance - 1e-9) : 0.0;
-  this->Volume.ForEachInShell(center, inner, reach, [&](int32_t slot, int local, int i, int j, int k, const Vec3& w) {
+  // Only the side of the bisecting plane nearer the new centre can change: the rows are limited
+  // to the bounding box of that cap of the ball (about half of it).
+  Vec3 lo = center - Vec3{reach, reach, reach}, hi = center + Vec3{reach, reach, reach};
+  if (incremental) {
+    const double e = 0.5 * advance + 1e-9;
+    for (int a = 0; a < 3; ++a) {
+      const double side = reach * std::sqrt(std::max(0.0, 1.0 - direction[a] * direction[a])) + e;
+      if (direction[a] < -e / reach) hi[a] = center[a] + std::min(reach, side);
+      if (direction[a] > e / reach) lo[a] = center[a] - std::min(reach, side);
+    }
+  }
+  this->Volume.ForEachInShell(center, inner, reach, [&](int32_t slot, int local, int, int, int, const Vec3& w) {
     // Nearer the last centre than the new one (behind the bisecting plane): already carved.
     if (incremental && Dot(w, direction) < -0.5 * advance - 1e-9) return;
     if (slot != current) current = slot, densities = this->Volume.BlockDensities(slot), codes = this->Volume.BlockMaterials(slot);
     const uint8_t q = densities[local].load(std::memory_order_relaxed);
     if (q == 0) return;
     const double d2 = Norm2(w);
-    if (d2 >= reach * reach) return;
-    const uint8_t target = DrillVolume::Quantize(DrillVolume::RampDensity(radius - std::sqrt(d2), h));
+    if (d2 >= reach2) return;
+    // What the ramp around the sphere leaves: ρ = ½ + (|w| − r) / 2h (DrillVolume::RampDensity of
+    // r − |w|), quantized as DrillVolume::Quantize does.
+    const double rho = 0.5 + (std::sqrt(d2) - radius) * half;
+    const uint8_t target = rho <= 0 ? uint8_t(0) : rho >= 1 ? uint8_t(255) : static_cast<uint8_t>(rho * 255.0 + 0.5);
     const uint8_t code = codes[local];
     if (target >= q || (code & DrillVolume::ProtectedBit)) return;
-    this->Snapshot(slot);
+    if (slot != snapped) this->Snapshot(slot), snapped = slot;
     densities[local].store(target, std::memory_order_relaxed);
     const int m = code & DrillVolume::MaterialMask;
     if (m > 0) this->RemovedUnits[m - 1] += q - target;
     units += q - target;
-    const int index[3] = {i, j, k};
-    for (int a = 0; a < 3; ++a) {
-      changed.Lo[a] = std::min(changed.Lo[a], index[a]);
-      changed.Hi[a] = std::max(changed.Hi[a], index[a]);
-    }
-  });
+  }, &lo, &hi);
   if (units > 0) {
-    this->Volume.MarkDirty(changed);
+    // The voxels that changed lie in the cap's box (cheaper than a box per voxel; the same blocks).
+    this->Volume.MarkDirty(this->Volume.BoxAround(lo, hi));
     result.Removed = true;
     result.VolumeMm3 = units / 255.0 * this->Volume.VoxelVolume();
   }

@@ -8,19 +8,46 @@
 namespace rp {
 
 namespace {
-// Radius at which the burr's sphere touches the bone a voxel of density q stands for, less the
-// skin: a touching voxel is not "inside" through the 1/255 rounding of its density.
-inline double TouchRadius(uint8_t q, double radius, double spacing) noexcept {
-  return radius + (q / 255.0 - 0.5) * 2.0 * spacing - BurrProxy::Skin * spacing;
-}
 inline Vec3 Splat(double s) { return {s, s, s}; }
 }  // namespace
 
 void BurrProxy::Reset(const Vec3& position) noexcept {
+  ShellDirections();  // build the shell now, not in a tick
   this->P = position;
   this->State = BurrContact{};
   this->State.Anchor = position;
 }
+
+namespace {
+// Gap (mm) between the burr's surface and the bone along a shell direction, from the density ρ
+// sampled at the burr's surface point (½ is the bone's surface, the ramp is two voxels wide),
+// less the allowance: the skin, and the trilinear interpolation's error on the sphere the burr
+// carved (its ramp is convex in the voxel position: interpolation overestimates it by about
+// h²/4r), so the burr's own walls never block it.
+inline double Gap(double rho, double spacing, double allowance) noexcept { return (0.5 - rho) * 2.0 * spacing + allowance; }
+inline double Allowance(double spacing, double radius) noexcept {
+  return BurrProxy::Skin * spacing + 1.5 * spacing * spacing / (4.0 * radius);
+}
+
+struct Shell {
+  Vec3 Directions[BurrProxy::ShellPoints];
+  Shell() {
+    // Fibonacci lattice: even spacing, no pole clusters.
+    const double golden = M_PI * (3.0 - std::sqrt(5.0));
+    for (int i = 0; i < BurrProxy::ShellPoints; ++i) {
+      const double z = 1.0 - (2.0 * i + 1.0) / BurrProxy::ShellPoints;
+      const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+      this->Directions[i] = {r * std::cos(golden * i), r * std::sin(golden * i), z};
+    }
+  }
+};
+const Shell& TheShell() noexcept {
+  static const Shell shell;  // built on first use (no allocation)
+  return shell;
+}
+}  // namespace
+
+const Vec3* BurrProxy::ShellDirections() noexcept { return TheShell().Directions; }
 
 double BurrProxy::Sweep(const DrillVolume& volume, const Vec3& from, const Vec3& to, double radius,
                         double& startOverlap) noexcept {
@@ -28,46 +55,49 @@ double BurrProxy::Sweep(const DrillVolume& volume, const Vec3& from, const Vec3&
   const Vec3 d = to - from;
   const double length = Norm(d);
   startOverlap = 0;
-  // Sub-steps of at most a voxel, each testing the voxels of a thin shell around the burr (its
-  // touch radius lies within r ± h), first hit wins.
-  const int steps = std::max(1, static_cast<int>(std::ceil(length / h)));
-  const Vec3 step = d / steps;
-  const double a = Norm2(step), stepLength = length / steps;
-  if (a <= 0) return 2.0;
-  double touch2[256];
-  for (int q = 0; q < 256; ++q) {
-    const double t = std::max(0.0, TouchRadius(static_cast<uint8_t>(q), radius, h));
-    touch2[q] = t * t;
+  if (!(length > 0)) return 2.0;
+  const Vec3 dir = d / length;
+  const Vec3* u = ShellDirections();
+  const double allowance = Allowance(h, radius);
+  // The points facing the move; those already in the bone at the start block a move that heads
+  // into them (within 60°) and are ignored otherwise (the burr slides past them). The point
+  // facing the move most squarely first: pressing on the bone it is in it, and one sample decides.
+  uint8_t code;
+  int front = 0;
+  for (int i = 1; i < ShellPoints; ++i)
+    if (Dot(u[i], dir) > Dot(u[front], dir)) front = i;
+  if (const double gap = Gap(volume.Sample(from + u[front] * radius, code), h, allowance); gap <= 0) {
+    startOverlap = -gap;
+    return 0.0;
   }
-  for (int s = 0; s < steps; ++s) {
-    const Vec3 start = from + step * s;
-    double best = 2.0;
-    const std::atomic<uint8_t>* densities = nullptr;
-    int32_t current = -1;
-    volume.ForEachInShell(start, radius - h - Skin * h - 1e-9, radius + h + stepLength + 1e-9,
-                          [&](int32_t slot, int local, int, int, int, const Vec3& w) {
-                            // Only voxels ahead of the move can be run into.
-                            const double b = Dot(w, step);
-                            if (b <= 0) return;
-                            if (slot != current) current = slot, densities = volume.BlockDensities(slot);
-                            const uint8_t q = densities[local].load(std::memory_order_relaxed);
-                            if (q == 0) return;
-                            const double w2 = Norm2(w);
-                            const double c = w2 - touch2[q];
-                            if (c <= 0) {
-                              // Already touching (rounding of the densities puts half the voxels
-                              // the burr rests on just inside): blocks a move that heads into it
-                              // (within 60°), not one that slides past it.
-                              if (s == 0) startOverlap = std::max(startOverlap, std::sqrt(touch2[q]) - std::sqrt(w2));
-                              if (b * b > 0.25 * w2 * a) best = 0;
-                              return;
-                            }
-                            const double disc = b * b - a * c;
-                            if (disc < 0) return;
-                            const double t = (b - std::sqrt(disc)) / a;
-                            if (t < best) best = t;
-                          });
-    if (best <= 1) return (s + best) / steps;
+  int ahead[ShellPoints];
+  int n = 0;
+  double gapBefore = HUGE_VAL;
+  for (int i = 0; i < ShellPoints; ++i) {
+    const double c = Dot(u[i], dir);
+    if (c <= 0) continue;
+    const double gap = Gap(volume.Sample(from + u[i] * radius, code), h, allowance);
+    if (gap <= 0) {
+      startOverlap = std::max(startOverlap, -gap);
+      if (c > 0.5) return 0.0;
+      continue;
+    }
+    gapBefore = std::min(gapBefore, gap);
+    ahead[n++] = i;
+  }
+  // Half a voxel at a time (no pop-through: the ramp is two voxels wide), first crossing wins.
+  const int steps = std::max(1, static_cast<int>(std::ceil(length / (0.5 * h))));
+  const Vec3 step = d / steps;
+  for (int s = 1; s <= steps; ++s) {
+    const Vec3 p = from + step * s;
+    double gap = HUGE_VAL;
+    for (int a = 0; a < n; ++a) gap = std::min(gap, Gap(volume.Sample(p + u[ahead[a]] * radius, code), h, allowance));
+    if (gap <= 0) {
+      // The smallest gap falls about linearly along the step: interpolate, a hair short of it.
+      const double f = gapBefore < HUGE_VAL ? gapBefore / (gapBefore - gap) : 0.0;
+      return std::max(0.0, (s - 1 + std::clamp(f, 0.0, 1.0)) / steps - 1e-3 * h / length);
+    }
+    gapBefore = gap;
   }
   return 2.0;
 }
@@ -79,41 +109,32 @@ bool BurrProxy::Touching(const DrillVolume& volume, const Vec3& p, double radius
   const auto& materials = volume.Materials();
   const Vec3 pushDir = Normalized(push);
   const bool anyDirection = Norm2(pushDir) == 0;
+  const Vec3* u = ShellDirections();
+  const double allowance = Allowance(h, radius);
   Vec3 sum{};
   int count = 0;
   double stiffAhead = -1, stiffAny = -1;
   uint8_t stiffAheadMaterial = 0, stiffAnyMaterial = 0;
   double aheadWeight[DrillVolume::MaxMaterials + 1] = {};  // contact weight ahead, per material
-  double reach2[256];  // a voxel touches when |v − p| < its touch radius + the band
-  for (int q = 0; q < 256; ++q) {
-    const double t = std::max(0.0, TouchRadius(static_cast<uint8_t>(q), radius, h) + band);
-    reach2[q] = t * t;
-  }
-  const std::atomic<uint8_t>* densities = nullptr;
-  const uint8_t* codes = nullptr;
-  int32_t current = -1;
-  volume.ForEachInShell(p, radius - h - Skin * h - band, radius + h + band,
-                        [&](int32_t slot, int local, int, int, int, const Vec3& w) {
-    if (slot != current) current = slot, densities = volume.BlockDensities(slot), codes = volume.BlockMaterials(slot);
-    const uint8_t q = densities[local].load(std::memory_order_relaxed);
-    if (q == 0) return;
-    const double w2 = Norm2(w);
-    if (w2 >= reach2[q]) return;
-    const double distance = std::sqrt(w2);
-    const double gap = distance - TouchRadius(q, radius, h);
+  for (int i = 0; i < ShellPoints; ++i) {
+    uint8_t code;
+    const double rho = volume.Sample(p + u[i] * radius, code);
+    if (rho <= 0) continue;
+    const double gap = Gap(rho, h, allowance);
+    if (gap >= band) continue;
     ++count;
     const double weight = std::min(band - gap, 2 * band);
-    if (distance > 1e-12) sum -= w * (weight / distance);  // inward normal (v → p)
-    const uint8_t m = codes[local] & DrillVolume::MaterialMask;
-    if (m == 0 || size_t(m) > materials.size()) return;
+    sum -= u[i] * weight;  // inward normal (bone → burr centre)
+    const uint8_t m = code & DrillVolume::MaterialMask;
+    if (m == 0 || size_t(m) > materials.size()) continue;
     const Material& material = materials[m - 1];
     if (material.Stiffness > stiffAny) stiffAny = material.Stiffness, stiffAnyMaterial = m;
-    const double ahead = anyDirection ? 1.0 : Dot(w, pushDir) / std::max(distance, 1e-12);
-    if (ahead > 0) {  // the voxel is ahead of the push
+    const double ahead = anyDirection ? 1.0 : Dot(u[i], pushDir);
+    if (ahead > 0) {  // the point is ahead of the push
       if (material.Stiffness > stiffAhead) stiffAhead = material.Stiffness, stiffAheadMaterial = m;
       aheadWeight[m] += weight * ahead;
     }
-  });
+  }
   contact.Voxels = count;
   contact.InContact = count > 0;
   if (count == 0) return false;

@@ -7,12 +7,17 @@
 // lies inside the bone's static friction cone. Only the burr cutting material (rpBoneCutter)
 // lets the proxy advance into bone.
 //
-// Each voxel with density ρ stands for a surface point: the burr's sphere (radius r) touches it
-// when |v − p| = r + (ρ − ½)·2h (the voxel's ramp says how far beyond its centre the bone
-// begins). The contact normal is the sum of the inward normals (p − v)/|p − v| of the voxels
-// the burr's surface touches (within a quarter voxel). For the force, the contact point is then
-// refined along that normal by a least-squares plane through the ramp voxels around it, which
-// is exact on planar bone at any orientation (the spring stretch is the burr's true depth).
+// Contact is found with a point shell (McNeely, Puterbaugh & Troy 1999, for a voxel map): a fixed
+// set of ShellPoints directions u spread evenly over the sphere (a Fibonacci lattice), sampled at
+// p + r·u in the trilinearly interpolated density. Across the bone's two-voxel ramp the density
+// is linear in the distance to the surface, so a sample of density ρ lies (ρ − ½)·2h inside the
+// bone: its gap is (½ − ρ)·2h. The contact normal is the sum of the inward directions −u of the
+// points within a quarter voxel of the bone, weighted by how deep they are; the sweep steps the
+// points facing the move half a voxel at a time and interpolates the first crossing. The work
+// per tick is the same for any burr and voxel size (a fixed number of samples), not the number
+// of voxels on the burr's surface. For the force, the contact point is then refined along the
+// normal by a least-squares plane through the ramp voxels around it, which is exact on planar
+// bone at any orientation (the spring stretch is the burr's true depth).
 // Update() never allocates or locks.
 #include <cstdint>
 
@@ -24,7 +29,7 @@ struct BurrContact {
   bool InContact = false;   // the burr's surface touches bone (within a quarter voxel)
   bool Embedded = false;    // the burr centre was deep in bone (e.g. after an undo): released, no force, no cutting
   int Planes = 0;           // constraint planes used this tick
-  int Voxels = 0;           // voxels touching the burr's surface
+  int Voxels = 0;           // shell points touching the bone
   Vec3 Normal;              // contact normal, out of the bone (unit; zero when the touches cancel out)
   Vec3 Anchor;              // the proxy moved onto the bone surface along the normal: the spring's end
   bool Refined = false;     // Anchor comes from the plane fit (else Anchor = proxy)
@@ -51,6 +56,10 @@ class BurrProxy {
   static constexpr double TouchBand = 0.25;
   /// Overlap (in voxels) beyond which the burr counts as embedded.
   static constexpr double EmbeddedDepth = 0.75;
+  /// Points of the shell: 0.36 mm apart on a 2 mm burr, 0.54 mm on a 3 mm one (any voxel size).
+  static constexpr int ShellPoints = 384;
+  /// The shell's unit directions (computed once, on first use: Reset() does it before any tick).
+  static const Vec3* ShellDirections() noexcept;
 
   /// Fraction of the move from `from` to `to` the sphere can make before it touches bone (> 1:
   /// free). `startOverlap` gets the deepest overlap (mm) at `from`.

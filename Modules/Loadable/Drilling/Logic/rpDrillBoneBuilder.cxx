@@ -11,7 +11,12 @@
 #include <vtkMatrix4x4.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
+#include <vtkPolyData.h>
 #include <vtkType.h>
+
+#include "rpHapticSceneBridge.h"
+#include "rpLabelmapToMesh.h"
+#include "rpMeshSignedDistance.h"
 
 namespace rp {
 
@@ -190,6 +195,144 @@ bool BuildProtectedSurface(const Crop<uint8_t>& crop, const int box[6], const Af
   return true;
 }
 
+// The bone labels around the drill grid (six labelmap voxels more, so the caps where this box
+// cuts the bone stay off the grid) meshed as the segment models are: Gaussian, σ = 1 voxel.
+bool MeshBoneLabels(const Crop<uint8_t>& crop, const vtkMatrix4x4* ijkToRAS, const Affine& rasToIJK, const DrillGrid& grid,
+                    TriangleMesh& mesh, std::string& error) {
+  Vec3 lo{HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  for (int corner = 0; corner < 8; ++corner) {
+    const Vec3 ijk = rasToIJK.Apply(grid.Center((corner & 1) ? grid.Dimensions[0] : -1, (corner & 2) ? grid.Dimensions[1] : -1,
+                                                (corner & 4) ? grid.Dimensions[2] : -1));
+    lo = Min(lo, ijk);
+    hi = Max(hi, ijk);
+  }
+  int box[3], dims[3];
+  for (int a = 0; a < 3; ++a) {
+    box[a] = std::clamp(static_cast<int>(std::floor(lo[a])) - 6, crop.Lo[a], crop.Lo[a] + crop.Dims[a] - 1);
+    const int last = std::clamp(static_cast<int>(std::ceil(hi[a])) + 6, crop.Lo[a], crop.Lo[a] + crop.Dims[a] - 1);
+    dims[a] = last - box[a] + 1;
+  }
+  vtkNew<vtkImageData> mask;
+  mask->SetDimensions(dims);
+  mask->AllocateScalars(VTK_UNSIGNED_CHAR, 1);
+  auto* out = static_cast<unsigned char*>(mask->GetScalarPointer());
+  for (int k = 0; k < dims[2]; ++k)
+    for (int j = 0; j < dims[1]; ++j)
+      for (int i = 0; i < dims[0]; ++i)
+        *out++ = (crop.At(box[0] + i, box[1] + j, box[2] + k) & BoneMask) ? 1 : 0;
+  vtkNew<vtkMatrix4x4> toRAS;
+  toRAS->DeepCopy(ijkToRAS);
+  for (int r = 0; r < 3; ++r)
+    toRAS->SetElement(r, 3, ijkToRAS->GetElement(r, 0) * box[0] + ijkToRAS->GetElement(r, 1) * box[1] +
+                                ijkToRAS->GetElement(r, 2) * box[2] + ijkToRAS->GetElement(r, 3));
+  vtkNew<vtkPolyData> poly;
+  MeshStats stats;
+  if (!LabelmapToMesh(mask, toRAS, 1, MeshOptions{}, poly, stats, error)) return false;
+  return PolyDataToTriangleMesh(poly, nullptr, mesh, error);
+}
+
+// Densities of the 8³ voxels of block (bi, bj, bk) from the signed distance to the surface, a 4³
+// sub-block at a time: a sub-block whose centre is farther than its half-diagonal plus a voxel
+// from the surface is all bone or all air (|sd(p) − sd(c)| <= |p − c|), and so is any voxel the
+// same bound decides; the others get one query each.
+void SurfaceDensities(const MeshSignedDistance& surface, const DrillGrid& grid, int bi, int bj, int bk, uint8_t out[]) {
+  const double h = grid.Spacing;
+  const double reach = 1.5 * std::sqrt(3.0) * h + h;
+  const int E = DrillVolume::BlockEdge;
+  for (int sub = 0; sub < 8; ++sub) {
+    const int i0 = bi * E + (sub & 1) * 4, j0 = bj * E + ((sub >> 1) & 1) * 4, k0 = bk * E + (sub >> 2) * 4;
+    const Vec3 c = grid.Origin + Vec3{i0 + 1.5, j0 + 1.5, k0 + 1.5} * h;
+    const double sc = surface.SignedDistance(c);
+    for (int k = k0; k < k0 + 4; ++k)
+      for (int j = j0; j < j0 + 4; ++j)
+        for (int i = i0; i < i0 + 4; ++i) {
+          uint8_t& q = out[DrillVolume::Local(i, j, k)];
+          const Vec3 p = grid.Center(i, j, k);
+          const double away = sc > reach || sc < -reach ? 0.0 : Norm(p - c);
+          if (sc - away >= h) q = 0;
+          else if (sc + away <= -h) q = 255;
+          else q = DrillVolume::Quantize(DrillVolume::RampDensity(surface.SignedDistance(p), h));
+        }
+  }
+}
+
+// Whether block (bi, bj, bk) has a voxel within the ramp of the surface or inside it.
+bool BlockNearSurface(const MeshSignedDistance& surface, const DrillGrid& grid, int bi, int bj, int bk) {
+  const double h = grid.Spacing;
+  const int E = DrillVolume::BlockEdge;
+  const Vec3 c = grid.Origin + Vec3{bi * E + 3.5, bj * E + 3.5, bk * E + 3.5} * h;
+  const double reach = 3.5 * std::sqrt(3.0) * h + h;
+  const Vec3 slack{reach, reach, reach};
+  const Vec3 lo = surface.Lo() - slack, hi = surface.Hi() + slack;
+  if (c.x < lo.x || c.y < lo.y || c.z < lo.z || c.x > hi.x || c.y > hi.y || c.z > hi.z) return false;
+  return surface.SignedDistance(c) < reach;
+}
+
+// The CT's values around the drill grid (for the HU rule), and its RAS → IJK; false without a CT.
+bool CropCT(const ImageVolume& source, const DrillGrid& grid, Crop<float>& ct, std::unique_ptr<Affine>& rasToCT) {
+  const double h = grid.Spacing;
+  if (!(source.Image && source.Image->GetNumberOfPoints() > 0 && source.Image->GetPointData()->GetScalars())) return false;
+  vtkNew<vtkMatrix4x4> inverse;
+  vtkMatrix4x4::Invert(source.IJKToRAS, inverse);
+  rasToCT = std::make_unique<Affine>(inverse);
+  int ctDims[3];
+  source.Image->GetDimensions(ctDims);
+  Vec3 clo{HUGE_VAL, HUGE_VAL, HUGE_VAL}, chi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  for (int corner = 0; corner < 8; ++corner) {
+    const Vec3 ras = grid.Origin + Vec3{(corner & 1) ? grid.Dimensions[0] * h : 0.0, (corner & 2) ? grid.Dimensions[1] * h : 0.0,
+                                        (corner & 4) ? grid.Dimensions[2] * h : 0.0};
+    const Vec3 ijk = rasToCT->Apply(ras);
+    clo = Min(clo, ijk);
+    chi = Max(chi, ijk);
+  }
+  for (int a = 0; a < 3; ++a) {
+    ct.Lo[a] = std::clamp(static_cast<int>(std::floor(clo[a])) - 1, 0, ctDims[a] - 1);
+    ct.Dims[a] = std::clamp(static_cast<int>(std::ceil(chi[a])) + 1, 0, ctDims[a] - 1) - ct.Lo[a] + 1;
+  }
+  ct.Values.assign(size_t(ct.Dims[0]) * ct.Dims[1] * ct.Dims[2], 0.0f);
+  switch (source.Image->GetScalarType()) {
+    vtkTemplateMacro(CopyValues(static_cast<const VTK_TT*>(source.Image->GetScalarPointer()), ctDims, ct));
+  }
+  return true;
+}
+
+// The material of a bone voxel by its HU (the brightest of the 8 CT voxels around it in the
+// surface ramp, where partial volume with soft tissue thins the cortex); huRule highest first.
+uint8_t MaterialByHU(const Crop<float>& ct, const Affine& rasToCT, const Vec3& ras, bool inRamp,
+                     const std::vector<std::pair<double, uint8_t>>& huRule) {
+  const Vec3 c = rasToCT.Apply(ras);
+  const int ci = int(std::floor(c.x)), cj = int(std::floor(c.y)), ck = int(std::floor(c.z));
+  const double u = c.x - ci, v = c.y - cj, w = c.z - ck;
+  double hu = 0, brightest = -std::numeric_limits<double>::infinity();
+  for (int corner = 0; corner < 8; ++corner) {
+    const int di = corner & 1, dj = (corner >> 1) & 1, dk = corner >> 2;
+    const double value = ct.Clamped(ci + di, cj + dj, ck + dk);
+    hu += value * (di ? u : 1 - u) * (dj ? v : 1 - v) * (dk ? w : 1 - w);
+    brightest = std::max(brightest, value);
+  }
+  if (inRamp) hu = brightest;
+  for (const auto& [threshold, m] : huRule)
+    if (hu >= threshold) return m;
+  return huRule.back().second;
+}
+
+// The smooth surface the density follows: the given mesh, or the bone labels meshed here.
+bool SmoothSurfaceFor(const DrillBoneSource& source, const Crop<uint8_t>& crop, const Affine& rasToIJK,
+                      const DrillGrid& grid, MeshSignedDistance& surface, DrillBoneReport& report, std::string& error) {
+  TriangleMesh mesh = source.BoneSurface;
+  report.Surface = mesh.Triangles.empty() ? "labels meshed here (Gaussian, sigma 1 voxel)" : "given mesh";
+  if (mesh.Triangles.empty() && !MeshBoneLabels(crop, source.Labels.IJKToRAS, rasToIJK, grid, mesh, error)) {
+    error = "drill bone: meshing the bone labels: " + error;
+    return false;
+  }
+  if (!surface.Build(mesh, error)) {
+    error = "drill bone: the bone surface: " + error;
+    return false;
+  }
+  report.SurfaceTriangles = mesh.Triangles.size();
+  return true;
+}
+
 bool BuildSolid(const DrillBoneSource& source, const std::vector<Material>& materials, DrillVolume& bone,
                 DrillVolume* protectedSurface, DrillBoneReport& report, std::string& error,
                 const ProgressCallback& progress) {
@@ -271,30 +414,7 @@ bool BuildSolid(const DrillBoneSource& source, const std::vector<Material>& mate
   // CT values around the grid, for the HU rule.
   Crop<float> ct;
   std::unique_ptr<Affine> rasToCT;
-  if (source.CT.Image && source.CT.Image->GetNumberOfPoints() > 0 && source.CT.Image->GetPointData()->GetScalars()) {
-    vtkNew<vtkMatrix4x4> inverse;
-    vtkMatrix4x4::Invert(source.CT.IJKToRAS, inverse);
-    rasToCT = std::make_unique<Affine>(inverse);
-    int ctDims[3];
-    source.CT.Image->GetDimensions(ctDims);
-    Vec3 clo{HUGE_VAL, HUGE_VAL, HUGE_VAL}, chi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-    for (int corner = 0; corner < 8; ++corner) {
-      const Vec3 ras = grid.Origin + Vec3{(corner & 1) ? grid.Dimensions[0] * h : 0.0, (corner & 2) ? grid.Dimensions[1] * h : 0.0,
-                                          (corner & 4) ? grid.Dimensions[2] * h : 0.0};
-      const Vec3 ijk = rasToCT->Apply(ras);
-      clo = Min(clo, ijk);
-      chi = Max(chi, ijk);
-    }
-    for (int a = 0; a < 3; ++a) {
-      ct.Lo[a] = std::clamp(static_cast<int>(std::floor(clo[a])) - 1, 0, ctDims[a] - 1);
-      ct.Dims[a] = std::clamp(static_cast<int>(std::ceil(chi[a])) + 1, 0, ctDims[a] - 1) - ct.Lo[a] + 1;
-    }
-    ct.Values.assign(size_t(ct.Dims[0]) * ct.Dims[1] * ct.Dims[2], 0.0f);
-    switch (source.CT.Image->GetScalarType()) {
-      vtkTemplateMacro(CopyValues(static_cast<const VTK_TT*>(source.CT.Image->GetScalarPointer()), ctDims, ct));
-    }
-    report.UsedCT = true;
-  }
+  report.UsedCT = CropCT(source.CT, grid, ct, rasToCT);
   // The HU rule: drillable materials with a ctMinHU, highest threshold first.
   std::vector<std::pair<double, uint8_t>> huRule;
   for (size_t m = 0; m < materials.size(); ++m)
@@ -315,16 +435,29 @@ bool BuildSolid(const DrillBoneSource& source, const std::vector<Material>& mate
         labelMaterial[b + 1] = static_cast<uint8_t>(m + 1);
   }
 
+  // The smooth surface the density follows (or the label mask's).
+  MeshSignedDistance surface;
+  report.Surface = "label mask (trilinear)";
+  if (source.SmoothSurface && !SmoothSurfaceFor(source, crop, rasToIJK, grid, surface, report, error)) return false;
+  if (progress) progress(0.15, "bone surface");
+  const bool smooth = !surface.Empty();
+
   // 4. Voxels, block by block; blocks with no bone or protected label near them are skipped.
   const int E = DrillVolume::BlockEdge;
+  uint8_t surfaceQ[DrillVolume::BlockVoxels];
   const auto& blockDims = bone.BlockDimensions();
   const size_t blockCount = size_t(blockDims[0]) * blockDims[1] * blockDims[2];
   size_t visited = 0;
   for (int bk = 0; bk < blockDims[2]; ++bk) {
     for (int bj = 0; bj < blockDims[1]; ++bj)
       for (int bi = 0; bi < blockDims[0]; ++bi, ++visited) {
-        const bool any = BlockNearCodes(crop, rasToIJK, grid, bi, bj, bk, BoneMask | ProtectedCode);
-        if (!any) continue;
+        const bool nearBone = smooth ? BlockNearSurface(surface, grid, bi, bj, bk)
+                                     : BlockNearCodes(crop, rasToIJK, grid, bi, bj, bk, BoneMask);
+        if (!nearBone && !BlockNearCodes(crop, rasToIJK, grid, bi, bj, bk, ProtectedCode)) continue;
+        if (smooth) {
+          if (nearBone) SurfaceDensities(surface, grid, bi, bj, bk, surfaceQ);
+          else std::fill(surfaceQ, surfaceQ + DrillVolume::BlockVoxels, uint8_t(0));
+        }
         for (int k = bk * E; k < std::min(bk * E + E, grid.Dimensions[2]); ++k)
           for (int j = bj * E; j < std::min(bj * E + E, grid.Dimensions[1]); ++j)
             for (int i = bi * E; i < std::min(bi * E + E, grid.Dimensions[0]); ++i) {
@@ -334,37 +467,21 @@ bool BuildSolid(const DrillBoneSource& source, const std::vector<Material>& mate
               Vec3 g, gp;
               Trilinear(crop, x, [](uint8_t c) { return (c & BoneMask) != 0; }, f, g);
               Trilinear(crop, x, [](uint8_t c) { return (c & ProtectedCode) != 0; }, fp, gp);
-              const double rho = DrillVolume::RampDensity(IndicatorDistance(f, rasToIJK.PullBack(g)), h);
               const bool isProtected = fp >= 0.5;
-              const uint8_t q = DrillVolume::Quantize(rho);
+              const uint8_t q = smooth ? surfaceQ[DrillVolume::Local(i, j, k)]
+                                       : DrillVolume::Quantize(DrillVolume::RampDensity(IndicatorDistance(f, rasToIJK.PullBack(g)), h));
               if (q == 0 && !isProtected) continue;
               uint8_t material = 0;
               if (q > 0) {
                 if (rasToCT) {
-                  const Vec3 c = rasToCT->Apply(ras);
-                  const int ci = int(std::floor(c.x)), cj = int(std::floor(c.y)), ck = int(std::floor(c.z));
-                  const double u = c.x - ci, v = c.y - cj, w = c.z - ck;
-                  double hu = 0, brightest = -std::numeric_limits<double>::infinity();
-                  for (int corner = 0; corner < 8; ++corner) {
-                    const int di = corner & 1, dj = (corner >> 1) & 1, dk = corner >> 2;
-                    const double value = ct.Clamped(ci + di, cj + dj, ck + dk);
-                    hu += value * (di ? u : 1 - u) * (dj ? v : 1 - v) * (dk ? w : 1 - w);
-                    brightest = std::max(brightest, value);
-                  }
-                  if (q < 255) hu = brightest;  // the surface ramp: partial volume with soft tissue
-                  material = huRule.back().second;
-                  for (const auto& [threshold, m] : huRule)
-                    if (hu >= threshold) {
-                      material = m;
-                      break;
-                    }
+                  material = MaterialByHU(ct, *rasToCT, ras, q < 255, huRule);
                 } else {
                   // The bone label of the nearest labelmap voxel (or any bone corner around).
                   uint8_t code = crop.At(int(std::lround(x.x)), int(std::lround(x.y)), int(std::lround(x.z))) & BoneMask;
                   for (int corner = 0; corner < 8 && code == 0; ++corner)
                     code = crop.At(int(std::floor(x.x)) + (corner & 1), int(std::floor(x.y)) + ((corner >> 1) & 1),
                                    int(std::floor(x.z)) + (corner >> 2)) & BoneMask;
-                  material = labelMaterial[code];
+                  material = labelMaterial[code ? code : 1];  // inside the smooth surface, off the labels
                 }
               }
               bone.SetVoxel(i, j, k, q, material, isProtected);

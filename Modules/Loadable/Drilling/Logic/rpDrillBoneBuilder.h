@@ -1,9 +1,16 @@
 #pragma once
 // Builds the drillable bone from a segmentation: the bone segments' labels (any integer
 // labelmap, any orientation) are resampled onto an axis-aligned RAS grid of the chosen voxel
-// size. The density is the two-voxel ramp around the surface of the trilinearly interpolated
-// label mask (its ½ iso-surface: where marching cubes would put the segment's surface), so the
-// bone is smooth at 0.2 mm even from a 1 mm labelmap. Each bone voxel gets a material:
+// size. The density is the two-voxel ramp around the bone's smooth surface: the signed distance
+// (rp::MeshSignedDistance over the project's BVH) from each voxel centre to the segment's closed
+// mesh, either given (the bone model the user sees) or made here from the bone labels the way
+// the segment models are made (rp::LabelmapToMesh, Gaussian, σ = 1 voxel, volume-corrected). So
+// the drilled bone shows, and the burr feels, the bone model's surface until the burr cuts it,
+// not the labelmap's staircase (a 0.8 × 0.8 × 1.25 mm labelmap's trilinear mask keeps
+// millimetre steps at a 0.3 mm drill grid). Distances are computed per 4³ sub-block first: a
+// sub-block whose centre is farther from the surface than its half-diagonal plus a voxel is
+// all bone or all air without a query per voxel. SmoothSurface off gives the former ramp around
+// the trilinearly interpolated label mask. Each bone voxel gets a material:
 //  - with a CT: by its HU, the drillable material with the highest ctMinHU at or below it
 //    (materials.json: cortical "bone" ≥ 600 HU, "trabecular bone" below); in the surface ramp
 //    the brightest of the 8 CT voxels around it is used (partial volume thins the cortex);
@@ -17,6 +24,7 @@
 #include "rpDrillVolume.h"
 #include "rpImageVolume.h"
 #include "rpProgress.h"
+#include "rpTriangleMesh.h"
 
 namespace rp {
 
@@ -28,6 +36,8 @@ struct DrillBoneSource {
   std::vector<std::string> ProtectedTissues;  // their tissue classes: a drillable one (bone) is solid
   ImageVolume CT;                        // optional: HU for cortical / trabecular
   double Spacing = 0.3;                  // drill voxel size (mm)
+  bool SmoothSurface = true;             // density from the bone's smooth surface (else the label mask)
+  TriangleMesh BoneSurface;              // closed, RAS; empty: meshed here from the bone labels
   bool HasRegion = false;                // limit the grid to this RAS box
   Vec3 RegionLo, RegionHi;
 };
@@ -38,6 +48,8 @@ struct DrillBoneReport {
   std::vector<double> VolumeMm3;  // per drillable material, as built
   bool UsedCT = false;
   bool HasProtected = false;
+  std::string Surface;            // what the density follows: "given mesh", "labels meshed here", "label mask"
+  size_t SurfaceTriangles = 0;
 };
 
 /// Builds `bone` (and, when `protectedSurface` is given and protected labels exist, a volume

@@ -18,6 +18,7 @@
 #include "rpHapticSceneBridge.h"
 #include "rpModelIO.h"
 #include "rpSegmentationIO.h"
+#include "rpServoLoadReport.h"
 #include "rpSimulatedDevice.h"
 #include "rpTunnelPicture.h"
 #include "rpBlockMesher.h"
@@ -144,6 +145,38 @@ bool ReadLabels(const std::string& path, vtkRPSegmentationNode* segmentation, st
   return true;
 }
 
+// The servo's timing with its conditions: how ticks were timed, on what, and what the machine
+// did to the servo thread meanwhile (steal, preemption, faults), so a figure says where it came from.
+nlohmann::json ServoJson(const DrillRunResult& result, const DrillRunOptions& run) {
+  const MachineLoad& load = result.Load;
+  nlohmann::json conditions = {
+      {"mode", run.Realtime ? "realtime: the 1 kHz servo thread (rp::ServoLoop), wall clock per tick"
+                            : "scripted: ticks on one thread, thread CPU time per tick"},
+      {"cpus", AvailableCpus()},
+      {"loadAverage1min", load.LoadAverage},
+#ifdef NDEBUG
+      {"optimized", true},
+#else
+      {"optimized", false},
+#endif
+  };
+  nlohmann::json servo = {{"tickP50Us", result.TickCompute.P50Us},
+                          {"tickP99Us", result.TickCompute.P99Us},
+                          {"tickMaxUs", result.TickCompute.MaxUs},
+                          {"ticks", result.Ticks},
+                          {"conditions", conditions},
+                          {"load", MachineLoadJson(load)}};
+  if (run.Realtime) {
+    servo["periodP99Us"] = result.Servo.Period.P99Us;
+    servo["latenessP99Us"] = result.Servo.Lateness.P99Us;
+    servo["missedDeadlines"] = result.Servo.MissedDeadlines;
+    servo["overruns"] = result.Servo.Overruns;
+    servo["realTimePriority"] = result.Servo.RealTimePriority;
+    servo["missesReading"] = MachineLoadReading(load, result.Servo.MissedDeadlines, result.Servo.Overruns);
+  }
+  return servo;
+}
+
 }  // namespace
 
 int RunDrillCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
@@ -171,15 +204,18 @@ int RunDrillCommand(const std::vector<std::string>& args, std::ostream& out, std
       .Option("replay", "FILE", "drive the burr along a recorded drill path instead of --from/--to")
       .Option("model", "FILE", "write the drilled bone's surface (" + ModelFileExtensionsText() + ")")
       .Option("picture", "FILE.png", "render a picture of the tunnel (needs a display or Xvfb)")
+      .Option("cpu", "N", "--realtime: pin the servo thread to CPU N and move the other threads off it (-1: not pinned)", "-1")
       .Flag("realtime", "run the 1 kHz servo thread and the 30 Hz display thread on the wall clock (default: the same "
                         "ticks scripted on one thread, as fast as the CPU allows)");
   if (const auto exitCode = parser.ParseCommand(args, out, err)) return *exitCode;
   const bool json = parser.Json();
   const bool replay = parser.Has("replay");
+  int cpu = -1;
   double radius = 0, speed = 0, voxel = 0.3, rpm = 60000, feed = 2, shell = 0, margin = 0, timeout = -1;
   Vec3 from, to, blockLo{-20, -20, -20}, blockHi{20, 20, 20};
   try {
     voxel = parser.GetDouble("voxel");
+    cpu = static_cast<int>(parser.GetDouble("cpu"));
     rpm = parser.GetDouble("rpm");
     feed = parser.GetDouble("feed");
     shell = parser.GetDouble("shell");
@@ -382,6 +418,7 @@ int RunDrillCommand(const std::vector<std::string>& args, std::ostream& out, std
   run.OnMesh = [&mesh](vtkPolyData* m) { mesh = m; };
   run.Progress = [&](double f, const std::string& m) { progress.Report(0.3 + 0.65 * f, m); };
   run.Loop.RequestRealTimePriority = run.Realtime;
+  run.Loop.CpuAffinity = cpu;
   DrillRunResult result;
   if (!RunDrill(*servo, display, run, result, error)) {
     err << "roboplan drill: " << error << "\n";
@@ -464,11 +501,7 @@ int RunDrillCommand(const std::vector<std::string>& args, std::ostream& out, std
         {"refusedTicks", s.RefusedTicks},
         {"stopped", s.Stopped},
         {"closestApproachMm", std::isfinite(s.ClosestApproach) ? nlohmann::json(s.ClosestApproach) : nlohmann::json(nullptr)}}}};
-  if (run.Realtime) {
-    doc["servo"] = {{"periodP99Us", result.Servo.Period.P99Us},
-                    {"missedDeadlines", result.Servo.MissedDeadlines},
-                    {"realTimePriority", result.Servo.RealTimePriority}};
-  }
+  doc["servo"] = ServoJson(result, run);
   if (block) {
     bool exact = false;
     const double expected = CapsuleVolumeInBox(from, reached ? to : s.Proxy, radius, blockLo, blockHi, exact);
@@ -530,6 +563,7 @@ int RunDrillCommand(const std::vector<std::string>& args, std::ostream& out, std
     std::snprintf(line, sizeof line, "servo tick: p50 %.1f us, p99 %.1f us over %llu ticks\n", result.TickCompute.P50Us,
                   result.TickCompute.P99Us, static_cast<unsigned long long>(result.Ticks));
     out << line;
+    out << "servo load: " << MachineLoadSummary(result.Load) << "\n";
     std::snprintf(line, sizeof line, "display: %zu frames, dirty-block re-contour p95 %.2f ms (%.1f blocks), whole bone %.1f ms\n",
                   result.Frames.size(), NearestRankPercentile(contourMs, 0.95), meanBlocks, wholeMs);
     out << line;

@@ -68,6 +68,8 @@ bool RunDrill(DrillServo& servo, DrillDisplay& display, const DrillRunOptions& o
     tick.Period = period;
     servo.ServoStarted();
     DrillState state;
+    LoadMeter meter;
+    meter.Begin();
     for (;;) {
       tick.Time = tick.Index * period;
       control(tick.Time);
@@ -84,6 +86,9 @@ bool RunDrill(DrillServo& servo, DrillDisplay& display, const DrillRunOptions& o
       }
       if (done(state)) break;
     }
+    meter.End();
+    result.Load = meter.Result();
+    result.Load.MemoryLockNote = "scripted run: not locked";
     servo.ServoStopping();
     display.Frame();
     caller.Step(tick.Time);
@@ -111,6 +116,7 @@ bool RunDrill(DrillServo& servo, DrillDisplay& display, const DrillRunOptions& o
     display.Frame();
     caller.Step(state.Time);
     result.Servo = loop.Stats();
+    result.Load = loop.Load();
     result.Ticks = result.Servo.Ticks;
     result.TickCompute = result.Servo.Compute;
   }

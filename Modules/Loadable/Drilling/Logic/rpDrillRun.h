@@ -40,6 +40,7 @@ struct DrillRunResult {
   uint64_t Ticks = 0;
   TimingStats TickCompute;     // µs per servo tick (scripted: thread CPU time; real time: the loop's)
   ServoStats Servo;            // real-time mode only
+  MachineLoad Load;            // what the machine did to the servo thread over the run (scripted: the caller's thread)
   double WallSeconds = 0;
   std::vector<DisplayFrame> Frames;   // display frames that re-contoured blocks
   std::vector<DrillRecordLine> Records;

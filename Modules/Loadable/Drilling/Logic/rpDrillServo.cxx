@@ -15,12 +15,14 @@ DrillServo::DrillServo(HapticDevice& device, DrillVolume& volume, const DrillSer
 void DrillServo::PlaceBurr(const Vec3& center, const DrillControl& control) {
   this->ControlValue.Publish(control);
   this->Render.Reset(center);
-  this->HasCutCenter = false;
+  this->HasCutCenter = this->HasLastCut = false;
   if (control.BurrOn) {
     this->Cut.BeginStroke();
-    this->Cut.Cut(center, control.Radius);
-    this->CutCenter = center;
+    const bool refused = this->Cut.Cut(center, control.Radius).Refused;
+    this->CutCenter = this->LastCut = center;
+    this->LastCutRadius = control.Radius;
     this->HasCutCenter = true;
+    this->HasLastCut = !refused;
   }
   this->WasOn = control.BurrOn;
   this->Placed = true;
@@ -107,11 +109,11 @@ void DrillServo::Tick(const TickInfo& tick) noexcept {
     this->ResetSeen = reset;
     this->UndoSeen = undo;
     this->Cut.StartReset();
-    this->HasCutCenter = false;  // the bone around the last cut comes back
+    this->HasCutCenter = this->HasLastCut = false;  // the bone around the last cut comes back
   } else if (undo != this->UndoSeen) {
     this->UndoSeen = undo;
     this->Cut.StartUndo();
-    this->HasCutCenter = false;
+    this->HasCutCenter = this->HasLastCut = false;
   }
   this->Cut.Step();
 
@@ -153,22 +155,27 @@ void DrillServo::Tick(const TickInfo& tick) noexcept {
       // The cut advances from the last one while the proxy keeps up with it (within a skin);
       // from the proxy when it moved away (slid, pulled back) or the burr just touched.
       const double skin = BurrProxy::Skin * this->Volume.Spacing();
-      bool fromLastCut = this->HasCutCenter;
-      if (!this->HasCutCenter || Norm(this->CutCenter - burr.Proxy) > 3 * skin + s.FeedMmPerS * dt) {
+      if (!this->HasCutCenter || Norm(this->CutCenter - burr.Proxy) > 3 * skin + s.FeedMmPerS * dt)
         this->CutCenter = burr.Proxy;
-        fromLastCut = false;
-      }
       const Vec3 ahead = hip - this->CutCenter;
       const double advance = std::min(s.FeedMmPerS * dt, Norm(ahead));
       if (advance > 0) {
         const Vec3 center = this->CutCenter + ahead * (advance / Norm(ahead));
-        const Vec3 direction = fromLastCut ? ahead / Norm(ahead) : Vec3{};
-        const CutResult cut = this->Cut.Cut(center, radius, direction, advance);
+        // Only what the new sphere adds to the last one (the same burr, nothing restored since)
+        // is visited: the difference of the two spheres, not the whole ball.
+        Vec3 direction{};
+        double moved = 0;
+        if (this->HasLastCut && this->LastCutRadius == radius) {
+          moved = Norm(center - this->LastCut);
+          if (moved > 0) direction = (center - this->LastCut) / moved;
+        }
+        const CutResult cut = this->Cut.Cut(center, radius, direction, moved);
         refused = cut.Refused;
         s.Cutting = cut.Removed;
         if (!refused) {
-          this->CutCenter = center;
-          this->HasCutCenter = true;
+          this->CutCenter = this->LastCut = center;
+          this->LastCutRadius = radius;
+          this->HasCutCenter = this->HasLastCut = true;
         }
       }
     }

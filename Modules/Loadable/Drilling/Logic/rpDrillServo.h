@@ -137,6 +137,9 @@ class DrillServo : public ServoTask {
   bool First = true, Placed = false, WasOn = false;
   Vec3 CutCenter;          // centre of the last cut; the next one advances from here
   bool HasCutCenter = false;
+  Vec3 LastCut;            // centre of the last cut made (the bone around it is carved)
+  double LastCutRadius = 0;
+  bool HasLastCut = false;
   double RampStart = 0, LastTime = 0;
   uint32_t Trips = 0;
   DrillState Scratch;

@@ -108,6 +108,10 @@ class DrillVolume {
     return s < 0 ? 0 : this->MaterialCodes[size_t(s) * BlockVoxels + Local(i, j, k)];
   }
   uint8_t OriginalDensity(int i, int j, int k) const noexcept;
+  /// Trilinearly interpolated density (0–1) at a RAS point; `code` gets the material code of the
+  /// densest of the 8 voxels around it (0 when all are empty). One block lookup when the 8 voxels
+  /// share a block (7 cells in 8 along each axis). Never allocates.
+  double Sample(const Vec3& ras, uint8_t& code) const noexcept;
   /// Bone volume (mm³) per material index (0-based) as built, and now.
   const std::vector<double>& OriginalVolumes() const { return this->InitialVolumes; }
   std::vector<double> CurrentVolumes() const;  // scans every block (not for the servo thread)
@@ -135,9 +139,11 @@ class DrillVolume {
 
   /// Calls f(slot, local, i, j, k, w) for every stored voxel whose centre v lies in the spherical
   /// shell rIn <= |v − c| <= rOut (rIn 0: the whole ball), with w = v − c; row by row (no
-  /// distance test per voxel outside the shell). Never allocates.
+  /// distance test per voxel outside the shell). `clip` (RAS, optional) limits the rows to a
+  /// box, e.g. the half of the shell ahead of a cut. Never allocates.
   template <typename F>
-  void ForEachInShell(const Vec3& c, double rIn, double rOut, F&& f) const;
+  void ForEachInShell(const Vec3& c, double rIn, double rOut, F&& f, const Vec3* clipLo = nullptr,
+                      const Vec3* clipHi = nullptr) const;
 
   // ---- dirty blocks: servo thread marks, display thread takes
   /// Marks the blocks whose contour cells (and their normals) depend on voxels in `changed`.
@@ -152,6 +158,7 @@ class DrillVolume {
   int32_t Allocate(int bi, int bj, int bk);
 
   DrillGrid Geometry;
+  double InvSpacing = 1.0 / 0.3;
   std::vector<Material> MaterialList;
   std::array<int, 3> BlockDims{{0, 0, 0}};
   std::vector<int32_t> BlockTable;
@@ -167,6 +174,55 @@ class DrillVolume {
   std::vector<double> InitialVolumes;
   bool Finished = false;
 };
+
+inline double DrillVolume::Sample(const Vec3& ras, uint8_t& code) const noexcept {
+  const double inv = this->InvSpacing;
+  const double x = (ras.x - this->Geometry.Origin.x) * inv, y = (ras.y - this->Geometry.Origin.y) * inv,
+               z = (ras.z - this->Geometry.Origin.z) * inv;
+  code = 0;
+  if (!(x >= -1 && y >= -1 && z >= -1 && x < this->Geometry.Dimensions[0] && y < this->Geometry.Dimensions[1] &&
+        z < this->Geometry.Dimensions[2]))
+    return 0;  // outside the grid (NaN too)
+  // floor() of values >= −1 without a library call.
+  const int i = static_cast<int>(x + 1.0) - 1, j = static_cast<int>(y + 1.0) - 1, k = static_cast<int>(z + 1.0) - 1;
+  const double u = x - i, v = y - j, w = z - k;
+  // The 8 voxels lie in 1, 2, 4 or 8 blocks: look each block up once. Voxels of a stored block
+  // beyond the grid are empty, so no per-voxel bounds test is needed.
+  const int bx[2] = {i >> BlockShift, (i + 1) >> BlockShift}, by[2] = {j >> BlockShift, (j + 1) >> BlockShift},
+            bz[2] = {k >> BlockShift, (k + 1) >> BlockShift};
+  const int cross = int(bx[1] != bx[0]) | (int(by[1] != by[0]) << 1) | (int(bz[1] != bz[0]) << 2);
+  uint8_t d[8];
+  int64_t where[8];  // slot * BlockVoxels + local, −1 none
+  if (cross == 0) {  // 7 cells in 8 along each axis: one block, fixed offsets
+    const int32_t s = this->Slot(bx[0], by[0], bz[0]);
+    if (s < 0) return 0;
+    const int64_t base = int64_t(s) * BlockVoxels + Local(i, j, k);
+    constexpr int offset[8] = {0, 1, BlockEdge, BlockEdge + 1, BlockEdge * BlockEdge, BlockEdge * BlockEdge + 1,
+                               BlockEdge * BlockEdge + BlockEdge, BlockEdge * BlockEdge + BlockEdge + 1};
+    for (int c = 0; c < 8; ++c) {
+      where[c] = base + offset[c];
+      d[c] = this->Densities[size_t(where[c])].load(std::memory_order_relaxed);
+    }
+  } else {
+    int32_t blockSlot[8];
+    for (int c = 0; c < 8; ++c) {
+      const int dx = c & 1, dy = (c >> 1) & 1, dz = c >> 2;
+      const int key = c & cross;
+      blockSlot[c] = key == c ? this->Slot(bx[dx], by[dy], bz[dz]) : blockSlot[key];
+      where[c] = blockSlot[c] < 0 ? -1 : int64_t(blockSlot[c]) * BlockVoxels + Local(i + dx, j + dy, k + dz);
+      d[c] = where[c] < 0 ? 0 : this->Densities[size_t(where[c])].load(std::memory_order_relaxed);
+    }
+  }
+  int densest = 0;
+  for (int c = 1; c < 8; ++c)
+    if (d[c] > d[densest]) densest = c;
+  if (d[densest] == 0) return 0;
+  code = this->MaterialCodes[size_t(where[densest])];
+  const double x00 = d[0] + (d[1] - d[0]) * u, x10 = d[2] + (d[3] - d[2]) * u;
+  const double x01 = d[4] + (d[5] - d[4]) * u, x11 = d[6] + (d[7] - d[6]) * u;
+  const double y0 = x00 + (x10 - x00) * v, y1 = x01 + (x11 - x01) * v;
+  return (y0 + (y1 - y0) * w) * (1.0 / 255.0);
+}
 
 template <typename F>
 void DrillVolume::ForEachBlock(const VoxelBox& region, F&& f) const {
@@ -193,13 +249,14 @@ void DrillVolume::ForEachBlock(const VoxelBox& region, F&& f) const {
 }
 
 template <typename F>
-void DrillVolume::ForEachInShell(const Vec3& c, double rIn, double rOut, F&& f) const {
+void DrillVolume::ForEachInShell(const Vec3& c, double rIn, double rOut, F&& f, const Vec3* clipLo,
+                                 const Vec3* clipHi) const {
   if (!(rOut > 0)) return;
   const double h = this->Geometry.Spacing;
   const Vec3& o = this->Geometry.Origin;
   const double out2 = rOut * rOut, in2 = rIn > 0 ? rIn * rIn : -1.0;
   const Vec3 reach{rOut, rOut, rOut};
-  const VoxelBox box = this->BoxAround(c - reach, c + reach);
+  const VoxelBox box = this->BoxAround(clipLo ? Max(c - reach, *clipLo) : c - reach, clipHi ? Min(c + reach, *clipHi) : c + reach);
   if (box.Empty()) return;
   // Row by row over the whole box: the i-range of a row is computed once, then walked across
   // the blocks it passes.

@@ -16,6 +16,7 @@
 #include "rpHapticSession.h"
 #include "rpProgress.h"
 #include "rpSceneIO.h"
+#include "rpServoLoadReport.h"
 #include "rpSimulatedDevice.h"
 #include "vtkRPModelNode.h"
 #include "vtkRPScene.h"
@@ -153,15 +154,21 @@ int RunHapticsCommand(const std::vector<std::string>& arguments, vtkRPScene* sce
       .AtMost(100000)
       .Option("spin", "us", "busy-wait this long before each deadline (smaller jitter, more CPU)", "100")
       .Number()
-      .AtLeast(0);
+      .AtLeast(0)
+      .Option("cpu", "N", "pin the servo thread to CPU N and move the process's other threads off it (-1: not pinned)",
+              "-1")
+      .Integer()
+      .AtLeast(-1)
+      .AtMost(1023);
   if (const auto exitCode = parser.ParseCommand(arguments, out, err)) return *exitCode;
   double seconds = -1, rate = 1000, spin = 100;
-  long toolPoints = 1;
+  long toolPoints = 1, cpu = -1;
   try {
     if (parser.Has("seconds")) seconds = parser.GetDouble("seconds");
     rate = parser.GetDouble("rate");
     spin = parser.GetDouble("spin");
     toolPoints = parser.GetInt("tool-points");
+    cpu = parser.GetInt("cpu");
   } catch (const std::exception& e) {
     err << "roboplan haptics: " << e.what() << "\n";
     return 2;
@@ -253,6 +260,7 @@ int RunHapticsCommand(const std::vector<std::string>& arguments, vtkRPScene* sce
   options.LogPath = parser.Get("log");
   options.Loop.RateHz = rate;
   options.Loop.SpinUs = spin;
+  options.Loop.CpuAffinity = static_cast<int>(cpu);
   options.RampSeconds = 0.2;
   // Statistics from every tick's record, gathered on the log writer thread (read after Stop).
   struct ForceStats {
@@ -338,7 +346,9 @@ int RunHapticsCommand(const std::vector<std::string>& arguments, vtkRPScene* sce
           {"missedDeadlines", servo.MissedDeadlines},
           {"overruns", servo.Overruns},
           {"stalls", last.Stalls},
-          {"watchdogTrips", last.WatchdogTrips}}},
+          {"watchdogTrips", last.WatchdogTrips},
+          {"load", MachineLoadJson(session.Scheduler().Load())},
+          {"missesReading", MachineLoadReading(session.Scheduler().Load(), servo.MissedDeadlines, servo.Overruns)}}},
         {"force",
          {{"maxN", stats->MaxForce},
           {"meanInContactN", meanForce},
@@ -366,6 +376,8 @@ int RunHapticsCommand(const std::vector<std::string>& arguments, vtkRPScene* sce
                   static_cast<unsigned long long>(servo.Overruns), last.Stalls);
     out << Format("  compute p50 %.2f us  p99 %.2f us  max %.1f us  watchdog trips %u\n", servo.Compute.P50Us,
                   servo.Compute.P99Us, servo.Compute.MaxUs, last.WatchdogTrips);
+    out << "  load: " << MachineLoadSummary(session.Scheduler().Load()) << "\n";
+    out << "  misses: " << MachineLoadReading(session.Scheduler().Load(), servo.MissedDeadlines, servo.Overruns) << "\n";
     out << Format("force: max %.3f N, mean in contact %.3f N, contact %.1f%% of ticks, clamped %llu ticks\n",
                   stats->MaxForce, meanForce, 100 * contactFraction, static_cast<unsigned long long>(stats->Clamped));
     for (const auto& [label, ticks] : stats->Tissue)
