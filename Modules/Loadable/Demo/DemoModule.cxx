@@ -1,5 +1,5 @@
-// The Workflow module: the seed's whole workflow end to end. CLI `roboplan demo`
-// (Logic/rpDemoCommand.cxx).
+// The Demo module: the seed's whole workflow end to end. CLI `roboplan demo`
+// (Logic/rpDemoCommand.cxx). The only module that depends on other modules: it drives their logic.
 #include <iostream>
 
 #include "rpDemoCommand.h"
@@ -7,10 +7,13 @@
 
 namespace {
 
-class WorkflowModule : public rp::Module {
+class DemoModule : public rp::Module {
  public:
-  std::string Name() const override { return "Workflow"; }
-  std::string Title() const override { return "Workflow (main job)"; }
+  std::string Name() const override { return "Demo"; }
+  std::string Title() const override { return "Demo (main job)"; }
+  std::vector<std::string> Dependencies() const override {
+    return {"Drilling", "Haptics", "LandmarkRegistration", "Navigation", "SegmentationToMesh", "Tracking"};
+  }
   std::vector<rp::Command> Commands() override {
     return {{"demo", "run the seed's whole workflow on the knee phantom and write report.html",
              [](rp::CommandContext& c) { return rp::RunDemoCommand(c.Arguments, std::cout, std::cerr); }}};
@@ -19,4 +22,4 @@ class WorkflowModule : public rp::Module {
 
 }  // namespace
 
-ROBOPLAN_DECLARE_MODULE(WorkflowModule)
+ROBOPLAN_DECLARE_MODULE(DemoModule)
