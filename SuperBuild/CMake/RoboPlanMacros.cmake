@@ -238,12 +238,18 @@ function(roboplan_add_module_widgets name)
   target_link_libraries(${target} PUBLIC ${A_LIBS} Qt5::Widgets PRIVATE roboplan_warnings)
 endfunction()
 
-# roboplan_add_module(<Name> SOURCES ... LIBS ...)
+# roboplan_add_module(<Name> SOURCES ... LIBS ... [SLICER_CLI_COMMANDS <command>...])
 # A run-time loadable module: a shared object lib/roboplan-modules/libRoboPlanModule<Name>.so that
 # exports roboplan_create_module() (see Libs/ModuleCore/rpModule.h). Links RoboPlan<Name>Widgets
-# when roboplan_add_module_widgets made it.
+# when roboplan_add_module_widgets made it. SLICER_CLI_COMMANDS: the module's commands that 3D
+# Slicer lists as CLI modules (they describe themselves with --xml): each gets
+# lib/roboplan-cli/roboplan-<command>, a link to roboplan (roboplanMain.cxx runs it as
+# `roboplan <command>`), in the build and the install tree.
 function(roboplan_add_module name)
-  cmake_parse_arguments(A "" "" "SOURCES;LIBS" ${ARGN})
+  cmake_parse_arguments(A "" "" "SOURCES;LIBS;SLICER_CLI_COMMANDS" ${ARGN})
+  foreach(command IN LISTS A_SLICER_CLI_COMMANDS)
+    roboplan_add_slicer_cli_link(${command})
+  endforeach()
   set(target RoboPlanModule${name})
   add_library(${target} MODULE ${A_SOURCES})
   target_link_libraries(${target} PRIVATE roboplan_warnings RoboPlanModuleCore ${A_LIBS})
@@ -258,6 +264,17 @@ function(roboplan_add_module name)
   if(ROBOPLAN_BUILD_GUI)
     target_compile_definitions(${target} PRIVATE ROBOPLAN_BUILD_GUI)
   endif()
-  install(TARGETS ${target} LIBRARY DESTINATION ${ROBOPLAN_MODULE_DIR_NAME})
+  if(NOT ROBOPLAN_MODULE_NO_INSTALL)  # set by Utilities/CMakeLists.txt for the template's check
+    install(TARGETS ${target} LIBRARY DESTINATION ${ROBOPLAN_MODULE_DIR_NAME})
+  endif()
   set_property(GLOBAL APPEND PROPERTY ROBOPLAN_MODULE_TARGETS ${target})
+endfunction()
+
+# roboplan_add_slicer_cli_link(<command>): lib/roboplan-cli/roboplan-<command> -> ../../bin/roboplan
+# (made at configure time: the link may dangle until roboplan is built), and the same when installed.
+function(roboplan_add_slicer_cli_link command)
+  file(MAKE_DIRECTORY ${CMAKE_BINARY_DIR}/lib/roboplan-cli)
+  file(CREATE_LINK ../../bin/roboplan ${CMAKE_BINARY_DIR}/lib/roboplan-cli/roboplan-${command} SYMBOLIC)
+  install(CODE "file(MAKE_DIRECTORY \"\$ENV{DESTDIR}\${CMAKE_INSTALL_PREFIX}/lib/roboplan-cli\")
+    file(CREATE_LINK ../../bin/roboplan \"\$ENV{DESTDIR}\${CMAKE_INSTALL_PREFIX}/lib/roboplan-cli/roboplan-${command}\" SYMBOLIC)")
 endfunction()

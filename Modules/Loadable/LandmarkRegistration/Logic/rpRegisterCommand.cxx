@@ -55,10 +55,24 @@ bool LoadFiducials(const std::string& path, vtkRPFiducialListNode* list, std::st
   return storage->Read(list, path, error);
 }
 
-}  // namespace
+// What the command was asked (parse options).
+struct RegisterRequest {
+  std::string From, To, Out, Mode, IcpPoints, IcpModel;
+  double Threshold = 2.0, FLE = 0.25, Inliers = 0.9;
+  std::vector<double> Target;
+  bool ICP() const { return !this->IcpPoints.empty(); }
+};
 
-int RunRegisterCommand(const std::vector<std::string>& arguments, std::ostream& out, std::ostream& err) {
-  ArgParser parser("register", Summary);
+// What the logic made of it (run).
+struct RegisterRun {
+  vtkNew<vtkRPFiducialListNode> From, To, SurfacePoints;
+  vtkNew<vtkRPLinearTransformNode> Output;
+  vtkNew<vtkRPLandmarkRegistrationLogic> Logic;
+  bool Accepted = false, IcpOk = true, Written = false;
+  std::vector<std::string> Labels;  // of the pairs used (unselected pairs are skipped by the logic)
+};
+
+void DeclareOptions(ArgParser& parser) {
   const auto fiducialFiles = ExtensionsForNodeClass("vtkRPFiducialListNode");
   parser.Positional("from", "fiducials in the moving space (.mrk.json or .fcsv), e.g. digitized on the patient")
       .Input(FileKind::Points, fiducialFiles)
@@ -88,151 +102,175 @@ int RunRegisterCommand(const std::vector<std::string>& arguments, std::ostream& 
       .Number()
       .GreaterThan(0)
       .AtMost(1);
-  if (const auto exitCode = parser.ParseCommand(arguments, out, err)) return *exitCode;
-  // Types, ranges, choices and --out were checked by the parser (declared above).
-  const std::string outPath = parser.Get("out");
-  const std::string mode = parser.Get("mode");
-  const double threshold = parser.GetDouble("fre-threshold"), fle = parser.GetDouble("fle");
-  const double inliers = parser.GetDouble("icp-inliers");
-  std::vector<double> target;
-  if (parser.Has("target")) target = parser.GetDoubles("target", 3);
+}
+
+// Types, ranges, choices and --out were checked by the parser (declared above). False: bad arguments.
+bool ParseRequest(const ArgParser& parser, RegisterRequest& request, std::ostream& err) {
+  request.From = parser.Get("from");
+  request.To = parser.Get("to");
+  request.Out = parser.Get("out");
+  request.Mode = parser.Get("mode");
+  request.Threshold = parser.GetDouble("fre-threshold");
+  request.FLE = parser.GetDouble("fle");
+  request.Inliers = parser.GetDouble("icp-inliers");
+  if (parser.Has("target")) request.Target = parser.GetDoubles("target", 3);
   if (parser.Has("icp-points") != parser.Has("icp-model")) {
     err << "roboplan register: --icp-points and --icp-model go together\n";
-    return 2;
+    return false;
   }
+  if (parser.Has("icp-points")) {
+    request.IcpPoints = parser.Get("icp-points");
+    request.IcpModel = parser.Get("icp-model");
+  }
+  return true;
+}
 
-  vtkNew<vtkRPFiducialListNode> from, to;
+// Loads the fiducials and the surface, runs the module's logic (the panel's too), writes --out.
+// False: an input could not be read (nothing run).
+bool RunRegistration(const RegisterRequest& request, RegisterRun& run, std::ostream& err) {
   std::string error;
-  for (auto [path, list] : {std::pair{parser.Get("from"), from.GetPointer()}, std::pair{parser.Get("to"), to.GetPointer()}}) {
-    if (!LoadFiducials(path, list, error)) {
-      err << "roboplan register: " << error << "\n";
-      return 1;
-    }
-  }
-  vtkNew<vtkRPFiducialListNode> surfacePoints;
   vtkNew<vtkPolyData> surface;
-  const bool icp = parser.Has("icp-points");
-  if (icp) {
-    if (!LoadFiducials(parser.Get("icp-points"), surfacePoints, error) ||
-        !ReadModelFile(parser.Get("icp-model"), surface, error)) {
-      err << "roboplan register: " << error << "\n";
-      return 1;
-    }
+  if (!LoadFiducials(request.From, run.From, error) || !LoadFiducials(request.To, run.To, error) ||
+      (request.ICP() && (!LoadFiducials(request.IcpPoints, run.SurfacePoints, error) ||
+                         !ReadModelFile(request.IcpModel, surface, error)))) {
+    err << "roboplan register: " << error << "\n";
+    return false;
   }
-  vtkNew<vtkRPLinearTransformNode> output;
-  vtkNew<vtkRPLandmarkRegistrationLogic> logic;
+  vtkRPLandmarkRegistrationLogic* logic = run.Logic;
   logic->SetAutoUpdate(false);
-  logic->SetFromFiducials(from);
-  logic->SetToFiducials(to);
-  logic->SetOutputTransform(output);
-  logic->SetMode(mode == "similarity" ? RegistrationMode::Similarity : RegistrationMode::Rigid);
-  logic->SetFREThreshold(threshold);
-  logic->SetFLE(fle);
-  if (!target.empty()) logic->SetTarget(target.data());
-  const bool accepted = logic->Update();
-  const RegistrationAssessment& a = logic->GetLastAssessment();
-  bool icpOk = true;
-  if (accepted && icp) {
+  logic->SetFromFiducials(run.From);
+  logic->SetToFiducials(run.To);
+  logic->SetOutputTransform(run.Output);
+  logic->SetMode(request.Mode == "similarity" ? RegistrationMode::Similarity : RegistrationMode::Rigid);
+  logic->SetFREThreshold(request.Threshold);
+  logic->SetFLE(request.FLE);
+  if (!request.Target.empty()) logic->SetTarget(request.Target.data());
+  run.Accepted = logic->Update();
+  if (run.Accepted && request.ICP()) {
     SurfaceICPOptions icpOptions;
-    icpOptions.InlierFraction = inliers;
-    icpOk = logic->RefineWithSurfaceICP(surfacePoints, surface, icpOptions);
-    if (!icpOk) err << "roboplan register: ICP refinement failed: " << logic->GetLastICPResult().Error << "\n";
+    icpOptions.InlierFraction = request.Inliers;
+    run.IcpOk = logic->RefineWithSurfaceICP(run.SurfacePoints, surface, icpOptions);
+    if (!run.IcpOk) err << "roboplan register: ICP refinement failed: " << logic->GetLastICPResult().Error << "\n";
   }
-  const SurfaceICPResult& icpResult = logic->GetLastICPResult();
-
-  bool written = false;
-  if (accepted && icpOk) {
-    written = WriteTransformFile(outPath, output->GetMatrixTransformToParent(), error);
-    if (!written) {
-      err << "roboplan register: " << error << "\n";
+  if (run.Accepted && run.IcpOk) {
+    run.Written = WriteTransformFile(request.Out, run.Output->GetMatrixTransformToParent(), error);
+    if (!run.Written) err << "roboplan register: " << error << "\n";
+  }
+  if (run.From->GetNumberOfControlPoints() == run.To->GetNumberOfControlPoints()) {
+    for (int i = 0; i < run.From->GetNumberOfControlPoints(); ++i) {
+      if (run.From->GetNthControlPoint(i).Selected && run.To->GetNthControlPoint(i).Selected)
+        run.Labels.push_back(run.To->GetNthControlPoint(i).Label);
     }
   }
+  return true;
+}
 
-  // Labels of the pairs used (unselected pairs are skipped by the logic).
-  std::vector<std::string> labels;
-  if (from->GetNumberOfControlPoints() == to->GetNumberOfControlPoints()) {
-    for (int i = 0; i < from->GetNumberOfControlPoints(); ++i) {
-      if (from->GetNthControlPoint(i).Selected && to->GetNthControlPoint(i).Selected)
-        labels.push_back(to->GetNthControlPoint(i).Label);
-    }
+std::string PairLabel(const RegisterRun& run, size_t i) {
+  return i < run.Labels.size() ? run.Labels[i] : std::to_string(i + 1);
+}
+
+// Report, --json.
+nlohmann::json ResultJson(const RegisterRequest& request, const RegisterRun& run) {
+  const RegistrationAssessment& a = run.Logic->GetLastAssessment();
+  const SurfaceICPResult& icpResult = run.Logic->GetLastICPResult();
+  nlohmann::json doc;
+  doc["ok"] = run.Accepted && run.Written;
+  doc["accepted"] = run.Accepted;
+  doc["reason"] = a.Reason;
+  doc["mode"] = request.Mode;
+  doc["pairs"] = a.Solution.Residuals.size();
+  doc["fre"] = NumberOrNull(a.Solution.FRE);
+  doc["freThreshold"] = request.Threshold;
+  doc["fle"] = request.FLE;
+  doc["expectedFre"] = NumberOrNull(a.ExpectedFRE);
+  doc["predictedTreAtCentroid"] = NumberOrNull(a.PredictedTREAtCentroid);
+  doc["predictedTreMaxAtFiducials"] = NumberOrNull(a.MaxPredictedTREAtFiducials);
+  if (!request.Target.empty())
+    doc["target"] = {{"ras", request.Target}, {"predictedTre", NumberOrNull(a.PredictedTREAtTarget)}};
+  nlohmann::json points = nlohmann::json::array();
+  for (size_t i = 0; i < a.Solution.Residuals.size(); ++i) {
+    nlohmann::json p = {{"label", PairLabel(run, i)},
+                        {"residual", a.Solution.Residuals[i]},
+                        {"leaveOneOut", i < a.LeaveOneOut.size() ? NumberOrNull(a.LeaveOneOut[i]) : nlohmann::json()}};
+    points.push_back(p);
   }
+  doc["fiducials"] = points;
+  nlohmann::json suspects = nlohmann::json::array();
+  for (const auto& s : a.Suspects)
+    suspects.push_back({{"index", s.Index}, {"leaveOneOut", s.LeaveOneOut}, {"expected", s.Expected}, {"reason", s.Reason}});
+  doc["suspects"] = suspects;
+  doc["warnings"] = a.Warnings;
+  if (request.ICP() && run.Accepted) {
+    doc["icp"] = {{"ok", icpResult.Ok},           {"error", icpResult.Error},
+                  {"inlierRmsMM", icpResult.InlierRMS}, {"allRmsMM", icpResult.AllRMS},
+                  {"inliers", icpResult.Inliers},   {"points", run.SurfacePoints->GetNumberOfControlPoints()},
+                  {"iterations", icpResult.Iterations}};
+  }
+  if (a.Solution.Ok) {
+    const SimilarityTransform& chosen = request.ICP() && icpResult.Ok ? icpResult.Transform : a.Solution.Transform;
+    const Eigen::Matrix4d m = chosen.Matrix();
+    const Eigen::Matrix4d mt = m.transpose();
+    doc["matrixToParentRAS"] = std::vector<double>(mt.data(), mt.data() + 16);  // row-major
+    doc["scale"] = a.Solution.Transform.Scale;
+  }
+  doc["out"] = run.Written ? nlohmann::json(request.Out) : nlohmann::json();
+  return doc;
+}
 
-  if (parser.Json()) {
-    nlohmann::json doc;
-    doc["ok"] = accepted && written;
-    doc["accepted"] = accepted;
-    doc["reason"] = a.Reason;
-    doc["mode"] = mode;
-    doc["pairs"] = a.Solution.Residuals.size();
-    doc["fre"] = NumberOrNull(a.Solution.FRE);
-    doc["freThreshold"] = threshold;
-    doc["fle"] = fle;
-    doc["expectedFre"] = NumberOrNull(a.ExpectedFRE);
-    doc["predictedTreAtCentroid"] = NumberOrNull(a.PredictedTREAtCentroid);
-    doc["predictedTreMaxAtFiducials"] = NumberOrNull(a.MaxPredictedTREAtFiducials);
-    if (!target.empty()) doc["target"] = {{"ras", target}, {"predictedTre", NumberOrNull(a.PredictedTREAtTarget)}};
-    nlohmann::json points = nlohmann::json::array();
+// Report, text.
+void WriteResultText(const RegisterRequest& request, const RegisterRun& run, std::ostream& out) {
+  const RegistrationAssessment& a = run.Logic->GetLastAssessment();
+  const SurfaceICPResult& icpResult = run.Logic->GetLastICPResult();
+  out << "registration (" << request.Mode << ", " << a.Solution.Residuals.size() << " pairs): " << a.Reason << "\n";
+  if (a.Solution.Ok) {
+    out << "  FRE " << Fixed(a.Solution.FRE) << " mm (how well the fiducials fit; not the accuracy)";
+    if (std::isfinite(a.ExpectedFRE))
+      out << ", expected " << Fixed(a.ExpectedFRE) << " mm from FLE " << Fixed(request.FLE) << " mm";
+    out << "\n";
+    const std::vector<double>& target = request.Target;
+    if (!target.empty())
+      out << "  predicted TRE at the target (" << target[0] << ", " << target[1] << ", " << target[2]
+          << "): " << Fixed(a.PredictedTREAtTarget) << " mm RMS\n";
+    out << "  predicted TRE at the fiducials' centroid " << Fixed(a.PredictedTREAtCentroid)
+        << " mm, at the worst fiducial " << Fixed(a.MaxPredictedTREAtFiducials) << " mm RMS\n";
+    out << "  fiducial          residual  leave-one-out (mm)\n";
     for (size_t i = 0; i < a.Solution.Residuals.size(); ++i) {
-      nlohmann::json p = {{"label", i < labels.size() ? labels[i] : std::to_string(i + 1)},
-                          {"residual", a.Solution.Residuals[i]},
-                          {"leaveOneOut", i < a.LeaveOneOut.size() ? NumberOrNull(a.LeaveOneOut[i]) : nlohmann::json()}};
-      points.push_back(p);
+      char line[160];
+      std::snprintf(line, sizeof(line), "  %-16s %9s %14s\n", PairLabel(run, i).c_str(),
+                    Fixed(a.Solution.Residuals[i]).c_str(), Fixed(a.LeaveOneOut[i]).c_str());
+      out << line;
     }
-    doc["fiducials"] = points;
-    nlohmann::json suspects = nlohmann::json::array();
-    for (const auto& s : a.Suspects)
-      suspects.push_back({{"index", s.Index}, {"leaveOneOut", s.LeaveOneOut}, {"expected", s.Expected}, {"reason", s.Reason}});
-    doc["suspects"] = suspects;
-    doc["warnings"] = a.Warnings;
-    if (icp && accepted) {
-      doc["icp"] = {{"ok", icpResult.Ok},           {"error", icpResult.Error},
-                    {"inlierRmsMM", icpResult.InlierRMS}, {"allRmsMM", icpResult.AllRMS},
-                    {"inliers", icpResult.Inliers},   {"points", surfacePoints->GetNumberOfControlPoints()},
-                    {"iterations", icpResult.Iterations}};
-    }
-    if (a.Solution.Ok) {
-      const SimilarityTransform& chosen = icp && icpResult.Ok ? icpResult.Transform : a.Solution.Transform;
-      const Eigen::Matrix4d m = chosen.Matrix();
-      const Eigen::Matrix4d mt = m.transpose();
-      doc["matrixToParentRAS"] = std::vector<double>(mt.data(), mt.data() + 16);  // row-major
-      doc["scale"] = a.Solution.Transform.Scale;
-    }
-    doc["out"] = written ? nlohmann::json(outPath) : nlohmann::json();
-    out << doc.dump(2) << "\n";
-  } else {
-    out << "registration (" << mode << ", " << a.Solution.Residuals.size() << " pairs): " << a.Reason << "\n";
-    if (a.Solution.Ok) {
-      out << "  FRE " << Fixed(a.Solution.FRE) << " mm (how well the fiducials fit; not the accuracy)";
-      if (std::isfinite(a.ExpectedFRE)) out << ", expected " << Fixed(a.ExpectedFRE) << " mm from FLE " << Fixed(fle) << " mm";
-      out << "\n";
-      if (!target.empty())
-        out << "  predicted TRE at the target (" << target[0] << ", " << target[1] << ", " << target[2]
-            << "): " << Fixed(a.PredictedTREAtTarget) << " mm RMS\n";
-      out << "  predicted TRE at the fiducials' centroid " << Fixed(a.PredictedTREAtCentroid)
-          << " mm, at the worst fiducial " << Fixed(a.MaxPredictedTREAtFiducials) << " mm RMS\n";
-      out << "  fiducial          residual  leave-one-out (mm)\n";
-      for (size_t i = 0; i < a.Solution.Residuals.size(); ++i) {
-        char line[160];
-        std::snprintf(line, sizeof(line), "  %-16s %9s %14s\n",
-                      (i < labels.size() ? labels[i] : std::to_string(i + 1)).c_str(),
-                      Fixed(a.Solution.Residuals[i]).c_str(), Fixed(a.LeaveOneOut[i]).c_str());
-        out << line;
-      }
-    }
-    for (const auto& w : a.Warnings) out << "  warning: " << w << "\n";
-    if (icp && icpResult.Ok) {
-      out << "  ICP refinement: " << icpResult.Iterations << " iterations, surface distance RMS "
-          << Fixed(icpResult.InlierRMS) << " mm over the " << icpResult.Inliers << " kept of "
-          << surfacePoints->GetNumberOfControlPoints() << " points (" << Fixed(icpResult.AllRMS)
-          << " mm over all; a surface fit, not FRE)\n";
-    }
-    if (written) out << "wrote " << outPath << "\n";
   }
-  if (!accepted) {
-    err << "roboplan register: " << a.Reason << " (" << outPath << " not written)\n";
+  for (const auto& w : a.Warnings) out << "  warning: " << w << "\n";
+  if (request.ICP() && icpResult.Ok) {
+    out << "  ICP refinement: " << icpResult.Iterations << " iterations, surface distance RMS "
+        << Fixed(icpResult.InlierRMS) << " mm over the " << icpResult.Inliers << " kept of "
+        << run.SurfacePoints->GetNumberOfControlPoints() << " points (" << Fixed(icpResult.AllRMS)
+        << " mm over all; a surface fit, not FRE)\n";
+  }
+  if (run.Written) out << "wrote " << request.Out << "\n";
+}
+
+}  // namespace
+
+int RunRegisterCommand(const std::vector<std::string>& arguments, std::ostream& out, std::ostream& err) {
+  ArgParser parser("register", Summary);
+  DeclareOptions(parser);
+  if (const auto exitCode = parser.ParseCommand(arguments, out, err)) return *exitCode;
+  RegisterRequest request;
+  if (!ParseRequest(parser, request, err)) return 2;
+  RegisterRun run;
+  if (!RunRegistration(request, run, err)) return 1;
+  if (parser.Json()) {
+    out << ResultJson(request, run).dump(2) << "\n";
+  } else {
+    WriteResultText(request, run, out);
+  }
+  if (!run.Accepted) {
+    err << "roboplan register: " << run.Logic->GetLastAssessment().Reason << " (" << request.Out << " not written)\n";
     return 1;
   }
-  return written && icpOk ? 0 : 1;
+  return run.Written && run.IcpOk ? 0 : 1;
 }
 
 }  // namespace rp

@@ -21,6 +21,7 @@
 #include <vtkMatrix4x4.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
+#include <vtkSmartPointer.h>
 #include <vtkSMPTools.h>
 
 #include "rpKneeBoneNames.h"
@@ -512,37 +513,11 @@ size_t ClimbToDeepest(const std::vector<float>& distance, const std::vector<uint
   }
 }
 
-}  // namespace
+// The steps of SplitBones, in order; each returns false with `error` set when it cannot go on.
 
-bool SplitBones(vtkRPImageNode* ct, vtkRPSegmentationNode* segmentation, const BoneSplitOptions& options,
-                BoneSplitResult& result, std::string& error, const ProgressCallback& progress) {
-  const auto t0 = Clock::now();
-  result = BoneSplitResult();
-  vtkImageData* image = ct ? ct->GetImageData() : nullptr;
-  if (!image || !image->GetPointData()->GetScalars() || image->GetNumberOfPoints() == 0 ||
-      image->GetNumberOfScalarComponents() != 1) {
-    error = "the CT has no image data (one value per voxel)";
-    return false;
-  }
-  if (!segmentation) {
-    error = "no segmentation given";
-    return false;
-  }
-  if (!(options.LowerHU <= options.UpperHU) || !(options.NeckRatio > 0) || options.MinBoneMl < 0) {
-    error = "invalid bone split options (lower <= upper HU, neck ratio > 0, minimum volume >= 0)";
-    return false;
-  }
-  int dims[3];
-  image->GetDimensions(dims);
-  double spacing[3];
-  ct->GetSpacing(spacing);
-  const double voxelMl = spacing[0] * spacing[1] * spacing[2] / 1000.0;
-  auto report = [&](double f, const std::string& m) {
-    if (progress) progress(f, m);
-  };
-
-  // 1. Threshold, crop to the bone, close one-voxel gaps, fill holes.
-  report(0.0, "thresholding");
+// 1. Threshold, crop to the bone (2 voxels of margin), close one-voxel gaps, fill holes.
+bool ThresholdAndCrop(vtkImageData* image, const int dims[3], const BoneSplitOptions& options, Box& box,
+                      std::vector<uint8_t>& mask, std::string& error) {
   std::vector<uint8_t> full;
   switch (image->GetScalarType()) {
     vtkTemplateMacro(ThresholdVolume(static_cast<const VTK_TT*>(image->GetScalarPointer()),
@@ -562,26 +537,22 @@ bool SplitBones(vtkRPImageNode* ct, vtkRPSegmentationNode* segmentation, const B
             std::to_string(options.UpperHU) + "] HU";
     return false;
   }
-  Box box;
   for (int a = 0; a < 3; ++a) {
     box.Lo[a] = std::max(0, lo[a] - 2);
     box.Size[a] = std::min(dims[a] - 1, hi[a] + 2) - box.Lo[a] + 1;
   }
-  std::vector<uint8_t> mask(box.Count());
+  mask.assign(box.Count(), 0);
   for (int k = 0; k < box.Size[2]; ++k)
     for (int j = 0; j < box.Size[1]; ++j)
       std::copy_n(full.data() + (static_cast<size_t>(box.Lo[2] + k) * dims[1] + box.Lo[1] + j) * dims[0] + box.Lo[0],
                   box.Size[0], mask.data() + box.Index(0, j, k));
-  std::vector<uint8_t>().swap(full);
-  report(0.1, "filling holes");
-  FillHoles(mask, box, -1);
-  // Cut shafts are open at the volume border and a thin cortex lets marrow reach the outside in
-  // some slices: fill slice by slice along every axis, twice.
-  for (int round = 0; round < 2; ++round)
-    for (int axis = 0; axis < 3; ++axis) FillHoles(mask, box, axis);
+  return true;
+}
 
-  // 2. Pieces: drop those outside the body outline and specks.
-  report(0.25, "body outline");
+// 2. Pieces: drop those outside the body outline and specks.
+bool KeepBonePieces(vtkImageData* image, const int dims[3], const double spacing[3], double voxelMl, const Box& box,
+                    const BoneSplitOptions& options, std::vector<uint8_t>& mask, BoneSplitResult& result,
+                    std::string& error) {
   std::vector<uint8_t> body;
   switch (image->GetScalarType()) {
     vtkTemplateMacro(BodyOutline(static_cast<const VTK_TT*>(image->GetScalarPointer()), dims, spacing, box, options,
@@ -610,101 +581,98 @@ bool SplitBones(vtkRPImageNode* ct, vtkRPSegmentationNode* segmentation, const B
     mask[i] = pieces[i] && keep[static_cast<size_t>(pieces[i])];
     kept += mask[i];
   }
-  std::vector<int32_t>().swap(pieces);
   result.ThresholdVoxels = kept;
   if (kept == 0) {
     error = "no bone left after dropping specks (< " + std::to_string(options.MinBoneMl) + " ml) and pieces outside the body outline";
     return false;
   }
+  return true;
+}
 
-  // 3. Distance to the bone surface (mm) and the watershed split.
-  report(0.4, "distance map");
-  std::vector<float> distance(mask.size(), 0.0f);
-  {
-    using Mask = itk::Image<unsigned char, 3>;
-    auto itkMask = Mask::New();
-    Mask::RegionType region;
-    for (unsigned a = 0; a < 3; ++a) region.SetSize(a, static_cast<itk::SizeValueType>(box.Size[a]));
-    itkMask->SetRegions(region);
-    itkMask->GetPixelContainer()->SetImportPointer(mask.data(), mask.size(), false);
-    const double itkSpacing[3] = {spacing[0], spacing[1], spacing[2]};
-    itkMask->SetSpacing(itkSpacing);
-    auto map = itk::SignedMaurerDistanceMapImageFilter<Mask, itk::Image<float, 3>>::New();
-    map->SetInput(itkMask);
-    map->SetInsideIsPositive(true);
-    map->SetUseImageSpacing(true);
-    map->SetSquaredDistance(false);
-    map->SetBackgroundValue(0);
-    try {
-      map->Update();
-    } catch (const itk::ExceptionObject& e) {
-      error = std::string("distance map: ") + e.GetDescription();
+// 3. Distance to the bone surface (mm) inside the bone, 0 outside.
+bool DistanceInsideBone(std::vector<uint8_t>& mask, const Box& box, const double spacing[3],
+                        std::vector<float>& distance, std::string& error) {
+  distance.assign(mask.size(), 0.0f);
+  using Mask = itk::Image<unsigned char, 3>;
+  auto itkMask = Mask::New();
+  Mask::RegionType region;
+  for (unsigned a = 0; a < 3; ++a) region.SetSize(a, static_cast<itk::SizeValueType>(box.Size[a]));
+  itkMask->SetRegions(region);
+  itkMask->GetPixelContainer()->SetImportPointer(mask.data(), mask.size(), false);
+  const double itkSpacing[3] = {spacing[0], spacing[1], spacing[2]};
+  itkMask->SetSpacing(itkSpacing);
+  auto map = itk::SignedMaurerDistanceMapImageFilter<Mask, itk::Image<float, 3>>::New();
+  map->SetInput(itkMask);
+  map->SetInsideIsPositive(true);
+  map->SetUseImageSpacing(true);
+  map->SetSquaredDistance(false);
+  map->SetBackgroundValue(0);
+  try {
+    map->Update();
+  } catch (const itk::ExceptionObject& e) {
+    error = std::string("distance map: ") + e.GetDescription();
+    return false;
+  }
+  const float* d = map->GetOutput()->GetBufferPointer();
+  for (size_t i = 0; i < mask.size(); ++i) distance[i] = mask[i] ? std::max(0.0f, d[i]) : 0.0f;
+  return true;
+}
+
+// 4. Seeds: onto bone (the nearest bone voxel within 5 mm), then up to their basin's deepest
+// point; seeds of one name share a name index (unnamed seeds are all distinct).
+bool PlaceSeeds(vtkRPImageNode* ct, const BoneSplitOptions& options, const Box& box, const double spacing[3],
+                const std::vector<uint8_t>& mask, const std::vector<float>& distance, std::vector<size_t>& seedVoxels,
+                std::vector<int>& seedName, std::string& error) {
+  std::vector<std::string> names;
+  vtkNew<vtkMatrix4x4> rasToIJK;
+  ct->GetRASToIJKMatrix(rasToIJK);
+  for (size_t s = 0; s < options.Seeds.size(); ++s) {
+    const auto& seed = options.Seeds[s];
+    const double p[4] = {seed.RAS[0], seed.RAS[1], seed.RAS[2], 1};
+    double ijk[4];
+    rasToIJK->MultiplyPoint(p, ijk);
+    int c[3];
+    for (int a = 0; a < 3; ++a) c[a] = static_cast<int>(std::lround(ijk[a])) - box.Lo[a];
+    const std::string label = "seed (" + std::to_string(seed.RAS[0]) + ", " + std::to_string(seed.RAS[1]) + ", " +
+                              std::to_string(seed.RAS[2]) + ")" + (seed.Name.empty() ? "" : " '" + seed.Name + "'");
+    size_t found = mask.size();
+    double bestD2 = std::numeric_limits<double>::max();
+    int reach[3];
+    for (int a = 0; a < 3; ++a) reach[a] = static_cast<int>(std::ceil(5.0 / spacing[a]));
+    for (int dk = -reach[2]; dk <= reach[2]; ++dk)
+      for (int dj = -reach[1]; dj <= reach[1]; ++dj)
+        for (int di = -reach[0]; di <= reach[0]; ++di) {
+          const int q[3] = {c[0] + di, c[1] + dj, c[2] + dk};
+          if (q[0] < 0 || q[1] < 0 || q[2] < 0 || q[0] >= box.Size[0] || q[1] >= box.Size[1] || q[2] >= box.Size[2])
+            continue;
+          const size_t qi = box.Index(q[0], q[1], q[2]);
+          if (!mask[qi]) continue;
+          const double d2 = std::pow(di * spacing[0], 2) + std::pow(dj * spacing[1], 2) + std::pow(dk * spacing[2], 2);
+          if (d2 < bestD2 && d2 <= 25.0) bestD2 = d2, found = qi;
+        }
+    if (found == mask.size()) {
+      error = label + " is not on bone (no bone voxel within 5 mm)";
       return false;
     }
-    const float* d = map->GetOutput()->GetBufferPointer();
-    for (size_t i = 0; i < mask.size(); ++i) distance[i] = mask[i] ? std::max(0.0f, d[i]) : 0.0f;
-  }
-  // Seeds: onto bone (the nearest bone voxel within 5 mm), then up to their basin's deepest point.
-  std::vector<size_t> seedVoxels;
-  std::vector<int> seedName;  // index of the distinct name (unnamed seeds are all distinct)
-  std::vector<std::string> names;
-  {
-    vtkNew<vtkMatrix4x4> rasToIJK;
-    ct->GetRASToIJKMatrix(rasToIJK);
-    for (size_t s = 0; s < options.Seeds.size(); ++s) {
-      const auto& seed = options.Seeds[s];
-      const double p[4] = {seed.RAS[0], seed.RAS[1], seed.RAS[2], 1};
-      double ijk[4];
-      rasToIJK->MultiplyPoint(p, ijk);
-      int c[3];
-      for (int a = 0; a < 3; ++a) c[a] = static_cast<int>(std::lround(ijk[a])) - box.Lo[a];
-      const std::string label = "seed (" + std::to_string(seed.RAS[0]) + ", " + std::to_string(seed.RAS[1]) + ", " +
-                                std::to_string(seed.RAS[2]) + ")" + (seed.Name.empty() ? "" : " '" + seed.Name + "'");
-      size_t found = mask.size();
-      double bestD2 = std::numeric_limits<double>::max();
-      int reach[3];
-      for (int a = 0; a < 3; ++a) reach[a] = static_cast<int>(std::ceil(5.0 / spacing[a]));
-      for (int dk = -reach[2]; dk <= reach[2]; ++dk)
-        for (int dj = -reach[1]; dj <= reach[1]; ++dj)
-          for (int di = -reach[0]; di <= reach[0]; ++di) {
-            const int q[3] = {c[0] + di, c[1] + dj, c[2] + dk};
-            if (q[0] < 0 || q[1] < 0 || q[2] < 0 || q[0] >= box.Size[0] || q[1] >= box.Size[1] || q[2] >= box.Size[2])
-              continue;
-            const size_t qi = box.Index(q[0], q[1], q[2]);
-            if (!mask[qi]) continue;
-            const double d2 = std::pow(di * spacing[0], 2) + std::pow(dj * spacing[1], 2) + std::pow(dk * spacing[2], 2);
-            if (d2 < bestD2 && d2 <= 25.0) bestD2 = d2, found = qi;
-          }
-      if (found == mask.size()) {
-        error = label + " is not on bone (no bone voxel within 5 mm)";
-        return false;
-      }
-      seedVoxels.push_back(ClimbToDeepest(distance, mask, box, found));
-      int nameIndex = -1;
-      if (!seed.Name.empty())
-        for (size_t n = 0; n < names.size(); ++n)
-          if (names[n] == seed.Name) nameIndex = static_cast<int>(n);
-      if (nameIndex < 0) {
-        nameIndex = static_cast<int>(names.size());
-        names.push_back(seed.Name);
-      }
-      seedName.push_back(nameIndex);
+    seedVoxels.push_back(ClimbToDeepest(distance, mask, box, found));
+    int nameIndex = -1;
+    if (!seed.Name.empty())
+      for (size_t n = 0; n < names.size(); ++n)
+        if (names[n] == seed.Name) nameIndex = static_cast<int>(n);
+    if (nameIndex < 0) {
+      nameIndex = static_cast<int>(names.size());
+      names.push_back(seed.Name);
     }
+    seedName.push_back(nameIndex);
   }
-  report(0.55, "splitting touching bones");
-  std::vector<int32_t> group;
-  std::vector<std::pair<int, int>> conflicts;
-  result.Splits = Watershed(distance, mask, box, options, seedVoxels, seedName, group, conflicts);
-  for (const auto& [a, b] : conflicts)
-    result.Notes.push_back("seeds " + std::to_string(a + 1) + " and " + std::to_string(b + 1) +
-                           " lead to the same deepest point: they name one bone (move one into the other bone)");
+  return true;
+}
 
-  // Groups → bones: small groups (bumps of a bone) join the neighbour they touch most.
-  report(0.8, "naming bones");
+// 5. Groups → bones: small groups (bumps of a bone) join the neighbour they touch most.
+void MergeSmallGroups(std::vector<int32_t>& group, const Box& box, long minVoxels) {
   std::map<int32_t, long> groupSize;
   for (int32_t g : group)
     if (g) ++groupSize[g];
-  const long minVoxels = std::max(1L, static_cast<long>(std::ceil(options.MinBoneMl / voxelMl)));
   for (bool changed = true; changed;) {
     changed = false;
     // Contacts of every small group with its neighbours, in one pass.
@@ -734,29 +702,23 @@ bool SplitBones(vtkRPImageNode* ct, vtkRPSegmentationNode* segmentation, const B
       changed = true;
     }
   }
-  report(0.85, "filling bones");
-  SolidifyBones(group, box, spacing, options.FillRadiusMm);
-  if (options.EdgeLayers > 0) {
-    switch (image->GetScalarType()) {
-      vtkTemplateMacro(PeelEdges(static_cast<const VTK_TT*>(image->GetScalarPointer()), dims, spacing, box, group,
-                                 options.EdgeHU, options.LowerHU, options.EdgePeakMm, options.EdgeLayers));
-    }
-  }
-  groupSize.clear();
+}
+
+// 6. Bones in order of size (at most 250), labelled 1, 2, ... in that order (`labelOf`).
+std::vector<BoneInfo> BonesBySize(const std::vector<int32_t>& group, double voxelMl, std::map<int32_t, int>& labelOf,
+                                  std::vector<std::string>& notes) {
+  std::map<int32_t, long> groupSize;
   for (int32_t g : group)
     if (g) ++groupSize[g];
-  // Bones in order of size.
   std::vector<std::pair<long, int32_t>> bySize;
   for (const auto& [g, count] : groupSize)
     if (count > 0) bySize.push_back({count, g});
   std::sort(bySize.rbegin(), bySize.rend());
   if (bySize.size() > 250) {
-    result.Notes.push_back(std::to_string(bySize.size() - 250) + " smallest bones dropped (at most 250 segments)");
+    notes.push_back(std::to_string(bySize.size() - 250) + " smallest bones dropped (at most 250 segments)");
     bySize.resize(250);
   }
-  std::map<int32_t, int> labelOf;
   std::vector<BoneInfo> bones(bySize.size());
-  std::vector<std::array<double, 3>> sums(bySize.size(), {0, 0, 0});
   for (size_t b = 0; b < bySize.size(); ++b) {
     labelOf[bySize[b].second] = static_cast<int>(b) + 1;
     bones[b].LabelValue = static_cast<int>(b) + 1;
@@ -764,17 +726,15 @@ bool SplitBones(vtkRPImageNode* ct, vtkRPSegmentationNode* segmentation, const B
     bones[b].VolumeMl = static_cast<double>(bySize[b].first) * voxelMl;
     for (int a = 0; a < 3; ++a) bones[b].BoundsRAS[2 * a] = 1e300, bones[b].BoundsRAS[2 * a + 1] = -1e300;
   }
-  // Seed names (a seed's group is the group of its voxel).
-  for (size_t s = 0; s < seedVoxels.size(); ++s) {
-    const auto it = labelOf.find(group[seedVoxels[s]]);
-    if (it == labelOf.end() || options.Seeds[s].Name.empty()) continue;
-    BoneInfo& bone = bones[static_cast<size_t>(it->second - 1)];
-    if (!bone.Name.empty() && bone.Name != options.Seeds[s].Name) continue;  // noted above
-    bone.Name = options.Seeds[s].Name;
-    bone.NamedBy = "seed";
-  }
-  // The labelmap on the CT's grid, centroids and bounds.
-  vtkNew<vtkImageData> labels;
+  return bones;
+}
+
+// 7. The labelmap on the CT's grid, and each bone's centroid and bounds.
+vtkSmartPointer<vtkImageData> BoneLabelmap(vtkRPImageNode* ct, const int dims[3], const Box& box,
+                                           const std::vector<int32_t>& group, const std::map<int32_t, int>& labelOf,
+                                           std::vector<BoneInfo>& bones) {
+  std::vector<std::array<double, 3>> sums(bones.size(), {0, 0, 0});
+  auto labels = vtkSmartPointer<vtkImageData>::New();
   labels->SetDimensions(dims);
   labels->AllocateScalars(bones.size() < 256 ? VTK_UNSIGNED_CHAR : VTK_UNSIGNED_SHORT, 1);
   labels->GetPointData()->GetScalars()->Fill(0);
@@ -799,44 +759,48 @@ bool SplitBones(vtkRPImageNode* ct, vtkRPSegmentationNode* segmentation, const B
       }
   for (size_t b = 0; b < bones.size(); ++b)
     for (int r = 0; r < 3; ++r) bones[b].CentroidRAS[r] = sums[b][static_cast<size_t>(r)] / static_cast<double>(bones[b].Voxels);
-  double ctBounds[6];
-  ct->GetRASBounds(ctBounds);
-  if (options.NameKneeBones) NameKneeBones(bones, ctBounds);
-  // Pieces given one name (condyles cut by the field of view, seeds with the same name) are one
-  // bone: one segment, the largest piece's label.
-  {
-    std::map<std::string, size_t> first;
-    std::vector<int> relabel(bones.size() + 1, 0);
-    std::vector<BoneInfo> merged;
-    for (size_t b = 0; b < bones.size(); ++b) {
-      BoneInfo& bone = bones[b];
-      relabel[static_cast<size_t>(bone.LabelValue)] = bone.LabelValue;
-      const auto it = bone.Name.empty() ? first.end() : first.find(bone.Name);
-      if (it == first.end()) {
-        if (!bone.Name.empty()) first[bone.Name] = merged.size();
-        merged.push_back(bone);
-        continue;
-      }
-      BoneInfo& into = merged[it->second];
-      relabel[static_cast<size_t>(bone.LabelValue)] = into.LabelValue;
-      const double total = static_cast<double>(into.Voxels + bone.Voxels);
-      for (int a = 0; a < 3; ++a) {
-        into.CentroidRAS[a] = (into.CentroidRAS[a] * into.Voxels + bone.CentroidRAS[a] * bone.Voxels) / total;
-        into.BoundsRAS[2 * a] = std::min(into.BoundsRAS[2 * a], bone.BoundsRAS[2 * a]);
-        into.BoundsRAS[2 * a + 1] = std::max(into.BoundsRAS[2 * a + 1], bone.BoundsRAS[2 * a + 1]);
-      }
-      into.Voxels += bone.Voxels;
-      into.VolumeMl += bone.VolumeMl;
+  return labels;
+}
+
+// 8. Pieces given one name (condyles cut by the field of view, seeds with the same name) are one
+// bone: one segment, the largest piece's label.
+void MergeSameNamedBones(std::vector<BoneInfo>& bones, vtkImageData* labels) {
+  std::map<std::string, size_t> first;
+  std::vector<int> relabel(bones.size() + 1, 0);
+  std::vector<BoneInfo> merged;
+  for (size_t b = 0; b < bones.size(); ++b) {
+    BoneInfo& bone = bones[b];
+    relabel[static_cast<size_t>(bone.LabelValue)] = bone.LabelValue;
+    const auto it = bone.Name.empty() ? first.end() : first.find(bone.Name);
+    if (it == first.end()) {
+      if (!bone.Name.empty()) first[bone.Name] = merged.size();
+      merged.push_back(bone);
+      continue;
     }
-    if (merged.size() != bones.size()) {
-      vtkDataArray* scalars = labels->GetPointData()->GetScalars();
-      for (vtkIdType i = 0; i < scalars->GetNumberOfTuples(); ++i) {
-        const int v = static_cast<int>(scalars->GetTuple1(i));
-        if (v && relabel[static_cast<size_t>(v)] != v) scalars->SetTuple1(i, relabel[static_cast<size_t>(v)]);
-      }
-      bones = merged;
+    BoneInfo& into = merged[it->second];
+    relabel[static_cast<size_t>(bone.LabelValue)] = into.LabelValue;
+    const double total = static_cast<double>(into.Voxels + bone.Voxels);
+    for (int a = 0; a < 3; ++a) {
+      into.CentroidRAS[a] = (into.CentroidRAS[a] * into.Voxels + bone.CentroidRAS[a] * bone.Voxels) / total;
+      into.BoundsRAS[2 * a] = std::min(into.BoundsRAS[2 * a], bone.BoundsRAS[2 * a]);
+      into.BoundsRAS[2 * a + 1] = std::max(into.BoundsRAS[2 * a + 1], bone.BoundsRAS[2 * a + 1]);
     }
+    into.Voxels += bone.Voxels;
+    into.VolumeMl += bone.VolumeMl;
   }
+  if (merged.size() != bones.size()) {
+    vtkDataArray* scalars = labels->GetPointData()->GetScalars();
+    for (vtkIdType i = 0; i < scalars->GetNumberOfTuples(); ++i) {
+      const int v = static_cast<int>(scalars->GetTuple1(i));
+      if (v && relabel[static_cast<size_t>(v)] != v) scalars->SetTuple1(i, relabel[static_cast<size_t>(v)]);
+    }
+    bones = merged;
+  }
+}
+
+// 9. Unnamed bones become "Bone N", IDs unique; the segmentation gets the labelmap and a segment per bone.
+void WriteBones(vtkRPImageNode* ct, vtkImageData* labels, const BoneSplitOptions& options,
+                std::vector<BoneInfo>& bones, vtkRPSegmentationNode* segmentation) {
   int unnamed = 0;
   std::set<std::string> used;
   for (BoneInfo& bone : bones) {
@@ -861,6 +825,93 @@ bool SplitBones(vtkRPImageNode* ct, vtkRPSegmentationNode* segmentation, const B
   }
   segmentation->Modified();
   segmentation->EndModify(previous);
+}
+
+}  // namespace
+
+bool SplitBones(vtkRPImageNode* ct, vtkRPSegmentationNode* segmentation, const BoneSplitOptions& options,
+                BoneSplitResult& result, std::string& error, const ProgressCallback& progress) {
+  const auto t0 = Clock::now();
+  result = BoneSplitResult();
+  vtkImageData* image = ct ? ct->GetImageData() : nullptr;
+  if (!image || !image->GetPointData()->GetScalars() || image->GetNumberOfPoints() == 0 ||
+      image->GetNumberOfScalarComponents() != 1) {
+    error = "the CT has no image data (one value per voxel)";
+    return false;
+  }
+  if (!segmentation) {
+    error = "no segmentation given";
+    return false;
+  }
+  if (!(options.LowerHU <= options.UpperHU) || !(options.NeckRatio > 0) || options.MinBoneMl < 0) {
+    error = "invalid bone split options (lower <= upper HU, neck ratio > 0, minimum volume >= 0)";
+    return false;
+  }
+  int dims[3];
+  image->GetDimensions(dims);
+  double spacing[3];
+  ct->GetSpacing(spacing);
+  const double voxelMl = spacing[0] * spacing[1] * spacing[2] / 1000.0;
+  auto report = [&](double f, const std::string& m) {
+    if (progress) progress(f, m);
+  };
+
+  report(0.0, "thresholding");
+  Box box;
+  std::vector<uint8_t> mask;
+  if (!ThresholdAndCrop(image, dims, options, box, mask, error)) return false;
+  report(0.1, "filling holes");
+  FillHoles(mask, box, -1);
+  // Cut shafts are open at the volume border and a thin cortex lets marrow reach the outside in
+  // some slices: fill slice by slice along every axis, twice.
+  for (int round = 0; round < 2; ++round)
+    for (int axis = 0; axis < 3; ++axis) FillHoles(mask, box, axis);
+  report(0.25, "body outline");
+  if (!KeepBonePieces(image, dims, spacing, voxelMl, box, options, mask, result, error)) return false;
+
+  // The distance to the bone surface and the watershed split.
+  report(0.4, "distance map");
+  std::vector<float> distance;
+  std::vector<size_t> seedVoxels;
+  std::vector<int> seedName;
+  if (!DistanceInsideBone(mask, box, spacing, distance, error) ||
+      !PlaceSeeds(ct, options, box, spacing, mask, distance, seedVoxels, seedName, error))
+    return false;
+  report(0.55, "splitting touching bones");
+  std::vector<int32_t> group;
+  std::vector<std::pair<int, int>> conflicts;
+  result.Splits = Watershed(distance, mask, box, options, seedVoxels, seedName, group, conflicts);
+  for (const auto& [a, b] : conflicts)
+    result.Notes.push_back("seeds " + std::to_string(a + 1) + " and " + std::to_string(b + 1) +
+                           " lead to the same deepest point: they name one bone (move one into the other bone)");
+
+  report(0.8, "naming bones");
+  MergeSmallGroups(group, box, std::max(1L, static_cast<long>(std::ceil(options.MinBoneMl / voxelMl))));
+  report(0.85, "filling bones");
+  SolidifyBones(group, box, spacing, options.FillRadiusMm);
+  if (options.EdgeLayers > 0) {
+    switch (image->GetScalarType()) {
+      vtkTemplateMacro(PeelEdges(static_cast<const VTK_TT*>(image->GetScalarPointer()), dims, spacing, box, group,
+                                 options.EdgeHU, options.LowerHU, options.EdgePeakMm, options.EdgeLayers));
+    }
+  }
+  std::map<int32_t, int> labelOf;
+  std::vector<BoneInfo> bones = BonesBySize(group, voxelMl, labelOf, result.Notes);
+  // Seed names (a seed's group is the group of its voxel).
+  for (size_t s = 0; s < seedVoxels.size(); ++s) {
+    const auto it = labelOf.find(group[seedVoxels[s]]);
+    if (it == labelOf.end() || options.Seeds[s].Name.empty()) continue;
+    BoneInfo& bone = bones[static_cast<size_t>(it->second - 1)];
+    if (!bone.Name.empty() && bone.Name != options.Seeds[s].Name) continue;  // noted above
+    bone.Name = options.Seeds[s].Name;
+    bone.NamedBy = "seed";
+  }
+  vtkSmartPointer<vtkImageData> labels = BoneLabelmap(ct, dims, box, group, labelOf, bones);
+  double ctBounds[6];
+  ct->GetRASBounds(ctBounds);
+  if (options.NameKneeBones) NameKneeBones(bones, ctBounds);
+  MergeSameNamedBones(bones, labels);
+  WriteBones(ct, labels, options, bones, segmentation);
   result.Bones = bones;
   result.Seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   report(1.0, "done");

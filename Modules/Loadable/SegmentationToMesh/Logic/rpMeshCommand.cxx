@@ -117,14 +117,33 @@ std::string SafeFileName(std::string name) {
   return name.empty() ? "segment" : name;
 }
 
-}  // namespace
+// 1. Parse: what the command was asked (the options' values the steps below read from the
+// parser directly are checked there too).
+struct MeshRequest {
+  ModelBuildOptions Build;
+  std::string Method, Format;
+  std::vector<std::array<double, 3>> Seeds;
+  double Multiplier = 2.5, MaxFraction = 0.9;
+  int Iterations = 3, Radius = 2, Split = 0;
+  InputKind Kind = InputKind::Auto;
+};
 
-int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contextScene, std::ostream& out,
-                   std::ostream& err) {
-  ArgParser parser(
-      "mesh",
-      "Segment a volume (threshold presets, region growing, confidence connected, morphology, components) or "
-      "take a segmentation (.seg.nrrd), and write one closed surface per segment (display + haptic mesh) to --out.");
+// 2. Run: the scene's nodes and what each step made, for the report.
+struct MeshRun {
+  std::string Input;
+  fs::path OutDir;
+  vtkRPScene* Scene = nullptr;
+  std::string Error;
+  vtkRPNode* Loaded = nullptr;
+  vtkRPSegmentationNode* Segmentation = nullptr;
+  json SegmentationSteps = json::array();
+  json InputInfo = {{"kind", "segmentation"}, {"reason", "a segmentation file"}};
+  json BoneSplit, TruthScores, Segments = json::array();
+  std::vector<SegmentModels> Models;
+  int Failures = 0;
+};
+
+void DeclareOptions(ArgParser& parser) {
   parser.Positional("input", "volume or labelmap (.nrrd, .nii.gz, .mha, DICOM folder or DICOMDIR) or segmentation (.seg.nrrd)")
       .Input(FileKind::Image, InputExtensions())
       .Option("series", "id",
@@ -230,16 +249,16 @@ int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contex
       .Flag("no-volume-correction", "keep the raw surface (no volume correction)")
       .Option("format", Join(ModelFormats(), "|"), "model file format", "vtp")
       .OneOf();
-  if (const auto exitCode = parser.ParseCommand(arguments, out, err)) return *exitCode;
-  const auto t0 = std::chrono::steady_clock::now();
-  const bool quiet = parser.Json();
-  TerminalProgress progress("mesh", quiet);
-  ModelBuildOptions build;
-  std::string method, format;
-  std::vector<std::array<double, 3>> seeds;
-  double multiplier = 2.5, maxFraction = 0.9;
-  int iterations = 3, radius = 2, split = 0;
-  InputKind inputKind = InputKind::Auto;
+}
+
+// False (after naming the problem on `err`): bad arguments.
+bool ParseRequest(const ArgParser& parser, MeshRequest& request, std::ostream& err) {
+  ModelBuildOptions& build = request.Build;
+  std::string &method = request.Method, &format = request.Format;
+  std::vector<std::array<double, 3>>& seeds = request.Seeds;
+  double &multiplier = request.Multiplier, &maxFraction = request.MaxFraction;
+  int &iterations = request.Iterations, &radius = request.Radius, &split = request.Split;
+  InputKind& inputKind = request.Kind;
   try {
     multiplier = parser.GetDouble("multiplier");
     iterations = static_cast<int>(parser.GetInt("iterations"));
@@ -293,28 +312,27 @@ int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contex
       throw BadArgument("--method " + method + " needs at least one --seed x,y,z");
   } catch (const std::exception& e) {
     err << "roboplan mesh: " << e.what() << "\n";
-    return 2;
+    return false;
   }
+  return true;
+}
 
-  const std::string input = parser.Get("input");
-  const fs::path outDir = parser.Get("out");
-  std::error_code ec;
-  fs::create_directories(outDir, ec);
-  if (ec) {
-    err << "roboplan mesh: cannot create output folder '" << outDir.string() << "': " << ec.message() << "\n";
-    return 1;
-  }
-  vtkRPScene* scene = contextScene;
-  vtkNew<vtkRPScene> ownScene;
-  if (!scene) scene = ownScene;
+// Each step returns 0 to go on, else the command's exit code (the problem named on `err`).
+// The input, through the one loader (a plain labelmap named *.seg.nrrd read as a volume).
+int LoadInput(const ArgParser& parser, MeshRun& run, TerminalProgress& progress, std::ostream& err) {
+  const std::string& input = run.Input;
+  vtkRPScene* scene = run.Scene;
+  std::string& error = run.Error;
+  vtkRPNode*& loaded = run.Loaded;
+  vtkRPSegmentationNode*& segmentation = run.Segmentation;
   progress.Report(0.0, "loading " + input);
   // The one loader (rpDataLoader.h): a volume or segmentation file, a DICOM folder or DICOMDIR.
   ReadOptions read;
   read.Series = parser.Get("series");
   read.ResampleIrregularSpacing = parser.Has("resample-irregular");
   LoadResult load;
-  vtkRPNode* loaded = LoadSingleNode(scene, input, load, read);
-  std::string error = load.Error;
+  loaded = LoadSingleNode(scene, input, load, read);
+  error = load.Error;
   for (const auto& warning : load.Warnings) err << "roboplan mesh: warning: " << warning << "\n";
   if (!loaded && HasExtension(input, ".seg.nrrd")) {
     // A plain labelmap named *.seg.nrrd (no Slicer segment keys): read it as a volume.
@@ -330,12 +348,21 @@ int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contex
     err << "roboplan mesh: " << error << "\n";
     return 1;
   }
-  vtkRPSegmentationNode* segmentation = vtkRPSegmentationNode::SafeDownCast(loaded);
-  json segmentationSteps = json::array();
-  json inputInfo = {{"kind", "segmentation"}, {"reason", "a segmentation file"}};
-  if (segmentation && parser.Has("labels"))
-    err << "roboplan mesh: --labels ignored: '" << input << "' is a segmentation with its own segment names\n";
-  if (!segmentation) {
+  segmentation = vtkRPSegmentationNode::SafeDownCast(loaded);
+  return 0;
+}
+
+// A volume that is a labelmap becomes a segmentation (one segment per label value).
+int SegmentationFromLabelmap(const ArgParser& parser, const MeshRequest& request, MeshRun& run, bool quiet,
+                             std::ostream& err) {
+  const std::string& input = run.Input;
+  vtkRPScene* scene = run.Scene;
+  std::string& error = run.Error;
+  vtkRPNode* loaded = run.Loaded;
+  vtkRPSegmentationNode*& segmentation = run.Segmentation;
+  json& inputInfo = run.InputInfo;
+  const InputKind inputKind = request.Kind;
+  {
     auto* volume = vtkRPScalarVolumeNode::SafeDownCast(loaded);
     if (!volume) {
       err << "roboplan mesh: '" << input << "' is neither a volume nor a segmentation\n";
@@ -370,8 +397,20 @@ int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contex
       return 2;
     }
   }
-  json boneSplit;
-  if (!segmentation && parser.Has("split-bones")) {
+  return 0;
+}
+
+// --split-bones: the bones of a CT one by one (rp::SplitBones).
+int SplitBonesIntoSegments(const ArgParser& parser, const MeshRequest& request, MeshRun& run,
+                           TerminalProgress& progress, bool quiet, std::ostream& err) {
+  vtkRPScene* scene = run.Scene;
+  std::string& error = run.Error;
+  vtkRPNode* loaded = run.Loaded;
+  vtkRPSegmentationNode*& segmentation = run.Segmentation;
+  json& boneSplit = run.BoneSplit;
+  const fs::path& outDir = run.OutDir;
+  const std::vector<std::array<double, 3>>& seeds = request.Seeds;
+  {
     auto* volume = vtkRPScalarVolumeNode::SafeDownCast(loaded);
     BoneSplitOptions options;
     if (parser.Has("lower")) options.LowerHU = parser.GetDouble("lower");
@@ -419,7 +458,23 @@ int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contex
       return 1;
     }
   }
-  if (!segmentation) {
+  return 0;
+}
+
+// An intensity volume: one segment per tissue (presets or one range), then the morphology steps.
+int SegmentByThreshold(const ArgParser& parser, const MeshRequest& request, MeshRun& run, TerminalProgress& progress,
+                       std::ostream& err) {
+  vtkRPScene* scene = run.Scene;
+  std::string& error = run.Error;
+  vtkRPNode* loaded = run.Loaded;
+  vtkRPSegmentationNode*& segmentation = run.Segmentation;
+  json& segmentationSteps = run.SegmentationSteps;
+  const fs::path& outDir = run.OutDir;
+  const std::string& method = request.Method;
+  const std::vector<std::array<double, 3>>& seeds = request.Seeds;
+  const double multiplier = request.Multiplier, maxFraction = request.MaxFraction;
+  const int iterations = request.Iterations, radius = request.Radius, split = request.Split;
+  {
     auto* volume = vtkRPScalarVolumeNode::SafeDownCast(loaded);
     vtkNew<vtkRPSegmentationNode> created;
     created->SetName(volume->GetName() + " segmentation");
@@ -505,7 +560,20 @@ int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contex
       return 1;
     }
   }
+  return 0;
+}
 
+// One closed display + haptic surface per segment, each written on a thread of its own.
+void BuildAndWriteModels(const ArgParser& parser, const MeshRequest& request, MeshRun& run,
+                         TerminalProgress& progress, std::ostream& err) {
+  ModelBuildOptions build = request.Build;
+  const std::string& format = request.Format;
+  const fs::path& outDir = run.OutDir;
+  vtkRPScene* scene = run.Scene;
+  vtkRPSegmentationNode* segmentation = run.Segmentation;
+  std::vector<SegmentModels>& models = run.Models;
+  json& segments = run.Segments;
+  int& failures = run.Failures;
   if (parser.Has("grid-mm")) {
     // A grid of about this spacing in mm, never finer than the voxels.
     double spacing[3];
@@ -541,11 +609,9 @@ int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contex
       });
     }
   };
-  const auto models = BuildSegmentModels(
+  models = BuildSegmentModels(
       segmentation, build, scene,
       [&](double f, const std::string& message) { progress.Report(0.2 + 0.75 * f, message); }, writeSegment);
-  json segments = json::array();
-  int failures = 0;
   for (const auto& m : models) {
     json entry = {{"id", m.SegmentID}, {"name", m.Name}, {"tissueClass", m.TissueClass}, {"ok", m.Ok}};
     if (const auto* s = segmentation->GetSegmentByID(m.SegmentID)) entry["labelValue"] = s->LabelValue;
@@ -577,8 +643,14 @@ int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contex
     save(m.HapticModel, "_haptic", m.Haptic, "haptic");
     segments.push_back(entry);
   }
-  json truthScores;
-  if (parser.Has("truth")) {
+}
+
+// --truth: each segment scored against a truth labelmap (Dice, surface distances).
+int ScoreAgainstTruth(const ArgParser& parser, MeshRun& run, bool quiet, std::ostream& err) {
+  vtkRPSegmentationNode* segmentation = run.Segmentation;
+  std::string& error = run.Error;
+  json& truthScores = run.TruthScores;
+  {
     vtkNew<vtkRPScalarVolumeNode> truth;
     LabelComparison comparison;
     std::vector<int> labels;
@@ -604,8 +676,17 @@ int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contex
       }
     }
   }
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  progress.Report(1.0, "done");
+  return 0;
+}
+
+// 3. Report: --json, or a line per segment.
+void Report(const ArgParser& parser, const MeshRun& run, double seconds, std::ostream& out, std::ostream& err) {
+  const std::string& input = run.Input;
+  const fs::path& outDir = run.OutDir;
+  const json &inputInfo = run.InputInfo, &segmentationSteps = run.SegmentationSteps, &segments = run.Segments;
+  const json &boneSplit = run.BoneSplit, &truthScores = run.TruthScores;
+  const std::vector<SegmentModels>& models = run.Models;
+  const int failures = run.Failures;
   if (parser.Json()) {
     json doc = {{"input", input}, {"inputKind", inputInfo}, {"out", outDir.string()}, {"ok", failures == 0},
                 {"segmentation", segmentationSteps}, {"segments", segments}, {"seconds", seconds}};
@@ -627,7 +708,51 @@ int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contex
     err << "wrote " << models.size() - static_cast<size_t>(failures) << " segment(s) to " << outDir.string()
               << " in " << seconds << " s\n";
   }
-  return failures == 0 && !models.empty() ? 0 : 1;
+}
+
+}  // namespace
+
+int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contextScene, std::ostream& out,
+                   std::ostream& err) {
+  ArgParser parser(
+      "mesh",
+      "Segment a volume (threshold presets, region growing, confidence connected, morphology, components) or "
+      "take a segmentation (.seg.nrrd), and write one closed surface per segment (display + haptic mesh) to --out.");
+  DeclareOptions(parser);
+  if (const auto exitCode = parser.ParseCommand(arguments, out, err)) return *exitCode;
+  const auto t0 = std::chrono::steady_clock::now();
+  const bool quiet = parser.Json();
+  TerminalProgress progress("mesh", quiet);
+  MeshRequest request;
+  if (!ParseRequest(parser, request, err)) return 2;
+
+  MeshRun run;
+  run.Input = parser.Get("input");
+  run.OutDir = parser.Get("out");
+  std::error_code ec;
+  fs::create_directories(run.OutDir, ec);
+  if (ec) {
+    err << "roboplan mesh: cannot create output folder '" << run.OutDir.string() << "': " << ec.message() << "\n";
+    return 1;
+  }
+  vtkNew<vtkRPScene> ownScene;
+  run.Scene = contextScene ? contextScene : ownScene.GetPointer();
+  if (const int exitCode = LoadInput(parser, run, progress, err)) return exitCode;
+  if (run.Segmentation && parser.Has("labels"))
+    err << "roboplan mesh: --labels ignored: '" << run.Input << "' is a segmentation with its own segment names\n";
+  if (!run.Segmentation)
+    if (const int exitCode = SegmentationFromLabelmap(parser, request, run, quiet, err)) return exitCode;
+  if (!run.Segmentation && parser.Has("split-bones"))
+    if (const int exitCode = SplitBonesIntoSegments(parser, request, run, progress, quiet, err)) return exitCode;
+  if (!run.Segmentation)
+    if (const int exitCode = SegmentByThreshold(parser, request, run, progress, err)) return exitCode;
+  BuildAndWriteModels(parser, request, run, progress, err);
+  if (parser.Has("truth"))
+    if (const int exitCode = ScoreAgainstTruth(parser, run, quiet, err)) return exitCode;
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  progress.Report(1.0, "done");
+  Report(parser, run, seconds, out, err);
+  return run.Failures == 0 && !run.Models.empty() ? 0 : 1;
 }
 
 }  // namespace rp

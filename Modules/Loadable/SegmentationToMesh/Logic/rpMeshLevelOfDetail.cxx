@@ -147,6 +147,42 @@ long KeepComponentsWithin(vtkPolyData* mesh, long budget, double& droppedVolume)
   return dropped;
 }
 
+// 2. Edge collapses from the smallest closed manifold mesh; 3. components left out when even
+// that cannot meet the budget. `chosen` is set when the decimation ran.
+void ReduceByEdgeCollapse(vtkPolyData* fewest, const MeshStats& fewestStats, long target, const MeshOptions& options,
+                          vtkSmartPointer<vtkPolyData>& chosen, MeshStats& chosenStats) {
+  DecimationResult decimation;
+  vtkSmartPointer<vtkPolyData> mesh = fewest;
+  MeshStats s = fewestStats;
+  if (DecimateManifold(mesh, target, 0.0, decimation)) {
+    s.Method += ", edge collapse";
+    if (!decimation.TargetReached) {
+      double volume = 0;
+      s.DroppedComponents = KeepComponentsWithin(mesh, target, volume);
+      s.DroppedVolumeMm3 = volume;
+      s.Method += ", " + std::to_string(s.DroppedComponents) + " smallest components left out";
+      s.Warnings.push_back(std::to_string(s.DroppedComponents) + " smallest components (" + Format("%.3g", volume) +
+                           " mm³) left out: the budget of " + std::to_string(target) +
+                           " triangles cannot hold every component");
+    }
+    ComputeMeshNormals(mesh);
+    if (options.CorrectVolume && !s.DroppedComponents && options.Method != MeshMethod::SlicerDefault) {
+      double volume = 0, area = 0;
+      MeshVolumeAndArea(mesh, volume, area);
+      if (std::abs(volume - s.LabelVolumeMm3) < 0.05 * s.LabelVolumeMm3)
+        s.VolumeCorrectionMm = CorrectMeshVolume(mesh, s.LabelVolumeMm3);
+    }
+    const std::string method = s.Method;
+    auto warnings = s.Warnings;
+    const long droppedComponents = s.DroppedComponents;
+    const double droppedVolume = s.DroppedVolumeMm3;
+    FillMeshStats(mesh, s);
+    s.Method = method, s.Warnings = warnings, s.DroppedComponents = droppedComponents, s.DroppedVolumeMm3 = droppedVolume;
+    chosen = mesh;
+    chosenStats = s;
+  }
+}
+
 }  // namespace
 
 bool LabelmapToMeshLOD(vtkImageData* labelmap, const vtkMatrix4x4* ijkToRAS, int label, MeshOptions options,
@@ -235,36 +271,7 @@ bool LabelmapToMeshLOD(vtkImageData* labelmap, const vtkMatrix4x4* ijkToRAS, int
   // 2. Edge collapses from the smallest closed manifold mesh; 3. components left out.
   if (target > 0 && !chosen && fewest) {
     report(0.8, "edge collapse");
-    DecimationResult decimation;
-    vtkSmartPointer<vtkPolyData> mesh = fewest;
-    MeshStats s = fewestStats;
-    if (DecimateManifold(mesh, target, 0.0, decimation)) {
-      s.Method += ", edge collapse";
-      if (!decimation.TargetReached) {
-        double volume = 0;
-        s.DroppedComponents = KeepComponentsWithin(mesh, target, volume);
-        s.DroppedVolumeMm3 = volume;
-        s.Method += ", " + std::to_string(s.DroppedComponents) + " smallest components left out";
-        s.Warnings.push_back(std::to_string(s.DroppedComponents) + " smallest components (" + Format("%.3g", volume) +
-                             " mm³) left out: the budget of " + std::to_string(target) +
-                             " triangles cannot hold every component");
-      }
-      ComputeMeshNormals(mesh);
-      if (options.CorrectVolume && !s.DroppedComponents && options.Method != MeshMethod::SlicerDefault) {
-        double volume = 0, area = 0;
-        MeshVolumeAndArea(mesh, volume, area);
-        if (std::abs(volume - s.LabelVolumeMm3) < 0.05 * s.LabelVolumeMm3)
-          s.VolumeCorrectionMm = CorrectMeshVolume(mesh, s.LabelVolumeMm3);
-      }
-      const std::string method = s.Method;
-      auto warnings = s.Warnings;
-      const long droppedComponents = s.DroppedComponents;
-      const double droppedVolume = s.DroppedVolumeMm3;
-      FillMeshStats(mesh, s);
-      s.Method = method, s.Warnings = warnings, s.DroppedComponents = droppedComponents, s.DroppedVolumeMm3 = droppedVolume;
-      chosen = mesh;
-      chosenStats = s;
-    }
+    ReduceByEdgeCollapse(fewest, fewestStats, target, options, chosen, chosenStats);
   }
   // A deviation bound without a triangle budget: the coarsest grid within it.
   if (target <= 0 && lod.MaxErrorMm > 0) {

@@ -216,3 +216,36 @@ TEST(MeshCommand, SplitBonesOfTheRealKneeCTWithTruth) {
   EXPECT_EQ(off.Code, 1);
   EXPECT_NE(off.Err.find("'nothing' is not on bone"), std::string::npos) << off.Err;
 }
+
+// The one loader gives `mesh` what `convert` has: a folder holding two DICOM series is refused
+// naming them, and --series picks one (the ball's CT written twice, as CT and as MR).
+TEST(MeshCommand, DicomFolderWithTwoSeriesNeedsSeries) {
+  const fs::path dir = TestDir("two-series");
+  const fs::path ct = WriteBallCT(dir);
+  for (const char* modality : {"CT", "MR"}) {
+    const CommandRun convert = Roboplan("convert " + ct.string() + " " + (dir / "dicom" / modality).string() +
+                                            " --modality " + modality, dir);
+    ASSERT_EQ(convert.Code, 0) << convert.Err;
+  }
+  const CommandRun list = Roboplan("dicom " + (dir / "dicom").string() + " --json", dir);
+  ASSERT_EQ(list.Code, 0) << list.Err;
+  const auto series = nlohmann::json::parse(list.Out)["series"];
+  ASSERT_EQ(series.size(), 2u) << list.Out;
+  std::string mrID;
+  for (const auto& s : series)
+    if (s["modality"] == "MR") mrID = s["id"];
+  ASSERT_FALSE(mrID.empty()) << list.Out;
+
+  const CommandRun refused = Roboplan("mesh " + (dir / "dicom").string() + " --out " + (dir / "o1").string(), dir);
+  EXPECT_EQ(refused.Code, 1);
+  EXPECT_NE(refused.Err.find("series"), std::string::npos) << refused.Err;
+
+  const CommandRun chosen = Roboplan("mesh " + (dir / "dicom").string() + " --series " + mrID + " --out " +
+                                         (dir / "o2").string() + " --preset bone --lower 0 --no-haptic --json", dir);
+  ASSERT_EQ(chosen.Code, 0) << chosen.Err;
+  const auto doc = nlohmann::json::parse(chosen.Out);
+  ASSERT_EQ(doc["segments"].size(), 1u) << chosen.Out;
+  const double volume = doc["segments"][0]["display"]["meshVolumeMm3"];
+  const double expected = 4.0 / 3.0 * 3.14159265358979 * Radius * Radius * Radius;  // the ball, as above
+  EXPECT_NEAR(volume, expected, 0.02 * expected);
+}

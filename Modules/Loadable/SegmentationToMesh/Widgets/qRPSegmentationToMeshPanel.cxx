@@ -106,6 +106,36 @@ QString StatsText(const QString& name, const rp::MeshStats& s) {
 
 qRPSegmentationToMeshPanel::qRPSegmentationToMeshPanel(vtkRPScene* scene, QWidget* parent)
     : QWidget(parent), Scene(scene) {
+  QLayout* inputForm = this->BuildInputForm();
+  QWidget* methodBox = this->BuildMethodBox();
+  QWidget* editBox = this->BuildEditBox();
+  QWidget* meshBox = this->BuildSurfaceBox();
+  this->StatusLabel = new QLabel;
+  this->StatusLabel->setWordWrap(true);
+  this->StatusLabel->setTextInteractionFlags(Qt::TextSelectableByMouse);
+
+  auto* layout = new QVBoxLayout(this);
+  layout->addLayout(inputForm);
+  layout->addWidget(methodBox);
+  layout->addWidget(editBox);
+  layout->addWidget(meshBox);
+  layout->addWidget(this->StatusLabel);
+  layout->addStretch(1);
+
+  this->ConnectWidgets();
+
+  if (this->Scene) {
+    const unsigned long events[4] = {vtkRPScene::NodeAddedEvent, vtkRPScene::NodeRemovedEvent,
+                                     vtkRPScene::EndImportEvent, vtkRPScene::EndCloseEvent};
+    for (int i = 0; i < 4; ++i)
+      this->SceneObservers[i] = this->Scene->AddObserver(events[i], this, &qRPSegmentationToMeshPanel::OnSceneEvent);
+  }
+  this->OnPresetChanged();
+  this->OnMethodChanged();
+  this->RefreshNodeCombos();
+}
+
+QLayout* qRPSegmentationToMeshPanel::BuildInputForm() {
   // Input and target.
   this->VolumeCombo = new QComboBox;
   this->SegmentationCombo = new QComboBox;
@@ -127,6 +157,10 @@ qRPSegmentationToMeshPanel::qRPSegmentationToMeshPanel(vtkRPScene* scene, QWidge
   inputForm->addRow("Label table", tableRow);
   inputForm->addRow(this->LabelmapButton);
 
+  return inputForm;
+}
+
+QWidget* qRPSegmentationToMeshPanel::BuildMethodBox() {
   // Segmentation method.
   this->MethodCombo = new QComboBox;
   this->MethodCombo->addItems({"Threshold preset", "Manual thresholds", "Region growing", "Confidence connected"});
@@ -178,7 +212,10 @@ qRPSegmentationToMeshPanel::qRPSegmentationToMeshPanel(vtkRPScene* scene, QWidge
   methodForm->addRow(applyRow);
   auto* methodBox = new QGroupBox("Segment");
   methodBox->setLayout(methodForm);
+  return methodBox;
+}
 
+QWidget* qRPSegmentationToMeshPanel::BuildEditBox() {
   // Editing of the current segment.
   this->SegmentCombo = new QComboBox;
   this->MorphologyRadiusSpin = new QDoubleSpinBox;
@@ -200,7 +237,10 @@ qRPSegmentationToMeshPanel::qRPSegmentationToMeshPanel(vtkRPScene* scene, QWidge
   editForm->addRow(editButtons);
   auto* editBox = new QGroupBox("Edit");
   editBox->setLayout(editForm);
+  return editBox;
+}
 
+QWidget* qRPSegmentationToMeshPanel::BuildSurfaceBox() {
   // Surface.
   this->MeshMethodCombo = new QComboBox;
   this->MeshMethodCombo->addItems({"Gaussian (volume-corrected)", "Windowed sinc (volume-corrected)",
@@ -240,19 +280,10 @@ qRPSegmentationToMeshPanel::qRPSegmentationToMeshPanel(vtkRPScene* scene, QWidge
   meshForm->addRow(meshButtons);
   auto* meshBox = new QGroupBox("Surface");
   meshBox->setLayout(meshForm);
+  return meshBox;
+}
 
-  this->StatusLabel = new QLabel;
-  this->StatusLabel->setWordWrap(true);
-  this->StatusLabel->setTextInteractionFlags(Qt::TextSelectableByMouse);
-
-  auto* layout = new QVBoxLayout(this);
-  layout->addLayout(inputForm);
-  layout->addWidget(methodBox);
-  layout->addWidget(editBox);
-  layout->addWidget(meshBox);
-  layout->addWidget(this->StatusLabel);
-  layout->addStretch(1);
-
+void qRPSegmentationToMeshPanel::ConnectWidgets() {
   connect(this->NewSegmentationButton, &QPushButton::clicked, this, [this] { this->NewSegmentation(); });
   connect(this->LabelTableBrowseButton, &QPushButton::clicked, this, [this] {
     const QString path = QFileDialog::getOpenFileName(this, "Label table", QString(),
@@ -275,16 +306,6 @@ qRPSegmentationToMeshPanel::qRPSegmentationToMeshPanel(vtkRPScene* scene, QWidge
   connect(this->KeepLargestButton, &QPushButton::clicked, this, [this] { this->KeepLargest(); });
   connect(this->PreviewButton, &QPushButton::clicked, this, [this] { this->Preview(); });
   connect(this->CreateModelsButton, &QPushButton::clicked, this, [this] { this->CreateModels(); });
-
-  if (this->Scene) {
-    const unsigned long events[4] = {vtkRPScene::NodeAddedEvent, vtkRPScene::NodeRemovedEvent,
-                                     vtkRPScene::EndImportEvent, vtkRPScene::EndCloseEvent};
-    for (int i = 0; i < 4; ++i)
-      this->SceneObservers[i] = this->Scene->AddObserver(events[i], this, &qRPSegmentationToMeshPanel::OnSceneEvent);
-  }
-  this->OnPresetChanged();
-  this->OnMethodChanged();
-  this->RefreshNodeCombos();
 }
 
 qRPSegmentationToMeshPanel::~qRPSegmentationToMeshPanel() {

@@ -22,6 +22,7 @@ class QCheckBox;
 class QComboBox;
 class QDoubleSpinBox;
 class QLabel;
+class QLayout;
 class QLineEdit;
 class QPushButton;
 class QSpinBox;
@@ -101,6 +102,12 @@ class qRPSegmentationToMeshPanel : public QWidget {
   QLabel* StatusLabel;
 
  private:
+  // The constructor's parts: each group of widgets, then the signal connections.
+  QLayout* BuildInputForm();
+  QWidget* BuildMethodBox();
+  QWidget* BuildEditBox();
+  QWidget* BuildSurfaceBox();
+  void ConnectWidgets();
   void OnSceneEvent(vtkObject* caller, unsigned long event, void* callData);
   void OnSegmentationModified(vtkObject* caller, unsigned long event, void* callData);
   void ObserveSegmentation(vtkRPSegmentationNode* segmentation);

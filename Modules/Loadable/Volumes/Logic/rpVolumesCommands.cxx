@@ -353,14 +353,23 @@ int RunPhantomCommand(const std::vector<std::string>& arguments, std::ostream& o
 }
 
 // ---------------------------------------------------------------------------------------------
-int RunRegisterVolumesCommand(const std::vector<std::string>& arguments, std::ostream& out, std::ostream& err) {
-  ArgParser parser(
-      "register-volumes",
-      "Rigid registration of a moving volume (e.g. MR) onto a fixed one (e.g. CT) by Mattes mutual "
-      "information (ITK v4, versor rigid, multi-resolution). Writes the transform that puts the moving "
-      "volume onto the fixed one (its 'to parent', MovingToFixed) as an ITK transform file (LPS, 'from "
-      "parent', as Slicer). When the optimizer does not converge the command exits 1 and does not "
-      "write --out.");
+// register-volumes in three parts: parse the options -> run (read, register, score, write) -> report.
+namespace {
+
+struct RegisterVolumesRequest {
+  std::string Fixed, Moving, Out, Initial, Truth;  // Initial, Truth: empty when not given
+  bool Centre = false;
+  RigidRegistrationOptions Options;
+};
+
+struct RegisterVolumesRun {
+  ImageVolume Fixed, Moving;
+  RigidRegistrationResult Result;
+  double TruthRMS = -1.0;
+  bool Written = false;
+};
+
+void DeclareRegisterVolumesOptions(ArgParser& parser) {
   const auto volumeFiles = ExtensionsForNodeClass("vtkRPScalarVolumeNode");
   const auto transformFiles = ExtensionsForNodeClass("vtkRPLinearTransformNode");
   parser.Positional("fixed", "fixed volume (file or DICOM folder)")
@@ -393,89 +402,129 @@ int RunRegisterVolumesCommand(const std::vector<std::string>& arguments, std::os
               "a known MovingToFixed transform file (e.g. the phantom's MRToCT-truth.tfm): report the RMS "
               "difference over the fixed volume's central region")
       .Input(FileKind::Transform, transformFiles);
-  if (const auto exitCode = parser.ParseCommand(arguments, out, err)) return *exitCode;
-  // Types and ranges were checked by the parser (declared above).
-  const std::string outPath = parser.Get("out");
-  RigidRegistrationOptions options;
+}
+
+// Types and ranges were checked by the parser (declared above).
+RegisterVolumesRequest ParseRegisterVolumesRequest(const ArgParser& parser) {
+  RegisterVolumesRequest request;
+  request.Fixed = parser.Get("fixed");
+  request.Moving = parser.Get("moving");
+  request.Out = parser.Get("out");
+  if (parser.Has("initial")) request.Initial = parser.Get("initial");
+  if (parser.Has("truth")) request.Truth = parser.Get("truth");
+  request.Centre = parser.Has("centre");
+  RigidRegistrationOptions& options = request.Options;
   options.ShrinkFactors.clear();
   options.SmoothingSigmasMM.clear();
   for (double f : parser.GetDoubles("levels")) options.ShrinkFactors.push_back(static_cast<unsigned>(f));
   options.MaxIterationsPerLevel = static_cast<unsigned>(parser.GetInt("iterations"));
   options.HistogramBins = static_cast<unsigned>(parser.GetInt("bins"));
   options.SamplingFraction = parser.GetDouble("sampling");
-  TerminalProgress progress("register", parser.Json());
-  ImageVolume fixed, moving;
+  return request;
+}
+
+// RMS difference to a known transform over a 5x5x5 grid spanning the central half of the fixed volume.
+double TruthRMSOverCentre(const ImageVolume& fixed, const vtkMatrix4x4* movingToFixed, vtkMatrix4x4* truth) {
+  int dims[3];
+  fixed.Image->GetDimensions(dims);
+  std::vector<std::array<double, 3>> points;
+  for (int a = 0; a < 5; ++a)
+    for (int b = 0; b < 5; ++b)
+      for (int c = 0; c < 5; ++c) {
+        const double ijk[3] = {(0.25 + 0.125 * a) * (dims[0] - 1), (0.25 + 0.125 * b) * (dims[1] - 1),
+                               (0.25 + 0.125 * c) * (dims[2] - 1)};
+        std::array<double, 3> ras;
+        fixed.IndexToRAS(ijk, ras.data());
+        points.push_back(ras);
+      }
+  return TransformRMSDifference(movingToFixed, truth, points);
+}
+
+// Reads, registers, scores against --truth and writes --out (only when converged). False: an
+// input could not be read or the registration could not run (named on `err`).
+bool RunRegisterVolumes(RegisterVolumesRequest& request, RegisterVolumesRun& run, TerminalProgress& progress,
+                        std::ostream& err) {
+  RigidRegistrationOptions& options = request.Options;
   std::string error;
-  if (!ReadVolume(parser.Get("fixed"), fixed, error) || !ReadVolume(parser.Get("moving"), moving, error)) {
+  if (!ReadVolume(request.Fixed, run.Fixed, error) || !ReadVolume(request.Moving, run.Moving, error)) {
     err << "roboplan register-volumes: " << error << "\n";
-    return 1;
+    return false;
   }
   for (unsigned f : options.ShrinkFactors) options.SmoothingSigmasMM.push_back(f > 1 ? 0.75 * f : 0.0);
-  if (parser.Has("initial")) {
+  if (!request.Initial.empty()) {
     vtkNew<vtkMatrix4x4> movingToFixed;
-    if (!ReadTransformFile(parser.Get("initial"), movingToFixed, error)) {
+    if (!ReadTransformFile(request.Initial, movingToFixed, error)) {
       err << "roboplan register-volumes: " << error << "\n";
-      return 1;
+      return false;
     }
     options.InitialFixedToMoving = vtkSmartPointer<vtkMatrix4x4>::New();
     vtkMatrix4x4::Invert(movingToFixed, options.InitialFixedToMoving);
   } else {
-    options.InitializeByGeometryCentres = parser.Has("centre");
+    options.InitializeByGeometryCentres = request.Centre;
   }
   vtkNew<vtkMatrix4x4> truth;
-  const bool haveTruth = parser.Has("truth");
-  if (haveTruth && !ReadTransformFile(parser.Get("truth"), truth, error)) {
+  if (!request.Truth.empty() && !ReadTransformFile(request.Truth, truth, error)) {
     err << "roboplan register-volumes: " << error << "\n";
-    return 1;
+    return false;
   }
-  RigidRegistrationResult result;
-  if (!RegisterVolumesRigid(fixed, moving, options, result, error, Quieter(progress))) {
+  RigidRegistrationResult& result = run.Result;
+  if (!RegisterVolumesRigid(run.Fixed, run.Moving, options, result, error, Quieter(progress))) {
     err << "roboplan register-volumes: " << error << "\n";
-    return 1;
+    return false;
   }
-  // Error against the truth: RMS over a 5x5x5 grid spanning the central half of the fixed volume.
-  double truthRMS = -1.0;
-  if (haveTruth) {
-    int dims[3];
-    fixed.Image->GetDimensions(dims);
-    std::vector<std::array<double, 3>> points;
-    for (int a = 0; a < 5; ++a)
-      for (int b = 0; b < 5; ++b)
-        for (int c = 0; c < 5; ++c) {
-          const double ijk[3] = {(0.25 + 0.125 * a) * (dims[0] - 1), (0.25 + 0.125 * b) * (dims[1] - 1),
-                                 (0.25 + 0.125 * c) * (dims[2] - 1)};
-          std::array<double, 3> ras;
-          fixed.IndexToRAS(ijk, ras.data());
-          points.push_back(ras);
-        }
-    truthRMS = TransformRMSDifference(result.MovingToFixed, truth, points);
-  }
-  bool written = false;
+  if (!request.Truth.empty()) run.TruthRMS = TruthRMSOverCentre(run.Fixed, result.MovingToFixed, truth);
   if (result.Converged) {
-    written = WriteTransformFile(outPath, result.MovingToFixed, error);
-    if (!written) err << "roboplan register-volumes: " << error << "\n";
+    run.Written = WriteTransformFile(request.Out, result.MovingToFixed, error);
+    if (!run.Written) err << "roboplan register-volumes: " << error << "\n";
   } else {
-    err << "roboplan register-volumes: did not converge (" << result.StopReason << "); " << outPath
+    err << "roboplan register-volumes: did not converge (" << result.StopReason << "); " << request.Out
         << " not written\n";
   }
-  if (parser.Json()) {
+  return true;
+}
+
+void ReportRegisterVolumes(const RegisterVolumesRequest& request, const RegisterVolumesRun& run, bool json,
+                           std::ostream& out) {
+  const RigidRegistrationResult& result = run.Result;
+  const bool haveTruth = !request.Truth.empty();
+  if (json) {
     nlohmann::json doc;
-    doc["ok"] = result.Converged && written;
+    doc["ok"] = result.Converged && run.Written;
     doc["converged"] = result.Converged;
     doc["stopReason"] = result.StopReason;
     doc["finalMetric"] = result.FinalMetric;
     doc["iterations"] = result.Iterations;
     doc["seconds"] = result.Seconds;
     doc["movingToFixed"] = MatrixJson(result.MovingToFixed);
-    doc["output"] = written ? nlohmann::json(outPath) : nlohmann::json();
-    if (haveTruth) doc["rmsToTruthMM"] = truthRMS;
+    doc["output"] = run.Written ? nlohmann::json(request.Out) : nlohmann::json();
+    if (haveTruth) doc["rmsToTruthMM"] = run.TruthRMS;
     out << doc.dump(2) << "\n";
   } else if (result.Converged) {
     out << "converged in " << result.Iterations << " iterations, " << Fixed(result.Seconds, 2) << " s, MI "
-        << Fixed(result.FinalMetric, 4) << (written ? "; wrote " + outPath : std::string()) << "\n";
-    if (haveTruth) out << "RMS difference to the truth (central region of the fixed volume): " << Fixed(truthRMS) << " mm\n";
+        << Fixed(result.FinalMetric, 4) << (run.Written ? "; wrote " + request.Out : std::string()) << "\n";
+    if (haveTruth)
+      out << "RMS difference to the truth (central region of the fixed volume): " << Fixed(run.TruthRMS) << " mm\n";
   }
-  return result.Converged && written ? 0 : 1;
+}
+
+}  // namespace
+
+int RunRegisterVolumesCommand(const std::vector<std::string>& arguments, std::ostream& out, std::ostream& err) {
+  ArgParser parser(
+      "register-volumes",
+      "Rigid registration of a moving volume (e.g. MR) onto a fixed one (e.g. CT) by Mattes mutual "
+      "information (ITK v4, versor rigid, multi-resolution). Writes the transform that puts the moving "
+      "volume onto the fixed one (its 'to parent', MovingToFixed) as an ITK transform file (LPS, 'from "
+      "parent', as Slicer). When the optimizer does not converge the command exits 1 and does not "
+      "write --out.");
+  DeclareRegisterVolumesOptions(parser);
+  if (const auto exitCode = parser.ParseCommand(arguments, out, err)) return *exitCode;
+  RegisterVolumesRequest request = ParseRegisterVolumesRequest(parser);
+  TerminalProgress progress("register", parser.Json());
+  RegisterVolumesRun run;
+  if (!RunRegisterVolumes(request, run, progress, err)) return 1;
+  ReportRegisterVolumes(request, run, parser.Json(), out);
+  return run.Result.Converged && run.Written ? 0 : 1;
 }
 
 }  // namespace rp

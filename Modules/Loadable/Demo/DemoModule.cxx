@@ -1,0 +1,25 @@
+// The Demo module: the seed's whole workflow end to end. CLI `roboplan demo`
+// (Logic/rpDemoCommand.cxx). The only module that depends on other modules: it drives their logic.
+#include <iostream>
+
+#include "rpDemoCommand.h"
+#include "rpModule.h"
+
+namespace {
+
+class DemoModule : public rp::Module {
+ public:
+  std::string Name() const override { return "Demo"; }
+  std::string Title() const override { return "Demo (main job)"; }
+  std::vector<std::string> Dependencies() const override {
+    return {"Drilling", "Haptics", "LandmarkRegistration", "Navigation", "SegmentationToMesh", "Tracking"};
+  }
+  std::vector<rp::Command> Commands() override {
+    return {{"demo", "run the seed's whole workflow on the knee phantom and write report.html",
+             [](rp::CommandContext& c) { return rp::RunDemoCommand(c.Arguments, std::cout, std::cerr); }}};
+  }
+};
+
+}  // namespace
+
+ROBOPLAN_DECLARE_MODULE(DemoModule)
