@@ -35,6 +35,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       const char* text;
       size_t length;
       DecodeString(split.Content, split.ContentSize, encoding, text, length);
+      uint32_t commandId;
+      char commandName[CommandNameSize + 1];
+      DecodeCommand(split.Content, split.ContentSize, commandId, commandName, text, length);  // COMMAND / RTS_COMMAND
       int32_t resolution;
       char coordinate[33];
       DecodeStartTracking(split.Content, split.ContentSize, resolution, coordinate);

@@ -240,6 +240,18 @@ Status DecodeString(const uint8_t* c, size_t size, uint16_t& encoding, const cha
   return Status::Ok;
 }
 
+Status DecodeCommand(const uint8_t* c, size_t size, uint32_t& id, char name[CommandNameSize + 1], const char*& text,
+                     size_t& length) noexcept {
+  name[0] = '\0';
+  if (size < CommandHeaderSize) return Status::BadBody;
+  id = U32(c);
+  CopyName(name, c + 4, CommandNameSize);
+  length = U32(c + 4 + CommandNameSize + 2);
+  if (length > size - CommandHeaderSize) return Status::BadBody;
+  text = reinterpret_cast<const char*>(c + CommandHeaderSize);
+  return Status::Ok;
+}
+
 Status DecodeStartTracking(const uint8_t* c, size_t size, int32_t& resolutionMs, char coordinateName[33]) noexcept {
   resolutionMs = 0;
   coordinateName[0] = '\0';
@@ -373,6 +385,15 @@ void EncodeString(const char* text, size_t length, uint8_t* out) noexcept {
   Put16(out, 3);  // US-ASCII (IANA MIBenum)
   Put16(out + 2, static_cast<uint16_t>(length));
   std::memcpy(out + StringHeaderSize, text, length);
+}
+
+void EncodeCommand(uint32_t id, const char* name, const char* text, size_t length, uint8_t* out) noexcept {
+  Put32(out, id);
+  std::memset(out + 4, 0, CommandNameSize);
+  std::memcpy(out + 4, name, std::min(std::strlen(name), CommandNameSize));
+  Put16(out + 4 + CommandNameSize, 3);  // US-ASCII (IANA MIBenum)
+  Put32(out + 4 + CommandNameSize + 2, static_cast<uint32_t>(length));
+  std::memcpy(out + CommandHeaderSize, text, length);
 }
 
 void EncodeImage(const ImageHeader& h, const uint8_t* pixels, uint8_t* out) noexcept {

@@ -27,6 +27,8 @@ constexpr size_t RtsSize = 1;               // RTS_TDATA / RTS_QTDATA
 constexpr size_t StringHeaderSize = 4;
 constexpr size_t ImageHeaderSize = 72;
 constexpr size_t NameSize = 20;             // device and element names on the wire
+constexpr size_t CommandHeaderSize = 138;   // COMMAND / RTS_COMMAND: id, name[128], encoding, length
+constexpr size_t CommandNameSize = 128;
 constexpr uint8_t TrackingType6D = 2;       // TDATA/QTDATA element type (IGTL_TDATA_TYPE_6D)
 constexpr int StatusOk = 1;                 // STATUS code (IGTL_STATUS_OK)
 
@@ -100,6 +102,10 @@ void DecodeQtDataElement(const uint8_t* element, TrackingElement& out) noexcept;
 Status DecodeStatus(const uint8_t* content, size_t size, int& code, char errorName[21]) noexcept;
 /// STRING: encoding (3 = US-ASCII) and the text (not NUL terminated; points into content).
 Status DecodeString(const uint8_t* content, size_t size, uint16_t& encoding, const char*& text, size_t& length) noexcept;
+/// COMMAND / RTS_COMMAND (v3): the command id, its name (NUL terminated) and the text (points
+/// into content, not NUL terminated).
+Status DecodeCommand(const uint8_t* content, size_t size, uint32_t& id, char name[CommandNameSize + 1], const char*& text,
+                     size_t& length) noexcept;
 /// STT_TDATA / STT_QTDATA: the interval asked for (ms) and the coordinate name.
 Status DecodeStartTracking(const uint8_t* content, size_t size, int32_t& resolutionMs, char coordinateName[33]) noexcept;
 /// RTS_TDATA / RTS_QTDATA: 0 success, 1 error.
@@ -147,6 +153,8 @@ void EncodeStartTracking(int32_t resolutionMs, const char* coordinateName, uint8
 void EncodeRts(int status, uint8_t out[RtsSize]) noexcept;
 /// STRING content: StringHeaderSize + length bytes, US-ASCII.
 void EncodeString(const char* text, size_t length, uint8_t* out) noexcept;
+/// COMMAND / RTS_COMMAND content: CommandHeaderSize + length bytes, US-ASCII.
+void EncodeCommand(uint32_t id, const char* name, const char* text, size_t length, uint8_t* out) noexcept;
 /// IMAGE content: ImageHeaderSize + header.DataBytes(); the pixels are copied after the header.
 void EncodeImage(const ImageHeader& header, const uint8_t* pixels, uint8_t* out) noexcept;
 

@@ -8,27 +8,141 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cstring>
 
+#include "rpPlusSequenceFile.h"
 #include "rpTransformNames.h"
 
 namespace rp {
 
 namespace {
-const char* TransformStatus(ToolState s) {
-  switch (s) {
-    case ToolState::OK: return "OK";
-    case ToolState::OutOfVolume: return "OUT_OF_VOLUME";
-    case ToolState::Missing: return "MISSING";
-    case ToolState::Disabled: return "INVALID";
-  }
-  return "INVALID";
+const char* TransformStatus(ToolState s) { return PlusToolStatusName(s); }
+
+/// "StylusTipToReference" → ("StylusTip", "Reference"): split at the first "To" before a capital.
+bool SplitTransformName(const std::string& name, std::string& from, std::string& to) {
+  for (size_t i = 1; i + 2 < name.size(); ++i)
+    if (name.compare(i, 2, "To") == 0 && std::isupper(static_cast<unsigned char>(name[i + 2]))) {
+      from = name.substr(0, i);
+      to = name.substr(i + 2);
+      return true;
+    }
+  return false;
 }
 }  // namespace
 
 IgtlServer::IgtlServer(const ToolPoseTable& source, Options options) : Source(source), Opts(std::move(options)) {}
 IgtlServer::~IgtlServer() { this->Stop(); }
+
+bool IgtlServer::StartRecording(const std::string& file, std::string& error) {
+  if (this->Recorder) {
+    error = "already recording to " + this->RecordingFile;
+    return false;
+  }
+  if (!IsPlusSequenceFileName(file)) {
+    error = "OutputFilename " + file + " is not a PLUS sequence file (.igs.mha or .igs.nrrd)";
+    return false;
+  }
+  this->Recorder = std::make_unique<PlusSequence>();
+  this->RecordingFile = file;
+  return true;
+}
+
+bool IgtlServer::StopRecording(std::string& file, std::string& error) {
+  if (!this->Recorder) {
+    error = "not recording";
+    return false;
+  }
+  std::unique_ptr<PlusSequence> recording = std::move(this->Recorder);
+  file = this->RecordingFile;
+  try {
+    WritePlusSequence(*recording, file);
+  } catch (const std::exception& e) {
+    error = e.what();
+    return false;
+  }
+  return true;
+}
+
+bool IgtlServer::GetTransform(const std::string& name, double m[16], ToolState& state, std::string& error) {
+  const auto fixed = this->FixedTransforms.find(name);
+  if (fixed != this->FixedTransforms.end()) {
+    std::copy(fixed->second.begin(), fixed->second.end(), m);
+    state = ToolState::OK;
+    return true;
+  }
+  for (int slot = 0; slot < this->Source.Count(); ++slot)
+    if (name == this->Source.Name(slot)) {
+      ToolPose pose;
+      if (this->Source.Read(slot, pose) == 0) break;
+      pose.ToMatrix(m);
+      state = pose.State;
+      return true;
+    }
+  std::string from, to;
+  if (this->Opts.Transforms && SplitTransformName(name, from, to) && this->Opts.Transforms(from, to, m, state)) return true;
+  error = "no transform " + name;
+  return false;
+}
+
+bool IgtlServer::UpdateTransform(const std::string& name, const double m[16], std::string& error) {
+  std::string from, to;
+  if (!SplitTransformName(name, from, to)) {
+    error = "'" + name + "' is not a transform name (FromToTo)";
+    return false;
+  }
+  this->FixedTransforms[name].assign(m, m + 16);
+  return true;
+}
+
+void IgtlServer::HandleCommand(Client& c, const igtl::Header& h, const igtl::Body& body, double wall) {
+  if (h.Is("COMMAND")) {
+    uint32_t id = 0;
+    char name[igtl::CommandNameSize + 1];
+    const char* text = nullptr;
+    size_t length = 0;
+    if (igtl::DecodeCommand(body.Content, body.ContentSize, id, name, text, length) != igtl::Status::Ok) return;
+    const IgtlCommandReply reply = RunIgtlCommand(std::string(text, length), *this);
+    const std::string xml = CommandReplyXml(reply);
+    igtl::EncodeCommand(id, name, xml.data(), xml.size(),
+                        this->Writer.Begin(std::max<uint16_t>(c.Version, 2), "RTS_COMMAND", h.DeviceName, wall,
+                                           igtl::CommandHeaderSize + xml.size(), id));
+    const igtl::MetaPair meta[2] = {{"Status", CommandStatusName(reply)}, {"Message", reply.Message.c_str()}};
+    this->Writer.Finish(meta, 2);
+    this->Send(c);
+    return;
+  }
+  // STRING "CMD_<uid>" → STRING "ACK_<uid>"
+  uint16_t encoding = 0;
+  const char* text = nullptr;
+  size_t length = 0;
+  if (igtl::DecodeString(body.Content, body.ContentSize, encoding, text, length) != igtl::Status::Ok) return;
+  const std::string xml = CommandReplyXml(RunIgtlCommand(std::string(text, length), *this));
+  const std::string device = "ACK_" + std::string(h.DeviceName + 4);
+  const size_t size = std::min<size_t>(xml.size(), 65535);
+  igtl::EncodeString(xml.data(), size, this->Writer.Begin(c.Version, "STRING", device.c_str(), wall, igtl::StringHeaderSize + size));
+  this->Writer.Finish();
+  this->Send(c);
+}
+
+void IgtlServer::RecordFrame(double wall) {
+  PlusSequence& r = *this->Recorder;
+  PlusSequence::Frame frame;
+  frame.Timestamp = wall;
+  for (int slot = 0; slot < this->Source.Count(); ++slot) {
+    const ToolPoseReader::Sample& s = this->Reader.Last(slot);
+    if (!s.Valid) continue;
+    const size_t index = static_cast<size_t>(r.AddTransform(this->Source.Name(slot)));
+    if (frame.Transforms.size() <= index) frame.Transforms.resize(index + 1);
+    s.Pose.ToMatrix(frame.Transforms[index].Matrix);
+    frame.Transforms[index].State = s.Pose.State;
+    frame.Transforms[index].Present = true;
+  }
+  for (PlusSequence::Frame& f : r.Frames) f.Transforms.resize(r.TransformNames.size());
+  frame.Transforms.resize(r.TransformNames.size());
+  r.Frames.push_back(std::move(frame));
+}
 
 bool IgtlServer::Start(std::string& error) {
   this->Stop();
@@ -213,6 +327,8 @@ void IgtlServer::HandleInput(Client& c) {
       this->SendRts(c, "RTS_QTDATA", wall);
     } else if (h.Is("GET_STATUS")) {
       this->SendStatus(c, wall);
+    } else if (h.Is("COMMAND") || (h.Is("STRING") && std::strncmp(h.DeviceName, "CMD_", 4) == 0)) {
+      this->HandleCommand(c, h, split, wall);
     }
   }
   if (c.Fd < 0) return;
@@ -231,6 +347,7 @@ void IgtlServer::SendPoses(double now) {
     if (s.Valid && (s.Pose.State == ToolState::OK || s.Pose.State == ToolState::OutOfVolume)) this->Valid.push_back(i);
     if (s.Fresh) this->Fresh.push_back(i);
   }
+  if (this->Recorder && !this->Fresh.empty()) this->RecordFrame(wall);
   for (Client& c : this->Connections) {
     if (c.Fd < 0) continue;
     if (c.Queued.size() != c.QueuedSent) {  // behind: it gets the newest poses once it catches up

@@ -11,18 +11,34 @@
 // that loses the message boundary is closed, output a client does not read waits in a bounded
 // queue and a client that stalls is dropped, and connections beyond MaxClients are refused.
 // Memory is bounded by MaxClients × (input window + output queue).
+//
+// PlusServer's remote commands (rpIgtlCommands.h: COMMAND → RTS_COMMAND with Status/Message
+// metadata, STRING CMD_<uid> → ACK_<uid>) act on this server: channel and device ids,
+// StartRecording/StopRecording (a PLUS .igs.mha of every pose the server sends), and
+// GetTransform/UpdateTransform through the TransformProvider (e.g. a transform repository that
+// chains StylusTipToReference) and the fixed transforms clients set.
 #include <atomic>
+#include <functional>
+#include <map>
+#include <memory>
 #include <cstdint>
 #include <string>
 #include <vector>
 
+#include "rpIgtlCommands.h"
 #include "rpIgtlProtocol.h"
 #include "rpToolPose.h"
 #include "rpWorkerThread.h"
 
 namespace rp {
 
-class IgtlServer {
+struct PlusSequence;
+
+/// A source of transforms between named frames (a transform repository): row-major From→To and
+/// its status; false when it cannot compute it.
+using TransformProvider = std::function<bool(const std::string& from, const std::string& to, double m[16], ToolState& state)>;
+
+class IgtlServer : public IgtlCommandTarget {
  public:
   struct Options {
     std::string BindAddress = "127.0.0.1";
@@ -35,6 +51,9 @@ class IgtlServer {
     size_t MaxQueuedOutput = 1u << 20;  // per client; beyond it messages to that client are dropped
     double StallSeconds = 2.0;          // a client that reads nothing this long is dropped
     int SocketSendBuffer = 64 << 10;    // kernel buffer per client: seconds of poses, not minutes
+    std::string ChannelId = "TrackerStream";                // RequestChannelIds (PLUS's OutputChannel)
+    std::vector<std::string> DeviceIds = {"TrackerDevice"};  // RequestDeviceIds
+    TransformProvider Transforms;                           // GetTransform of chained names
   };
 
   struct Statistics {
@@ -43,7 +62,7 @@ class IgtlServer {
   };
 
   IgtlServer(const ToolPoseTable& source, Options options);
-  ~IgtlServer();
+  ~IgtlServer() override;
   /// Binds and starts the thread. False with a message naming the problem.
   bool Start(std::string& error);
   void Stop();
@@ -51,6 +70,14 @@ class IgtlServer {
   int ClientCount() const { return this->Clients.load(); }
   uint64_t MessagesSent() const { return this->Sent.load(); }
   Statistics GetStatistics() const;
+
+  // IgtlCommandTarget (called on the server thread while it handles a command)
+  std::vector<std::string> ChannelIds() const override { return {this->Opts.ChannelId}; }
+  std::vector<std::string> DeviceIds() const override { return this->Opts.DeviceIds; }
+  bool StartRecording(const std::string& file, std::string& error) override;
+  bool StopRecording(std::string& file, std::string& error) override;
+  bool GetTransform(const std::string& name, double m[16], ToolState& state, std::string& error) override;
+  bool UpdateTransform(const std::string& name, const double m[16], std::string& error) override;
 
  private:
   struct Client {
@@ -74,6 +101,8 @@ class IgtlServer {
   void SendRts(Client& c, const char* type, double wall);
   void SendStatus(Client& c, double wall);
   void SendPoses(double now);
+  void HandleCommand(Client& c, const igtl::Header& h, const igtl::Body& body, double wall);
+  void RecordFrame(double wall);
 
   const ToolPoseTable& Source;
   Options Opts;
@@ -87,6 +116,9 @@ class IgtlServer {
   ToolPoseReader Reader;
   igtl::MessageWriter Writer;
   std::vector<int> Fresh, Valid;  // slots
+  std::unique_ptr<PlusSequence> Recorder;  // while StartRecording is on
+  std::string RecordingFile;
+  std::map<std::string, std::vector<double>> FixedTransforms;  // UpdateTransform
 };
 
 }  // namespace rp

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "rpAtomicFile.h"
+#include "rpPlusSequenceFile.h"
 
 namespace rp {
 
@@ -45,6 +46,7 @@ std::vector<ToolPose> Recording::PosesOf(const std::string& name) const {
 }
 
 Recording Recording::Read(const std::string& path) {
+  if (IsPlusSequenceFileName(path)) return ReadPlusSequence(path).ToRecording();  // a PLUS recording
   std::ifstream in(path);
   if (!in) throw std::runtime_error("cannot open recording " + path);
   std::string line;
@@ -75,6 +77,7 @@ Recording Recording::Read(const std::string& path) {
 }
 
 void Recording::Write(const std::string& path) const {
+  if (IsPlusSequenceFileName(path)) return WritePlusSequence(PlusSequence::FromRecording(*this), path);
   std::string text = std::string(kMagic) + "\n";
   char line[512];
   for (const Sample& s : this->Samples) {
@@ -125,7 +128,7 @@ std::unique_ptr<PoseSource> RecordingPlayer::Create(const PoseSourceConfig& conf
   const std::string loop = config.Option("loop", "0");
   return std::make_unique<RecordingPlayer>(Recording::Read(config.Address), speed, loop == "1" || loop == "true");
 }
-RP_REGISTER_POSE_SOURCE(replay, "a recording (roboplan track --record) played back", "session.txt", RecordingPlayer::Create);
+RP_REGISTER_POSE_SOURCE(replay, "a recording (roboplan track --record, or PLUS .igs.mha/.igs.nrrd) played back", "session.txt", RecordingPlayer::Create);
 
 bool RecordingPlayer::Start(std::string&) {
   this->Done = false;

@@ -1,7 +1,8 @@
 #pragma once
 // Recording of a tracking session (every pose of every tool, with its time and status) to a
 // text file, and its replay into a ToolPoseTable at the recorded pace (for tests, demos and
-// post-processing such as `roboplan pivot`).
+// post-processing such as `roboplan pivot`). PLUS tracked-frame sequences (.igs.mha, .igs.nrrd;
+// rpPlusSequenceFile.h) are read and written by the same Read/Write, chosen by the extension.
 //
 // File: "# RoboPlan tracking recording 1" then one line per pose:
 //   <time s> <tool> <state> <qw> <qx> <qy> <qz> <tx> <ty> <tz> <error> <frame>

@@ -39,6 +39,7 @@
 
 #if ROBOPLAN_UPSTREAM_IGTL
 #include <igtlClientSocket.h>
+#include <igtlCommandMessage.h>
 #include <igtlImageMessage.h>
 #include <igtlMessageHeader.h>
 #include <igtlPositionMessage.h>
@@ -1126,6 +1127,59 @@ TEST(IgtlUpstreamPrograms, OurServerToTrackingDataClients) {
     }
     ExpectNoSanitizerReport(output);
   }
+}
+
+// PlusServer's commands as Slicer's OpenIGTLinkRemote sends them, on upstream's own classes: a
+// first STATUS (v2 headers), a COMMAND with MRMLNodeName metadata answered by RTS_COMMAND with
+// Status/Message metadata, and the older STRING CMD_<uid> answered by STRING ACK_<uid>.
+TEST(IgtlUpstreamSocket, SlicerLikeClientSendsPlusCommandsAndDecodesTheRepliesUpstream) {
+  ToolPoseTable table;
+  table.FindOrAdd("StylusToTracker");
+  IgtlServer::Options options;
+  options.Port = 0;
+  options.DeviceIds = {"TrackerDevice", "CaptureDevice"};
+  IgtlServer server(table, options);
+  std::string error;
+  ASSERT_TRUE(server.Start(error)) << error;
+  auto socket = ::igtl::ClientSocket::New();
+  ASSERT_EQ(socket->ConnectToServer("127.0.0.1", server.Port()), 0);
+  socket->SetReceiveTimeout(3000);
+  auto status = ::igtl::StatusMessage::New();
+  status->SetCode(::igtl::StatusMessage::STATUS_OK);
+  UpstreamFrame(status, 2, {});
+  ASSERT_TRUE(socket->Send(status->GetPackPointer(), status->GetPackSize()));
+
+  auto command = ::igtl::CommandMessage::New();
+  command->SetDeviceName("OpenIGTLinkRemote");
+  command->SetCommandId(17);
+  command->SetCommandName("RequestDeviceIds");
+  command->SetCommandContent("<Command Name=\"RequestDeviceIds\" />");
+  UpstreamFrame(command, 2, {{"MRMLNodeName", "RequestDeviceIds"}});
+  ASSERT_TRUE(socket->Send(command->GetPackPointer(), command->GetPackSize()));
+  int result = 0;
+  auto rts = UpstreamReceive<::igtl::RTSCommandMessage>(socket, "RTS_COMMAND", result);
+  ASSERT_TRUE(rts);
+  ASSERT_TRUE(result & ::igtl::MessageHeader::UNPACK_BODY) << "upstream refused our RTS_COMMAND";
+  EXPECT_EQ(rts->GetCommandId(), 17u);
+  EXPECT_EQ(rts->GetCommandName(), "RequestDeviceIds");
+  EXPECT_EQ(rts->GetCommandContent(), "<CommandReply Status=\"SUCCESS\" Message=\"TrackerDevice,CaptureDevice\" />");
+  std::string value;
+  ASSERT_TRUE(rts->GetMetaDataElement("Status", value));
+  EXPECT_EQ(value, "SUCCESS");
+  ASSERT_TRUE(rts->GetMetaDataElement("Message", value));
+  EXPECT_EQ(value, "TrackerDevice,CaptureDevice");
+
+  auto string = ::igtl::StringMessage::New();
+  string->SetDeviceName("CMD_5");
+  string->SetString("<Command Name=\"RequestChannelIds\" />");
+  UpstreamFrame(string, 2, {{"MRMLNodeName", "CMD_5"}});
+  ASSERT_TRUE(socket->Send(string->GetPackPointer(), string->GetPackSize()));
+  auto ack = UpstreamReceive<::igtl::StringMessage>(socket, "STRING", result);
+  ASSERT_TRUE(ack);
+  ASSERT_TRUE(result & ::igtl::MessageHeader::UNPACK_BODY);
+  EXPECT_STREQ(ack->GetDeviceName(), "ACK_5");
+  EXPECT_STREQ(ack->GetString(), "<CommandReply Status=\"SUCCESS\" Message=\"TrackerStream\" />");
+  socket->CloseSocket();
 }
 
 #endif  // ROBOPLAN_UPSTREAM_IGTL

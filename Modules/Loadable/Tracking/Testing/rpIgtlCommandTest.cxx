@@ -1,0 +1,205 @@
+// PlusServer's commands on our OpenIGTLink server, from a client that behaves as Slicer's
+// OpenIGTLinkIF/OpenIGTLinkRemote do: a first STATUS with header v2 (so the server answers with
+// v3 framing), COMMAND with MRMLNodeName metadata (→ RTS_COMMAND with Status/Message metadata)
+// and the older STRING CMD_<uid> (→ STRING ACK_<uid> with <CommandReply .../>); StartRecording /
+// StopRecording write a PLUS sequence file read back by rpPlusSequenceFile.
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <cstring>
+#include <filesystem>
+
+#include <gtest/gtest.h>
+
+#include "rpIgtlCommands.h"
+#include "rpIgtlProtocol.h"
+#include "rpIgtlServer.h"
+#include "rpPlusSequenceFile.h"
+#include "rpTrackingTestHelpers.h"
+
+namespace {
+
+struct Reply {
+  rp::igtl::Header Header;
+  std::vector<uint8_t> Body;
+  std::string Meta(const char* key) const {
+    rp::igtl::Body split;
+    if (rp::igtl::SplitBody(this->Header, this->Body.data(), split) != rp::igtl::Status::Ok) return "";
+    uint32_t size = 0;
+    const char* v = split.Find(key, size);
+    return v ? std::string(v, size) : "";
+  }
+  rp::igtl::Body Split() const {
+    rp::igtl::Body split;
+    rp::igtl::SplitBody(this->Header, this->Body.data(), split);
+    return split;
+  }
+};
+
+class SlicerLikeClient {
+ public:
+  explicit SlicerLikeClient(int port) {
+    this->Fd = ::socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_port = htons(static_cast<uint16_t>(port));
+    inet_pton(AF_INET, "127.0.0.1", &a.sin_addr);
+    this->Connected = ::connect(this->Fd, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0;
+  }
+  ~SlicerLikeClient() { ::close(this->Fd); }
+  void Send(const std::vector<uint8_t>& m) { ASSERT_EQ(::send(this->Fd, m.data(), m.size(), MSG_NOSIGNAL), static_cast<ssize_t>(m.size())); }
+  /// The next message of `type` (keep-alives and poses are passed over), within 5 s.
+  bool Next(const char* type, Reply& out) {
+    const double deadline = rp::SteadySeconds() + 5;
+    while (rp::SteadySeconds() < deadline) {
+      uint8_t header[rp::igtl::HeaderSize];
+      if (!this->ReadExactly(header, sizeof header, deadline)) return false;
+      if (rp::igtl::ParseHeader(header, out.Header, 1u << 20) != rp::igtl::Status::Ok) return false;
+      out.Body.resize(out.Header.BodySize);
+      if (!this->ReadExactly(out.Body.data(), out.Body.size(), deadline)) return false;
+      if (out.Header.Is(type)) return true;
+    }
+    return false;
+  }
+  bool Connected = false;
+
+ private:
+  bool ReadExactly(uint8_t* p, size_t n, double deadline) {
+    while (n > 0) {
+      pollfd f{this->Fd, POLLIN, 0};
+      if (::poll(&f, 1, static_cast<int>(std::max(0.0, deadline - rp::SteadySeconds()) * 1000)) <= 0) return false;
+      const ssize_t got = ::recv(this->Fd, p, n, 0);
+      if (got <= 0) return false;
+      p += got;
+      n -= static_cast<size_t>(got);
+    }
+    return true;
+  }
+  int Fd = -1;
+};
+
+std::vector<uint8_t> Command(uint32_t id, const std::string& name, const std::string& xml) {
+  std::vector<uint8_t> content(rp::igtl::CommandHeaderSize + xml.size());
+  rp::igtl::EncodeCommand(id, name.c_str(), xml.data(), xml.size(), content.data());
+  return rp::igtl::BuildMessage(2, "COMMAND", "CMD", rp::WallSeconds(), content.data(), content.size(), {{"MRMLNodeName", "CMD"}}, id);
+}
+
+std::vector<uint8_t> StringCommand(const std::string& uid, const std::string& xml) {
+  std::vector<uint8_t> content(rp::igtl::StringHeaderSize + xml.size());
+  rp::igtl::EncodeString(xml.data(), xml.size(), content.data());
+  return rp::igtl::BuildMessage(1, "STRING", ("CMD_" + uid).c_str(), rp::WallSeconds(), content.data(), content.size());
+}
+
+std::string StringText(const Reply& r) {
+  const rp::igtl::Body b = r.Split();
+  uint16_t encoding = 0;
+  const char* text = nullptr;
+  size_t length = 0;
+  if (rp::igtl::DecodeString(b.Content, b.ContentSize, encoding, text, length) != rp::igtl::Status::Ok) return "";
+  return std::string(text, length);
+}
+
+class IgtlCommands : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    this->Slot = this->Table.FindOrAdd("StylusToTracker");
+    rp::IgtlServer::Options o;
+    o.Port = 0;
+    o.KeepAliveSeconds = 0.05;
+    o.Transforms = [](const std::string& from, const std::string& to, double m[16], rp::ToolState& state) {
+      if (from != "StylusTip" || to != "Reference") return false;
+      for (int i = 0; i < 16; ++i) m[i] = i % 5 == 0 ? 1 : 0;
+      m[3] = 42;
+      state = rp::ToolState::OK;
+      return true;
+    };
+    this->Server = std::make_unique<rp::IgtlServer>(this->Table, o);
+    std::string error;
+    ASSERT_TRUE(this->Server->Start(error)) << error;
+  }
+  rp::ToolPoseTable Table;
+  int Slot = -1;
+  std::unique_ptr<rp::IgtlServer> Server;
+};
+
+}  // namespace
+
+TEST_F(IgtlCommands, CommandIsAnsweredWithRtsCommandCarryingStatusAndMessageMetadata) {
+  SlicerLikeClient client(this->Server->Port());
+  ASSERT_TRUE(client.Connected);
+  // Slicer's connector: a first STATUS in header v2 so that the server talks v2 back.
+  std::vector<uint8_t> status(rp::igtl::StatusSize(""));
+  rp::igtl::EncodeStatus(rp::igtl::StatusOk, 0, "", "", status.data());
+  client.Send(rp::igtl::BuildMessage(2, "STATUS", "", rp::WallSeconds(), status.data(), status.size()));
+  client.Send(Command(7, "RequestChannelIds", "<Command Name=\"RequestChannelIds\" />"));
+  Reply r;
+  ASSERT_TRUE(client.Next("RTS_COMMAND", r));
+  EXPECT_EQ(r.Header.Version, 2);
+  EXPECT_EQ(r.Meta("Status"), "SUCCESS");
+  EXPECT_EQ(r.Meta("Message"), "TrackerStream");
+  const rp::igtl::Body b = r.Split();
+  EXPECT_EQ(b.MessageId, 7u);
+  uint32_t id = 0;
+  char name[rp::igtl::CommandNameSize + 1];
+  const char* text = nullptr;
+  size_t length = 0;
+  ASSERT_EQ(rp::igtl::DecodeCommand(b.Content, b.ContentSize, id, name, text, length), rp::igtl::Status::Ok);
+  EXPECT_EQ(id, 7u);
+  EXPECT_STREQ(name, "RequestChannelIds");
+  EXPECT_EQ(std::string(text, length), "<CommandReply Status=\"SUCCESS\" Message=\"TrackerStream\" />");
+
+  client.Send(Command(8, "GetTransform", "<Command Name=\"GetTransform\" TransformName=\"StylusTipToReference\" />"));
+  ASSERT_TRUE(client.Next("RTS_COMMAND", r));
+  EXPECT_EQ(r.Meta("Status"), "SUCCESS");
+  EXPECT_EQ(r.Meta("Message").substr(0, 9), "1 0 0 42 ");
+  client.Send(Command(9, "Teleport", "<Command Name=\"Teleport\" />"));
+  ASSERT_TRUE(client.Next("RTS_COMMAND", r));
+  EXPECT_EQ(r.Meta("Status"), "FAIL");
+  EXPECT_NE(r.Meta("Message").find("unknown command Teleport"), std::string::npos) << r.Meta("Message");
+  client.Send(Command(10, "X", "<Command Name=\"Unclosed"));
+  ASSERT_TRUE(client.Next("RTS_COMMAND", r));
+  EXPECT_EQ(r.Meta("Status"), "FAIL");
+}
+
+TEST_F(IgtlCommands, StringCmdIsAnsweredWithAckAndRecordingWritesAPlusSequence) {
+  SlicerLikeClient client(this->Server->Port());
+  ASSERT_TRUE(client.Connected);
+  const std::string file = std::string(ROBOPLAN_TEST_OUTPUT_DIR) + "/server-recording.igs.mha";
+  std::filesystem::create_directories(ROBOPLAN_TEST_OUTPUT_DIR);
+  std::filesystem::remove(file);
+  client.Send(StringCommand("1", "<Command Name=\"StartRecording\" OutputFilename=\"" + file + "\" />"));
+  Reply r;
+  ASSERT_TRUE(client.Next("STRING", r));
+  EXPECT_STREQ(r.Header.DeviceName, "ACK_1");
+  EXPECT_EQ(StringText(r).rfind("<CommandReply Status=\"SUCCESS\"", 0), 0u) << StringText(r);
+  for (int i = 0; i < 5; ++i) {
+    rp::ToolPose p;
+    p.Translation[0] = 10.0 * i;
+    p.State = i == 2 ? rp::ToolState::Missing : rp::ToolState::OK;
+    this->Table.Publish(this->Slot, p);
+    usleep(40000);  // the server sends (and records) at 60 Hz
+  }
+  client.Send(StringCommand("2", "<Command Name=\"StopRecording\" />"));
+  ASSERT_TRUE(client.Next("STRING", r));
+  EXPECT_STREQ(r.Header.DeviceName, "ACK_2");
+  EXPECT_NE(StringText(r).find(file), std::string::npos) << StringText(r);
+  const rp::PlusSequence s = rp::ReadPlusSequence(file);
+  ASSERT_EQ(s.TransformNames, std::vector<std::string>{"StylusToTracker"});
+  ASSERT_GE(s.Frames.size(), 4u);
+  EXPECT_EQ(s.Frames.back().Transforms[0].Matrix[3], 40.0);
+  bool missing = false;
+  for (const auto& f : s.Frames) missing |= f.Transforms[0].State == rp::ToolState::Missing;
+  EXPECT_TRUE(missing);
+  client.Send(StringCommand("3", "<Command Name=\"StopRecording\" />"));
+  ASSERT_TRUE(client.Next("STRING", r));
+  EXPECT_EQ(StringText(r), "<CommandReply Status=\"FAIL\" Message=\"not recording\" />");
+}
+
+TEST(IgtlCommandRegistry, HasPlusServerCommandsEachRegisteredOnce) {
+  const std::vector<std::string> names = rp::IgtlCommandNames();
+  for (const char* n : {"RequestChannelIds", "RequestDeviceIds", "StartRecording", "StopRecording", "GetTransform", "UpdateTransform"})
+    EXPECT_NE(std::find(names.begin(), names.end(), n), names.end()) << n;
+}
