@@ -354,6 +354,13 @@ void Report(benchmark::State& state, const Run& run) {
   state.counters["pictures_made_ahead"] = run.PicturesAhead;
   state.counters["model_layer_renders"] = run.ModelLayerRenders;
   state.counters["model_layer_copies"] = run.ModelLayerCopies;
+  // CPU per frame depends much less on other load than the frame's wall time does: the figure to
+  // compare changes by on a busy machine.
+  const double frames = double(std::max<size_t>(1, run.FrameMs.size()));
+  if (run.FrameSumMs > 0) {
+    state.counters["main_cpu_ms_per_frame"] = run.MainCpuMs / frames;
+    state.counters["process_cpu_ms_per_frame"] = run.ProcessCpuMs / frames;
+  }
   std::cerr << "[viewer-bench] " << run.Name << ": " << run.FrameMs.size() << " frames in " << run.Seconds << " s, p50 "
             << p.P50 << " ms, p95 " << p.P95 << " ms, max " << p.Max << " ms, "
             << state.counters["fps"].value << " fps, " << state.counters["views_per_frame"].value << " views/frame, "
@@ -365,7 +372,8 @@ void Report(benchmark::State& state, const Run& run) {
     // The haptic servo thread's CPU is in the process time too (about 1 ms of each 1 ms tick
     // when it spins; it sleeps here), so this is an upper bound of the rendering's CPU.
     std::cerr << "; main thread busy " << 100.0 * run.MainCpuMs / run.FrameSumMs << " % of the frame time, process CPU "
-              << run.ProcessCpuMs / run.FrameSumMs << " cores";
+              << run.ProcessCpuMs / run.FrameSumMs << " cores; CPU per frame: main thread " << run.MainCpuMs / frames
+              << " ms, process " << run.ProcessCpuMs / frames << " ms";
   }
   std::cerr << "\n";
 }
@@ -639,6 +647,8 @@ void WriteFigures(const std::string& out) {
                              {"fps", double(run.FrameMs.size()) / std::max(1e-9, run.Seconds)},
                              {"reslices", run.Reslices}, {"picturesMadeAhead", run.PicturesAhead}, {"targetP95Ms", 33.0},
                              {"modelLayerRenders", run.ModelLayerRenders}, {"modelLayerCopies", run.ModelLayerCopies},
+                             {"mainCpuMsPerFrame", run.FrameSumMs > 0 ? run.MainCpuMs / double(std::max<size_t>(1, run.FrameMs.size())) : 0.0},
+                             {"processCpuMsPerFrame", run.FrameSumMs > 0 ? run.ProcessCpuMs / double(std::max<size_t>(1, run.FrameMs.size())) : 0.0},
                              {"viewMeanMs", {{"axial", run.ViewMeanMs[0]}, {"sagittal", run.ViewMeanMs[1]},
                                              {"coronal", run.ViewMeanMs[2]}, {"3d", run.ViewMeanMs[3]}}}};
     rp::bench::Series s;
