@@ -800,6 +800,83 @@ vtkSmartPointer<vtkImageData> NarrowWide(vtkImageData* stack, int floatBits) {
   return image;
 }
 
+// An irregular stack resampled along the normal onto a regular grid whose spacing is about the
+// smallest gap (linear, float); `positions` and `spacing` receive the new grid's.
+vtkSmartPointer<vtkImageData> ResampleAlongNormal(vtkImageData* stack, const SeriesGeometry& g,
+                                                  std::vector<double>& positions, double& spacing) {
+  int dims[3];
+  stack->GetDimensions(dims);
+  const size_t sliceSize = static_cast<size_t>(dims[0]) * dims[1];
+  spacing = g.MinGap;
+  const double length = g.Positions.back() - g.Positions.front();
+  const int n = static_cast<int>(std::lround(length / spacing)) + 1;
+  spacing = n > 1 ? length / (n - 1) : spacing;
+  positions.clear();
+  for (int k = 0; k < n; ++k) positions.push_back(g.Positions.front() + k * spacing);
+  auto image = vtkSmartPointer<vtkImageData>::New();
+  image->SetDimensions(dims[0], dims[1], n);
+  image->AllocateScalars(VTK_FLOAT, 1);
+  float* dst = static_cast<float*>(image->GetScalarPointer());
+  vtkDataArray* src = stack->GetPointData()->GetScalars();
+  size_t below = 0;
+  for (int k = 0; k < n; ++k) {
+    const double p = positions[k];
+    while (below + 2 < g.Positions.size() && g.Positions[below + 1] <= p) ++below;
+    const size_t a = below, b = std::min(below + 1, g.Positions.size() - 1);
+    const double t = b != a ? std::clamp((p - g.Positions[a]) / (g.Positions[b] - g.Positions[a]), 0.0, 1.0) : 0.0;
+    for (size_t i = 0; i < sliceSize; ++i) {
+      const double va = src->GetComponent(static_cast<vtkIdType>(a * sliceSize + i), 0);
+      const double vb = src->GetComponent(static_cast<vtkIdType>(b * sliceSize + i), 0);
+      dst[static_cast<size_t>(k) * sliceSize + i] = static_cast<float>((1.0 - t) * va + t * vb);
+    }
+  }
+  return image;
+}
+
+// An int32 stack narrowed to 16 bits when the values fit (CT in HU, most MR).
+vtkSmartPointer<vtkImageData> NarrowInt(vtkImageData* stack) {
+  const int* values = static_cast<const int*>(stack->GetScalarPointer());
+  const size_t total = static_cast<size_t>(stack->GetNumberOfPoints());
+  int lo = std::numeric_limits<int>::max(), hi = std::numeric_limits<int>::min();
+  for (size_t i = 0; i < total; ++i) {
+    lo = std::min(lo, values[i]);
+    hi = std::max(hi, values[i]);
+  }
+  const int type = (lo >= -32768 && hi <= 32767) ? VTK_SHORT : (lo >= 0 && hi <= 65535) ? VTK_UNSIGNED_SHORT : VTK_INT;
+  if (type == VTK_INT) return stack;
+  auto image = vtkSmartPointer<vtkImageData>::New();
+  image->SetDimensions(stack->GetDimensions());
+  image->AllocateScalars(type, 1);
+  if (type == VTK_SHORT)
+    Narrow(values, static_cast<short*>(image->GetScalarPointer()), total);
+  else
+    Narrow(values, static_cast<unsigned short*>(image->GetScalarPointer()), total);
+  return image;
+}
+
+// Geometry: i along a row (IOP row direction, column spacing), j down the columns, k along
+// the normal; IJK-to-LPS from the first header, its origin moved to `firstPosition` along the
+// normal (a resampled grid's first slice).
+void StackMatrix(const SliceHeader& h0, const SeriesGeometry& g, double spacing, double firstPosition,
+                 double ijkToLPS[16]) {
+  double axes[3][3] = {{h0.Orientation[0], h0.Orientation[1], h0.Orientation[2]},
+                       {h0.Orientation[3], h0.Orientation[4], h0.Orientation[5]},
+                       {g.Normal[0], g.Normal[1], g.Normal[2]}};
+  for (int c = 0; c < 2; ++c) {
+    const double n = std::sqrt(Dot3(axes[c], axes[c]));
+    for (double& v : axes[c]) v /= n;
+  }
+  const double spacings[3] = {h0.PixelSpacing[1], h0.PixelSpacing[0], spacing};
+  double origin[3] = {h0.Position[0], h0.Position[1], h0.Position[2]};
+  const double shift = firstPosition - g.Positions.front();
+  for (int r = 0; r < 3; ++r) origin[r] += shift * g.Normal[r];
+  for (int i = 0; i < 16; ++i) ijkToLPS[i] = i == 15 ? 1.0 : 0.0;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) ijkToLPS[4 * r + c] = axes[c][r] * spacings[c];
+    ijkToLPS[4 * r + 3] = origin[r];
+  }
+}
+
 // The distinct notes of a stack's images, in order (the same note on every slice once).
 std::vector<std::string> SeriesNotes(const std::vector<SliceHeader>& headers) {
   std::vector<std::string> notes, keys;
@@ -995,7 +1072,6 @@ bool ReadDicomSeries(const DicomSeriesInfo& series, ImageVolume& volume, std::st
       error = what + ": " + g.IrregularMessage + " (refused; allow resampling to load it with its true geometry)";
       return false;
     }
-
     // Decode every image in geometric order into a stack: int32 when every image's slope and
     // intercept are integers (exact), float otherwise; narrowed to short/ushort afterwards.
     const int cols = headers.front().Columns, rows = headers.front().Rows;
@@ -1052,82 +1128,24 @@ bool ReadDicomSeries(const DicomSeriesInfo& series, ImageVolume& volume, std::st
         if (progress) progress(double(done) / g.Order.size(), "reading DICOM");
       }
     }
-
-    // Irregular series: resample along the normal onto a regular grid (linear, float).
-    std::vector<double> outPositions;
+    // Irregular series: resample along the normal onto a regular grid (linear, float);
+    // otherwise narrow the stack to the smallest type that holds its values.
+    std::vector<double> outPositions = g.Positions;
     double spacing = g.Spacing;
     vtkSmartPointer<vtkImageData> image = stack;
     if (g.Irregular) {
-      spacing = g.MinGap;
-      const double length = g.Positions.back() - g.Positions.front();
-      const int n = static_cast<int>(std::lround(length / spacing)) + 1;
-      spacing = n > 1 ? length / (n - 1) : spacing;
-      for (int k = 0; k < n; ++k) outPositions.push_back(g.Positions.front() + k * spacing);
-      image = vtkSmartPointer<vtkImageData>::New();
-      image->SetDimensions(cols, rows, n);
-      image->AllocateScalars(VTK_FLOAT, 1);
-      float* dst = static_cast<float*>(image->GetScalarPointer());
-      vtkDataArray* src = stack->GetPointData()->GetScalars();
-      size_t below = 0;
-      for (int k = 0; k < n; ++k) {
-        const double p = outPositions[k];
-        while (below + 2 < g.Positions.size() && g.Positions[below + 1] <= p) ++below;
-        const size_t a = below, b = std::min(below + 1, g.Positions.size() - 1);
-        const double t = b != a ? std::clamp((p - g.Positions[a]) / (g.Positions[b] - g.Positions[a]), 0.0, 1.0) : 0.0;
-        for (size_t i = 0; i < sliceSize; ++i) {
-          const double va = src->GetComponent(static_cast<vtkIdType>(a * sliceSize + i), 0);
-          const double vb = src->GetComponent(static_cast<vtkIdType>(b * sliceSize + i), 0);
-          dst[static_cast<size_t>(k) * sliceSize + i] = static_cast<float>((1.0 - t) * va + t * vb);
-        }
-      }
+      image = ResampleAlongNormal(stack, g, outPositions, spacing);
       if (warnings)
-        warnings->push_back(g.IrregularMessage + "; resampled to " + std::to_string(n) + " slices " + Fmt(spacing, 3) +
-                            " mm apart by linear interpolation along the slice normal");
-    } else {
-      outPositions = g.Positions;
-      if (stackType == VTK_DOUBLE) image = NarrowWide(stack, floatBits);
-      if (stackType == VTK_INT) {
-        // Narrow to 16 bits when the values fit (CT in HU, most MR).
-        const int* values = static_cast<const int*>(stack->GetScalarPointer());
-        const size_t total = sliceSize * stackDepth;
-        int lo = std::numeric_limits<int>::max(), hi = std::numeric_limits<int>::min();
-        for (size_t i = 0; i < total; ++i) {
-          lo = std::min(lo, values[i]);
-          hi = std::max(hi, values[i]);
-        }
-        const int narrowType = (lo >= -32768 && hi <= 32767) ? VTK_SHORT : (lo >= 0 && hi <= 65535) ? VTK_UNSIGNED_SHORT : VTK_INT;
-        if (narrowType != VTK_INT) {
-          image = vtkSmartPointer<vtkImageData>::New();
-          image->SetDimensions(cols, rows, stackDepth);
-          image->AllocateScalars(narrowType, 1);
-          if (narrowType == VTK_SHORT)
-            Narrow(values, static_cast<short*>(image->GetScalarPointer()), total);
-          else
-            Narrow(values, static_cast<unsigned short*>(image->GetScalarPointer()), total);
-        }
-      }
+        warnings->push_back(g.IrregularMessage + "; resampled to " + std::to_string(outPositions.size()) + " slices " +
+                            Fmt(spacing, 3) + " mm apart by linear interpolation along the slice normal");
+    } else if (stackType == VTK_DOUBLE) {
+      image = NarrowWide(stack, floatBits);
+    } else if (stackType == VTK_INT) {
+      image = NarrowInt(stack);
     }
-
-    // Geometry: i along a row (IOP row direction, column spacing), j down the columns, k along
-    // the normal; IJK-to-LPS from the headers, then to RAS.
     const SliceHeader& h0 = headers[g.Order.front()];
-    double axes[3][3] = {{h0.Orientation[0], h0.Orientation[1], h0.Orientation[2]},
-                         {h0.Orientation[3], h0.Orientation[4], h0.Orientation[5]},
-                         {g.Normal[0], g.Normal[1], g.Normal[2]}};
-    for (int c = 0; c < 2; ++c) {
-      const double n = std::sqrt(Dot3(axes[c], axes[c]));
-      for (double& v : axes[c]) v /= n;
-    }
-    const double spacings[3] = {h0.PixelSpacing[1], h0.PixelSpacing[0], spacing};
-    // Origin: the first slice's position, moved onto the resampled first position if needed.
-    double origin[3] = {h0.Position[0], h0.Position[1], h0.Position[2]};
-    const double shift = outPositions.front() - g.Positions.front();
-    for (int r = 0; r < 3; ++r) origin[r] += shift * g.Normal[r];
-    double ijkToLPS[16] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1};
-    for (int r = 0; r < 3; ++r) {
-      for (int c = 0; c < 3; ++c) ijkToLPS[4 * r + c] = axes[c][r] * spacings[c];
-      ijkToLPS[4 * r + 3] = origin[r];
-    }
+    double ijkToLPS[16];
+    StackMatrix(h0, g, spacing, outPositions.front(), ijkToLPS);
     FlipLPSRASIndexToSpace(ijkToLPS);
     ImageVolume result;
     result.Image = image;
