@@ -94,7 +94,7 @@ bool ReadDicomReferenceSeries(const std::string& path, DicomReferenceSeries& ref
   for (const auto& s : scan.Series)
     if (seriesUID.empty() || s.StackID == seriesUID || s.SeriesInstanceUID == seriesUID) matches.push_back(&s);
   if (matches.size() != 1) {
-    error = matches.empty() ? "no DICOM image series " + seriesUID + " in " + path
+    error = matches.empty() ? "no DICOM image series" + (seriesUID.empty() ? "" : " " + seriesUID) + " in " + path
                             : path + " holds " + std::to_string(matches.size()) +
                                   " image series or stacks: name the referenced one";
     return false;

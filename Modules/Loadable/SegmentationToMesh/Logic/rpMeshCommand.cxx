@@ -16,6 +16,9 @@
 
 #include "rpArgParser.h"
 #include "rpBoneSplit.h"
+#include "rpDicomReferenceSeries.h"
+#include "rpDicomRtStruct.h"
+#include "rpDicomSegmentation.h"
 #include "rpDicomSeries.h"
 #include "rpImageVolume.h"
 #include "rpLabelComparison.h"
@@ -125,7 +128,7 @@ int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contex
       "mesh",
       "Segment a volume (threshold presets, region growing, confidence connected, morphology, components) or "
       "take a segmentation (.seg.nrrd), and write one closed surface per segment (display + haptic mesh) to --out.");
-  parser.Positional("input", "volume or labelmap (.nrrd, .nii.gz, .mha, DICOM folder) or segmentation (.seg.nrrd)")
+  parser.Positional("input", "volume or labelmap (.nrrd, .nii.gz, .mha, DICOM folder) or segmentation (.seg.nrrd, DICOM SEG or RTSTRUCT file or folder)")
       .Input(FileKind::Image, InputExtensions())
       .Option("out", "dir", "output folder (created)")
       .OutputFolder()
@@ -304,7 +307,26 @@ int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contex
   progress.Report(0.0, "loading " + input);
   std::string error;
   vtkRPNode* loaded = nullptr;
-  if (fs::is_directory(input)) {
+  std::string dicomObject;
+  const int dicomSegmentation = DicomSegmentationObjectKind(input, &dicomObject, &error);
+  if (dicomSegmentation < 0) {
+    err << "roboplan mesh: " << error << "\n";
+    return 1;
+  }
+  if (dicomSegmentation > 0) {
+    // A DICOM SEG or RTSTRUCT (file, or a folder holding one beside its image series).
+    vtkNew<vtkRPSegmentationNode> read;
+    std::vector<std::string> warnings;
+    const bool ok = dicomSegmentation == 1 ? ReadDicomSegmentation(dicomObject, read, error, "", &warnings)
+                                           : ReadDicomRtStruct(dicomObject, read, error, "", &warnings);
+    if (!ok) {
+      err << "roboplan mesh: " << error << "\n";
+      return 1;
+    }
+    for (const auto& w : warnings) err << "roboplan mesh: warning: " << w << "\n";
+    scene->AddNode(read);
+    loaded = read;
+  } else if (fs::is_directory(input)) {
     // A DICOM series (folder or DICOMDIR's folder).
     ImageVolume series;
     if (!ReadDicomVolume(input, series, error)) {
@@ -350,7 +372,10 @@ int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contex
     const InputChoice choice =
         ChooseInputKind(inputKind, volume->GetImageData(), input, parser.Has("labels"), intensityOptions);
     inputInfo = {{"kind", choice.Labelmap ? "labelmap" : "intensity"}, {"reason", choice.Reason}};
-    if (!quiet) err << "input: " << choice.Reason << "\n";
+    // The labelmap hint goes to the error stream even with --json (a run that then finds empty
+    // segments would otherwise say only that).
+    const bool hint = choice.Reason.find("--input-kind labelmap") != std::string::npos && !choice.Labelmap;
+    if (!quiet || hint) err << "input: " << choice.Reason << "\n";
     if (choice.Labelmap) {
       LabelTable table;
       if (parser.Has("labels") && !ReadLabelTable(parser.Get("labels"), table, error)) {
