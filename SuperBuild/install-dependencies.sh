@@ -9,6 +9,7 @@ packages=(
   libgdcm-dev libcharls-dev            # GDCM 3.0 decodes JPEG 2000 (OpenJPEG); CharLS 2 decodes JPEG-LS
   dcmtk libgdcm-tools                  # dcmcjpeg, dcmcjpls, dcmcrle, dcmconv, dcmodify, gdcmconv: tests encode real series with them
   python3-pydicom python3-numpy        # pydicom: the independent reader of our SEG in the DICOM segmentation tests
+  dicom3tools                          # dciodvfy: our SEG checked against the IOD by David Clunie's verifier
   qtbase5-dev                          # Qt 5.15
   libeigen3-dev                        # Eigen 3.4
   libopenigtlink-dev                   # OpenIGTLink 1.11
