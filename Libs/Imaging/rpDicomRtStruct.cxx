@@ -4,6 +4,8 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <new>
+#include <stdexcept>
 #include <sstream>
 
 #include <dcmtk/config/osconfig.h>
@@ -19,6 +21,7 @@
 #include "rpDicomCommon.h"
 #include "rpDicomReferenceSeries.h"
 #include "rpImageVolume.h"
+#include "rpMemoryBudget.h"
 #include "vtkRPSegmentationNode.h"
 
 namespace fs = std::filesystem;
@@ -178,7 +181,7 @@ std::string FindRtStruct(const std::string& path, std::string& error) {
 
 }  // namespace
 
-bool ReadDicomRtStruct(const std::string& path, vtkRPSegmentationNode* node, std::string& error,
+static bool ReadRtStruct(const std::string& path, vtkRPSegmentationNode* node, std::string& error,
                        const std::string& referencePath, std::vector<std::string>* warnings) {
   InitializeDcmtk();
   const std::string file = FindRtStruct(path, error);
@@ -207,6 +210,8 @@ bool ReadDicomRtStruct(const std::string& path, vtkRPSegmentationNode* node, std
   reference.Volume.Image->GetDimensions(dims);
   vtkNew<vtkMatrix4x4> rasToIJK;
   vtkMatrix4x4::Invert(reference.Volume.IJKToRAS, rasToIJK);
+  const int64_t size[3] = {dims[0], dims[1], dims[2]};
+  if (!CheckImageFitsInMemory(size, 3.0, what + "labelmap", error)) return false;  // labels + one ROI's mask
   const std::vector<Roi> rois = ReadRois(rt);
   if (rois.empty()) {
     error = what + "no ROI (Structure Set ROI Sequence is empty)";
@@ -261,6 +266,18 @@ bool ReadDicomRtStruct(const std::string& path, vtkRPSegmentationNode* node, std
   if (rt.getStructureSetLabel(label).good() && !label.empty()) node->SetName(label.c_str());
   node->EndModify(previous);
   return true;
+}
+
+bool ReadDicomRtStruct(const std::string& path, vtkRPSegmentationNode* node, std::string& error,
+                       const std::string& referencePath, std::vector<std::string>* warnings) {
+  try {
+    return ReadRtStruct(path, node, error, referencePath, warnings);
+  } catch (const std::bad_alloc&) {
+    error = "out of memory reading " + path;
+  } catch (const std::exception& e) {
+    error = path + ": " + e.what();
+  }
+  return false;
 }
 
 }  // namespace rp

@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <map>
 #include <memory>
+#include <new>
+#include <stdexcept>
 
 #include <dcmtk/config/osconfig.h>
 #include <dcmtk/dcmdata/dctk.h>
@@ -29,6 +31,7 @@
 #include "rpDicomCommon.h"
 #include "rpDicomReferenceSeries.h"
 #include "rpImageVolume.h"
+#include "rpMemoryBudget.h"
 #include "vtkRPSegmentationNode.h"
 
 namespace rp {
@@ -274,7 +277,7 @@ void ReadSegments(DcmSegmentation& seg, vtkRPSegmentationNode* node) {
 
 }  // namespace
 
-bool ReadDicomSegmentation(const std::string& path, vtkRPSegmentationNode* node, std::string& error,
+static bool ReadSegmentation(const std::string& path, vtkRPSegmentationNode* node, std::string& error,
                            const std::string& referencePath, std::vector<std::string>* warnings) {
   InitializeDcmtk();
   std::string file;
@@ -338,6 +341,8 @@ bool ReadDicomSegmentation(const std::string& path, vtkRPSegmentationNode* node,
     return false;
   }
   const size_t segments = seg->getNumberOfSegments();
+  const int64_t size[3] = {dims[0], dims[1], dims[2]};
+  if (!CheckImageFitsInMemory(size, segments <= 255 ? 1.0 : 2.0, what + "labelmap", error)) return false;
   auto labels = vtkSmartPointer<vtkImageData>::New();
   labels->SetDimensions(dims);
   labels->AllocateScalars(segments <= 255 ? VTK_UNSIGNED_CHAR : VTK_UNSIGNED_SHORT, 1);
@@ -536,7 +541,7 @@ std::unique_ptr<DcmSegmentation> CreateSegmentation(vtkRPSegmentationNode* node,
 
 }  // namespace
 
-bool WriteDicomSegmentation(vtkRPSegmentationNode* node, const std::string& referencePath, const std::string& outputFile,
+static bool WriteSegmentation(vtkRPSegmentationNode* node, const std::string& referencePath, const std::string& outputFile,
                             std::string& error, const DicomSegmentationWriteOptions& options) {
   InitializeDcmtk();
   if (!node || !node->GetImageData() || !node->GetImageData()->GetPointData()->GetScalars()) {
@@ -585,6 +590,30 @@ bool WriteDicomSegmentation(vtkRPSegmentationNode* node, const std::string& refe
     return false;
   }
   return true;
+}
+
+bool ReadDicomSegmentation(const std::string& path, vtkRPSegmentationNode* node, std::string& error,
+                           const std::string& referencePath, std::vector<std::string>* warnings) {
+  try {
+    return ReadSegmentation(path, node, error, referencePath, warnings);
+  } catch (const std::bad_alloc&) {
+    error = "out of memory reading " + path;
+  } catch (const std::exception& e) {
+    error = path + ": " + e.what();
+  }
+  return false;
+}
+
+bool WriteDicomSegmentation(vtkRPSegmentationNode* node, const std::string& referencePath, const std::string& outputFile,
+                            std::string& error, const DicomSegmentationWriteOptions& options) {
+  try {
+    return WriteSegmentation(node, referencePath, outputFile, error, options);
+  } catch (const std::bad_alloc&) {
+    error = "out of memory writing " + outputFile;
+  } catch (const std::exception& e) {
+    error = outputFile + ": " + e.what();
+  }
+  return false;
 }
 
 }  // namespace rp

@@ -383,12 +383,23 @@ void ExpandFrames(DcmFileFormat& format, const SliceHeader& file, std::vector<Sl
       ExpandLegacyFrames(ds, file, out);
     return;
   }
+  std::string truncated;
+  bool checked = false;
   for (int f = 0; f < file.Frames; ++f) {
     SliceHeader h = file;
     h.Frame = f;
     bool hasFramePosition = false;
     ReadFunctionalGroups(ds, f, h, hasFramePosition);
     h.MultiFrameWithoutPositions = file.Frames > 1 && !hasFramePosition;
+    if (h.MultiFrameWithoutPositions) {
+      if (!checked) truncated = TruncatedReason(file);  // once per file
+      checked = true;
+      h.HeaderProblem = !truncated.empty() ? truncated
+                                           : "multi-frame image without a position per frame (" +
+                                                 std::to_string(file.Frames) + " frames in " +
+                                                 fs::path(file.File).filename().string() +
+                                                 ", no PerFrameFunctionalGroupsSequence with PlanePositionSequence)";
+    }
     out.push_back(std::move(h));
   }
 }

@@ -31,6 +31,7 @@
 #include <vtkRenderWindowInteractor.h>
 
 #include "rpBackgroundRead.h"
+#include "rpDataLoader.h"
 #include "rpModuleManager.h"
 #include "rpNodeStorage.h"
 #include "rpSceneIO.h"
@@ -434,7 +435,8 @@ bool ViewerMainWindow::LoadFile(const QString& path, QString* error) {
   std::string message;
   std::vector<std::string> warnings;
   bool ok = false;
-  if (HasExtension(path.toStdString(), SceneFileExtension) && !QFileInfo(path).isDir()) {
+  const DataReader* reader = FindDataReader(path.toStdString());
+  if (reader && reader->ReadsIntoScene()) {
     // A scene file fills the scene as it reads: on this thread.
     QApplication::setOverrideCursor(Qt::WaitCursor);
     ok = LoadSceneOrDataFile(this->Scene, path.toStdString(), message, &warnings);

@@ -24,12 +24,15 @@
 #include <vtkPolyData.h>
 #include <vtkStripper.h>
 
+#include "rpDataLoader.h"
 #include "rpDicomRtStruct.h"
 #include "rpDicomSegmentation.h"
 #include "rpDicomSeries.h"
 #include "rpDicomTestTools.h"
 #include "rpSharedData.h"
+#include "rpImagingReaders.h"
 #include "rpVolumeFiles.h"
+#include "vtkRPScene.h"
 #include "vtkRPSegmentationNode.h"
 
 namespace fs = std::filesystem;
@@ -252,6 +255,17 @@ TEST(DicomSegmentation, KneeLabelsWrittenAsSegReadBackVoxelExact) {
                      knee.Labels.Image->GetScalarComponentAsDouble(i, j, k + k0, 0);
   EXPECT_EQ(differing, 0u);
 
+  // The one loader (what `mesh`, `convert` and the viewer open paths with) reads it as a segmentation.
+  ASSERT_TRUE(rp::RegisterImagingReaders());
+  vtkNew<vtkRPScene> scene;
+  rp::LoadResult load = rp::LoadPath(scene, seg.string());
+  ASSERT_TRUE(load.Ok) << load.Error;
+  EXPECT_EQ(load.Reader, "DICOM SEG / RTSTRUCT");
+  ASSERT_EQ(load.Nodes.size(), 1u);
+  auto* loaded = vtkRPSegmentationNode::SafeDownCast(load.Nodes[0]);
+  ASSERT_NE(loaded, nullptr);
+  EXPECT_EQ(loaded->GetNumberOfSegments(), 3);
+
   // DCMTK's own dump parses it.
   const std::string dcmdump = rp::testing::FindTool("dcmdump");
   if (!dcmdump.empty()) {
@@ -448,6 +462,20 @@ TEST(DicomSegmentation, KneeRtStructFromPydicomRasterizesWithinHalfAVoxel) {
   EXPECT_EQ(back->GetNthSegment(0).Name, "Tibia");
   EXPECT_NEAR(back->GetNthSegment(1).Color[2], int(0.9 * 255) / 255.0, 1e-9);
   EXPECT_EQ(back->GetName(), std::string("knee bones"));
+  {  // The loader, given a folder holding the CT and the RTSTRUCT: the RTSTRUCT on the CT's grid.
+    ASSERT_TRUE(rp::RegisterImagingReaders());
+    const fs::path folder = dir / "ct-and-rtstruct";
+    fs::copy(knee.Dicom, folder, fs::copy_options::recursive);
+    fs::copy_file(rtstruct, folder / "rtstruct.dcm");
+    vtkNew<vtkRPScene> scene;
+    rp::LoadResult load = rp::LoadPath(scene, folder.string());
+    ASSERT_TRUE(load.Ok) << load.Error;
+    EXPECT_EQ(load.Reader, "DICOM SEG / RTSTRUCT");
+    ASSERT_EQ(load.Nodes.size(), 1u);
+    auto* loaded = vtkRPSegmentationNode::SafeDownCast(load.Nodes[0]);
+    ASSERT_NE(loaded, nullptr);
+    EXPECT_EQ(DifferingVoxels(loaded->GetImageData(), back->GetImageData()), 0u);
+  }
   // Dice per bone, and every differing voxel's centre within half a voxel of the contour.
   for (int l = 1; l <= 3; ++l) {
     size_t both = 0, truth = 0, read = 0, differing = 0;
