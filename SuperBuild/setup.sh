@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
 # RoboPlan set-up: installs what is missing from Debian's packages, then configures and builds
-# with Ninja and ccache. Idempotent: a second run installs nothing and builds incrementally.
+# with Ninja, ccache and a fast linker (lld). Idempotent: a second run installs nothing and builds
+# incrementally. Each action builds only what it runs: --demo the application and its modules,
+# --test everything but the benchmarks, no action everything with the benchmarks. ccache's paths
+# are relative to the source folder, so a fresh clone elsewhere reuses an earlier clone's cache.
 #
 #   SuperBuild/setup.sh [--build-dir DIR] [--type Release|Debug|RelWithDebInfo]
 #                       [--sanitize address|undefined|address,undefined|thread] [--no-gui] [--no-benchmarks]
@@ -28,21 +31,34 @@ while [ $# -gt 0 ]; do
   esac
 done
 
-"$src_dir/SuperBuild/install-dependencies.sh"
+packages=()
+if [ "$action" = test ]; then packages=(--test); fi  # the tests' own tools only where tests run
+"$src_dir/SuperBuild/install-dependencies.sh" "${packages[@]}"
 
 export CCACHE_DIR="${CCACHE_DIR:-$HOME/.cache/ccache}"
+export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$src_dir}"
 jobs=$(nproc 2>/dev/null || echo 2)
+# Configure again when the test tools arrived after a first configure without them (the fuzzers'
+# clang is looked for at configure time).
+stamp="$build_dir/.roboplan-packages"
 if [ ! -f "$build_dir/build.ninja" ] || [ "$src_dir/CMakeLists.txt" -nt "$build_dir/build.ninja" ] \
-   || ! grep -q "ROBOPLAN_SANITIZE:STRING=$sanitize\$" "$build_dir/CMakeCache.txt" 2>/dev/null; then
+   || ! grep -q "ROBOPLAN_SANITIZE:STRING=$sanitize\$" "$build_dir/CMakeCache.txt" 2>/dev/null \
+   || { [ "$action" = test ] && ! grep -qx test "$stamp" 2>/dev/null; }; then
   echo "== configure ($build_type, sanitize='${sanitize}', gui=$gui, benchmarks=$benchmarks) in $build_dir"
   cmake -S "$src_dir" -B "$build_dir" -G Ninja \
     -DCMAKE_BUILD_TYPE="$build_type" \
     -DCMAKE_C_COMPILER_LAUNCHER=ccache -DCMAKE_CXX_COMPILER_LAUNCHER=ccache \
     -DROBOPLAN_BUILD_GUI=$gui -DROBOPLAN_BUILD_BENCHMARKS=$benchmarks \
     -DROBOPLAN_SANITIZE="$sanitize"
+  if [ "$action" = test ]; then echo test >"$stamp"; fi
 fi
-echo "== build (-j$jobs)"
-cmake --build "$build_dir" -j "$jobs"
+case "$action" in
+  demo) targets=(--target roboplan) ;;  # the application and the modules it loads
+  test) targets=() ;;                   # the default target: everything but the benchmarks
+  *) targets=(--target all); if [ "$benchmarks" = ON ]; then targets+=(benchmarks); fi ;;
+esac
+echo "== build (-j$jobs${targets[*]:+ ${targets[*]}})"
+cmake --build "$build_dir" -j "$jobs" "${targets[@]}"
 
 case "$action" in
   test)

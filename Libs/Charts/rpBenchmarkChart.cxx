@@ -25,6 +25,9 @@
 #include <vtkTextProperty.h>
 #include <vtkWindowToImageFilter.h>
 
+#include "rpBenchmarkConditions.h"
+#include "rpXDisplay.h"
+
 namespace rp::bench {
 namespace {
 
@@ -201,6 +204,11 @@ bool WriteBarChartPNG(const std::string& path, const std::vector<std::string>& c
 }
 
 bool WriteWindowPNG(vtkRenderWindow* window, const std::string& path, std::string& error) {
+  std::string why;
+  if (!rp::EnsureXDisplay(why)) {  // VTK's X window would die in XSync without one
+    error = "picture '" + path + "' not drawn: " + why;
+    return false;
+  }
   window->Render();
   vtkNew<vtkWindowToImageFilter> grab;
   grab->SetInput(window);
@@ -223,6 +231,10 @@ bool WriteCSV(const std::string& path, const std::vector<std::string>& header,
   if (!out) {
     error = "cannot write '" + path + "'";
     return false;
+  }
+  // A benchmark's CSV names its conditions (rpBenchmarkConditions.h) in comment lines.
+  if (Conditions::Process().Started()) {
+    for (const auto& [name, value] : Conditions::Process().Fields()) out << "# " << name << ": " << value << "\n";
   }
   for (size_t i = 0; i < header.size(); ++i) out << (i ? "," : "") << header[i];
   out << "\n";

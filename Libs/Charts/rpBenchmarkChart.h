@@ -1,6 +1,8 @@
 #pragma once
 // Figures and charts for benchmarks and reports: CSV tables and PNG line/scatter charts drawn
-// with VTK's chart classes in an offscreen window (needs an X display: run under xvfb-run).
+// with VTK's chart classes in an offscreen window. Debian's VTK draws through GLX: without
+// $DISPLAY a private Xvfb is started for the process (rpXDisplay.h); where none can be, a picture
+// is not drawn and the Write*PNG call returns false with the reason (never a crash).
 #include <array>
 #include <cstddef>
 #include <string>
@@ -39,10 +41,12 @@ bool WriteHistogramPNG(const std::string& path, const std::vector<double>& binCe
 bool WriteBarChartPNG(const std::string& path, const std::vector<std::string>& categories,
                       const std::vector<Series>& series, const ChartOptions& options, std::string& error);
 
-/// Renders an offscreen window and writes what it shows as a PNG (charts, pictures).
+/// Renders an offscreen window and writes what it shows as a PNG (charts, pictures). Without an X
+/// display (rp::EnsureXDisplay) it returns false naming why and renders nothing.
 bool WriteWindowPNG(vtkRenderWindow* window, const std::string& path, std::string& error);
 
-/// Writes a CSV with a header row; every row must have header.size() values.
+/// Writes a CSV with a header row; every row must have header.size() values. In a benchmark
+/// (Conditions::Process() started) the conditions come first as '#' comment lines.
 bool WriteCSV(const std::string& path, const std::vector<std::string>& header,
               const std::vector<std::vector<double>>& rows, std::string& error);
 

@@ -106,7 +106,7 @@ bool ReexecUnderXvfb(const std::vector<std::string>& arguments) {
 
 int RunScreenshot(CommandContext& context) {
   ArgParser parser("screenshot", "Render a scene headless (offscreen) into one PNG: the views of a layout.");
-  parser.Positional("files", "scene (*.rpscene), data files or DICOM series folders to load", true, true)
+  parser.Positional("files", "scene (*.rpscene, Slicer's *.mrml, *.mrb), data files or DICOM series folders to load", true, true)
       .Option("out", "png", "output PNG file")
       .Option("layout", "name", "4up | 3d | axial | sagittal | coronal (default: the scene's, else 4up)")
       .Option("size", "WxH", "image size in pixels", std::string("800x800"))

@@ -24,7 +24,7 @@ std::vector<rp::Command> ViewerCommands();
 /// ReadsIntoScene (scene files): loading them changes the scene as it goes.
 BackgroundRead MakeDataRead(vtkRPScene* scene, const std::string& path);
 
-/// Loads a scene file (*.rpscene), a data file or a DICOM series folder into the scene (rp::LoadPath). Problems that did not stop the
+/// Loads a scene file (*.rpscene, *.mrml, *.mrb), a data file or a DICOM series folder into the scene (rp::LoadPath). Problems that did not stop the
 /// load (e.g. one missing data file of a scene) go to `warnings`. False with `error` on failure.
 bool LoadSceneOrDataFile(vtkRPScene* scene, const std::string& path, std::string& error,
                          std::vector<std::string>* warnings = nullptr);

@@ -53,7 +53,7 @@ TEST(Registration, EveryDataReaderIsRegisteredOnce) {
   ASSERT_TRUE(imagingReaders);
   std::vector<std::string> names;
   for (const auto& reader : rp::GetDataReaders()) names.push_back(reader->Description());
-  for (const char* name : {"RoboPlan scene", "Node file", "DICOM", "DICOM SEG / RTSTRUCT"})
+  for (const char* name : {"RoboPlan scene", "3D Slicer scene", "Node file", "DICOM", "DICOM SEG / RTSTRUCT"})
     EXPECT_EQ(std::count(names.begin(), names.end(), name), 1) << name;
 }
 
@@ -64,7 +64,8 @@ TEST(Registration, EachKindOfPathFindsItsReader) {
     const char* Reader;
   } expected[] = {{"knee.rpscene", "RoboPlan scene"}, {"ct.nrrd", "Node file"}, {"bones.seg.nrrd", "Node file"},
                   {"femur.vtp", "Node file"},         {"landmarks.mrk.json", "Node file"},
-                  {"MRToCT.tfm", "Node file"},        {folder, "DICOM"}};
+                  {"MRToCT.tfm", "Node file"},        {"plan.mrml", "3D Slicer scene"},
+                  {"plan.mrb", "3D Slicer scene"},    {folder, "DICOM"}};
   for (const auto& path : expected) {
     const rp::DataReader* reader = rp::FindDataReader(path.Path);
     ASSERT_NE(reader, nullptr) << path.Path;

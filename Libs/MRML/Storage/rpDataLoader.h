@@ -29,7 +29,8 @@
 // registration drops out (a static build that leaves the file's object out, a renamed reader).
 // A library whose readers nothing else references (a program reaches them only through LoadPath)
 // also exports an idempotent Register...() that hosts call at start-up (see rpImagingReaders.h).
-// Readers registered today: "RoboPlan scene" (.rpscene, rpSceneFileReader.cxx), "Node file" (every
+// Readers registered today: "RoboPlan scene" (.rpscene, rpSceneFileReader.cxx), "3D Slicer scene"
+// (.mrml, .mrb: rpMrmlDataReader.cxx), "Node file" (every
 // node storage, rpDataLoader.cxx), "DICOM" (folder, DICOMDIR, a DICOM file: Libs/Imaging/rpDicomDataReader.cxx),
 // "DICOM SEG / RTSTRUCT" (such a file, or a folder holding one: rpDicomSegmentationDataReader.cxx).
 #include <memory>

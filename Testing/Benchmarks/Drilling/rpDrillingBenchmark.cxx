@@ -10,7 +10,7 @@
 //    against πr²L + 4/3·πr³, on each grid: error against grid size, and time against accuracy.
 //  * The real knee CT's tibia (../shared/data/knee-ct-vhf, when present): whole-bone re-contour
 //    and a tunnel into it at 0.3 mm.
-// Figures (JSON, CSV) and charts (PNG, needs a display: xvfb-run) go to
+// Figures (JSON, CSV) and charts (PNG; without a display on a private Xvfb, rpXDisplay.h) go to
 // $ROBOPLAN_BENCHMARK_OUTPUT or ./benchmark-output.
 #include <benchmark/benchmark.h>
 
@@ -29,6 +29,7 @@
 #include <vtkPolyData.h>
 
 #include "rpBenchmarkChart.h"
+#include "rpBenchmarkMain.h"
 #include "rpDrillAnalytic.h"
 #include "rpDrillBoneBuilder.h"
 #include "rpDrillRun.h"
@@ -332,6 +333,7 @@ BENCHMARK(BM_OneBlockRecontour)->Unit(benchmark::kMicrosecond);
 
 int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
+  rp::bench::AddConditionsToContext();
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();
   const std::string out = rp::bench::OutputDirectory();
@@ -408,6 +410,8 @@ int main(int argc, char** argv) {
   rp::bench::WriteChartPNG(out + "/drilling_volume_error.png", {{"|error| of the stroke volume", g, err}},
                            {"Removed volume against the analytic stroke (r = 2, L = 10 mm)", "voxel size (mm)", "error (%)"},
                            error);
+  rp::bench::FinishConditions(rp::bench::OutputDirectory(), "rpDrillingBenchmark");  // the load after, the steal over the run
+  doc["conditions"] = nlohmann::json::parse(rp::bench::ConditionsJson());
   std::ofstream(out + "/drilling_benchmark.json") << doc.dump(2) << "\n";
   std::cout << doc.dump(2) << "\n";
   benchmark::Shutdown();

@@ -8,7 +8,7 @@
 //    period histograms, missed deadlines.
 //  * Stiffness against penetration error and stability: a device (mass, own damping) pushed
 //    with 2 N onto a sampled virtual wall, simulated in continuous time; Colgate margin.
-// Figures (JSON, CSV) and charts (PNG, needs a display: xvfb-run) go to
+// Figures (JSON, CSV) and charts (PNG; without a display on a private Xvfb, rpXDisplay.h) go to
 // $ROBOPLAN_BENCHMARK_OUTPUT or ./benchmark-output.
 #include <benchmark/benchmark.h>
 
@@ -31,6 +31,7 @@
 #include <vtkStaticCellLocator.h>
 
 #include "rpBenchmarkChart.h"
+#include "rpBenchmarkMain.h"
 #include "rpHapticServo.h"
 #include "rpSimulatedDevice.h"
 
@@ -490,6 +491,7 @@ nlohmann::json StiffnessSweep(const std::string& out) {
 
 int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
+  rp::bench::AddConditionsToContext();
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();
   const std::string out = rp::bench::OutputDirectory();
@@ -502,6 +504,8 @@ int main(int argc, char** argv) {
     doc["jitter"] = Jitter(out, seconds, 0);
     doc["jitterSpin"] = Jitter(out, seconds, 100);
   }
+  rp::bench::FinishConditions(rp::bench::OutputDirectory(), "rpHapticsBenchmark");  // the load after, the steal over the run
+  doc["conditions"] = nlohmann::json::parse(rp::bench::ConditionsJson());
   std::ofstream(out + "/haptics_benchmark.json") << doc.dump(2) << "\n";
   std::cout << doc.dump(2) << "\n";
   benchmark::Shutdown();

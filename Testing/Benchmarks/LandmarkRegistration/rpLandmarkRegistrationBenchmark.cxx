@@ -6,7 +6,7 @@
 //  * Accuracy: RMS TRE at a target 80 mm from the fiducials' centroid against the number of
 //    fiducials and their spread (Monte Carlo, isotropic FLE 0.25 mm, fixed seed; fiducials evenly
 //    spread on a sphere), beside the Fitzpatrick-West-Maurer prediction and the solve time.
-// Figures (JSON, CSV) and charts (PNG, needs a display: xvfb-run) go to
+// Figures (JSON, CSV) and charts (PNG; without a display on a private Xvfb, rpXDisplay.h) go to
 // $ROBOPLAN_BENCHMARK_OUTPUT or ./benchmark-output.
 #include <benchmark/benchmark.h>
 
@@ -25,6 +25,7 @@
 #include <vtkPoints.h>
 
 #include "rpBenchmarkChart.h"
+#include "rpBenchmarkMain.h"
 #include "rpPairedPointRegistration.h"
 #include "rpRegistrationAccuracy.h"
 
@@ -228,6 +229,7 @@ AccuracyRow MeasureAccuracy(int n, double spread, int trials) {
 
 int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
+  rp::bench::AddConditionsToContext();
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
 
@@ -273,7 +275,7 @@ int main(int argc, char** argv) {
   speedChart.LogY = true;
   if (!bench::WriteChartPNG(dir + "/landmark_registration_speed.png", {oursLine, checkedLine, vtkLine}, speedChart,
                             error))
-    std::cerr << "chart: " << error << " (run under xvfb-run for PNG charts)\n";
+    std::cerr << "warning: chart skipped: " << error << "\n";
 
   // Accuracy: RMS TRE at a target 80 mm deep against N and spread.
   const std::vector<int> counts = {3, 4, 5, 6, 8, 10, 15, 20};
@@ -319,9 +321,11 @@ int main(int argc, char** argv) {
   treChart.YLabel = "RMS TRE at the target (mm)";
   treChart.LogY = true;
   if (!bench::WriteChartPNG(dir + "/landmark_registration_tre.png", treSeries, treChart, error))
-    std::cerr << "chart: " << error << " (run under xvfb-run for PNG charts)\n";
+    std::cerr << "warning: chart skipped: " << error << "\n";
   {
     std::ofstream f(dir + "/landmark_registration_benchmark.json");
+    rp::bench::FinishConditions(rp::bench::OutputDirectory(), "rpLandmarkRegistrationBenchmark");  // the load after, the steal over the run
+    doc["conditions"] = nlohmann::json::parse(rp::bench::ConditionsJson());
     f << doc.dump(2) << "\n";
   }
   std::cout << "figures in " << dir << "\n";

@@ -17,7 +17,7 @@
 //                    cores); fails unless every haptic mesh is within its budget and watertight.
 // Writes whole_process.{csv,json} and whole_process_seconds.png (bars) to $ROBOPLAN_BENCHMARK_OUTPUT.
 //
-//   xvfb-run -a ./bin/rpMeshWholeProcessBenchmark
+//   ./bin/rpMeshWholeProcessBenchmark
 #include <benchmark/benchmark.h>
 
 #include <fcntl.h>
@@ -49,6 +49,7 @@
 #include <vtkXMLPolyDataWriter.h>
 
 #include "rpBenchmarkChart.h"
+#include "rpBenchmarkMain.h"
 #include "rpVolumeIO.h"
 
 extern char** environ;
@@ -334,6 +335,7 @@ void BM_ReadNrrdGzITK(benchmark::State& state) {
 
 int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
+  rp::bench::AddConditionsToContext();
   fs::create_directories(WorkDir());
   const auto t0 = std::chrono::steady_clock::now();
   WriteLabelmap();
@@ -395,6 +397,8 @@ int main(int argc, char** argv) {
   const std::string out = rp::bench::OutputDirectory();
   std::string error;
   rp::bench::WriteCSV(out + "/whole_process.csv", {"config_index", "seconds", "times_baseline"}, rows, error);
+  rp::bench::FinishConditions(rp::bench::OutputDirectory(), "rpMeshWholeProcessBenchmark");  // the load after, the steal over the run
+  doc["conditions"] = nlohmann::json::parse(rp::bench::ConditionsJson());
   std::ofstream(out + "/whole_process.json") << doc.dump(2) << "\n";
   rp::bench::ChartOptions chart;
   chart.Title = "roboplan mesh, 512x512x300 two-label .nrrd (gzip): whole process vs Slicer's pipeline";

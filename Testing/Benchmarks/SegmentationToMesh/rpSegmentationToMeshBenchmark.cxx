@@ -4,7 +4,7 @@
 // band 0.01, 20 iterations, normalized coordinates → vtkPolyDataNormals), same labelmap, same
 // process. Error = mean distance to the analytic bone surfaces. Writes CSV + PNG (time vs error).
 //
-//   xvfb-run -a ./bin/rpSegmentationToMeshBenchmark   (ROBOPLAN_BENCHMARK_OUTPUT=<dir>)
+//   ./bin/rpSegmentationToMeshBenchmark   (ROBOPLAN_BENCHMARK_OUTPUT=<dir>)
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -24,6 +24,7 @@
 #include <vtkStaticCellLocator.h>
 
 #include "rpBenchmarkChart.h"
+#include "rpBenchmarkMain.h"
 #include "rpKneePhantom.h"
 #include "rpLabelmapToMesh.h"
 #include "rpSegmentationEditor.h"
@@ -220,6 +221,7 @@ void RunConfig(benchmark::State& state, const Config& config) {
 
 int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
+  rp::bench::AddConditionsToContext();
   Data& d = GetData();
   std::printf("phantom %dx%dx%d generated in %.1f s; %zu truth points\n", d.Knee.CT.Image->GetDimensions()[0],
               d.Knee.CT.Image->GetDimensions()[1], d.Knee.CT.Image->GetDimensions()[2], d.GenerateSeconds,
@@ -300,6 +302,8 @@ int main(int argc, char** argv) {
                       {"seconds", "mean_error_mm", "mean_error_voxels", "mean_error_inplane_pixels", "hausdorff_mm",
                        "volume_error_pct", "triangles", "watertight", "sigma", "grid_mm", "decimation", "from_ct"},
                       rows, error);
+  rp::bench::FinishConditions(rp::bench::OutputDirectory(), "rpSegmentationToMeshBenchmark");  // the load after, the steal over the run
+  doc["conditions"] = nlohmann::json::parse(rp::bench::ConditionsJson());
   std::ofstream(out + "/segmentation_to_mesh.json") << doc.dump(2) << "\n";
   std::vector<rp::bench::Series> list;
   for (auto& [name, s] : series) {

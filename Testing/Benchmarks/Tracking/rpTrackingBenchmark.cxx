@@ -12,7 +12,7 @@
 //    TRANSFORM/s (paced), for our client and for the library's own receive loop (ClientSocket +
 //    MessageHeader + Unpack with CRC) in the same run.
 //  * Serial polling at 60 Hz against the simulator: CPU of the driver thread, BX vs TX.
-// Figures (JSON, CSV) and charts (PNG, needs a display: xvfb-run) go to
+// Figures (JSON, CSV) and charts (PNG; without a display on a private Xvfb, rpXDisplay.h) go to
 // $ROBOPLAN_BENCHMARK_OUTPUT or ./benchmark-output.
 #include <benchmark/benchmark.h>
 
@@ -41,6 +41,7 @@
 #include <vtkNew.h>
 
 #include "rpBenchmarkChart.h"
+#include "rpBenchmarkMain.h"
 #include "rpIgtlClient.h"
 #include "rpIgtlProtocol.h"
 #include "rpNdiProtocol.h"
@@ -658,6 +659,7 @@ SerialResult RunSerial(bool binary, double seconds) {
 
 int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
+  rp::bench::AddConditionsToContext();
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
 
@@ -727,6 +729,8 @@ int main(int argc, char** argv) {
   }
   {
     std::ofstream f(dir + "/tracking_benchmark.json");
+    rp::bench::FinishConditions(rp::bench::OutputDirectory(), "rpTrackingBenchmark");  // the load after, the steal over the run
+    doc["conditions"] = nlohmann::json::parse(rp::bench::ConditionsJson());
     f << doc.dump(2) << "\n";
   }
   std::string error;
@@ -764,7 +768,7 @@ int main(int argc, char** argv) {
     sceneChart.YLabel = "node updates at or below (%)";
     sceneChart.LogX = true;
     if (!bench::WriteChartPNG(dir + "/tracking_sender_to_scene_cdf.png", sceneCdf, sceneChart, error))
-      std::cerr << "chart: " << error << " (run under xvfb-run for PNG charts)\n";
+      std::cerr << "warning: chart skipped: " << error << "\n";
     std::vector<std::vector<double>> sceneRows;
     for (size_t i = 0; i < scene[0].Histogram.size(); ++i)
       if (scene[0].Histogram[i] || scene[1].Histogram[i] || scene[2].Histogram[i])
@@ -778,7 +782,7 @@ int main(int argc, char** argv) {
   chart.YLabel = "messages at or below (%)";
   chart.LogX = true;
   if (!bench::WriteChartPNG(dir + "/tracking_latency_cdf.png", cdf, chart, error))
-    std::cerr << "chart: " << error << " (run under xvfb-run for PNG charts)\n";
+    std::cerr << "warning: chart skipped: " << error << "\n";
   std::cout << "figures in " << dir << "\n";
   return 0;
 }

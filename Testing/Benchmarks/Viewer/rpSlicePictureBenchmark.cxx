@@ -6,7 +6,7 @@
 // at 60 %. Axial, coronal, sagittal and oblique planes at 1 mm pixels, the plane stepped off the
 // voxel grid every iteration (as a tool moves it). rpSliceCompositeTest holds the two to the same
 // pixels. Figures: slice-picture.csv and slice-picture.png (ms per picture) in
-// $ROBOPLAN_BENCHMARK_OUTPUT. Run under xvfb-run (the chart).
+// $ROBOPLAN_BENCHMARK_OUTPUT (the chart on a private Xvfb where there is no display).
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -26,6 +26,7 @@
 #include <vtkTransform.h>
 
 #include "rpBenchmarkChart.h"
+#include "rpBenchmarkMain.h"
 #include "rpSliceComposite.h"
 #include "rpViewerApplication.h"
 #include "vtkRPScalarVolumeNode.h"
@@ -227,8 +228,10 @@ class Collector : public benchmark::ConsoleReporter {
 
 int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
+  rp::bench::AddConditionsToContext();
   Collector reporter;
   benchmark::RunSpecifiedBenchmarks(&reporter);
+  rp::bench::FinishConditions(rp::bench::OutputDirectory(), "rpSlicePictureBenchmark");
   if (Figures.empty()) return 0;
   const std::string out = rp::bench::OutputDirectory();
   std::vector<std::string> categories(std::begin(Planes), std::end(Planes));

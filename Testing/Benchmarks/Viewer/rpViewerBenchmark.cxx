@@ -14,7 +14,9 @@
 // second, as counters in the JSON (--benchmark_out) and in viewer-frames.json/.csv with a chart
 // (viewer-frame-times.png) in $ROBOPLAN_BENCHMARK_OUTPUT, with the 4-up as drawn while touching
 // (viewer-4up-while-touching.png) and the still frame after the tool stops (viewer-4up-still.png).
-// Target: p95 ≤ 33 ms on 2 cores with Mesa llvmpipe. Run under xvfb-run.
+// Target: p95 ≤ 33 ms on 2 cores with Mesa llvmpipe. Without a display it draws on a private Xvfb
+// (1920x1080x24, rpXDisplay.h); the run's conditions (GL renderer, screen depth, build type, load,
+// steal...) are printed and written with the figures (rpBenchmarkConditions.h).
 //
 // The scene: $ROBOPLAN_VIEWER_BENCH_SCENE, else the demo's scene in <output>/viewer-scene (made
 // once with `roboplan demo --no-screenshots`, whatever anatomy the demo uses).
@@ -53,6 +55,8 @@
 #include <vtkSmartPointer.h>
 
 #include "rpBenchmarkChart.h"
+#include "rpBenchmarkMain.h"
+#include "rpXDisplay.h"
 #include "rpHapticSceneBridge.h"
 #include "rpHapticSession.h"
 #include "rpMaterial.h"
@@ -166,6 +170,8 @@ class Rig {
       return false;
     }
     this->SceneFile = path;
+    // Debian's VTK draws through GLX: without a display, a private Xvfb (never VTK's XSync crash).
+    if (!rp::EnsureXDisplay(error)) return false;
     this->Controller = std::make_unique<rp::ViewController>(this->Scene);
     for (int kind = 0; kind < 4; ++kind) {
       vtkRenderWindow* window = this->Windows[static_cast<size_t>(kind)];
@@ -185,6 +191,7 @@ class Rig {
       }
     }
     this->TakeViewMeanMs();
+    rp::bench::Conditions::Process().NoteRenderWindow(this->Windows[0]);
     return true;
   }
 
@@ -659,6 +666,8 @@ void WriteFigures(const std::string& out) {
   target.Y = {33, 33};
   series.push_back(target);
   if (!Breakdown.is_null()) doc["breakdown"] = Breakdown;
+  rp::bench::FinishConditions(rp::bench::OutputDirectory(), "rpViewerBenchmark");  // the load after, the steal over the run
+  doc["conditions"] = nlohmann::json::parse(rp::bench::ConditionsJson());
   std::ofstream(out + "/viewer-frames.json") << doc.dump(2) << "\n";
   rp::bench::ChartOptions chart{"4-up frame time while the haptic proxy moves (1400x1100, llvmpipe)", "time (s)",
                                 "frame time (ms)"};
@@ -672,6 +681,7 @@ void WriteFigures(const std::string& out) {
 
 int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
+  rp::bench::AddConditionsToContext();
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   const std::string out = rp::bench::OutputDirectory();
   benchmark::RunSpecifiedBenchmarks();

@@ -26,6 +26,7 @@
 #include <vtkTransform.h>
 
 #include "rpBenchmarkChart.h"
+#include "rpBenchmarkMain.h"
 #include "rpDicomSeries.h"
 #include "rpDicomTestTools.h"
 #include "rpDicomWriter.h"
@@ -193,6 +194,7 @@ int main(int argc, char** argv) {
   PrepareCodecCases();
   RegisterCodecBenchmarks();
   benchmark::Initialize(&argc, argv);
+  rp::bench::AddConditionsToContext();
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   const std::string dir = bench::OutputDirectory();
@@ -334,6 +336,8 @@ int main(int argc, char** argv) {
     figures["phantom"][size == KneePhantomSize::Small ? "smallSeconds" : "fullSeconds"] = t;
     std::printf("phantom %s: %.2f s\n", size == KneePhantomSize::Small ? "small" : "full", t);
   }
+  rp::bench::FinishConditions(rp::bench::OutputDirectory(), "rpVolumesBenchmark");  // the load after, the steal over the run
+  figures["conditions"] = nlohmann::json::parse(rp::bench::ConditionsJson());
   std::ofstream(dir + "/volumes_benchmark.json") << figures.dump(2) << "\n";
   return 0;
 }

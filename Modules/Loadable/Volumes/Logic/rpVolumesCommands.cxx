@@ -24,6 +24,7 @@
 #include "rpKneePhantom.h"
 #include "rpModelIO.h"
 #include "rpProgress.h"
+#include "rpSceneFormats.h"
 #include "rpSegmentationIO.h"
 #include "rpTransformIO.h"
 #include "rpVolumeFiles.h"
@@ -223,11 +224,12 @@ int RunConvertCommand(const std::vector<std::string>& arguments, std::ostream& o
                    "Convert a volume between DICOM series (folder, DICOMDIR or file), NRRD (.nrrd/.nhdr), "
                    "NIfTI (.nii/.nii.gz) and MetaImage (.mha/.mhd). An output name without one of those "
                    "extensions is a folder that receives a DICOM series (CT or MR Image Storage). "
-                   "Geometry (IJK-to-RAS, direction cosines) and voxel values are kept. Segmentations: a DICOM "
-                   "SEG or RTSTRUCT (file or folder) converts to a .seg.nrrd, and a .seg.nrrd to a DICOM SEG "
-                   "(a .dcm file, or a folder) with --reference, the image series it segments.");
-  parser.Positional("in", "input volume or DICOM folder")
-      .Positional("out", "output volume file, or a folder for a DICOM series")
+                   "Geometry (IJK-to-RAS, direction cosines) and voxel values are kept. "
+                   "Scenes convert between RoboPlan's .rpscene and 3D Slicer's .mrml and .mrb the same way. "
+                   "Segmentations: a DICOM SEG or RTSTRUCT (file or folder) converts to a .seg.nrrd, and a .seg.nrrd "
+                   "to a DICOM SEG (a .dcm file, or a folder) with --reference, the image series it segments.");
+  parser.Positional("in", "input volume or DICOM folder, or scene (.rpscene, .mrml, .mrb), or DICOM SEG/RTSTRUCT")
+      .Positional("out", "output volume file, or a folder for a DICOM series, or scene")
       .Option("series", "id",
               "DICOM input: the series to convert when there are several: its SeriesInstanceUID, or "
               "<SeriesInstanceUID>#<n> for one stack of a series that holds several (see `roboplan dicom`)")
@@ -240,6 +242,8 @@ int RunConvertCommand(const std::vector<std::string>& arguments, std::ostream& o
               "optional to read one: without it a SEG keeps the grid its frames span, an RTSTRUCT looks in its own "
               "folder)");
   if (const auto exitCode = parser.ParseCommand(arguments, out, err)) return *exitCode;
+  if (IsSceneFileName(parser.Get("in")) || IsSceneFileName(parser.Get("out")))
+    return ConvertSceneFile(parser.Get("in"), parser.Get("out"), parser.Json(), out, err);
   if (const auto exitCode = ConvertSegmentation(parser, out, err)) return *exitCode;
   const std::string modality = parser.Get("modality");
   if (!modality.empty() && modality != "CT" && modality != "MR") {

@@ -37,12 +37,6 @@ set(upstream_byproducts ${upstream_dir}/lib/libOpenIGTLink.a)
 foreach(program ${ROBOPLAN_UPSTREAM_IGTL_PROGRAMS})
   list(APPEND upstream_byproducts ${upstream_dir}/bin/${program})
 endforeach()
-set(upstream_launchers)
-foreach(lang C CXX)
-  if(CMAKE_${lang}_COMPILER_LAUNCHER)
-    list(APPEND upstream_launchers -DCMAKE_${lang}_COMPILER_LAUNCHER=${CMAKE_${lang}_COMPILER_LAUNCHER})
-  endif()
-endforeach()
 ExternalProject_Add(rpUpstreamOpenIGTLinkBuild
   SOURCE_DIR ${ROBOPLAN_UPSTREAM_IGTL_SOURCE}
   BINARY_DIR ${upstream_dir}
@@ -50,7 +44,7 @@ ExternalProject_Add(rpUpstreamOpenIGTLinkBuild
   CMAKE_ARGS
     -DCMAKE_BUILD_TYPE=Release
     -DCMAKE_C_COMPILER=${CMAKE_C_COMPILER} -DCMAKE_CXX_COMPILER=${CMAKE_CXX_COMPILER}
-    ${upstream_launchers}
+    ${ROBOPLAN_SUBBUILD_CMAKE_ARGS}  # ccache and the fast linker (RoboPlanMacros.cmake)
     "-DCMAKE_C_FLAGS=${upstream_flags}" "-DCMAKE_CXX_FLAGS=${upstream_flags}"
     -DBUILD_SHARED_LIBS=OFF -DBUILD_EXAMPLES=ON -DBUILD_TESTING=OFF -DBUILD_DOCUMENTATION=OFF
     -DOpenIGTLink_PROTOCOL_VERSION_3=ON
