@@ -24,6 +24,8 @@ packages=(
 if [ "${1:-}" = "--test" ]; then
   packages+=(
     dcmtk libgdcm-tools                # dcmcjpeg, dcmcjpls, dcmcrle, dcmconv, dcmodify, gdcmconv: tests encode real series with them
+    python3-pydicom python3-numpy      # pydicom: the independent reader (and RTSTRUCT writer) of the DICOM segmentation tests
+    dicom3tools                        # dciodvfy: our SEG checked against the IOD by David Clunie's verifier
     clang libclang-rt-14-dev           # libFuzzer targets of every parser (ctest -L fuzz)
     gdb                                # rpXvfbTeardownTest stages Xvfb's SIGTERM race with it
     snakemake                          # workflow/: cohorts, locally or on a cluster

@@ -56,7 +56,8 @@ const bool registeredAtLoad = RegisterImagingReaders();
 }  // namespace
 
 bool RegisterImagingReaders() {
-  static const bool registered = RegisterDataReader(std::make_shared<DicomReader>());
+  static const bool registered =
+      RegisterDataReader(std::make_shared<DicomReader>()) && RegisterDicomSegmentationReader();
   return registered;
 }
 

@@ -43,7 +43,10 @@ void InitializeDcmtk() {
     // PixelSpacing...) are read with their dictionary VR, or their values would be lost.
     dcmEnableUnknownVRConversion.set(OFTrue);
     // DCMTK logs parser warnings on stderr; our messages say what went wrong instead.
-    OFLog::configure(OFLogger::FATAL_LOG_LEVEL);
+    // ROBOPLAN_DCMTK_LOG=1 shows DCMTK's own warnings and errors (e.g. which attribute of a SEG
+    // it finds missing).
+    const char* log = std::getenv("ROBOPLAN_DCMTK_LOG");
+    OFLog::configure(log && *log && std::string(log) != "0" ? OFLogger::WARN_LOG_LEVEL : OFLogger::FATAL_LOG_LEVEL);
     // Unregistered at exit, so the codec list is not reported as a leak.
     std::atexit([]() {
       DcmRLEDecoderRegistration::cleanup();
@@ -90,6 +93,13 @@ struct SliceHeader {
   double Slope = 1.0, Intercept = 0.0;
   double WindowCenter = 0.0, WindowWidth = 0.0;
   double SliceThickness = 0.0, SpacingBetweenSlices = 0.0;
+  // Modality LUT Sequence (0028,3000): stored value v -> LutData[clamp(v - LutFirst)].
+  std::vector<int32_t> LutData;
+  int LutFirst = 0;
+  // Non-fatal notes on this image (bad PixelSpacing, assumed slice spacing...): warnings.
+  std::vector<std::string> Notes;
+  // Why this image cannot be read, found in its header ("" if none): refused.
+  std::string HeaderProblem;
 };
 
 bool HasPart10Preamble(const std::string& path) {
@@ -133,6 +143,67 @@ int GetInt(DcmItem* item, const DcmTagKey& tag, int fallback) {
   return fallback;
 }
 
+// PixelSpacing must be two finite positive numbers; anything else (0\0, negative, NaN) is
+// treated as missing: 1 mm pixels, with a note naming the value found.
+void CheckPixelSpacing(DcmItem* item, SliceHeader& h) {
+  if (!item->tagExists(DCM_PixelSpacing)) return;
+  const double* p = h.PixelSpacing;
+  if (h.HasPixelSpacing && std::isfinite(p[0]) && std::isfinite(p[1]) && p[0] > 0.0 && p[1] > 0.0) return;
+  h.Notes.push_back("PixelSpacing " + GetString(item, DCM_PixelSpacing) + " in " +
+                    fs::path(h.File).filename().string() + " is not a valid spacing: 1 mm pixels assumed");
+  h.HasPixelSpacing = false;
+  h.PixelSpacing[0] = h.PixelSpacing[1] = 1.0;
+}
+
+// The Modality LUT Sequence (0028,3000), PS3.3 C.11.1: LUT Descriptor = entries (0 means
+// 65536), first stored value mapped (signed when the pixels are), bits per entry (8 or 16);
+// LUT Data = the output values. It replaces RescaleSlope/Intercept.
+void ReadModalityLut(DcmItem* ds, SliceHeader& h) {
+  DcmItem* lut = nullptr;
+  if (ds->findAndGetSequenceItem(DCM_ModalityLUTSequence, lut, 0).bad() || !lut) return;
+  const std::string where = "Modality LUT Sequence (0028,3000) of " + fs::path(h.File).filename().string();
+  Uint16 descriptor[3] = {0, 0, 0};
+  for (unsigned long i = 0; i < 3; ++i) {
+    Sint16 s = 0;
+    if (lut->findAndGetUint16(DCM_LUTDescriptor, descriptor[i], i).bad()) {
+      if (lut->findAndGetSint16(DCM_LUTDescriptor, s, i).bad()) {
+        h.HeaderProblem = where + ": no valid LUT Descriptor (0028,3002)";
+        return;
+      }
+      descriptor[i] = static_cast<Uint16>(s);
+    }
+  }
+  const size_t entries = descriptor[0] == 0 ? 65536 : descriptor[0];
+  const int bits = descriptor[2];
+  h.LutFirst = h.PixelRepresentation == 1 ? static_cast<int>(static_cast<int16_t>(descriptor[1])) : descriptor[1];
+  DcmElement* data = nullptr;
+  Uint16* words = nullptr;
+  if (lut->findAndGetElement(DCM_LUTData, data).bad() || !data || data->getUint16Array(words).bad() || !words) {
+    h.HeaderProblem = where + ": no LUT Data (0028,3006)";
+    return;
+  }
+  const size_t count = data->getLength() / 2;
+  if (bits < 1 || bits > 16) {
+    h.HeaderProblem = where + ": " + std::to_string(bits) + " bits per LUT entry (8 or 16 expected)";
+    return;
+  }
+  h.LutData.resize(entries);
+  if (bits <= 8 && count < entries && 2 * count >= entries) {  // 8-bit entries packed two per word
+    for (size_t i = 0; i < entries; ++i) h.LutData[i] = (words[i / 2] >> (8 * (i % 2))) & 0xff;
+  } else if (count >= entries) {
+    for (size_t i = 0; i < entries; ++i) h.LutData[i] = words[i] & ((1u << bits) - 1u);
+  } else {
+    h.HeaderProblem = where + ": " + std::to_string(count) + " LUT Data values for " + std::to_string(entries) +
+                      " entries in its descriptor";
+    h.LutData.clear();
+    return;
+  }
+  if (ds->tagExists(DCM_RescaleSlope) || ds->tagExists(DCM_RescaleIntercept))
+    h.Notes.push_back(where + " applied; RescaleSlope/Intercept beside it ignored (the standard allows only one)");
+  h.Slope = 1.0;
+  h.Intercept = 0.0;
+}
+
 // The first item of a functional group macro (e.g. PlanePositionSequence) for one frame: from
 // the frame's item of the per-frame sequence, else from the shared one.
 DcmItem* FunctionalGroup(DcmItem* perFrame, DcmItem* shared, const DcmTagKey& macro) {
@@ -157,7 +228,10 @@ void ReadFunctionalGroups(DcmItem* ds, int frame, SliceHeader& h, bool& hasFrame
   if (DcmItem* g = FunctionalGroup(perFrame, shared, DCM_PlaneOrientationSequence))
     h.HasOrientation = GetDoubles(g, DCM_ImageOrientationPatient, h.Orientation, 6) || h.HasOrientation;
   if (DcmItem* g = FunctionalGroup(perFrame, shared, DCM_PixelMeasuresSequence)) {
-    h.HasPixelSpacing = GetDoubles(g, DCM_PixelSpacing, h.PixelSpacing, 2) || h.HasPixelSpacing;
+    if (g->tagExists(DCM_PixelSpacing)) {
+      h.HasPixelSpacing = GetDoubles(g, DCM_PixelSpacing, h.PixelSpacing, 2);
+      CheckPixelSpacing(g, h);
+    }
     GetDoubles(g, DCM_SliceThickness, &h.SliceThickness, 1);
     GetDoubles(g, DCM_SpacingBetweenSlices, &h.SpacingBetweenSlices, 1);
   }
@@ -170,6 +244,7 @@ void ReadFunctionalGroups(DcmItem* ds, int frame, SliceHeader& h, bool& hasFrame
                   GetDoubles(g, DCM_WindowWidth, &h.WindowWidth, 1) && h.WindowWidth > 0.0;
   }
 }
+
 
 void ReadHeader(DcmFileFormat& format, SliceHeader& h) {
   DcmDataset* ds = format.getDataset();
@@ -198,6 +273,101 @@ void ReadHeader(DcmFileFormat& format, SliceHeader& h) {
                 GetDoubles(ds, DCM_WindowWidth, &h.WindowWidth, 1) && h.WindowWidth > 0.0;
   GetDoubles(ds, DCM_SliceThickness, &h.SliceThickness, 1);
   GetDoubles(ds, DCM_SpacingBetweenSlices, &h.SpacingBetweenSlices, 1);
+  // RT Dose scales its stored values with DoseGridScaling (Gy per unit), not a rescale.
+  double doseScaling = 0.0;
+  if (h.Modality == "RTDOSE" && !ds->tagExists(DCM_RescaleSlope) && GetDoubles(ds, DCM_DoseGridScaling, &doseScaling, 1) &&
+      doseScaling > 0.0 && std::isfinite(doseScaling))
+    h.Slope = doseScaling;
+  CheckPixelSpacing(ds, h);
+  ReadModalityLut(ds, h);
+  if (h.Photometric == "PALETTE COLOR")
+    h.HeaderProblem = "PALETTE COLOR image (" + fs::path(h.File).filename().string() +
+                      "): its pixels are indices into a colour palette, not intensities, and colour is not read "
+                      "(convert it to greyscale, MONOCHROME2, first)";
+  else if (h.Samples != 1 || (!h.Photometric.empty() && h.Photometric != "MONOCHROME1" && h.Photometric != "MONOCHROME2"))
+    h.HeaderProblem = "colour image (" + (h.Photometric.empty() ? std::string("no PhotometricInterpretation") : h.Photometric) +
+                      ", " + std::to_string(h.Samples) + " sample(s) per pixel, " + fs::path(h.File).filename().string() +
+                      ") is not read: RoboPlan's volumes are scalar (convert it to greyscale, MONOCHROME2, first; "
+                      "see Libs/Imaging/README.md)";
+}
+
+
+// "" when the whole file parses and its native pixel data holds every frame; else why not.
+// (Read in full: only for a file about to be refused for another reason.)
+std::string TruncatedReason(const SliceHeader& h) {
+  DcmFileFormat format;
+  const std::string name = fs::path(h.File).filename().string();
+  const OFCondition status = format.loadFile(h.File.c_str());
+  if (status.bad()) return "corrupt or truncated file " + name + " (" + status.text() + ")";
+  DcmDataset* ds = format.getDataset();
+  DcmElement* pixels = nullptr;
+  if (DcmXfer(ds->getOriginalXfer()).isEncapsulated() || ds->findAndGetElement(DCM_PixelData, pixels).bad() || !pixels)
+    return "";
+  const size_t needed = static_cast<size_t>(h.Rows) * h.Columns * h.Frames * std::max(1, h.Samples) *
+                        std::max(1, h.BitsAllocated) / 8;
+  if (pixels->getLength() >= needed) return "";
+  return "truncated file " + name + ": pixel data of " + std::to_string(pixels->getLength()) + " bytes for " +
+         std::to_string(h.Frames) + " frame(s) of " + std::to_string(needed) + " bytes";
+}
+
+// Frames of a multi-frame file without functional groups, placed the standard ways: RT Dose by
+// its Grid Frame Offset Vector (3004,000C), PS3.3 C.8.8.3.2 (relative: first offset 0; absolute:
+// first offset = the position along the normal; either way frame f lies (offset[f] - offset[0])
+// along the normal from ImagePositionPatient); legacy multi-frame MR/NM/CT by the top-level (or
+// NM Detector Information) position and orientation plus Spacing Between Slices (or, failing
+// that, Slice Thickness, with a warning). Without these the frames are refused.
+void ExpandLegacyFrames(DcmItem* ds, const SliceHeader& file, std::vector<SliceHeader>& out) {
+  SliceHeader base = file;
+  DcmItem* detector = nullptr;
+  if ((!base.HasPosition || !base.HasOrientation) &&
+      ds->findAndGetSequenceItem(DCM_DetectorInformationSequence, detector, 0).good() && detector) {
+    base.HasPosition = GetDoubles(detector, DCM_ImagePositionPatient, base.Position, 3);
+    base.HasOrientation = GetDoubles(detector, DCM_ImageOrientationPatient, base.Orientation, 6);
+  }
+  const std::string name = fs::path(file.File).filename().string();
+  const std::string frames = std::to_string(file.Frames) + " frames in " + name;
+  auto refuse = [&](const std::string& why) {
+    out.push_back(base);
+    out.back().MultiFrameWithoutPositions = true;
+    // A truncated file is reported as truncated, whatever else it lacks.
+    const std::string truncated = TruncatedReason(file);
+    out.back().HeaderProblem = !truncated.empty() ? truncated
+                                                  : "multi-frame image without the geometry of its frames (" + frames +
+                                                        ": " + why + ")";
+  };
+  if (!base.HasPosition || !base.HasOrientation)
+    return refuse("no ImagePositionPatient and ImageOrientationPatient");
+  std::vector<double> offsets(file.Frames, 0.0);
+  const bool grid = ds->tagExists(DCM_GridFrameOffsetVector);
+  if (grid) {
+    if (!GetDoubles(ds, DCM_GridFrameOffsetVector, offsets.data(), file.Frames))
+      return refuse("GridFrameOffsetVector has fewer than " + std::to_string(file.Frames) + " values");
+    const double first = offsets.front();
+    for (double& o : offsets) o -= first;
+  } else {
+    const int slices = GetInt(ds, DCM_NumberOfSlices, file.Frames);
+    if (slices != file.Frames)
+      return refuse("NumberOfSlices " + std::to_string(slices) + ": the frames are not one slice each");
+    double step = file.SpacingBetweenSlices;
+    if (step == 0.0 && file.SliceThickness > 0.0) {
+      step = file.SliceThickness;
+      base.Notes.push_back("multi-frame " + name + " has no SpacingBetweenSlices: frames assumed " +
+                           std::to_string(step) + " mm apart (its SliceThickness)");
+    }
+    if (step == 0.0 || !std::isfinite(step)) return refuse("no SpacingBetweenSlices, SliceThickness or GridFrameOffsetVector");
+    for (int f = 0; f < file.Frames; ++f) offsets[f] = f * step;
+  }
+  double normal[3] = {base.Orientation[1] * base.Orientation[5] - base.Orientation[2] * base.Orientation[4],
+                      base.Orientation[2] * base.Orientation[3] - base.Orientation[0] * base.Orientation[5],
+                      base.Orientation[0] * base.Orientation[4] - base.Orientation[1] * base.Orientation[3]};
+  const double length = std::sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]);
+  if (length < 1e-6) return refuse("degenerate ImageOrientationPatient");
+  for (int f = 0; f < file.Frames; ++f) {
+    SliceHeader h = base;
+    h.Frame = f;
+    for (int a = 0; a < 3; ++a) h.Position[a] = base.Position[a] + offsets[f] * normal[a] / length;
+    out.push_back(std::move(h));
+  }
 }
 
 // One header per image of the file: itself, or one per frame of a multi-frame file (with the
@@ -207,16 +377,29 @@ void ExpandFrames(DcmFileFormat& format, const SliceHeader& file, std::vector<Sl
   const bool enhanced = ds->tagExists(DCM_PerFrameFunctionalGroupsSequence) ||
                         ds->tagExists(DCM_SharedFunctionalGroupsSequence);
   if (!enhanced) {
-    out.push_back(file);
-    if (file.Frames > 1) out.back().MultiFrameWithoutPositions = true;
+    if (file.Frames == 1)
+      out.push_back(file);
+    else
+      ExpandLegacyFrames(ds, file, out);
     return;
   }
+  std::string truncated;
+  bool checked = false;
   for (int f = 0; f < file.Frames; ++f) {
     SliceHeader h = file;
     h.Frame = f;
     bool hasFramePosition = false;
     ReadFunctionalGroups(ds, f, h, hasFramePosition);
     h.MultiFrameWithoutPositions = file.Frames > 1 && !hasFramePosition;
+    if (h.MultiFrameWithoutPositions) {
+      if (!checked) truncated = TruncatedReason(file);  // once per file
+      checked = true;
+      h.HeaderProblem = !truncated.empty() ? truncated
+                                           : "multi-frame image without a position per frame (" +
+                                                 std::to_string(file.Frames) + " frames in " +
+                                                 fs::path(file.File).filename().string() +
+                                                 ", no PerFrameFunctionalGroupsSequence with PlanePositionSequence)";
+    }
     out.push_back(std::move(h));
   }
 }
@@ -227,7 +410,7 @@ FileKind LoadFile(const std::string& path, DcmFileFormat& format, SliceHeader& h
   const bool part10 = HasPart10Preamble(path);
   OFCondition status =
       headerOnly ? format.loadFileUntilTag(path.c_str(), EXS_Unknown, EGL_noChange, DCM_MaxReadLength,
-                                           ERM_autoDetect, DCM_PixelData)
+                                           ERM_autoDetect, DCM_FloatPixelData)
                  : format.loadFile(path.c_str(), EXS_Unknown, EGL_noChange, DCM_MaxReadLength, ERM_autoDetect);
   DcmDataset* ds = format.getDataset();
   const bool looksDicom = part10 || ds->tagExists(DCM_SOPClassUID) || ds->tagExists(DCM_StudyInstanceUID) ||
@@ -242,10 +425,28 @@ FileKind LoadFile(const std::string& path, DcmFileFormat& format, SliceHeader& h
   if (!looksDicom) return FileKind::NotDicom;
   h.File = path;
   ReadHeader(format, h);
-  if (h.Rows <= 0 || h.Columns <= 0) return FileKind::NonImage;
-  if (!headerOnly && !ds->tagExists(DCM_PixelData)) {
+  // A segmentation (SEG) has frames but is read by rpDicomSegmentation, not as an image.
+  if (h.Rows <= 0 || h.Columns <= 0 || GetString(ds, DCM_SOPClassUID) == UID_SegmentationStorage)
+    return FileKind::NonImage;
+  if (!headerOnly && !ds->tagExists(DCM_PixelData) && !ds->tagExists(DCM_FloatPixelData) &&
+      !ds->tagExists(DCM_DoubleFloatPixelData)) {
     reason = "no pixel data (truncated file?)";
     return FileKind::Corrupt;
+  }
+  // Native (uncompressed, not deflated) pixel data: a file shorter than its frames is truncated,
+  // whatever else is wrong with it.
+  const DcmXfer xfer(ds->getOriginalXfer());
+  if (headerOnly && !xfer.isEncapsulated() && xfer.getStreamCompression() == ESC_none) {
+    const uintmax_t needed = static_cast<uintmax_t>(h.Rows) * h.Columns * h.Frames * std::max(1, h.Samples) *
+                             std::max(1, h.BitsAllocated) / 8;
+    std::error_code ec;
+    const uintmax_t size = fs::file_size(path, ec);
+    if (!ec && size < needed) {
+      reason = "truncated file: " + std::to_string(size) + " bytes cannot hold " + std::to_string(h.Frames) +
+               " frame(s) of " + std::to_string(h.Columns) + "x" + std::to_string(h.Rows) + " " +
+               std::to_string(h.BitsAllocated) + "-bit pixels (" + std::to_string(needed) + " bytes)";
+      return FileKind::Corrupt;
+    }
   }
   return FileKind::Image;
 }
@@ -318,14 +519,8 @@ SeriesGeometry AnalyzeGeometry(const std::vector<SliceHeader>& headers, double t
   }
   const SliceHeader& first = headers.front();
   for (const SliceHeader& h : headers) {
-    if (h.Samples != 1) {
-      g.Problem = "colour images (" + std::to_string(h.Samples) + " samples per pixel) are not supported (" +
-                  Name(h.File) + ")";
-      return g;
-    }
-    if (h.MultiFrameWithoutPositions) {
-      g.Problem = "multi-frame image without a position per frame (" + std::to_string(h.Frames) + " frames in " +
-                  Name(h.File) + ", no PerFrameFunctionalGroupsSequence with PlanePositionSequence)";
+    if (!h.HeaderProblem.empty()) {
+      g.Problem = h.HeaderProblem;
       return g;
     }
     const TransferSyntaxInfo* syntax = FindTransferSyntax(h.TransferSyntax);
@@ -440,25 +635,23 @@ void ConvertPixels(const Raw* in, size_t count, int bitsStored, bool isSigned, d
 struct DecodedPixels {
   const void* Data = nullptr;
   size_t Bytes = 0;
+  int FloatBits = 0;  // 32 or 64: Float / Double Float Pixel Data (7FE0,0008 / 0009)
   std::vector<char> Owned;  // GDCM's output (DCMTK's stays inside its dataset)
 };
 
-// One frame of decoded pixel data → modality values.
+// Stored values → Modality LUT output values, in place.
 template <typename Out>
-bool ConvertFrame(const DecodedPixels& pixels, const SliceHeader& h, Out* out, std::string& error) {
-  const size_t count = static_cast<size_t>(h.Rows) * h.Columns;
-  const size_t bytesPerPixel = static_cast<size_t>(h.BitsAllocated / 8);
-  const size_t offset = static_cast<size_t>(h.Frame) * count * bytesPerPixel;
-  if (h.BitsAllocated != 8 && h.BitsAllocated != 16 && h.BitsAllocated != 32) {
-    error = std::to_string(h.BitsAllocated) + " bits allocated is not supported";
-    return false;
+void ApplyModalityLut(const SliceHeader& h, Out* values, size_t count) {
+  const int64_t last = static_cast<int64_t>(h.LutData.size()) - 1;
+  for (size_t i = 0; i < count; ++i) {
+    const int64_t index = std::clamp(static_cast<int64_t>(values[i]) - h.LutFirst, int64_t(0), last);
+    values[i] = static_cast<Out>(h.LutData[static_cast<size_t>(index)]);
   }
-  if (!pixels.Data || pixels.Bytes < offset + count * bytesPerPixel) {
-    error = "pixel data shorter than " + std::to_string(h.Frame + 1) + " frame(s) of " + std::to_string(h.Columns) +
-            "x" + std::to_string(h.Rows) + " " + std::to_string(h.BitsAllocated) + "-bit pixels (truncated file)";
-    return false;
-  }
-  const char* base = static_cast<const char*>(pixels.Data) + offset;
+}
+
+// One frame of integer pixel data → modality values.
+template <typename Out>
+void ConvertIntegerFrame(const char* base, size_t count, const SliceHeader& h, Out* out) {
   const bool isSigned = h.PixelRepresentation == 1;
   const int bitsStored = std::clamp(h.BitsStored, 1, h.BitsAllocated);
   if (h.BitsAllocated == 16) {
@@ -476,6 +669,35 @@ bool ConvertFrame(const DecodedPixels& pixels, const SliceHeader& h, Out* out, s
       ConvertPixels(reinterpret_cast<const int32_t*>(base), count, 32, true, h.Slope, h.Intercept, out);
     else
       ConvertPixels(reinterpret_cast<const uint32_t*>(base), count, 32, false, h.Slope, h.Intercept, out);
+  }
+  if (!h.LutData.empty()) ApplyModalityLut(h, out, count);
+}
+
+// One frame of decoded pixel data → modality values.
+template <typename Out>
+bool ConvertFrame(const DecodedPixels& pixels, const SliceHeader& h, Out* out, std::string& error) {
+  const size_t count = static_cast<size_t>(h.Rows) * h.Columns;
+  const int bits = pixels.FloatBits ? pixels.FloatBits : h.BitsAllocated;
+  const size_t bytesPerPixel = static_cast<size_t>(bits / 8);
+  const size_t offset = static_cast<size_t>(h.Frame) * count * bytesPerPixel;
+  if (!pixels.FloatBits && h.BitsAllocated != 8 && h.BitsAllocated != 16 && h.BitsAllocated != 32) {
+    error = std::to_string(h.BitsAllocated) + " bits allocated is not supported";
+    return false;
+  }
+  if (!pixels.Data || pixels.Bytes < offset + count * bytesPerPixel) {
+    error = "pixel data shorter than " + std::to_string(h.Frame + 1) + " frame(s) of " + std::to_string(h.Columns) +
+            "x" + std::to_string(h.Rows) + " " + std::to_string(bits) + "-bit pixels (truncated file)";
+    return false;
+  }
+  const char* base = static_cast<const char*>(pixels.Data) + offset;
+  if (pixels.FloatBits == 32) {
+    const float* in = reinterpret_cast<const float*>(base);
+    std::transform(in, in + count, out, [](float v) { return static_cast<Out>(v); });
+  } else if (pixels.FloatBits == 64) {
+    const double* in = reinterpret_cast<const double*>(base);
+    std::transform(in, in + count, out, [](double v) { return static_cast<Out>(v); });
+  } else {
+    ConvertIntegerFrame(base, count, h, out);
   }
   return true;
 }
@@ -518,23 +740,34 @@ bool DecodeFile(const SliceHeader& h, DcmFileFormat& format, DecodedPixels& pixe
     }
   }
   DcmElement* element = nullptr;
+  if (ds->findAndGetElement(DCM_FloatPixelData, element).good() && element) {
+    Float32* data = nullptr;
+    pixels.FloatBits = 32;
+    pixels.Bytes = element->getFloat32Array(data).good() && data ? element->getLength() : 0;
+    pixels.Data = data;
+    return true;
+  }
+  if (ds->findAndGetElement(DCM_DoubleFloatPixelData, element).good() && element) {
+    Float64* data = nullptr;
+    pixels.FloatBits = 64;
+    pixels.Bytes = element->getFloat64Array(data).good() && data ? element->getLength() : 0;
+    pixels.Data = data;
+    return true;
+  }
   if (ds->findAndGetElement(DCM_PixelData, element).bad() || !element) {
     error = "no pixel data";
     return false;
   }
-  // The typed getters return values in this machine's byte order (big endian files included).
+  // OB as bytes, OW as 16-bit words in this machine's byte order (DCMTK swaps big-endian files
+  // word by word, as it writes them: a 32-bit pixel is then whole again in this machine's order).
   OFCondition status;
-  if (h.BitsAllocated == 8) {
+  if (element->getVR() == EVR_OB || h.BitsAllocated == 8) {
     Uint8* data = nullptr;
     status = element->getUint8Array(data);
     pixels.Data = data;
-  } else if (h.BitsAllocated == 16) {
+  } else {
     Uint16* data = nullptr;
     status = element->getUint16Array(data);
-    pixels.Data = data;
-  } else {
-    Uint32* data = nullptr;
-    status = element->getUint32Array(data);
     pixels.Data = data;
   }
   pixels.Bytes = status.good() && pixels.Data ? element->getLength() : 0;
@@ -544,6 +777,131 @@ bool DecodeFile(const SliceHeader& h, DcmFileFormat& format, DecodedPixels& pixe
 template <typename In, typename Out>
 void Narrow(const In* in, Out* out, size_t count) {
   for (size_t i = 0; i < count; ++i) out[i] = static_cast<Out>(in[i]);
+}
+
+// A double stack (32/64-bit pixels) → the narrowest type that holds its values exactly:
+// short/ushort/int when they are whole numbers in range (integer pixel data only), double for
+// Double Float Pixel Data, float otherwise.
+vtkSmartPointer<vtkImageData> NarrowWide(vtkImageData* stack, int floatBits) {
+  const double* values = static_cast<const double*>(stack->GetScalarPointer());
+  const size_t total = static_cast<size_t>(stack->GetNumberOfPoints());
+  bool whole = floatBits == 0;
+  double lo = 0.0, hi = 0.0;
+  for (size_t i = 0; i < total && whole; ++i) {
+    whole = values[i] == std::floor(values[i]);
+    lo = i == 0 ? values[i] : std::min(lo, values[i]);
+    hi = i == 0 ? values[i] : std::max(hi, values[i]);
+  }
+  int type = floatBits == 64 ? VTK_DOUBLE : VTK_FLOAT;
+  if (whole)
+    type = (lo >= -32768 && hi <= 32767)   ? VTK_SHORT
+           : (lo >= 0 && hi <= 65535)      ? VTK_UNSIGNED_SHORT
+           : (lo >= INT32_MIN && hi <= INT32_MAX) ? VTK_INT
+                                          : VTK_DOUBLE;
+  if (type == VTK_DOUBLE) return stack;
+  auto image = vtkSmartPointer<vtkImageData>::New();
+  image->SetDimensions(stack->GetDimensions());
+  image->AllocateScalars(type, 1);
+  switch (type) {
+    case VTK_SHORT: Narrow(values, static_cast<short*>(image->GetScalarPointer()), total); break;
+    case VTK_UNSIGNED_SHORT: Narrow(values, static_cast<unsigned short*>(image->GetScalarPointer()), total); break;
+    case VTK_INT: Narrow(values, static_cast<int*>(image->GetScalarPointer()), total); break;
+    default: Narrow(values, static_cast<float*>(image->GetScalarPointer()), total); break;
+  }
+  return image;
+}
+
+// An irregular stack resampled along the normal onto a regular grid whose spacing is about the
+// smallest gap (linear, float); `positions` and `spacing` receive the new grid's.
+vtkSmartPointer<vtkImageData> ResampleAlongNormal(vtkImageData* stack, const SeriesGeometry& g,
+                                                  std::vector<double>& positions, double& spacing) {
+  int dims[3];
+  stack->GetDimensions(dims);
+  const size_t sliceSize = static_cast<size_t>(dims[0]) * dims[1];
+  spacing = g.MinGap;
+  const double length = g.Positions.back() - g.Positions.front();
+  const int n = static_cast<int>(std::lround(length / spacing)) + 1;
+  spacing = n > 1 ? length / (n - 1) : spacing;
+  positions.clear();
+  for (int k = 0; k < n; ++k) positions.push_back(g.Positions.front() + k * spacing);
+  auto image = vtkSmartPointer<vtkImageData>::New();
+  image->SetDimensions(dims[0], dims[1], n);
+  image->AllocateScalars(VTK_FLOAT, 1);
+  float* dst = static_cast<float*>(image->GetScalarPointer());
+  vtkDataArray* src = stack->GetPointData()->GetScalars();
+  size_t below = 0;
+  for (int k = 0; k < n; ++k) {
+    const double p = positions[k];
+    while (below + 2 < g.Positions.size() && g.Positions[below + 1] <= p) ++below;
+    const size_t a = below, b = std::min(below + 1, g.Positions.size() - 1);
+    const double t = b != a ? std::clamp((p - g.Positions[a]) / (g.Positions[b] - g.Positions[a]), 0.0, 1.0) : 0.0;
+    for (size_t i = 0; i < sliceSize; ++i) {
+      const double va = src->GetComponent(static_cast<vtkIdType>(a * sliceSize + i), 0);
+      const double vb = src->GetComponent(static_cast<vtkIdType>(b * sliceSize + i), 0);
+      dst[static_cast<size_t>(k) * sliceSize + i] = static_cast<float>((1.0 - t) * va + t * vb);
+    }
+  }
+  return image;
+}
+
+// An int32 stack narrowed to 16 bits when the values fit (CT in HU, most MR).
+vtkSmartPointer<vtkImageData> NarrowInt(vtkImageData* stack) {
+  const int* values = static_cast<const int*>(stack->GetScalarPointer());
+  const size_t total = static_cast<size_t>(stack->GetNumberOfPoints());
+  int lo = std::numeric_limits<int>::max(), hi = std::numeric_limits<int>::min();
+  for (size_t i = 0; i < total; ++i) {
+    lo = std::min(lo, values[i]);
+    hi = std::max(hi, values[i]);
+  }
+  const int type = (lo >= -32768 && hi <= 32767) ? VTK_SHORT : (lo >= 0 && hi <= 65535) ? VTK_UNSIGNED_SHORT : VTK_INT;
+  if (type == VTK_INT) return stack;
+  auto image = vtkSmartPointer<vtkImageData>::New();
+  image->SetDimensions(stack->GetDimensions());
+  image->AllocateScalars(type, 1);
+  if (type == VTK_SHORT)
+    Narrow(values, static_cast<short*>(image->GetScalarPointer()), total);
+  else
+    Narrow(values, static_cast<unsigned short*>(image->GetScalarPointer()), total);
+  return image;
+}
+
+// Geometry: i along a row (IOP row direction, column spacing), j down the columns, k along
+// the normal; IJK-to-LPS from the first header, its origin moved to `firstPosition` along the
+// normal (a resampled grid's first slice).
+void StackMatrix(const SliceHeader& h0, const SeriesGeometry& g, double spacing, double firstPosition,
+                 double ijkToLPS[16]) {
+  double axes[3][3] = {{h0.Orientation[0], h0.Orientation[1], h0.Orientation[2]},
+                       {h0.Orientation[3], h0.Orientation[4], h0.Orientation[5]},
+                       {g.Normal[0], g.Normal[1], g.Normal[2]}};
+  for (int c = 0; c < 2; ++c) {
+    const double n = std::sqrt(Dot3(axes[c], axes[c]));
+    for (double& v : axes[c]) v /= n;
+  }
+  const double spacings[3] = {h0.PixelSpacing[1], h0.PixelSpacing[0], spacing};
+  double origin[3] = {h0.Position[0], h0.Position[1], h0.Position[2]};
+  const double shift = firstPosition - g.Positions.front();
+  for (int r = 0; r < 3; ++r) origin[r] += shift * g.Normal[r];
+  for (int i = 0; i < 16; ++i) ijkToLPS[i] = i == 15 ? 1.0 : 0.0;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) ijkToLPS[4 * r + c] = axes[c][r] * spacings[c];
+    ijkToLPS[4 * r + 3] = origin[r];
+  }
+}
+
+// The distinct notes of a stack's images, in order (the same note on every slice once).
+std::vector<std::string> SeriesNotes(const std::vector<SliceHeader>& headers) {
+  std::vector<std::string> notes, keys;
+  for (const SliceHeader& h : headers)
+    for (const std::string& n : h.Notes) {
+      // The same note for another file once only (they differ in the file name).
+      std::string key = n;
+      const std::string file = Name(h.File);
+      if (const size_t at = key.find(file); !file.empty() && at != std::string::npos) key.erase(at, file.size());
+      if (std::find(keys.begin(), keys.end(), key) != keys.end()) continue;
+      keys.push_back(key);
+      notes.push_back(n);
+    }
+  return notes;
 }
 
 // Headers of every image in `files` (one per frame for multi-frame files).
@@ -670,6 +1028,9 @@ bool ScanDicom(const std::string& path, DicomScanResult& result, std::string& er
       const SeriesGeometry g = AnalyzeGeometry(headers, DicomReadOptions().SpacingTolerance);
       info.SliceSpacing = g.Problem.empty() ? g.Spacing : 0.0;
       info.Problem = !g.Problem.empty() ? g.Problem : g.IrregularMessage;
+      info.Warnings = SeriesNotes(headers);
+      if (!h.HasPixelSpacing && info.Warnings.empty())
+        info.Warnings.push_back("no PixelSpacing in " + Name(h.File) + ": 1 mm pixels assumed");
       info.CorruptFiles = corruptBySeries[uid];
       if (!info.CorruptFiles.empty()) info.Problem = "corrupt or truncated file " + info.CorruptFiles.front();
       result.Series.push_back(std::move(info));
@@ -722,7 +1083,6 @@ bool ReadDicomSeries(const DicomSeriesInfo& series, ImageVolume& volume, std::st
       error = what + ": " + g.IrregularMessage + " (refused; allow resampling to load it with its true geometry)";
       return false;
     }
-
     // Decode every image in geometric order into a stack: int32 when every image's slope and
     // intercept are integers (exact), float otherwise; narrowed to short/ushort afterwards.
     const int cols = headers.front().Columns, rows = headers.front().Rows;
@@ -732,12 +1092,17 @@ bool ReadDicomSeries(const DicomSeriesInfo& series, ImageVolume& volume, std::st
       integral = integral && h.Slope == std::floor(h.Slope) && h.Intercept == std::floor(h.Intercept) &&
                  std::abs(h.Slope) < 65536 && std::abs(h.Intercept) < 1e9;
     const int stackDepth = static_cast<int>(g.Order.size());
-    // The 32-bit stack, the narrowed (or resampled) copy beside it, and one decoded file.
+    // 32- and 64-bit pixels (integer or float) go through a double stack: exact for every
+    // 32-bit integer times an integer slope; narrowed below.
+    const bool wide = std::any_of(headers.begin(), headers.end(), [](const SliceHeader& h) { return h.BitsAllocated >= 32; });
+    const int stackType = wide ? VTK_DOUBLE : integral ? VTK_INT : VTK_FLOAT;
+    // The stack, the narrowed (or resampled) copy beside it, and one decoded file.
     const int64_t dims[3] = {cols, rows, stackDepth};
-    if (!CheckImageFitsInMemory(dims, 4.0, what, error, g.Irregular ? 2.0 : 1.5)) return false;
+    if (!CheckImageFitsInMemory(dims, wide ? 8.0 : 4.0, what, error, g.Irregular ? 2.0 : 1.5)) return false;
     auto stack = vtkSmartPointer<vtkImageData>::New();
     stack->SetDimensions(cols, rows, stackDepth);
-    stack->AllocateScalars(integral ? VTK_INT : VTK_FLOAT, 1);
+    stack->AllocateScalars(stackType, 1);
+    int floatBits = 0;  // of float pixel data, if any
     // Each file is decoded once, all its frames at a time, in the order of its first image.
     std::vector<size_t> sliceOfHeader(headers.size());
     for (size_t k = 0; k < g.Order.size(); ++k) sliceOfHeader[g.Order[k]] = k;
@@ -760,8 +1125,12 @@ bool ReadDicomSeries(const DicomSeriesInfo& series, ImageVolume& volume, std::st
       for (size_t index : indices) {
         const SliceHeader& h = headers[index];
         const size_t k = sliceOfHeader[index];
-        const bool ok = integral ? ConvertFrame(pixels, h, static_cast<int*>(stack->GetScalarPointer()) + k * sliceSize, error)
-                                 : ConvertFrame(pixels, h, static_cast<float*>(stack->GetScalarPointer()) + k * sliceSize, error);
+        floatBits = std::max(floatBits, pixels.FloatBits);
+        void* slice = stack->GetScalarPointer();
+        const bool ok =
+            stackType == VTK_DOUBLE ? ConvertFrame(pixels, h, static_cast<double*>(slice) + k * sliceSize, error)
+            : stackType == VTK_INT  ? ConvertFrame(pixels, h, static_cast<int*>(slice) + k * sliceSize, error)
+                                    : ConvertFrame(pixels, h, static_cast<float*>(slice) + k * sliceSize, error);
         if (!ok) {
           error = file + ": " + error;
           return false;
@@ -770,81 +1139,24 @@ bool ReadDicomSeries(const DicomSeriesInfo& series, ImageVolume& volume, std::st
         if (progress) progress(double(done) / g.Order.size(), "reading DICOM");
       }
     }
-
-    // Irregular series: resample along the normal onto a regular grid (linear, float).
-    std::vector<double> outPositions;
+    // Irregular series: resample along the normal onto a regular grid (linear, float);
+    // otherwise narrow the stack to the smallest type that holds its values.
+    std::vector<double> outPositions = g.Positions;
     double spacing = g.Spacing;
     vtkSmartPointer<vtkImageData> image = stack;
     if (g.Irregular) {
-      spacing = g.MinGap;
-      const double length = g.Positions.back() - g.Positions.front();
-      const int n = static_cast<int>(std::lround(length / spacing)) + 1;
-      spacing = n > 1 ? length / (n - 1) : spacing;
-      for (int k = 0; k < n; ++k) outPositions.push_back(g.Positions.front() + k * spacing);
-      image = vtkSmartPointer<vtkImageData>::New();
-      image->SetDimensions(cols, rows, n);
-      image->AllocateScalars(VTK_FLOAT, 1);
-      float* dst = static_cast<float*>(image->GetScalarPointer());
-      vtkDataArray* src = stack->GetPointData()->GetScalars();
-      size_t below = 0;
-      for (int k = 0; k < n; ++k) {
-        const double p = outPositions[k];
-        while (below + 2 < g.Positions.size() && g.Positions[below + 1] <= p) ++below;
-        const size_t a = below, b = std::min(below + 1, g.Positions.size() - 1);
-        const double t = b != a ? std::clamp((p - g.Positions[a]) / (g.Positions[b] - g.Positions[a]), 0.0, 1.0) : 0.0;
-        for (size_t i = 0; i < sliceSize; ++i) {
-          const double va = src->GetComponent(static_cast<vtkIdType>(a * sliceSize + i), 0);
-          const double vb = src->GetComponent(static_cast<vtkIdType>(b * sliceSize + i), 0);
-          dst[static_cast<size_t>(k) * sliceSize + i] = static_cast<float>((1.0 - t) * va + t * vb);
-        }
-      }
+      image = ResampleAlongNormal(stack, g, outPositions, spacing);
       if (warnings)
-        warnings->push_back(g.IrregularMessage + "; resampled to " + std::to_string(n) + " slices " + Fmt(spacing, 3) +
-                            " mm apart by linear interpolation along the slice normal");
-    } else {
-      outPositions = g.Positions;
-      if (integral) {
-        // Narrow to 16 bits when the values fit (CT in HU, most MR).
-        const int* values = static_cast<const int*>(stack->GetScalarPointer());
-        const size_t total = sliceSize * stackDepth;
-        int lo = std::numeric_limits<int>::max(), hi = std::numeric_limits<int>::min();
-        for (size_t i = 0; i < total; ++i) {
-          lo = std::min(lo, values[i]);
-          hi = std::max(hi, values[i]);
-        }
-        const int narrowType = (lo >= -32768 && hi <= 32767) ? VTK_SHORT : (lo >= 0 && hi <= 65535) ? VTK_UNSIGNED_SHORT : VTK_INT;
-        if (narrowType != VTK_INT) {
-          image = vtkSmartPointer<vtkImageData>::New();
-          image->SetDimensions(cols, rows, stackDepth);
-          image->AllocateScalars(narrowType, 1);
-          if (narrowType == VTK_SHORT)
-            Narrow(values, static_cast<short*>(image->GetScalarPointer()), total);
-          else
-            Narrow(values, static_cast<unsigned short*>(image->GetScalarPointer()), total);
-        }
-      }
+        warnings->push_back(g.IrregularMessage + "; resampled to " + std::to_string(outPositions.size()) + " slices " +
+                            Fmt(spacing, 3) + " mm apart by linear interpolation along the slice normal");
+    } else if (stackType == VTK_DOUBLE) {
+      image = NarrowWide(stack, floatBits);
+    } else if (stackType == VTK_INT) {
+      image = NarrowInt(stack);
     }
-
-    // Geometry: i along a row (IOP row direction, column spacing), j down the columns, k along
-    // the normal; IJK-to-LPS from the headers, then to RAS.
     const SliceHeader& h0 = headers[g.Order.front()];
-    double axes[3][3] = {{h0.Orientation[0], h0.Orientation[1], h0.Orientation[2]},
-                         {h0.Orientation[3], h0.Orientation[4], h0.Orientation[5]},
-                         {g.Normal[0], g.Normal[1], g.Normal[2]}};
-    for (int c = 0; c < 2; ++c) {
-      const double n = std::sqrt(Dot3(axes[c], axes[c]));
-      for (double& v : axes[c]) v /= n;
-    }
-    const double spacings[3] = {h0.PixelSpacing[1], h0.PixelSpacing[0], spacing};
-    // Origin: the first slice's position, moved onto the resampled first position if needed.
-    double origin[3] = {h0.Position[0], h0.Position[1], h0.Position[2]};
-    const double shift = outPositions.front() - g.Positions.front();
-    for (int r = 0; r < 3; ++r) origin[r] += shift * g.Normal[r];
-    double ijkToLPS[16] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1};
-    for (int r = 0; r < 3; ++r) {
-      for (int c = 0; c < 3; ++c) ijkToLPS[4 * r + c] = axes[c][r] * spacings[c];
-      ijkToLPS[4 * r + 3] = origin[r];
-    }
+    double ijkToLPS[16];
+    StackMatrix(h0, g, spacing, outPositions.front(), ijkToLPS);
     FlipLPSRASIndexToSpace(ijkToLPS);
     ImageVolume result;
     result.Image = image;
@@ -855,8 +1167,11 @@ bool ReadDicomSeries(const DicomSeriesInfo& series, ImageVolume& volume, std::st
     }
     result.Modality = h0.Modality;
     result.Description = h0.Description;
-    if (warnings && !h0.HasPixelSpacing)
-      warnings->push_back("no PixelSpacing in " + Name(h0.File) + ": 1 mm pixels assumed");
+    if (warnings) {
+      if (!h0.HasPixelSpacing && h0.Notes.empty())
+        warnings->push_back("no PixelSpacing in " + Name(h0.File) + ": 1 mm pixels assumed");
+      for (const std::string& note : SeriesNotes(headers)) warnings->push_back(note);
+    }
     if (warnings && h0.Photometric == "MONOCHROME1")
       warnings->push_back("MONOCHROME1 series: values are kept as stored (low = white on the scanner display)");
     if (warnings) {

@@ -18,8 +18,14 @@
 //    two positions (and files) around the gap; with `ResampleIrregularSpacing` the series is
 //    loaded with its true geometry by linear interpolation onto a regular grid whose spacing
 //    is the smallest gap, and a warning says so;
-//  - gantry tilt, duplicate positions (echoes, time points), multi-frame images without
-//    per-frame positions and colour images are refused with a message naming the problem;
+//  - gantry tilt, duplicate positions (echoes, time points), multi-frame images whose file
+//    does not give the frames' geometry, colour and palette-colour images are refused with a
+//    message naming the problem (Libs/Imaging/README.md says why);
+//  - pixel values: RescaleSlope/Intercept, an RT Dose's DoseGridScaling or a Modality LUT
+//    Sequence applied; 8/16/32-bit integer, Float and Double Float Pixel Data read;
+//  - legacy multi-frame files (one position and orientation, Spacing Between Slices; RT Dose's
+//    Grid Frame Offset Vector) contribute one slice per frame;
+//  - an invalid PixelSpacing (0\0, negative, NaN) is read as 1 mm with a warning, as a missing one;
 //  - a series of several stacks read without choosing one is refused, naming the stacks;
 //  - non-DICOM files are skipped and counted; truncated or corrupt files are named.
 #include <string>
@@ -56,6 +62,9 @@ struct DicomSeriesInfo {
   std::vector<std::string> CorruptFiles;
   /// Human-readable reason the series cannot be read ("" if it looks loadable).
   std::string Problem;
+  /// What the reader will assume or ignore when reading it (an invalid PixelSpacing read as
+  /// 1 mm, frames spaced by their SliceThickness...): shown by `roboplan dicom`.
+  std::vector<std::string> Warnings;
 };
 
 struct DicomScanResult {

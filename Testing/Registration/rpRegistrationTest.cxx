@@ -53,7 +53,7 @@ TEST(Registration, EveryDataReaderIsRegisteredOnce) {
   ASSERT_TRUE(imagingReaders);
   std::vector<std::string> names;
   for (const auto& reader : rp::GetDataReaders()) names.push_back(reader->Description());
-  for (const char* name : {"RoboPlan scene", "3D Slicer scene", "Node file", "DICOM"})
+  for (const char* name : {"RoboPlan scene", "3D Slicer scene", "Node file", "DICOM", "DICOM SEG / RTSTRUCT"})
     EXPECT_EQ(std::count(names.begin(), names.end(), name), 1) << name;
 }
 

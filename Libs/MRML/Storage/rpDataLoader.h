@@ -31,7 +31,8 @@
 // also exports an idempotent Register...() that hosts call at start-up (see rpImagingReaders.h).
 // Readers registered today: "RoboPlan scene" (.rpscene, rpSceneFileReader.cxx), "3D Slicer scene"
 // (.mrml, .mrb: rpMrmlDataReader.cxx), "Node file" (every
-// node storage, rpDataLoader.cxx), "DICOM" (folder, DICOMDIR, a DICOM file: Libs/Imaging/rpDicomDataReader.cxx).
+// node storage, rpDataLoader.cxx), "DICOM" (folder, DICOMDIR, a DICOM file: Libs/Imaging/rpDicomDataReader.cxx),
+// "DICOM SEG / RTSTRUCT" (such a file, or a folder holding one: rpDicomSegmentationDataReader.cxx).
 #include <memory>
 #include <string>
 #include <vector>

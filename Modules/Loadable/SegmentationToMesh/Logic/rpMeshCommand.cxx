@@ -144,7 +144,7 @@ struct MeshRun {
 };
 
 void DeclareOptions(ArgParser& parser) {
-  parser.Positional("input", "volume or labelmap (.nrrd, .nii.gz, .mha, DICOM folder or DICOMDIR) or segmentation (.seg.nrrd)")
+  parser.Positional("input", "volume or labelmap (.nrrd, .nii.gz, .mha, DICOM folder or DICOMDIR) or segmentation (.seg.nrrd, DICOM SEG or RTSTRUCT file or folder)")
       .Input(FileKind::Image, InputExtensions())
       .Option("series", "id",
               "DICOM input: the series to mesh when there are several: its SeriesInstanceUID, or "
@@ -374,7 +374,10 @@ int SegmentationFromLabelmap(const ArgParser& parser, const MeshRequest& request
     const InputChoice choice =
         ChooseInputKind(inputKind, volume->GetImageData(), input, parser.Has("labels"), intensityOptions);
     inputInfo = {{"kind", choice.Labelmap ? "labelmap" : "intensity"}, {"reason", choice.Reason}};
-    if (!quiet) err << "input: " << choice.Reason << "\n";
+    // The labelmap hint goes to the error stream even with --json (a run that then finds empty
+    // segments would otherwise say only that).
+    const bool hint = choice.Reason.find("--input-kind labelmap") != std::string::npos && !choice.Labelmap;
+    if (!quiet || hint) err << "input: " << choice.Reason << "\n";
     if (choice.Labelmap) {
       LabelTable table;
       if (parser.Has("labels") && !ReadLabelTable(parser.Get("labels"), table, error)) {

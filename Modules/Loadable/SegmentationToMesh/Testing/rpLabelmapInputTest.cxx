@@ -188,6 +188,7 @@ TEST(LabelmapInput, AutoDecisionIsExplainedAndCanBeForced) {
   MeshRun run = Mesh(plain.string() + " --out " + (dir / "a").string() + " --no-haptic --json");
   EXPECT_EQ(run.Doc["inputKind"]["kind"], "intensity") << run.Out << run.Err;
   EXPECT_NE(run.Doc["inputKind"]["reason"].get<std::string>().find("--input-kind labelmap"), std::string::npos);
+  EXPECT_NE(run.Err.find("if it is a labelmap, say --input-kind labelmap"), std::string::npos) << run.Err;  // --json too
   // Forced: one segment per label, default names.
   run = Mesh(plain.string() + " --out " + (dir / "b").string() + " --input-kind labelmap --no-haptic --json");
   ASSERT_EQ(run.Code, 0) << run.Err;

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <stdexcept>
 
 #include <nlohmann/json.hpp>
@@ -12,13 +13,19 @@
 #include <vtkNew.h>
 #include <vtkPolyData.h>
 
+#include "vtkRPSegmentationNode.h"
+
 #include "rpArgParser.h"
+#include "rpDicomReferenceSeries.h"
+#include "rpDicomRtStruct.h"
+#include "rpDicomSegmentation.h"
 #include "rpDicomTransferSyntax.h"
 #include "rpNodeStorage.h"
 #include "rpKneePhantom.h"
 #include "rpModelIO.h"
 #include "rpProgress.h"
 #include "rpSceneFormats.h"
+#include "rpSegmentationIO.h"
 #include "rpTransformIO.h"
 #include "rpVolumeFiles.h"
 #include "rpVolumeIO.h"
@@ -122,7 +129,8 @@ int RunDicomCommand(const std::vector<std::string>& arguments, std::ostream& out
                                {"transferSyntax", TransferSyntaxLabel(s.TransferSyntaxUID)},
                                {"files", s.Files.size()},
                                {"loadable", s.Problem.empty()},
-                               {"problem", s.Problem}});
+                               {"problem", s.Problem},
+                               {"warnings", s.Warnings}});
     }
     out << doc.dump(2) << "\n";
   } else {
@@ -140,6 +148,7 @@ int RunDicomCommand(const std::vector<std::string>& arguments, std::ostream& out
                                : std::string())
           << "\n     " << TransferSyntaxLabel(s.TransferSyntaxUID) << "\n";
       if (!s.Problem.empty()) out << "     cannot load as is: " << s.Problem << "\n";
+      for (const auto& w : s.Warnings) out << "     warning: " << w << "\n";
     }
     for (const auto& c : scan.CorruptFiles) out << "  corrupt: " << c << "\n";
   }
@@ -151,14 +160,75 @@ int RunDicomCommand(const std::vector<std::string>& arguments, std::ostream& out
 }
 
 // ---------------------------------------------------------------------------------------------
+namespace {
+
+bool EndsWith(const std::string& text, const std::string& suffix) {
+  return text.size() >= suffix.size() && text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+// DICOM SEG / RTSTRUCT → .seg.nrrd, and .seg.nrrd → DICOM SEG on --reference's grid. Returns
+// nothing when `in` and `out` are not a segmentation conversion (a volume conversion follows).
+std::optional<int> ConvertSegmentation(const ArgParser& parser, std::ostream& out, std::ostream& err) {
+  const std::string in = parser.Get("in"), outPath = parser.Get("out"), reference = parser.Get("reference");
+  std::string error, object;
+  const int kind = EndsWith(in, ".seg.nrrd") ? 0 : DicomSegmentationObjectKind(in, &object, &error);
+  if (kind < 0) {
+    err << "roboplan convert: " << error << "\n";
+    return 1;
+  }
+  const bool toDicom = EndsWith(in, ".seg.nrrd") && !EndsWith(outPath, ".nrrd");
+  if (kind == 0 && !toDicom) return std::nullopt;
+  vtkNew<vtkRPSegmentationNode> node;
+  std::vector<std::string> warnings;
+  bool ok = false;
+  if (toDicom) {
+    if (reference.empty()) {
+      err << "roboplan convert: writing a DICOM SEG needs the image series it segments: --reference <DICOM folder>\n";
+      return 2;
+    }
+    std::string file = outPath;
+    if (!EndsWith(outPath, ".dcm")) {
+      std::error_code ec;
+      std::filesystem::create_directories(outPath, ec);
+      file = (std::filesystem::path(outPath) / "segmentation.dcm").string();
+    }
+    ok = ReadSegmentationFile(in, node, error) && WriteDicomSegmentation(node, reference, file, error);
+  } else {
+    if (!EndsWith(outPath, ".seg.nrrd")) {
+      err << "roboplan convert: a DICOM " << (kind == 1 ? "SEG" : "RTSTRUCT") << " converts to a segmentation file (.seg.nrrd)\n";
+      return 2;
+    }
+    ok = (kind == 1 ? ReadDicomSegmentation(object, node, error, reference, &warnings)
+                    : ReadDicomRtStruct(object, node, error, reference, &warnings)) &&
+         WriteSegmentationFile(outPath, node, error);
+  }
+  if (!ok) {
+    err << "roboplan convert: " << error << "\n";
+    return 1;
+  }
+  for (const auto& w : warnings) err << "roboplan convert: warning: " << w << "\n";
+  if (parser.Json()) {
+    nlohmann::json doc = {{"ok", true}, {"input", in}, {"output", outPath}, {"segments", node->GetNumberOfSegments()},
+                          {"outputFormat", toDicom ? "DICOM SEG" : "segmentation file"}, {"warnings", warnings}};
+    out << doc.dump(2) << "\n";
+  } else {
+    out << "wrote " << outPath << " (" << node->GetNumberOfSegments() << " segments)\n";
+  }
+  return 0;
+}
+
+}  // namespace
+
 int RunConvertCommand(const std::vector<std::string>& arguments, std::ostream& out, std::ostream& err) {
   ArgParser parser("convert",
                    "Convert a volume between DICOM series (folder, DICOMDIR or file), NRRD (.nrrd/.nhdr), "
                    "NIfTI (.nii/.nii.gz) and MetaImage (.mha/.mhd). An output name without one of those "
                    "extensions is a folder that receives a DICOM series (CT or MR Image Storage). "
                    "Geometry (IJK-to-RAS, direction cosines) and voxel values are kept. "
-                   "Scenes convert between RoboPlan's .rpscene and 3D Slicer's .mrml and .mrb the same way.");
-  parser.Positional("in", "input volume or DICOM folder, or scene (.rpscene, .mrml, .mrb)")
+                   "Scenes convert between RoboPlan's .rpscene and 3D Slicer's .mrml and .mrb the same way. "
+                   "Segmentations: a DICOM SEG or RTSTRUCT (file or folder) converts to a .seg.nrrd, and a .seg.nrrd "
+                   "to a DICOM SEG (a .dcm file, or a folder) with --reference, the image series it segments.");
+  parser.Positional("in", "input volume or DICOM folder, or scene (.rpscene, .mrml, .mrb), or DICOM SEG/RTSTRUCT")
       .Positional("out", "output volume file, or a folder for a DICOM series, or scene")
       .Option("series", "id",
               "DICOM input: the series to convert when there are several: its SeriesInstanceUID, or "
@@ -166,10 +236,15 @@ int RunConvertCommand(const std::vector<std::string>& arguments, std::ostream& o
       .Option("modality", "CT|MR", "DICOM output: the modality (default: the input's, else CT)")
       .Flag("resample-irregular",
             "DICOM input: load a series with a missing slice or uneven spacing by resampling it onto a "
-            "regular grid along the slice normal (refused otherwise)");
+            "regular grid along the slice normal (refused otherwise)")
+      .Option("reference", "folder",
+              "segmentations: the DICOM image series a SEG or RTSTRUCT refers to (its grid; needed to write a SEG, "
+              "optional to read one: without it a SEG keeps the grid its frames span, an RTSTRUCT looks in its own "
+              "folder)");
   if (const auto exitCode = parser.ParseCommand(arguments, out, err)) return *exitCode;
   if (IsSceneFileName(parser.Get("in")) || IsSceneFileName(parser.Get("out")))
     return ConvertSceneFile(parser.Get("in"), parser.Get("out"), parser.Json(), out, err);
+  if (const auto exitCode = ConvertSegmentation(parser, out, err)) return *exitCode;
   const std::string modality = parser.Get("modality");
   if (!modality.empty() && modality != "CT" && modality != "MR") {
     err << "roboplan convert: --modality must be CT or MR\n";

@@ -16,6 +16,7 @@
 #include <vtkPointData.h>
 
 #include "rpKneePhantom.h"
+#include "rpSegmentationIO.h"
 #include "rpSharedData.h"
 #include "rpTransformIO.h"
 #include "rpVolumeFiles.h"
@@ -24,6 +25,7 @@
 #include "vtkRPLinearTransformNode.h"
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
+#include "vtkRPSegmentationNode.h"
 #include "vtkRPVolumesLogic.h"
 
 namespace fs = std::filesystem;
@@ -76,6 +78,59 @@ bool SameVoxels(const rp::ImageVolume& a, const rp::ImageVolume& b) {
 }
 
 }  // namespace
+
+// `roboplan dicom` shows what the reader will assume (an invalid PixelSpacing read as 1 mm), as
+// text and in --json; `roboplan convert` turns a .seg.nrrd into a DICOM SEG on the CT's grid
+// (--reference) and back, voxel for voxel.
+TEST(VolumesCommands, DicomWarnsOfInvalidSpacingAndConvertConvertsSegmentations) {
+  const fs::path dir = PhantomDir();
+  const fs::path zero = Dir() / "zero-spacing";
+  fs::remove_all(zero);
+  fs::copy(dir / "CT", zero, fs::copy_options::recursive);
+  const std::string modify = "dcmodify -nb -m \"(0028,0030)=0\\\\0\" \"" + zero.string() + "\"/*.dcm >/dev/null 2>&1";
+  if (std::system("dcmodify --version >/dev/null 2>&1") != 0) GTEST_SKIP() << "dcmodify (dcmtk) not installed";
+  ASSERT_EQ(std::system(modify.c_str()), 0);
+  CommandRun r = Call(rp::RunDicomCommand, {zero.string()});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("warning: PixelSpacing 0\\0 in "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("1.000 x 1.000"), std::string::npos) << r.out;
+  r = Call(rp::RunDicomCommand, {zero.string(), "--json"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto warnings = r.Json()["series"][0]["warnings"];
+  ASSERT_EQ(warnings.size(), 1u) << r.out;
+  EXPECT_NE(warnings[0].get<std::string>().find("1 mm pixels assumed"), std::string::npos) << r.out;
+
+  // labels.nrrd (on the CT's grid) as a segmentation file, then SEG and back.
+  rp::ImageVolume labels;
+  std::string error;
+  ASSERT_TRUE(rp::ReadVolume((dir / "labels.nrrd").string(), labels, error)) << error;
+  vtkNew<vtkRPSegmentationNode> node;
+  rp::CopyToNode(labels, node.GetPointer());
+  double range[2];
+  labels.Image->GetScalarRange(range);
+  for (int l = 1; l <= static_cast<int>(range[1]); ++l) {
+    rp::Segment s;
+    s.ID = "label" + std::to_string(l);
+    s.Name = "Label " + std::to_string(l);
+    s.LabelValue = l;
+    node->SetSegment(s);
+  }
+  const fs::path segNrrd = Dir() / "labels.seg.nrrd", segDicom = Dir() / "labels-seg.dcm", back = Dir() / "back.seg.nrrd";
+  ASSERT_TRUE(rp::WriteSegmentationFile(segNrrd.string(), node, error)) << error;
+  r = Call(rp::RunConvertCommand, {segNrrd.string(), segDicom.string()});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--reference"), std::string::npos) << r.err;
+  r = Call(rp::RunConvertCommand, {segNrrd.string(), segDicom.string(), "--reference", (dir / "CT").string()});
+  ASSERT_EQ(r.code, 0) << r.err;
+  r = Call(rp::RunConvertCommand, {segDicom.string(), back.string(), "--reference", (dir / "CT").string(), "--json"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.Json()["segments"], node->GetNumberOfSegments());
+  vtkNew<vtkRPSegmentationNode> read;
+  ASSERT_TRUE(rp::ReadSegmentationFile(back.string(), read, error)) << error;
+  EXPECT_TRUE(SameVoxels(labels, rp::FromNode(read))) << "SEG round trip through roboplan convert";
+  ASSERT_EQ(read->GetNumberOfSegments(), node->GetNumberOfSegments());
+  EXPECT_EQ(read->GetNthSegment(0).Name, "Label 1");
+}
 
 TEST(VolumesCommands, PhantomDicomListingAndConversion) {
   const fs::path dir = PhantomDir();
