@@ -15,6 +15,7 @@ packages=(
   libdeflate-dev                       # whole-buffer gzip/zlib: gzip NRRD voxels in, .vtp blocks out
   libfftw3-dev                         # referenced by ITK's and VTK's exported CMake targets
   libgtest-dev libgmock-dev libbenchmark-dev
+  libteem-dev rapidjson-dev            # 3D Slicer's MRML library as a test oracle (Testing/Oracles/SlicerMRML; + libarchive-dev)
   clang libclang-rt-14-dev             # libFuzzer targets of every parser (ctest -L fuzz)
   xvfb xauth libgl1-mesa-dri libglx-mesa0  # offscreen rendering with Mesa's software OpenGL
   gdb                                  # rpXvfbTeardownTest stages Xvfb's SIGTERM race with it
