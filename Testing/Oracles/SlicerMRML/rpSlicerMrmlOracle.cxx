@@ -17,7 +17,12 @@
 // 0 on success, 1 when the scene could not be written or read, 2 on bad usage.
 #include <itkFactoryRegistration.h>
 
+#include <vtkBinaryLabelmapToClosedSurfaceConversionRule.h>
 #include <vtkCacheManager.h>
+#include <vtkClosedSurfaceToBinaryLabelmapConversionRule.h>
+#include <vtkClosedSurfaceToFractionalLabelmapConversionRule.h>
+#include <vtkFractionalLabelmapToClosedSurfaceConversionRule.h>
+#include <vtkMRMLColorTableNode.h>
 #include <vtkDataIOManager.h>
 #include <vtkMRMLDisplayNode.h>
 #include <vtkMRMLDisplayableNode.h>
@@ -58,9 +63,11 @@
 #include <vtkSegment.h>
 #include <vtkSegmentation.h>
 #include <vtkSegmentationConverter.h>
+#include <vtkSegmentationConverterFactory.h>
 
 #include <vtkCubeSource.h>
 #include <vtkImageData.h>
+#include <vtkLogger.h>
 #include <vtkMatrix4x4.h>
 #include <vtkNew.h>
 #include <vtkOutputWindow.h>
@@ -94,7 +101,7 @@ class rpOracleOutputWindow : public vtkOutputWindow {
   void DisplayErrorText(const char* text) override { this->Add("error", text); }
   void DisplayWarningText(const char* text) override { this->Add("warning", text); }
   void DisplayGenericWarningText(const char* text) override { this->Add("warning", text); }
-  void DisplayText(const char* text) override { this->Add("text", text); }
+  void DisplayText(const char*) override {}  // information (vtkArchive lists what it zips)
   void DisplayDebugText(const char*) override {}
   json Messages = json::array();
 
@@ -128,6 +135,41 @@ json MessageSummary(const json& messages) {
 }
 
 // ---------------------------------------------------------------- the scene as Slicer sets it up
+/// The segmentation converter rules the Segmentations module registers at start-up.
+void RegisterSegmentationConverterRules() {
+  vtkSegmentationConverterFactory* factory = vtkSegmentationConverterFactory::GetInstance();
+  factory->RegisterConverterRule(vtkNew<vtkBinaryLabelmapToClosedSurfaceConversionRule>());
+  factory->RegisterConverterRule(vtkNew<vtkClosedSurfaceToBinaryLabelmapConversionRule>());
+  factory->RegisterConverterRule(vtkNew<vtkClosedSurfaceToFractionalLabelmapConversionRule>());
+  factory->RegisterConverterRule(vtkNew<vtkFractionalLabelmapToClosedSurfaceConversionRule>());
+}
+
+/// The built-in colour tables vtkMRMLColorLogic adds to every scene (singletons, not saved,
+/// IDs vtkMRMLColorTableNode<type>), and stand-ins with the IDs of the two label colour files
+/// Slicer ships (GenericAnatomyColors, GenericColors), which scenes reference.
+void AddDefaultColorNodes(vtkMRMLScene* scene) {
+  vtkNew<vtkMRMLColorTableNode> types;
+  for (int type = types->GetFirstType(); type <= types->GetLastType(); ++type) {
+    if (type == vtkMRMLColorTableNode::Obsolete || type == vtkMRMLColorTableNode::File ||
+        type == vtkMRMLColorTableNode::User)
+      continue;
+    vtkNew<vtkMRMLColorTableNode> node;
+    node->SetType(type);
+    node->SetName(node->GetTypeAsString());
+    node->SetSingletonTag(node->GetTypeAsString());
+    node->SetSaveWithScene(false);
+    scene->AddNode(node);
+  }
+  for (const char* file : {"GenericAnatomyColors.txt", "GenericColors.txt"}) {
+    vtkNew<vtkMRMLColorTableNode> node;
+    node->SetTypeToLabels();
+    node->SetName(std::string(file).substr(0, std::string(file).size() - 4).c_str());
+    node->SetSingletonTag((std::string("File") + file).c_str());
+    node->SetSaveWithScene(false);
+    scene->AddNode(node);
+  }
+}
+
 /// A scene as Slicer's application logic prepares it; the cache (where bundles are unpacked and
 /// packed) is `cacheDir`.
 vtkSmartPointer<vtkMRMLScene> NewSlicerScene(const std::string& cacheDir) {
@@ -156,10 +198,11 @@ vtkSmartPointer<vtkMRMLScene> NewSlicerScene(const std::string& cacheDir) {
   scene->RegisterNodeClass(vtkNew<vtkMRMLMarkupsJsonStorageNode>());
   scene->RegisterNodeClass(vtkNew<vtkMRMLMarkupsPlaneJsonStorageNode>());
   scene->RegisterNodeClass(vtkNew<vtkMRMLMarkupsROIJsonStorageNode>());
-  // Singletons (vtkMRMLApplicationLogic::SetMRMLSceneInternal) and slice presets.
+  // Singletons (vtkMRMLApplicationLogic::SetMRMLSceneInternal), slice presets, colours.
   scene->AddNode(vtkNew<vtkMRMLSelectionNode>());
   scene->AddNode(vtkNew<vtkMRMLInteractionNode>());
   vtkMRMLSliceNode::AddDefaultSliceOrientationPresets(scene);
+  AddDefaultColorNodes(scene);
   return scene;
 }
 
@@ -247,8 +290,10 @@ void AddModels(vtkMRMLScene* scene, vtkMRMLTransformNode* outer) {
   sphere->Update();
   const double bone[3] = {0.9, 0.8, 0.6};
   vtkMRMLModelNode* femur = AddModel(scene, "Femur", sphere->GetOutput(), bone, 0.7);
-  femur->SetAttribute("RoboPlan.TissueClass", "bone");
-  femur->SetAttribute("RoboPlan.Haptic", "1");
+  // What a Slicer user sets for RoboPlan (its tissue class and haptic flag), and one of their own.
+  femur->SetAttribute("RoboPlan.tissueClass", "bone");
+  femur->SetAttribute("RoboPlan.haptic", "true");
+  femur->SetAttribute("Lab.Surgeon", "A. N. Other");
   vtkNew<vtkCubeSource> cube;
   cube->SetBounds(-4.0, 6.0, -3.0, 3.5, 2.0, 12.25);
   cube->Update();
@@ -265,7 +310,7 @@ void AddFiducials(vtkMRMLScene* scene, vtkMRMLTransformNode* parent) {
   fiducials->CreateDefaultDisplayNodes();
   fiducials->GetDisplayNode()->SetSelectedColor(0.2, 0.9, 0.3);
   fiducials->SetAndObserveTransformNodeID(parent->GetID());
-  fiducials->SetAttribute("RoboPlan.Role", "landmarks");
+  fiducials->SetAttribute("Lab.Role", "landmarks");
 }
 
 /// A binary labelmap on the CT's grid: 1 inside the box [lo, hi) of IJK indices.
@@ -293,7 +338,7 @@ void AddSegmentation(vtkMRMLScene* scene, vtkMRMLScalarVolumeNode* ct) {
   double boneColor[3] = {0.9, 0.85, 0.7}, tumorColor[3] = {1.0, 0.0, 0.0};
   seg->AddSegmentFromBinaryLabelmapRepresentation(BoxLabelmap(boneLo, boneHi), "Bone", boneColor, "Bone");
   seg->AddSegmentFromBinaryLabelmapRepresentation(BoxLabelmap(tumorLo, tumorHi), "Tumor", tumorColor, "Tumor");
-  seg->SetAttribute("RoboPlan.TissueClass", "segmentation");
+  seg->SetAttribute("Lab.Study", "knee 7");
 }
 
 int WriteMrb(const std::string& out, const std::string& cacheDir, json& messages) {
@@ -496,6 +541,8 @@ int main(int argc, char** argv) {
     return 2;
   }
   itk::itkFactoryRegistration();
+  RegisterSegmentationConverterRules();
+  vtkLogger::SetStderrVerbosity(vtkLogger::VERBOSITY_OFF);  // everything goes through the output window
   vtkNew<rpOracleOutputWindow> output;
   vtkOutputWindow::SetInstance(output);
   const std::string tmp = vtksys::SystemTools::GetEnv("TMPDIR") ? vtksys::SystemTools::GetEnv("TMPDIR") : "/tmp";
