@@ -13,6 +13,7 @@ packages=(
   libopenigtlink-dev                   # OpenIGTLink 1.11
   nlohmann-json3-dev                   # JSON for scene files, .mrk.json and --json output
   libdeflate-dev                       # whole-buffer gzip/zlib: gzip NRRD voxels in, .vtp blocks out
+  libarchive-dev                       # zip: 3D Slicer's .mrb scene bundles in and out
   libfftw3-dev                         # referenced by ITK's and VTK's exported CMake targets
   libgtest-dev libgmock-dev libbenchmark-dev
   libteem-dev rapidjson-dev            # 3D Slicer's MRML library as a test oracle (Testing/Oracles/SlicerMRML; + libarchive-dev)

@@ -1,5 +1,6 @@
 // `roboplan`: one executable. With a subcommand it runs headless (subcommands come from the
-// loaded modules, plus `modules`); without one, or with scene/data files, it opens the viewer.
+// loaded modules, plus `modules`); without one, or with scene/data files or folders (an argument
+// that is an existing path is data, not a command), it opens the viewer.
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -15,6 +16,9 @@
 
 #ifdef ROBOPLAN_HAVE_VIEWER
 #include "rpViewerApplication.h"
+#endif
+#ifdef ROBOPLAN_HAVE_IMAGING
+#include "rpImagingReaders.h"
 #endif
 
 namespace {
@@ -72,6 +76,32 @@ int ListModules(const rp::ModuleManager& manager, const std::vector<std::string>
   return 0;
 }
 
+#ifdef ROBOPLAN_HAVE_VIEWER
+const std::vector<rp::Command>& BuiltInViewerCommands() {
+  static const std::vector<rp::Command> commands = rp::ViewerCommands();  // e.g. `screenshot`
+  return commands;
+}
+#endif
+
+bool NamesCommand(const std::string& name, const rp::ModuleManager& manager) {
+  if (name == "modules" || manager.FindCommand(name)) return true;
+#ifdef ROBOPLAN_HAVE_VIEWER
+  for (const auto& builtIn : BuiltInViewerCommands())
+    if (builtIn.Name == name) return true;
+#endif
+  return false;
+}
+
+// The first argument is data to open in the viewer, not a command, when it names no command and
+// is an existing file or folder (`roboplan /data/knee/CT`, a DICOM folder), or looks like a file
+// name (has a '.': a missing scene is then reported by the viewer, not as an unknown command).
+// A command name wins over a file of that name in the working folder (`./mesh` opens the file).
+bool IsDataArgument(const std::string& argument, const rp::ModuleManager& manager) {
+  if (argument.empty() || argument[0] == '-' || NamesCommand(argument, manager)) return false;
+  std::error_code ec;
+  return std::filesystem::exists(argument, ec) || argument.find('.') != std::string::npos;
+}
+
 }  // namespace
 
 int main(int argc, char* argv[]) {
@@ -81,11 +111,16 @@ int main(int argc, char* argv[]) {
   const std::string program = std::filesystem::path(argv[0]).filename().string();
   const bool linkedCommand = program.rfind("roboplan-", 0) == 0;
   if (linkedCommand) args.insert(args.begin(), program.substr(std::string("roboplan-").size()));
+#ifdef ROBOPLAN_HAVE_IMAGING
+  // The start-up list of registrations that nothing else references (see rpImagingReaders.h):
+  // DICOM folders for `roboplan <folder>` and every command's rp::LoadPath.
+  rp::RegisterImagingReaders();
+#endif
   vtkNew<vtkRPScene> scene;
   rp::ModuleManager manager;
   manager.LoadModules(rp::ModuleManager::DefaultSearchPaths(), scene);
 
-  const bool wantsViewer = !linkedCommand && (args.empty() || (args[0].find('.') != std::string::npos && args[0][0] != '-'));
+  const bool wantsViewer = !linkedCommand && (args.empty() || IsDataArgument(args[0], manager));
   if (wantsViewer) {
 #ifdef ROBOPLAN_HAVE_VIEWER
     ReportFailures(manager);
@@ -107,8 +142,7 @@ int main(int argc, char* argv[]) {
   if (name == "modules") return ListModules(manager, rest);
   const rp::Command* command = manager.FindCommand(name);
 #ifdef ROBOPLAN_HAVE_VIEWER
-  static const std::vector<rp::Command> viewerCommands = rp::ViewerCommands();  // e.g. `screenshot`
-  for (const auto& builtIn : viewerCommands) command = !command && builtIn.Name == name ? &builtIn : command;
+  for (const auto& builtIn : BuiltInViewerCommands()) command = !command && builtIn.Name == name ? &builtIn : command;
 #endif
   if (!command) {
     ReportFailures(manager);

@@ -1,18 +1,16 @@
 #include "rpVolumeFiles.h"
 
-#include <algorithm>
 #include <filesystem>
 
+#include "rpNodeStorage.h"
 #include "rpVolumeIO.h"
 
 namespace rp {
 
 bool IsVolumeFileName(const std::string& path) {
-  std::string lower = path;
-  std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
-  for (const char* ext : {".nrrd", ".nhdr", ".nii", ".nii.gz", ".mha", ".mhd"}) {
-    const std::string e = ext;
-    if (lower.size() > e.size() && lower.compare(lower.size() - e.size(), e.size(), e) == 0) return true;
+  // The extensions the volume storage registered (rpVolumeIO.cxx): listed there only.
+  for (const std::string& ext : ExtensionsForNodeClass("vtkRPScalarVolumeNode")) {
+    if (path.size() > ext.size() && HasExtension(path, ext)) return true;
   }
   return false;
 }

@@ -12,7 +12,8 @@
 
 namespace rp {
 
-/// True for names ITK's volume IO handles (.nrrd .nhdr .nii .nii.gz .mha .mhd).
+/// True for names the volume storage reads (rpVolumeIO.cxx registers them: .nrrd .nii.gz ...).
+/// ReadVolume reads anything else as DICOM. Scenes and nodes: rp::LoadPath (rpDataLoader.h).
 bool IsVolumeFileName(const std::string& path);
 
 struct VolumeReadOptions {

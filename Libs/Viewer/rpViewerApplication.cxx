@@ -13,12 +13,8 @@
 #include <nlohmann/json.hpp>
 #include <vtkNew.h>
 
-#ifdef ROBOPLAN_VIEWER_HAVE_DICOM
-#include "rpDicomSeries.h"
-#include "rpImageVolume.h"
-#endif
-
 #include "rpArgParser.h"
+#include "rpDataLoader.h"
 #include "rpModuleManager.h"
 #include "rpNodeStorage.h"
 #include "rpSceneIO.h"
@@ -32,54 +28,26 @@
 namespace rp {
 
 BackgroundRead MakeDataRead(vtkRPScene* scene, const std::string& path) {
-  if (std::filesystem::is_directory(path)) {
-#ifdef ROBOPLAN_VIEWER_HAVE_DICOM
-    // A folder is a DICOM series (the only one in it).
-    return [path](BackgroundReadResult& result, const ProgressCallback& progress) {
-      ImageVolume volume;
-      if (!ReadDicomVolume(path, volume, result.Error, "", {}, &result.Warnings, progress)) return false;
-      auto node = vtkSmartPointer<vtkRPScalarVolumeNode>::New();
-      node->SetName(volume.Description.empty() ? std::filesystem::path(path).filename().string() : volume.Description);
-      CopyToNode(volume, node);
-      if (volume.Window <= 0) node->SetWindowLevelFromScalarRange();
-      result.Nodes.push_back(node);
-      return true;
-    };
-#else
-    return [path](BackgroundReadResult& result, const ProgressCallback&) {
-      result.Error = path + ": is a folder, and this build has no DICOM reader";
-      return false;
-    };
-#endif
-  }
-  std::string error;
-  vtkSmartPointer<vtkRPNode> node = CreateNodeForFile(scene, path, error);
-  return [node, path, error](BackgroundReadResult& result, const ProgressCallback& progress) {
-    result.Error = error;
-    if (!node || !ReadNodeFile(node, path, result.Error)) return false;
-    if (progress) progress(1.0, "read");
-    result.Nodes.push_back(node);
-    return true;
+  // The one loader (rpDataLoader.h) on the worker thread: readers that do not read into the scene
+  // only create nodes through it (a const lookup in its node registry).
+  return [scene, path](BackgroundReadResult& result, const ProgressCallback& progress) {
+    ReadOptions options;
+    options.Progress = progress;
+    LoadResult read = ReadPath(scene, path, options);
+    result.Error = read.Error;
+    result.Warnings = read.Warnings;
+    result.Nodes = read.Nodes;
+    return read.Ok;
   };
 }
 
 bool LoadSceneOrDataFile(vtkRPScene* scene, const std::string& path, std::string& error,
                          std::vector<std::string>* warnings) {
-  if (HasExtension(path, SceneFileExtension) && !std::filesystem::is_directory(path)) {
-    SceneLoadReport report = LoadScene(scene, path);
-    if (!report.Ok) {
-      error = report.Error;
-      return false;
-    }
-    if (warnings) warnings->insert(warnings->end(), report.Problems.begin(), report.Problems.end());
-    return true;
-  }
-  BackgroundReadResult result;
-  if (!MakeDataRead(scene, path)(result, nullptr)) {
+  const LoadResult result = LoadPath(scene, path);
+  if (!result.Ok) {
     error = result.Error;
     return false;
   }
-  for (const auto& node : result.Nodes) scene->AddNode(node);
   if (warnings) warnings->insert(warnings->end(), result.Warnings.begin(), result.Warnings.end());
   return true;
 }
@@ -138,7 +106,7 @@ bool ReexecUnderXvfb(const std::vector<std::string>& arguments) {
 
 int RunScreenshot(CommandContext& context) {
   ArgParser parser("screenshot", "Render a scene headless (offscreen) into one PNG: the views of a layout.");
-  parser.Positional("files", "scene (*.rpscene), data files or DICOM series folders to load", true, true)
+  parser.Positional("files", "scene (*.rpscene, Slicer's *.mrml, *.mrb), data files or DICOM series folders to load", true, true)
       .Option("out", "png", "output PNG file")
       .Option("layout", "name", "4up | 3d | axial | sagittal | coronal (default: the scene's, else 4up)")
       .Option("size", "WxH", "image size in pixels", std::string("800x800"))

@@ -19,12 +19,12 @@ int RunViewer(int argc, char* argv[], ModuleManager& manager, vtkRPScene* scene,
 
 std::vector<rp::Command> ViewerCommands();
 
-/// The read of a data file or a DICOM series folder as a BackgroundRead (nodes made, not added to
-/// the scene). Call on the main thread; the returned read may run on any thread. Scene files
-/// (*.rpscene) have no such read: loading them changes the scene as it goes.
+/// The read of a data file or a DICOM series folder as a BackgroundRead (rp::ReadPath: nodes
+/// made, not added to the scene); it may run on any thread. Not for paths whose DataReader
+/// ReadsIntoScene (scene files): loading them changes the scene as it goes.
 BackgroundRead MakeDataRead(vtkRPScene* scene, const std::string& path);
 
-/// Loads a scene file (*.rpscene), a data file or a DICOM series folder into the scene. Problems that did not stop the
+/// Loads a scene file (*.rpscene, *.mrml, *.mrb), a data file or a DICOM series folder into the scene (rp::LoadPath). Problems that did not stop the
 /// load (e.g. one missing data file of a scene) go to `warnings`. False with `error` on failure.
 bool LoadSceneOrDataFile(vtkRPScene* scene, const std::string& path, std::string& error,
                          std::vector<std::string>* warnings = nullptr);

@@ -31,8 +31,10 @@
 #include <vtkRenderWindowInteractor.h>
 
 #include "rpBackgroundRead.h"
+#include "rpDataLoader.h"
 #include "rpModuleManager.h"
 #include "rpNodeStorage.h"
+#include "rpSceneFormats.h"
 #include "rpSceneIO.h"
 #include "rpView.h"
 #include "rpViewController.h"
@@ -434,7 +436,8 @@ bool ViewerMainWindow::LoadFile(const QString& path, QString* error) {
   std::string message;
   std::vector<std::string> warnings;
   bool ok = false;
-  if (HasExtension(path.toStdString(), SceneFileExtension) && !QFileInfo(path).isDir()) {
+  const DataReader* reader = FindDataReader(path.toStdString());
+  if (reader && reader->ReadsIntoScene()) {
     // A scene file fills the scene as it reads: on this thread.
     QApplication::setOverrideCursor(Qt::WaitCursor);
     ok = LoadSceneOrDataFile(this->Scene, path.toStdString(), message, &warnings);
@@ -482,19 +485,23 @@ void ViewerMainWindow::OpenDataFilesOfKind(const QString& title, const QString& 
 }
 
 void ViewerMainWindow::OpenScene() {
-  const QString file = QFileDialog::getOpenFileName(this, "Load scene", QString(), "RoboPlan scene (*.rpscene)");
+  const QString file = QFileDialog::getOpenFileName(this, "Load scene", QString(),
+                                                    "Scenes (*.rpscene *.mrml *.mrb);;RoboPlan scene (*.rpscene);;"
+                                                    "3D Slicer scene (*.mrml *.mrb)");
   if (file.isEmpty()) return;
   this->LoadAndReport(file, "Load scene");
 }
 
 void ViewerMainWindow::SaveSceneAs() {
-  QString file = QFileDialog::getSaveFileName(this, "Save scene", QString(), "RoboPlan scene (*.rpscene)");
+  QString filter;
+  QString file = QFileDialog::getSaveFileName(this, "Save scene", QString(),
+                                              "RoboPlan scene (*.rpscene);;3D Slicer bundle (*.mrb)", &filter);
   if (file.isEmpty()) return;
-  if (!file.endsWith(SceneFileExtension)) file += SceneFileExtension;
-  std::string error;
-  if (!SaveScene(this->Scene, file.toStdString(), error)) {
-    this->ShowProblem("Save scene", QString::fromStdString(error));
-    return;
+  if (!IsSceneFileName(file.toStdString())) file += filter.contains("mrb") ? ".mrb" : SceneFileExtension;
+  SceneTransferReport report;
+  if (!WriteSceneFile(this->Scene, file.toStdString(), report) || !report.FirstProblem().empty()) {
+    this->ShowProblem("Save scene", QString::fromStdString(report.Ok ? report.FirstProblem() : report.Error));
+    if (!report.Ok) return;
   }
   this->AddRecentFile(file);
   this->statusBar()->showMessage("Saved " + file, 5000);

@@ -79,7 +79,8 @@ std::string ModelFileExtensionsText() {
   return text;
 }
 
-bool ReadModelFile(const std::string& path, vtkPolyData* output, std::string& error) {
+bool ReadModelFile(const std::string& path, vtkPolyData* output, std::string& error,
+                   const std::string& spaceWhenUntagged) {
   if (!std::ifstream(path).good()) {
     error = "cannot open model file '" + path + "'";
     return false;
@@ -146,7 +147,7 @@ bool ReadModelFile(const std::string& path, vtkPolyData* output, std::string& er
     error = "'" + path + "' holds no points (empty or corrupt model file)";
     return false;
   }
-  vtkSmartPointer<vtkPolyData> ras = (space == "RAS") ? mesh : FlipLPSRAS(mesh);
+  vtkSmartPointer<vtkPolyData> ras = ((space.empty() ? spaceWhenUntagged : space) == "RAS") ? mesh : FlipLPSRAS(mesh);
   ras->GetFieldData()->RemoveArray(SpaceTag);
   output->ShallowCopy(ras);
   return true;

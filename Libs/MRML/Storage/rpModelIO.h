@@ -15,7 +15,10 @@ const std::vector<std::string>& ModelFileExtensions();
 /// The same list as text for help and messages: ".vtp, .vtk, .stl, .ply, .obj".
 std::string ModelFileExtensionsText();
 
-bool ReadModelFile(const std::string& path, vtkPolyData* output, std::string& error);
+/// `spaceWhenUntagged` ("LPS" or "RAS"): the coordinate system of a file without a SPACE tag
+/// (Slicer reads such files as its storage node says: LPS, or RAS in scenes older than 4.11).
+bool ReadModelFile(const std::string& path, vtkPolyData* output, std::string& error,
+                   const std::string& spaceWhenUntagged = "LPS");
 bool WriteModelFile(const std::string& path, vtkPolyData* polyData, std::string& error);
 
 }  // namespace rp

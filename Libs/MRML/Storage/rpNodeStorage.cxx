@@ -42,6 +42,12 @@ bool HasExtension(const std::string& path, const std::string& extension) {
   return Lower(path.substr(path.size() - extension.size())) == Lower(extension);
 }
 
+std::string DataFileBaseName(const std::string& name) {
+  std::string out;
+  for (char c : name) out += (std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_') ? c : '_';
+  return out.empty() ? std::string("node") : out;
+}
+
 bool RegisterNodeStorage(std::shared_ptr<NodeStorage> storage) {
   Registry& registry = GetRegistry();
   std::lock_guard<std::mutex> lock(registry.Mutex);

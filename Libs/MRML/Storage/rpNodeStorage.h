@@ -48,6 +48,8 @@ std::vector<std::string> ExtensionsForNodeClass(const std::string& nodeClass);
 
 /// True if `path` ends with `extension` (case-insensitive).
 bool HasExtension(const std::string& path, const std::string& extension);
+/// A node name as a file name: letters, digits, '-' and '_' kept, anything else '_' ("node" if empty).
+std::string DataFileBaseName(const std::string& name);
 
 /// Loads a data file into a new node added to `scene` (name from the file name). Returns the
 /// node, or nullptr with `error` set; the scene is untouched on failure.

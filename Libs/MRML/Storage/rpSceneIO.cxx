@@ -17,13 +17,6 @@ namespace fs = std::filesystem;
 namespace rp {
 namespace {
 
-// File-name-safe version of a node name.
-std::string SafeFileName(const std::string& name) {
-  std::string out;
-  for (char c : name) out += (std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_') ? c : '_';
-  return out.empty() ? std::string("node") : out;
-}
-
 // The data files a scene file names (empty when there is none or it cannot be read).
 std::set<std::string> DataFilesOf(const std::string& sceneFile) {
   std::set<std::string> files;
@@ -86,7 +79,7 @@ bool SaveScene(vtkRPScene* scene, const std::string& sceneFile, std::string& err
       entry.References.emplace_back(role, std::move(ids));
     }
     if (const NodeStorage* storage = FindNodeStorage(node)) {
-      const std::string base = SafeFileName(node->GetName()), extension = storage->DefaultExtension();
+      const std::string base = DataFileBaseName(node->GetName()), extension = storage->DefaultExtension();
       std::string fileName = base + extension;
       for (int n = 2; used.count(fileName) || previous.count(fileName); ++n)
         fileName = base + "_" + std::to_string(n) + extension;

@@ -16,7 +16,7 @@
 
 #include "rpArgParser.h"
 #include "rpBoneSplit.h"
-#include "rpDicomSeries.h"
+#include "rpDataLoader.h"
 #include "rpImageVolume.h"
 #include "rpLabelComparison.h"
 #include "rpLabelmapInput.h"
@@ -125,8 +125,14 @@ int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contex
       "mesh",
       "Segment a volume (threshold presets, region growing, confidence connected, morphology, components) or "
       "take a segmentation (.seg.nrrd), and write one closed surface per segment (display + haptic mesh) to --out.");
-  parser.Positional("input", "volume or labelmap (.nrrd, .nii.gz, .mha, DICOM folder) or segmentation (.seg.nrrd)")
+  parser.Positional("input", "volume or labelmap (.nrrd, .nii.gz, .mha, DICOM folder or DICOMDIR) or segmentation (.seg.nrrd)")
       .Input(FileKind::Image, InputExtensions())
+      .Option("series", "id",
+              "DICOM input: the series to mesh when there are several: its SeriesInstanceUID, or "
+              "<SeriesInstanceUID>#<n> for one stack of a series that holds several (see `roboplan dicom`)")
+      .Flag("resample-irregular",
+            "DICOM input: load a series with a missing slice or uneven spacing by resampling it onto a "
+            "regular grid along the slice normal (refused otherwise)")
       .Option("out", "dir", "output folder (created)")
       .OutputFolder()
       .Required()
@@ -302,23 +308,14 @@ int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contex
   vtkNew<vtkRPScene> ownScene;
   if (!scene) scene = ownScene;
   progress.Report(0.0, "loading " + input);
-  std::string error;
-  vtkRPNode* loaded = nullptr;
-  if (fs::is_directory(input)) {
-    // A DICOM series (folder or DICOMDIR's folder).
-    ImageVolume series;
-    if (!ReadDicomVolume(input, series, error)) {
-      err << "roboplan mesh: " << error << "\n";
-      return 1;
-    }
-    vtkNew<vtkRPScalarVolumeNode> volume;
-    CopyToNode(series, volume.GetPointer());
-    volume->SetName(fs::path(input).filename().string());
-    scene->AddNode(volume);
-    loaded = volume;
-  } else {
-    loaded = LoadDataFile(scene, input, error);
-  }
+  // The one loader (rpDataLoader.h): a volume or segmentation file, a DICOM folder or DICOMDIR.
+  ReadOptions read;
+  read.Series = parser.Get("series");
+  read.ResampleIrregularSpacing = parser.Has("resample-irregular");
+  LoadResult load;
+  vtkRPNode* loaded = LoadSingleNode(scene, input, load, read);
+  std::string error = load.Error;
+  for (const auto& warning : load.Warnings) err << "roboplan mesh: warning: " << warning << "\n";
   if (!loaded && HasExtension(input, ".seg.nrrd")) {
     // A plain labelmap named *.seg.nrrd (no Slicer segment keys): read it as a volume.
     vtkNew<vtkRPScalarVolumeNode> plain;

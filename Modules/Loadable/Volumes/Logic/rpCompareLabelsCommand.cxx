@@ -6,6 +6,7 @@
 #include <vtkNew.h>
 
 #include "rpArgParser.h"
+#include "rpDataLoader.h"
 #include "rpLabelComparison.h"
 #include "rpNodeStorage.h"
 #include "rpProgress.h"
@@ -24,8 +25,12 @@ struct LabelName {
 // A labelmap from a segmentation (.seg.nrrd: its segments name the labels) or a volume file.
 bool LoadLabels(vtkRPScene* scene, const std::string& path, ImageVolume& volume, std::map<int, LabelName>& names,
                 std::string& error) {
-  vtkRPNode* node = LoadDataFile(scene, path, error);
-  if (!node) return false;
+  LoadResult loaded;
+  vtkRPNode* node = LoadSingleNode(scene, path, loaded);
+  if (!node) {
+    error = loaded.Error;
+    return false;
+  }
   if (auto* segmentation = vtkRPSegmentationNode::SafeDownCast(node)) {
     volume = FromNode(segmentation);
     for (const auto& s : segmentation->GetSegments()) names[s.LabelValue] = {s.ID, s.Name};

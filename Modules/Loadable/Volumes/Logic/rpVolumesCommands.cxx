@@ -18,6 +18,7 @@
 #include "rpKneePhantom.h"
 #include "rpModelIO.h"
 #include "rpProgress.h"
+#include "rpSceneFormats.h"
 #include "rpTransformIO.h"
 #include "rpVolumeFiles.h"
 #include "rpVolumeIO.h"
@@ -155,9 +156,10 @@ int RunConvertCommand(const std::vector<std::string>& arguments, std::ostream& o
                    "Convert a volume between DICOM series (folder, DICOMDIR or file), NRRD (.nrrd/.nhdr), "
                    "NIfTI (.nii/.nii.gz) and MetaImage (.mha/.mhd). An output name without one of those "
                    "extensions is a folder that receives a DICOM series (CT or MR Image Storage). "
-                   "Geometry (IJK-to-RAS, direction cosines) and voxel values are kept.");
-  parser.Positional("in", "input volume or DICOM folder")
-      .Positional("out", "output volume file, or a folder for a DICOM series")
+                   "Geometry (IJK-to-RAS, direction cosines) and voxel values are kept. "
+                   "Scenes convert between RoboPlan's .rpscene and 3D Slicer's .mrml and .mrb the same way.");
+  parser.Positional("in", "input volume or DICOM folder, or scene (.rpscene, .mrml, .mrb)")
+      .Positional("out", "output volume file, or a folder for a DICOM series, or scene")
       .Option("series", "id",
               "DICOM input: the series to convert when there are several: its SeriesInstanceUID, or "
               "<SeriesInstanceUID>#<n> for one stack of a series that holds several (see `roboplan dicom`)")
@@ -166,6 +168,8 @@ int RunConvertCommand(const std::vector<std::string>& arguments, std::ostream& o
             "DICOM input: load a series with a missing slice or uneven spacing by resampling it onto a "
             "regular grid along the slice normal (refused otherwise)");
   if (const auto exitCode = parser.ParseCommand(arguments, out, err)) return *exitCode;
+  if (IsSceneFileName(parser.Get("in")) || IsSceneFileName(parser.Get("out")))
+    return ConvertSceneFile(parser.Get("in"), parser.Get("out"), parser.Json(), out, err);
   const std::string modality = parser.Get("modality");
   if (!modality.empty() && modality != "CT" && modality != "MR") {
     err << "roboplan convert: --modality must be CT or MR\n";

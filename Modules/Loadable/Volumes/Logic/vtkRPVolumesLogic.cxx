@@ -1,10 +1,9 @@
 #include "vtkRPVolumesLogic.h"
 
-#include <filesystem>
-
 #include <vtkNew.h>
 #include <vtkObjectFactory.h>
 
+#include "rpDataLoader.h"
 #include "vtkRPLinearTransformNode.h"
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
@@ -31,20 +30,25 @@ vtkRPScalarVolumeNode* vtkRPVolumesLogic::LoadVolume(const std::string& path, co
     error = "volumes logic has no scene";
     return nullptr;
   }
-  rp::ImageVolume volume;
-  if (!rp::ReadVolume(path, volume, error, options, nullptr, progress)) return nullptr;
-  std::string nodeName = name;
-  if (nodeName.empty()) {
-    nodeName = std::filesystem::path(path).filename().string();
-    for (const char* ext : {".nii.gz", ".nrrd", ".nhdr", ".nii", ".mha", ".mhd"}) {
-      const std::string e = ext;
-      if (nodeName.size() > e.size() && nodeName.compare(nodeName.size() - e.size(), e.size(), e) == 0) {
-        nodeName.resize(nodeName.size() - e.size());
-        break;
-      }
-    }
+  // The one loader (rpDataLoader.h): DICOM folder/DICOMDIR/file or any volume file.
+  rp::ReadOptions read;
+  read.Series = options.SeriesInstanceUID;
+  read.ResampleIrregularSpacing = options.Dicom.ResampleIrregularSpacing;
+  read.Progress = progress;
+  const rp::DataReader* reader = rp::FindDataReader(path);
+  if (reader && reader->ReadsIntoScene()) {
+    error = "'" + path + "' is a " + reader->Description() + " file, not a volume";
+    return nullptr;
   }
-  return this->AddVolume(volume, nodeName);
+  rp::LoadResult loaded = rp::ReadPath(this->Scene, path, read);
+  auto* volume = loaded.Ok && loaded.Nodes.size() == 1 ? vtkRPScalarVolumeNode::SafeDownCast(loaded.Nodes.front()) : nullptr;
+  if (!volume) {
+    error = loaded.Ok ? "'" + path + "' is not a volume" : loaded.Error;
+    return nullptr;
+  }
+  // The node is named from the file (extension dropped) or the series, unless `name` is given.
+  volume->SetName(this->Scene->GenerateUniqueName(name.empty() ? volume->GetName() : name));
+  return vtkRPScalarVolumeNode::SafeDownCast(this->Scene->AddNode(volume));
 }
 
 vtkRPLinearTransformNode* vtkRPVolumesLogic::RegisterVolumes(vtkRPScalarVolumeNode* fixed, vtkRPScalarVolumeNode* moving,

@@ -11,6 +11,7 @@
 
 #include "rpDemoStages.h"
 #include "rpReport.h"
+#include "rpMrmlScene.h"
 #include "rpSceneIO.h"
 #include "rpStageRunner.h"
 #include "vtkRPScene.h"
@@ -48,6 +49,14 @@ DemoResult RunDemo(const DemoOptions& options) {
   if (!SaveScene(state.Scene, result.ScenePath, error)) {
     report.AddNote("Saving the scene failed: " + error);
     if (result.Error.empty()) result.Error = "saving the scene failed: " + error;
+  }
+  // The same plan as 3D Slicer's bundle: opens in Slicer in one step.
+  result.BundlePath = (fs::path(state.Output) / "plan.mrb").string();
+  SceneTransferReport bundle;
+  if (!WriteMrmlBundle(state.Scene, result.BundlePath, bundle) || !bundle.FirstProblem().empty()) {
+    const std::string why = bundle.Ok ? bundle.FirstProblem() : bundle.Error;
+    report.AddNote("Saving the Slicer bundle failed: " + why);
+    if (result.Error.empty()) result.Error = "saving the Slicer bundle failed: " + why;
   }
   result.Seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   report.AddNote("Total time: " + std::to_string(static_cast<int>(result.Seconds + 0.5)) + " s on " +

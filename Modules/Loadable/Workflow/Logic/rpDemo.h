@@ -24,6 +24,7 @@ struct DemoResult {
   std::string Error;         // first failing stage and why
   std::string ReportPath;
   std::string ScenePath;
+  std::string BundlePath;  // plan.mrb: the scene as 3D Slicer's bundle
   int FiguresFailed = 0;
   double Seconds = 0;
 };

@@ -43,12 +43,13 @@ int RunDemoCommand(const std::vector<std::string>& arguments, std::ostream& out,
   const DemoResult result = RunDemo(options);
   if (parser.Json()) {
     nlohmann::json doc = {{"ok", result.Ok},         {"error", result.Error},
-                          {"report", result.ReportPath}, {"scene", result.ScenePath},
+                          {"report", result.ReportPath}, {"scene", result.ScenePath}, {"slicerBundle", result.BundlePath},
                           {"figuresFailed", result.FiguresFailed}, {"seconds", result.Seconds}};
     out << doc.dump(2) << "\n";
   } else {
     err << (result.Ok ? "demo finished" : "demo FAILED: " + result.Error) << " in " << int(result.Seconds + 0.5)
-        << " s\n  report: " << result.ReportPath << "\n  scene:  " << result.ScenePath << "\n";
+        << " s\n  report: " << result.ReportPath << "\n  scene:  " << result.ScenePath
+        << "\n  Slicer: " << result.BundlePath << "\n";
     if (result.FiguresFailed > 0) err << "  " << result.FiguresFailed << " figure(s) missed their target\n";
   }
   return result.Ok ? 0 : 1;

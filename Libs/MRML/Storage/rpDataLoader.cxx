@@ -1,0 +1,117 @@
+#include "rpDataLoader.h"
+
+#include <filesystem>
+#include <mutex>
+
+#include "vtkRPNode.h"
+#include "vtkRPScene.h"
+
+namespace rp {
+namespace {
+
+// Readers register from static initializers of several files (and libraries): a function-local
+// registry avoids the static initialization order problem.
+struct Registry {
+  std::mutex Mutex;
+  std::vector<std::shared_ptr<DataReader>> Readers;
+};
+Registry& GetRegistry() {
+  static Registry registry;
+  return registry;
+}
+
+// Every format of the node-storage registry (rpNodeStorage.h) as one reader: a file whose
+// extension a storage reads becomes one node of the storage's class.
+class NodeFileReader : public DataReader {
+ public:
+  std::string Description() const override { return "Node file"; }
+  bool CanRead(const std::string& path) const override {
+    std::error_code ec;
+    return !std::filesystem::is_directory(path, ec) && FindNodeStorageForFile(path) != nullptr;
+  }
+  int Priority() const override { return 10; }
+  bool Read(const std::string& path, const ReadOptions& options, vtkRPScene* scene,
+            LoadResult& result) const override {
+    vtkSmartPointer<vtkRPNode> node = CreateNodeForFile(scene, path, result.Error);
+    if (!node || !ReadNodeFile(node, path, result.Error)) return false;
+    if (options.Progress) options.Progress(1.0, "read");
+    result.Details["nodeClass"] = node->GetClassName();
+    result.Details["storage"] = FindNodeStorageForFile(path)->Description();
+    result.Nodes.push_back(node);
+    return true;
+  }
+};
+const bool nodeFileReaderRegistered = RegisterDataReader(std::make_shared<NodeFileReader>());
+
+}  // namespace
+
+bool RegisterDataReader(std::shared_ptr<DataReader> reader) {
+  Registry& registry = GetRegistry();
+  std::lock_guard<std::mutex> lock(registry.Mutex);
+  registry.Readers.push_back(std::move(reader));
+  return true;
+}
+
+std::vector<std::shared_ptr<DataReader>> GetDataReaders() {
+  Registry& registry = GetRegistry();
+  std::lock_guard<std::mutex> lock(registry.Mutex);
+  return registry.Readers;
+}
+
+const DataReader* FindDataReader(const std::string& path) {
+  const DataReader* best = nullptr;
+  for (const auto& reader : GetDataReaders()) {
+    if (reader->CanRead(path) && (!best || reader->Priority() > best->Priority())) best = reader.get();
+  }
+  return best;
+}
+
+LoadResult ReadPath(vtkRPScene* scene, const std::string& path, const ReadOptions& options) {
+  LoadResult result;
+  const DataReader* reader = FindDataReader(path);
+  if (!reader) {
+    result.Error = "'" + path + "': no reader for this file type";
+    return result;
+  }
+  if (!scene) {
+    result.Error = "'" + path + "': no scene to read into";
+    return result;
+  }
+  result.Reader = reader->Description();
+  result.Ok = reader->Read(path, options, scene, result);
+  if (!result.Ok) result.Nodes.clear();
+  return result;
+}
+
+LoadResult LoadPath(vtkRPScene* scene, const std::string& path, const ReadOptions& options) {
+  LoadResult result = ReadPath(scene, path, options);
+  if (!result.Ok) return result;
+  for (auto& node : result.Nodes) {
+    // A reader that reads into the scene has added its nodes already.
+    if (!node->GetScene()) node = scene->AddNode(node);
+  }
+  return result;
+}
+
+vtkRPNode* LoadSingleNode(vtkRPScene* scene, const std::string& path, LoadResult& result, const ReadOptions& options) {
+  const DataReader* reader = FindDataReader(path);
+  if (reader && reader->ReadsIntoScene()) {
+    result = LoadResult();
+    result.Reader = reader->Description();
+    result.Error = "'" + path + "' is a " + reader->Description() + " file, not one data file";
+    return nullptr;
+  }
+  result = ReadPath(scene, path, options);
+  if (result.Ok && result.Nodes.size() != 1) {
+    result.Ok = false;
+    result.Error = "'" + path + "' holds " + std::to_string(result.Nodes.size()) + " nodes, not one";
+  }
+  if (!result.Ok) {
+    result.Nodes.clear();
+    return nullptr;
+  }
+  result.Nodes.front() = scene->AddNode(result.Nodes.front());
+  return result.Nodes.front();
+}
+
+}  // namespace rp
