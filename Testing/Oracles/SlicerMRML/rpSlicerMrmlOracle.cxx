@@ -414,6 +414,7 @@ void DumpModel(vtkMRMLModelNode* model, json& j) {
   vtkPointSet* mesh = model->GetMesh();
   if (!mesh) return;
   const vtkIdType n = mesh->GetNumberOfPoints();
+  j["meshType"] = mesh->GetClassName();
   j["points"] = n;
   j["cells"] = mesh->GetNumberOfCells();
   if (n == 0) return;
@@ -551,8 +552,9 @@ int main(int argc, char** argv) {
   json result = {{"command", argv[1]}, {"file", argv[2]}};
   json messages = json::array();
   json nodes = json::array();
-  const int rc = std::string(argv[1]) == "write-mrb" ? WriteMrb(argv[2], cacheDir, output->Messages)
-                                                     : Dump(argv[2], cacheDir, output->Messages, nodes);
+  const std::string path = vtksys::SystemTools::CollapseFullPath(argv[2]);  // ReadFromMRB needs it absolute
+  const int rc = std::string(argv[1]) == "write-mrb" ? WriteMrb(path, cacheDir, output->Messages)
+                                                     : Dump(path, cacheDir, output->Messages, nodes);
   vtksys::SystemTools::RemoveADirectory(cacheDir);
   for (const json& m : output->Messages) messages.push_back(m);
   result["ok"] = rc == 0;
