@@ -23,6 +23,7 @@ packages=(
 )
 if [ "${1:-}" = "--test" ]; then
   packages+=(
+    libteem-dev rapidjson-dev          # 3D Slicer's MRML library as a test oracle (Testing/Oracles/SlicerMRML; + libarchive-dev)
     dcmtk libgdcm-tools                # dcmcjpeg, dcmcjpls, dcmcrle, dcmconv, dcmodify, gdcmconv: tests encode real series with them
     clang libclang-rt-14-dev           # libFuzzer targets of every parser (ctest -L fuzz)
     gdb                                # rpXvfbTeardownTest stages Xvfb's SIGTERM race with it
