@@ -38,8 +38,11 @@ std::string FormatDouble(double v) {
   return buffer;
 }
 
-// Slicer's default conversion parameters (name|value|description, joined by '&'), written so
-// Slicer offers the same surface options when it loads our files.
+// The conversion parameters of Slicer 5.0.3's own four rules (vtkSegmentationCore's
+// *ConversionRule.cxx: names, defaults, descriptions), name|value|description joined by '&', so
+// Slicer offers the same surface options when it loads our files. A name no rule of the reading
+// Slicer defines is an error there (SlicerRT's planar-contour 'Default slice thickness' and 'End
+// capping' logged two per file in stock Slicer).
 const char* const DefaultConversionParameters =
     "Collapse labelmaps|1|Merge the labelmaps into as few shared labelmaps as possible 1 = created labelmaps will "
     "be shared if possible without overwriting each other.&Compute surface normals|1|Compute surface normals. 1 "
@@ -48,10 +51,8 @@ const char* const DefaultConversionParameters =
     "geometry. 0 (default) = created labelmap will contain the entire model. 1 = created labelmap extent will be "
     "within reference image extent.&Decimation factor|0.0|Desired reduction in the total number of polygons. "
     "Range: 0.0 (no decimation) to 1.0 (as much simplification as possible). Value of 0.8 typically reduces data "
-    "set size by 80% without losing too much details.&Default slice thickness|0.0|Default thickness for contours "
-    "if slice spacing cannot be calculated.&End capping|1|Create a closed surface by adding caps at the end of "
-    "the segment.&Fractional labelmap oversampling factor|1|Determines the oversampling of the reference image "
-    "geometry.&Joint smoothing|0|Perform joint smoothing.&Oversampling factor|1|Determines the oversampling of "
+    "set size by 80% without losing too much details.&Fractional labelmap oversampling factor|1|Determines the "
+    "oversampling of the reference image geometry.&Joint smoothing|0|Perform joint smoothing.&Oversampling factor|1|Determines the oversampling of "
     "the reference image geometry.&Smoothing factor|0.5|Smoothing factor. Range: 0.0 (no smoothing) to 1.0 "
     "(strong smoothing).&Threshold fraction|0.5|Determines the threshold that the closed surface is created at "
     "as a fractional value between 0 and 1.";

@@ -5,15 +5,21 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <regex>
+#include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
+#include <vtkDataArray.h>
 #include <vtkImageData.h>
 #include <vtkMatrix4x4.h>
 #include <vtkNew.h>
+#include <vtkPointData.h>
 
 #include "rpNodeStorage.h"
 #include "rpSegmentationIO.h"
+#include "rpSharedData.h"
 #include "rpTestOutput.h"
 #include "rpVolumeIO.h"
 #include "vtkRPScalarVolumeNode.h"
@@ -94,7 +100,60 @@ int VoxelAt(vtkImageData* image, int i, int j, int k) {
   return static_cast<int>(image->GetScalarComponentAsDouble(i, j, k, 0));
 }
 
+// The parameter names Slicer 5.0.3's own conversion rules define, read from their headers in the
+// oracle folder (`static const std::string Get...ParameterName() { return "..."; }`).
+std::set<std::string> SlicerRuleParameterNames(const std::string& dir) {
+  std::set<std::string> names;
+  const std::regex pattern(R"re(Get\w*ParameterName\(\)\s*\{\s*return\s*"([^"]+)")re");
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    const std::string file = entry.path().filename().string();
+    if (file.find("ConversionRule.h") == std::string::npos || file == "vtkSegmentationConverterRule.h") continue;
+    std::ifstream in(entry.path());
+    std::stringstream text;
+    text << in.rdbuf();
+    const std::string body = text.str();
+    for (std::sregex_iterator m(body.begin(), body.end(), pattern), end; m != end; ++m) names.insert((*m)[1]);
+  }
+  return names;
+}
+
 }  // namespace
+
+TEST(SegmentationIO, ConversionParametersAreExactlyThoseOfSlicersOwnRules) {
+  const std::string rules = rptest::SharedDataPath("../oracles/slicer-mrml-5.0.3/Libs/vtkSegmentationCore");
+  if (!fs::is_directory(rules)) GTEST_SKIP() << "Slicer 5.0.3's vtkSegmentationCore absent: " << rules;
+  const std::set<std::string> expected = SlicerRuleParameterNames(rules);
+  ASSERT_GE(expected.size(), 9u) << "rule headers not parsed in " << rules;
+
+  const fs::path dir = TestDir("conversion-parameters");
+  vtkNew<vtkRPSegmentationNode> node;
+  vtkNew<vtkImageData> image;
+  image->SetDimensions(2, 2, 2);
+  image->AllocateScalars(VTK_UNSIGNED_CHAR, 1);
+  image->GetPointData()->GetScalars()->Fill(1);
+  node->SetImageData(image);
+  vtkRPSegmentationNode::Segment one;
+  one.ID = one.Name = "one";
+  one.LabelValue = 1;
+  node->SetSegment(one);
+  const std::string path = (dir / "p.seg.nrrd").string();
+  std::string error;
+  ASSERT_TRUE(rp::WriteSegmentationFile(path, node, error)) << error;
+  rp::VolumeFileData raw;
+  vtkNew<vtkImageData> rawImage;
+  vtkNew<vtkMatrix4x4> rawMatrix;
+  raw.Image = rawImage;
+  raw.IJKToRAS = rawMatrix;
+  ASSERT_TRUE(rp::ReadVolumeFile(path, raw, error)) << error;
+  // name|value|description&...: every name is one of Slicer's rules' (the reference image geometry,
+  // a per-scene value with no default, is the one Slicer's list has that we do not write).
+  std::set<std::string> written;
+  std::stringstream parameters(raw.Metadata["Segmentation_ConversionParameters"]);
+  for (std::string item; std::getline(parameters, item, '&');) written.insert(item.substr(0, item.find('|')));
+  std::set<std::string> expectedWritten = expected;
+  expectedWritten.erase("Reference image geometry");
+  EXPECT_EQ(written, expectedWritten);
+}
 
 TEST(SegmentationIO, ReadsASlicerSingleLayerFile) {
   const fs::path path = WriteSlicer3D(TestDir("single"));
