@@ -302,7 +302,7 @@ TEST(SegmentationIO, RoundTripKeepsLabelsGeometrySegmentsAndWritesSlicerKeys) {
   EXPECT_EQ(raw.Metadata["Segment0_ID"], "bone");
   EXPECT_EQ(raw.Metadata["Segment0_LabelValue"], "3");
   EXPECT_EQ(raw.Metadata["Segment0_Layer"], "0");
-  EXPECT_EQ(raw.Metadata["Segment2_Extent"], "0 -1 0 -1 0 -1");
+  EXPECT_EQ(raw.Metadata["Segment2_Extent"], raw.Metadata["Segment0_Extent"]);  // the layer's, as Slicer writes
   EXPECT_EQ(raw.Metadata["Segmentation_MasterRepresentation"], "Binary labelmap");
   EXPECT_EQ(raw.Metadata["Segmentation_ReferenceImageExtentOffset"], "0 0 0");
   EXPECT_NE(raw.Metadata["Segmentation_ConversionParameters"].find("Smoothing factor|0.5|"), std::string::npos);
@@ -327,6 +327,52 @@ TEST(SegmentationIO, RoundTripKeepsLabelsGeometrySegmentsAndWritesSlicerKeys) {
       EXPECT_NEAR(back->GetIJKToRASMatrix()->GetElement(r, col), node->GetIJKToRASMatrix()->GetElement(r, col), 1e-9);
   const auto* backVoxels = static_cast<unsigned char*>(back->GetImageData()->GetScalarPointer());
   for (int n = 0; n < 6 * 5 * 4; ++n) ASSERT_EQ(backVoxels[n], voxels[n]) << n;
+}
+
+TEST(SegmentationIO, EverySegmentOfTheLayerGetsTheLayersExtentAsSlicerWritesIt) {
+  // Slicer 5.0.3 crops a shared layer to the extent of the first segment it reads in it
+  // (vtkMRMLSegmentationStorageNode::ReadBinaryLabelmapRepresentation): a tight extent per segment
+  // emptied the second. Label 1 fills i, j in 0..1 at k = 0, label 2 is the one voxel (5, 4, 3).
+  const fs::path dir = TestDir("layer-extent");
+  vtkNew<vtkRPSegmentationNode> node;
+  vtkNew<vtkImageData> image;
+  image->SetDimensions(7, 6, 5);
+  image->AllocateScalars(VTK_UNSIGNED_CHAR, 1);
+  image->GetPointData()->GetScalars()->Fill(0);
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 2; ++i) *static_cast<unsigned char*>(image->GetScalarPointer(i, j, 0)) = 1;
+  *static_cast<unsigned char*>(image->GetScalarPointer(5, 4, 3)) = 2;
+  node->SetImageData(image);
+  for (int label : {1, 2, 3}) {  // 3: a segment with no voxel yet
+    vtkRPSegmentationNode::Segment segment;
+    segment.ID = segment.Name = "s" + std::to_string(label);
+    segment.LabelValue = label;
+    node->SetSegment(segment);
+  }
+  const std::string path = (dir / "layer.seg.nrrd").string();
+  std::string error;
+  ASSERT_TRUE(rp::WriteSegmentationFile(path, node, error)) << error;
+  rp::VolumeFileData raw;
+  vtkNew<vtkImageData> rawImage;
+  vtkNew<vtkMatrix4x4> rawMatrix;
+  raw.Image = rawImage;
+  raw.IJKToRAS = rawMatrix;
+  ASSERT_TRUE(rp::ReadVolumeFile(path, raw, error)) << error;
+  for (int n = 0; n < 3; ++n) {
+    EXPECT_EQ(raw.Metadata["Segment" + std::to_string(n) + "_Extent"], "0 5 0 4 0 3") << n;
+    EXPECT_EQ(raw.Metadata["Segment" + std::to_string(n) + "_Layer"], "0") << n;
+  }
+  vtkNew<vtkRPSegmentationNode> back;
+  ASSERT_TRUE(rp::ReadSegmentationFile(path, back, error)) << error;
+  EXPECT_EQ(VoxelAt(back->GetImageData(), 5, 4, 3), 2);
+  EXPECT_EQ(VoxelAt(back->GetImageData(), 1, 1, 0), 1);
+
+  // No voxel at all: Slicer's empty extent for every segment.
+  image->GetPointData()->GetScalars()->Fill(0);
+  image->Modified();
+  ASSERT_TRUE(rp::WriteSegmentationFile(path, node, error)) << error;
+  ASSERT_TRUE(rp::ReadVolumeFile(path, raw, error)) << error;
+  EXPECT_EQ(raw.Metadata["Segment1_Extent"], "0 -1 0 -1 0 -1");
 }
 
 TEST(SegmentationIO, StorageIsFoundForSegNrrdAndLoadsIntoASegmentationNode) {
