@@ -225,6 +225,12 @@ vtkSmartPointer<vtkRPNode> ReadModel(ReadContext& context, const MrmlElement& el
   std::vector<double> opacity;
   if (display && ParseNumbers(display->Att("opacity"), opacity, 1)) model->SetOpacity(opacity[0]);
   if (display && display->Has("visibility")) model->SetVisibility(display->Att("visibility") != "false" && display->Att("visibility") != "0");
+  // Slice intersections: `visibility2D` (Slicer >= 4.13), before it `sliceIntersectionVisibility`;
+  // neither: off, Slicer's display-node default (vtkMRMLDisplayNode: Visibility2D = 0).
+  if (display) {
+    const std::string key = display->Has("visibility2D") ? "visibility2D" : "sliceIntersectionVisibility";
+    model->SetSliceIntersectionVisibility(display->Att(key) == "true" || display->Att(key) == "1");
+  }
   return node;
 }
 
