@@ -420,6 +420,30 @@ TEST(MrmlScene, SliceIntersectionVisibilityIsReadInBothSpellingsAndWrittenBack) 
   EXPECT_TRUE(Named<vtkRPModelNode>(rpscene, "on")->GetSliceIntersectionVisibility());
 }
 
+TEST(MrmlScene, ATransformWhoseFileIsMissingIsKeptWithTheScenesMatrixAsSlicerKeepsIt) {
+  const fs::path dir = TestDir("mrml-transform-missing");
+  std::ofstream(dir / "scene.mrml")
+      << "<MRML>\n"
+         "<TransformStorage id=\"S1\" fileName=\"Data/gone.h5\"></TransformStorage>\n"
+         "<LinearTransform id=\"T1\" name=\"kept\" references=\"storage:S1;\" matrixTransformToParent=\"0 -1 0 5 1 0 0 6 0 0 1 7 0 0 0 1\"></LinearTransform>\n"
+         "<TransformStorage id=\"S2\" fileName=\"Data/gone2.h5\"></TransformStorage>\n"
+         "<LinearTransform id=\"T2\" name=\"nothing\" references=\"storage:S2;\"></LinearTransform>\n"
+         "</MRML>\n";
+  vtkNew<vtkRPScene> scene;
+  rp::SceneTransferReport report;
+  ASSERT_TRUE(rp::ReadMrmlScene((dir / "scene.mrml").string(), scene, report)) << report.Error;
+  auto* kept = Named<vtkRPLinearTransformNode>(scene, "kept");
+  ASSERT_NE(kept, nullptr) << report.FirstProblem();
+  const double expected[16] = {0, -1, 0, 5, 1, 0, 0, 6, 0, 0, 1, 7, 0, 0, 0, 1};
+  for (int n = 0; n < 16; ++n) EXPECT_EQ(kept->GetMatrixTransformToParent()->GetElement(n / 4, n % 4), expected[n]) << n;
+  // No file and no matrix: nothing to keep.
+  EXPECT_EQ(Named<vtkRPLinearTransformNode>(scene, "nothing"), nullptr);
+  // Both missing files are reported.
+  ASSERT_EQ(report.Skipped.size(), 2u);
+  EXPECT_NE(report.Skipped[0].What.find("Data/gone.h5"), std::string::npos) << report.Skipped[0].What;
+  EXPECT_EQ(report.Skipped[0].Why, "file is missing");
+}
+
 TEST(MrmlScene, BadBundlesAreRefusedWithoutWritingAnythingOrLosingTheScene) {
   const fs::path dir = TestDir("mrb-bad");
   fs::remove_all(dir);
