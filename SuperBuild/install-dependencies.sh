@@ -23,6 +23,7 @@ packages=(
 )
 if [ "${1:-}" = "--test" ]; then
   packages+=(
+    libteem-dev rapidjson-dev          # 3D Slicer's MRML library as a test oracle (Testing/Oracles/SlicerMRML; + libarchive-dev)
     dcmtk libgdcm-tools                # dcmcjpeg, dcmcjpls, dcmcrle, dcmconv, dcmodify, gdcmconv: tests encode real series with them
     python3-pydicom python3-numpy      # pydicom: the independent reader (and RTSTRUCT writer) of the DICOM segmentation tests
     dicom3tools                        # dciodvfy: our SEG checked against the IOD by David Clunie's verifier

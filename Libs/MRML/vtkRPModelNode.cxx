@@ -37,6 +37,8 @@ void vtkRPModelNode::WriteProperties(PropertyMap& properties) const {
   properties["color"] = color.str();
   properties["opacity"] = std::to_string(this->Opacity);
   properties["visibility"] = this->Visibility ? "true" : "false";
+  // Written only when off, so that scenes of models drawn on the slices (all before) stay as they were.
+  if (!this->SliceIntersectionVisibility) properties["sliceIntersectionVisibility"] = "false";
   properties["haptic"] = this->Haptic ? "true" : "false";
   properties["tissueClass"] = this->TissueClass;
 }
@@ -51,5 +53,7 @@ void vtkRPModelNode::ReadProperties(const PropertyMap& properties) {
   if (auto it = properties.find("opacity"); it != properties.end()) this->SetOpacity(std::atof(it->second.c_str()));
   if (auto it = properties.find("visibility"); it != properties.end()) this->SetVisibility(it->second == "true");
   if (auto it = properties.find("haptic"); it != properties.end()) this->SetHaptic(it->second == "true");
+  this->SetSliceIntersectionVisibility(properties.count("sliceIntersectionVisibility") == 0 ||
+                                       properties.at("sliceIntersectionVisibility") == "true");
   if (auto it = properties.find("tissueClass"); it != properties.end()) this->SetTissueClass(it->second);
 }

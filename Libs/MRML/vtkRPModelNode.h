@@ -2,7 +2,9 @@
 #define vtkRPModelNode_h
 // A surface model in RAS: vtkPolyData + display (colour, opacity, visibility) + the tissue class
 // the haptics and the viewer use. `Haptic` marks a model the haptic renderer touches; a tissue
-// may have a display model and a separate (coarser) haptic model.
+// may have a display model and a separate (coarser) haptic model. `SliceIntersectionVisibility`
+// is whether the slice views draw the model's outline where the slice cuts it (Slicer's display
+// `visibility2D`); on by default.
 #include <string>
 
 #include <vtkSmartPointer.h>
@@ -29,6 +31,9 @@ class vtkRPModelNode : public vtkRPTransformableNode {
   vtkGetMacro(Visibility, bool);
   vtkSetMacro(Visibility, bool);
   vtkBooleanMacro(Visibility, bool);
+  vtkGetMacro(SliceIntersectionVisibility, bool);
+  vtkSetMacro(SliceIntersectionVisibility, bool);
+  vtkBooleanMacro(SliceIntersectionVisibility, bool);
   vtkGetMacro(Haptic, bool);
   vtkSetMacro(Haptic, bool);
   vtkBooleanMacro(Haptic, bool);
@@ -49,6 +54,7 @@ class vtkRPModelNode : public vtkRPTransformableNode {
   double Color[3] = {0.9, 0.9, 0.9};
   double Opacity = 1.0;
   bool Visibility = true;
+  bool SliceIntersectionVisibility = true;
   bool Haptic = false;
   std::string TissueClass;
 };

@@ -126,7 +126,8 @@ void vtkRPModelSliceDisplayableManager::UpdateDisplay(vtkRPNode* node) {
   if (!model || it == this->Outlines.end()) return;
   Outline& outline = *it->second;
   vtkPolyData* polyData = model->GetPolyData();
-  const bool visible = model->GetVisibility() && polyData && polyData->GetNumberOfPoints() > 0;
+  const bool visible = model->GetVisibility() && model->GetSliceIntersectionVisibility() && polyData &&
+                       polyData->GetNumberOfPoints() > 0;
   outline.Actor->SetVisibility(visible);
   if (!visible) return;
   outline.Cutter.SetInput(polyData);

@@ -225,6 +225,12 @@ vtkSmartPointer<vtkRPNode> ReadModel(ReadContext& context, const MrmlElement& el
   std::vector<double> opacity;
   if (display && ParseNumbers(display->Att("opacity"), opacity, 1)) model->SetOpacity(opacity[0]);
   if (display && display->Has("visibility")) model->SetVisibility(display->Att("visibility") != "false" && display->Att("visibility") != "0");
+  // Slice intersections: `visibility2D` (Slicer >= 4.13), before it `sliceIntersectionVisibility`;
+  // neither: off, Slicer's display-node default (vtkMRMLDisplayNode: Visibility2D = 0).
+  if (display) {
+    const std::string key = display->Has("visibility2D") ? "visibility2D" : "sliceIntersectionVisibility";
+    model->SetSliceIntersectionVisibility(display->Att(key) == "true" || display->Att(key) == "1");
+  }
   return node;
 }
 
@@ -232,11 +238,16 @@ vtkSmartPointer<vtkRPNode> ReadTransform(ReadContext& context, const MrmlElement
   auto node = NewNode(context, element, "vtkRPLinearTransformNode");
   auto* transform = vtkRPLinearTransformNode::SafeDownCast(node);
   std::vector<double> matrix;
-  if (ParseNumbers(element.Att("matrixTransformToParent"), matrix, 16)) transform->SetMatrixTransformToParent(matrix.data());
-  // The storage file (full precision) wins over the attribute (6 digits in Slicer's files).
+  const bool hasMatrix = ParseNumbers(element.Att("matrixTransformToParent"), matrix, 16);
+  if (hasMatrix) transform->SetMatrixTransformToParent(matrix.data());
+  // The storage file (full precision) wins over the attribute (6 digits in Slicer's files). A file
+  // that cannot be read is reported (skipped); the node stays with the attribute's matrix, as
+  // Slicer keeps it, unless there is no matrix either.
   if (context.Linked(element, "storage") &&
-      !ReadData(context, element, node, [&](const std::string& path, std::string& why) { return ReadThroughRegistry(node, path, why); }))
-    return nullptr;
+      !ReadData(context, element, node, [&](const std::string& path, std::string& why) { return ReadThroughRegistry(node, path, why); })) {
+    if (!hasMatrix) return nullptr;
+    transform->SetMatrixTransformToParent(matrix.data());
+  }
   return node;
 }
 

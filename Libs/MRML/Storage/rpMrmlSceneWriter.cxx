@@ -70,7 +70,8 @@ bool IsMrmlField(const std::string& key) {
   static const std::set<std::string> keys = {
       "ijkToRAS",   "matrixToParent", "color",       "opacity",      "visibility",        "window",
       "level",      "segments",       "layoutName",  "orientation",  "sliceToRAS",        "fieldOfView",
-      "xyOrigin",   "sliceVisible",   "foregroundOpacity", "labelOpacity", "viewArrangement"};
+      "xyOrigin",   "sliceVisible",   "foregroundOpacity", "labelOpacity", "viewArrangement",
+      "sliceIntersectionVisibility"};
   return keys.count(key) > 0;
 }
 
@@ -197,7 +198,7 @@ bool WriteModel(WriteContext& context, vtkRPNode* node, XmlNode& main) {
   display.Add("color", Color(model->GetColor()));
   display.Add("opacity", FormatNumbers(&opacity, 1));
   display.Add("visibility", model->GetVisibility() ? "true" : "false");
-  display.Add("visibility2D", "true");  // the outline on the slices, as our views draw it
+  display.Add("visibility2D", model->GetSliceIntersectionVisibility() ? "true" : "false");  // the outline on the slices
   display.Add("visibility3D", "true");
   display.Add("backfaceCulling", "false");
   return true;

@@ -26,6 +26,7 @@
 #include "rpMrmlScene.h"
 #include "rpMrmlText.h"
 #include "rpSceneFormats.h"
+#include "rpSceneIO.h"
 #include "rpSharedData.h"
 #include "rpTestOutput.h"
 #include "rpVolumeIO.h"
@@ -372,6 +373,75 @@ TEST(MrmlScene, ALabelMapVolumeGoesBackToSlicerAsALabelMapVolume) {
   EXPECT_EQ(text.find("Slicer.LabelMapVolume"), std::string::npos);  // our marker stays ours
   ASSERT_TRUE(rp::ReadMrmlScene((dir / "out.mrml").string(), again, report)) << report.Error;
   EXPECT_EQ(Named<vtkRPScalarVolumeNode>(again, "labels")->GetAttribute("Slicer.LabelMapVolume"), "true");
+}
+
+TEST(MrmlScene, SliceIntersectionVisibilityIsReadInBothSpellingsAndWrittenBack) {
+  const fs::path dir = TestDir("mrml-visibility2d");
+  fs::create_directories(dir / "Data");
+  std::ofstream(dir / "Data" / "m.vtk") << "# vtk DataFile Version 3.0\nm\nASCII\nDATASET POLYDATA\n"
+                                           "POINTS 3 float\n1 2 3 4 5 6 7 8 10\nPOLYGONS 1 4\n3 0 1 2\n";
+  // Slicer 5 (visibility2D), Slicer 4 (sliceIntersectionVisibility), on, and unsaid (off: Slicer's
+  // display-node default, as in Slicer's own test scenes).
+  std::ofstream(dir / "in.mrml")
+      << "<MRML>\n"
+         "<ModelStorage id=\"S\" fileName=\"Data/m.vtk\" coordinateSystem=\"RAS\"></ModelStorage>\n"
+         "<ModelDisplay id=\"D1\" visibility=\"true\" visibility2D=\"false\"></ModelDisplay>\n"
+         "<ModelDisplay id=\"D2\" visibility=\"true\" sliceIntersectionVisibility=\"false\"></ModelDisplay>\n"
+         "<ModelDisplay id=\"D3\" visibility=\"true\" visibility2D=\"true\"></ModelDisplay>\n"
+         "<ModelDisplay id=\"D4\" visibility=\"true\"></ModelDisplay>\n"
+         "<Model id=\"M1\" name=\"off5\" references=\"storage:S;display:D1;\"></Model>\n"
+         "<Model id=\"M2\" name=\"off4\" references=\"storage:S;display:D2;\"></Model>\n"
+         "<Model id=\"M3\" name=\"on\" references=\"storage:S;display:D3;\"></Model>\n"
+         "<Model id=\"M4\" name=\"unsaid\" references=\"storage:S;display:D4;\"></Model>\n"
+         "</MRML>\n";
+  vtkNew<vtkRPScene> scene, again, rpscene;
+  rp::SceneTransferReport report;
+  ASSERT_TRUE(rp::ReadMrmlScene((dir / "in.mrml").string(), scene, report)) << report.Error;
+  ASSERT_NE(Named<vtkRPModelNode>(scene, "off5"), nullptr) << report.FirstProblem();
+  EXPECT_FALSE(Named<vtkRPModelNode>(scene, "off5")->GetSliceIntersectionVisibility());
+  EXPECT_FALSE(Named<vtkRPModelNode>(scene, "off4")->GetSliceIntersectionVisibility());
+  EXPECT_TRUE(Named<vtkRPModelNode>(scene, "on")->GetSliceIntersectionVisibility());
+  EXPECT_FALSE(Named<vtkRPModelNode>(scene, "unsaid")->GetSliceIntersectionVisibility());
+  EXPECT_TRUE(Named<vtkRPModelNode>(scene, "off5")->GetVisibility());  // 3-D visibility is another field
+
+  ASSERT_TRUE(rp::WriteMrmlScene(scene, (dir / "out.mrml").string(), report)) << report.Error;
+  const std::string text = ReadText(dir / "out.mrml");
+  EXPECT_EQ(text.find("sliceIntersectionVisibility"), std::string::npos) << "ours only in the display node";
+  ASSERT_TRUE(rp::ReadMrmlScene((dir / "out.mrml").string(), again, report)) << report.Error;
+  EXPECT_FALSE(Named<vtkRPModelNode>(again, "off5")->GetSliceIntersectionVisibility());
+  EXPECT_FALSE(Named<vtkRPModelNode>(again, "off4")->GetSliceIntersectionVisibility());
+  EXPECT_TRUE(Named<vtkRPModelNode>(again, "on")->GetSliceIntersectionVisibility());
+
+  // Our own scene file keeps it too.
+  std::string error;
+  ASSERT_TRUE(rp::SaveScene(scene, (dir / "plan.rpscene").string(), error)) << error;
+  ASSERT_TRUE(rp::LoadScene(rpscene, (dir / "plan.rpscene").string()).Ok);
+  EXPECT_FALSE(Named<vtkRPModelNode>(rpscene, "off4")->GetSliceIntersectionVisibility());
+  EXPECT_TRUE(Named<vtkRPModelNode>(rpscene, "on")->GetSliceIntersectionVisibility());
+}
+
+TEST(MrmlScene, ATransformWhoseFileIsMissingIsKeptWithTheScenesMatrixAsSlicerKeepsIt) {
+  const fs::path dir = TestDir("mrml-transform-missing");
+  std::ofstream(dir / "scene.mrml")
+      << "<MRML>\n"
+         "<TransformStorage id=\"S1\" fileName=\"Data/gone.h5\"></TransformStorage>\n"
+         "<LinearTransform id=\"T1\" name=\"kept\" references=\"storage:S1;\" matrixTransformToParent=\"0 -1 0 5 1 0 0 6 0 0 1 7 0 0 0 1\"></LinearTransform>\n"
+         "<TransformStorage id=\"S2\" fileName=\"Data/gone2.h5\"></TransformStorage>\n"
+         "<LinearTransform id=\"T2\" name=\"nothing\" references=\"storage:S2;\"></LinearTransform>\n"
+         "</MRML>\n";
+  vtkNew<vtkRPScene> scene;
+  rp::SceneTransferReport report;
+  ASSERT_TRUE(rp::ReadMrmlScene((dir / "scene.mrml").string(), scene, report)) << report.Error;
+  auto* kept = Named<vtkRPLinearTransformNode>(scene, "kept");
+  ASSERT_NE(kept, nullptr) << report.FirstProblem();
+  const double expected[16] = {0, -1, 0, 5, 1, 0, 0, 6, 0, 0, 1, 7, 0, 0, 0, 1};
+  for (int n = 0; n < 16; ++n) EXPECT_EQ(kept->GetMatrixTransformToParent()->GetElement(n / 4, n % 4), expected[n]) << n;
+  // No file and no matrix: nothing to keep.
+  EXPECT_EQ(Named<vtkRPLinearTransformNode>(scene, "nothing"), nullptr);
+  // Both missing files are reported.
+  ASSERT_EQ(report.Skipped.size(), 2u);
+  EXPECT_NE(report.Skipped[0].What.find("Data/gone.h5"), std::string::npos) << report.Skipped[0].What;
+  EXPECT_EQ(report.Skipped[0].Why, "file is missing");
 }
 
 TEST(MrmlScene, BadBundlesAreRefusedWithoutWritingAnythingOrLosingTheScene) {

@@ -5,15 +5,21 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <regex>
+#include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
+#include <vtkDataArray.h>
 #include <vtkImageData.h>
 #include <vtkMatrix4x4.h>
 #include <vtkNew.h>
+#include <vtkPointData.h>
 
 #include "rpNodeStorage.h"
 #include "rpSegmentationIO.h"
+#include "rpSharedData.h"
 #include "rpTestOutput.h"
 #include "rpVolumeIO.h"
 #include "vtkRPScalarVolumeNode.h"
@@ -94,7 +100,60 @@ int VoxelAt(vtkImageData* image, int i, int j, int k) {
   return static_cast<int>(image->GetScalarComponentAsDouble(i, j, k, 0));
 }
 
+// The parameter names Slicer 5.0.3's own conversion rules define, read from their headers in the
+// oracle folder (`static const std::string Get...ParameterName() { return "..."; }`).
+std::set<std::string> SlicerRuleParameterNames(const std::string& dir) {
+  std::set<std::string> names;
+  const std::regex pattern(R"re(Get\w*ParameterName\(\)\s*\{\s*return\s*"([^"]+)")re");
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    const std::string file = entry.path().filename().string();
+    if (file.find("ConversionRule.h") == std::string::npos || file == "vtkSegmentationConverterRule.h") continue;
+    std::ifstream in(entry.path());
+    std::stringstream text;
+    text << in.rdbuf();
+    const std::string body = text.str();
+    for (std::sregex_iterator m(body.begin(), body.end(), pattern), end; m != end; ++m) names.insert((*m)[1]);
+  }
+  return names;
+}
+
 }  // namespace
+
+TEST(SegmentationIO, ConversionParametersAreExactlyThoseOfSlicersOwnRules) {
+  const std::string rules = rptest::SharedDataPath("../oracles/slicer-mrml-5.0.3/Libs/vtkSegmentationCore");
+  if (!fs::is_directory(rules)) GTEST_SKIP() << "Slicer 5.0.3's vtkSegmentationCore absent: " << rules;
+  const std::set<std::string> expected = SlicerRuleParameterNames(rules);
+  ASSERT_GE(expected.size(), 9u) << "rule headers not parsed in " << rules;
+
+  const fs::path dir = TestDir("conversion-parameters");
+  vtkNew<vtkRPSegmentationNode> node;
+  vtkNew<vtkImageData> image;
+  image->SetDimensions(2, 2, 2);
+  image->AllocateScalars(VTK_UNSIGNED_CHAR, 1);
+  image->GetPointData()->GetScalars()->Fill(1);
+  node->SetImageData(image);
+  vtkRPSegmentationNode::Segment one;
+  one.ID = one.Name = "one";
+  one.LabelValue = 1;
+  node->SetSegment(one);
+  const std::string path = (dir / "p.seg.nrrd").string();
+  std::string error;
+  ASSERT_TRUE(rp::WriteSegmentationFile(path, node, error)) << error;
+  rp::VolumeFileData raw;
+  vtkNew<vtkImageData> rawImage;
+  vtkNew<vtkMatrix4x4> rawMatrix;
+  raw.Image = rawImage;
+  raw.IJKToRAS = rawMatrix;
+  ASSERT_TRUE(rp::ReadVolumeFile(path, raw, error)) << error;
+  // name|value|description&...: every name is one of Slicer's rules' (the reference image geometry,
+  // a per-scene value with no default, is the one Slicer's list has that we do not write).
+  std::set<std::string> written;
+  std::stringstream parameters(raw.Metadata["Segmentation_ConversionParameters"]);
+  for (std::string item; std::getline(parameters, item, '&');) written.insert(item.substr(0, item.find('|')));
+  std::set<std::string> expectedWritten = expected;
+  expectedWritten.erase("Reference image geometry");
+  EXPECT_EQ(written, expectedWritten);
+}
 
 TEST(SegmentationIO, ReadsASlicerSingleLayerFile) {
   const fs::path path = WriteSlicer3D(TestDir("single"));
@@ -243,7 +302,7 @@ TEST(SegmentationIO, RoundTripKeepsLabelsGeometrySegmentsAndWritesSlicerKeys) {
   EXPECT_EQ(raw.Metadata["Segment0_ID"], "bone");
   EXPECT_EQ(raw.Metadata["Segment0_LabelValue"], "3");
   EXPECT_EQ(raw.Metadata["Segment0_Layer"], "0");
-  EXPECT_EQ(raw.Metadata["Segment2_Extent"], "0 -1 0 -1 0 -1");
+  EXPECT_EQ(raw.Metadata["Segment2_Extent"], raw.Metadata["Segment0_Extent"]);  // the layer's, as Slicer writes
   EXPECT_EQ(raw.Metadata["Segmentation_MasterRepresentation"], "Binary labelmap");
   EXPECT_EQ(raw.Metadata["Segmentation_ReferenceImageExtentOffset"], "0 0 0");
   EXPECT_NE(raw.Metadata["Segmentation_ConversionParameters"].find("Smoothing factor|0.5|"), std::string::npos);
@@ -268,6 +327,52 @@ TEST(SegmentationIO, RoundTripKeepsLabelsGeometrySegmentsAndWritesSlicerKeys) {
       EXPECT_NEAR(back->GetIJKToRASMatrix()->GetElement(r, col), node->GetIJKToRASMatrix()->GetElement(r, col), 1e-9);
   const auto* backVoxels = static_cast<unsigned char*>(back->GetImageData()->GetScalarPointer());
   for (int n = 0; n < 6 * 5 * 4; ++n) ASSERT_EQ(backVoxels[n], voxels[n]) << n;
+}
+
+TEST(SegmentationIO, EverySegmentOfTheLayerGetsTheLayersExtentAsSlicerWritesIt) {
+  // Slicer 5.0.3 crops a shared layer to the extent of the first segment it reads in it
+  // (vtkMRMLSegmentationStorageNode::ReadBinaryLabelmapRepresentation): a tight extent per segment
+  // emptied the second. Label 1 fills i, j in 0..1 at k = 0, label 2 is the one voxel (5, 4, 3).
+  const fs::path dir = TestDir("layer-extent");
+  vtkNew<vtkRPSegmentationNode> node;
+  vtkNew<vtkImageData> image;
+  image->SetDimensions(7, 6, 5);
+  image->AllocateScalars(VTK_UNSIGNED_CHAR, 1);
+  image->GetPointData()->GetScalars()->Fill(0);
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 2; ++i) *static_cast<unsigned char*>(image->GetScalarPointer(i, j, 0)) = 1;
+  *static_cast<unsigned char*>(image->GetScalarPointer(5, 4, 3)) = 2;
+  node->SetImageData(image);
+  for (int label : {1, 2, 3}) {  // 3: a segment with no voxel yet
+    vtkRPSegmentationNode::Segment segment;
+    segment.ID = segment.Name = "s" + std::to_string(label);
+    segment.LabelValue = label;
+    node->SetSegment(segment);
+  }
+  const std::string path = (dir / "layer.seg.nrrd").string();
+  std::string error;
+  ASSERT_TRUE(rp::WriteSegmentationFile(path, node, error)) << error;
+  rp::VolumeFileData raw;
+  vtkNew<vtkImageData> rawImage;
+  vtkNew<vtkMatrix4x4> rawMatrix;
+  raw.Image = rawImage;
+  raw.IJKToRAS = rawMatrix;
+  ASSERT_TRUE(rp::ReadVolumeFile(path, raw, error)) << error;
+  for (int n = 0; n < 3; ++n) {
+    EXPECT_EQ(raw.Metadata["Segment" + std::to_string(n) + "_Extent"], "0 5 0 4 0 3") << n;
+    EXPECT_EQ(raw.Metadata["Segment" + std::to_string(n) + "_Layer"], "0") << n;
+  }
+  vtkNew<vtkRPSegmentationNode> back;
+  ASSERT_TRUE(rp::ReadSegmentationFile(path, back, error)) << error;
+  EXPECT_EQ(VoxelAt(back->GetImageData(), 5, 4, 3), 2);
+  EXPECT_EQ(VoxelAt(back->GetImageData(), 1, 1, 0), 1);
+
+  // No voxel at all: Slicer's empty extent for every segment.
+  image->GetPointData()->GetScalars()->Fill(0);
+  image->Modified();
+  ASSERT_TRUE(rp::WriteSegmentationFile(path, node, error)) << error;
+  ASSERT_TRUE(rp::ReadVolumeFile(path, raw, error)) << error;
+  EXPECT_EQ(raw.Metadata["Segment1_Extent"], "0 -1 0 -1 0 -1");
 }
 
 TEST(SegmentationIO, StorageIsFoundForSegNrrdAndLoadsIntoASegmentationNode) {

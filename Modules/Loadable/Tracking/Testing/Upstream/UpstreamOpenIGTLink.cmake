@@ -7,8 +7,6 @@
 #
 # Defines: ROBOPLAN_UPSTREAM_IGTL (ON/OFF), ROBOPLAN_UPSTREAM_IGTL_SOURCE (the folder),
 #          ROBOPLAN_UPSTREAM_IGTL_BIN (the example programs), target rpUpstreamOpenIGTLink.
-set(ROBOPLAN_ORACLES_DIR "${CMAKE_SOURCE_DIR}/../shared/oracles" CACHE PATH
-    "Reference implementations for tests only (see shared/oracles/README.md)")
 set(ROBOPLAN_UPSTREAM_IGTL_SOURCE "${ROBOPLAN_ORACLES_DIR}/openigtlink-3")
 set(ROBOPLAN_UPSTREAM_IGTL OFF)
 if(TARGET rpUpstreamOpenIGTLink)
