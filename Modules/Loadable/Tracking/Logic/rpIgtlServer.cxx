@@ -92,6 +92,7 @@ bool IgtlServer::UpdateTransform(const std::string& name, const double m[16], st
     error = "'" + name + "' is not a transform name (FromToTo)";
     return false;
   }
+  if (this->Opts.UpdateTransforms) return this->Opts.UpdateTransforms(from, to, m, error);
   this->FixedTransforms[name].assign(m, m + 16);
   return true;
 }

@@ -38,6 +38,9 @@ struct PlusSequence;
 /// its status; false when it cannot compute it.
 using TransformProvider = std::function<bool(const std::string& from, const std::string& to, double m[16], ToolState& state)>;
 
+/// Sets From→To (row-major) in that source (PLUS's UpdateTransform); false with `error`.
+using TransformUpdater = std::function<bool(const std::string& from, const std::string& to, const double m[16], std::string& error)>;
+
 class IgtlServer : public IgtlCommandTarget {
  public:
   struct Options {
@@ -54,6 +57,7 @@ class IgtlServer : public IgtlCommandTarget {
     std::string ChannelId = "TrackerStream";                // RequestChannelIds (PLUS's OutputChannel)
     std::vector<std::string> DeviceIds = {"TrackerDevice"};  // RequestDeviceIds
     TransformProvider Transforms;                           // GetTransform of chained names
+    TransformUpdater UpdateTransforms;                      // UpdateTransform into it (else kept here)
   };
 
   struct Statistics {

@@ -174,6 +174,14 @@ int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std
     if (plus.Relay) {  // PLUS's served names (chains through its transforms), its send and keep-alive settings
       so.SendInvalid = plus.SendInvalid;
       so.KeepAliveSeconds = plus.KeepAliveSeconds;
+      // GetTransform/UpdateTransform act on the configuration's transform repository, as in PLUS
+      std::shared_ptr<PlusTransformRelay> repository = plus.Commands;
+      so.Transforms = [repository](const std::string& from, const std::string& to, double m[16], ToolState& state) {
+        return repository->Get(from, to, m, state);
+      };
+      so.UpdateTransforms = [repository](const std::string& from, const std::string& to, const double m[16], std::string& e) {
+        return repository->Set(from, to, m, e);
+      };
     }
     server = std::make_unique<IgtlServer>(plus.Relay ? plus.Relay->Output() : table, so);
     if (!server->Start(error)) {
