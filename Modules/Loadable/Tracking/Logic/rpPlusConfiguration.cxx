@@ -343,6 +343,23 @@ bool ParseConfiguration(const std::string& text, const std::string& source, cons
   return ReadConfigurationElement(root, source, options, c, error);
 }
 
+bool ParseClientInfo(const std::string& xml, Server& info, std::string& error) {
+  vtkSmartPointer<vtkXMLDataElement> root = ParseXml(xml, "CLIENTINFO", error);
+  if (!root) return false;
+  if (!Same(root->GetName(), "ClientInfo")) {
+    error = std::string("CLIENTINFO holds <") + (root->GetName() ? root->GetName() : "") + ">, not <ClientInfo>";
+    return false;
+  }
+  Server parsed;
+  Configuration ignored;  // refusals name what we cannot serve; a client's wishes are not errors
+  ReadClientInfo(root, parsed, ignored);
+  info.MessageTypes = std::move(parsed.MessageTypes);
+  info.TransformNames = std::move(parsed.TransformNames);
+  info.ImageNames = std::move(parsed.ImageNames);
+  info.StringNames = std::move(parsed.StringNames);
+  return true;
+}
+
 bool ReadConfiguration(const std::string& path, const ResolveOptions& options, Configuration& c, std::string& error) {
   vtkSmartPointer<vtkXMLDataElement> root = ReadXmlFile(path, error, std::size_t(16) << 20);
   if (!root) return false;

@@ -112,6 +112,11 @@ bool ParseConfiguration(const std::string& text, const std::string& source, cons
 bool ReadConfigurationElement(vtkXMLDataElement* root, const std::string& source, const ResolveOptions& options,
                               Configuration& configuration, std::string& error);
 
+/// A client's CLIENTINFO (PlusServer's <ClientInfo> XML, laid out as DefaultClientInfo): its
+/// message types and transform, image and string names replace those in `info` (other fields
+/// untouched). False with `error` for malformed XML or another root element.
+bool ParseClientInfo(const std::string& xml, Server& info, std::string& error);
+
 /// PLUS's SerialPort number → the Linux device ndicapi opens ("" when it has none).
 std::string SerialDeviceForPort(int plusPortNumber);
 

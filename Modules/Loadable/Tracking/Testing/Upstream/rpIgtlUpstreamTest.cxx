@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -1311,6 +1312,101 @@ TEST(IgtlUpstreamSocket, PlusConfigurationServesTheRepositoryStatusAndCommandsAc
   socket->CloseSocket();
   track.join();
   EXPECT_EQ(code, 0) << err.str();
+}
+
+namespace {
+// PLUS's igtlPlusClientInfoMessage: a STRING body (the <ClientInfo> XML) sent as CLIENTINFO.
+class UpstreamClientInfoMessage : public ::igtl::StringMessage {
+ public:
+  using Pointer = ::igtl::SmartPointer<UpstreamClientInfoMessage>;
+  static Pointer New() {
+    Pointer message = new UpstreamClientInfoMessage;
+    message->UnRegister();
+    return message;
+  }
+
+ protected:
+  UpstreamClientInfoMessage() { this->m_SendMessageType = "CLIENTINFO"; }
+};
+}  // namespace
+
+// PlusServer's CLIENTINFO: the client names one served transform and one the server does not
+// stream (computed by the transform provider); it then gets those two and no other, while a
+// second client without CLIENTINFO still gets every served transform.
+TEST(IgtlUpstreamSocket, ClientInfoReplacesTheDefaultForThatClientOnly) {
+  ToolPoseTable table;
+  const int stylus = table.FindOrAdd("StylusToTracker");
+  const int reference = table.FindOrAdd("ReferenceToTracker");
+  IgtlServer::Options options;
+  options.Port = 0;
+  options.Transforms = [&](const std::string& from, const std::string& to, double m[16], ToolState& state) {
+    if (from != "Stylus" || to != "Reference") return false;  // StylusToReference: x 100 - 40
+    ToolPose a, b;
+    table.Read(stylus, a);
+    table.Read(reference, b);
+    for (int i = 0; i < 16; ++i) m[i] = (i % 5 == 0) ? 1.0 : 0.0;
+    m[3] = a.Translation[0] - b.Translation[0];
+    state = ToolState::OK;
+    return true;
+  };
+  IgtlServer server(table, options);
+  std::string error;
+  ASSERT_TRUE(server.Start(error)) << error;
+  auto filtered = ::igtl::ClientSocket::New(), plain = ::igtl::ClientSocket::New();
+  ASSERT_EQ(filtered->ConnectToServer("127.0.0.1", server.Port()), 0);
+  ASSERT_EQ(plain->ConnectToServer("127.0.0.1", server.Port()), 0);
+  filtered->SetReceiveTimeout(3000);
+  plain->SetReceiveTimeout(3000);
+  auto info = UpstreamClientInfoMessage::New();
+  info->SetDeviceName("Slicer");
+  info->SetString("<ClientInfo><MessageTypes><Message Type=\"TRANSFORM\" /></MessageTypes>"
+                  "<TransformNames><Transform Name=\"ReferenceToTracker\" /><Transform From=\"Stylus\" To=\"Reference\" />"
+                  "</TransformNames></ClientInfo>");
+  UpstreamFrame(info, 2, {});
+  ASSERT_TRUE(filtered->Send(info->GetPackPointer(), info->GetPackSize()));
+  // Until the server has read the CLIENTINFO (it sends nothing back), poses go to both: wait for
+  // a GET_STATUS answer, which it handles after the CLIENTINFO sent before it.
+  auto get = ::igtl::GetStatusMessage::New();
+  get->SetDeviceName("Slicer");
+  UpstreamFrame(get, 2, {});
+  ASSERT_TRUE(filtered->Send(get->GetPackPointer(), get->GetPackSize()));
+  int result = 0;
+  ASSERT_TRUE(UpstreamReceive<::igtl::StatusMessage>(filtered, "STATUS", result));
+
+  std::map<std::string, int> got, plainGot;
+  for (int round = 0; round < 5; ++round) {
+    ToolPose pose;
+    pose.State = ToolState::OK;
+    pose.Translation[0] = 100;
+    table.Publish(stylus, pose);
+    pose.Translation[0] = 40;
+    table.Publish(reference, pose);
+    std::this_thread::sleep_for(std::chrono::milliseconds(40));
+  }
+  for (int i = 0; i < 10; ++i) {
+    auto t = UpstreamReceive<::igtl::TransformMessage>(filtered, "TRANSFORM", result, 5);
+    if (!t) break;
+    ++got[t->GetDeviceName()];
+    if (std::string(t->GetDeviceName()) == "StylusToReference") {
+      ::igtl::Matrix4x4 m;
+      t->GetMatrix(m);
+      EXPECT_NEAR(m[0][3], 60.0, 1e-4);
+    }
+    if (got.size() == 2 && got["ReferenceToTracker"] >= 2 && got["StylusToReference"] >= 2) break;
+  }
+  for (int i = 0; i < 6; ++i) {
+    auto t = UpstreamReceive<::igtl::TransformMessage>(plain, "TRANSFORM", result, 5);
+    if (t) ++plainGot[t->GetDeviceName()];
+  }
+  EXPECT_EQ(got.count("StylusToTracker"), 0u);  // served, but not named by this client
+  EXPECT_GE(got["ReferenceToTracker"], 1);
+  EXPECT_GE(got["StylusToReference"], 1);
+  EXPECT_GE(plainGot["StylusToTracker"], 1);  // the other client keeps the default
+  EXPECT_GE(plainGot["ReferenceToTracker"], 1);
+  EXPECT_EQ(plainGot.count("StylusToReference"), 0u);
+  filtered->CloseSocket();
+  plain->CloseSocket();
+  server.Stop();
 }
 
 #endif  // ROBOPLAN_UPSTREAM_IGTL
