@@ -8,30 +8,15 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cerrno>
 #include <cstring>
 
 #include "rpPlusConfiguration.h"
 #include "rpPlusSequenceFile.h"
 #include "rpTransformNames.h"
+#include "rpTransformRepository.h"
 
 namespace rp {
-
-namespace {
-const char* TransformStatus(ToolState s) { return PlusToolStatusName(s); }
-
-/// "StylusTipToReference" → ("StylusTip", "Reference"): split at the first "To" before a capital.
-bool SplitTransformName(const std::string& name, std::string& from, std::string& to) {
-  for (size_t i = 1; i + 2 < name.size(); ++i)
-    if (name.compare(i, 2, "To") == 0 && std::isupper(static_cast<unsigned char>(name[i + 2]))) {
-      from = name.substr(0, i);
-      to = name.substr(i + 2);
-      return true;
-    }
-  return false;
-}
-}  // namespace
 
 IgtlServer::IgtlServer(const ToolPoseTable& source, Options options) : Source(source), Opts(std::move(options)) {}
 IgtlServer::~IgtlServer() { this->Stop(); }
@@ -81,16 +66,16 @@ bool IgtlServer::GetTransform(const std::string& name, double m[16], ToolState& 
       state = pose.State;
       return true;
     }
-  std::string from, to;
-  if (this->Opts.Transforms && SplitTransformName(name, from, to) && this->Opts.Transforms(from, to, m, state)) return true;
+  std::string from, to, split;
+  if (this->Opts.Transforms && SplitTransformName(name, from, to, split) && this->Opts.Transforms(from, to, m, state)) return true;
   error = "no transform " + name;
   return false;
 }
 
 bool IgtlServer::UpdateTransform(const std::string& name, const double m[16], std::string& error) {
   std::string from, to;
-  if (!SplitTransformName(name, from, to)) {
-    error = "'" + name + "' is not a transform name (FromToTo)";
+  if (!SplitTransformName(name, from, to, error)) {
+    error = "'" + name + "' is not a transform name (FromToTo): " + error;
     return false;
   }
   if (this->Opts.UpdateTransforms) return this->Opts.UpdateTransforms(from, to, m, error);
@@ -147,8 +132,8 @@ void IgtlServer::HandleClientInfo(Client& c, const igtl::Body& body) {
         c.Wanted[static_cast<size_t>(slot)] = 1;
         served = true;
       }
-    std::string from = t.From, to = t.To;
-    if (!served && ((!from.empty() && !to.empty()) || SplitTransformName(t.Name, from, to)))
+    std::string from = t.From, to = t.To, split;
+    if (!served && ((!from.empty() && !to.empty()) || SplitTransformName(t.Name, from, to, split)))
       c.Extras.push_back({t.Name, from, to});
   }
 }
@@ -156,7 +141,7 @@ void IgtlServer::HandleClientInfo(Client& c, const igtl::Body& body) {
 void IgtlServer::SendTransform(Client& c, const char* name, const double m[16], ToolState state, double wall) {
   igtl::EncodeTransform(m, this->Writer.Begin(c.Version, "TRANSFORM", name, wall, igtl::TransformSize));
   // PLUS's metadata: the status of the transform, and the full name when it is longer than 20.
-  const igtl::MetaPair meta[2] = {{"TransformStatus", TransformStatus(state)}, {"IGTL_DEVICE_NAME", name}};
+  const igtl::MetaPair meta[2] = {{"TransformStatus", PlusToolStatusName(state)}, {"IGTL_DEVICE_NAME", name}};
   this->Writer.Finish(meta, std::strlen(name) > igtl::NameSize ? 2 : 1);
   this->Send(c);
 }
