@@ -6,47 +6,32 @@
 #include <stdexcept>
 
 #include <Eigen/LU>
-#include <vtkXMLDataElement.h>
 
 #include "rpPivotCalibration.h"
+#include "rpPlusConfiguration.h"
 #include "rpPlusSequenceFile.h"
 #include "rpRegistrationAccuracy.h"
-#include "rpXmlDocument.h"
 
 namespace rp {
 
 namespace {
 
-vtkSmartPointer<vtkXMLDataElement> ReadConfiguration(const std::string& path) {
+/// The configuration as the shared PLUS parser reads it (one parser for every PLUS file).
+plus::Configuration ReadConfiguration(const std::string& path) {
+  plus::Configuration c;
   std::string error;
-  vtkSmartPointer<vtkXMLDataElement> root = ReadXmlFile(path, error);
-  if (!root) throw std::runtime_error(error);
-  if (!root->GetName() || std::string(root->GetName()) != "PlusConfiguration")
-    throw std::runtime_error(path + ": not a PLUS configuration (the root element is not <PlusConfiguration>)");
-  return root;
-}
-
-bool ParseMatrix(const char* text, Eigen::Matrix4d& m) {
-  if (!text) return false;
-  std::istringstream in(text);
-  for (int i = 0; i < 16; ++i)
-    if (!(in >> m(i / 4, i % 4))) return false;
-  std::string extra;
-  return !(in >> extra);
-}
-
-bool ParsePoint(const char* text, Eigen::Vector3d& p) {
-  if (!text) return false;
-  std::istringstream in(text);
-  return static_cast<bool>(in >> p.x() >> p.y() >> p.z());
+  if (!plus::ReadConfiguration(path, plus::ResolveOptions(), c, error)) throw std::runtime_error(error);
+  return c;
 }
 
 /// PLUS's igsioMath::Round: halves away from zero.
 double RoundHalfAway(double x) { return x < 0 ? std::ceil(x - 0.5) : std::floor(x + 0.5); }
 
-void ReadOptionalDouble(vtkXMLDataElement* e, const char* name, double& value) {
-  double v;
-  if (e && e->GetScalarAttribute(name, v)) value = v;
+void Take(const std::optional<double>& given, double& value) {
+  if (given) value = *given;
+}
+void Take(const std::string& given, std::string& value) {
+  if (!given.empty()) value = given;
 }
 
 /// Transform a→b of a frame of the recording: a direct transform, its inverse, or through Tracker.
@@ -77,39 +62,33 @@ Eigen::Vector3d Translation(const Eigen::Matrix4d& m) { return m.block<3, 1>(0, 
 
 }  // namespace
 
+/// A transform of CoordinateDefinitions, either way round (below).
+bool FindCoordinateDefinition(const plus::Configuration& c, const std::string& from, const std::string& to,
+                              Eigen::Matrix4d& matrix, double& error);
+
 PlusPhantomConfiguration PlusPhantomConfiguration::Read(const std::string& path) {
-  vtkSmartPointer<vtkXMLDataElement> root = ReadConfiguration(path);
+  const plus::Configuration file = ReadConfiguration(path);
+  const plus::PhantomRegistrationSettings& p = file.PhantomRegistration;
   PlusPhantomConfiguration c;
-  vtkXMLDataElement* algo = root->FindNestedElementWithName("vtkPlusPhantomLandmarkRegistrationAlgo");
-  if (algo) {
-    if (const char* v = algo->GetAttribute("PhantomCoordinateFrame")) c.PhantomFrame = v;
-    if (const char* v = algo->GetAttribute("ReferenceCoordinateFrame")) c.ReferenceFrame = v;
-    if (const char* v = algo->GetAttribute("StylusTipCoordinateFrame")) c.StylusTipFrame = v;
-    ReadOptionalDouble(algo, "AcquisitionRate", c.AcquisitionRate);
-    ReadOptionalDouble(algo, "FilterWindowTimeSec", c.FilterWindowTimeSec);
-    ReadOptionalDouble(algo, "DetectionTimeSec", c.DetectionTimeSec);
-    ReadOptionalDouble(algo, "StylusShaftMinimumDisplacementThresholdMm", c.StylusShaftMinimumDisplacementThresholdMm);
-    ReadOptionalDouble(algo, "StylusTipMaximumDisplacementThresholdMm", c.StylusTipMaximumDisplacementThresholdMm);
-  }
-  if (vtkXMLDataElement* pivot = root->FindNestedElementWithName("vtkPlusPivotCalibrationAlgo"))
-    if (const char* v = pivot->GetAttribute("ObjectMarkerCoordinateFrame")) c.StylusFrame = v;
+  Take(p.PhantomFrame, c.PhantomFrame);
+  Take(p.ReferenceFrame, c.ReferenceFrame);
+  Take(p.StylusTipFrame, c.StylusTipFrame);
+  Take(p.StylusFrame, c.StylusFrame);
+  Take(p.AcquisitionRate, c.AcquisitionRate);
+  Take(p.FilterWindowTimeSec, c.FilterWindowTimeSec);
+  Take(p.DetectionTimeSec, c.DetectionTimeSec);
+  Take(p.StylusShaftMinimumDisplacementThresholdMm, c.StylusShaftMinimumDisplacementThresholdMm);
+  Take(p.StylusTipMaximumDisplacementThresholdMm, c.StylusTipMaximumDisplacementThresholdMm);
   if (!(c.FilterWindowTimeSec > 0) || !(c.DetectionTimeSec > c.FilterWindowTimeSec))
     throw std::runtime_error(path + ": DetectionTimeSec must exceed FilterWindowTimeSec > 0");
-  vtkXMLDataElement* phantom = root->FindNestedElementWithName("PhantomDefinition");
-  vtkXMLDataElement* geometry = phantom ? phantom->FindNestedElementWithName("Geometry") : nullptr;
-  vtkXMLDataElement* landmarks = geometry ? geometry->FindNestedElementWithName("Landmarks") : nullptr;
-  if (!landmarks) throw std::runtime_error(path + ": no PhantomDefinition/Geometry/Landmarks (the phantom's landmark positions)");
-  for (int i = 0; i < landmarks->GetNumberOfNestedElements(); ++i) {
-    vtkXMLDataElement* l = landmarks->GetNestedElement(i);
-    Eigen::Vector3d p;
-    if (!l->GetName() || std::string(l->GetName()) != "Landmark") continue;
-    if (!ParsePoint(l->GetAttribute("Position"), p))
-      throw std::runtime_error(path + ": landmark #" + std::to_string(i + 1) + " has no Position=\"x y z\"");
-    c.LandmarkNames.push_back(l->GetAttribute("Name") ? l->GetAttribute("Name") : "#" + std::to_string(i + 1));
-    c.Landmarks.push_back(p);
+  if (!p.HasLandmarks) throw std::runtime_error(path + ": no PhantomDefinition/Geometry/Landmarks (the phantom's landmark positions)");
+  if (!p.LandmarkProblem.empty()) throw std::runtime_error(path + ": " + p.LandmarkProblem);
+  for (const plus::PhantomLandmark& l : p.Landmarks) {
+    c.LandmarkNames.push_back(l.Name);
+    c.Landmarks.emplace_back(l.Position[0], l.Position[1], l.Position[2]);
   }
   if (c.Landmarks.size() < 3) throw std::runtime_error(path + ": " + std::to_string(c.Landmarks.size()) + " landmarks; at least 3 are needed");
-  if (!ReadPlusCoordinateDefinition(path, c.StylusTipFrame, c.StylusFrame, c.StylusTipToStylus, c.StylusTipToStylusError))
+  if (!FindCoordinateDefinition(file, c.StylusTipFrame, c.StylusFrame, c.StylusTipToStylus, c.StylusTipToStylusError))
     throw std::runtime_error(path + ": no CoordinateDefinitions transform " + c.StylusTipFrame + "To" + c.StylusFrame +
                              " (the stylus tip calibration; run pivot calibration first)");
   return c;
@@ -122,26 +101,26 @@ double PlusPhantomConfiguration::MinimumLandmarkDistance() const {
   return best;
 }
 
-bool ReadPlusCoordinateDefinition(const std::string& path, const std::string& from, const std::string& to,
-                                  Eigen::Matrix4d& matrix, double& error) {
-  vtkSmartPointer<vtkXMLDataElement> root = ReadConfiguration(path);
-  vtkXMLDataElement* defs = root->FindNestedElementWithName("CoordinateDefinitions");
-  for (int i = 0; defs && i < defs->GetNumberOfNestedElements(); ++i) {
-    vtkXMLDataElement* t = defs->GetNestedElement(i);
-    const char* f = t->GetAttribute("From");
-    const char* o = t->GetAttribute("To");
-    if (!f || !o) continue;
-    const bool direct = from == f && to == o, inverse = from == o && to == f;
+bool FindCoordinateDefinition(const plus::Configuration& c, const std::string& from, const std::string& to,
+                              Eigen::Matrix4d& matrix, double& error) {
+  for (const plus::FixedTransform& t : c.Transforms) {
+    const bool direct = from == t.From && to == t.To, inverse = from == t.To && to == t.From;
     if (!direct && !inverse) continue;
-    Eigen::Matrix4d m;
-    if (!ParseMatrix(t->GetAttribute("Matrix"), m))
-      throw std::runtime_error(path + ": transform " + f + "To" + o + " needs Matrix=\"16 numbers\"");
+    const Eigen::Matrix4d m = Eigen::Map<const Eigen::Matrix<double, 4, 4, Eigen::RowMajor>>(t.Matrix);
     matrix = direct ? m : Eigen::Matrix4d(m.inverse());
-    error = -1;
-    t->GetScalarAttribute("Error", error);
+    error = t.Error;
     return true;
   }
+  const std::string name = from + "To" + to, inverse = to + "To" + from;
+  for (const plus::Refusal& r : c.Refused)  // written, but unusable: say why
+    if (r.What == "Transform " + name || r.What == "Transform " + inverse)
+      throw std::runtime_error(c.Source + ": transform " + r.What.substr(10) + ": " + r.Why);
   return false;
+}
+
+bool ReadPlusCoordinateDefinition(const std::string& path, const std::string& from, const std::string& to,
+                                  Eigen::Matrix4d& matrix, double& error) {
+  return FindCoordinateDefinition(ReadConfiguration(path), from, to, matrix, error);
 }
 
 void PlusLandmarkDetector::Box::Add(const Eigen::Vector3d& p) {

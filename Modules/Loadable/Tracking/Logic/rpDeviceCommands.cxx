@@ -213,6 +213,8 @@ int PreparePlusTrack(const ArgParser& parser, PlusTrack& plan, std::ostream& out
                                                         : device.SerialDevice)
                                         : address;
   plan.Relay = std::make_unique<PlusTransformRelay>(c, *tracker, plan.Source->Poses());
+  plan.Commands = std::make_shared<PlusTransformRelay>(c, *tracker, plan.Source->Poses());
+  plan.Commands->ForwardUpdatesTo(*plan.Relay);  // UpdateTransform reaches the served transforms
   plan.ServePort = c.OpenIGTLinkServer.Present ? c.OpenIGTLinkServer.ListeningPort : -1;
   plan.SendInvalid = !c.OpenIGTLinkServer.SendValidTransformsOnly;
   plan.KeepAliveSeconds = c.OpenIGTLinkServer.KeepAliveIntervalSec;

@@ -27,6 +27,7 @@ struct PlusTrack {
   PoseSourceConfig Config;               // kind and address, for the report
   std::unique_ptr<PoseSource> Source;
   std::unique_ptr<PlusTransformRelay> Relay;
+  std::shared_ptr<PlusTransformRelay> Commands;  // the server thread's: GetTransform/UpdateTransform
   int ServePort = -1;                    // ListeningPort (-1: no server section)
   bool SendInvalid = false;              // !SendValidTransformsOnly
   double KeepAliveSeconds = 0.25;

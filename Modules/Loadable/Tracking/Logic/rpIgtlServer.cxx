@@ -8,29 +8,15 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cerrno>
 #include <cstring>
 
+#include "rpPlusConfiguration.h"
 #include "rpPlusSequenceFile.h"
 #include "rpTransformNames.h"
+#include "rpTransformRepository.h"
 
 namespace rp {
-
-namespace {
-const char* TransformStatus(ToolState s) { return PlusToolStatusName(s); }
-
-/// "StylusTipToReference" → ("StylusTip", "Reference"): split at the first "To" before a capital.
-bool SplitTransformName(const std::string& name, std::string& from, std::string& to) {
-  for (size_t i = 1; i + 2 < name.size(); ++i)
-    if (name.compare(i, 2, "To") == 0 && std::isupper(static_cast<unsigned char>(name[i + 2]))) {
-      from = name.substr(0, i);
-      to = name.substr(i + 2);
-      return true;
-    }
-  return false;
-}
-}  // namespace
 
 IgtlServer::IgtlServer(const ToolPoseTable& source, Options options) : Source(source), Opts(std::move(options)) {}
 IgtlServer::~IgtlServer() { this->Stop(); }
@@ -80,18 +66,19 @@ bool IgtlServer::GetTransform(const std::string& name, double m[16], ToolState& 
       state = pose.State;
       return true;
     }
-  std::string from, to;
-  if (this->Opts.Transforms && SplitTransformName(name, from, to) && this->Opts.Transforms(from, to, m, state)) return true;
+  std::string from, to, split;
+  if (this->Opts.Transforms && SplitTransformName(name, from, to, split) && this->Opts.Transforms(from, to, m, state)) return true;
   error = "no transform " + name;
   return false;
 }
 
 bool IgtlServer::UpdateTransform(const std::string& name, const double m[16], std::string& error) {
   std::string from, to;
-  if (!SplitTransformName(name, from, to)) {
-    error = "'" + name + "' is not a transform name (FromToTo)";
+  if (!SplitTransformName(name, from, to, error)) {
+    error = "'" + name + "' is not a transform name (FromToTo): " + error;
     return false;
   }
+  if (this->Opts.UpdateTransforms) return this->Opts.UpdateTransforms(from, to, m, error);
   this->FixedTransforms[name].assign(m, m + 16);
   return true;
 }
@@ -124,6 +111,51 @@ void IgtlServer::HandleCommand(Client& c, const igtl::Header& h, const igtl::Bod
   igtl::EncodeString(xml.data(), size, this->Writer.Begin(c.Version, "STRING", device.c_str(), wall, igtl::StringHeaderSize + size));
   this->Writer.Finish();
   this->Send(c);
+}
+
+void IgtlServer::HandleClientInfo(Client& c, const igtl::Body& body) {
+  uint16_t encoding = 0;
+  const char* text = nullptr;
+  size_t length = 0;
+  if (igtl::DecodeString(body.Content, body.ContentSize, encoding, text, length) != igtl::Status::Ok) return;
+  plus::Server info;
+  std::string error;
+  if (!plus::ParseClientInfo(std::string(text, length), info, error)) return;  // PLUS keeps the old info too
+  c.HasClientInfo = true;
+  c.WantsTransforms = std::find(info.MessageTypes.begin(), info.MessageTypes.end(), "TRANSFORM") != info.MessageTypes.end();
+  c.Wanted.assign(static_cast<size_t>(this->Source.Count()), 0);
+  c.Extras.clear();
+  for (const plus::TransformName& t : info.TransformNames) {
+    bool served = false;
+    for (int slot = 0; slot < this->Source.Count(); ++slot)
+      if (t.Name == this->Source.Name(slot)) {
+        c.Wanted[static_cast<size_t>(slot)] = 1;
+        served = true;
+      }
+    std::string from = t.From, to = t.To, split;
+    if (!served && ((!from.empty() && !to.empty()) || SplitTransformName(t.Name, from, to, split)))
+      c.Extras.push_back({t.Name, from, to});
+  }
+}
+
+void IgtlServer::SendTransform(Client& c, const char* name, const double m[16], ToolState state, double wall) {
+  igtl::EncodeTransform(m, this->Writer.Begin(c.Version, "TRANSFORM", name, wall, igtl::TransformSize));
+  // PLUS's metadata: the status of the transform, and the full name when it is longer than 20.
+  const igtl::MetaPair meta[2] = {{"TransformStatus", PlusToolStatusName(state)}, {"IGTL_DEVICE_NAME", name}};
+  this->Writer.Finish(meta, std::strlen(name) > igtl::NameSize ? 2 : 1);
+  this->Send(c);
+}
+
+void IgtlServer::SendExtras(Client& c, double wall) {
+  if (!c.WantsTransforms || !this->Opts.Transforms) return;
+  for (const Client::Extra& e : c.Extras) {
+    double m[16];
+    ToolState state = ToolState::Missing;
+    if (!this->Opts.Transforms(e.From, e.To, m, state)) continue;  // not connected: nothing to send
+    const bool valid = state == ToolState::OK || state == ToolState::OutOfVolume;
+    if (!valid && c.Version < 2 && !this->Opts.SendInvalid) continue;
+    this->SendTransform(c, e.Name.c_str(), m, state, wall);
+  }
 }
 
 void IgtlServer::RecordFrame(double wall) {
@@ -327,6 +359,8 @@ void IgtlServer::HandleInput(Client& c) {
       this->SendRts(c, "RTS_QTDATA", wall);
     } else if (h.Is("GET_STATUS")) {
       this->SendStatus(c, wall);
+    } else if (h.Is("CLIENTINFO")) {
+      this->HandleClientInfo(c, split);
     } else if (h.Is("COMMAND") || (h.Is("STRING") && std::strncmp(h.DeviceName, "CMD_", 4) == 0)) {
       this->HandleCommand(c, h, split, wall);
     }
@@ -355,18 +389,16 @@ void IgtlServer::SendPoses(double now) {
       continue;
     }
     for (int slot : this->Fresh) {
+      if (c.HasClientInfo && (!c.WantsTransforms || static_cast<size_t>(slot) >= c.Wanted.size() || !c.Wanted[static_cast<size_t>(slot)]))
+        continue;  // this client's CLIENTINFO does not name it
       const ToolPose& pose = this->Reader.Last(slot).Pose;
       const bool valid = pose.State == ToolState::OK || pose.State == ToolState::OutOfVolume;
       if (!valid && (c.Version < 2 && !this->Opts.SendInvalid)) continue;  // PLUS: a missing tool goes silent
-      const char* name = this->Source.Name(slot);
       double m[16];
       pose.ToMatrix(m);
-      igtl::EncodeTransform(m, this->Writer.Begin(c.Version, "TRANSFORM", name, wall, igtl::TransformSize));
-      // PLUS's metadata: the status of the transform, and the full name when it is longer than 20.
-      const igtl::MetaPair meta[2] = {{"TransformStatus", TransformStatus(pose.State)}, {"IGTL_DEVICE_NAME", name}};
-      this->Writer.Finish(meta, std::strlen(name) > igtl::NameSize ? 2 : 1);
-      this->Send(c);
+      this->SendTransform(c, this->Source.Name(slot), m, pose.State, wall);
     }
+    if (!c.Extras.empty() && !this->Fresh.empty()) this->SendExtras(c, wall);
     if ((c.TData || c.QtData) && now >= c.NextTData && !this->Valid.empty()) {
       c.NextTData = now + c.TDataInterval;
       if (c.TData) {

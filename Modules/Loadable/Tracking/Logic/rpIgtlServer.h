@@ -16,7 +16,9 @@
 // metadata, STRING CMD_<uid> → ACK_<uid>) act on this server: channel and device ids,
 // StartRecording/StopRecording (a PLUS .igs.mha of every pose the server sends), and
 // GetTransform/UpdateTransform through the TransformProvider (e.g. a transform repository that
-// chains StylusTipToReference) and the fixed transforms clients set.
+// chains StylusTipToReference) and the fixed transforms clients set. A client's CLIENTINFO (PLUS's
+// <ClientInfo> XML) replaces, for that client only, which message types and transform names it
+// gets; names the server does not stream come from the TransformProvider.
 #include <atomic>
 #include <functional>
 #include <map>
@@ -38,6 +40,9 @@ struct PlusSequence;
 /// its status; false when it cannot compute it.
 using TransformProvider = std::function<bool(const std::string& from, const std::string& to, double m[16], ToolState& state)>;
 
+/// Sets From→To (row-major) in that source (PLUS's UpdateTransform); false with `error`.
+using TransformUpdater = std::function<bool(const std::string& from, const std::string& to, const double m[16], std::string& error)>;
+
 class IgtlServer : public IgtlCommandTarget {
  public:
   struct Options {
@@ -54,6 +59,7 @@ class IgtlServer : public IgtlCommandTarget {
     std::string ChannelId = "TrackerStream";                // RequestChannelIds (PLUS's OutputChannel)
     std::vector<std::string> DeviceIds = {"TrackerDevice"};  // RequestDeviceIds
     TransformProvider Transforms;                           // GetTransform of chained names
+    TransformUpdater UpdateTransforms;                      // UpdateTransform into it (else kept here)
   };
 
   struct Statistics {
@@ -90,6 +96,14 @@ class IgtlServer : public IgtlCommandTarget {
     uint64_t Skip = 0;           // bytes of a body we do not keep, still to come
     std::vector<uint8_t> Queued; // output the client has not taken yet
     size_t QueuedSent = 0;
+    // CLIENTINFO (PlusServer's): this client's own message types and transform names replace
+    // the default (every served transform) for this client only.
+    bool HasClientInfo = false, WantsTransforms = true;
+    std::vector<uint8_t> Wanted;  // per Source slot
+    struct Extra {
+      std::string Name, From, To;  // asked for but not served: computed by Opts.Transforms
+    };
+    std::vector<Extra> Extras;
   };
   void Run();
   void Accept();
@@ -102,6 +116,9 @@ class IgtlServer : public IgtlCommandTarget {
   void SendStatus(Client& c, double wall);
   void SendPoses(double now);
   void HandleCommand(Client& c, const igtl::Header& h, const igtl::Body& body, double wall);
+  void HandleClientInfo(Client& c, const igtl::Body& body);
+  void SendTransform(Client& c, const char* name, const double m[16], ToolState state, double wall);
+  void SendExtras(Client& c, double wall);
   void RecordFrame(double wall);
 
   const ToolPoseTable& Source;

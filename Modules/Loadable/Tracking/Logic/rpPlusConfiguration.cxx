@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <map>
+#include <sstream>
 #include <set>
 
 #include <vtkXMLDataElement.h>
@@ -312,6 +313,50 @@ std::string Configuration::RefusedMessage() const {
   return text;
 }
 
+void ReadOptionalNumber(vtkXMLDataElement* e, const char* name, std::optional<double>& value, Configuration& c) {
+  if (!Has(e, name)) return;
+  double v = 0;
+  if (ParseDouble(Attr(e, name), v)) value = v;
+  else c.Refused.push_back({std::string(e->GetName()) + " " + name + "=\"" + Attr(e, name) + "\"", "not a number"});
+}
+
+void ReadPhantomDefinition(vtkXMLDataElement* phantom, Configuration& c) {
+  vtkXMLDataElement* geometry = phantom->FindNestedElementWithName("Geometry");
+  vtkXMLDataElement* landmarks = geometry ? geometry->FindNestedElementWithName("Landmarks") : nullptr;
+  if (!landmarks) return;
+  PhantomRegistrationSettings& p = c.PhantomRegistration;
+  p.HasLandmarks = true;
+  for (int i = 0; i < landmarks->GetNumberOfNestedElements(); ++i) {
+    vtkXMLDataElement* l = landmarks->GetNestedElement(i);
+    if (!Same(l->GetName(), "Landmark")) continue;
+    PhantomLandmark landmark;
+    std::istringstream in(Attr(l, "Position"));
+    if (!(in >> landmark.Position[0] >> landmark.Position[1] >> landmark.Position[2])) {
+      if (p.LandmarkProblem.empty()) p.LandmarkProblem = "landmark #" + std::to_string(i + 1) + " has no Position=\"x y z\"";
+      continue;
+    }
+    landmark.Name = Has(l, "Name") ? Attr(l, "Name") : "#" + std::to_string(i + 1);
+    p.Landmarks.push_back(landmark);
+  }
+}
+
+void ReadPhantomAlgorithms(vtkXMLDataElement* root, Configuration& c) {
+  PhantomRegistrationSettings& p = c.PhantomRegistration;
+  if (vtkXMLDataElement* phantom = root->FindNestedElementWithName("PhantomDefinition")) ReadPhantomDefinition(phantom, c);
+  if (vtkXMLDataElement* a = root->FindNestedElementWithName("vtkPlusPhantomLandmarkRegistrationAlgo")) {
+    p.PhantomFrame = Attr(a, "PhantomCoordinateFrame");
+    p.ReferenceFrame = Attr(a, "ReferenceCoordinateFrame");
+    p.StylusTipFrame = Attr(a, "StylusTipCoordinateFrame");
+    ReadOptionalNumber(a, "AcquisitionRate", p.AcquisitionRate, c);
+    ReadOptionalNumber(a, "FilterWindowTimeSec", p.FilterWindowTimeSec, c);
+    ReadOptionalNumber(a, "DetectionTimeSec", p.DetectionTimeSec, c);
+    ReadOptionalNumber(a, "StylusShaftMinimumDisplacementThresholdMm", p.StylusShaftMinimumDisplacementThresholdMm, c);
+    ReadOptionalNumber(a, "StylusTipMaximumDisplacementThresholdMm", p.StylusTipMaximumDisplacementThresholdMm, c);
+  }
+  if (vtkXMLDataElement* pivot = root->FindNestedElementWithName("vtkPlusPivotCalibrationAlgo"))
+    p.StylusFrame = Attr(pivot, "ObjectMarkerCoordinateFrame");
+}
+
 bool ReadConfigurationElement(vtkXMLDataElement* root, const std::string& source, const ResolveOptions& options,
                               Configuration& c, std::string& error) {
   c = Configuration();
@@ -333,6 +378,7 @@ bool ReadConfigurationElement(vtkXMLDataElement* root, const std::string& source
     else c.Refused.push_back({"<" + name + ">", "not used by `roboplan track`"});
   }
   if (server) ReadServer(server, c, channelOwner);
+  ReadPhantomAlgorithms(root, c);  // `roboplan phantom-registration`'s (refused above for track)
   return true;
 }
 
@@ -341,6 +387,23 @@ bool ParseConfiguration(const std::string& text, const std::string& source, cons
   vtkSmartPointer<vtkXMLDataElement> root = ParseXml(text, source, error);
   if (!root) return false;
   return ReadConfigurationElement(root, source, options, c, error);
+}
+
+bool ParseClientInfo(const std::string& xml, Server& info, std::string& error) {
+  vtkSmartPointer<vtkXMLDataElement> root = ParseXml(xml, "CLIENTINFO", error);
+  if (!root) return false;
+  if (!Same(root->GetName(), "ClientInfo")) {
+    error = std::string("CLIENTINFO holds <") + (root->GetName() ? root->GetName() : "") + ">, not <ClientInfo>";
+    return false;
+  }
+  Server parsed;
+  Configuration ignored;  // refusals name what we cannot serve; a client's wishes are not errors
+  ReadClientInfo(root, parsed, ignored);
+  info.MessageTypes = std::move(parsed.MessageTypes);
+  info.TransformNames = std::move(parsed.TransformNames);
+  info.ImageNames = std::move(parsed.ImageNames);
+  info.StringNames = std::move(parsed.StringNames);
+  return true;
 }
 
 bool ReadConfiguration(const std::string& path, const ResolveOptions& options, Configuration& c, std::string& error) {

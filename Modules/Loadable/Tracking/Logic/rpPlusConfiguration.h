@@ -4,7 +4,8 @@
 // AuroraTracker over a serial port or TCP, their tools and ROM files), the fixed transforms of
 // CoordinateDefinitions, and the PlusOpenIGTLinkServer section (port, output channel, the
 // default client's message types and transform/image/string names, SendValidTransformsOnly,
-// keep-alive). Everything else is named in Refused with the reason (other devices: ultrasound,
+// keep-alive), and fCal's phantom registration settings (PhantomDefinition landmarks, the
+// landmark registration and pivot calibration algorithms' frames and thresholds). Everything else is named in Refused with the reason (other devices: ultrasound,
 // video, virtual mixers, other trackers; attributes we do not honour), so that one message can
 // tell the user, and the rest still runs. The XML is read by rp::ParseXml (VTK's expat parser,
 // as PLUS reads it); malformed XML is named with its line. No input makes it crash or hang.
@@ -18,6 +19,7 @@
 // PLUS's 1-based port number; on Linux ndicapi maps it to /dev/ttyS0, /dev/ttyS1, /dev/ttyUSB0
 // .. /dev/ttyUSB5 for N = 1..8 (PLUS probes ports when none is given; we do not, a port must be
 // given).
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -80,6 +82,24 @@ struct Server {
   std::vector<std::string> StringNames;
 };
 
+/// fCal's phantom registration settings (`roboplan phantom-registration` reads them from here):
+/// PhantomDefinition/Geometry/Landmarks in their order, vtkPlusPhantomLandmarkRegistrationAlgo's
+/// frames and detection settings, and vtkPlusPivotCalibrationAlgo's stylus frame, as written
+/// (unset when absent or not a number; the defaults are the registration's).
+struct PhantomLandmark {
+  std::string Name;                    // "#N" (1-based) when the file names none
+  double Position[3] = {0, 0, 0};      // Phantom coordinates, mm
+};
+
+struct PhantomRegistrationSettings {
+  bool HasLandmarks = false;           // a PhantomDefinition/Geometry/Landmarks element
+  std::vector<PhantomLandmark> Landmarks;
+  std::string LandmarkProblem;         // the first landmark without Position="x y z" ("" when none)
+  std::string PhantomFrame, ReferenceFrame, StylusTipFrame, StylusFrame;  // "" when not given
+  std::optional<double> AcquisitionRate, FilterWindowTimeSec, DetectionTimeSec;
+  std::optional<double> StylusShaftMinimumDisplacementThresholdMm, StylusTipMaximumDisplacementThresholdMm;
+};
+
 /// Something of the file RoboPlan does not set up, and why.
 struct Refusal {
   std::string What, Why;
@@ -91,6 +111,7 @@ struct Configuration {
   std::vector<NdiTracker> Trackers;
   std::vector<FixedTransform> Transforms;
   Server OpenIGTLinkServer;
+  PhantomRegistrationSettings PhantomRegistration;
   std::vector<Refusal> Refused;
   /// One message naming everything refused ("" when nothing was).
   std::string RefusedMessage() const;
@@ -111,6 +132,11 @@ bool ParseConfiguration(const std::string& text, const std::string& source, cons
 /// From an element already parsed.
 bool ReadConfigurationElement(vtkXMLDataElement* root, const std::string& source, const ResolveOptions& options,
                               Configuration& configuration, std::string& error);
+
+/// A client's CLIENTINFO (PlusServer's <ClientInfo> XML, laid out as DefaultClientInfo): its
+/// message types and transform, image and string names replace those in `info` (other fields
+/// untouched). False with `error` for malformed XML or another root element.
+bool ParseClientInfo(const std::string& xml, Server& info, std::string& error);
 
 /// PLUS's SerialPort number → the Linux device ndicapi opens ("" when it has none).
 std::string SerialDeviceForPort(int plusPortNumber);

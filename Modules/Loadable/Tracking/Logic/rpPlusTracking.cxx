@@ -105,9 +105,8 @@ PlusTransformRelay::PlusTransformRelay(const plus::Configuration& c, const plus:
   }
 }
 
-void PlusTransformRelay::Update() noexcept {
+bool PlusTransformRelay::PullInputs(double& newest) noexcept {
   bool fresh = false;
-  double newest = 0;
   for (const Input& in : this->Inputs) {
     const auto& sample = this->Reader.Poll(this->Live, in.LiveSlot);
     if (!sample.Fresh) continue;
@@ -118,7 +117,58 @@ void PlusTransformRelay::Update() noexcept {
     const bool valid = sample.Pose.State == ToolState::OK || sample.Pose.State == ToolState::OutOfVolume;
     this->Repo.SetLive(in.Edge, RowMajor(m), valid ? TransformStatus::OK : TransformStatus::Missing);
   }
-  if (!fresh) return;
+  return fresh;
+}
+
+bool PlusTransformRelay::Get(const std::string& from, const std::string& to, double m[16], ToolState& state) {
+  double newest = 0;
+  this->PullInputs(newest);
+  Eigen::Matrix4d matrix;
+  TransformStatus status;
+  this->Repo.Get(from, to, matrix, status);
+  if (status == TransformStatus::Invalid) return false;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) m[4 * r + c] = matrix(r, c);
+  state = status == TransformStatus::OK ? ToolState::OK : ToolState::Missing;
+  return true;
+}
+
+bool PlusTransformRelay::Set(const std::string& from, const std::string& to, const double m[16], std::string& error) {
+  if (!this->Repo.Update(from, to, RowMajor(m), error)) return false;
+  if (this->Mailbox) {
+    std::lock_guard<std::mutex> lock(this->Mailbox->Mutex);
+    this->Mailbox->Items.emplace_back(from + "|" + to, RowMajor(m));
+    this->Mailbox->Pending = true;
+  }
+  return true;
+}
+
+void PlusTransformRelay::ForwardUpdatesTo(PlusTransformRelay& served) {
+  this->Mailbox = std::make_shared<Forwarded>();
+  served.Mailbox = this->Mailbox;
+}
+
+bool PlusTransformRelay::ApplyForwarded() {
+  // Only when a command set a transform (rare): the loop otherwise reads one atomic flag.
+  if (!this->Mailbox || !this->Mailbox->Pending.exchange(false)) return false;
+  std::lock_guard<std::mutex> lock(this->Mailbox->Mutex);
+  for (const auto& item : this->Mailbox->Items) {
+    const size_t bar = item.first.find('|');
+    std::string error;  // the commands' relay accepted it: the same repository accepts it here
+    this->Repo.Update(item.first.substr(0, bar), item.first.substr(bar + 1), item.second, error);
+  }
+  this->Mailbox->Items.clear();
+  return true;
+}
+
+void PlusTransformRelay::Update() noexcept {
+  double newest = 0;
+  bool changed = false;
+  try {
+    changed = this->ApplyForwarded();
+  } catch (...) {  // out of memory applying a command's transform: served as before
+  }
+  if (!this->PullInputs(newest) && !changed) return;
   for (const ServedName& out : this->Outputs) {
     Eigen::Matrix4d matrix;
     TransformStatus status;
@@ -129,7 +179,9 @@ void PlusTransformRelay::Update() noexcept {
       for (int c = 0; c < 4; ++c) m[4 * r + c] = matrix(r, c);
     pose.FromMatrix(m);
     pose.Timestamp = pose.ReceiveTime = newest;
-    pose.State = status == TransformStatus::OK ? ToolState::OK : ToolState::Missing;
+    pose.State = status == TransformStatus::OK        ? ToolState::OK
+                 : status == TransformStatus::Missing ? ToolState::Missing
+                                                      : ToolState::Disabled;  // INVALID: PLUS's TransformStatus name
     this->Served.Publish(out.Slot, pose);
   }
 }

@@ -4,11 +4,15 @@
 // repository (CoordinateDefinitions' fixed transforms + one live <Tool>To<ToolReferenceFrame>
 // per tool), and the relay that turns the tracker's newest poses into the transforms the
 // PlusOpenIGTLinkServer section names (e.g. StylusTipToReference), published into a pose table
-// that the OpenIGTLink server streams.
+// that the OpenIGTLink server streams. One thread owns a relay: the server's GetTransform and
+// UpdateTransform commands get a relay of their own (Get/Set) reading the same live table.
+#include <atomic>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
 #include "rpPlusConfiguration.h"
@@ -40,10 +44,28 @@ class PlusTransformRelay {
   /// served transform into Output() (OK, or MISSING with the last matrix).
   void Update() noexcept;
   const ToolPoseTable& Output() const { return this->Served; }
+  /// GetTransform as PLUS answers it: the tools' newest poses read in, then From→To through the
+  /// repository (row-major; state OK, MISSING when a live link has no valid pose). False when the
+  /// frames are not connected. Allocates on a pair's first call: for commands, not the hot path.
+  bool Get(const std::string& from, const std::string& to, double m[16], ToolState& state);
+  /// UpdateTransform as PLUS does it (TransformRepository::Update); what this relay accepts is
+  /// passed on to the relay given to ForwardUpdatesTo, which applies it at its next Update (so
+  /// the served transforms use it, as PlusServer's do).
+  bool Set(const std::string& from, const std::string& to, const double m[16], std::string& error);
+  /// `served` (owned by another thread) takes this relay's Set transforms from now on.
+  void ForwardUpdatesTo(PlusTransformRelay& served);
   TransformRepository& Repository() { return this->Repo; }
   const std::vector<plus::Refusal>& Refused() const { return this->Problems; }
 
  private:
+  bool PullInputs(double& newest) noexcept;  // fresh tool poses into the repository
+  bool ApplyForwarded();                      // Set transforms of the commands' relay
+  struct Forwarded {                          // commands' thread → the serving relay's thread
+    std::mutex Mutex;
+    std::atomic<bool> Pending{false};
+    std::vector<std::pair<std::string, Eigen::Matrix4d>> Items;  // "From|To", matrix
+  };
+  std::shared_ptr<Forwarded> Mailbox;
   struct Input {
     int LiveSlot, Edge;
   };

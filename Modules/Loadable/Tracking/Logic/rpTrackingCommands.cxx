@@ -114,7 +114,7 @@ int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std
       .Option("option", "KEY=VALUE", "a source option (e.g. noise=0.1); repeatable")
       .Option("rom", "FILE", "tool definition (.rom, or a Resources/Tools .json); repeatable")
       .Option("seconds", "N", "how long to track (a replay ends with its recording)", std::string("5"))
-      .Option("record", "FILE", "record every pose to a file (replay, `roboplan pivot`)")
+      .Option("record", "FILE", "record every pose to a file (replay, `roboplan pivot`); .igs.mha/.igs.nrrd: a PLUS recording")
       .Option("stale", "S", "seconds without data before a tool is stale", std::string("0.5"))
       .Option("reference", "NAME", "reference tool: also report <Tool>ToReference")
       .Option("rate", "HZ", "serial/simulate: camera frame rate via IRATE (20, 30 or 60) and poll rate")
@@ -174,6 +174,14 @@ int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std
     if (plus.Relay) {  // PLUS's served names (chains through its transforms), its send and keep-alive settings
       so.SendInvalid = plus.SendInvalid;
       so.KeepAliveSeconds = plus.KeepAliveSeconds;
+      // GetTransform/UpdateTransform act on the configuration's transform repository, as in PLUS
+      std::shared_ptr<PlusTransformRelay> repository = plus.Commands;
+      so.Transforms = [repository](const std::string& from, const std::string& to, double m[16], ToolState& state) {
+        return repository->Get(from, to, m, state);
+      };
+      so.UpdateTransforms = [repository](const std::string& from, const std::string& to, const double m[16], std::string& e) {
+        return repository->Set(from, to, m, e);
+      };
     }
     server = std::make_unique<IgtlServer>(plus.Relay ? plus.Relay->Output() : table, so);
     if (!server->Start(error)) {
@@ -221,7 +229,10 @@ int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std
   std::signal(SIGINT, previousInt);
   logic->UpdateNodes(SteadySeconds());
   const double elapsed = SteadySeconds() - start;
-  recorder.Close();
+  if (!recorder.Close(&error)) {
+    err << "roboplan track: " << error << "\n";
+    return 1;
+  }
 
   nlohmann::json doc;
   doc["seconds"] = elapsed;

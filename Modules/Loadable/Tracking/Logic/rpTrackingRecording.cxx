@@ -92,16 +92,33 @@ RecordingWriter::~RecordingWriter() { this->Close(); }
 
 bool RecordingWriter::Open(const std::string& path, std::string& error) {
   this->Close();
-  this->File = std::fopen(path.c_str(), "w");
+  this->File = std::fopen(path.c_str(), "w");  // a PLUS file too: the path is known writable now
   if (!this->File) {
     error = "cannot write recording " + path + ": " + std::strerror(errno);
     return false;
+  }
+  if (IsPlusSequenceFileName(path)) {
+    std::fclose(this->File);
+    this->File = nullptr;
+    this->Plus = std::make_unique<Recording>();
+    this->PlusPath = path;
+    return true;
   }
   std::fprintf(this->File, "%s\n", kMagic);
   return true;
 }
 
 void RecordingWriter::Add(const char* tool, double time, const ToolPose& pose) {
+  if (this->Plus) {
+    int index = this->Plus->ToolIndex(tool);
+    if (index < 0) {
+      index = static_cast<int>(this->Plus->Tools.size());
+      this->Plus->Tools.emplace_back(tool);
+    }
+    this->Plus->Samples.push_back({time, index, pose});
+    ++this->Written;
+    return;
+  }
   if (!this->File) return;
   char line[512];
   FormatLine(line, sizeof line, tool, time, pose);
@@ -109,9 +126,18 @@ void RecordingWriter::Add(const char* tool, double time, const ToolPose& pose) {
   ++this->Written;
 }
 
-void RecordingWriter::Close() {
+bool RecordingWriter::Close(std::string* error) {
   if (this->File) std::fclose(this->File);
   this->File = nullptr;
+  if (!this->Plus) return true;
+  std::unique_ptr<Recording> recording = std::move(this->Plus);
+  try {
+    recording->Write(this->PlusPath);
+  } catch (const std::exception& e) {
+    if (error) *error = e.what();
+    return false;
+  }
+  return true;
 }
 
 RecordingPlayer::RecordingPlayer(Recording recording, double speed, bool loop)

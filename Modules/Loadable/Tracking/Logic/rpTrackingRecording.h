@@ -8,6 +8,7 @@
 //   <time s> <tool> <state> <qw> <qx> <qy> <qz> <tx> <ty> <tz> <error> <frame>
 #include <atomic>
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -34,17 +35,23 @@ struct Recording {
   void Write(const std::string& path) const;
 };
 
-/// Appends poses as they come (main thread), flushing on Close.
+/// Appends poses as they come (main thread), flushing on Close. The extension chooses the format
+/// as Recording::Write does: RoboPlan's text lines are streamed to the file; a PLUS sequence
+/// (.igs.mha/.igs.nrrd) has a header that counts the frames, so it is kept in memory and written
+/// on Close.
 class RecordingWriter {
  public:
   ~RecordingWriter();
   bool Open(const std::string& path, std::string& error);
   void Add(const char* tool, double time, const ToolPose& pose);
-  void Close();
+  /// False with `error` when the PLUS file cannot be written.
+  bool Close(std::string* error = nullptr);
   size_t Count() const { return this->Written; }
 
  private:
   std::FILE* File = nullptr;
+  std::unique_ptr<Recording> Plus;  // a PLUS sequence, written on Close
+  std::string PlusPath;
   size_t Written = 0;
 };
 

@@ -131,6 +131,30 @@ bool TransformRepository::SetFixed(const std::string& from, const std::string& t
   return this->AddEdge(from, to, matrix, TransformStatus::OK, true, error) >= 0;
 }
 
+bool TransformRepository::Update(const std::string& from, const std::string& to, const Eigen::Matrix4d& matrix,
+                                 std::string& error) {
+  const int a = this->FindFrame(from), b = this->FindFrame(to);
+  if (a < 0 || b < 0 || !this->Connected(a, b)) return this->SetFixed(from, to, matrix, error);
+  for (Edge& e : this->Edges) {
+    const bool forward = e.From == a && e.To == b, backward = e.From == b && e.To == a;
+    if (!forward && !backward) continue;
+    if (!e.Fixed) {
+      error = "transform '" + from + "To" + to + "' comes from the tracker";
+      return false;
+    }
+    if (!matrix.allFinite() || std::abs(matrix.determinant()) < 1e-12) {
+      error = "transform '" + from + "To" + to + "' has a matrix that cannot be inverted";
+      return false;
+    }
+    e.Matrix = forward ? matrix : Eigen::Matrix4d(matrix.inverse());
+    e.Inverse = e.Matrix.inverse();
+    return true;
+  }
+  error = "transform '" + from + "To" + to + "' is computed from others (" + from + " and " + to +
+          " are connected through stored transforms): set one of those";
+  return false;
+}
+
 int TransformRepository::DeclareLive(const std::string& from, const std::string& to, std::string& error) {
   return this->AddEdge(from, to, Eigen::Matrix4d::Identity(), TransformStatus::Missing, false, error);
 }

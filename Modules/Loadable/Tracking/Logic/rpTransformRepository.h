@@ -32,6 +32,10 @@ class TransformRepository {
  public:
   /// A fixed transform (e.g. StylusTipToStylus from CoordinateDefinitions), valid for good.
   bool SetFixed(const std::string& from, const std::string& to, const Eigen::Matrix4d& matrix, std::string& error);
+  /// PLUS's UpdateTransform: a stored fixed transform gets a new matrix (given either way round), a
+  /// new one is added as SetFixed adds it; a live (tracker) transform or one computed through
+  /// others is refused with `error`, as PLUS refuses to set a computed transform.
+  bool Update(const std::string& from, const std::string& to, const Eigen::Matrix4d& matrix, std::string& error);
   /// A live transform (e.g. StylusToTracker from a tracker): an edge id for SetLive, MISSING
   /// until its first valid pose. -1 with `error` when it would close a loop.
   int DeclareLive(const std::string& from, const std::string& to, std::string& error);

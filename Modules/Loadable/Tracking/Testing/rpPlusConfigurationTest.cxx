@@ -320,3 +320,31 @@ TEST(PlusConfiguration, VegaConfigurationRunsOverTcpAgainstTheSimulatorCarryingO
   EXPECT_NEAR(t["position"][2].get<double>(), -1500.0 - 88.5321, 1e-3);
   EXPECT_NE(err.str().find("VideoDevice (OpenCVVideo)"), std::string::npos) << err.str();  // refused, the rest ran
 }
+
+TEST(PlusConfiguration, PhantomRegistrationSettingsAreReadWithTheRestOfTheFile) {
+  RP_REQUIRE_SHARED_DATA(kConfigs);
+  // fCal's file: eight landmarks in their order, the algorithms' frames; no threshold written.
+  const plus::Configuration c = Read("PlusDeviceSet_fCal_Sim_RecordPhantomLandmarks.xml");
+  const plus::PhantomRegistrationSettings& p = c.PhantomRegistration;
+  ASSERT_TRUE(p.HasLandmarks);
+  ASSERT_EQ(p.Landmarks.size(), 8u);
+  EXPECT_EQ(p.Landmarks[0].Name, "#1");
+  EXPECT_DOUBLE_EQ(p.Landmarks[0].Position[0], 104.3);
+  EXPECT_DOUBLE_EQ(p.Landmarks[4].Position[2], 15.0);
+  EXPECT_EQ(p.PhantomFrame, "Phantom");
+  EXPECT_EQ(p.StylusTipFrame, "StylusTip");
+  EXPECT_EQ(p.StylusFrame, "Stylus");
+  EXPECT_FALSE(p.DetectionTimeSec.has_value());
+  // A landmark without a position and a threshold that is not a number are named.
+  plus::Configuration bad;
+  std::string error;
+  ASSERT_TRUE(plus::ParseConfiguration(
+      "<PlusConfiguration><PhantomDefinition><Geometry><Landmarks><Landmark Name=\"A\" Position=\"1 2\" />"
+      "</Landmarks></Geometry></PhantomDefinition><vtkPlusPhantomLandmarkRegistrationAlgo DetectionTimeSec=\"soon\" />"
+      "</PlusConfiguration>",
+      "inline.xml", {}, bad, error))
+      << error;
+  EXPECT_NE(bad.PhantomRegistration.LandmarkProblem.find("landmark #1"), std::string::npos);
+  EXPECT_FALSE(bad.PhantomRegistration.DetectionTimeSec.has_value());
+  EXPECT_TRUE(RefusedMentions(bad, "DetectionTimeSec", "not a number"));
+}

@@ -3,6 +3,8 @@
 // whole chain simulator → serial driver → scene and driver → OpenIGTLink server → client → scene.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <atomic>
 #include <chrono>
 #include <filesystem>
@@ -22,6 +24,7 @@
 #include "rpTrackingTestHelpers.h"
 #include "rpNdiTracker.h"
 #include "rpPolarisSimulator.h"
+#include "rpPlusSequenceFile.h"
 #include "rpTrackingCommands.h"
 #include "rpTrackingRecording.h"
 #include "vtkRPScene.h"
@@ -217,8 +220,10 @@ TEST(TrackingLogic, SimulatorThroughSerialAndOpenIGTLinkIntoTheScene) {
   sim.Stop();
 }
 
-TEST(TrackingLogic, TrackAndPivotCommandsOnTheSimulator) {
-  const std::string link = OutputDir() + "/cli";
+namespace {
+// track --record on the simulator, then pivot and --replay read the file (format by extension).
+void TrackRecordPivotAndReplay(const std::string& file) {
+  const std::string link = OutputDir() + "/cli-" + file;
   std::atomic<bool> stop{false};
   std::ostringstream simOut, simErr;
   std::thread simThread([&] {
@@ -226,7 +231,7 @@ TEST(TrackingLogic, TrackAndPivotCommandsOnTheSimulator) {
   });
   ASSERT_TRUE(WaitFor([&] { return std::filesystem::exists(link + ".break"); }, 3));
   const std::string resources = std::string(ROBOPLAN_RESOURCES_DIR) + "/Tools/";
-  const std::string recording = OutputDir() + "/session.rec";
+  const std::string recording = OutputDir() + "/" + file;
   std::ostringstream out, err;
   const int code = RunTrackCommand({"--serial", link, "--rom", resources + "Stylus.json", "--rom", resources + "Reference.json",
                                     "--seconds", "2", "--record", recording, "--json"},
@@ -260,13 +265,35 @@ TEST(TrackingLogic, TrackAndPivotCommandsOnTheSimulator) {
   EXPECT_LT(SteadySeconds() - replayStart, 15.0);
   EXPECT_NE(rout.str().find("\"finished\": true"), std::string::npos) << rout.str();
   EXPECT_NE(rout.str().find("\"StylusToTracker\""), std::string::npos);
+  stop = true;
+  simThread.join();
+}
+}  // namespace
+
+TEST(TrackingLogic, TrackAndPivotCommandsOnTheSimulator) {
+  TrackRecordPivotAndReplay("session.rec");
   // Bad arguments.
   std::ostringstream bout, berr;
   EXPECT_EQ(RunTrackCommand({"--seconds", "1"}, nullptr, bout, berr), 2);
   EXPECT_NE(berr.str().find("exactly one of --serial"), std::string::npos);
   EXPECT_EQ(RunTrackCommand({"--igtl", "localhost"}, nullptr, bout, berr), 2);
-  stop = true;
-  simThread.join();
+}
+
+TEST(TrackingLogic, TrackRecordsPlusSequencesThatPivotAndReplayRead) {
+  for (const std::string file : {"session.igs.mha", "session.igs.nrrd"}) {
+    SCOPED_TRACE(file);
+    TrackRecordPivotAndReplay(file);
+    // A PLUS tracked-frame sequence: PLUS's transform names, a frame per camera frame, statuses.
+    const PlusSequence sequence = ReadPlusSequence(OutputDir() + "/" + file);
+    EXPECT_NE(std::find(sequence.TransformNames.begin(), sequence.TransformNames.end(), "StylusToTracker"),
+              sequence.TransformNames.end());
+    EXPECT_NE(std::find(sequence.TransformNames.begin(), sequence.TransformNames.end(), "ReferenceToTracker"),
+              sequence.TransformNames.end());
+    EXPECT_GT(sequence.Frames.size(), 60u);  // 2 s at 60 Hz, whatever a loaded machine drops
+  }
+  std::ostringstream out, err;  // an unwritable PLUS file is named before tracking starts
+  EXPECT_EQ(RunTrackCommand({"--simulate", "--seconds", "0.2", "--record", "/nonexistent/x.igs.mha"}, nullptr, out, err), 1);
+  EXPECT_NE(err.str().find("/nonexistent/x.igs.mha"), std::string::npos) << err.str();
 }
 
 TEST(TrackingLogic, TrackCommandAt20HzServingOpenIGTLink) {

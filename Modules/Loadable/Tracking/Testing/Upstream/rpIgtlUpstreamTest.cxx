@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -32,6 +33,9 @@
 #include "rpIgtlClient.h"
 #include "rpIgtlProtocol.h"
 #include "rpIgtlServer.h"
+#include "rpPolarisSimulator.h"
+#include "rpSharedData.h"
+#include "rpTrackingCommands.h"
 #include "rpTrackingTestHelpers.h"
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
@@ -1180,6 +1184,229 @@ TEST(IgtlUpstreamSocket, SlicerLikeClientSendsPlusCommandsAndDecodesTheRepliesUp
   EXPECT_STREQ(ack->GetDeviceName(), "ACK_5");
   EXPECT_STREQ(ack->GetString(), "<CommandReply Status=\"SUCCESS\" Message=\"TrackerStream\" />");
   socket->CloseSocket();
+}
+
+namespace {
+// An upstream COMMAND from a Slicer-like client; the RTS_COMMAND's Message (Status in `ok`).
+std::string UpstreamCommand(::igtl::ClientSocket* socket, unsigned id, const std::string& xml, bool& ok) {
+  auto command = ::igtl::CommandMessage::New();
+  command->SetDeviceName("OpenIGTLinkRemote");
+  command->SetCommandId(id);
+  command->SetCommandName("Command");
+  command->SetCommandContent(xml);
+  UpstreamFrame(command, 2, {});
+  ok = false;
+  if (!socket->Send(command->GetPackPointer(), command->GetPackSize())) return "";
+  int result = 0;
+  auto rts = UpstreamReceive<::igtl::RTSCommandMessage>(socket, "RTS_COMMAND", result, 2000);
+  std::string status, message;
+  if (!rts || !rts->GetMetaDataElement("Status", status) || !rts->GetMetaDataElement("Message", message)) return "";
+  ok = status == "SUCCESS";
+  return message;
+}
+
+// The next StylusTipToReference TRANSFORM's status and z translation (and matrix); "" when none came.
+std::string NextTipStatus(::igtl::ClientSocket* socket, double& z, ::igtl::Matrix4x4* matrix = nullptr) {
+  int result = 0;
+  for (int i = 0; i < 400; ++i) {
+    auto t = UpstreamReceive<::igtl::TransformMessage>(socket, "TRANSFORM", result);
+    if (!t) return "";
+    if (std::string(t->GetDeviceName()) != "StylusTipToReference") continue;
+    std::string status;
+    t->GetMetaDataElement("TransformStatus", status);
+    ::igtl::Matrix4x4 m;
+    t->GetMatrix(m);
+    z = m[2][3];
+    if (matrix) std::memcpy(*matrix, m, sizeof m);
+    return status;
+  }
+  return "";
+}
+}  // namespace
+
+// `roboplan track --plus-config` as PlusServer: a simulated Vega over TCP, the configuration's
+// transform repository behind the served StylusTipToReference and the GetTransform and
+// UpdateTransform commands; an upstream client sees OK, then MISSING when the tool is hidden.
+TEST(IgtlUpstreamSocket, PlusConfigurationServesTheRepositoryStatusAndCommandsActOnIt) {
+  const std::string config = std::string(ROBOPLAN_SHARED_DATA_DIR) + "/../oracles/plus-data/ConfigFiles/PlusDeviceSet_Server_NDIVega.xml";
+  RP_REQUIRE_SHARED_DATA(config);
+  PolarisSimulator::Options so;
+  so.TcpPort = 0;
+  PolarisSimulator vega(so);
+  std::string error;
+  ASSERT_TRUE(vega.Start(error)) << error;
+  const int port = test::FreePort();
+  std::ostringstream out, err;
+  int code = -1;
+  std::thread track([&] {
+    code = RunTrackCommand({"--plus-config", config, "--ndi-tcp", vega.PortPath(), "--seconds", "4", "--serve",
+                            std::to_string(port)},
+                           nullptr, out, err);
+  });
+  auto socket = ::igtl::ClientSocket::New();
+  bool connected = false;
+  for (int i = 0; i < 300 && !connected; ++i) {
+    connected = socket->ConnectToServer("127.0.0.1", port) == 0;
+    if (!connected) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ASSERT_TRUE(connected);
+  socket->SetReceiveTimeout(3000);
+  auto hello = ::igtl::StatusMessage::New();  // Slicer's first STATUS: v2 headers from now on
+  hello->SetCode(::igtl::StatusMessage::STATUS_OK);
+  UpstreamFrame(hello, 2, {});
+  ASSERT_TRUE(socket->Send(hello->GetPackPointer(), hello->GetPackSize()));
+
+  double z = 0;
+  std::string status;
+  ::igtl::Matrix4x4 served;
+  for (int i = 0; i < 100 && status != "OK"; ++i) status = NextTipStatus(socket, z, &served);
+  ASSERT_EQ(status, "OK");
+  EXPECT_NEAR(z, -1500.0 - 88.5321, 1e-3);  // the tool at z = -1500, the tip 88.53 mm along -z
+
+  // GetTransform of a chain the server does not stream (the inverse): computed by the repository.
+  bool ok = false;
+  std::string reply = UpstreamCommand(socket, 1, "<Command Name=\"GetTransform\" TransformName=\"ReferenceToStylusTip\" />", ok);
+  EXPECT_TRUE(ok) << reply;
+  std::istringstream numbers(reply);
+  double m[16] = {};
+  for (double& v : m) numbers >> v;
+  for (int r = 0; r < 3; ++r) {  // served · reply = identity (the still tool: noise only)
+    for (int k = 0; k < 4; ++k) {
+      double product = 0;
+      for (int j = 0; j < 4; ++j) product += served[r][j] * m[4 * j + k];
+      EXPECT_NEAR(product, r == k ? 1.0 : 0.0, k == 3 ? 0.2 : 1e-3) << reply;
+    }
+  }
+  UpstreamCommand(socket, 5, "<Command Name=\"GetTransform\" TransformName=\"StylusTipToNowhere\" />", ok);
+  EXPECT_FALSE(ok);  // frames the repository does not connect
+  // UpdateTransform of the fixed StylusTipToStylus: the repository's answer and the stream move.
+  reply = UpstreamCommand(socket, 2,
+                          "<Command Name=\"UpdateTransform\" TransformName=\"StylusTipToStylus\" "
+                          "TransformValue=\"1 0 0 0 0 1 0 0 0 0 1 -100 0 0 0 1\" />",
+                          ok);
+  EXPECT_TRUE(ok) << reply;
+  for (int i = 0; i < 100 && std::abs(z - (-1600.0)) > 0.5; ++i) status = NextTipStatus(socket, z);
+  EXPECT_NEAR(z, -1600.0, 0.5);
+  // A computed transform cannot be set, as in PLUS; a tracker's transform neither.
+  UpstreamCommand(socket, 3,
+                  "<Command Name=\"UpdateTransform\" TransformName=\"StylusTipToReference\" "
+                  "TransformValue=\"1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1\" />",
+                  ok);
+  EXPECT_FALSE(ok);
+  UpstreamCommand(socket, 6,
+                  "<Command Name=\"UpdateTransform\" TransformName=\"StylusToReference\" "
+                  "TransformValue=\"1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1\" />",
+                  ok);
+  EXPECT_FALSE(ok);  // the tracker's
+
+  // The tool out of view: MISSING, with TransformStatus, to this v2 client.
+  ASSERT_EQ(vega.ToolNames().size(), 1u);
+  vega.SetOccluded(vega.ToolNames()[0], true);
+  for (int i = 0; i < 200 && status != "MISSING"; ++i) status = NextTipStatus(socket, z);
+  EXPECT_EQ(status, "MISSING");
+  reply = UpstreamCommand(socket, 4, "<Command Name=\"GetTransform\" TransformName=\"ReferenceToStylusTip\" />", ok);
+  EXPECT_TRUE(ok) << reply;  // connected, with its last matrix, as PLUS answers
+  vega.SetOccluded(vega.ToolNames()[0], false);
+  for (int i = 0; i < 200 && status != "OK"; ++i) status = NextTipStatus(socket, z);
+  EXPECT_EQ(status, "OK");
+  socket->CloseSocket();
+  track.join();
+  EXPECT_EQ(code, 0) << err.str();
+}
+
+namespace {
+// PLUS's igtlPlusClientInfoMessage: a STRING body (the <ClientInfo> XML) sent as CLIENTINFO.
+class UpstreamClientInfoMessage : public ::igtl::StringMessage {
+ public:
+  using Pointer = ::igtl::SmartPointer<UpstreamClientInfoMessage>;
+  static Pointer New() {
+    Pointer message = new UpstreamClientInfoMessage;
+    message->UnRegister();
+    return message;
+  }
+
+ protected:
+  UpstreamClientInfoMessage() { this->m_SendMessageType = "CLIENTINFO"; }
+};
+}  // namespace
+
+// PlusServer's CLIENTINFO: the client names one served transform and one the server does not
+// stream (computed by the transform provider); it then gets those two and no other, while a
+// second client without CLIENTINFO still gets every served transform.
+TEST(IgtlUpstreamSocket, ClientInfoReplacesTheDefaultForThatClientOnly) {
+  ToolPoseTable table;
+  const int stylus = table.FindOrAdd("StylusToTracker");
+  const int reference = table.FindOrAdd("ReferenceToTracker");
+  IgtlServer::Options options;
+  options.Port = 0;
+  options.Transforms = [&](const std::string& from, const std::string& to, double m[16], ToolState& state) {
+    if (from != "Stylus" || to != "Reference") return false;  // StylusToReference: x 100 - 40
+    ToolPose a, b;
+    table.Read(stylus, a);
+    table.Read(reference, b);
+    for (int i = 0; i < 16; ++i) m[i] = (i % 5 == 0) ? 1.0 : 0.0;
+    m[3] = a.Translation[0] - b.Translation[0];
+    state = ToolState::OK;
+    return true;
+  };
+  IgtlServer server(table, options);
+  std::string error;
+  ASSERT_TRUE(server.Start(error)) << error;
+  auto filtered = ::igtl::ClientSocket::New(), plain = ::igtl::ClientSocket::New();
+  ASSERT_EQ(filtered->ConnectToServer("127.0.0.1", server.Port()), 0);
+  ASSERT_EQ(plain->ConnectToServer("127.0.0.1", server.Port()), 0);
+  filtered->SetReceiveTimeout(3000);
+  plain->SetReceiveTimeout(3000);
+  auto info = UpstreamClientInfoMessage::New();
+  info->SetDeviceName("Slicer");
+  info->SetString("<ClientInfo><MessageTypes><Message Type=\"TRANSFORM\" /></MessageTypes>"
+                  "<TransformNames><Transform Name=\"ReferenceToTracker\" /><Transform From=\"Stylus\" To=\"Reference\" />"
+                  "</TransformNames></ClientInfo>");
+  UpstreamFrame(info, 2, {});
+  ASSERT_TRUE(filtered->Send(info->GetPackPointer(), info->GetPackSize()));
+  // Until the server has read the CLIENTINFO (it sends nothing back), poses go to both: wait for
+  // a GET_STATUS answer, which it handles after the CLIENTINFO sent before it.
+  auto get = ::igtl::GetStatusMessage::New();
+  get->SetDeviceName("Slicer");
+  UpstreamFrame(get, 2, {});
+  ASSERT_TRUE(filtered->Send(get->GetPackPointer(), get->GetPackSize()));
+  int result = 0;
+  ASSERT_TRUE(UpstreamReceive<::igtl::StatusMessage>(filtered, "STATUS", result));
+
+  std::map<std::string, int> got, plainGot;
+  for (int round = 0; round < 5; ++round) {
+    ToolPose pose;
+    pose.State = ToolState::OK;
+    pose.Translation[0] = 100;
+    table.Publish(stylus, pose);
+    pose.Translation[0] = 40;
+    table.Publish(reference, pose);
+    std::this_thread::sleep_for(std::chrono::milliseconds(40));
+  }
+  for (int i = 0; i < 10; ++i) {
+    auto t = UpstreamReceive<::igtl::TransformMessage>(filtered, "TRANSFORM", result, 5);
+    if (!t) break;
+    ++got[t->GetDeviceName()];
+    if (std::string(t->GetDeviceName()) == "StylusToReference") {
+      ::igtl::Matrix4x4 m;
+      t->GetMatrix(m);
+      EXPECT_NEAR(m[0][3], 60.0, 1e-4);
+    }
+    if (got.size() == 2 && got["ReferenceToTracker"] >= 2 && got["StylusToReference"] >= 2) break;
+  }
+  for (int i = 0; i < 6; ++i) {
+    auto t = UpstreamReceive<::igtl::TransformMessage>(plain, "TRANSFORM", result, 5);
+    if (t) ++plainGot[t->GetDeviceName()];
+  }
+  EXPECT_EQ(got.count("StylusToTracker"), 0u);  // served, but not named by this client
+  EXPECT_GE(got["ReferenceToTracker"], 1);
+  EXPECT_GE(got["StylusToReference"], 1);
+  EXPECT_GE(plainGot["StylusToTracker"], 1);  // the other client keeps the default
+  EXPECT_GE(plainGot["ReferenceToTracker"], 1);
+  EXPECT_EQ(plainGot.count("StylusToReference"), 0u);
+  filtered->CloseSocket();
+  plain->CloseSocket();
+  server.Stop();
 }
 
 #endif  // ROBOPLAN_UPSTREAM_IGTL
