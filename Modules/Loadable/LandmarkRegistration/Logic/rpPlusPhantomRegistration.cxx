@@ -222,22 +222,29 @@ PhantomRegistrationResult RegisterPhantomFromRecording(const PlusSequence& recor
                                                        LandmarkDetectionMethod method) {
   PhantomRegistrationResult r;
   r.Method = method;
-  if (recording.Frames.size() < 2) {
-    r.Error = "the recording has " + std::to_string(recording.Frames.size()) + " frames";
+  // PLUS's test reads the recording with REQUIRE_UNIQUE_TIMESTAMP: a frame whose time stamp repeats
+  // the previous kept frame's is dropped before anything else (the rate below included).
+  std::vector<size_t> kept;
+  for (size_t f = 0; f < recording.Frames.size(); ++f)
+    if (kept.empty() || recording.Frames[f].Timestamp != recording.Frames[kept.back()].Timestamp) kept.push_back(f);
+  r.FramesSkipped = static_cast<int>(recording.Frames.size() - kept.size());
+  if (kept.size() < 2) {
+    r.Error = "the recording has " + std::to_string(kept.size()) + " frames with distinct time stamps";
     return r;
   }
   double rate = config.AcquisitionRate;
-  if (!(rate > 0)) {  // PLUS's test: the rate of the first two frames
-    const double dt = recording.Frames[1].Timestamp - recording.Frames[0].Timestamp;
+  if (!(rate > 0)) {  // PLUS's test: the rate of the first two (kept) frames, not the mean rate
+    const double dt = recording.Frames[kept[1]].Timestamp - recording.Frames[kept[0]].Timestamp;
     if (!(dt > 0)) {
-      r.Error = "the first two frames have the same time stamp: give AcquisitionRate in vtkPlusPhantomLandmarkRegistrationAlgo";
+      r.Error = "the first two frames' time stamps do not increase: give AcquisitionRate in vtkPlusPhantomLandmarkRegistrationAlgo";
       return r;
     }
     rate = 1.0 / dt;
   }
   PlusLandmarkDetector detector(config, rate);
   const size_t wanted = config.Landmarks.size();
-  for (size_t f = 0; f < recording.Frames.size() && r.Landmarks.size() < wanted; ++f) {
+  for (size_t k = 0; k < kept.size() && r.Landmarks.size() < wanted; ++k) {
+    const size_t f = kept[k];
     const PlusSequence::Frame& frame = recording.Frames[f];
     Eigen::Matrix4d stylusToReference;
     if (!FrameTransform(recording, frame, config.StylusFrame, config.ReferenceFrame, stylusToReference)) {

@@ -16,8 +16,10 @@
 //  - Pivot: the same rests, but each landmark is the pivot point of every pose of its rest (least
 //    squares, as pivot calibration), which does not depend on the tip calibration's error, but
 //    needs more pivoting than PLUS asks for (on PLUS's recording it is 1.7 mm / 2.2 deg off).
-// The registration itself is ours (rp::RegisterPairedPoints, Horn's quaternion, the same least
-// squares as ITK's LandmarkBasedTransformInitializer that PLUS calls).
+// As PLUS's test reads the recording, a frame repeating the previous time stamp is dropped first,
+// and the detector's rate is that of the first two frames kept. The registration itself is ours
+// (rp::RegisterPairedPoints, Horn's quaternion: ITK's LandmarkBasedTransformInitializer with the
+// VersorRigid3DTransform that PLUS calls gives the same transform to 1e-6 mm on PLUS's recording).
 #include <string>
 #include <vector>
 
