@@ -123,13 +123,23 @@ std::string Format(const char* format, ...) {
   return text;
 }
 
-}  // namespace
+// What `roboplan haptics` was asked to do, read from its options (types and ranges checked by the parser).
+struct HapticsRequest {
+  double Seconds = -1, Rate = 1000, Spin = 100;
+  long ToolPoints = 1, Cpu = -1;
+  bool Json = false;
+  std::string ScenePath, Trajectory, MaterialsPath, LogPath;
+  DeviceProfile Profile;
+};
 
-int RunHapticsCommand(const std::vector<std::string>& arguments, vtkRPScene* sceneIn, std::ostream& out,
-                      std::ostream& err) {
-  rp::ArgParser parser("haptics",
-                       "Touch the scene's haptic models with the simulated device along a scripted trajectory at "
-                       "1 kHz; prints servo timing, force statistics and the tissues the device clamps.");
+// Statistics from every tick's record, gathered on the log writer thread (read after Stop).
+struct ForceStats {
+  uint64_t Records = 0, ContactTicks = 0, Clamped = 0, Watchdog = 0, StallLimited = 0;
+  double MaxForce = 0, SumForce = 0;
+  std::map<int, uint64_t> Tissue;
+};
+
+void DeclareHapticsOptions(rp::ArgParser& parser) {
   parser.Option("scene", "file.rpscene", "scene with model nodes flagged haptic (default: an analytic demo)")
       .Input(FileKind::Any, {SceneFileExtension})
       .Option("seconds", "N", "how long to run (default: the trajectory's duration)")
@@ -160,49 +170,82 @@ int RunHapticsCommand(const std::vector<std::string>& arguments, vtkRPScene* sce
       .Integer()
       .AtLeast(-1)
       .AtMost(1023);
-  if (const auto exitCode = parser.ParseCommand(arguments, out, err)) return *exitCode;
-  double seconds = -1, rate = 1000, spin = 100;
-  long toolPoints = 1, cpu = -1;
+}
+
+// Options -> request; 0 when they make a request, else the exit code (reason on `err`).
+int ReadHapticsRequest(const rp::ArgParser& parser, HapticsRequest& request, std::ostream& err) {
   try {
-    if (parser.Has("seconds")) seconds = parser.GetDouble("seconds");
-    rate = parser.GetDouble("rate");
-    spin = parser.GetDouble("spin");
-    toolPoints = parser.GetInt("tool-points");
-    cpu = parser.GetInt("cpu");
+    if (parser.Has("seconds")) request.Seconds = parser.GetDouble("seconds");
+    request.Rate = parser.GetDouble("rate");
+    request.Spin = parser.GetDouble("spin");
+    request.ToolPoints = parser.GetInt("tool-points");
+    request.Cpu = parser.GetInt("cpu");
   } catch (const std::exception& e) {
     err << "roboplan haptics: " << e.what() << "\n";
     return 2;
   }
   // Types and ranges were checked by the parser (declared above); the spin depends on the rate.
-  if (!(spin < 1e6 / rate)) {
-    err << "roboplan haptics: --spin must be shorter than the servo period (" << 1e6 / rate << " us)\n";
+  if (!(request.Spin < 1e6 / request.Rate)) {
+    err << "roboplan haptics: --spin must be shorter than the servo period (" << 1e6 / request.Rate << " us)\n";
     return 2;
   }
   std::string error;
-  DeviceProfile profile;
-  if (!FindDeviceProfile(parser.Get("device"), profile, error)) {
+  if (!FindDeviceProfile(parser.Get("device"), request.Profile, error)) {
     err << "roboplan haptics: " << error << "\n";
     return 2;
   }
-  const bool json = parser.Json();
-  rp::TerminalProgress progress("haptics", json);
+  request.Json = parser.Json();
+  if (parser.Has("scene")) request.ScenePath = parser.Get("scene");
+  request.Trajectory = parser.Get("trajectory");
+  request.MaterialsPath = parser.Get("materials");
+  request.LogPath = parser.Get("log");
+  return 0;
+}
 
-  vtkRPScene* scene = sceneIn;
-  vtkNew<vtkRPScene> ownScene;
-  if (scene == nullptr) scene = ownScene;
-  if (parser.Has("scene")) {
-    const rp::SceneLoadReport report = rp::LoadScene(scene, parser.Get("scene"));
-    if (!report.Ok) {
-      err << "roboplan haptics: " << report.Error << "\n";
-      return 1;
-    }
-    for (const auto& problem : report.Problems) err << "roboplan haptics: warning: " << problem << "\n";
-  } else {
+// The given scene file, or the analytic demo scene when none is given; false (reason on `err`) on failure.
+bool FillHapticsScene(vtkRPScene* scene, const HapticsRequest& request, std::ostream& err) {
+  if (request.ScenePath.empty()) {
     AddDemoModels(scene);
+    return true;
   }
+  const rp::SceneLoadReport report = rp::LoadScene(scene, request.ScenePath);
+  if (!report.Ok) {
+    err << "roboplan haptics: " << report.Error << "\n";
+    return false;
+  }
+  for (const auto& problem : report.Problems) err << "roboplan haptics: warning: " << problem << "\n";
+  return true;
+}
 
-  rp::HapticSession::Options options;
-  if (!LoadMaterialTable(options.Materials, error, parser.Get("materials"))) {
+// The RAS path sampled every 10 ms and mapped into the device frame (the device moves in its own frame).
+std::shared_ptr<rp::WaypointTrajectory> ToDeviceFrame(const rp::WaypointTrajectory& path, const rp::DeviceToScene& xf,
+                                                      std::string& error) {
+  std::vector<double> times;
+  std::vector<rp::Vec3> points;
+  const double duration = path.Duration();
+  const int samples = std::max(2, static_cast<int>(duration * 100) + 1);
+  for (int i = 0; i < samples; ++i) {
+    const double t = duration * i / (samples - 1);
+    rp::Pose pose;
+    rp::Vec3 v;
+    path.Evaluate(t, pose, v);
+    times.push_back(t);
+    points.push_back(xf.DeviceToRAS.RotateInverse(pose.T - xf.DeviceToRAS.T) / xf.Scale);
+  }
+  if (duration <= 0) {
+    times = {0.0, 1e-3};
+    points = {points.front(), points.front()};
+  }
+  auto devicePath = std::make_shared<rp::WaypointTrajectory>();
+  if (!devicePath->Set(times, points, error)) return nullptr;
+  return devicePath;
+}
+
+// Materials, haptic surfaces and the scripted motion in the device frame; 0 or the exit code.
+int PrepareHapticsRun(vtkRPScene* scene, HapticsRequest& request, rp::HapticSession::Options& options,
+                      std::shared_ptr<rp::WaypointTrajectory>& devicePath, std::ostream& err) {
+  std::string error;
+  if (!LoadMaterialTable(options.Materials, error, request.MaterialsPath)) {
     err << "roboplan haptics: " << error << "\n";
     return 1;
   }
@@ -216,59 +259,32 @@ int RunHapticsCommand(const std::vector<std::string>& arguments, vtkRPScene* sce
     err << "roboplan haptics: the scene has no haptic models (model nodes with Haptic on and polygons)\n";
     return 1;
   }
-  auto path = MakeTrajectory(parser.Get("trajectory"), *preview, error);
+  auto path = MakeTrajectory(request.Trajectory, *preview, error);
   if (!path) {
     err << "roboplan haptics: " << error << "\n";
-    return parser.Get("trajectory") == "probe" || parser.Get("trajectory") == "sweep" ? 1 : 2;
+    return request.Trajectory == "probe" || request.Trajectory == "sweep" ? 1 : 2;
   }
-  if (seconds < 0) seconds = std::fmin(path->Duration() + 0.1, 600.0);
-
-  // The trajectory is in RAS; the device moves in its own frame.
+  if (request.Seconds < 0) request.Seconds = std::fmin(path->Duration() + 0.1, 600.0);
   rp::DeviceToScene xf;
   rp::ReadDeviceToScene(scene, xf);
-  auto devicePath = std::make_shared<rp::WaypointTrajectory>();
-  {
-    // Sample the RAS path every 10 ms and map each sample into the device frame.
-    std::vector<double> times;
-    std::vector<rp::Vec3> points;
-    const double duration = path->Duration();
-    const int samples = std::max(2, static_cast<int>(duration * 100) + 1);
-    for (int i = 0; i < samples; ++i) {
-      const double t = duration * i / (samples - 1);
-      rp::Pose pose;
-      rp::Vec3 v;
-      path->Evaluate(t, pose, v);
-      times.push_back(t);
-      points.push_back(xf.DeviceToRAS.RotateInverse(pose.T - xf.DeviceToRAS.T) / xf.Scale);
-    }
-    if (duration <= 0) {
-      times = {0.0, 1e-3};
-      points = {points.front(), points.front()};
-    }
-    if (!devicePath->Set(times, points, error)) {
-      err << "roboplan haptics: " << error << "\n";
-      return 2;
-    }
+  devicePath = ToDeviceFrame(*path, xf, error);
+  if (!devicePath) {
+    err << "roboplan haptics: " << error << "\n";
+    return 2;
   }
-
-  rp::SimulatedDevice device(profile.Info);
-  device.SetTrajectory(devicePath);
-  rp::HapticSession session(device);
-  for (long i = 0; i < toolPoints; ++i) {
+  for (long i = 0; i < request.ToolPoints; ++i) {
     if (i > 0) options.ToolPoints.push_back({0, 0, 10.0 * i});
   }
-  options.LogPath = parser.Get("log");
-  options.Loop.RateHz = rate;
-  options.Loop.SpinUs = spin;
-  options.Loop.CpuAffinity = static_cast<int>(cpu);
+  options.LogPath = request.LogPath;
+  options.Loop.RateHz = request.Rate;
+  options.Loop.SpinUs = request.Spin;
+  options.Loop.CpuAffinity = static_cast<int>(request.Cpu);
   options.RampSeconds = 0.2;
-  // Statistics from every tick's record, gathered on the log writer thread (read after Stop).
-  struct ForceStats {
-    uint64_t Records = 0, ContactTicks = 0, Clamped = 0, Watchdog = 0, StallLimited = 0;
-    double MaxForce = 0, SumForce = 0;
-    std::map<int, uint64_t> Tissue;
-  };
-  auto stats = std::make_shared<ForceStats>();
+  return 0;
+}
+
+// Every tick's record folded into `stats` (on the log writer thread).
+void GatherForceStats(rp::HapticSession& session, const std::shared_ptr<ForceStats>& stats) {
   session.Log().OnRecord = [stats](const rp::HapticLogRecord& r) {
     ++stats->Records;
     const double f = rp::Norm(r.Force);
@@ -282,10 +298,11 @@ int RunHapticsCommand(const std::vector<std::string>& arguments, vtkRPScene* sce
     stats->Watchdog += (r.Flags & 1u) ? 1 : 0;
     stats->StallLimited += (r.Flags & 4u) ? 1 : 0;
   };
-  if (!session.Start(scene, options, error)) {
-    err << "roboplan haptics: " << error << "\n";
-    return 1;
-  }
+}
+
+// Runs the started session for the request's seconds at the display rate, printing new warnings and progress.
+void RunHapticsSession(rp::HapticSession& session, const HapticsRequest& request, std::ostream& err) {
+  rp::TerminalProgress progress("haptics", request.Json);
   size_t warned = 0;
   auto printWarnings = [&] {
     for (; warned < session.Warnings().size(); ++warned)
@@ -298,93 +315,151 @@ int RunHapticsCommand(const std::vector<std::string>& arguments, vtkRPScene* sce
     session.Update();
     printWarnings();  // e.g. a tissue clamped once the measured servo period is known
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    progress.Report(std::floor(10 * std::fmin(1.0, elapsed / seconds)) / 10, "exploring");
-    if (elapsed >= seconds) break;
+    progress.Report(std::floor(10 * std::fmin(1.0, elapsed / request.Seconds)) / 10, "exploring");
+    if (elapsed >= request.Seconds) break;
   }
   session.Stop();
-  const rp::ServoStats servo = session.Scheduler().Stats();
-  rp::HapticState last;
-  session.Servo().ReadState(last);
+}
 
-  const auto& names = session.TissueNames();
-  auto tissueName = [&](int label) {
+// What the finished run measured, read once after Stop.
+struct HapticsOutcome {
+  const HapticsRequest& Request;
+  rp::HapticSession& Session;
+  const ForceStats& Stats;
+  rp::ServoStats Servo;
+  rp::HapticState Last;
+  double MeanForce, ContactFraction;
+  std::string TissueName(int label) const {
+    const auto& names = Session.TissueNames();
     return label >= 0 && static_cast<size_t>(label) < names.size() ? names[static_cast<size_t>(label)] : std::string("?");
-  };
-  const double meanForce = stats->ContactTicks ? stats->SumForce / stats->ContactTicks : 0.0;
-  const double contactFraction = stats->Records ? static_cast<double>(stats->ContactTicks) / stats->Records : 0.0;
-  if (json) {
-    nlohmann::json tissues = nlohmann::json::object();
-    for (const auto& [label, ticks] : stats->Tissue) tissues[tissueName(label)] = ticks;
-    nlohmann::json clamps = nlohmann::json::array();
-    for (const MaterialClamp& c : session.Clamps())
-      clamps.push_back({{"tissue", c.Tissue},
-                        {"requestedStiffness", c.RequestedStiffness},
-                        {"renderedStiffness", c.RenderedStiffness},
-                        {"requestedDamping", c.RequestedDamping},
-                        {"renderedDamping", c.RenderedDamping},
-                        {"clamped", c.Clamped()},
-                        {"limit", c.Limit}});
-    nlohmann::json doc = {
-        {"seconds", seconds},
-        {"rateHz", rate},
-        {"trajectory", parser.Get("trajectory")},
-        {"device",
-         {{"profile", profile.Key},
-          {"name", profile.Info.Name},
-          {"maxForceN", profile.Info.MaxForce},
-          {"nominalMaxStiffness", profile.Info.NominalMaxStiffness}}},
-        {"materials", {{"source", session.Materials().Source()}, {"stabilityPeriodS", session.StabilityPeriod()},
-                       {"tissues", clamps}}},
-        {"scene", {{"triangles", session.SceneTriangles()}, {"warnings", session.Warnings()}}},
-        {"servo",
-         {{"ticks", servo.Ticks},
-          {"realTimePriority", servo.RealTimePriority},
-          {"priorityNote", session.Scheduler().PriorityNote()},
-          {"period", StatsJson(servo.Period)},
-          {"compute", StatsJson(servo.Compute)},
-          {"lateness", StatsJson(servo.Lateness)},
-          {"missedDeadlines", servo.MissedDeadlines},
-          {"overruns", servo.Overruns},
-          {"stalls", last.Stalls},
-          {"watchdogTrips", last.WatchdogTrips},
-          {"load", MachineLoadJson(session.Scheduler().Load())},
-          {"missesReading", MachineLoadReading(session.Scheduler().Load(), servo.MissedDeadlines, servo.Overruns)}}},
-        {"force",
-         {{"maxN", stats->MaxForce},
-          {"meanInContactN", meanForce},
-          {"contactFraction", contactFraction},
-          {"clampedTicks", stats->Clamped},
-          {"stallLimitedTicks", stats->StallLimited},
-          {"tissueTicks", tissues}}},
-        {"log", {{"path", options.LogPath}, {"records", stats->Records}, {"dropped", session.Servo().LogRing().DroppedCount()}}}};
-    out << doc.dump(2) << "\n";
-  } else {
-    out << Format("device: %s (%.1f N peak, %.2f N/mm nominal maximum stiffness)\n", profile.Info.Name.c_str(),
-                  profile.Info.MaxForce, profile.Info.NominalMaxStiffness);
-    out << Format("materials: %s; stiffness requested -> rendered at a %.2f ms servo period:\n",
-                  session.Materials().Source().c_str(), 1e3 * session.StabilityPeriod());
-    for (const MaterialClamp& c : session.Clamps())
-      out << Format("  %-10s %.2f -> %.2f N/mm%s\n", c.Tissue.c_str(), c.RequestedStiffness, c.RenderedStiffness,
-                    c.Clamped() ? "  CLAMPED" : "");
-    out << Format("scene: %zu haptic triangles; trajectory %s, %.1f s\n", session.SceneTriangles(),
-                  parser.Get("trajectory").c_str(), seconds);
-    out << Format("servo: %llu ticks at %.0f Hz (%s)\n", static_cast<unsigned long long>(servo.Ticks), rate,
-                  session.Scheduler().PriorityNote().c_str());
-    out << Format("  period  p50 %.1f us  p99 %.1f us  max %.1f us  missed deadlines %llu  overruns %llu  stalls %u\n",
-                  servo.Period.P50Us, servo.Period.P99Us, servo.Period.MaxUs,
-                  static_cast<unsigned long long>(servo.MissedDeadlines),
-                  static_cast<unsigned long long>(servo.Overruns), last.Stalls);
-    out << Format("  compute p50 %.2f us  p99 %.2f us  max %.1f us  watchdog trips %u\n", servo.Compute.P50Us,
-                  servo.Compute.P99Us, servo.Compute.MaxUs, last.WatchdogTrips);
-    out << "  load: " << MachineLoadSummary(session.Scheduler().Load()) << "\n";
-    out << "  misses: " << MachineLoadReading(session.Scheduler().Load(), servo.MissedDeadlines, servo.Overruns) << "\n";
-    out << Format("force: max %.3f N, mean in contact %.3f N, contact %.1f%% of ticks, clamped %llu ticks\n",
-                  stats->MaxForce, meanForce, 100 * contactFraction, static_cast<unsigned long long>(stats->Clamped));
-    for (const auto& [label, ticks] : stats->Tissue)
-      out << Format("  %-10s %llu ticks in contact\n", tissueName(label).c_str(), static_cast<unsigned long long>(ticks));
-    if (!options.LogPath.empty())
-      out << Format("log: %s (%llu records)\n", options.LogPath.c_str(), static_cast<unsigned long long>(stats->Records));
   }
+};
+
+void ReportHapticsJson(const HapticsOutcome& o, std::ostream& out) {
+  const HapticsRequest& request = o.Request;
+  const rp::HapticSession& session = o.Session;
+  const ForceStats& stats = o.Stats;
+  const rp::ServoStats& servo = o.Servo;
+  nlohmann::json tissues = nlohmann::json::object();
+  for (const auto& [label, ticks] : stats.Tissue) tissues[o.TissueName(label)] = ticks;
+  nlohmann::json clamps = nlohmann::json::array();
+  for (const MaterialClamp& c : session.Clamps())
+    clamps.push_back({{"tissue", c.Tissue},
+                      {"requestedStiffness", c.RequestedStiffness},
+                      {"renderedStiffness", c.RenderedStiffness},
+                      {"requestedDamping", c.RequestedDamping},
+                      {"renderedDamping", c.RenderedDamping},
+                      {"clamped", c.Clamped()},
+                      {"limit", c.Limit}});
+  nlohmann::json doc = {
+      {"seconds", request.Seconds},
+      {"rateHz", request.Rate},
+      {"trajectory", request.Trajectory},
+      {"device",
+       {{"profile", request.Profile.Key},
+        {"name", request.Profile.Info.Name},
+        {"maxForceN", request.Profile.Info.MaxForce},
+        {"nominalMaxStiffness", request.Profile.Info.NominalMaxStiffness}}},
+      {"materials", {{"source", session.Materials().Source()}, {"stabilityPeriodS", session.StabilityPeriod()},
+                     {"tissues", clamps}}},
+      {"scene", {{"triangles", session.SceneTriangles()}, {"warnings", session.Warnings()}}},
+      {"servo",
+       {{"ticks", servo.Ticks},
+        {"realTimePriority", servo.RealTimePriority},
+        {"priorityNote", session.Scheduler().PriorityNote()},
+        {"period", StatsJson(servo.Period)},
+        {"compute", StatsJson(servo.Compute)},
+        {"lateness", StatsJson(servo.Lateness)},
+        {"missedDeadlines", servo.MissedDeadlines},
+        {"overruns", servo.Overruns},
+        {"stalls", o.Last.Stalls},
+        {"watchdogTrips", o.Last.WatchdogTrips},
+        {"load", MachineLoadJson(session.Scheduler().Load())},
+        {"missesReading", MachineLoadReading(session.Scheduler().Load(), servo.MissedDeadlines, servo.Overruns)}}},
+      {"force",
+       {{"maxN", stats.MaxForce},
+        {"meanInContactN", o.MeanForce},
+        {"contactFraction", o.ContactFraction},
+        {"clampedTicks", stats.Clamped},
+        {"stallLimitedTicks", stats.StallLimited},
+        {"tissueTicks", tissues}}},
+      {"log", {{"path", request.LogPath}, {"records", stats.Records}, {"dropped", o.Session.Servo().LogRing().DroppedCount()}}}};
+  out << doc.dump(2) << "\n";
+}
+
+void ReportHapticsText(const HapticsOutcome& o, std::ostream& out) {
+  const HapticsRequest& request = o.Request;
+  const DeviceProfile& profile = request.Profile;
+  const rp::HapticSession& session = o.Session;
+  const ForceStats& stats = o.Stats;
+  const rp::ServoStats& servo = o.Servo;
+  out << Format("device: %s (%.1f N peak, %.2f N/mm nominal maximum stiffness)\n", profile.Info.Name.c_str(),
+                profile.Info.MaxForce, profile.Info.NominalMaxStiffness);
+  out << Format("materials: %s; stiffness requested -> rendered at a %.2f ms servo period:\n",
+                session.Materials().Source().c_str(), 1e3 * session.StabilityPeriod());
+  for (const MaterialClamp& c : session.Clamps())
+    out << Format("  %-10s %.2f -> %.2f N/mm%s\n", c.Tissue.c_str(), c.RequestedStiffness, c.RenderedStiffness,
+                  c.Clamped() ? "  CLAMPED" : "");
+  out << Format("scene: %zu haptic triangles; trajectory %s, %.1f s\n", session.SceneTriangles(),
+                request.Trajectory.c_str(), request.Seconds);
+  out << Format("servo: %llu ticks at %.0f Hz (%s)\n", static_cast<unsigned long long>(servo.Ticks), request.Rate,
+                session.Scheduler().PriorityNote().c_str());
+  out << Format("  period  p50 %.1f us  p99 %.1f us  max %.1f us  missed deadlines %llu  overruns %llu  stalls %u\n",
+                servo.Period.P50Us, servo.Period.P99Us, servo.Period.MaxUs,
+                static_cast<unsigned long long>(servo.MissedDeadlines),
+                static_cast<unsigned long long>(servo.Overruns), o.Last.Stalls);
+  out << Format("  compute p50 %.2f us  p99 %.2f us  max %.1f us  watchdog trips %u\n", servo.Compute.P50Us,
+                servo.Compute.P99Us, servo.Compute.MaxUs, o.Last.WatchdogTrips);
+  out << "  load: " << MachineLoadSummary(session.Scheduler().Load()) << "\n";
+  out << "  misses: " << MachineLoadReading(session.Scheduler().Load(), servo.MissedDeadlines, servo.Overruns) << "\n";
+  out << Format("force: max %.3f N, mean in contact %.3f N, contact %.1f%% of ticks, clamped %llu ticks\n",
+                stats.MaxForce, o.MeanForce, 100 * o.ContactFraction, static_cast<unsigned long long>(stats.Clamped));
+  for (const auto& [label, ticks] : stats.Tissue)
+    out << Format("  %-10s %llu ticks in contact\n", o.TissueName(label).c_str(), static_cast<unsigned long long>(ticks));
+  if (!request.LogPath.empty())
+    out << Format("log: %s (%llu records)\n", request.LogPath.c_str(), static_cast<unsigned long long>(stats.Records));
+}
+
+}  // namespace
+
+int RunHapticsCommand(const std::vector<std::string>& arguments, vtkRPScene* sceneIn, std::ostream& out,
+                      std::ostream& err) {
+  rp::ArgParser parser("haptics",
+                       "Touch the scene's haptic models with the simulated device along a scripted trajectory at "
+                       "1 kHz; prints servo timing, force statistics and the tissues the device clamps.");
+  DeclareHapticsOptions(parser);
+  if (const auto exitCode = parser.ParseCommand(arguments, out, err)) return *exitCode;
+  HapticsRequest request;
+  if (const int exitCode = ReadHapticsRequest(parser, request, err)) return exitCode;
+
+  vtkRPScene* scene = sceneIn;
+  vtkNew<vtkRPScene> ownScene;
+  if (scene == nullptr) scene = ownScene;
+  if (!FillHapticsScene(scene, request, err)) return 1;
+  rp::HapticSession::Options options;
+  std::shared_ptr<rp::WaypointTrajectory> devicePath;
+  if (const int exitCode = PrepareHapticsRun(scene, request, options, devicePath, err)) return exitCode;
+
+  rp::SimulatedDevice device(request.Profile.Info);
+  device.SetTrajectory(devicePath);
+  rp::HapticSession session(device);
+  auto stats = std::make_shared<ForceStats>();
+  GatherForceStats(session, stats);
+  std::string error;
+  if (!session.Start(scene, options, error)) {
+    err << "roboplan haptics: " << error << "\n";
+    return 1;
+  }
+  RunHapticsSession(session, request, err);
+
+  HapticsOutcome outcome{request, session, *stats, session.Scheduler().Stats(), {}, 0, 0};
+  session.Servo().ReadState(outcome.Last);
+  outcome.MeanForce = stats->ContactTicks ? stats->SumForce / stats->ContactTicks : 0.0;
+  outcome.ContactFraction = stats->Records ? static_cast<double>(stats->ContactTicks) / stats->Records : 0.0;
+  if (request.Json)
+    ReportHapticsJson(outcome, out);
+  else
+    ReportHapticsText(outcome, out);
   return 0;
 }
 

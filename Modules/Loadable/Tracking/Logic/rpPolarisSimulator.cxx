@@ -429,164 +429,250 @@ uint32_t PolarisSimulator::CurrentFrame() const {
   return static_cast<uint32_t>(std::floor((this->Now() - this->TrackingStart) * this->Rate)) + 1;
 }
 
+// The NDI commands the simulator answers, one handler each (as PLUS's and NDI's simulators do); a
+// command not listed answers ERROR01, and any command but these first five needs INIT (ERROR10).
+struct PolarisSimulator::CommandEntry {
+  const char* Name;
+  bool NeedsInit;
+  CommandHandler Run;
+};
+
+const PolarisSimulator::CommandEntry PolarisSimulator::CommandTable[] = {
+    {"RESET", false, &PolarisSimulator::OnReset},     {"INIT", false, &PolarisSimulator::OnInit},
+    {"GETINFO", false, &PolarisSimulator::OnGetInfo}, {"VER", false, &PolarisSimulator::OnVersion},
+    {"COMM", false, &PolarisSimulator::OnComm},       {"IRATE", true, &PolarisSimulator::OnIrate},
+    {"VSEL", true, &PolarisSimulator::OnAcknowledge}, {"BEEP", true, &PolarisSimulator::OnAcknowledge},
+    {"LED", true, &PolarisSimulator::OnAcknowledge},  {"PHSR", true, &PolarisSimulator::OnPhsr},
+    {"PHRQ", true, &PolarisSimulator::OnPhrq},        {"PHF", true, &PolarisSimulator::OnPhf},
+    {"PVWR", true, &PolarisSimulator::OnPvwr},        {"PINIT", true, &PolarisSimulator::OnPinit},
+    {"PHINF", true, &PolarisSimulator::OnPhinf},      {"PENA", true, &PolarisSimulator::OnPena},
+    {"PDIS", true, &PolarisSimulator::OnPdis},        {"TSTART", true, &PolarisSimulator::OnTstart},
+    {"TSTOP", true, &PolarisSimulator::OnTstop},      {"TX", true, &PolarisSimulator::OnTracking},
+    {"BX", true, &PolarisSimulator::OnTracking},
+};
+
 void PolarisSimulator::HandleCommand(const char* line, size_t length) {
   {
     std::lock_guard<std::mutex> lock(this->CountersMutex);
     ++this->Count.Commands;
   }
-  std::string text(line, length);
+  std::string name, args;
+  if (!this->SplitCommand(std::string(line, length), name, args)) return;
+  const CommandEntry* entry = nullptr;
+  for (const CommandEntry& e : CommandTable)
+    if (name == e.Name) entry = &e;
+  if ((!entry || entry->NeedsInit) && !this->Initialized) return this->ReplyError(0x10);
+  if (!entry) return this->ReplyError(0x01);
+  (this->*entry->Run)(name, args);
+}
+
+bool PolarisSimulator::SplitCommand(std::string text, std::string& name, std::string& args) {
   // Strip stray line feeds some hosts send.
   while (!text.empty() && (text.front() == '\n')) text.erase(0, 1);
   const size_t separator = text.find_first_of(": ");
-  const std::string name = text.substr(0, separator);
-  std::string args;
+  name = text.substr(0, separator);
   if (separator != std::string::npos && text[separator] == ':') {
     // "NAME:args" + CRC: the device checks the CRC only after a colon.
-    if (text.size() < separator + 5) return this->ReplyError(0x04);
+    if (text.size() < separator + 5) {
+      this->ReplyError(0x04);
+      return false;
+    }
     const std::string crcText = text.substr(text.size() - 4);
     uint32_t crc;
     if (!ndi::ParseHex(crcText.c_str(), 4, crc) || ndi::Crc16(text.data(), text.size() - 4) != crc) {
-      std::lock_guard<std::mutex> lock(this->CountersMutex);
-      ++this->Count.CrcErrorsSeen;
-      return this->ReplyError(0x04);
+      {
+        std::lock_guard<std::mutex> lock(this->CountersMutex);
+        ++this->Count.CrcErrorsSeen;
+      }
+      this->ReplyError(0x04);
+      return false;
     }
     args = text.substr(separator + 1, text.size() - 4 - separator - 1);
   } else if (separator != std::string::npos) {
     args = text.substr(separator + 1);
   }
+  return true;
+}
 
-  if (name == "RESET") {
-    this->PowerOnReset();
+void PolarisSimulator::OnReset(const std::string&, const std::string&) {
+  this->PowerOnReset();
+  {
     std::lock_guard<std::mutex> lock(this->CountersMutex);
     ++this->Count.Resets;
   }
-  if (name == "RESET") return this->Reply("RESET");
-  if (name == "INIT") {
-    this->Initialized = true;
-    return this->Reply("OKAY");
+  this->Reply("RESET");
+}
+
+void PolarisSimulator::OnInit(const std::string&, const std::string&) {
+  this->Initialized = true;
+  this->Reply("OKAY");
+}
+
+void PolarisSimulator::OnGetInfo(const std::string&, const std::string&) {
+  this->ReplyError(0x01);  // Spectra/Vicra: old API
+}
+
+void PolarisSimulator::OnVersion(const std::string&, const std::string&) {
+  this->Reply("Polaris Spectra (RoboPlan simulator)\nFreeze Tag: 1.0\nCombined Firmware Revision: 006");
+}
+
+void PolarisSimulator::OnComm(const std::string&, const std::string& args) {
+  static const int kBauds[] = {9600, 14400, 19200, 38400, 57600, 115200, 921600, 1228739};
+  if (args.size() != 5) return this->ReplyError(0x07);
+  const char code = args[0];
+  int baud = 0;
+  if (code >= '0' && code <= '7') baud = kBauds[code - '0'];
+  else if (code == 'A') baud = 230400;
+  else return this->ReplyError(0x06);
+  this->Baud = baud;  // a pty has no baud rate: only the state changes
+  {
+    std::lock_guard<std::mutex> lock(this->CountersMutex);
+    this->Count.Baud = baud;
   }
-  if (name == "GETINFO") return this->ReplyError(0x01);  // Spectra/Vicra: old API
-  if (name == "VER") return this->Reply("Polaris Spectra (RoboPlan simulator)\nFreeze Tag: 1.0\nCombined Firmware Revision: 006");
-  if (name == "COMM") {
-    static const int kBauds[] = {9600, 14400, 19200, 38400, 57600, 115200, 921600, 1228739};
-    if (args.size() != 5) return this->ReplyError(0x07);
-    const char code = args[0];
-    int baud = 0;
-    if (code >= '0' && code <= '7') baud = kBauds[code - '0'];
-    else if (code == 'A') baud = 230400;
-    else return this->ReplyError(0x06);
-    this->Baud = baud;  // a pty has no baud rate: only the state changes
-    {
-      std::lock_guard<std::mutex> lock(this->CountersMutex);
-      this->Count.Baud = baud;
-    }
-    return this->Reply("OKAY");
+  this->Reply("OKAY");
+}
+
+void PolarisSimulator::OnIrate(const std::string&, const std::string& args) {
+  if (args == "0") this->Rate = 20;
+  else if (args == "1") this->Rate = 30;
+  else if (args == "2") this->Rate = 60;
+  else return this->ReplyError(0x23);
+  this->Reply("OKAY");
+}
+
+void PolarisSimulator::OnAcknowledge(const std::string& name, const std::string&) {
+  this->Reply(name == "BEEP" ? "1" : "OKAY");  // VSEL, BEEP, LED
+}
+
+void PolarisSimulator::OnPhsr(const std::string&, const std::string& args) {
+  std::string out;
+  std::vector<const Handle*> listed;
+  for (const auto& h : this->Handles) {
+    if (args == "02" && (h.Initialized)) continue;
+    if (args == "03" && (!h.Initialized || h.Enabled)) continue;
+    if (args == "04" && !h.Enabled) continue;
+    listed.push_back(&h);
   }
-  if (!this->Initialized) return this->ReplyError(0x10);
-  if (name == "IRATE") {
-    if (args == "0") this->Rate = 20;
-    else if (args == "1") this->Rate = 30;
-    else if (args == "2") this->Rate = 60;
-    else return this->ReplyError(0x23);
-    return this->Reply("OKAY");
+  PutHex(out, static_cast<uint32_t>(listed.size()), 2);
+  for (const Handle* h : listed) {
+    PutHex(out, static_cast<uint32_t>(h->Number), 2);
+    PutHex(out, (h->Initialized ? 0x10u : 0u) | (h->Enabled ? 0x20u : 0u) | 0x01u, 3);
   }
-  if (name == "VSEL" || name == "BEEP" || name == "LED") return this->Reply(name == "BEEP" ? "1" : "OKAY");
-  if (name == "PHSR") {
-    std::string out;
-    std::vector<const Handle*> listed;
-    for (const auto& h : this->Handles) {
-      if (args == "02" && (h.Initialized)) continue;
-      if (args == "03" && (!h.Initialized || h.Enabled)) continue;
-      if (args == "04" && !h.Enabled) continue;
-      listed.push_back(&h);
-    }
-    PutHex(out, static_cast<uint32_t>(listed.size()), 2);
-    for (const Handle* h : listed) {
-      PutHex(out, static_cast<uint32_t>(h->Number), 2);
-      PutHex(out, (h->Initialized ? 0x10u : 0u) | (h->Enabled ? 0x20u : 0u) | 0x01u, 3);
-    }
-    return this->Reply(out.c_str());
+  this->Reply(out.c_str());
+}
+
+void PolarisSimulator::OnPhrq(const std::string&, const std::string&) {
+  if (this->Handles.size() >= 12) return this->ReplyError(0x2D);
+  int number = 0x0A;
+  for (const auto& h : this->Handles) number = std::max(number, h.Number + 1);
+  Handle h;
+  h.Number = number;
+  this->Handles.push_back(h);
+  std::string out;
+  PutHex(out, static_cast<uint32_t>(number), 2);
+  this->Reply(out.c_str());
+}
+
+PolarisSimulator::Handle* PolarisSimulator::CommandHandle(const std::string& args) {
+  if (args.size() < 2) {
+    this->ReplyError(0x07);
+    return nullptr;
   }
-  if (name == "PHRQ") {
-    if (this->Handles.size() >= 12) return this->ReplyError(0x2D);
-    int number = 0x0A;
-    for (const auto& h : this->Handles) number = std::max(number, h.Number + 1);
-    Handle h;
-    h.Number = number;
-    this->Handles.push_back(h);
-    std::string out;
-    PutHex(out, static_cast<uint32_t>(number), 2);
-    return this->Reply(out.c_str());
+  Handle* h = this->FindHandle(args.c_str());
+  if (!h) this->ReplyError(0x2B);
+  return h;
+}
+
+void PolarisSimulator::OnPhf(const std::string&, const std::string& args) {
+  Handle* h = this->CommandHandle(args);
+  if (!h) return;
+  this->Handles.erase(this->Handles.begin() + (h - this->Handles.data()));
+  this->Reply("OKAY");
+}
+
+void PolarisSimulator::OnPvwr(const std::string&, const std::string& args) {
+  Handle* h = this->CommandHandle(args);
+  if (!h) return;
+  uint32_t address;
+  if (args.size() != 2 + 4 + 128 || !ndi::ParseHex(args.c_str() + 2, 4, address)) return this->ReplyError(0x07);
+  if (address % 64 != 0 || address > 0x3C0) return this->ReplyError(0x23);
+  for (int i = 0; i < 64; ++i) {
+    uint32_t byte;
+    if (!ndi::ParseHex(args.c_str() + 6 + 2 * i, 2, byte)) return this->ReplyError(0x01);
+    h->Rom[address + static_cast<uint32_t>(i)] = static_cast<uint8_t>(byte);
   }
-  if (name == "PHF" || name == "PVWR" || name == "PINIT" || name == "PHINF" || name == "PENA" || name == "PDIS") {
-    if (args.size() < 2) return this->ReplyError(0x07);
-    Handle* h = this->FindHandle(args.c_str());
-    if (!h) return this->ReplyError(0x2B);
-    if (name == "PHF") {
-      this->Handles.erase(this->Handles.begin() + (h - this->Handles.data()));
-      return this->Reply("OKAY");
-    }
-    if (name == "PVWR") {
-      uint32_t address;
-      if (args.size() != 2 + 4 + 128 || !ndi::ParseHex(args.c_str() + 2, 4, address)) return this->ReplyError(0x07);
-      if (address % 64 != 0 || address > 0x3C0) return this->ReplyError(0x23);
-      for (int i = 0; i < 64; ++i) {
-        uint32_t byte;
-        if (!ndi::ParseHex(args.c_str() + 6 + 2 * i, 2, byte)) return this->ReplyError(0x01);
-        h->Rom[address + static_cast<uint32_t>(i)] = static_cast<uint8_t>(byte);
-      }
-      h->ChunksWritten = static_cast<uint16_t>(h->ChunksWritten | (1u << (address / 64)));
-      return this->Reply("OKAY");
-    }
-    if (name == "PINIT") {
-      std::string error;
-      if (!rom::Validate(h->Rom, error)) return this->ReplyError(0x40);
-      h->Tool = this->ToolForRom(h->Rom);
-      h->Initialized = true;
-      std::lock_guard<std::mutex> lock(this->CountersMutex);
-      ++this->Count.LoadedTools;
-      return this->Reply("OKAY");
-    }
-    if (name == "PHINF") {
-      std::string out = "0A000000";  // passive tool
-      std::string part = h->Tool >= 0 ? this->Tools[static_cast<size_t>(h->Tool)]->Definition.PartNumber : "UNKNOWN";
-      part.resize(12, ' ');
-      out += part;
-      out += "000";
-      out += "00000001";
-      PutHex(out, (h->Initialized ? 0x10u : 0u) | (h->Enabled ? 0x20u : 0u) | 0x01u, 2);
-      return this->Reply(out.c_str());
-    }
-    if (name == "PENA") {
-      if (!h->Initialized) return this->ReplyError(0x0E);
-      h->Enabled = true;
-      return this->Reply("OKAY");
-    }
-    h->Enabled = false;  // PDIS
-    return this->Reply("OKAY");
+  h->ChunksWritten = static_cast<uint16_t>(h->ChunksWritten | (1u << (address / 64)));
+  this->Reply("OKAY");
+}
+
+void PolarisSimulator::OnPinit(const std::string&, const std::string& args) {
+  Handle* h = this->CommandHandle(args);
+  if (!h) return;
+  std::string error;
+  if (!rom::Validate(h->Rom, error)) return this->ReplyError(0x40);
+  h->Tool = this->ToolForRom(h->Rom);
+  h->Initialized = true;
+  {
+    std::lock_guard<std::mutex> lock(this->CountersMutex);
+    ++this->Count.LoadedTools;
   }
-  if (name == "TSTART") {
-    this->Tracking = true;
-    this->TrackingStart = this->Now();
+  this->Reply("OKAY");
+}
+
+void PolarisSimulator::OnPhinf(const std::string&, const std::string& args) {
+  const Handle* h = this->CommandHandle(args);
+  if (!h) return;
+  std::string out = "0A000000";  // passive tool
+  std::string part = h->Tool >= 0 ? this->Tools[static_cast<size_t>(h->Tool)]->Definition.PartNumber : "UNKNOWN";
+  part.resize(12, ' ');
+  out += part;
+  out += "000";
+  out += "00000001";
+  PutHex(out, (h->Initialized ? 0x10u : 0u) | (h->Enabled ? 0x20u : 0u) | 0x01u, 2);
+  this->Reply(out.c_str());
+}
+
+void PolarisSimulator::OnPena(const std::string&, const std::string& args) {
+  Handle* h = this->CommandHandle(args);
+  if (!h) return;
+  if (!h->Initialized) return this->ReplyError(0x0E);
+  h->Enabled = true;
+  this->Reply("OKAY");
+}
+
+void PolarisSimulator::OnPdis(const std::string&, const std::string& args) {
+  Handle* h = this->CommandHandle(args);
+  if (!h) return;
+  h->Enabled = false;
+  this->Reply("OKAY");
+}
+
+void PolarisSimulator::OnTstart(const std::string&, const std::string&) {
+  this->Tracking = true;
+  this->TrackingStart = this->Now();
+  {
     std::lock_guard<std::mutex> lock(this->CountersMutex);
     this->Count.Tracking = true;
-    return this->Reply("OKAY");
   }
-  if (name == "TSTOP") {
-    this->Tracking = false;
+  this->Reply("OKAY");
+}
+
+void PolarisSimulator::OnTstop(const std::string&, const std::string&) {
+  this->Tracking = false;
+  {
     std::lock_guard<std::mutex> lock(this->CountersMutex);
     this->Count.Tracking = false;
-    return this->Reply("OKAY");
   }
-  if (name == "TX" || name == "BX") {
-    if (!this->Tracking) return this->ReplyError(0x0C);
-    {
-      std::lock_guard<std::mutex> lock(this->CountersMutex);
-      ++this->Count.TrackingReplies;
-    }
-    return this->BuildTracking(name == "BX");
+  this->Reply("OKAY");
+}
+
+void PolarisSimulator::OnTracking(const std::string& name, const std::string&) {
+  if (!this->Tracking) return this->ReplyError(0x0C);
+  {
+    std::lock_guard<std::mutex> lock(this->CountersMutex);
+    ++this->Count.TrackingReplies;
   }
-  this->ReplyError(0x01);
+  this->BuildTracking(name == "BX");  // TX or BX
 }
 
 bool PolarisSimulator::MarkersVisible(const ToolRuntime& tool, const double m[16]) {

@@ -112,6 +112,32 @@ class PolarisSimulator {
   int ToolForRom(const std::vector<uint8_t>& rom);
   void PowerOnReset();
   void HandleCommand(const char* line, size_t length);
+  // One handler per NDI command (the table in the .cxx); each replies through Reply/ReplyError.
+  using CommandHandler = void (PolarisSimulator::*)(const std::string& name, const std::string& args);
+  struct CommandEntry;
+  static const CommandEntry CommandTable[];
+  /// The command's name and arguments; false (an error replied) when a CRC after ':' is short or wrong.
+  bool SplitCommand(std::string text, std::string& name, std::string& args);
+  /// The handle named by the first two hex digits of `args`; null (an error replied) when there is none.
+  Handle* CommandHandle(const std::string& args);
+  void OnReset(const std::string& name, const std::string& args);
+  void OnInit(const std::string& name, const std::string& args);
+  void OnGetInfo(const std::string& name, const std::string& args);
+  void OnVersion(const std::string& name, const std::string& args);
+  void OnComm(const std::string& name, const std::string& args);
+  void OnIrate(const std::string& name, const std::string& args);
+  void OnAcknowledge(const std::string& name, const std::string& args);
+  void OnPhsr(const std::string& name, const std::string& args);
+  void OnPhrq(const std::string& name, const std::string& args);
+  void OnPhf(const std::string& name, const std::string& args);
+  void OnPvwr(const std::string& name, const std::string& args);
+  void OnPinit(const std::string& name, const std::string& args);
+  void OnPhinf(const std::string& name, const std::string& args);
+  void OnPena(const std::string& name, const std::string& args);
+  void OnPdis(const std::string& name, const std::string& args);
+  void OnTstart(const std::string& name, const std::string& args);
+  void OnTstop(const std::string& name, const std::string& args);
+  void OnTracking(const std::string& name, const std::string& args);
   void Reply(const char* payload);
   void ReplyError(int code);
   void ReplyBinary(const uint8_t* body, size_t length);

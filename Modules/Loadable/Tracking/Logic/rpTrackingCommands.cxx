@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <thread>
 
@@ -99,11 +100,7 @@ nlohmann::json PoseJson(const ToolPose& pose) {
           {"quaternion", {pose.Quaternion[0], pose.Quaternion[1], pose.Quaternion[2], pose.Quaternion[3]}},
           {"timestamp", pose.Timestamp}};
 }
-}  // namespace
-
-int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std::ostream& out, std::ostream& err) {
-  ArgParser parser("track", "Track tools from a pose source (an NDI tracker, an OpenIGTLink server, a recording, the "
-                            "simulator); print per tool the last pose, OK/MISSING/out-of-volume frames, rate and latency.");
+void DeclareTrackOptions(ArgParser& parser) {
   parser.Option("serial", "PORT", "serial port of an NDI Polaris/Aurora (or a polaris-sim link)")
       .Option("ndi-tcp", "HOST[:PORT]", "NDI Polaris Vega/Lyra over Ethernet (Combined API, port 8765 by default)")
       .Option("igtl", "HOST:PORT", "OpenIGTLink server (e.g. PLUS at 127.0.0.1:18944)")
@@ -124,25 +121,34 @@ int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std
       .Option("header-version", "V", "igtl: header version we send: 1, or 2 (v3 framing; PLUS then sends status metadata)")
       .Flag("text", "serial: poll TX (text) instead of BX (binary)");
   AddPlusTrackOptions(parser);
-  if (!parser.Parse(args)) return BadArguments(parser, err);
-  PlusTrack plus;  // --plus-config: the configuration's tracker, transforms and server
-  double seconds, stale;
-  long servePort = -1;
-  PoseSourceConfig config;
-  std::unique_ptr<PoseSource> source;
+}
+
+// What `roboplan track` was asked to do: the pose source (made, not yet started) and how to run it.
+struct TrackRequest {
+  PlusTrack Plus;  // --plus-config: the configuration's tracker, transforms and server
+  double Seconds = 0, Stale = 0;
+  long ServePort = -1;
+  PoseSourceConfig Config;
+  std::unique_ptr<PoseSource> Source;
+  bool Json = false;
+  std::optional<std::string> Reference, RecordPath;  // unset: not given
+};
+
+// Options -> request; -1 to go on tracking, otherwise the exit code (--check done, or an error printed).
+int ReadTrackRequest(const ArgParser& parser, TrackRequest& request, std::ostream& out, std::ostream& err) {
   try {
-    seconds = parser.GetDouble("seconds");
-    stale = parser.GetDouble("stale");
-    if (parser.Has("serve")) servePort = parser.GetInt("serve");
+    request.Seconds = parser.GetDouble("seconds");
+    request.Stale = parser.GetDouble("stale");
+    if (parser.Has("serve")) request.ServePort = parser.GetInt("serve");
     if (parser.Has("plus-config")) {
-      const int code = PreparePlusTrack(parser, plus, out, err);
+      const int code = PreparePlusTrack(parser, request.Plus, out, err);
       if (code >= 0) return code;
-      config = plus.Config;
-      source = std::move(plus.Source);
-      if (servePort < 0) servePort = plus.ServePort;
+      request.Config = request.Plus.Config;
+      request.Source = std::move(request.Plus.Source);
+      if (request.ServePort < 0) request.ServePort = request.Plus.ServePort;
     } else {
-      config = SourceConfig(parser);
-      source = PoseSourceRegistry::Create(config);
+      request.Config = SourceConfig(parser);
+      request.Source = PoseSourceRegistry::Create(request.Config);
     }
   } catch (const std::invalid_argument& e) {
     err << "roboplan track: " << e.what() << "\n" << parser.Usage();
@@ -151,56 +157,44 @@ int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std
     err << "roboplan track: " << e.what() << "\n";
     return 1;
   }
-  const bool json = parser.Json();
+  request.Json = parser.Json();
+  if (parser.Has("reference")) request.Reference = parser.Get("reference");
+  if (parser.Has("record")) request.RecordPath = parser.Get("record");
+  return -1;
+}
 
-  vtkNew<vtkRPScene> ownScene;
-  vtkNew<vtkRPTrackingLogic> logic;
-  logic->SetScene(scene ? scene : ownScene.Get());
-  logic->SetStaleTimeout(stale);
-  if (parser.Has("reference")) logic->SetReferenceNodeName(ToolToTrackerName(parser.Get("reference")));
-  std::string error;
-  const int sourceId = logic->AddSource(std::move(source), error);
-  if (sourceId < 0) {
-    err << "roboplan track: " << error << "\n";
-    return 1;
+// The OpenIGTLink server of --serve (PLUS's served names and settings with --plus-config); null on failure.
+std::unique_ptr<IgtlServer> StartTrackServer(const TrackRequest& request, const ToolPoseTable& table, std::string& error) {
+  const PlusTrack& plus = request.Plus;
+  IgtlServer::Options so;
+  so.Port = static_cast<int>(request.ServePort);
+  if (plus.Relay) {  // PLUS's served names (chains through its transforms), its send and keep-alive settings
+    so.SendInvalid = plus.SendInvalid;
+    so.KeepAliveSeconds = plus.KeepAliveSeconds;
+    // GetTransform/UpdateTransform act on the configuration's transform repository, as in PLUS
+    std::shared_ptr<PlusTransformRelay> repository = plus.Commands;
+    so.Transforms = [repository](const std::string& from, const std::string& to, double m[16], ToolState& state) {
+      return repository->Get(from, to, m, state);
+    };
+    so.UpdateTransforms = [repository](const std::string& from, const std::string& to, const double m[16], std::string& e) {
+      return repository->Set(from, to, m, e);
+    };
   }
-  PoseSource* tracker = logic->GetSource(sourceId);
+  auto server = std::make_unique<IgtlServer>(plus.Relay ? plus.Relay->Output() : table, so);
+  if (!server->Start(error)) return nullptr;
+  return server;
+}
+
+// Tracks until the request's seconds pass, the source finishes (a replay) or SIGINT; nodes follow the
+// source, poses go to `recorder` when it is open. Returns the seconds tracked.
+double TrackUntilDone(vtkRPTrackingLogic* logic, PoseSource* tracker, const TrackRequest& request, RecordingWriter* recorder) {
   const ToolPoseTable& table = tracker->Poses();
-
-  std::unique_ptr<IgtlServer> server;
-  if (servePort >= 0) {
-    IgtlServer::Options so;
-    so.Port = static_cast<int>(servePort);
-    if (plus.Relay) {  // PLUS's served names (chains through its transforms), its send and keep-alive settings
-      so.SendInvalid = plus.SendInvalid;
-      so.KeepAliveSeconds = plus.KeepAliveSeconds;
-      // GetTransform/UpdateTransform act on the configuration's transform repository, as in PLUS
-      std::shared_ptr<PlusTransformRelay> repository = plus.Commands;
-      so.Transforms = [repository](const std::string& from, const std::string& to, double m[16], ToolState& state) {
-        return repository->Get(from, to, m, state);
-      };
-      so.UpdateTransforms = [repository](const std::string& from, const std::string& to, const double m[16], std::string& e) {
-        return repository->Set(from, to, m, e);
-      };
-    }
-    server = std::make_unique<IgtlServer>(plus.Relay ? plus.Relay->Output() : table, so);
-    if (!server->Start(error)) {
-      err << "roboplan track: " << error << "\n";
-      return 1;
-    }
-    err << "track: serving OpenIGTLink on 127.0.0.1:" << server->Port() << "\n";
-  }
-  RecordingWriter recorder;
   ToolPoseReader recordReader;
-  const bool record = parser.Has("record");
-  if (record && !recorder.Open(parser.Get("record"), error)) {
-    err << "roboplan track: " << error << "\n";
-    return 1;
-  }
-
+  PlusTransformRelay* relay = request.Plus.Relay.get();
+  const double seconds = request.Seconds;
   gInterrupted = false;
   auto previousInt = std::signal(SIGINT, OnSignal);
-  TerminalProgress progress("track", json);
+  TerminalProgress progress("track", request.Json);
   const double start = SteadySeconds();
   double nextReport = start;
   std::vector<pollfd> ready;
@@ -210,13 +204,13 @@ int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std
     if (now - start >= seconds || tracker->Finished()) break;  // a replay ends with its recording
     // Nodes follow the source as soon as it publishes (and at least every 16 ms, for staleness).
     ::poll(ready.data(), ready.size(), static_cast<int>(std::min(16.0, 1e3 * (start + seconds - now))) + 1);
-    if (record) {
+    if (recorder) {
       for (int i = 0; i < table.Count(); ++i) {
         const auto& s = recordReader.Poll(table, i);
-        if (s.Fresh) recorder.Add(table.Name(i), s.Pose.ReceiveTime - start, s.Pose);
+        if (s.Fresh) recorder->Add(table.Name(i), s.Pose.ReceiveTime - start, s.Pose);
       }
     }
-    if (plus.Relay) plus.Relay->Update();
+    if (relay) relay->Update();
     logic->UpdateNodes(SteadySeconds());
     if (SteadySeconds() >= nextReport) {
       nextReport += 0.25;
@@ -228,16 +222,16 @@ int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std
   }
   std::signal(SIGINT, previousInt);
   logic->UpdateNodes(SteadySeconds());
-  const double elapsed = SteadySeconds() - start;
-  if (!recorder.Close(&error)) {
-    err << "roboplan track: " << error << "\n";
-    return 1;
-  }
+  return SteadySeconds() - start;
+}
 
+// The run's results as the --json document (the text report is read from it too); counts what arrived.
+nlohmann::json TrackResults(vtkRPTrackingLogic* logic, PoseSource* tracker, const TrackRequest& request,
+                            IgtlServer* server, double elapsed, uint64_t& withPose, uint64_t& images) {
   nlohmann::json doc;
   doc["seconds"] = elapsed;
-  doc["source"] = config.Kind;
-  doc["address"] = config.Address;
+  doc["source"] = request.Config.Kind;
+  doc["address"] = request.Config.Address;
   doc["status"] = tracker->StatusText();
   doc["device"] = tracker->StatisticsJson();
   if (server) {
@@ -245,8 +239,8 @@ int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std
     doc["served"] = {{"port", server->Port()}, {"messagesSent", s.MessagesSent}, {"clientsAccepted", s.Accepted},
                      {"clientsRefused", s.Refused}, {"messagesDropped", s.MessagesDropped}};
   }
-  if (plus.Relay) {  // the PLUS transforms as served: newest status of each
-    const ToolPoseTable& served = plus.Relay->Output();
+  if (request.Plus.Relay) {  // the PLUS transforms as served: newest status of each
+    const ToolPoseTable& served = request.Plus.Relay->Output();
     for (int i = 0; i < served.Count(); ++i) {
       ToolPose pose;
       const uint64_t n = served.Read(i, pose);
@@ -255,7 +249,7 @@ int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std
     }
   }
   doc["tools"] = nlohmann::json::array();
-  uint64_t withPose = 0;
+  withPose = 0;
   for (const auto& t : logic->GetToolStatistics()) {
     withPose += t.Frames.WithPose();
     nlohmann::json tool = {
@@ -274,36 +268,86 @@ int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std
     doc["tools"].push_back(tool);
   }
   doc["images"] = nlohmann::json::array();
-  uint64_t images = 0;
+  images = 0;
   for (const auto& i : logic->GetImageStatistics()) {
     images += i.Frames;
     doc["images"].push_back({{"name", i.NodeName}, {"frames", i.Frames}, {"shown", i.Shown},
                              {"dimensions", {i.Dimensions[0], i.Dimensions[1], i.Dimensions[2]}},
                              {"latencyMs", i.LatencySeconds * 1e3}});
   }
+  return doc;
+}
+
+void ReportTrackText(const nlohmann::json& doc, const PoseSourceConfig& config, double elapsed, std::ostream& out) {
+  out << "source: " << config.Kind << " " << config.Address << ", " << elapsed << " s: " << doc["status"].get<std::string>() << "\n";
+  out << "device: " << doc["device"].dump() << "\n";
+  for (const auto& t : doc["tools"]) {
+    out << "  " << t["name"].get<std::string>() << ": " << t["status"].get<std::string>() << ", "
+        << t["rateHz"].get<double>() << " Hz, latency " << t["latencyMs"].get<double>() << " ms; frames OK "
+        << t["frames"]["ok"].get<uint64_t>() << ", missing " << t["frames"]["missing"].get<uint64_t>()
+        << ", out of volume " << t["frames"]["outOfVolume"].get<uint64_t>() << ", dropped " << t["dropped"].get<uint64_t>();
+    if (!t["lastPose"].is_null()) {
+      const auto& p = t["lastPose"]["position"];
+      out << "; last at (" << p[0].get<double>() << ", " << p[1].get<double>() << ", " << p[2].get<double>() << ") mm";
+    }
+    out << "\n";
+  }
+  for (const auto& i : doc["images"])
+    out << "  image " << i["name"].get<std::string>() << ": " << i["frames"].get<uint64_t>() << " frames "
+        << i["dimensions"].dump() << "\n";
+}
+}  // namespace
+
+int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std::ostream& out, std::ostream& err) {
+  ArgParser parser("track", "Track tools from a pose source (an NDI tracker, an OpenIGTLink server, a recording, the "
+                            "simulator); print per tool the last pose, OK/MISSING/out-of-volume frames, rate and latency.");
+  DeclareTrackOptions(parser);
+  if (!parser.Parse(args)) return BadArguments(parser, err);
+  TrackRequest request;
+  if (const int code = ReadTrackRequest(parser, request, out, err); code >= 0) return code;
+
+  vtkNew<vtkRPScene> ownScene;
+  vtkNew<vtkRPTrackingLogic> logic;
+  logic->SetScene(scene ? scene : ownScene.Get());
+  logic->SetStaleTimeout(request.Stale);
+  if (request.Reference) logic->SetReferenceNodeName(ToolToTrackerName(*request.Reference));
+  std::string error;
+  const int sourceId = logic->AddSource(std::move(request.Source), error);
+  if (sourceId < 0) {
+    err << "roboplan track: " << error << "\n";
+    return 1;
+  }
+  PoseSource* tracker = logic->GetSource(sourceId);
+  std::unique_ptr<IgtlServer> server;
+  if (request.ServePort >= 0) {
+    server = StartTrackServer(request, tracker->Poses(), error);
+    if (!server) {
+      err << "roboplan track: " << error << "\n";
+      return 1;
+    }
+    err << "track: serving OpenIGTLink on 127.0.0.1:" << server->Port() << "\n";
+  }
+  RecordingWriter recorder;
+  const bool record = request.RecordPath.has_value();
+  if (record && !recorder.Open(*request.RecordPath, error)) {
+    err << "roboplan track: " << error << "\n";
+    return 1;
+  }
+  const double elapsed = TrackUntilDone(logic, tracker, request, record ? &recorder : nullptr);
+  if (!recorder.Close(&error)) {
+    err << "roboplan track: " << error << "\n";
+    return 1;
+  }
+
+  uint64_t withPose = 0, images = 0;
+  nlohmann::json doc = TrackResults(logic, tracker, request, server.get(), elapsed, withPose, images);
   if (record) doc["recorded"] = recorder.Count();
   if (server) server->Stop();
   logic->RemoveSource(sourceId);  // stops the device (TSTOP, PHF, COMM 9600 ...)
-  if (json) {
+  if (request.Json)
     out << doc.dump(2) << "\n";
-  } else {
-    out << "source: " << config.Kind << " " << config.Address << ", " << elapsed << " s: " << doc["status"].get<std::string>() << "\n";
-    out << "device: " << doc["device"].dump() << "\n";
-    for (const auto& t : doc["tools"]) {
-      out << "  " << t["name"].get<std::string>() << ": " << t["status"].get<std::string>() << ", "
-          << t["rateHz"].get<double>() << " Hz, latency " << t["latencyMs"].get<double>() << " ms; frames OK "
-          << t["frames"]["ok"].get<uint64_t>() << ", missing " << t["frames"]["missing"].get<uint64_t>()
-          << ", out of volume " << t["frames"]["outOfVolume"].get<uint64_t>() << ", dropped " << t["dropped"].get<uint64_t>();
-      if (!t["lastPose"].is_null()) {
-        const auto& p = t["lastPose"]["position"];
-        out << "; last at (" << p[0].get<double>() << ", " << p[1].get<double>() << ", " << p[2].get<double>() << ") mm";
-      }
-      out << "\n";
-    }
-    for (const auto& i : doc["images"])
-      out << "  image " << i["name"].get<std::string>() << ": " << i["frames"].get<uint64_t>() << " frames "
-          << i["dimensions"].dump() << "\n";
-  }
+  else
+    ReportTrackText(doc, request.Config, elapsed, out);
   if (withPose == 0 && images == 0) {
     const std::string lastError = doc["device"].value("lastError", std::string());
     err << "roboplan track: no poses received" << (lastError.empty() ? "" : ": " + lastError) << "\n";
