@@ -6,7 +6,6 @@
 #include <vtkSmartPointer.h>
 
 #include "rpModule.h"
-#include "rpPhantomRegistrationCommand.h"
 #include "rpRegisterCommand.h"
 #include "vtkRPLandmarkRegistrationLogic.h"
 #ifdef ROBOPLAN_BUILD_GUI
@@ -35,13 +34,7 @@ class LandmarkRegistrationModule : public rp::Module {
     return {{"register",
              "paired-point registration of two fiducial files into a transform file, with FRE, "
              "accept/reject and predicted TRE",
-             [](rp::CommandContext& context) { return rp::RunRegisterCommand(context.Arguments, std::cout, std::cerr); }},
-            {"phantom-registration",
-             "PLUS's phantom registration (fCal, landmark detection) from a PLUS recording and configuration: "
-             "PhantomToReference, FRE, predicted TRE",
-             [](rp::CommandContext& context) {
-               return rp::RunPhantomRegistrationCommand(context.Arguments, std::cout, std::cerr);
-             }}};
+             [](rp::CommandContext& context) { return rp::RunRegisterCommand(context.Arguments, std::cout, std::cerr); }}};
   }
 
  private:

@@ -1,11 +1,12 @@
 // Tracking module plugin: NDI Polaris tool poses into the scene through a direct serial link or
-// OpenIGTLink. CLI: `roboplan track`, `roboplan pivot`, `roboplan polaris-sim`.
+// OpenIGTLink. CLI: `roboplan track`, `roboplan pivot`, `roboplan polaris-sim`, `roboplan phantom-registration`.
 #include <iostream>
 
 #include <vtkSmartPointer.h>
 
 #include "rpModule.h"
 #include "rpDeviceCommands.h"
+#include "rpPhantomRegistrationCommand.h"
 #include "rpTrackingCommands.h"
 #include "vtkRPTrackingLogic.h"
 #ifdef ROBOPLAN_BUILD_GUI
@@ -40,6 +41,10 @@ class TrackingModule : public rp::Module {
          [](rp::CommandContext& c) { return rp::RunToolInfoCommand(c.Arguments, std::cout, std::cerr); }},
         {"polaris-sim", "a simulated NDI Polaris on a pseudo-terminal (prints the port to open)",
          [](rp::CommandContext& c) { return rp::RunPolarisSimCommand(c.Arguments, std::cout, std::cerr); }},
+        {"phantom-registration",
+         "PLUS's phantom registration (fCal, landmark detection) from a PLUS recording and configuration: "
+         "PhantomToReference, FRE, predicted TRE",
+         [](rp::CommandContext& c) { return rp::RunPhantomRegistrationCommand(c.Arguments, std::cout, std::cerr); }},
     };
   }
 
