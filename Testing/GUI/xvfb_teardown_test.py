@@ -128,6 +128,22 @@ def main():
     if "ptrace" in probe.stdout + probe.stderr or probe.returncode != 0:
         print("SKIPPED: gdb cannot trace processes here:\n" + probe.stdout + probe.stderr)
         return SKIP
+    # Staging needs the server to sleep in epoll_wait with the SIGTERM taken just before it; on a
+    # loaded machine another wake-up can come first and the server exits on the first SIGTERM
+    # (nothing wrong with the script, but nothing proven). Such attempts are tried again; a hang
+    # or a failing script fails at once.
+    attempts = 3
+    for attempt in range(1, attempts + 1):
+        result = stage_once(script, os.path.join(work, "attempt-%d" % attempt))
+        if result != "not staged":
+            return 0 if result == "passed" else 1
+        print("attempt %d of %d: the race was not staged; trying again" % (attempt, attempts))
+    print("FAILED: the race could not be staged in %d attempts" % attempts)
+    return 1
+
+
+def stage_once(script, work):
+    """One run of run-with-xvfb.sh with the race staged: "passed", "failed" or "not staged"."""
     shutil.rmtree(work, ignore_errors=True)
     os.makedirs(work)
     # The sanitizer builds' preload (libasan, Mesa) is for our instrumented GUI tests, not Python.
@@ -145,27 +161,25 @@ def main():
         output, _ = run.communicate()
         print(output)
         print("FAILED: run-with-xvfb.sh still waiting for its Xvfb %.0f s after the test ended" % limit)
-        return 1
+        return "failed"
     seconds = time.time() - start
     print(output, end="")
     for name in ("held", "released", "gdb.log"):
         path = os.path.join(work, name)
         if os.path.exists(path):
             print("--- %s:\n%s" % (name, open(path).read().strip()))
-    ok = True
     if run.returncode != 0:
         print("FAILED: run-with-xvfb.sh exited %d" % run.returncode)
-        ok = False
+        return "failed"
     released = os.path.join(work, "released")
     if not os.path.exists(released) or "True" not in open(released).read():
-        print("FAILED: the race was not staged (gdb did not release Xvfb with the SIGTERM pending)")
-        ok = False
+        print("the race was not staged (gdb did not release Xvfb with the SIGTERM pending)")
+        return "not staged"
     if "after SIGTERM; sent it again" not in output:
-        print("FAILED: run-with-xvfb.sh did not send the SIGTERM again, so the staged race was not hit")
-        ok = False
+        print("the race was not hit: Xvfb was woken by something else and exited on the first SIGTERM")
+        return "not staged"
     print("run-with-xvfb.sh ended %.1f s after it started, the staged race included" % seconds)
-    return 0 if ok else 1
-
+    return "passed"
 
 if __name__ == "__main__":
     sys.exit(main())
