@@ -459,6 +459,151 @@ void KneeModel::SampleSignedDistance(KneeStructure structure, const KneeGrid& gr
 
 // ---- The phantom
 
+namespace {
+
+void SetGrid(KneeGrid& g, std::array<int, 3> dims, std::array<double, 3> spacing) {
+  for (int a = 0; a < 3; ++a) g.Dims[a] = dims[a], g.Spacing[a] = spacing[a];
+}
+
+// The CT and MR grids' sizes and spacings: the preset of options.Size, or the CT's explicit grid.
+bool SizeGrids(const KneePhantomOptions& options, KneeGrid& ct, KneeGrid& mr, std::string& error) {
+  const bool explicitGrid = options.CTDimensions[0] > 0 && options.CTDimensions[1] > 0 &&
+                            options.CTDimensions[2] > 0;
+  if (explicitGrid) {
+    for (int a = 0; a < 3; ++a) {
+      if (!(options.CTSpacing[a] > 0.0)) {
+        error = "knee phantom: explicit CT dimensions need a positive CT spacing";
+        return false;
+      }
+      if (options.CTDimensions[a] > 2048) {
+        error = "knee phantom: CT dimension above 2048";
+        return false;
+      }
+    }
+    SetGrid(ct, options.CTDimensions, options.CTSpacing);
+  }
+  switch (options.Size) {
+    case KneePhantomSize::Small:
+      if (!explicitGrid) SetGrid(ct, {110, 110, 64}, {1.6, 1.6, 2.5});
+      SetGrid(mr, {96, 96, 84}, {1.6, 1.6, 1.7});
+      break;
+    case KneePhantomSize::Demo:
+      if (!explicitGrid) SetGrid(ct, {220, 220, 128}, {0.8, 0.8, 1.25});
+      SetGrid(mr, {192, 192, 84}, {0.8, 0.8, 1.7});
+      break;
+    case KneePhantomSize::Full:
+      if (!explicitGrid) SetGrid(ct, {512, 512, 300}, {0.34, 0.34, 1.0});
+      SetGrid(mr, {384, 384, 90}, {0.4, 0.4, 1.7});
+      break;
+  }
+  return true;
+}
+
+// Orients and centres both grids on the knee and sets the phantom's true CT-to-MR pose.
+void PlaceGrids(const KneeModel& model, const KneePhantomOptions& options, KneeGrid& ct, KneeGrid& mr,
+                KneePhantom& phantom) {
+  // CT: axial, DICOM's usual LPS identity directions → RAS i = -x, j = -y, k = +z.
+  const double ctAxes[3][3] = {{-1, 0, 0}, {0, -1, 0}, {0, 0, 1}};
+  std::copy(&ctAxes[0][0], &ctAxes[0][0] + 9, &ct.Axes[0][0]);
+  double centre[3];
+  model.FieldOfViewCentre(centre);
+  CentreGrid(ct, centre);
+  vtkNew<vtkTransform> pose;
+  pose->PostMultiply();
+  pose->RotateX(options.MRRotationDegrees[0]);
+  pose->RotateY(options.MRRotationDegrees[1]);
+  pose->RotateZ(options.MRRotationDegrees[2]);
+  pose->Translate(options.MRTranslation[0], options.MRTranslation[1], options.MRTranslation[2]);
+  phantom.CTToMR->DeepCopy(pose->GetMatrix());
+
+  // MR: sagittal proton density, 1.7 mm slices. LPS IOP (0,1,0 / 0,0,-1) → RAS i = -y,
+  // j = -z, slice normal k = +x. Centred on the knee where the MR sees it, a little off (an
+  // MR isocentre is not a CT's).
+  const double mrAxes[3][3] = {{0, -1, 0}, {0, 0, -1}, {1, 0, 0}};
+  std::copy(&mrAxes[0][0], &mrAxes[0][0] + 9, &mr.Axes[0][0]);
+  double mrCentre[4] = {centre[0], centre[1], centre[2], 1.0};
+  phantom.CTToMR->MultiplyPoint(mrCentre, mrCentre);
+  mrCentre[0] += 2.0, mrCentre[1] -= 3.0, mrCentre[2] += 4.0;
+  CentreGrid(mr, mrCentre);
+}
+
+// CT and labels in one pass (the label is the rule at the voxel centre).
+void RenderCTAndLabels(const KneeModel& model, const KneePhantomOptions& options, const KneeGrid& ct,
+                       KneePhantom& phantom, const ProgressCallback& progress, double from, double to) {
+  short* ctOut = nullptr;
+  unsigned char* labelsOut = nullptr;
+  if (options.GenerateLabels) {
+    labelsOut = Allocate<unsigned char>(phantom.Labels, ct, VTK_UNSIGNED_CHAR, 0, 0, "SEG",
+                                        "RoboPlan knee phantom ground truth");
+  }
+  const Modality ctModality{true, model.RealisticTissue()};
+  if (options.GenerateCT) {
+    ctOut = Allocate<short>(phantom.CT, ct, VTK_SHORT, 2000, 400, "CT", "RoboPlan knee phantom CT");
+  }
+  const size_t sliceSize = size_t(ct.Dims[0]) * ct.Dims[1];
+  RenderGrid(
+      model, ct, options.GenerateCT ? &ctModality : nullptr, options.GenerateLabels,
+      [&](int k0, int k1, const unsigned char* labels, const double* values) {
+        if (labels) std::copy(labels, labels + (k1 - k0) * sliceSize, labelsOut + k0 * sliceSize);
+        if (!values) return;
+        for (int k = k0; k < k1; ++k) {
+          // Noise per slice from its own seed: identical output whatever the thread order.
+          std::mt19937 rng(options.Seed * 2654435761u + 17u * static_cast<unsigned>(k) + 1u);
+          std::normal_distribution<double> noise(0.0, options.CTNoiseHU);
+          for (size_t n = 0; n < sliceSize; ++n) {
+            double v = values[(k - k0) * sliceSize + n];
+            if (v > -999.5) v += noise(rng);  // air stays at -1000 (below the scanner's noise floor)
+            ctOut[k * sliceSize + n] = static_cast<short>(std::lround(std::clamp(v, -1024.0, 3071.0)));
+          }
+        }
+      },
+      progress, from, to, options.GenerateCT ? "CT" : "labels");
+}
+
+void RenderMR(const KneeModel& model, const KneePhantomOptions& options, const KneeGrid& mr, KneePhantom& phantom,
+              const ProgressCallback& progress, double from, double to) {
+  vtkNew<vtkMatrix4x4> mrToCT;
+  vtkMatrix4x4::Invert(phantom.CTToMR, mrToCT);
+  unsigned short* mrOut =
+      Allocate<unsigned short>(phantom.MR, mr, VTK_UNSIGNED_SHORT, 1000, 500, "MR", "RoboPlan knee phantom PD");
+  // The MR grid in anatomy (CT) coordinates: the knee moved by CTToMR.
+  KneeGrid anatomy = mr;
+  double o[4] = {mr.Origin[0], mr.Origin[1], mr.Origin[2], 1.0};
+  mrToCT->MultiplyPoint(o, o);
+  for (int r = 0; r < 3; ++r) anatomy.Origin[r] = o[r];
+  for (int c = 0; c < 3; ++c) {
+    double a[4] = {mr.Axes[c][0], mr.Axes[c][1], mr.Axes[c][2], 0.0};
+    mrToCT->MultiplyPoint(a, a);
+    for (int r = 0; r < 3; ++r) anatomy.Axes[c][r] = a[r];
+  }
+  const Modality mrModality{false, model.RealisticTissue()};
+  const size_t sliceSize = size_t(mr.Dims[0]) * mr.Dims[1];
+  RenderGrid(
+      model, anatomy, &mrModality, false,
+      [&](int k0, int k1, const unsigned char*, const double* values) {
+        for (int k = k0; k < k1; ++k) {
+          std::mt19937 rng(options.Seed * 2246822519u + 31u * static_cast<unsigned>(k) + 7u);
+          std::normal_distribution<double> noise(0.0, options.MRNoise);
+          for (int j = 0; j < mr.Dims[1]; ++j)
+            for (int i = 0; i < mr.Dims[0]; ++i) {
+              double p[3];
+              anatomy.VoxelCentre(i, j, k, p);
+              // A gentle receive-coil bias along the leg, as in a real knee coil.
+              const double bias = 1.0 - 0.15 * std::min(1.0, std::abs(p[2]) / 120.0);
+              const size_t n = size_t(j) * mr.Dims[0] + i;
+              const double v = values[(k - k0) * sliceSize + n] * bias;
+              // Rician magnitude noise: |signal + complex Gaussian|.
+              const double re = v + noise(rng), im = noise(rng);
+              mrOut[k * sliceSize + n] =
+                  static_cast<unsigned short>(std::lround(std::min(std::sqrt(re * re + im * im), 65535.0)));
+            }
+        }
+      },
+      progress, from, to, "MR");
+}
+
+}  // namespace
+
 bool GenerateKneePhantom(const KneePhantomOptions& options, KneePhantom& phantom, std::string& error,
                          const ProgressCallback& progress) {
   try {
@@ -470,146 +615,15 @@ bool GenerateKneePhantom(const KneePhantomOptions& options, KneePhantom& phantom
       if (!model) return false;
     }
     KneeGrid ct, mr;
-    const bool explicitGrid = options.CTDimensions[0] > 0 && options.CTDimensions[1] > 0 &&
-                              options.CTDimensions[2] > 0;
-    auto setGrid = [](KneeGrid& g, std::array<int, 3> dims, std::array<double, 3> spacing) {
-      for (int a = 0; a < 3; ++a) g.Dims[a] = dims[a], g.Spacing[a] = spacing[a];
-    };
-    if (explicitGrid) {
-      for (int a = 0; a < 3; ++a) {
-        if (!(options.CTSpacing[a] > 0.0)) {
-          error = "knee phantom: explicit CT dimensions need a positive CT spacing";
-          return false;
-        }
-        if (options.CTDimensions[a] > 2048) {
-          error = "knee phantom: CT dimension above 2048";
-          return false;
-        }
-      }
-      setGrid(ct, options.CTDimensions, options.CTSpacing);
-    }
-    switch (options.Size) {
-      case KneePhantomSize::Small:
-        if (!explicitGrid) setGrid(ct, {110, 110, 64}, {1.6, 1.6, 2.5});
-        setGrid(mr, {96, 96, 84}, {1.6, 1.6, 1.7});
-        break;
-      case KneePhantomSize::Demo:
-        if (!explicitGrid) setGrid(ct, {220, 220, 128}, {0.8, 0.8, 1.25});
-        setGrid(mr, {192, 192, 84}, {0.8, 0.8, 1.7});
-        break;
-      case KneePhantomSize::Full:
-        if (!explicitGrid) setGrid(ct, {512, 512, 300}, {0.34, 0.34, 1.0});
-        setGrid(mr, {384, 384, 90}, {0.4, 0.4, 1.7});
-        break;
-    }
-    // CT: axial, DICOM's usual LPS identity directions → RAS i = -x, j = -y, k = +z.
-    const double ctAxes[3][3] = {{-1, 0, 0}, {0, -1, 0}, {0, 0, 1}};
-    std::copy(&ctAxes[0][0], &ctAxes[0][0] + 9, &ct.Axes[0][0]);
-    double centre[3];
-    model->FieldOfViewCentre(centre);
-    CentreGrid(ct, centre);
+    if (!SizeGrids(options, ct, mr, error)) return false;
     phantom.Model = model;
-    vtkNew<vtkTransform> pose;
-    pose->PostMultiply();
-    pose->RotateX(options.MRRotationDegrees[0]);
-    pose->RotateY(options.MRRotationDegrees[1]);
-    pose->RotateZ(options.MRRotationDegrees[2]);
-    pose->Translate(options.MRTranslation[0], options.MRTranslation[1], options.MRTranslation[2]);
-    phantom.CTToMR->DeepCopy(pose->GetMatrix());
-    vtkNew<vtkMatrix4x4> mrToCT;
-    vtkMatrix4x4::Invert(phantom.CTToMR, mrToCT);
+    PlaceGrids(*model, options, ct, mr, phantom);
 
-    // MR: sagittal proton density, 1.7 mm slices. LPS IOP (0,1,0 / 0,0,-1) → RAS i = -y,
-    // j = -z, slice normal k = +x. Centred on the knee where the MR sees it, a little off (an
-    // MR isocentre is not a CT's).
-    const double mrAxes[3][3] = {{0, -1, 0}, {0, 0, -1}, {1, 0, 0}};
-    std::copy(&mrAxes[0][0], &mrAxes[0][0] + 9, &mr.Axes[0][0]);
-    double mrCentre[4] = {centre[0], centre[1], centre[2], 1.0};
-    phantom.CTToMR->MultiplyPoint(mrCentre, mrCentre);
-    mrCentre[0] += 2.0, mrCentre[1] -= 3.0, mrCentre[2] += 4.0;
-    CentreGrid(mr, mrCentre);
-
-    double stage = 0.0;
-    const double stages = (options.GenerateCT || options.GenerateLabels ? 1 : 0) + (options.GenerateMR ? 1 : 0);
-    auto span = [&]() {
-      const double from = stage / std::max(stages, 1.0);
-      stage += 1;
-      return std::make_pair(from, stage / std::max(stages, 1.0));
-    };
-    const bool realistic = model->RealisticTissue();
-
-    // CT and labels in one pass (the label is the rule at the voxel centre).
-    if (options.GenerateCT || options.GenerateLabels) {
-      short* ctOut = nullptr;
-      unsigned char* labelsOut = nullptr;
-      if (options.GenerateLabels) {
-        labelsOut = Allocate<unsigned char>(phantom.Labels, ct, VTK_UNSIGNED_CHAR, 0, 0, "SEG",
-                                            "RoboPlan knee phantom ground truth");
-      }
-      const Modality ctModality{true, realistic};
-      if (options.GenerateCT) {
-        ctOut = Allocate<short>(phantom.CT, ct, VTK_SHORT, 2000, 400, "CT", "RoboPlan knee phantom CT");
-      }
-      const size_t sliceSize = size_t(ct.Dims[0]) * ct.Dims[1];
-      const auto range = span();
-      RenderGrid(
-          *model, ct, options.GenerateCT ? &ctModality : nullptr, options.GenerateLabels,
-          [&](int k0, int k1, const unsigned char* labels, const double* values) {
-            if (labels) std::copy(labels, labels + (k1 - k0) * sliceSize, labelsOut + k0 * sliceSize);
-            if (!values) return;
-            for (int k = k0; k < k1; ++k) {
-              // Noise per slice from its own seed: identical output whatever the thread order.
-              std::mt19937 rng(options.Seed * 2654435761u + 17u * static_cast<unsigned>(k) + 1u);
-              std::normal_distribution<double> noise(0.0, options.CTNoiseHU);
-              for (size_t n = 0; n < sliceSize; ++n) {
-                double v = values[(k - k0) * sliceSize + n];
-                if (v > -999.5) v += noise(rng);  // air stays at -1000 (below the scanner's noise floor)
-                ctOut[k * sliceSize + n] = static_cast<short>(std::lround(std::clamp(v, -1024.0, 3071.0)));
-              }
-            }
-          },
-          progress, range.first, range.second, options.GenerateCT ? "CT" : "labels");
-    }
-
-    if (options.GenerateMR) {
-      unsigned short* mrOut =
-          Allocate<unsigned short>(phantom.MR, mr, VTK_UNSIGNED_SHORT, 1000, 500, "MR", "RoboPlan knee phantom PD");
-      // The MR grid in anatomy (CT) coordinates: the knee moved by CTToMR.
-      KneeGrid anatomy = mr;
-      double o[4] = {mr.Origin[0], mr.Origin[1], mr.Origin[2], 1.0};
-      mrToCT->MultiplyPoint(o, o);
-      for (int r = 0; r < 3; ++r) anatomy.Origin[r] = o[r];
-      for (int c = 0; c < 3; ++c) {
-        double a[4] = {mr.Axes[c][0], mr.Axes[c][1], mr.Axes[c][2], 0.0};
-        mrToCT->MultiplyPoint(a, a);
-        for (int r = 0; r < 3; ++r) anatomy.Axes[c][r] = a[r];
-      }
-      const Modality mrModality{false, realistic};
-      const size_t sliceSize = size_t(mr.Dims[0]) * mr.Dims[1];
-      const auto range = span();
-      RenderGrid(
-          *model, anatomy, &mrModality, false,
-          [&](int k0, int k1, const unsigned char*, const double* values) {
-            for (int k = k0; k < k1; ++k) {
-              std::mt19937 rng(options.Seed * 2246822519u + 31u * static_cast<unsigned>(k) + 7u);
-              std::normal_distribution<double> noise(0.0, options.MRNoise);
-              for (int j = 0; j < mr.Dims[1]; ++j)
-                for (int i = 0; i < mr.Dims[0]; ++i) {
-                  double p[3];
-                  anatomy.VoxelCentre(i, j, k, p);
-                  // A gentle receive-coil bias along the leg, as in a real knee coil.
-                  const double bias = 1.0 - 0.15 * std::min(1.0, std::abs(p[2]) / 120.0);
-                  const size_t n = size_t(j) * mr.Dims[0] + i;
-                  const double v = values[(k - k0) * sliceSize + n] * bias;
-                  // Rician magnitude noise: |signal + complex Gaussian|.
-                  const double re = v + noise(rng), im = noise(rng);
-                  mrOut[k * sliceSize + n] =
-                      static_cast<unsigned short>(std::lround(std::min(std::sqrt(re * re + im * im), 65535.0)));
-                }
-            }
-          },
-          progress, range.first, range.second, "MR");
-    }
+    // Progress: one stage for CT and labels, one for MR.
+    const bool renderCT = options.GenerateCT || options.GenerateLabels;
+    const double stages = std::max((renderCT ? 1 : 0) + (options.GenerateMR ? 1 : 0), 1);
+    if (renderCT) RenderCTAndLabels(*model, options, ct, phantom, progress, 0.0, 1.0 / stages);
+    if (options.GenerateMR) RenderMR(*model, options, mr, phantom, progress, (renderCT ? 1.0 : 0.0) / stages, 1.0);
     return true;
   } catch (const std::bad_alloc&) {
     error = "knee phantom: out of memory";

@@ -99,20 +99,13 @@ std::vector<double> PlannedVolume(const DrillVolume& bone, const Vec3& a, const 
   return volume;
 }
 
-}  // namespace
+// The planned tunnel: from a start clear of the bone at the anteromedial cortex to 1 mm past
+// the ACL footprint, along Axis.
+struct TunnelPlan {
+  Vec3 From, To, Axis;
+};
 
-void DrillTibialTunnel(DemoState& state) {
-  const std::string stage = "Tibial tunnel (drilling)";
-  if (!state.HasGroundTruth()) {
-    state.Report->AddNotScored(stage, "tibial tunnel", "planned from the phantom's ACL footprint: no phantom with --data");
-    return;
-  }
-  const auto* tibia = state.Segmentation ? state.Segmentation->GetSegmentByID("tibia") : nullptr;
-  if (tibia == nullptr) {
-    state.Report->AddNotScored(stage, "tibial tunnel", "the tibia was not segmented in this run");
-    return;
-  }
-  // ---- the plan: anteromedial cortex → ACL footprint
+TunnelPlan PlanTunnel(const DemoState& state) {
   Vec3 footprint;
   if (!AclFootprint(state, footprint)) throw std::runtime_error("the phantom's ACL does not reach the tibia");
   const Vec3 axis = Normalized(Vec3{12, -18, 28});  // up, back and lateral, as drill guides aim (right knee)
@@ -137,60 +130,55 @@ void DrillTibialTunnel(DemoState& state) {
     const double q[3] = {p.x, p.y, p.z};
     if (model.SignedDistance(KneeStructure::Tibia, q) > BurrRadius + 1.0) break;
   }
-  const Vec3 from = footprint - axis * start, to = footprint + axis * 1.0;  // 1 mm into the joint
-  state.Runner->Progress(0.05, "voxel tibia");
+  return {footprint - axis * start, footprint + axis * 1.0, axis};  // 1 mm into the joint
+}
 
-  // ---- the voxel tibia around the tunnel (cortical / trabecular from the CT), PCL protected
-  MaterialTable table;
-  std::string error;
-  if (!LoadMaterialTable(table, error)) throw std::runtime_error(error);
-  const std::vector<Material> materials = DrillableMaterials(table);
+// The voxel tibia around the tunnel (cortical / trabecular from the CT), PCL protected.
+void BuildTunnelBone(const DemoState& state, const Segment& tibia, const TunnelPlan& plan,
+                     const std::vector<Material>& materials, DrillVolume& bone, DrillVolume& protectedVolume,
+                     DrillBoneReport& built) {
   DrillBoneSource source;
   int pcl = 0;
-  source.Labels = LabelsWithPCL(state, tibia->LabelValue, pcl);
-  source.BoneLabels = {tibia->LabelValue};
-  source.BoneTissues = {tibia->TissueClass};
+  source.Labels = LabelsWithPCL(state, tibia.LabelValue, pcl);
+  source.BoneLabels = {tibia.LabelValue};
+  source.BoneTissues = {tibia.TissueClass};
   source.ProtectedLabels = {pcl};
   source.ProtectedTissues = {"ligament"};
   if (state.CT) source.CT = FromNode(state.CT);
   source.Spacing = Voxel;
   source.HasRegion = true;
   const Vec3 margin{15, 15, 15};
-  source.RegionLo = Min(from, to) - margin;
-  source.RegionHi = Max(from, to) + margin;
-  DrillVolume bone, protectedVolume;
-  DrillBoneReport built;
+  source.RegionLo = Min(plan.From, plan.To) - margin;
+  source.RegionHi = Max(plan.From, plan.To) + margin;
+  std::string error;
   if (!BuildDrillBone(source, materials, bone, &protectedVolume, built, error)) throw std::runtime_error(error);
-  const TriangleMesh pclSurface = built.HasProtected ? ContourToTriangleMesh(protectedVolume) : TriangleMesh{};
-  BVH pclTree;
-  if (!pclSurface.Triangles.empty()) pclTree.Build(pclSurface);
-  const std::vector<double> planned = PlannedVolume(bone, from, to, BurrRadius);
+}
 
-  // ---- drill it: the simulated hand pushes the burr along the axis at 5 mm/s
-  SimulatedDevice device;
-  auto path = std::make_shared<WaypointTrajectory>();
-  path->Set({0.0, Norm(to - from) / 5.0}, {from, to}, error);
-  device.SetTrajectory(path);
-  DrillServoOptions options;
-  options.RampSeconds = 0.05;
-  DrillServo servo(device, bone, options);
-  if (!pclTree.Empty()) servo.SetProtectedSurface(&pclTree);
-  DrillDisplay display(bone);
+// Drills it: the simulated hand pushes the burr along the axis at 5 mm/s; the drill path is kept.
+DrillRunResult DrillAlongPlan(DemoState& state, const TunnelPlan& plan, DrillServo& servo, const DrillServoOptions& options,
+                              DrillDisplay& display, vtkSmartPointer<vtkPolyData>& mesh) {
   DrillRunOptions run;
   const DrillControl on{true, BurrRadius, 60000};
+  const Vec3 to = plan.To;
   run.Schedule = [on](double) { return on; };
   run.Finished = [to](const DrillState& s) { return Norm(s.Proxy - to) < 0.05 || s.Stopped; };
   run.MaxSeconds = 60;
   run.RecordPath = (fs::path(state.Output) / "drill-tibial-tunnel.txt").string();
   run.RecordInfo = {Voxel, options.FeedRate, options.ReferenceRpm, false};
   run.Progress = [&state](double f, const std::string& m) { state.Runner->Progress(0.1 + 0.7 * f, m); };
-  vtkSmartPointer<vtkPolyData> mesh = display.Initialize();
   run.OnMesh = [&mesh](vtkPolyData* m) { mesh = m; };
   DrillRunResult result;
+  std::string error;
   if (!RunDrill(servo, display, run, result, error)) throw std::runtime_error(error);
-  const DrillState& s = result.Final;
+  return result;
+}
 
-  // ---- figures
+// Removed against planned volume, the PCL's closest approach, the burr's path.
+void ReportTunnelVolumes(DemoState& state, const std::string& stage, const TunnelPlan& plan,
+                         const std::vector<Material>& materials, const std::vector<double>& planned,
+                         const DrillRunResult& result, const DrillVolume& bone, bool pclProtected) {
+  const DrillState& s = result.Final;
+  const Vec3 &from = plan.From, &to = plan.To;
   double plannedTotal = 0;
   for (double v : planned) plannedTotal += v;
   const bool reached = Norm(s.Proxy - to) < 0.05;
@@ -208,7 +196,7 @@ void DrillTibialTunnel(DemoState& state) {
   for (size_t m = 0; m < materials.size(); ++m)
     state.Report->AddFigure(stage, "removed " + materials[m].Tissue, s.RemovedMm3[m], "mm³",
                             "planned " + std::to_string(static_cast<int>(planned[m] + 0.5)) + " mm³");
-  if (!pclTree.Empty())
+  if (pclProtected)
     state.Report->AddFigureAbove(stage, "closest approach of the burr to the PCL", s.ClosestApproach, "mm", 0.0,
                                  s.RefusedTicks ? "the burr was stopped at it" : "the PCL was not reached");
   std::vector<Vec3> burrPath;
@@ -216,8 +204,8 @@ void DrillTibialTunnel(DemoState& state) {
   for (const DrillRecordLine& l : result.Records) {
     burrPath.push_back(l.Record.Proxy);
     if (l.Record.Flags & DrillRecordFlags::Cutting) {
-      const double t = std::clamp(Dot(l.Record.Proxy - from, axis), 0.0, Norm(to - from));
-      deviation = std::max(deviation, Norm(l.Record.Proxy - (from + axis * t)));
+      const double t = std::clamp(Dot(l.Record.Proxy - from, plan.Axis), 0.0, Norm(to - from));
+      deviation = std::max(deviation, Norm(l.Record.Proxy - (from + plan.Axis * t)));
     }
   }
   // The burr's centre rides within a skin (0.02 voxel) of its last cut: the bound is r + h + skin.
@@ -225,11 +213,16 @@ void DrillTibialTunnel(DemoState& state) {
                                BurrRadius + Voxel * (1 + BurrProxy::Skin) + 1e-9, "burr radius + one voxel");
   state.Report->AddFigure(stage, "largest deviation of the cutting burr from the planned axis", deviation, "mm",
                           "the burr slides where the bone's surface is oblique to the push");
+}
+
+// Force, servo timing and machine load, re-contour times.
+void ReportTunnelTimings(DemoState& state, const std::string& stage, const DrillRunResult& result,
+                         DrillVolume& bone, const DrillBoneReport& built, double maxForce) {
   std::vector<double> contour;
   for (const DisplayFrame& f : result.Frames) contour.push_back(f.ContourMs);
   double peak = 0;
   for (const DrillRecordLine& l : result.Records) peak = std::max(peak, Norm(l.Record.Force));
-  state.Report->AddFigureBelow(stage, "peak force on the hand", peak, "N", device.Info().MaxForce + 1e-6,
+  state.Report->AddFigureBelow(stage, "peak force on the hand", peak, "N", maxForce + 1e-6,
                                "device maximum (eq. 6)");
   state.Report->AddFigureBelow(stage, "servo tick p99 while drilling (thread CPU)", result.TickCompute.P99Us, "µs", 100.0,
                                std::to_string(result.Ticks) + " ticks at 1 kHz, " + std::to_string(built.StoredBlocks) +
@@ -244,6 +237,95 @@ void DrillTibialTunnel(DemoState& state) {
   state.Report->AddFigureBelow(stage, "dirty-block re-contour per 30 Hz frame, p95", NearestRankPercentile(contour, 0.95), "ms", 10.0,
                                "re-contouring this whole region takes " + std::to_string(static_cast<int>(wholeMs + 0.5)) +
                                    " ms");
+}
+
+// Force along the path: depth along the planned axis from the entry, per tissue being cut.
+void WriteForceChart(DemoState& state, const std::string& stage, const TunnelPlan& plan,
+                     const std::vector<Material>& materials, const DrillRunResult& result) {
+  std::vector<bench::Series> series;
+  std::vector<std::pair<std::vector<double>, std::vector<double>>> curves(materials.size() + 1);
+  for (size_t i = 0; i < result.Records.size(); i += 5) {
+    const DrillRecord& r = result.Records[i].Record;
+    const size_t k = r.CutMaterial >= 0 && size_t(r.CutMaterial) < materials.size() ? size_t(r.CutMaterial) : materials.size();
+    curves[k].first.push_back(Dot(r.Proxy - plan.From, plan.Axis));
+    curves[k].second.push_back(Norm(r.Force));
+  }
+  for (size_t k = 0; k < curves.size(); ++k)
+    if (!curves[k].first.empty())
+      series.push_back({k < materials.size() ? "cutting " + materials[k].Tissue : "not cutting", curves[k].first, curves[k].second, true});
+  bench::ChartOptions chart{"Force on the hand along the tibial tunnel (4 mm burr, 5 mm/s)",
+                            "burr centre along the planned axis (mm from its start)", "force (N)"};
+  std::string error;
+  if (!series.empty() && bench::WriteChartPNG((fs::path(state.Output) / "drill-force-along-tunnel.png").string(), series, chart, error))
+    state.Report->AddPicture(stage, "drill-force-along-tunnel.png",
+                             "Force against depth: high through the cortex (hard, slow to cut: the hand pushes at the "
+                             "device's maximum), lower in the trabecular bone, zero where the burr breaks into the joint.");
+}
+
+void WriteTunnelPictureOf(DemoState& state, const std::string& stage, const TunnelPlan& plan,
+                          const std::vector<Material>& materials, const DrillRunResult& result, const DrillVolume& bone,
+                          vtkPolyData* mesh, const TriangleMesh& pclSurface) {
+  TunnelPicture picture;
+  picture.Bone = mesh;
+  picture.Volume = &bone;
+  picture.Materials = materials;
+  picture.From = plan.From;
+  picture.To = plan.To;
+  picture.Radius = BurrRadius;
+  for (size_t i = 0; i < result.Records.size(); i += 10) picture.Path.push_back(result.Records[i].Record.Proxy);
+  if (!pclSurface.Triangles.empty()) picture.Protected = TriangleMeshToPolyData(pclSurface);
+  picture.Title = "Tibial tunnel to the ACL footprint, PCL protected";
+  std::string error;
+  if (WriteTunnelPicture((fs::path(state.Output) / "drill-tibial-tunnel.png").string(), picture, error))
+    state.Report->AddPicture(stage, "drill-tibial-tunnel.png",
+                             "The drilled tibia (left) and a section through the tunnel's axis (right): cortical bone "
+                             "ivory, trabecular tan, drilled blue, the PCL red, the planned tunnel green.");
+  else
+    state.Report->AddNote("Tibial tunnel picture: " + error);
+}
+
+}  // namespace
+
+void DrillTibialTunnel(DemoState& state) {
+  const std::string stage = "Tibial tunnel (drilling)";
+  if (!state.HasGroundTruth()) {
+    state.Report->AddNotScored(stage, "tibial tunnel", "planned from the phantom's ACL footprint: no phantom with --data");
+    return;
+  }
+  const auto* tibia = state.Segmentation ? state.Segmentation->GetSegmentByID("tibia") : nullptr;
+  if (tibia == nullptr) {
+    state.Report->AddNotScored(stage, "tibial tunnel", "the tibia was not segmented in this run");
+    return;
+  }
+  const TunnelPlan plan = PlanTunnel(state);
+  state.Runner->Progress(0.05, "voxel tibia");
+
+  MaterialTable table;
+  std::string error;
+  if (!LoadMaterialTable(table, error)) throw std::runtime_error(error);
+  const std::vector<Material> materials = DrillableMaterials(table);
+  DrillVolume bone, protectedVolume;
+  DrillBoneReport built;
+  BuildTunnelBone(state, *tibia, plan, materials, bone, protectedVolume, built);
+  const TriangleMesh pclSurface = built.HasProtected ? ContourToTriangleMesh(protectedVolume) : TriangleMesh{};
+  BVH pclTree;
+  if (!pclSurface.Triangles.empty()) pclTree.Build(pclSurface);
+  const std::vector<double> planned = PlannedVolume(bone, plan.From, plan.To, BurrRadius);
+
+  SimulatedDevice device;
+  auto path = std::make_shared<WaypointTrajectory>();
+  path->Set({0.0, Norm(plan.To - plan.From) / 5.0}, {plan.From, plan.To}, error);
+  device.SetTrajectory(path);
+  DrillServoOptions options;
+  options.RampSeconds = 0.05;
+  DrillServo servo(device, bone, options);
+  if (!pclTree.Empty()) servo.SetProtectedSurface(&pclTree);
+  DrillDisplay display(bone);
+  vtkSmartPointer<vtkPolyData> mesh = display.Initialize();
+  const DrillRunResult result = DrillAlongPlan(state, plan, servo, options, display, mesh);
+
+  ReportTunnelVolumes(state, stage, plan, materials, planned, result, bone, !pclTree.Empty());
+  ReportTunnelTimings(state, stage, result, bone, built, device.Info().MaxForce);
 
   // ---- the drilled tibia in the scene
   vtkNew<vtkRPModelNode> drilled;
@@ -259,40 +341,8 @@ void DrillTibialTunnel(DemoState& state) {
     state.Report->AddNote("Tibial tunnel pictures skipped: " + why + ".");
     return;
   }
-  // Force along the path: depth along the planned axis from the entry, per tissue being cut.
-  std::vector<bench::Series> series;
-  std::vector<std::pair<std::vector<double>, std::vector<double>>> curves(materials.size() + 1);
-  for (size_t i = 0; i < result.Records.size(); i += 5) {
-    const DrillRecord& r = result.Records[i].Record;
-    const size_t k = r.CutMaterial >= 0 && size_t(r.CutMaterial) < materials.size() ? size_t(r.CutMaterial) : materials.size();
-    curves[k].first.push_back(Dot(r.Proxy - from, axis));
-    curves[k].second.push_back(Norm(r.Force));
-  }
-  for (size_t k = 0; k < curves.size(); ++k)
-    if (!curves[k].first.empty())
-      series.push_back({k < materials.size() ? "cutting " + materials[k].Tissue : "not cutting", curves[k].first, curves[k].second, true});
-  bench::ChartOptions chart{"Force on the hand along the tibial tunnel (4 mm burr, 5 mm/s)",
-                            "burr centre along the planned axis (mm from its start)", "force (N)"};
-  if (!series.empty() && bench::WriteChartPNG((fs::path(state.Output) / "drill-force-along-tunnel.png").string(), series, chart, error))
-    state.Report->AddPicture(stage, "drill-force-along-tunnel.png",
-                             "Force against depth: high through the cortex (hard, slow to cut: the hand pushes at the "
-                             "device's maximum), lower in the trabecular bone, zero where the burr breaks into the joint.");
-  TunnelPicture picture;
-  picture.Bone = mesh;
-  picture.Volume = &bone;
-  picture.Materials = materials;
-  picture.From = from;
-  picture.To = to;
-  picture.Radius = BurrRadius;
-  for (size_t i = 0; i < result.Records.size(); i += 10) picture.Path.push_back(result.Records[i].Record.Proxy);
-  if (!pclSurface.Triangles.empty()) picture.Protected = TriangleMeshToPolyData(pclSurface);
-  picture.Title = "Tibial tunnel to the ACL footprint, PCL protected";
-  if (WriteTunnelPicture((fs::path(state.Output) / "drill-tibial-tunnel.png").string(), picture, error))
-    state.Report->AddPicture(stage, "drill-tibial-tunnel.png",
-                             "The drilled tibia (left) and a section through the tunnel's axis (right): cortical bone "
-                             "ivory, trabecular tan, drilled blue, the PCL red, the planned tunnel green.");
-  else
-    state.Report->AddNote("Tibial tunnel picture: " + error);
+  WriteForceChart(state, stage, plan, materials, result);
+  WriteTunnelPictureOf(state, stage, plan, materials, result, bone, mesh, pclSurface);
 }
 
 }  // namespace rp

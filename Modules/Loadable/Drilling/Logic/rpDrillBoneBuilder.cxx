@@ -333,12 +333,7 @@ bool SmoothSurfaceFor(const DrillBoneSource& source, const Crop<uint8_t>& crop, 
   return true;
 }
 
-bool BuildSolid(const DrillBoneSource& source, const std::vector<Material>& materials, DrillVolume& bone,
-                DrillVolume* protectedSurface, DrillBoneReport& report, std::string& error,
-                const ProgressCallback& progress) {
-  const auto start = std::chrono::steady_clock::now();
-  report = DrillBoneReport{};
-  vtkImageData* labels = source.Labels.Image;
+bool CheckSolidInputs(const DrillBoneSource& source, const std::vector<Material>& materials, std::string& error) {
   if (!(source.Spacing >= 0.05 && source.Spacing <= 5.0)) {
     error = "drill bone: the voxel size must be between 0.05 and 5 mm";
     return false;
@@ -351,11 +346,17 @@ bool BuildSolid(const DrillBoneSource& source, const std::vector<Material>& mate
     error = "drill bone: at most 63 bone segments";
     return false;
   }
+  return true;
+}
+
+// Steps 1 and 2: where the bone and the protected structures are, and the labelmap box to
+// copy (bone and protected voxels, two voxels around) as codes.
+bool CropBoneLabels(const DrillBoneSource& source, Crop<uint8_t>& crop, int boneBox[6], int protectedBox[6],
+                    DrillBoneReport& report, std::string& error) {
+  vtkImageData* labels = source.Labels.Image;
   int dims[3];
   labels->GetDimensions(dims);
-  // 1. Where the bone and the protected structures are.
-  int boneBox[6] = {INT32_MAX, INT32_MIN, INT32_MAX, INT32_MIN, INT32_MAX, INT32_MIN};
-  int protectedBox[6] = {INT32_MAX, INT32_MIN, INT32_MAX, INT32_MIN, INT32_MAX, INT32_MIN};
+  for (int a = 0; a < 6; ++a) boneBox[a] = protectedBox[a] = (a % 2 == 0) ? INT32_MAX : INT32_MIN;
   switch (labels->GetScalarType()) {
     vtkTemplateMacro(ScanLabels(static_cast<const VTK_TT*>(labels->GetScalarPointer()), dims, source.BoneLabels,
                                 source.ProtectedLabels, boneBox, protectedBox, nullptr));
@@ -367,8 +368,6 @@ bool BuildSolid(const DrillBoneSource& source, const std::vector<Material>& mate
     return false;
   }
   report.HasProtected = protectedBox[0] <= protectedBox[1];
-  // 2. The labelmap box to copy: bone and protected voxels, two voxels around.
-  Crop<uint8_t> crop;
   for (int a = 0; a < 3; ++a) {
     int lo = boneBox[2 * a], hi = boneBox[2 * a + 1];
     if (report.HasProtected) lo = std::min(lo, protectedBox[2 * a]), hi = std::max(hi, protectedBox[2 * a + 1]);
@@ -380,12 +379,12 @@ bool BuildSolid(const DrillBoneSource& source, const std::vector<Material>& mate
     vtkTemplateMacro(ScanLabels(static_cast<const VTK_TT*>(labels->GetScalarPointer()), dims, source.BoneLabels,
                                 source.ProtectedLabels, boneBox, protectedBox, &crop));
   }
-  if (progress) progress(0.05, "labels read");
-  // 3. The drill grid: the RAS box of the copied labels (or the region), plus a margin.
-  const Affine ijkToRAS(source.Labels.IJKToRAS);
-  vtkNew<vtkMatrix4x4> rasToIJKMatrix;
-  vtkMatrix4x4::Invert(source.Labels.IJKToRAS, rasToIJKMatrix);
-  const Affine rasToIJK(rasToIJKMatrix);
+  return true;
+}
+
+// Step 3: the drill grid, the RAS box of the copied labels (or the region) plus a margin.
+bool DrillGridAround(const DrillBoneSource& source, const Crop<uint8_t>& crop, const Affine& ijkToRAS, DrillGrid& grid,
+                     std::string& error) {
   Vec3 lo{HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
   for (int corner = 0; corner < 8; ++corner) {
     const Vec3 ijk{double(crop.Lo[0] + ((corner & 1) ? crop.Dims[0] - 1 : 0)),
@@ -404,27 +403,23 @@ bool BuildSolid(const DrillBoneSource& source, const std::vector<Material>& mate
     }
   }
   const double h = source.Spacing;
-  DrillGrid grid;
   grid.Spacing = h;
   grid.Origin = lo - Vec3{3 * h, 3 * h, 3 * h};
   for (int a = 0; a < 3; ++a) grid.Dimensions[a] = static_cast<int>(std::ceil((hi[a] - lo[a]) / h)) + 7;
-  if (!bone.Initialize(grid, materials, error)) return false;
-  report.GridVoxels = grid.VoxelCount();
+  return true;
+}
 
-  // CT values around the grid, for the HU rule.
-  Crop<float> ct;
-  std::unique_ptr<Affine> rasToCT;
-  report.UsedCT = CropCT(source.CT, grid, ct, rasToCT);
-  // The HU rule: drillable materials with a ctMinHU, highest threshold first.
+// The HU rule: drillable materials with a ctMinHU, highest threshold first.
+std::vector<std::pair<double, uint8_t>> HURule(const std::vector<Material>& materials) {
   std::vector<std::pair<double, uint8_t>> huRule;
   for (size_t m = 0; m < materials.size(); ++m)
     if (std::isfinite(materials[m].CTMinHU)) huRule.push_back({materials[m].CTMinHU, static_cast<uint8_t>(m + 1)});
   std::sort(huRule.rbegin(), huRule.rend());
-  if (report.UsedCT && huRule.empty()) {
-    error = "drill bone: a CT was given but no drillable material has a \"ctMinHU\"";
-    return false;
-  }
-  // Material of each bone label without a CT: its tissue class when drillable.
+  return huRule;
+}
+
+// Material of each bone label (index 1 + bone) without a CT: its tissue class when drillable.
+std::vector<uint8_t> LabelMaterials(const DrillBoneSource& source, const std::vector<Material>& materials) {
   std::vector<uint8_t> labelMaterial(source.BoneLabels.size() + 1, 1);
   for (size_t b = 0; b < source.BoneLabels.size(); ++b) {
     const std::string tissue = b < source.BoneTissues.size() ? source.BoneTissues[b] : "";
@@ -434,16 +429,60 @@ bool BuildSolid(const DrillBoneSource& source, const std::vector<Material>& mate
                      [](char a, char b) { return std::tolower(static_cast<unsigned char>(a)) == std::tolower(static_cast<unsigned char>(b)); }))
         labelMaterial[b + 1] = static_cast<uint8_t>(m + 1);
   }
+  return labelMaterial;
+}
 
-  // The smooth surface the density follows (or the label mask's).
-  MeshSignedDistance surface;
-  report.Surface = "label mask (trilinear)";
-  if (source.SmoothSurface && !SmoothSurfaceFor(source, crop, rasToIJK, grid, surface, report, error)) return false;
-  if (progress) progress(0.15, "bone surface");
-  const bool smooth = !surface.Empty();
+// What step 4 reads to fill the drill voxels.
+struct SolidSources {
+  const Crop<uint8_t>& Labels;
+  const Affine& RASToIJK;
+  const DrillGrid& Grid;
+  const MeshSignedDistance& Surface;  // empty: the label mask's density
+  const Crop<float>& CT;
+  const Affine* RASToCT;  // null: materials by bone label
+  const std::vector<std::pair<double, uint8_t>>& HURule;
+  const std::vector<uint8_t>& LabelMaterial;
+};
 
-  // 4. Voxels, block by block; blocks with no bone or protected label near them are skipped.
+// The material of a voxel with bone density: by the CT's HU, else by the bone label of the
+// nearest labelmap voxel (or any bone corner around).
+uint8_t MaterialAt(const SolidSources& in, const Vec3& ras, const Vec3& x, uint8_t q) {
+  if (in.RASToCT) return MaterialByHU(in.CT, *in.RASToCT, ras, q < 255, in.HURule);
+  const Crop<uint8_t>& crop = in.Labels;
+  uint8_t code = crop.At(int(std::lround(x.x)), int(std::lround(x.y)), int(std::lround(x.z))) & BoneMask;
+  for (int corner = 0; corner < 8 && code == 0; ++corner)
+    code = crop.At(int(std::floor(x.x)) + (corner & 1), int(std::floor(x.y)) + ((corner >> 1) & 1),
+                   int(std::floor(x.z)) + (corner >> 2)) & BoneMask;
+  return in.LabelMaterial[code ? code : 1];  // inside the smooth surface, off the labels
+}
+
+// The voxels of one block: density, material and protection.
+void FillBlock(const SolidSources& in, int bi, int bj, int bk, const uint8_t* surfaceQ, DrillVolume& bone) {
   const int E = DrillVolume::BlockEdge;
+  const DrillGrid& grid = in.Grid;
+  const bool smooth = !in.Surface.Empty();
+  for (int k = bk * E; k < std::min(bk * E + E, grid.Dimensions[2]); ++k)
+    for (int j = bj * E; j < std::min(bj * E + E, grid.Dimensions[1]); ++j)
+      for (int i = bi * E; i < std::min(bi * E + E, grid.Dimensions[0]); ++i) {
+        const Vec3 ras = grid.Center(i, j, k);
+        const Vec3 x = in.RASToIJK.Apply(ras);
+        double f, fp;
+        Vec3 g, gp;
+        Trilinear(in.Labels, x, [](uint8_t c) { return (c & BoneMask) != 0; }, f, g);
+        Trilinear(in.Labels, x, [](uint8_t c) { return (c & ProtectedCode) != 0; }, fp, gp);
+        const bool isProtected = fp >= 0.5;
+        const uint8_t q = smooth ? surfaceQ[DrillVolume::Local(i, j, k)]
+                                 : DrillVolume::Quantize(DrillVolume::RampDensity(IndicatorDistance(f, in.RASToIJK.PullBack(g)), grid.Spacing));
+        if (q == 0 && !isProtected) continue;
+        const uint8_t material = q > 0 ? MaterialAt(in, ras, x, q) : 0;
+        bone.SetVoxel(i, j, k, q, material, isProtected);
+      }
+}
+
+// Step 4: voxels, block by block; blocks with no bone or protected label near them are skipped.
+void FillSolid(const SolidSources& in, DrillVolume& bone, const ProgressCallback& progress) {
+  const bool smooth = !in.Surface.Empty();
+  const DrillGrid& grid = in.Grid;
   uint8_t surfaceQ[DrillVolume::BlockVoxels];
   const auto& blockDims = bone.BlockDimensions();
   const size_t blockCount = size_t(blockDims[0]) * blockDims[1] * blockDims[2];
@@ -451,47 +490,60 @@ bool BuildSolid(const DrillBoneSource& source, const std::vector<Material>& mate
   for (int bk = 0; bk < blockDims[2]; ++bk) {
     for (int bj = 0; bj < blockDims[1]; ++bj)
       for (int bi = 0; bi < blockDims[0]; ++bi, ++visited) {
-        const bool nearBone = smooth ? BlockNearSurface(surface, grid, bi, bj, bk)
-                                     : BlockNearCodes(crop, rasToIJK, grid, bi, bj, bk, BoneMask);
-        if (!nearBone && !BlockNearCodes(crop, rasToIJK, grid, bi, bj, bk, ProtectedCode)) continue;
+        const bool nearBone = smooth ? BlockNearSurface(in.Surface, grid, bi, bj, bk)
+                                     : BlockNearCodes(in.Labels, in.RASToIJK, grid, bi, bj, bk, BoneMask);
+        if (!nearBone && !BlockNearCodes(in.Labels, in.RASToIJK, grid, bi, bj, bk, ProtectedCode)) continue;
         if (smooth) {
-          if (nearBone) SurfaceDensities(surface, grid, bi, bj, bk, surfaceQ);
+          if (nearBone) SurfaceDensities(in.Surface, grid, bi, bj, bk, surfaceQ);
           else std::fill(surfaceQ, surfaceQ + DrillVolume::BlockVoxels, uint8_t(0));
         }
-        for (int k = bk * E; k < std::min(bk * E + E, grid.Dimensions[2]); ++k)
-          for (int j = bj * E; j < std::min(bj * E + E, grid.Dimensions[1]); ++j)
-            for (int i = bi * E; i < std::min(bi * E + E, grid.Dimensions[0]); ++i) {
-              const Vec3 ras = grid.Center(i, j, k);
-              const Vec3 x = rasToIJK.Apply(ras);
-              double f, fp;
-              Vec3 g, gp;
-              Trilinear(crop, x, [](uint8_t c) { return (c & BoneMask) != 0; }, f, g);
-              Trilinear(crop, x, [](uint8_t c) { return (c & ProtectedCode) != 0; }, fp, gp);
-              const bool isProtected = fp >= 0.5;
-              const uint8_t q = smooth ? surfaceQ[DrillVolume::Local(i, j, k)]
-                                       : DrillVolume::Quantize(DrillVolume::RampDensity(IndicatorDistance(f, rasToIJK.PullBack(g)), h));
-              if (q == 0 && !isProtected) continue;
-              uint8_t material = 0;
-              if (q > 0) {
-                if (rasToCT) {
-                  material = MaterialByHU(ct, *rasToCT, ras, q < 255, huRule);
-                } else {
-                  // The bone label of the nearest labelmap voxel (or any bone corner around).
-                  uint8_t code = crop.At(int(std::lround(x.x)), int(std::lround(x.y)), int(std::lround(x.z))) & BoneMask;
-                  for (int corner = 0; corner < 8 && code == 0; ++corner)
-                    code = crop.At(int(std::floor(x.x)) + (corner & 1), int(std::floor(x.y)) + ((corner >> 1) & 1),
-                                   int(std::floor(x.z)) + (corner >> 2)) & BoneMask;
-                  material = labelMaterial[code ? code : 1];  // inside the smooth surface, off the labels
-                }
-              }
-              bone.SetVoxel(i, j, k, q, material, isProtected);
-            }
+        FillBlock(in, bi, bj, bk, surfaceQ, bone);
       }
     if (progress) progress(0.05 + 0.9 * double(visited) / double(blockCount), "voxels");
   }
+}
+
+bool BuildSolid(const DrillBoneSource& source, const std::vector<Material>& materials, DrillVolume& bone,
+                DrillVolume* protectedSurface, DrillBoneReport& report, std::string& error,
+                const ProgressCallback& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  report = DrillBoneReport{};
+  if (!CheckSolidInputs(source, materials, error)) return false;
+  Crop<uint8_t> crop;
+  int boneBox[6], protectedBox[6];
+  if (!CropBoneLabels(source, crop, boneBox, protectedBox, report, error)) return false;
+  if (progress) progress(0.05, "labels read");
+  const Affine ijkToRAS(source.Labels.IJKToRAS);
+  vtkNew<vtkMatrix4x4> rasToIJKMatrix;
+  vtkMatrix4x4::Invert(source.Labels.IJKToRAS, rasToIJKMatrix);
+  const Affine rasToIJK(rasToIJKMatrix);
+  DrillGrid grid;
+  if (!DrillGridAround(source, crop, ijkToRAS, grid, error)) return false;
+  if (!bone.Initialize(grid, materials, error)) return false;
+  report.GridVoxels = grid.VoxelCount();
+
+  // CT values around the grid, for the HU rule.
+  Crop<float> ct;
+  std::unique_ptr<Affine> rasToCT;
+  report.UsedCT = CropCT(source.CT, grid, ct, rasToCT);
+  const std::vector<std::pair<double, uint8_t>> huRule = HURule(materials);
+  if (report.UsedCT && huRule.empty()) {
+    error = "drill bone: a CT was given but no drillable material has a \"ctMinHU\"";
+    return false;
+  }
+  const std::vector<uint8_t> labelMaterial = LabelMaterials(source, materials);
+
+  // The smooth surface the density follows (or the label mask's).
+  MeshSignedDistance surface;
+  report.Surface = "label mask (trilinear)";
+  if (source.SmoothSurface && !SmoothSurfaceFor(source, crop, rasToIJK, grid, surface, report, error)) return false;
+  if (progress) progress(0.15, "bone surface");
+
+  FillSolid({crop, rasToIJK, grid, surface, ct, rasToCT.get(), huRule, labelMaterial}, bone, progress);
   bone.Finish();
   if (protectedSurface && report.HasProtected &&
-      !BuildProtectedSurface(crop, protectedBox, ijkToRAS, rasToIJK, source.Labels, h, materials, *protectedSurface, error))
+      !BuildProtectedSurface(crop, protectedBox, ijkToRAS, rasToIJK, source.Labels, source.Spacing, materials,
+                             *protectedSurface, error))
     return false;
   report.StoredBlocks = bone.AllocatedBlocks();
   report.MemoryMB = bone.MemoryBytes() / 1e6;

@@ -57,6 +57,115 @@ void DrillServo::Publish(const TickInfo& tick, uint32_t flags) noexcept {
   this->Log.TryPush(r);
 }
 
+// Requests from the main thread: undo the last stroke, reset the bone.
+void DrillServo::ServeRequests() noexcept {
+  const uint32_t undo = this->UndoRequests.load(std::memory_order_acquire);
+  const uint32_t reset = this->ResetRequests.load(std::memory_order_acquire);
+  if (reset != this->ResetSeen) {
+    this->ResetSeen = reset;
+    this->UndoSeen = undo;
+    this->Cut.StartReset();
+    this->HasCutCenter = this->HasLastCut = false;  // the bone around the last cut comes back
+  } else if (undo != this->UndoSeen) {
+    this->UndoSeen = undo;
+    this->Cut.StartUndo();
+    this->HasCutCenter = this->HasLastCut = false;
+  }
+  this->Cut.Step();
+}
+
+// The burr in contact with bone it may cut: advances the cut at the feed rate; true if the cut
+// was refused (the protected structure).
+bool DrillServo::CutAhead(const BurrForce& burr, const Vec3& hip, double radius, double rpm, double dt) noexcept {
+  DrillState& s = this->Scratch;
+  bool refused = false;
+  const BurrContact& contact = burr.Contact;
+  const Vec3 push = hip - burr.Proxy;
+  const double distance = Norm(push);
+  const double hardness = contact.CutHardness;  // of the bone ahead, weighted by contact
+  const double maxForce = this->Render.Device().MaxForce > 0 ? this->Render.Device().MaxForce : 1.0;
+  if (distance > 1e-9 && hardness > 0) {
+    s.FeedMmPerS = this->Settings.FeedRate * std::min(1.0, Norm(burr.Force) / maxForce) *
+                   std::max(0.0, rpm) / this->Settings.ReferenceRpm / hardness;
+    // The cut advances from the last one while the proxy keeps up with it (within a skin);
+    // from the proxy when it moved away (slid, pulled back) or the burr just touched.
+    const double skin = BurrProxy::Skin * this->Volume.Spacing();
+    if (!this->HasCutCenter || Norm(this->CutCenter - burr.Proxy) > 3 * skin + s.FeedMmPerS * dt)
+      this->CutCenter = burr.Proxy;
+    const Vec3 ahead = hip - this->CutCenter;
+    const double advance = std::min(s.FeedMmPerS * dt, Norm(ahead));
+    if (advance > 0) {
+      const Vec3 center = this->CutCenter + ahead * (advance / Norm(ahead));
+      // Only what the new sphere adds to the last one (the same burr, nothing restored since)
+      // is visited: the difference of the two spheres, not the whole ball.
+      Vec3 direction{};
+      double moved = 0;
+      if (this->HasLastCut && this->LastCutRadius == radius) {
+        moved = Norm(center - this->LastCut);
+        if (moved > 0) direction = (center - this->LastCut) / moved;
+      }
+      const CutResult cut = this->Cut.Cut(center, radius, direction, moved);
+      refused = cut.Refused;
+      s.Cutting = cut.Removed;
+      if (!refused) {
+        this->CutCenter = this->LastCut = center;
+        this->LastCutRadius = radius;
+        this->HasCutCenter = this->HasLastCut = true;
+      }
+    }
+  }
+  return refused;
+}
+
+// Distance to the protected structure (burr surface to its surface).
+void DrillServo::MeasureProtected(const Vec3& proxy, double radius) noexcept {
+  DrillState& s = this->Scratch;
+  if (this->Protected == nullptr || this->Protected->Empty()) return;
+  ClosestPointHit hit;
+  if (this->Protected->ClosestPoint(proxy, HUGE_VAL, hit)) {
+    s.ProtectedDistance = std::sqrt(hit.Distance2) - radius;
+    s.ClosestApproach = std::min(s.ClosestApproach, s.ProtectedDistance);
+  }
+}
+
+// The state the main thread reads; returns the record's flags.
+uint32_t DrillServo::FillState(const BurrForce& burr, const Vec3& hip, const Vec3& force, double radius, bool on,
+                               bool clamped, bool refused, double ramp) noexcept {
+  DrillState& s = this->Scratch;
+  const BurrContact& contact = burr.Contact;
+  const auto& materials = this->Volume.Materials();
+  s.Hip = hip;
+  s.Proxy = burr.Proxy;
+  s.Force = force;
+  s.Radius = radius;
+  s.BurrOn = on;
+  s.Contact = contact.InContact;
+  s.Embedded = contact.Embedded;
+  s.Clamped = clamped;
+  s.Restoring = this->Cut.Restoring();
+  s.Material = contact.Material > 0 ? contact.Material - 1 : -1;
+  s.CutMaterial = contact.CutMaterial > 0 ? contact.CutMaterial - 1 : -1;
+  s.Depth = burr.Depth;
+  for (size_t m = 0; m < materials.size(); ++m) s.RemovedMm3[m] = this->Cut.Removed(static_cast<int>(m));
+  s.RemovedTotalMm3 = this->Cut.RemovedTotal();
+  s.UndoableStrokes = this->Cut.UndoableStrokes();
+  s.Strokes = this->Cut.StrokesStarted();
+  s.LastStrokeLost = this->Cut.LastStrokeLost();
+  s.WatchdogTrips = this->Trips;
+  s.ObservedEnergy = burr.ObservedEnergy;
+  s.Stiffness = burr.Stiffness;
+  s.RampScale = ramp;
+  s.PeakForce = std::max(s.PeakForce, Norm(force));
+  uint32_t flags = 0;
+  if (on) flags |= DrillRecordFlags::BurrOn;
+  if (s.Contact) flags |= DrillRecordFlags::Contact;
+  if (s.Cutting) flags |= DrillRecordFlags::Cutting;
+  if (refused) flags |= DrillRecordFlags::Refused;
+  if (clamped) flags |= DrillRecordFlags::Clamped;
+  if (s.Embedded) flags |= DrillRecordFlags::Embedded;
+  return flags;
+}
+
 void DrillServo::Tick(const TickInfo& tick) noexcept {
   DrillState& s = this->Scratch;
   s.Time = tick.Time;
@@ -102,20 +211,7 @@ void DrillServo::Tick(const TickInfo& tick) noexcept {
     this->Placed = false;
   }
 
-  // Requests from the main thread: undo the last stroke, reset the bone.
-  const uint32_t undo = this->UndoRequests.load(std::memory_order_acquire);
-  const uint32_t reset = this->ResetRequests.load(std::memory_order_acquire);
-  if (reset != this->ResetSeen) {
-    this->ResetSeen = reset;
-    this->UndoSeen = undo;
-    this->Cut.StartReset();
-    this->HasCutCenter = this->HasLastCut = false;  // the bone around the last cut comes back
-  } else if (undo != this->UndoSeen) {
-    this->UndoSeen = undo;
-    this->Cut.StartUndo();
-    this->HasCutCenter = this->HasLastCut = false;
-  }
-  this->Cut.Step();
+  this->ServeRequests();
 
   // Strokes follow the burr switch; a refused cut stops the burr until it is switched again.
   if (!control.BurrOn) s.Stopped = false;
@@ -139,47 +235,12 @@ void DrillServo::Tick(const TickInfo& tick) noexcept {
                                              meshOut.Contacts ? meshOut.Gains.Damping : 0.0, elapsed);
 
   // Cutting.
-  const auto& materials = this->Volume.Materials();
   s.Cutting = false;
   s.FeedMmPerS = 0;
-  bool refused = false;
   const BurrContact& contact = burr.Contact;
-  if (on && contact.InContact && !contact.Embedded && contact.CutMaterial > 0 && !this->Cut.Restoring()) {
-    const Vec3 push = hip - burr.Proxy;
-    const double distance = Norm(push);
-    const double hardness = contact.CutHardness;  // of the bone ahead, weighted by contact
-    const double maxForce = this->Render.Device().MaxForce > 0 ? this->Render.Device().MaxForce : 1.0;
-    if (distance > 1e-9 && hardness > 0) {
-      s.FeedMmPerS = this->Settings.FeedRate * std::min(1.0, Norm(burr.Force) / maxForce) *
-                     std::max(0.0, control.Rpm) / this->Settings.ReferenceRpm / hardness;
-      // The cut advances from the last one while the proxy keeps up with it (within a skin);
-      // from the proxy when it moved away (slid, pulled back) or the burr just touched.
-      const double skin = BurrProxy::Skin * this->Volume.Spacing();
-      if (!this->HasCutCenter || Norm(this->CutCenter - burr.Proxy) > 3 * skin + s.FeedMmPerS * dt)
-        this->CutCenter = burr.Proxy;
-      const Vec3 ahead = hip - this->CutCenter;
-      const double advance = std::min(s.FeedMmPerS * dt, Norm(ahead));
-      if (advance > 0) {
-        const Vec3 center = this->CutCenter + ahead * (advance / Norm(ahead));
-        // Only what the new sphere adds to the last one (the same burr, nothing restored since)
-        // is visited: the difference of the two spheres, not the whole ball.
-        Vec3 direction{};
-        double moved = 0;
-        if (this->HasLastCut && this->LastCutRadius == radius) {
-          moved = Norm(center - this->LastCut);
-          if (moved > 0) direction = (center - this->LastCut) / moved;
-        }
-        const CutResult cut = this->Cut.Cut(center, radius, direction, moved);
-        refused = cut.Refused;
-        s.Cutting = cut.Removed;
-        if (!refused) {
-          this->CutCenter = this->LastCut = center;
-          this->LastCutRadius = radius;
-          this->HasCutCenter = this->HasLastCut = true;
-        }
-      }
-    }
-  }
+  bool refused = false;
+  if (on && contact.InContact && !contact.Embedded && contact.CutMaterial > 0 && !this->Cut.Restoring())
+    refused = this->CutAhead(burr, hip, radius, control.Rpm, dt);
   if (!s.Cutting && !on) this->HasCutCenter = false;
   if (refused) {
     ++s.RefusedTicks;
@@ -187,14 +248,7 @@ void DrillServo::Tick(const TickInfo& tick) noexcept {
     this->Cut.EndStroke();
   }
 
-  // Distance to the protected structure (burr surface to its surface).
-  if (this->Protected != nullptr && !this->Protected->Empty()) {
-    ClosestPointHit hit;
-    if (this->Protected->ClosestPoint(burr.Proxy, HUGE_VAL, hit)) {
-      s.ProtectedDistance = std::sqrt(hit.Distance2) - radius;
-      s.ClosestApproach = std::min(s.ClosestApproach, s.ProtectedDistance);
-    }
-  }
+  this->MeasureProtected(burr.Proxy, radius);
   s.Warning = s.ProtectedDistance < this->Settings.WarningDistance || s.Stopped;
 
   // Sum, clamp (eq. 6), ramp, send.
@@ -207,35 +261,7 @@ void DrillServo::Tick(const TickInfo& tick) noexcept {
   const Vec3 force = total * ramp;
   this->Device.WriteForce(xf.DeviceToRAS.RotateInverse(force));
 
-  s.Hip = hip;
-  s.Proxy = burr.Proxy;
-  s.Force = force;
-  s.Radius = radius;
-  s.BurrOn = on;
-  s.Contact = contact.InContact;
-  s.Embedded = contact.Embedded;
-  s.Clamped = clamped;
-  s.Restoring = this->Cut.Restoring();
-  s.Material = contact.Material > 0 ? contact.Material - 1 : -1;
-  s.CutMaterial = contact.CutMaterial > 0 ? contact.CutMaterial - 1 : -1;
-  s.Depth = burr.Depth;
-  for (size_t m = 0; m < materials.size(); ++m) s.RemovedMm3[m] = this->Cut.Removed(static_cast<int>(m));
-  s.RemovedTotalMm3 = this->Cut.RemovedTotal();
-  s.UndoableStrokes = this->Cut.UndoableStrokes();
-  s.Strokes = this->Cut.StrokesStarted();
-  s.LastStrokeLost = this->Cut.LastStrokeLost();
-  s.WatchdogTrips = this->Trips;
-  s.ObservedEnergy = burr.ObservedEnergy;
-  s.Stiffness = burr.Stiffness;
-  s.RampScale = ramp;
-  s.PeakForce = std::max(s.PeakForce, Norm(force));
-  uint32_t flags = 0;
-  if (on) flags |= DrillRecordFlags::BurrOn;
-  if (s.Contact) flags |= DrillRecordFlags::Contact;
-  if (s.Cutting) flags |= DrillRecordFlags::Cutting;
-  if (refused) flags |= DrillRecordFlags::Refused;
-  if (clamped) flags |= DrillRecordFlags::Clamped;
-  if (s.Embedded) flags |= DrillRecordFlags::Embedded;
+  const uint32_t flags = this->FillState(burr, hip, force, radius, on, clamped, refused, ramp);
   this->Publish(tick, flags);
 }
 

@@ -117,6 +117,12 @@ class DrillServo : public ServoTask {
 
  private:
   void Publish(const TickInfo& tick, uint32_t flags) noexcept;
+  // Tick's parts (the servo thread's; none allocates, locks or logs).
+  void ServeRequests() noexcept;
+  bool CutAhead(const BurrForce& burr, const Vec3& hip, double radius, double rpm, double dt) noexcept;
+  void MeasureProtected(const Vec3& proxy, double radius) noexcept;
+  uint32_t FillState(const BurrForce& burr, const Vec3& hip, const Vec3& force, double radius, bool on, bool clamped,
+                     bool refused, double ramp) noexcept;
 
   HapticDevice& Device;
   DrillVolume& Volume;
