@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <memory>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 #include <vtkNew.h>
@@ -177,9 +179,18 @@ nlohmann::json ServoJson(const DrillRunResult& result, const DrillRunOptions& ru
   return servo;
 }
 
-}  // namespace
+// What `roboplan drill` was asked: every option, read and checked once.
+struct DrillRequest {
+  bool Json = false, Replay = false, Block = false, Realtime = false;
+  bool VoxelGiven = false, FeedGiven = false, HasCT = false, HasModel = false, HasPicture = false;
+  int Cpu = -1;
+  double Radius = 0, Speed = 0, Voxel = 0.3, Rpm = 60000, Feed = 2, Shell = 0, Margin = 0, Timeout = -1;
+  Vec3 From, To, BlockLo{-20, -20, -20}, BlockHi{20, 20, 20};
+  std::string Segmentation, CT, Materials, Record, ReplayPath, Model, Picture;
+  std::vector<std::string> Segments, Protect;
+};
 
-int RunDrillCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
+ArgParser DrillParser() {
   ArgParser parser("drill",
                    "Drill a straight stroke into a bone with a spherical burr at the servo rate (simulated device): removed "
                    "volume per tissue, forces, servo and display timings.");
@@ -207,179 +218,191 @@ int RunDrillCommand(const std::vector<std::string>& args, std::ostream& out, std
       .Option("cpu", "N", "--realtime: pin the servo thread to CPU N and move the other threads off it (-1: not pinned)", "-1")
       .Flag("realtime", "run the 1 kHz servo thread and the 30 Hz display thread on the wall clock (default: the same "
                         "ticks scripted on one thread, as fast as the CPU allows)");
-  if (const auto exitCode = parser.ParseCommand(args, out, err)) return *exitCode;
-  const bool json = parser.Json();
-  const bool replay = parser.Has("replay");
-  int cpu = -1;
-  double radius = 0, speed = 0, voxel = 0.3, rpm = 60000, feed = 2, shell = 0, margin = 0, timeout = -1;
-  Vec3 from, to, blockLo{-20, -20, -20}, blockHi{20, 20, 20};
+  return parser;
+}
+
+// The options' values that do not depend on one another's checks (exit code 2 on a malformed one).
+bool ReadDrillNumbers(const ArgParser& parser, DrillRequest& q, std::ostream& err) {
   try {
-    voxel = parser.GetDouble("voxel");
-    cpu = static_cast<int>(parser.GetDouble("cpu"));
-    rpm = parser.GetDouble("rpm");
-    feed = parser.GetDouble("feed");
-    shell = parser.GetDouble("shell");
-    margin = parser.GetDouble("margin");
-    if (parser.Has("timeout")) timeout = parser.GetDouble("timeout");
+    q.Voxel = parser.GetDouble("voxel");
+    q.Cpu = static_cast<int>(parser.GetDouble("cpu"));
+    q.Rpm = parser.GetDouble("rpm");
+    q.Feed = parser.GetDouble("feed");
+    q.Shell = parser.GetDouble("shell");
+    q.Margin = parser.GetDouble("margin");
+    if (parser.Has("timeout")) q.Timeout = parser.GetDouble("timeout");
     const auto bounds = parser.GetDoubles("block-bounds", 6);
-    blockLo = {bounds[0], bounds[1], bounds[2]};
-    blockHi = {bounds[3], bounds[4], bounds[5]};
-    if (!replay) {
+    q.BlockLo = {bounds[0], bounds[1], bounds[2]};
+    q.BlockHi = {bounds[3], bounds[4], bounds[5]};
+    if (!q.Replay) {
       for (const char* required : {"burr-radius", "from", "to", "speed"})
         if (!parser.Has(required)) throw std::invalid_argument(std::string("--") + required + " is required (or --replay)");
-      radius = parser.GetDouble("burr-radius");
-      speed = parser.GetDouble("speed");
-      from = ToVec3(parser.GetDoubles("from", 3));
-      to = ToVec3(parser.GetDoubles("to", 3));
+      q.Radius = parser.GetDouble("burr-radius");
+      q.Speed = parser.GetDouble("speed");
+      q.From = ToVec3(parser.GetDoubles("from", 3));
+      q.To = ToVec3(parser.GetDoubles("to", 3));
     }
   } catch (const std::exception& e) {
     err << "roboplan drill: " << e.what() << "\n";
+    return false;
+  }
+  return true;
+}
+
+// The first range or combination the request breaks, or "" when it breaks none.
+std::string DrillRequestProblem(const DrillRequest& q, bool hasSegmentation, bool hasSegment) {
+  if (q.Block == hasSegmentation) return "give either --block or a segmentation file (with --segment)";
+  if (!q.Block && !hasSegment) return "--segment ID is required with a segmentation";
+  if (!(q.Voxel >= 0.05 && q.Voxel <= 5)) return "--voxel must be in [0.05, 5] mm";
+  if (!q.Replay && !(q.Radius >= 0.25 && q.Radius <= 10)) return "--burr-radius must be in [0.25, 10] mm";
+  if (!q.Replay && !(q.Speed > 0 && q.Speed <= 2000)) return "--speed must be in (0, 2000] mm/s";
+  if (!(q.Rpm >= 0 && q.Rpm <= 200000) || !(q.Feed > 0 && q.Feed <= 1000) || q.Shell < 0 || q.Margin < 0)
+    return "--rpm must be in [0, 200000], --feed positive, --shell and --margin not negative";
+  if (q.Block && !(q.BlockLo.x < q.BlockHi.x && q.BlockLo.y < q.BlockHi.y && q.BlockLo.z < q.BlockHi.z))
+    return "--block-bounds must give a box with R0 < R1, A0 < A1, S0 < S1";
+  return "";
+}
+
+// Parses and checks the command line; an exit code when the command ends here (help, bad options).
+std::optional<int> ParseDrillRequest(const std::vector<std::string>& args, std::ostream& out, std::ostream& err,
+                                     DrillRequest& q) {
+  ArgParser parser = DrillParser();
+  if (const auto exitCode = parser.ParseCommand(args, out, err)) return *exitCode;
+  q.Json = parser.Json();
+  q.Replay = parser.Has("replay");
+  if (!ReadDrillNumbers(parser, q, err)) return 2;
+  q.Block = parser.Has("block");
+  const std::string problem = DrillRequestProblem(q, parser.Has("segmentation"), parser.Has("segment"));
+  if (!problem.empty()) {
+    err << "roboplan drill: " << problem << "\n";
     return 2;
   }
-  const bool block = parser.Has("block");
-  if (block == parser.Has("segmentation")) {
-    err << "roboplan drill: give either --block or a segmentation file (with --segment)\n";
-    return 2;
-  }
-  if (!block && !parser.Has("segment")) {
-    err << "roboplan drill: --segment ID is required with a segmentation\n";
-    return 2;
-  }
-  if (!(voxel >= 0.05 && voxel <= 5)) {
-    err << "roboplan drill: --voxel must be in [0.05, 5] mm\n";
-    return 2;
-  }
-  if (!replay && !(radius >= 0.25 && radius <= 10)) {
-    err << "roboplan drill: --burr-radius must be in [0.25, 10] mm\n";
-    return 2;
-  }
-  if (!replay && !(speed > 0 && speed <= 2000)) {
-    err << "roboplan drill: --speed must be in (0, 2000] mm/s\n";
-    return 2;
-  }
-  if (!(rpm >= 0 && rpm <= 200000) || !(feed > 0 && feed <= 1000) || shell < 0 || margin < 0) {
-    err << "roboplan drill: --rpm must be in [0, 200000], --feed positive, --shell and --margin not negative\n";
-    return 2;
-  }
-  if (block && !(blockLo.x < blockHi.x && blockLo.y < blockHi.y && blockLo.z < blockHi.z)) {
-    err << "roboplan drill: --block-bounds must give a box with R0 < R1, A0 < A1, S0 < S1\n";
-    return 2;
-  }
-  TerminalProgress progress("drill", json);
+  q.Realtime = parser.Has("realtime");
+  q.VoxelGiven = parser.Has("voxel");
+  q.FeedGiven = parser.Has("feed");
+  q.HasCT = parser.Has("ct");
+  q.HasModel = parser.Has("model");
+  q.HasPicture = parser.Has("picture");
+  q.Segmentation = parser.Get("segmentation");
+  q.CT = parser.Get("ct");
+  q.Materials = parser.Get("materials");
+  q.Record = parser.Get("record");
+  q.ReplayPath = parser.Get("replay");
+  q.Model = parser.Get("model");
+  q.Picture = parser.Get("picture");
+  q.Segments = parser.GetAll("segment");
+  q.Protect = parser.GetAll("protect");
+  return std::nullopt;
+}
+
+// Everything a drill run made, declared in the order the single function declared it (same lifetimes).
+struct DrillSession {
+  DrillRecording Recording;
+  MaterialTable Table;
+  std::vector<Material> Materials;
+  std::unique_ptr<DrillVolume> Bone = std::make_unique<DrillVolume>();
+  std::unique_ptr<DrillVolume> ProtectedSurface = std::make_unique<DrillVolume>();
+  DrillBoneReport Built;
+  std::vector<std::string> BoneNames;
+  TriangleMesh ProtectedMesh;
+  BVH ProtectedTree;
+  std::shared_ptr<WaypointTrajectory> Path = std::make_shared<WaypointTrajectory>();
+  std::unique_ptr<SimulatedDevice> Device;
+  std::unique_ptr<DrillServo> Servo;
+  std::unique_ptr<DrillDisplay> Display;
+  vtkSmartPointer<vtkPolyData> Mesh;
+  DrillRunOptions Run;
+  DrillRunResult Result;
+};
+
+int Fail(std::ostream& err, const std::string& message) {
+  err << "roboplan drill: " << message << "\n";
+  return 1;
+}
+
+// The --replay recording: the stroke, burr and (unless given) voxel and feed come from it.
+int ReadReplay(DrillRequest& q, DrillSession& s, std::ostream& err) {
   std::string error;
+  if (!DrillRecording::Read(q.ReplayPath, s.Recording, error)) return Fail(err, error);
+  q.From = s.Recording.Lines.front().Record.Hip;
+  q.To = s.Recording.Lines.back().Record.Hip;
+  q.Radius = s.Recording.Lines.front().Record.Radius;
+  if (s.Recording.Info.Voxel > 0 && !q.VoxelGiven) q.Voxel = s.Recording.Info.Voxel;
+  if (s.Recording.Info.FeedRate > 0 && !q.FeedGiven) q.Feed = s.Recording.Info.FeedRate;
+  return 0;
+}
 
-  // ---- the recorded path, when replaying
-  DrillRecording recording;
-  if (replay) {
-    if (!DrillRecording::Read(parser.Get("replay"), recording, error)) {
-      err << "roboplan drill: " << error << "\n";
-      return 1;
-    }
-    from = recording.Lines.front().Record.Hip;
-    to = recording.Lines.back().Record.Hip;
-    radius = recording.Lines.front().Record.Radius;
-    if (recording.Info.Voxel > 0 && !parser.Has("voxel")) voxel = recording.Info.Voxel;
-    if (recording.Info.FeedRate > 0 && !parser.Has("feed")) feed = recording.Info.FeedRate;
-  }
-
-  // ---- materials and the voxel bone
-  MaterialTable table;
-  if (!LoadMaterialTable(table, error, parser.Get("materials"))) {
-    err << "roboplan drill: " << error << "\n";
-    return 1;
-  }
-  const std::vector<Material> materials = DrillableMaterials(table);
-  if (materials.empty()) {
-    err << "roboplan drill: " << table.Source() << " has no drillable material (no \"hardness\")\n";
-    return 1;
-  }
-  auto bone = std::make_unique<DrillVolume>();
-  auto protectedSurface = std::make_unique<DrillVolume>();
-  DrillBoneReport built;
-  std::vector<std::string> boneNames;
+// The analytic block of bone (--block).
+int BuildBlockBone(const DrillRequest& q, DrillSession& s, std::ostream& err) {
+  std::string error;
   const auto buildStart = std::chrono::steady_clock::now();
-  if (block) {
-    const uint8_t cortical = FindDrillMaterial(materials, "bone") ? FindDrillMaterial(materials, "bone") : 1;
-    const uint8_t trabecular = FindDrillMaterial(materials, "trabecular bone");
-    if (shell > 0 && trabecular == 0) {
-      err << "roboplan drill: --shell needs a drillable \"trabecular bone\" in the material table\n";
-      return 1;
-    }
-    if (!BuildAnalyticBone(BlockBone(blockLo, blockHi, cortical, shell, trabecular), voxel, materials, *bone, error)) {
-      err << "roboplan drill: " << error << "\n";
-      return 1;
-    }
-    built.GridVoxels = bone->Grid().VoxelCount();
-    built.StoredBlocks = bone->AllocatedBlocks();
-    built.MemoryMB = bone->MemoryBytes() / 1e6;
-    built.VolumeMm3 = bone->OriginalVolumes();
-    built.Seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - buildStart).count();
-    boneNames = {"block"};
-  } else {
-    vtkNew<vtkRPSegmentationNode> segmentation;
-    if (!ReadLabels(parser.Get("segmentation"), segmentation, error)) {
-      err << "roboplan drill: " << error << "\n";
-      return 1;
-    }
-    DrillBoneSource source;
-    source.Labels = FromNode(segmentation);
-    std::vector<std::string> protectedNames;
-    if (!FindSegments(segmentation, parser.GetAll("segment"), source.BoneLabels, source.BoneTissues, boneNames, error) ||
-        !FindSegments(segmentation, parser.GetAll("protect"), source.ProtectedLabels, source.ProtectedTissues,
-                      protectedNames, error)) {
-      err << "roboplan drill: " << error << "\n";
-      return 1;
-    }
-    if (parser.Has("ct") && !ReadVolume(parser.Get("ct"), source.CT, error)) {
-      err << "roboplan drill: the CT: " << error << "\n";
-      return 1;
-    }
-    source.Spacing = voxel;
-    if (margin > 0) {
-      const Vec3 pad{margin + radius, margin + radius, margin + radius};
-      source.HasRegion = true;
-      source.RegionLo = Min(from, to) - pad;
-      source.RegionHi = Max(from, to) + pad;
-    }
-    if (!BuildDrillBone(source, materials, *bone, protectedSurface.get(), built, error,
-                        [&](double f, const std::string& m) { progress.Report(0.3 * f, "voxel bone: " + m); })) {
-      err << "roboplan drill: " << error << "\n";
-      return 1;
-    }
-  }
+  const uint8_t cortical = FindDrillMaterial(s.Materials, "bone") ? FindDrillMaterial(s.Materials, "bone") : 1;
+  const uint8_t trabecular = FindDrillMaterial(s.Materials, "trabecular bone");
+  if (q.Shell > 0 && trabecular == 0)
+    return Fail(err, "--shell needs a drillable \"trabecular bone\" in the material table");
+  if (!BuildAnalyticBone(BlockBone(q.BlockLo, q.BlockHi, cortical, q.Shell, trabecular), q.Voxel, s.Materials, *s.Bone, error))
+    return Fail(err, error);
+  s.Built.GridVoxels = s.Bone->Grid().VoxelCount();
+  s.Built.StoredBlocks = s.Bone->AllocatedBlocks();
+  s.Built.MemoryMB = s.Bone->MemoryBytes() / 1e6;
+  s.Built.VolumeMm3 = s.Bone->OriginalVolumes();
+  s.Built.Seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - buildStart).count();
+  s.BoneNames = {"block"};
+  return 0;
+}
 
-  // ---- the protected structure's surface (distance read-out)
-  TriangleMesh protectedMesh;
-  BVH protectedTree;
-  if (built.HasProtected) {
-    BlockMesher mesher(*protectedSurface);
-    mesher.ContourAll();
-    for (const BlockMesh& b : mesher.Blocks()) {
-      const int32_t base = static_cast<int32_t>(protectedMesh.Points.size());
-      for (size_t p = 0; p < b.Points.size(); p += 3) protectedMesh.Points.push_back({b.Points[p], b.Points[p + 1], b.Points[p + 2]});
-      for (size_t t = 0; t < b.Triangles.size(); t += 3)
-        protectedMesh.Triangles.push_back({base + int32_t(b.Triangles[t]), base + int32_t(b.Triangles[t + 1]),
+// The voxel bone (and protected surface) from a segmentation's segments.
+int BuildSegmentedBone(const DrillRequest& q, DrillSession& s, TerminalProgress& progress, std::ostream& err) {
+  std::string error;
+  vtkNew<vtkRPSegmentationNode> segmentation;
+  if (!ReadLabels(q.Segmentation, segmentation, error)) return Fail(err, error);
+  DrillBoneSource source;
+  source.Labels = FromNode(segmentation);
+  std::vector<std::string> protectedNames;
+  if (!FindSegments(segmentation, q.Segments, source.BoneLabels, source.BoneTissues, s.BoneNames, error) ||
+      !FindSegments(segmentation, q.Protect, source.ProtectedLabels, source.ProtectedTissues, protectedNames, error))
+    return Fail(err, error);
+  if (q.HasCT && !ReadVolume(q.CT, source.CT, error)) return Fail(err, "the CT: " + error);
+  source.Spacing = q.Voxel;
+  if (q.Margin > 0) {
+    const Vec3 pad{q.Margin + q.Radius, q.Margin + q.Radius, q.Margin + q.Radius};
+    source.HasRegion = true;
+    source.RegionLo = Min(q.From, q.To) - pad;
+    source.RegionHi = Max(q.From, q.To) + pad;
+  }
+  if (!BuildDrillBone(source, s.Materials, *s.Bone, s.ProtectedSurface.get(), s.Built, error,
+                      [&](double f, const std::string& m) { progress.Report(0.3 * f, "voxel bone: " + m); }))
+    return Fail(err, error);
+  return 0;
+}
+
+// The protected structure's surface (distance read-out).
+void BuildProtectedTree(DrillSession& s) {
+  if (!s.Built.HasProtected) return;
+  BlockMesher mesher(*s.ProtectedSurface);
+  mesher.ContourAll();
+  for (const BlockMesh& b : mesher.Blocks()) {
+    const int32_t base = static_cast<int32_t>(s.ProtectedMesh.Points.size());
+    for (size_t p = 0; p < b.Points.size(); p += 3) s.ProtectedMesh.Points.push_back({b.Points[p], b.Points[p + 1], b.Points[p + 2]});
+    for (size_t t = 0; t < b.Triangles.size(); t += 3)
+      s.ProtectedMesh.Triangles.push_back({base + int32_t(b.Triangles[t]), base + int32_t(b.Triangles[t + 1]),
                                            base + int32_t(b.Triangles[t + 2])});
-    }
-    protectedTree.Build(protectedMesh);
   }
+  s.ProtectedTree.Build(s.ProtectedMesh);
+}
 
-  // ---- the device, the servo, the display
-  auto path = std::make_shared<WaypointTrajectory>();
-  DrillControl on{true, radius, rpm};
-  std::function<DrillControl(double)> schedule = [on](double) { return on; };
-  if (replay) {
+// The burr's path and its on/off, radius and rpm over time: the straight stroke, or the recording.
+int PlanPath(const DrillRequest& q, DrillSession& s, std::function<DrillControl(double)>& schedule, std::ostream& err) {
+  std::string error;
+  if (q.Replay) {
     std::vector<double> times;
     std::vector<Vec3> points;
-    for (const DrillRecordLine& l : recording.Lines) {
+    for (const DrillRecordLine& l : s.Recording.Lines) {
       times.push_back(l.Record.Time);
       points.push_back(l.Record.Hip);
     }
-    if (!path->Set(times, points, error)) {
-      err << "roboplan drill: " << parser.Get("replay") << ": " << error << "\n";
-      return 1;
-    }
-    const auto* lines = &recording.Lines;
+    if (!s.Path->Set(times, points, error)) return Fail(err, q.ReplayPath + ": " + error);
+    const auto* lines = &s.Recording.Lines;
     schedule = [lines](double t) {
       auto it = std::upper_bound(lines->begin(), lines->end(), t,
                                  [](double time, const DrillRecordLine& l) { return time < l.Record.Time; });
@@ -387,99 +410,140 @@ int RunDrillCommand(const std::vector<std::string>& args, std::ostream& out, std
       return DrillControl{(l.Record.Flags & DrillRecordFlags::BurrOn) != 0, l.Record.Radius, l.Rpm};
     };
   } else {
-    path->Set({0.0, 1e-3, 1e-3 + std::max(Norm(to - from), 1e-6) / speed}, {from, from, to}, error);
+    s.Path->Set({0.0, 1e-3, 1e-3 + std::max(Norm(q.To - q.From), 1e-6) / q.Speed}, {q.From, q.From, q.To}, error);
   }
-  SimulatedDevice device;
-  device.SetTrajectory(path);
-  DrillServoOptions servoOptions;
-  servoOptions.FeedRate = feed;
-  servoOptions.RampSeconds = 0;  // the burr starts in the bone: no force ramp to hide a jump
-  auto servo = std::make_unique<DrillServo>(device, *bone, servoOptions);
-  if (built.HasProtected) servo->SetProtectedSurface(&protectedTree);
-  DrillControl start = replay ? schedule(0) : on;
-  if (replay && !recording.Info.StartCut) start.BurrOn = false;  // a session that began outside the bone
-  servo->PlaceBurr(from, start);
-  DrillDisplay display(*bone);
-  vtkSmartPointer<vtkPolyData> mesh = display.Initialize();
+  return 0;
+}
 
-  DrillRunOptions run;
-  run.Realtime = parser.Has("realtime");
+// The device, the servo and the display, then the run itself.
+int DriveDrill(const DrillRequest& q, DrillSession& s, TerminalProgress& progress, std::ostream& err) {
+  std::string error;
+  const DrillControl on{true, q.Radius, q.Rpm};
+  std::function<DrillControl(double)> schedule = [on](double) { return on; };
+  if (const int code = PlanPath(q, s, schedule, err)) return code;
+  s.Device = std::make_unique<SimulatedDevice>();
+  s.Device->SetTrajectory(s.Path);
+  DrillServoOptions servoOptions;
+  servoOptions.FeedRate = q.Feed;
+  servoOptions.RampSeconds = 0;  // the burr starts in the bone: no force ramp to hide a jump
+  s.Servo = std::make_unique<DrillServo>(*s.Device, *s.Bone, servoOptions);
+  if (s.Built.HasProtected) s.Servo->SetProtectedSurface(&s.ProtectedTree);
+  DrillControl start = q.Replay ? schedule(0) : on;
+  if (q.Replay && !s.Recording.Info.StartCut) start.BurrOn = false;  // a session that began outside the bone
+  s.Servo->PlaceBurr(q.From, start);
+  s.Display = std::make_unique<DrillDisplay>(*s.Bone);
+  s.Mesh = s.Display->Initialize();
+
+  DrillRunOptions& run = s.Run;
+  run.Realtime = q.Realtime;
   run.Schedule = schedule;
-  const double length = Norm(to - from);
-  const double tolerance = std::max(0.01, 0.05 * voxel);
-  if (replay) {
-    run.MaxSeconds = recording.Lines.back().Record.Time + 1e-3;
+  const double length = Norm(q.To - q.From);
+  const double tolerance = std::max(0.01, 0.05 * q.Voxel);
+  const Vec3 to = q.To;
+  if (q.Replay) {
+    run.MaxSeconds = s.Recording.Lines.back().Record.Time + 1e-3;
   } else {
-    run.MaxSeconds = timeout > 0 ? timeout : 3.0 * length / std::min(speed, feed) + 5.0;
-    run.Finished = [to, tolerance](const DrillState& s) { return Norm(s.Proxy - to) < tolerance || s.Stopped; };
+    run.MaxSeconds = q.Timeout > 0 ? q.Timeout : 3.0 * length / std::min(q.Speed, q.Feed) + 5.0;
+    run.Finished = [to, tolerance](const DrillState& state) { return Norm(state.Proxy - to) < tolerance || state.Stopped; };
   }
-  run.RecordPath = parser.Get("record");
-  run.RecordInfo = {voxel, feed, servoOptions.ReferenceRpm, replay ? recording.Info.StartCut : true};
-  run.OnMesh = [&mesh](vtkPolyData* m) { mesh = m; };
+  run.RecordPath = q.Record;
+  run.RecordInfo = {q.Voxel, q.Feed, servoOptions.ReferenceRpm, q.Replay ? s.Recording.Info.StartCut : true};
+  run.OnMesh = [&s](vtkPolyData* m) { s.Mesh = m; };
   run.Progress = [&](double f, const std::string& m) { progress.Report(0.3 + 0.65 * f, m); };
   run.Loop.RequestRealTimePriority = run.Realtime;
-  run.Loop.CpuAffinity = cpu;
-  DrillRunResult result;
-  if (!RunDrill(*servo, display, run, result, error)) {
-    err << "roboplan drill: " << error << "\n";
-    return 1;
-  }
-  progress.Report(0.97, "measuring");
+  run.Loop.CpuAffinity = q.Cpu;
+  if (!RunDrill(*s.Servo, *s.Display, run, s.Result, error)) return Fail(err, error);
+  return 0;
+}
 
-  // ---- figures
-  const DrillState& s = result.Final;
-  const bool reached = Norm(s.Proxy - to) < tolerance;
-  const std::string stopReason = replay ? "replayed" : reached ? "reached" : (s.Stopped ? "protected" : "timeout");
-  std::vector<double> contourMs, blocks, assembleMs;
-  for (const DisplayFrame& f : result.Frames) {
-    contourMs.push_back(f.ContourMs);
+// Runs the drill the request describes: materials, voxel bone, protected surface, servo and display.
+int RunDrillSession(DrillRequest& q, DrillSession& s, TerminalProgress& progress, std::ostream& err) {
+  std::string error;
+  if (q.Replay)
+    if (const int code = ReadReplay(q, s, err)) return code;
+  if (!LoadMaterialTable(s.Table, error, q.Materials)) return Fail(err, error);
+  s.Materials = DrillableMaterials(s.Table);
+  if (s.Materials.empty()) return Fail(err, s.Table.Source() + " has no drillable material (no \"hardness\")");
+  if (const int code = q.Block ? BuildBlockBone(q, s, err) : BuildSegmentedBone(q, s, progress, err)) return code;
+  BuildProtectedTree(s);
+  if (const int code = DriveDrill(q, s, progress, err)) return code;
+  progress.Report(0.97, "measuring");
+  return 0;
+}
+
+// The figures a run's report gives, measured once for the JSON and the text.
+struct DrillFigures {
+  double Length = 0;
+  bool Reached = false;
+  std::string StopReason;
+  std::vector<double> ContourMs, AssembleMs;
+  double MeanBlocks = 0, WholeMs = 0;
+  size_t WholeTriangles = 0;
+  double Peak = 0, CuttingForce = 0;
+  size_t Clamped = 0, CuttingTicks = 0;
+};
+
+DrillFigures MeasureDrill(const DrillRequest& q, const DrillSession& session) {
+  DrillFigures g;
+  const DrillState& s = session.Result.Final;
+  g.Length = Norm(q.To - q.From);
+  g.Reached = Norm(s.Proxy - q.To) < std::max(0.01, 0.05 * q.Voxel);
+  g.StopReason = q.Replay ? "replayed" : g.Reached ? "reached" : (s.Stopped ? "protected" : "timeout");
+  std::vector<double> blocks;
+  for (const DisplayFrame& f : session.Result.Frames) {
+    g.ContourMs.push_back(f.ContourMs);
     blocks.push_back(double(f.Blocks));
-    assembleMs.push_back(f.AssembleMs);
+    g.AssembleMs.push_back(f.AssembleMs);
   }
-  double meanBlocks = 0;
-  for (double b : blocks) meanBlocks += b / std::max<size_t>(1, blocks.size());
+  for (double b : blocks) g.MeanBlocks += b / std::max<size_t>(1, blocks.size());
   // The whole bone contoured from scratch, once, for comparison (same code, every block).
-  BlockMesher whole(*bone);
+  BlockMesher whole(*session.Bone);
   const auto wholeStart = std::chrono::steady_clock::now();
   whole.ContourAll();
-  const double wholeMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - wholeStart).count();
-  double peak = 0, cuttingForce = 0;
-  size_t clamped = 0, cuttingTicks = 0;
-  for (const DrillRecordLine& l : result.Records) {
+  g.WholeMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - wholeStart).count();
+  g.WholeTriangles = whole.TriangleCount();
+  for (const DrillRecordLine& l : session.Result.Records) {
     const double f = Norm(l.Record.Force);
-    peak = std::max(peak, f);
-    clamped += (l.Record.Flags & DrillRecordFlags::Clamped) != 0;
-    if (l.Record.Flags & DrillRecordFlags::Cutting) cuttingForce += f, ++cuttingTicks;
+    g.Peak = std::max(g.Peak, f);
+    g.Clamped += (l.Record.Flags & DrillRecordFlags::Clamped) != 0;
+    if (l.Record.Flags & DrillRecordFlags::Cutting) g.CuttingForce += f, ++g.CuttingTicks;
   }
+  return g;
+}
+
+nlohmann::json DrillJson(const DrillRequest& q, const DrillSession& session, const DrillFigures& g) {
+  const DrillState& s = session.Result.Final;
+  const DrillRunResult& result = session.Result;
+  const DrillBoneReport& built = session.Built;
   nlohmann::json removedByTissue = nlohmann::json::object(), volumeByTissue = nlohmann::json::object();
-  for (size_t m = 0; m < materials.size(); ++m) {
-    removedByTissue[materials[m].Tissue] = s.RemovedMm3[m];
-    volumeByTissue[materials[m].Tissue] = m < built.VolumeMm3.size() ? built.VolumeMm3[m] : 0.0;
+  for (size_t m = 0; m < session.Materials.size(); ++m) {
+    removedByTissue[session.Materials[m].Tissue] = s.RemovedMm3[m];
+    volumeByTissue[session.Materials[m].Tissue] = m < built.VolumeMm3.size() ? built.VolumeMm3[m] : 0.0;
   }
-  const double farthest = FarthestChangeFromPath(*bone, {from, to});
+  const double farthest = FarthestChangeFromPath(*session.Bone, {q.From, q.To});
   nlohmann::json doc = {
       {"bone",
-       {{"source", block ? std::string("block") : parser.Get("segmentation")},
-        {"segments", boneNames},
-        {"voxelMm", voxel},
+       {{"source", q.Block ? std::string("block") : q.Segmentation},
+        {"segments", session.BoneNames},
+        {"voxelMm", q.Voxel},
         {"gridVoxels", built.GridVoxels},
         {"storedBlocks", built.StoredBlocks},
         {"memoryMB", built.MemoryMB},
         {"buildSeconds", built.Seconds},
         {"volumeMm3", volumeByTissue},
         {"materialsFromCT", built.UsedCT}}},
-      {"burr", {{"radiusMm", radius}, {"rpm", rpm}, {"feedRateMmPerS", feed}}},
+      {"burr", {{"radiusMm", q.Radius}, {"rpm", q.Rpm}, {"feedRateMmPerS", q.Feed}}},
       {"stroke",
-       {{"from", Json(from)},
-        {"to", Json(to)},
-        {"lengthMm", length},
-        {"speedMmPerS", replay ? 0.0 : speed},
-        {"replay", replay ? parser.Get("replay") : std::string()},
-        {"reachedTarget", reached},
-        {"stopReason", stopReason},
+       {{"from", Json(q.From)},
+        {"to", Json(q.To)},
+        {"lengthMm", g.Length},
+        {"speedMmPerS", q.Replay ? 0.0 : q.Speed},
+        {"replay", q.Replay ? q.ReplayPath : std::string()},
+        {"reachedTarget", g.Reached},
+        {"stopReason", g.StopReason},
         {"sessionSeconds", s.Time},
         {"wallSeconds", result.WallSeconds},
-        {"realtime", run.Realtime}}},
+        {"realtime", session.Run.Realtime}}},
       {"removedVolumeMm3", s.RemovedTotalMm3},
       {"removedByTissueMm3", removedByTissue},
       {"farthestRemovalFromPathMm", farthest},
@@ -487,94 +551,114 @@ int RunDrillCommand(const std::vector<std::string>& args, std::ostream& out, std
       {"servoTickP99Us", result.TickCompute.P99Us},
       {"servoTickMaxUs", result.TickCompute.MaxUs},
       {"ticks", result.Ticks},
-      {"dirtyBlockRecontourP95Ms", NearestRankPercentile(contourMs, 0.95)},
-      {"dirtyBlocksPerFrameMean", meanBlocks},
-      {"meshAssembleP95Ms", NearestRankPercentile(assembleMs, 0.95)},
+      {"dirtyBlockRecontourP95Ms", NearestRankPercentile(g.ContourMs, 0.95)},
+      {"dirtyBlocksPerFrameMean", g.MeanBlocks},
+      {"meshAssembleP95Ms", NearestRankPercentile(g.AssembleMs, 0.95)},
       {"displayFrames", result.Frames.size()},
-      {"wholeBoneRecontourMs", wholeMs},
-      {"wholeBoneTriangles", whole.TriangleCount()},
-      {"peakForceN", peak},
-      {"meanCuttingForceN", cuttingTicks ? cuttingForce / cuttingTicks : 0.0},
-      {"clampedTicks", clamped},
+      {"wholeBoneRecontourMs", g.WholeMs},
+      {"wholeBoneTriangles", g.WholeTriangles},
+      {"peakForceN", g.Peak},
+      {"meanCuttingForceN", g.CuttingTicks ? g.CuttingForce / g.CuttingTicks : 0.0},
+      {"clampedTicks", g.Clamped},
       {"protected",
-       {{"segments", parser.GetAll("protect")},
+       {{"segments", q.Protect},
         {"refusedTicks", s.RefusedTicks},
         {"stopped", s.Stopped},
         {"closestApproachMm", std::isfinite(s.ClosestApproach) ? nlohmann::json(s.ClosestApproach) : nlohmann::json(nullptr)}}}};
-  doc["servo"] = ServoJson(result, run);
-  if (block) {
+  doc["servo"] = ServoJson(result, session.Run);
+  if (q.Block) {
     bool exact = false;
-    const double expected = CapsuleVolumeInBox(from, reached ? to : s.Proxy, radius, blockLo, blockHi, exact);
+    const double expected = CapsuleVolumeInBox(q.From, g.Reached ? q.To : s.Proxy, q.Radius, q.BlockLo, q.BlockHi, exact);
     doc["expectedVolumeMm3"] = expected;
     doc["expectedMethod"] = exact ? "analytic: pi r^2 L + 4/3 pi r^3" : "numerical: the capsule inside the block";
     doc["volumeErrorPercent"] = expected > 0 ? 100.0 * (s.RemovedTotalMm3 - expected) / expected : 0.0;
   }
-  // ---- outputs
-  nlohmann::json outputs = nlohmann::json::object();
-  if (!run.RecordPath.empty()) outputs["recording"] = run.RecordPath;
-  if (parser.Has("model")) {
-    if (!WriteModelFile(parser.Get("model"), mesh, error)) {
-      err << "roboplan drill: " << error << "\n";
-      return 1;
-    }
-    outputs["model"] = parser.Get("model");
+  return doc;
+}
+
+// Writes the --model and --picture files; their names go into the report's "outputs".
+int WriteDrillOutputs(const DrillRequest& q, const DrillSession& session, nlohmann::json& outputs, std::ostream& err) {
+  std::string error;
+  if (!session.Run.RecordPath.empty()) outputs["recording"] = session.Run.RecordPath;
+  if (q.HasModel) {
+    if (!WriteModelFile(q.Model, session.Mesh, error)) return Fail(err, error);
+    outputs["model"] = q.Model;
   }
-  if (parser.Has("picture")) {
+  if (q.HasPicture) {
     TunnelPicture picture;
-    picture.Bone = mesh;
-    picture.Volume = bone.get();
-    picture.Materials = materials;
-    picture.From = from;
-    picture.To = to;
-    picture.Radius = radius;
-    for (const DrillRecordLine& l : result.Records) picture.Path.push_back(l.Record.Proxy);
-    if (built.HasProtected) picture.Protected = TriangleMeshToPolyData(protectedMesh);
-    if (!WriteTunnelPicture(parser.Get("picture"), picture, error)) {
-      err << "roboplan drill: " << error << "\n";
-      return 1;
-    }
-    outputs["picture"] = parser.Get("picture");
+    picture.Bone = session.Mesh;
+    picture.Volume = session.Bone.get();
+    picture.Materials = session.Materials;
+    picture.From = q.From;
+    picture.To = q.To;
+    picture.Radius = q.Radius;
+    for (const DrillRecordLine& l : session.Result.Records) picture.Path.push_back(l.Record.Proxy);
+    if (session.Built.HasProtected) picture.Protected = TriangleMeshToPolyData(session.ProtectedMesh);
+    if (!WriteTunnelPicture(q.Picture, picture, error)) return Fail(err, error);
+    outputs["picture"] = q.Picture;
   }
+  return 0;
+}
+
+void ReportDrillText(const DrillRequest& q, const DrillSession& session, const DrillFigures& g, const nlohmann::json& doc,
+                     std::ostream& out) {
+  const DrillState& s = session.Result.Final;
+  const DrillRunResult& result = session.Result;
+  const DrillBoneReport& built = session.Built;
+  char line[512];
+  std::snprintf(line, sizeof line, "bone: %s at %.2f mm, %zu blocks (%.1f MB), built in %.2f s\n",
+                q.Block ? "block" : q.Segmentation.c_str(), q.Voxel, built.StoredBlocks, built.MemoryMB, built.Seconds);
+  out << line;
+  std::snprintf(line, sizeof line, "stroke: %.2f mm with a %.2f mm burr, %s after %.2f s\n", g.Length, q.Radius,
+                g.StopReason.c_str(), s.Time);
+  out << line;
+  std::snprintf(line, sizeof line, "removed: %.2f mm^3", s.RemovedTotalMm3);
+  out << line;
+  for (size_t m = 0; m < session.Materials.size(); ++m)
+    if (s.RemovedMm3[m] > 0) {
+      std::snprintf(line, sizeof line, ", %s %.2f", session.Materials[m].Tissue.c_str(), s.RemovedMm3[m]);
+      out << line;
+    }
+  if (q.Block) {
+    std::snprintf(line, sizeof line, " (expected %.2f, %+.2f %%)", doc["expectedVolumeMm3"].get<double>(),
+                  doc["volumeErrorPercent"].get<double>());
+    out << line;
+  }
+  out << "\n";
+  std::snprintf(line, sizeof line, "servo tick: p50 %.1f us, p99 %.1f us over %llu ticks\n", result.TickCompute.P50Us,
+                result.TickCompute.P99Us, static_cast<unsigned long long>(result.Ticks));
+  out << line;
+  out << "servo load: " << MachineLoadSummary(result.Load) << "\n";
+  std::snprintf(line, sizeof line, "display: %zu frames, dirty-block re-contour p95 %.2f ms (%.1f blocks), whole bone %.1f ms\n",
+                result.Frames.size(), NearestRankPercentile(g.ContourMs, 0.95), g.MeanBlocks, g.WholeMs);
+  out << line;
+  std::snprintf(line, sizeof line, "force: peak %.2f N, clamped %zu ticks\n", g.Peak, g.Clamped);
+  out << line;
+  if (built.HasProtected) {
+    std::snprintf(line, sizeof line, "protected: closest approach %.2f mm, %s\n", s.ClosestApproach,
+                  s.Stopped ? "the burr was stopped there" : "not reached");
+    out << line;
+  }
+}
+
+}  // namespace
+
+int RunDrillCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
+  DrillRequest request;
+  if (const auto exitCode = ParseDrillRequest(args, out, err, request)) return *exitCode;
+  TerminalProgress progress("drill", request.Json);
+  DrillSession session;
+  if (const int code = RunDrillSession(request, session, progress, err)) return code;
+  const DrillFigures figures = MeasureDrill(request, session);
+  nlohmann::json doc = DrillJson(request, session, figures);
+  nlohmann::json outputs = nlohmann::json::object();
+  if (const int code = WriteDrillOutputs(request, session, outputs, err)) return code;
   doc["outputs"] = outputs;
   progress.Report(1.0, "done");
-  if (json) {
+  if (request.Json)
     out << doc.dump(2) << "\n";
-  } else {
-    char line[512];
-    std::snprintf(line, sizeof line, "bone: %s at %.2f mm, %zu blocks (%.1f MB), built in %.2f s\n",
-                  block ? "block" : parser.Get("segmentation").c_str(), voxel, built.StoredBlocks, built.MemoryMB, built.Seconds);
-    out << line;
-    std::snprintf(line, sizeof line, "stroke: %.2f mm with a %.2f mm burr, %s after %.2f s\n", length, radius,
-                  stopReason.c_str(), s.Time);
-    out << line;
-    std::snprintf(line, sizeof line, "removed: %.2f mm^3", s.RemovedTotalMm3);
-    out << line;
-    for (size_t m = 0; m < materials.size(); ++m)
-      if (s.RemovedMm3[m] > 0) {
-        std::snprintf(line, sizeof line, ", %s %.2f", materials[m].Tissue.c_str(), s.RemovedMm3[m]);
-        out << line;
-      }
-    if (block) {
-      std::snprintf(line, sizeof line, " (expected %.2f, %+.2f %%)", doc["expectedVolumeMm3"].get<double>(),
-                    doc["volumeErrorPercent"].get<double>());
-      out << line;
-    }
-    out << "\n";
-    std::snprintf(line, sizeof line, "servo tick: p50 %.1f us, p99 %.1f us over %llu ticks\n", result.TickCompute.P50Us,
-                  result.TickCompute.P99Us, static_cast<unsigned long long>(result.Ticks));
-    out << line;
-    out << "servo load: " << MachineLoadSummary(result.Load) << "\n";
-    std::snprintf(line, sizeof line, "display: %zu frames, dirty-block re-contour p95 %.2f ms (%.1f blocks), whole bone %.1f ms\n",
-                  result.Frames.size(), NearestRankPercentile(contourMs, 0.95), meanBlocks, wholeMs);
-    out << line;
-    std::snprintf(line, sizeof line, "force: peak %.2f N, clamped %zu ticks\n", peak, clamped);
-    out << line;
-    if (built.HasProtected) {
-      std::snprintf(line, sizeof line, "protected: closest approach %.2f mm, %s\n", s.ClosestApproach,
-                    s.Stopped ? "the burr was stopped there" : "not reached");
-      out << line;
-    }
-  }
+  else
+    ReportDrillText(request, session, figures, doc, out);
   return 0;
 }
 
