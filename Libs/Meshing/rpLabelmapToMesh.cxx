@@ -351,19 +351,10 @@ struct PointsView {
 void ComputeVertexNormals(vtkPolyData* mesh) {
   const vtkIdType np = mesh->GetNumberOfPoints();
   std::vector<double> acc(static_cast<size_t>(np) * 3, 0.0);
-  vtkCellArray* polys = mesh->GetPolys();
-  vtkPoints* points = mesh->GetPoints();
-  vtkIdType n;
-  const vtkIdType* ids;
-  double a[3], b[3], c[3];
-  for (polys->InitTraversal(); polys->GetNextCell(n, ids);) {
-    if (n != 3) continue;
-    points->GetPoint(ids[0], a), points->GetPoint(ids[1], b), points->GetPoint(ids[2], c);
-    double f[3];
-    TriangleCross(a, b, c, f);
+  ForEachTriangle(mesh, [&](const vtkIdType* ids, const double*, const double*, const double*, const double* f) {
     for (int t = 0; t < 3; ++t)
       for (int d = 0; d < 3; ++d) acc[static_cast<size_t>(ids[t]) * 3 + d] += f[d];
-  }
+  });
   vtkNew<vtkFloatArray> normals;
   normals->SetName("Normals");
   normals->SetNumberOfComponents(3);
@@ -398,20 +389,11 @@ void OrientOutward(vtkPolyData* mesh) {
   // Normals must agree with the (now outward) triangles: compare with face normals in bulk.
   vtkDataArray* normals = mesh->GetPointData()->GetNormals();
   if (!normals) return;
-  double agreement = 0;
-  vtkCellArray* polys = mesh->GetPolys();
-  vtkPoints* points = mesh->GetPoints();
-  vtkIdType n;
-  const vtkIdType* ids;
-  double a[3], b[3], c[3], nv[3];
-  for (polys->InitTraversal(); polys->GetNextCell(n, ids);) {
-    if (n != 3) continue;
-    points->GetPoint(ids[0], a), points->GetPoint(ids[1], b), points->GetPoint(ids[2], c);
-    double f[3];
-    TriangleCross(a, b, c, f);
+  double agreement = 0, nv[3];
+  ForEachTriangle(mesh, [&](const vtkIdType* ids, const double*, const double*, const double*, const double* f) {
     normals->GetTuple(ids[0], nv);
     agreement += f[0] * nv[0] + f[1] * nv[1] + f[2] * nv[2];
-  }
+  });
   if (agreement < 0) {
     for (vtkIdType id = 0; id < normals->GetNumberOfTuples(); ++id) {
       normals->GetTuple(id, nv);

@@ -16,11 +16,14 @@
 #include <string>
 #include <vector>
 
+#include <vtkCellArray.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+
 #include "rpProgress.h"
 
 class vtkImageData;
 class vtkMatrix4x4;
-class vtkPolyData;
 
 namespace rp {
 
@@ -97,6 +100,25 @@ void FillMeshStats(vtkPolyData* mesh, MeshStats& stats);
 inline void TriangleCross(const double a[3], const double b[3], const double c[3], double f[3]) {
   const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
   f[0] = u[1] * v[2] - u[2] * v[1], f[1] = u[2] * v[0] - u[0] * v[2], f[2] = u[0] * v[1] - u[1] * v[0];
+}
+
+/// Calls `visit(ids, a, b, c, cross)` for every triangle (3-point polygon; other cells are
+/// skipped) of `mesh`: its corner ids, corner points and TriangleCross(a, b, c). The one walk
+/// that vertex normals, orientation checks and area-weighted sampling share.
+template <class Visit>
+void ForEachTriangle(vtkPolyData* mesh, Visit&& visit) {
+  vtkCellArray* polys = mesh->GetPolys();
+  vtkPoints* points = mesh->GetPoints();
+  if (!polys || !points) return;
+  vtkIdType n;
+  const vtkIdType* ids;
+  double a[3], b[3], c[3], cross[3];
+  for (polys->InitTraversal(); polys->GetNextCell(n, ids);) {
+    if (n != 3) continue;
+    points->GetPoint(ids[0], a), points->GetPoint(ids[1], b), points->GetPoint(ids[2], c);
+    TriangleCross(a, b, c, cross);
+    visit(ids, a, b, c, cross);
+  }
 }
 
 /// Edge topology of a triangle mesh: edges used by one triangle (holes) and by more than two.

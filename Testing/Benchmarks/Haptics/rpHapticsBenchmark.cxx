@@ -23,15 +23,15 @@
 #include <thread>
 
 #include <nlohmann/json.hpp>
-#include <vtkCellArray.h>
 #include <vtkGenericCell.h>
 #include <vtkNew.h>
-#include <vtkPoints.h>
 #include <vtkPolyData.h>
+#include <vtkSmartPointer.h>
 #include <vtkStaticCellLocator.h>
 
 #include "rpBenchmarkChart.h"
 #include "rpBenchmarkMain.h"
+#include "rpHapticSceneBridge.h"
 #include "rpHapticServo.h"
 #include "rpSimulatedDevice.h"
 
@@ -44,7 +44,7 @@ constexpr int kLevel = 8;  // 20 * 4^8 = 1,310,720 triangles
 
 struct World {
   std::unique_ptr<rp::HapticScene> Scene;
-  vtkNew<vtkPolyData> Poly;
+  vtkSmartPointer<vtkPolyData> Poly;
   vtkNew<vtkStaticCellLocator> Locator;
   std::vector<Vec3> Queries;  // HIP positions along the exploration path
   double BvhBuildS = 0, LocatorBuildS = 0;
@@ -74,18 +74,7 @@ World& TheWorld() {
     auto t0 = std::chrono::steady_clock::now();
     w->Scene = rp::HapticScene::Build({{"sphere", "bone", mesh}}, rp::MaterialTable::Defaults(), warnings, error);
     w->BvhBuildS = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    vtkNew<vtkPoints> points;
-    points->SetDataTypeToDouble();
-    points->SetNumberOfPoints(static_cast<vtkIdType>(mesh.Points.size()));
-    for (size_t i = 0; i < mesh.Points.size(); ++i)
-      points->SetPoint(static_cast<vtkIdType>(i), mesh.Points[i].x, mesh.Points[i].y, mesh.Points[i].z);
-    vtkNew<vtkCellArray> polys;
-    for (const auto& t : mesh.Triangles) {
-      const vtkIdType ids[3] = {t[0], t[1], t[2]};
-      polys->InsertNextCell(3, ids);
-    }
-    w->Poly->SetPoints(points);
-    w->Poly->SetPolys(polys);
+    w->Poly = rp::TriangleMeshToPolyData(mesh);
     t0 = std::chrono::steady_clock::now();
     w->Locator->SetDataSet(w->Poly);
     w->Locator->BuildLocator();

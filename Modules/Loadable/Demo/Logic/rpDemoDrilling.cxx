@@ -2,8 +2,9 @@
 // Drilling module, issue 15). The tunnel is planned on the phantom's truth: from the
 // anteromedial tibial cortex to the centre of the ACL's tibial footprint; the PCL (just behind
 // the footprint: a tunnel placed too far back damages it) is the protected structure. The
-// segmented tibia (this run's segmentation, cortical/trabecular from the CT's HU) is drilled
-// along the axis by the simulated device; the report gives the removed volume against the bone
+// segmented tibia (this run's segmentation, cortical/trabecular from the CT's HU; its density
+// follows the tibia's display model, the surface the user sees, not the labels meshed again) is
+// drilled along the axis by the simulated device; the report gives the removed volume against the bone
 // inside the planned tunnel, the closest approach to the PCL, the force along the path (chart),
 // timings, and a picture of the tunnel. The drilled tibia is added to the scene and the drill
 // path is kept (drill-tibial-tunnel.txt, replayable with `roboplan drill --replay`).
@@ -133,11 +134,30 @@ TunnelPlan PlanTunnel(const DemoState& state) {
   return {footprint - axis * start, footprint + axis * 1.0, axis};  // 1 mm into the joint
 }
 
-// The voxel tibia around the tunnel (cortical / trabecular from the CT), PCL protected.
-void BuildTunnelBone(const DemoState& state, const Segment& tibia, const TunnelPlan& plan,
+// The tibia's display model: the bone model the user sees (and the demo saves as tibia.vtp), in
+// the segmentation's frame like the labels. False (and why) when the meshing stage made none.
+bool TibiaModelSurface(const DemoState& state, const Segment& tibia, TriangleMesh& surface, std::string& why) {
+  const auto id = state.DisplayModelIDOfSegment.find(tibia.ID);
+  auto* model = id == state.DisplayModelIDOfSegment.end() ? nullptr
+                                                          : vtkRPModelNode::SafeDownCast(state.Scene->GetNodeByID(id->second));
+  if (model == nullptr) {
+    why = "the tibia has no model";
+    return false;
+  }
+  if (!PolyDataToTriangleMesh(model->GetPolyData(), nullptr, surface, why)) {
+    why = "the tibia model: " + why;
+    return false;
+  }
+  return true;
+}
+
+// The voxel tibia around the tunnel (cortical / trabecular from the CT), PCL protected; its
+// density follows the tibia model's surface.
+void BuildTunnelBone(const DemoState& state, const Segment& tibia, const TriangleMesh& tibiaSurface, const TunnelPlan& plan,
                      const std::vector<Material>& materials, DrillVolume& bone, DrillVolume& protectedVolume,
                      DrillBoneReport& built) {
   DrillBoneSource source;
+  source.BoneSurface = tibiaSurface;
   int pcl = 0;
   source.Labels = LabelsWithPCL(state, tibia.LabelValue, pcl);
   source.BoneLabels = {tibia.LabelValue};
@@ -152,6 +172,18 @@ void BuildTunnelBone(const DemoState& state, const Segment& tibia, const TunnelP
   source.RegionHi = Max(plan.From, plan.To) + margin;
   std::string error;
   if (!BuildDrillBone(source, materials, bone, &protectedVolume, built, error)) throw std::runtime_error(error);
+}
+
+// How long the voxel tibia took, and that its surface is the tibia model's (within a fraction of
+// a voxel) before the burr cuts it.
+void ReportTunnelBone(DemoState& state, const std::string& stage, DrillVolume& bone, const DrillBoneReport& built,
+                      const TriangleMesh& tibiaSurface) {
+  state.Report->AddFigure(stage, "voxel tibia built", built.Seconds, "s",
+                          "density from the " + built.Surface + " (" + std::to_string(built.SurfaceTriangles) + " triangles)");
+  const SurfaceFit fit = MeasureSurfaceFit(bone, tibiaSurface);
+  state.Report->AddFigureBelow(stage, "voxel tibia's surface from the tibia model, p95", fit.P95Mm, "mm", 0.15 * Voxel,
+                               "mean " + std::to_string(fit.MeanMm).substr(0, 6) + " mm over " +
+                                   std::to_string(fit.Vertices) + " vertices; target 0.15 voxel");
 }
 
 // Drills it: the simulated hand pushes the burr along the axis at 5 mm/s; the drill path is kept.
@@ -297,6 +329,12 @@ void DrillTibialTunnel(DemoState& state) {
     state.Report->AddNotScored(stage, "tibial tunnel", "the tibia was not segmented in this run");
     return;
   }
+  TriangleMesh tibiaSurface;
+  std::string why;
+  if (!TibiaModelSurface(state, *tibia, tibiaSurface, why)) {
+    state.Report->AddNotScored(stage, "tibial tunnel", why);
+    return;
+  }
   const TunnelPlan plan = PlanTunnel(state);
   state.Runner->Progress(0.05, "voxel tibia");
 
@@ -306,7 +344,8 @@ void DrillTibialTunnel(DemoState& state) {
   const std::vector<Material> materials = DrillableMaterials(table);
   DrillVolume bone, protectedVolume;
   DrillBoneReport built;
-  BuildTunnelBone(state, *tibia, plan, materials, bone, protectedVolume, built);
+  BuildTunnelBone(state, *tibia, tibiaSurface, plan, materials, bone, protectedVolume, built);
+  ReportTunnelBone(state, stage, bone, built, tibiaSurface);
   const TriangleMesh pclSurface = built.HasProtected ? ContourToTriangleMesh(protectedVolume) : TriangleMesh{};
   BVH pclTree;
   if (!pclSurface.Triangles.empty()) pclTree.Build(pclSurface);
@@ -336,7 +375,6 @@ void DrillTibialTunnel(DemoState& state) {
   state.Scene->AddNode(drilled);
   state.Runner->Progress(0.9, "pictures");
 
-  std::string why;
   if (!CanDrawPictures(state, why)) {
     state.Report->AddNote("Tibial tunnel pictures skipped: " + why + ".");
     return;

@@ -347,7 +347,10 @@ void SegmentAndMesh(DemoState& state) {
       state.Report->AddNote("Segment " + m.Name + ": no model (" + m.Error + ")");
       continue;
     }
-    if (m.DisplayModel) state.DisplayModelIDs.push_back(m.DisplayModel->GetID());
+    if (m.DisplayModel) {
+      state.DisplayModelIDs.push_back(m.DisplayModel->GetID());
+      state.DisplayModelIDOfSegment[m.SegmentID] = m.DisplayModel->GetID();
+    }
     // Soft tissue is drawn see-through so the bones stay visible inside it.
     if (m.DisplayModel && m.TissueClass != "bone") m.DisplayModel->SetOpacity(0.25);
     if (m.HapticModel) state.HapticModelIDs.push_back(m.HapticModel->GetID());

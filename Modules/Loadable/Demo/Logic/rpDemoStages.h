@@ -4,6 +4,7 @@
 // throws std::runtime_error with a message naming the problem when it cannot go on.
 #include <array>
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -35,6 +36,7 @@ struct DemoState {
   vtkRPScalarVolumeNode* MR = nullptr;
   vtkRPSegmentationNode* Segmentation = nullptr;
   std::vector<std::string> BoneModelIDs, HapticModelIDs, DisplayModelIDs;
+  std::map<std::string, std::string> DisplayModelIDOfSegment;  // segment ID → its display model's node ID
   std::string TrackerToRASID, StylusTipToStylusID, StylusToTrackerID;
   std::array<double, 3> StylusTip{};  // calibrated StylusTipToStylus offset
   // The knee's own axes for pictures (the phantom's; the scanner's for a user's CT, lateral

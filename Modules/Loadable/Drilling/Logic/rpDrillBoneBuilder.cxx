@@ -14,6 +14,8 @@
 #include <vtkPolyData.h>
 #include <vtkType.h>
 
+#include "rpDrillRun.h"
+#include "rpDrillSession.h"
 #include "rpHapticSceneBridge.h"
 #include "rpLabelmapToMesh.h"
 #include "rpMeshSignedDistance.h"
@@ -593,6 +595,31 @@ bool BuildDrillBone(const DrillBoneSource& source, const std::vector<Material>& 
     }
   }
   return BuildSolid(solid, materials, bone, protectedSurface, report, error, progress);
+}
+
+SurfaceFit MeasureSurfaceFit(DrillVolume& bone, const TriangleMesh& surface) {
+  SurfaceFit fit;
+  BVH tree;
+  tree.Build(surface);
+  if (tree.Empty()) return fit;
+  const DrillGrid& grid = bone.Grid();
+  const double border = 2 * grid.Spacing;
+  const Vec3 lo = grid.Origin + Vec3{border, border, border};
+  const Vec3 hi = grid.Center(grid.Dimensions[0] - 1, grid.Dimensions[1] - 1, grid.Dimensions[2] - 1) - Vec3{border, border, border};
+  std::vector<double> distances;
+  for (const Vec3& p : ContourToTriangleMesh(bone).Points) {
+    if (p.x < lo.x || p.y < lo.y || p.z < lo.z || p.x > hi.x || p.y > hi.y || p.z > hi.z) continue;
+    ClosestPointHit hit;
+    if (!tree.ClosestPoint(p, HUGE_VAL, hit)) continue;
+    distances.push_back(std::sqrt(hit.Distance2));
+    fit.MeanMm += distances.back();
+    fit.MaxMm = std::max(fit.MaxMm, distances.back());
+  }
+  fit.Vertices = distances.size();
+  if (distances.empty()) return fit;
+  fit.MeanMm /= double(distances.size());
+  fit.P95Mm = NearestRankPercentile(std::move(distances), 0.95);
+  return fit;
 }
 
 }  // namespace rp

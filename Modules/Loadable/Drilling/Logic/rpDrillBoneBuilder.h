@@ -18,6 +18,7 @@
 // Protected segments mark their voxels protected; one of a drillable tissue (e.g. the posterior
 // cortex) is solid bone the burr feels and never removes, another (a nerve's region) is space the
 // burr may enter but not cut in. Their own surface is built alongside for the distance read-out. Only blocks near bone or protected voxels are stored.
+// MeasureSurfaceFit tells how closely a built bone follows a mesh (the tests, the demo's report).
 #include <string>
 #include <vector>
 
@@ -59,5 +60,15 @@ struct DrillBoneReport {
 bool BuildDrillBone(const DrillBoneSource& source, const std::vector<Material>& materials, DrillVolume& bone,
                     DrillVolume* protectedSurface, DrillBoneReport& report, std::string& error,
                     const ProgressCallback& progress = nullptr);
+
+/// How closely a built bone follows `surface` (e.g. the bone model it was built from): distances
+/// (mm) from the vertices of its ½ iso-surface (rpBlockMesher, as it is now) to `surface`.
+/// Vertices within two voxels of the grid's faces are left out: there the grid, not the surface,
+/// bounds the bone (a region cuts it).
+struct SurfaceFit {
+  double MeanMm = 0, P95Mm = 0, MaxMm = 0;
+  size_t Vertices = 0;  // vertices measured
+};
+SurfaceFit MeasureSurfaceFit(DrillVolume& bone, const TriangleMesh& surface);
 
 }  // namespace rp

@@ -241,14 +241,11 @@ TEST(DrillCommand, RealKneeCTTibia) {
 }
 
 namespace {
-// A sphere of radius 10 mm in a 0.8 × 0.8 × 1.25 mm labelmap (the demo's CT grid), and the drill
-// volume's ½ iso-surface (before drilling) against a surface: mean and 95 % of the distances
-// from its vertices.
-struct SurfaceFit {
-  double Mean = 0, P95 = 0;
-  std::string Source;
-};
-SurfaceFit DrillSphere(bool smooth, const rp::TriangleMesh& given, const rp::TriangleMesh& against) {
+// A sphere of radius 10 mm labelled in a 0.8 × 0.8 × 1.25 mm labelmap (the demo's CT grid) →
+// the drill volume (0.3 mm) whose density follows `given` (empty: the labels meshed here) or,
+// with `smooth` off, the label mask; a finite `top` limits the region to S <= top.
+void BuildSphereBone(bool smooth, const rp::TriangleMesh& given, double top, rp::DrillVolume& bone,
+                     rp::DrillBoneReport& report) {
   rp::DrillBoneSource source;
   source.Labels.Image = vtkSmartPointer<vtkImageData>::New();
   const double spacing[3] = {0.8, 0.8, 1.25};
@@ -271,26 +268,30 @@ SurfaceFit DrillSphere(bool smooth, const rp::TriangleMesh& given, const rp::Tri
   source.Spacing = 0.3;
   source.SmoothSurface = smooth;
   source.BoneSurface = given;
+  if (std::isfinite(top)) {
+    source.HasRegion = true;
+    source.RegionLo = {-30, -30, -30};
+    source.RegionHi = {30, 30, top};
+  }
   rp::MaterialTable table;
   std::string error;
   EXPECT_TRUE(rp::LoadMaterialTable(table, error)) << error;
+  EXPECT_TRUE(rp::BuildDrillBone(source, rp::DrillableMaterials(table), bone, nullptr, report, error)) << error;
+}
+
+// The drill volume's ½ iso-surface (before drilling) against a surface: mean and 95 % of the
+// distances from its vertices, and what the density followed.
+struct SphereFit {
+  double Mean = 0, P95 = 0;
+  std::string Source;
+};
+SphereFit DrillSphere(bool smooth, const rp::TriangleMesh& given, const rp::TriangleMesh& against) {
   rp::DrillVolume bone;
   rp::DrillBoneReport report;
-  EXPECT_TRUE(rp::BuildDrillBone(source, rp::DrillableMaterials(table), bone, nullptr, report, error)) << error;
-  const rp::TriangleMesh iso = rp::ContourToTriangleMesh(bone);
-  rp::BVH tree;
-  tree.Build(against);
-  std::vector<double> d;
-  for (const rp::Vec3& p : iso.Points) {
-    rp::ClosestPointHit hit;
-    if (tree.ClosestPoint(p, HUGE_VAL, hit)) d.push_back(std::sqrt(hit.Distance2));
-  }
-  SurfaceFit fit;
-  fit.Source = report.Surface;
-  EXPECT_GT(d.size(), 1000u);
-  for (double v : d) fit.Mean += v / d.size();
-  fit.P95 = rp::NearestRankPercentile(d, 0.95);
-  return fit;
+  BuildSphereBone(smooth, given, HUGE_VAL, bone, report);
+  const rp::SurfaceFit fit = rp::MeasureSurfaceFit(bone, against);
+  EXPECT_GT(fit.Vertices, 1000u);
+  return {fit.MeanMm, fit.P95Mm, report.Surface};
 }
 }  // namespace
 
@@ -298,18 +299,48 @@ TEST(DrillBone, DensityFollowsTheBoneMeshNotTheLabelmapStaircase) {
   // The bone model the user sees (here: an icosphere of the labelled sphere) → the drill voxels
   // (0.3 mm): their iso-surface lies on it within a fraction of a voxel.
   const rp::TriangleMesh model = rp::shapes::Sphere({0, 0, 0}, 10.0, 4);
-  const SurfaceFit fromModel = DrillSphere(true, model, model);
+  const SphereFit fromModel = DrillSphere(true, model, model);
   EXPECT_EQ(fromModel.Source, "given mesh");
   EXPECT_LT(fromModel.Mean, 0.05 * 0.3) << "mean distance to the bone mesh (mm)";
   EXPECT_LT(fromModel.P95, 0.15 * 0.3) << "95 % distance to the bone mesh (mm)";
   // The trilinear label mask keeps the 0.8 × 0.8 × 1.25 mm staircase: far off the same sphere.
-  const SurfaceFit fromMask = DrillSphere(false, {}, model);
+  const SphereFit fromMask = DrillSphere(false, {}, model);
   EXPECT_GT(fromMask.P95, 4 * fromModel.P95) << "the label mask's staircase";
   // No model given: the labels meshed here as the segment models are (Gaussian, volume-corrected)
   // follow the sphere far closer than the mask does.
-  const SurfaceFit fromLabels = DrillSphere(true, {}, model);
+  const SphereFit fromLabels = DrillSphere(true, {}, model);
   EXPECT_NE(fromLabels.Source.find("labels meshed"), std::string::npos) << fromLabels.Source;
   EXPECT_LT(fromLabels.P95, fromMask.P95) << "labels meshed " << fromLabels.P95 << " mm, mask " << fromMask.P95 << " mm";
   std::printf("iso-surface to the sphere: given mesh mean %.4f / p95 %.4f mm; labels meshed %.4f / %.4f; label mask %.4f / %.4f\n",
               fromModel.Mean, fromModel.P95, fromLabels.Mean, fromLabels.P95, fromMask.Mean, fromMask.P95);
+}
+
+TEST(DrillBone, ARegionOfTheBoneIsTheGivenModelCutByTheRegionNotTheLabels) {
+  // The demo's case: the whole bone model given, the drill grid limited to a region that cuts the
+  // bone. The model (radius 9 mm) lies a millimetre inside the labels (radius 10 mm), so only a
+  // density built from the model passes: its iso-surface lies on the model within a fraction of a
+  // voxel, and its volume is the ball's below the grid's top face, πc²(3R − c)/3 with c = R + top.
+  const double R = 9.0, h = 0.3;
+  const rp::TriangleMesh model = rp::shapes::Sphere({0, 0, 0}, R, 5);
+  rp::DrillVolume bone;
+  rp::DrillBoneReport report;
+  BuildSphereBone(true, model, 3.0, bone, report);
+  EXPECT_EQ(report.Surface, "given mesh");
+  EXPECT_EQ(report.SurfaceTriangles, model.Triangles.size());
+  const rp::DrillGrid& grid = bone.Grid();
+  const double top = grid.Origin.z + (grid.Dimensions[2] - 0.5) * h;
+  ASSERT_GT(top, 3.0);
+  ASSERT_LT(top, R);
+  const double c = R + top, expected = M_PI * c * c * (3 * R - c) / 3;
+  double built = 0;
+  for (double v : bone.OriginalVolumes()) built += v;
+  EXPECT_NEAR(built, expected, 0.01 * expected) << "bone volume (mm³) below S = " << top;
+  const rp::SurfaceFit onModel = rp::MeasureSurfaceFit(bone, model);
+  EXPECT_GT(onModel.Vertices, 1000u);
+  EXPECT_LT(onModel.MeanMm, 0.05 * h) << "mean distance to the model (mm)";
+  EXPECT_LT(onModel.P95Mm, 0.15 * h) << "95 % distance to the model (mm)";
+  const rp::SurfaceFit onLabels = rp::MeasureSurfaceFit(bone, rp::shapes::Sphere({0, 0, 0}, 10.0, 5));
+  EXPECT_GT(onLabels.MeanMm, 0.9) << "the labels' surface is a millimetre out";
+  std::printf("region cut at S = %.2f: volume %.1f mm³ (ball below it %.1f); to the model mean %.4f / p95 %.4f mm\n", top,
+              built, expected, onModel.MeanMm, onModel.P95Mm);
 }

@@ -37,25 +37,17 @@ struct Samples {
 
 Samples SampleMesh(vtkPolyData* mesh) {
   Samples s;
-  vtkCellArray* polys = mesh->GetPolys();
   vtkPoints* points = mesh->GetPoints();
   const vtkIdType np = mesh->GetNumberOfPoints();
   s.Points.resize(static_cast<size_t>(np));
   s.Weights.assign(static_cast<size_t>(np), 0.0);
   for (vtkIdType i = 0; i < np; ++i) points->GetPoint(i, s.Points[static_cast<size_t>(i)].data());
-  vtkIdType n;
-  const vtkIdType* ids;
-  double a[3], b[3], c[3];
-  for (polys->InitTraversal(); polys->GetNextCell(n, ids);) {
-    if (n != 3) continue;
-    points->GetPoint(ids[0], a), points->GetPoint(ids[1], b), points->GetPoint(ids[2], c);
-    double f[3];
-    TriangleCross(a, b, c, f);
+  ForEachTriangle(mesh, [&](const vtkIdType* ids, const double* a, const double* b, const double* c, const double* f) {
     const double area = 0.5 * std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
     for (int t = 0; t < 3; ++t) s.Weights[static_cast<size_t>(ids[t])] += area / 6.0;
     s.Points.push_back({(a[0] + b[0] + c[0]) / 3, (a[1] + b[1] + c[1]) / 3, (a[2] + b[2] + c[2]) / 3});
     s.Weights.push_back(area / 2.0);
-  }
+  });
   return s;
 }
 }  // namespace
