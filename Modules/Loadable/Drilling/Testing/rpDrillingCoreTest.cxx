@@ -98,7 +98,8 @@ rp::DrillState Stroke(Rig& rig, const Vec3& from, const Vec3& to, double radius,
   }
   for (int i = 0; i < 5; ++i) s = rig.Step();
   rig.Servo->SetControl({false, radius, 60000});
-  rig.Step();
+  const rp::DrillState off = rig.Step();  // the stroke ends: the cut in progress is finished
+  s.RemovedTotalMm3 = off.RemovedTotalMm3;
   return s;
 }
 
