@@ -190,7 +190,7 @@ void ReportTunnelBone(DemoState& state, const std::string& stage, DrillVolume& b
 DrillRunResult DrillAlongPlan(DemoState& state, const TunnelPlan& plan, DrillServo& servo, const DrillServoOptions& options,
                               DrillDisplay& display, vtkSmartPointer<vtkPolyData>& mesh) {
   DrillRunOptions run;
-  const DrillControl on{true, BurrRadius, 60000};
+  const DrillControl on{true, BurrRadius, DrillControl{}.Rpm};
   const Vec3 to = plan.To;
   run.Schedule = [on](double) { return on; };
   run.Finished = [to](const DrillState& s) { return Norm(s.Proxy - to) < 0.05 || s.Stopped; };
@@ -208,7 +208,7 @@ DrillRunResult DrillAlongPlan(DemoState& state, const TunnelPlan& plan, DrillSer
 // Removed against planned volume, the PCL's closest approach, the burr's path.
 void ReportTunnelVolumes(DemoState& state, const std::string& stage, const TunnelPlan& plan,
                          const std::vector<Material>& materials, const std::vector<double>& planned,
-                         const DrillRunResult& result, const DrillVolume& bone, bool pclProtected) {
+                         const DrillRunResult& result, const DrillVolume& bone, bool pclProtected, double cutLead) {
   const DrillState& s = result.Final;
   const Vec3 &from = plan.From, &to = plan.To;
   double plannedTotal = 0;
@@ -240,9 +240,12 @@ void ReportTunnelVolumes(DemoState& state, const std::string& stage, const Tunne
       deviation = std::max(deviation, Norm(l.Record.Proxy - (from + plan.Axis * t)));
     }
   }
-  // The burr's centre rides within a skin (0.02 voxel) of its last cut: the bound is r + h + skin.
+  // The burr's centre rides within a skin (0.02 voxel) of its last cut, and the cut leads it by
+  // at most one cut's advance: the bound is r + h + skin + that lead.
+  const double lead = cutLead;
   state.Report->AddFigureBelow(stage, "farthest removal from the burr's path", FarthestChangeFromPath(bone, burrPath), "mm",
-                               BurrRadius + Voxel * (1 + BurrProxy::Skin) + 1e-9, "burr radius + one voxel");
+                               BurrRadius + Voxel * (1 + BurrProxy::Skin) + lead + 1e-9,
+                               "burr radius + one voxel + the cut's lead (" + std::to_string(static_cast<int>(lead * 1000 + 0.5)) + " µm)");
   state.Report->AddFigure(stage, "largest deviation of the cutting burr from the planned axis", deviation, "mm",
                           "the burr slides where the bone's surface is oblique to the push");
 }
@@ -363,7 +366,8 @@ void DrillTibialTunnel(DemoState& state) {
   vtkSmartPointer<vtkPolyData> mesh = display.Initialize();
   const DrillRunResult result = DrillAlongPlan(state, plan, servo, options, display, mesh);
 
-  ReportTunnelVolumes(state, stage, plan, materials, planned, result, bone, !pclTree.Empty());
+  ReportTunnelVolumes(state, stage, plan, materials, planned, result, bone, !pclTree.Empty(),
+                      servo.MaxCutLead(DrillControl{}.Rpm, 0.001));
   ReportTunnelTimings(state, stage, result, bone, built, device.Info().MaxForce);
 
   // ---- the drilled tibia in the scene

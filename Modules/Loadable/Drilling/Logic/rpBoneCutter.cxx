@@ -51,6 +51,7 @@ void BoneCutter::BeginStroke() noexcept {
 }
 
 void BoneCutter::EndStroke() noexcept {
+  this->FinishCut();  // what the stroke began belongs to it (and to its undo)
   if (!this->Stroking) return;
   this->Stroking = false;
   Stroke& s = this->StrokeAt(0);
@@ -119,59 +120,93 @@ bool BoneCutter::ReachesProtected(const Vec3& center, double radius) const noexc
 }
 
 CutResult BoneCutter::Cut(const Vec3& center, double radius, const Vec3& direction, double advance) noexcept {
+  CutResult result = this->BeginCut(center, radius, direction, advance, 1);
+  this->FinishCut();
+  return result;
+}
+
+CutResult BoneCutter::BeginCut(const Vec3& center, double radius, const Vec3& direction, double advance,
+                               int slices) noexcept {
+  this->FinishCut();
   CutResult result;
   if (this->Mode != RestoreMode::None) return result;
   if (this->ReachesProtected(center, radius)) {
     result.Refused = true;
     return result;
   }
+  PendingCut& job = this->Job;
   const double h = this->Volume.Spacing();
-  int64_t units = 0;
-  const double reach = radius + h, reach2 = reach * reach, half = 0.5 / h;
-  std::atomic<uint8_t>* densities = nullptr;
-  const uint8_t* codes = nullptr;
-  int32_t current = -1, snapped = -1;
-  const bool incremental = Norm2(direction) > 0;
+  const double reach = radius + h;
+  job.Center = center;
+  job.Radius = radius;
+  job.Incremental = Norm2(direction) > 0;
   // Closer than r − h − advance to the new centre is within r − h of the last one: empty.
-  const double inner = incremental ? std::max(0.0, radius - h - advance - 1e-9) : 0.0;
+  job.Inner = job.Incremental ? std::max(0.0, radius - h - advance - 1e-9) : 0.0;
+  // Nearer the last centre than the new one (behind the bisecting plane): already carved.
+  job.Ahead = DrillVolume::HalfSpace{direction, -0.5 * advance - 1e-9};
   // Only the side of the bisecting plane nearer the new centre can change: the rows are limited
   // to the bounding box of that cap of the ball (about half of it).
-  Vec3 lo = center - Vec3{reach, reach, reach}, hi = center + Vec3{reach, reach, reach};
-  if (incremental) {
+  job.Lo = center - Vec3{reach, reach, reach};
+  job.Hi = center + Vec3{reach, reach, reach};
+  if (job.Incremental) {
     const double e = 0.5 * advance + 1e-9;
     for (int a = 0; a < 3; ++a) {
       const double side = reach * std::sqrt(std::max(0.0, 1.0 - direction[a] * direction[a])) + e;
-      if (direction[a] < -e / reach) hi[a] = center[a] + std::min(reach, side);
-      if (direction[a] > e / reach) lo[a] = center[a] - std::min(reach, side);
+      if (direction[a] < -e / reach) job.Hi[a] = center[a] + std::min(reach, side);
+      if (direction[a] > e / reach) job.Lo[a] = center[a] - std::min(reach, side);
     }
   }
-  this->Volume.ForEachInShell(center, inner, reach, [&](int32_t slot, int local, int, int, int, const Vec3& w) {
-    // Nearer the last centre than the new one (behind the bisecting plane): already carved.
-    if (incremental && Dot(w, direction) < -0.5 * advance - 1e-9) return;
-    if (slot != current) current = slot, densities = this->Volume.BlockDensities(slot), codes = this->Volume.BlockMaterials(slot);
-    const uint8_t q = densities[local].load(std::memory_order_relaxed);
-    if (q == 0) return;
-    const double d2 = Norm2(w);
-    if (d2 >= reach2) return;
-    // What the ramp around the sphere leaves: ρ = ½ + (|w| − r) / 2h (DrillVolume::RampDensity of
-    // r − |w|), quantized as DrillVolume::Quantize does.
-    const double rho = 0.5 + (std::sqrt(d2) - radius) * half;
-    const uint8_t target = rho <= 0 ? uint8_t(0) : rho >= 1 ? uint8_t(255) : static_cast<uint8_t>(rho * 255.0 + 0.5);
-    const uint8_t code = codes[local];
-    if (target >= q || (code & DrillVolume::ProtectedBit)) return;
-    if (slot != snapped) this->Snapshot(slot), snapped = slot;
-    densities[local].store(target, std::memory_order_relaxed);
-    const int m = code & DrillVolume::MaterialMask;
-    if (m > 0) this->RemovedUnits[m - 1] += q - target;
-    units += q - target;
-  }, &lo, &hi);
+  job.Slices = std::max(1, slices);
+  job.Next = 0;
+  return this->ContinueCut();
+}
+
+CutResult BoneCutter::ContinueCut() noexcept {
+  CutResult result;
+  PendingCut& job = this->Job;
+  if (job.Next >= job.Slices) return result;
+  const double h = this->Volume.Spacing();
+  const double radius = job.Radius, reach = radius + h, reach2 = reach * reach, half = 0.5 / h;
+  int64_t units = 0;
+  int32_t snapped = -1;
+  const DrillVolume::RowSlice rows{job.Slices, job.Next++};
+  this->Volume.ForEachRunInShell(job.Center, job.Inner, reach, job.Incremental ? &job.Ahead : nullptr, job.Lo, job.Hi,
+                                 rows, [&](int32_t slot, int local, int count, const Vec3& w) {
+    std::atomic<uint8_t>* densities = this->Volume.BlockDensities(slot);
+    // Read as plain bytes: this thread is the densities' only writer (the display thread reads them atomically).
+    const uint8_t* current = reinterpret_cast<const uint8_t*>(densities);
+    const uint8_t* codes = this->Volume.BlockMaterials(slot);
+    const double row2 = w.y * w.y + w.z * w.z;
+    double wx = w.x;
+    for (int at = local, end = local + count; at < end; ++at, wx += h) {
+      const uint8_t q = current[at];
+      if (q == 0) continue;
+      const double d2 = wx * wx + row2;
+      if (d2 >= reach2) continue;
+      // What the ramp around the sphere leaves: ρ = ½ + (|w| − r) / 2h (DrillVolume::RampDensity
+      // of r − |w|), quantized as DrillVolume::Quantize does.
+      const double rho = 0.5 + (std::sqrt(d2) - radius) * half;
+      const uint8_t target = rho <= 0 ? uint8_t(0) : rho >= 1 ? uint8_t(255) : static_cast<uint8_t>(rho * 255.0 + 0.5);
+      const uint8_t code = codes[at];
+      if (target >= q || (code & DrillVolume::ProtectedBit)) continue;
+      if (slot != snapped) this->Snapshot(slot), snapped = slot;
+      densities[at].store(target, std::memory_order_relaxed);
+      const int m = code & DrillVolume::MaterialMask;
+      if (m > 0) this->RemovedUnits[m - 1] += q - target;
+      units += q - target;
+    }
+  });
   if (units > 0) {
     // The voxels that changed lie in the cap's box (cheaper than a box per voxel; the same blocks).
-    this->Volume.MarkDirty(this->Volume.BoxAround(lo, hi));
+    this->Volume.MarkDirty(this->Volume.BoxAround(job.Lo, job.Hi));
     result.Removed = true;
     result.VolumeMm3 = units / 255.0 * this->Volume.VoxelVolume();
   }
   return result;
+}
+
+void BoneCutter::FinishCut() noexcept {
+  while (this->CutPending()) this->ContinueCut();
 }
 
 bool BoneCutter::StartUndo() noexcept {
@@ -192,6 +227,7 @@ bool BoneCutter::StartUndo() noexcept {
 }
 
 void BoneCutter::StartReset() noexcept {
+  this->Job.Next = this->Job.Slices;  // a pending cut is dropped: all of it comes back
   this->Stroking = false;
   this->Mode = RestoreMode::Reset;
   this->RestoreNext = 0;

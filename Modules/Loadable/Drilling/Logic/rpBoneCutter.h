@@ -36,6 +36,16 @@ class BoneCutter {
   /// (unit; zero when there was none), only what the new sphere adds is visited: voxels within
   /// r − h − advance of the centre, and those behind the bisecting plane, cannot change.
   CutResult Cut(const Vec3& center, double radius, const Vec3& direction = Vec3{}, double advance = 0) noexcept;
+  /// The same cut spread over `slices` calls, so no tick carries all of it: checks the protected
+  /// structure, then carves the first share of the rows (interleaved rows, so every part of the
+  /// cap recedes together); ContinueCut() carves the next share. A cut still pending is finished
+  /// first. Cut() is BeginCut(…, 1).
+  CutResult BeginCut(const Vec3& center, double radius, const Vec3& direction, double advance, int slices) noexcept;
+  /// Carves the next share of the pending cut (nothing when none is pending).
+  CutResult ContinueCut() noexcept;
+  bool CutPending() const { return this->Job.Next < this->Job.Slices; }
+  /// Carves what is left of the pending cut now (a stroke's end, an undo).
+  void FinishCut() noexcept;
   /// True when a cut at (center, radius) would be refused.
   bool ReachesProtected(const Vec3& center, double radius) const noexcept;
   void BeginStroke() noexcept;
@@ -59,6 +69,13 @@ class BoneCutter {
 
  private:
   enum class RestoreMode { None, Undo, Reset };
+  struct PendingCut {
+    Vec3 Center, Lo, Hi;  // the sphere; the box of the cap its rows are limited to (RAS)
+    double Radius = 0, Inner = 0;
+    bool Incremental = false;
+    DrillVolume::HalfSpace Ahead{};
+    int Slices = 0, Next = 0;  // shares of the rows, and the next one to carve
+  };
   struct Stroke {
     size_t Begin = 0, End = 0;  // pool entries [Begin, End)
     int64_t RemovedBefore[DrillVolume::MaxMaterials] = {};
@@ -80,6 +97,7 @@ class BoneCutter {
   bool Stroking = false, Lost = false;
   int64_t RemovedUnits[DrillVolume::MaxMaterials] = {};  // in 1/255 of a voxel
   RestoreMode Mode = RestoreMode::None;
+  PendingCut Job;
   size_t RestoreNext = 0, RestoreEnd = 0;
 };
 

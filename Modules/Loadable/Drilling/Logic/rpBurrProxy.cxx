@@ -62,11 +62,10 @@ double BurrProxy::Sweep(const DrillVolume& volume, const Vec3& from, const Vec3&
   // The points facing the move; those already in the bone at the start block a move that heads
   // into them (within 60°) and are ignored otherwise (the burr slides past them). The point
   // facing the move most squarely first: pressing on the bone it is in it, and one sample decides.
-  uint8_t code;
   int front = 0;
   for (int i = 1; i < ShellPoints; ++i)
     if (Dot(u[i], dir) > Dot(u[front], dir)) front = i;
-  if (const double gap = Gap(volume.Sample(from + u[front] * radius, code), h, allowance); gap <= 0) {
+  if (const double gap = Gap(volume.Sample(from + u[front] * radius), h, allowance); gap <= 0) {
     startOverlap = -gap;
     return 0.0;
   }
@@ -76,7 +75,7 @@ double BurrProxy::Sweep(const DrillVolume& volume, const Vec3& from, const Vec3&
   for (int i = 0; i < ShellPoints; ++i) {
     const double c = Dot(u[i], dir);
     if (c <= 0) continue;
-    const double gap = Gap(volume.Sample(from + u[i] * radius, code), h, allowance);
+    const double gap = Gap(volume.Sample(from + u[i] * radius), h, allowance);
     if (gap <= 0) {
       startOverlap = std::max(startOverlap, -gap);
       if (c > 0.5) return 0.0;
@@ -91,7 +90,7 @@ double BurrProxy::Sweep(const DrillVolume& volume, const Vec3& from, const Vec3&
   for (int s = 1; s <= steps; ++s) {
     const Vec3 p = from + step * s;
     double gap = HUGE_VAL;
-    for (int a = 0; a < n; ++a) gap = std::min(gap, Gap(volume.Sample(p + u[ahead[a]] * radius, code), h, allowance));
+    for (int a = 0; a < n; ++a) gap = std::min(gap, Gap(volume.Sample(p + u[ahead[a]] * radius), h, allowance));
     if (gap <= 0) {
       // The smallest gap falls about linearly along the step: interpolate, a hair short of it.
       const double f = gapBefore < HUGE_VAL ? gapBefore / (gapBefore - gap) : 0.0;

@@ -28,6 +28,15 @@ void DrillServo::PlaceBurr(const Vec3& center, const DrillControl& control) {
   this->Placed = true;
 }
 
+double DrillServo::MaxCutLead(double rpm, double period) const {
+  double softest = HUGE_VAL;
+  for (const Material& m : this->Volume.Materials())
+    if (m.Hardness > 0) softest = std::min(softest, m.Hardness);
+  if (!(softest < HUGE_VAL)) return 0;
+  return this->Settings.FeedRate * std::max(0.0, rpm) / this->Settings.ReferenceRpm / softest * period *
+         std::max(1, this->Settings.CutSlices);
+}
+
 void DrillServo::ServoStarted() noexcept {
   this->First = true;
   this->Trips = 0;
@@ -87,13 +96,16 @@ bool DrillServo::CutAhead(const BurrForce& burr, const Vec3& hip, double radius,
   if (distance > 1e-9 && hardness > 0) {
     s.FeedMmPerS = this->Settings.FeedRate * std::min(1.0, Norm(burr.Force) / maxForce) *
                    std::max(0.0, rpm) / this->Settings.ReferenceRpm / hardness;
-    // The cut advances from the last one while the proxy keeps up with it (within a skin);
-    // from the proxy when it moved away (slid, pulled back) or the burr just touched.
+    // One cut carries CutSlices ticks' advance, carved over as many ticks.
+    const int slices = std::max(1, this->Settings.CutSlices);
+    const double step = s.FeedMmPerS * dt * slices;
+    // The cut advances from the last one while the proxy keeps up with it (within a skin and
+    // the cut in progress); from the proxy when it moved away (slid, pulled back) or the burr just touched.
     const double skin = BurrProxy::Skin * this->Volume.Spacing();
-    if (!this->HasCutCenter || Norm(this->CutCenter - burr.Proxy) > 3 * skin + s.FeedMmPerS * dt)
+    if (!this->HasCutCenter || Norm(this->CutCenter - burr.Proxy) > 3 * skin + step)
       this->CutCenter = burr.Proxy;
     const Vec3 ahead = hip - this->CutCenter;
-    const double advance = std::min(s.FeedMmPerS * dt, Norm(ahead));
+    const double advance = std::min(step, Norm(ahead));
     if (advance > 0) {
       const Vec3 center = this->CutCenter + ahead * (advance / Norm(ahead));
       // Only what the new sphere adds to the last one (the same burr, nothing restored since)
@@ -104,9 +116,10 @@ bool DrillServo::CutAhead(const BurrForce& burr, const Vec3& hip, double radius,
         moved = Norm(center - this->LastCut);
         if (moved > 0) direction = (center - this->LastCut) / moved;
       }
-      const CutResult cut = this->Cut.Cut(center, radius, direction, moved);
+      const CutResult cut = this->Cut.BeginCut(center, radius, direction, moved, slices);
       refused = cut.Refused;
-      s.Cutting = cut.Removed;
+      s.Cutting = this->CutRemoved = cut.Removed;
+      this->CutFeed = s.FeedMmPerS;
       if (!refused) {
         this->CutCenter = this->LastCut = center;
         this->LastCutRadius = radius;
@@ -239,8 +252,13 @@ void DrillServo::Tick(const TickInfo& tick) noexcept {
   s.FeedMmPerS = 0;
   const BurrContact& contact = burr.Contact;
   bool refused = false;
-  if (on && contact.InContact && !contact.Embedded && contact.CutMaterial > 0 && !this->Cut.Restoring())
+  if (this->Cut.CutPending()) {  // the next share of the cut in progress
+    this->CutRemoved = this->Cut.ContinueCut().Removed || this->CutRemoved;
+    s.Cutting = this->CutRemoved;
+    s.FeedMmPerS = this->CutFeed;
+  } else if (on && contact.InContact && !contact.Embedded && contact.CutMaterial > 0 && !this->Cut.Restoring()) {
     refused = this->CutAhead(burr, hip, radius, control.Rpm, dt);
+  }
   if (!s.Cutting && !on) this->HasCutCenter = false;
   if (refused) {
     ++s.RefusedTicks;

@@ -8,8 +8,10 @@
 //     v = FeedRate · (|F| / Fmax) · (rpm / ReferenceRpm) / hardness        (mm/s)
 // (hardness: the mean of the bone ahead of the burr, weighted by how much of it the burr touches)
 // (removal proportional to the contact force, the burr speed and 1/hardness, as in Archard's
-// wear law); each tick the burr's sphere is carved v·dt further towards the hand than the last
-// cut, and the proxy follows (within rpBurrProxy::Skin).
+// wear law); the burr's sphere is carved v·dt·CutSlices further towards the hand than the last
+// cut, a share of its rows each tick over CutSlices ticks (so no tick carries a whole cut: the
+// carving lags the hand by CutSlices ms, 0.008 mm at 2 mm/s), and the proxy follows (within
+// rpBurrProxy::Skin).
 // A cut that reaches a protected voxel is refused: the burr stops (latched until it is switched
 // off and on again) and the state says so. A stroke is one burr-on period; Undo restores the
 // last stroke, Reset the bone as built (both a few hundred blocks per tick).
@@ -40,6 +42,7 @@ struct DrillServoOptions {
   double ReferenceRpm = 60000;
   double WarningDistance = 2.0;   // mm from the burr's surface to a protected structure
   double RampSeconds = 0.2;       // force ramp after start or a watchdog trip
+  int CutSlices = 4;              // one advance's carving is spread over this many ticks (a share each)
   Vec3 BurrCenter;                // burr centre in the stylus frame (mm): the tool tip
 };
 
@@ -96,6 +99,10 @@ class DrillServo : public ServoTask {
   /// A protected structure's surface for the distance read-out (kept alive by the owner).
   void SetProtectedSurface(const BVH* tree) { this->Protected = tree; }
   const DrillServoOptions& Options() const { return this->Settings; }
+  /// How far a cut can lead the proxy (mm): one cut's advance at the fastest feed (the hand at
+  /// the device's maximum force, the softest material) over CutSlices ticks of `period` s. The
+  /// carving reaches this much beyond the burr's sphere along its path.
+  double MaxCutLead(double rpm, double period) const;
   /// Starts the burr at `center` (scene frame) as if it had been there, cutting: the proxy is
   /// placed there and, with the burr on, its sphere is carved (refused at protected voxels).
   /// For scripted runs that begin inside bone (`roboplan drill --from`). Not while running.
@@ -146,6 +153,8 @@ class DrillServo : public ServoTask {
   Vec3 LastCut;            // centre of the last cut made (the bone around it is carved)
   double LastCutRadius = 0;
   bool HasLastCut = false;
+  bool CutRemoved = false;  // the pending (sliced) cut has removed bone so far
+  double CutFeed = 0;       // the feed that cut advanced at (mm/s)
   double RampStart = 0, LastTime = 0;
   uint32_t Trips = 0;
   DrillState Scratch;

@@ -27,6 +27,7 @@ bool DrillVolume::Initialize(const DrillGrid& grid, const std::vector<Material>&
   }
   this->Geometry = grid;
   this->InvSpacing = 1.0 / grid.Spacing;
+  for (int a = 0; a < 3; ++a) this->Extent[a] = grid.Dimensions[a];
   this->MaterialList = materials;
   for (int a = 0; a < 3; ++a) this->BlockDims[a] = (grid.Dimensions[a] + BlockEdge - 1) / BlockEdge;
   this->BlockTable.assign(size_t(this->BlockDims[0]) * this->BlockDims[1] * this->BlockDims[2], -1);

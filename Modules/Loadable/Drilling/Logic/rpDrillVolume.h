@@ -16,6 +16,7 @@
 #include <array>
 #include <atomic>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -46,6 +47,7 @@ struct VoxelBox {
 
 class DrillVolume {
  public:
+  static_assert(sizeof(std::atomic<uint8_t>) == 1, "densities are read as bytes");
   static constexpr int BlockEdge = 8;
   static constexpr int BlockShift = 3;
   static constexpr int BlockVoxels = BlockEdge * BlockEdge * BlockEdge;
@@ -110,8 +112,11 @@ class DrillVolume {
   uint8_t OriginalDensity(int i, int j, int k) const noexcept;
   /// Trilinearly interpolated density (0–1) at a RAS point; `code` gets the material code of the
   /// densest of the 8 voxels around it (0 when all are empty). One block lookup when the 8 voxels
-  /// share a block (7 cells in 8 along each axis). Never allocates.
-  double Sample(const Vec3& ras, uint8_t& code) const noexcept;
+  /// share a block (7 cells in 8 along each axis). Never allocates. The servo thread's (the
+  /// writer's) or, with no servo running, any one thread's: it reads densities without atomics.
+  double Sample(const Vec3& ras, uint8_t& code) const noexcept { return this->Interpolate<true>(ras, &code); }
+  /// The same density without the material (cheaper: the sweep only needs where the bone is).
+  double Sample(const Vec3& ras) const noexcept { return this->Interpolate<false>(ras, nullptr); }
   /// Bone volume (mm³) per material index (0-based) as built, and now.
   const std::vector<double>& OriginalVolumes() const { return this->InitialVolumes; }
   std::vector<double> CurrentVolumes() const;  // scans every block (not for the servo thread)
@@ -137,13 +142,24 @@ class DrillVolume {
   template <typename F>
   void ForEachBlock(const VoxelBox& box, F&& f) const;
 
-  /// Calls f(slot, local, i, j, k, w) for every stored voxel whose centre v lies in the spherical
-  /// shell rIn <= |v − c| <= rOut (rIn 0: the whole ball), with w = v − c; row by row (no
-  /// distance test per voxel outside the shell). `clip` (RAS, optional) limits the rows to a
-  /// box, e.g. the half of the shell ahead of a cut. Never allocates.
+  /// Calls f(slot, local, count, w) for each run of stored voxels along a row (`count` voxels
+  /// i, i+1, … of one block; `local` the first's local index, w = v − c its centre's offset, the
+  /// next one's is w + (h, 0, 0)) whose centres v lie in the spherical shell rIn <= |v − c| <= rOut
+  /// (rIn 0: the whole ball) and, when `keep` is given, in its half space. The row's ranges are
+  /// computed once per row, never a test per voxel outside them. `clipLo`/`clipHi` (RAS) limit
+  /// the rows to a box. Never allocates.
+  struct HalfSpace {
+    Vec3 Normal;    // unit
+    double Offset = 0;  // keeps v with Dot(v − c, Normal) >= Offset
+  };
+  /// Every Period-th row: rows (j, k) with (j + 2k) mod Period = Phase (a lattice that spreads
+  /// each share over the whole shell).
+  struct RowSlice {
+    int Period = 1, Phase = 0;
+  };
   template <typename F>
-  void ForEachInShell(const Vec3& c, double rIn, double rOut, F&& f, const Vec3* clipLo = nullptr,
-                      const Vec3* clipHi = nullptr) const;
+  void ForEachRunInShell(const Vec3& c, double rIn, double rOut, const HalfSpace* keep, const Vec3& clipLo,
+                         const Vec3& clipHi, const RowSlice& rows, F&& f) const;
 
   // ---- dirty blocks: servo thread marks, display thread takes
   /// Marks the blocks whose contour cells (and their normals) depend on voxels in `changed`.
@@ -156,9 +172,14 @@ class DrillVolume {
  private:
   void MarkSlot(int32_t slot) noexcept;
   int32_t Allocate(int bi, int bj, int bk);
+  template <bool WithCode>
+  double Interpolate(const Vec3& ras, uint8_t* code) const noexcept;
+  template <bool WithCode>
+  double InterpolateAcrossBlocks(int i, int j, int k, double u, double v, double w, uint8_t* code) const noexcept;
 
   DrillGrid Geometry;
   double InvSpacing = 1.0 / 0.3;
+  double Extent[3] = {0, 0, 0};  // the dimensions as doubles (Sample's bounds test)
   std::vector<Material> MaterialList;
   std::array<int, 3> BlockDims{{0, 0, 0}};
   std::vector<int32_t> BlockTable;
@@ -175,53 +196,82 @@ class DrillVolume {
   bool Finished = false;
 };
 
-inline double DrillVolume::Sample(const Vec3& ras, uint8_t& code) const noexcept {
-  const double inv = this->InvSpacing;
-  const double x = (ras.x - this->Geometry.Origin.x) * inv, y = (ras.y - this->Geometry.Origin.y) * inv,
-               z = (ras.z - this->Geometry.Origin.z) * inv;
-  code = 0;
-  if (!(x >= -1 && y >= -1 && z >= -1 && x < this->Geometry.Dimensions[0] && y < this->Geometry.Dimensions[1] &&
-        z < this->Geometry.Dimensions[2]))
-    return 0;  // outside the grid (NaN too)
-  // floor() of values >= −1 without a library call.
-  const int i = static_cast<int>(x + 1.0) - 1, j = static_cast<int>(y + 1.0) - 1, k = static_cast<int>(z + 1.0) - 1;
-  const double u = x - i, v = y - j, w = z - k;
-  // The 8 voxels lie in 1, 2, 4 or 8 blocks: look each block up once. Voxels of a stored block
-  // beyond the grid are empty, so no per-voxel bounds test is needed.
-  const int bx[2] = {i >> BlockShift, (i + 1) >> BlockShift}, by[2] = {j >> BlockShift, (j + 1) >> BlockShift},
-            bz[2] = {k >> BlockShift, (k + 1) >> BlockShift};
-  const int cross = int(bx[1] != bx[0]) | (int(by[1] != by[0]) << 1) | (int(bz[1] != bz[0]) << 2);
-  uint8_t d[8];
-  int64_t where[8];  // slot * BlockVoxels + local, −1 none
-  if (cross == 0) {  // 7 cells in 8 along each axis: one block, fixed offsets
-    const int32_t s = this->Slot(bx[0], by[0], bz[0]);
-    if (s < 0) return 0;
-    const int64_t base = int64_t(s) * BlockVoxels + Local(i, j, k);
-    constexpr int offset[8] = {0, 1, BlockEdge, BlockEdge + 1, BlockEdge * BlockEdge, BlockEdge * BlockEdge + 1,
-                               BlockEdge * BlockEdge + BlockEdge, BlockEdge * BlockEdge + BlockEdge + 1};
-    for (int c = 0; c < 8; ++c) {
-      where[c] = base + offset[c];
-      d[c] = this->Densities[size_t(where[c])].load(std::memory_order_relaxed);
-    }
-  } else {
-    int32_t blockSlot[8];
-    for (int c = 0; c < 8; ++c) {
-      const int dx = c & 1, dy = (c >> 1) & 1, dz = c >> 2;
-      const int key = c & cross;
-      blockSlot[c] = key == c ? this->Slot(bx[dx], by[dy], bz[dz]) : blockSlot[key];
-      where[c] = blockSlot[c] < 0 ? -1 : int64_t(blockSlot[c]) * BlockVoxels + Local(i + dx, j + dy, k + dz);
-      d[c] = where[c] < 0 ? 0 : this->Densities[size_t(where[c])].load(std::memory_order_relaxed);
-    }
-  }
-  int densest = 0;
-  for (int c = 1; c < 8; ++c)
-    if (d[c] > d[densest]) densest = c;
-  if (d[densest] == 0) return 0;
-  code = this->MaterialCodes[size_t(where[densest])];
+namespace drill_detail {
+/// Trilinear interpolation of 8 corner densities (x fastest), scaled to 0–1.
+inline double Trilinear(const uint8_t d[8], double u, double v, double w) noexcept {
   const double x00 = d[0] + (d[1] - d[0]) * u, x10 = d[2] + (d[3] - d[2]) * u;
   const double x01 = d[4] + (d[5] - d[4]) * u, x11 = d[6] + (d[7] - d[6]) * u;
   const double y0 = x00 + (x10 - x00) * v, y1 = x01 + (x11 - x01) * v;
   return (y0 + (y1 - y0) * w) * (1.0 / 255.0);
+}
+inline int Densest(const uint8_t d[8]) noexcept {
+  int densest = 0;
+  for (int c = 1; c < 8; ++c)
+    if (d[c] > d[densest]) densest = c;
+  return densest;
+}
+}  // namespace drill_detail
+
+template <bool WithCode>
+inline double DrillVolume::Interpolate(const Vec3& ras, uint8_t* code) const noexcept {
+  const double inv = this->InvSpacing;
+  const double x = (ras.x - this->Geometry.Origin.x) * inv, y = (ras.y - this->Geometry.Origin.y) * inv,
+               z = (ras.z - this->Geometry.Origin.z) * inv;
+  if constexpr (WithCode) *code = 0;
+  if (!(x >= -1 && y >= -1 && z >= -1 && x < this->Extent[0] && y < this->Extent[1] && z < this->Extent[2]))
+    return 0;  // outside the grid (NaN too)
+  // floor() of values >= −1 without a library call.
+  const int i = static_cast<int>(x + 1.0) - 1, j = static_cast<int>(y + 1.0) - 1, k = static_cast<int>(z + 1.0) - 1;
+  const int li = i & (BlockEdge - 1), lj = j & (BlockEdge - 1), lk = k & (BlockEdge - 1);
+  if (li == BlockEdge - 1 || lj == BlockEdge - 1 || lk == BlockEdge - 1)
+    return this->InterpolateAcrossBlocks<WithCode>(i, j, k, x - i, y - j, z - k, code);
+  // 7 cells in 8 along each axis: the 8 voxels share one block (in the grid: i, j, k >= 0), at
+  // fixed offsets. Plain byte reads (unsigned char may read any object): Sample runs on the servo
+  // thread, the densities' only writer, so this is no data race; unlike atomic loads they let
+  // the compiler keep the geometry in registers.
+  const int32_t s = this->BlockTable[(size_t(k >> BlockShift) * this->BlockDims[1] + (j >> BlockShift)) * this->BlockDims[0] +
+                                     (i >> BlockShift)];
+  if (s < 0) return 0;
+  const size_t base = size_t(s) * BlockVoxels + size_t(li | (lj << BlockShift) | (lk << (2 * BlockShift)));
+  const uint8_t* p = reinterpret_cast<const uint8_t*>(this->Densities.get()) + base;
+  constexpr int E = BlockEdge, EE = BlockEdge * BlockEdge;
+  constexpr int offset[8] = {0, 1, E, E + 1, EE, EE + 1, EE + E, EE + E + 1};
+  const uint8_t d[8] = {p[offset[0]], p[offset[1]], p[offset[2]], p[offset[3]],
+                        p[offset[4]], p[offset[5]], p[offset[6]], p[offset[7]]};
+  if constexpr (WithCode) {
+    const int densest = drill_detail::Densest(d);
+    if (d[densest] > 0) *code = this->MaterialCodes[base + size_t(offset[densest])];
+  }
+  return drill_detail::Trilinear(d, x - i, y - j, z - k);
+}
+
+template <bool WithCode>
+double DrillVolume::InterpolateAcrossBlocks(int i, int j, int k, double u, double v, double w, uint8_t* code) const noexcept {
+  // The blocks the corners fall in (2, 4 or 8; a block beyond the grid or not stored is empty),
+  // each looked up once; then each corner's block and local index from two choices per axis.
+  const int ex = (i & (BlockEdge - 1)) == BlockEdge - 1, ey = (j & (BlockEdge - 1)) == BlockEdge - 1,
+            ez = (k & (BlockEdge - 1)) == BlockEdge - 1;
+  const int bi = i >> BlockShift, bj = j >> BlockShift, bk = k >> BlockShift;
+  const int mask = ex | (ey << 1) | (ez << 2);
+  int32_t blocks[8];
+  for (int b = 0; b < 8; ++b)
+    if ((b & mask) == b) blocks[b] = this->Slot(bi + (b & 1), bj + ((b >> 1) & 1), bk + (b >> 2));
+  const int l[3][2] = {{i & (BlockEdge - 1), (i + 1) & (BlockEdge - 1)},
+                       {(j & (BlockEdge - 1)) << BlockShift, ((j + 1) & (BlockEdge - 1)) << BlockShift},
+                       {(k & (BlockEdge - 1)) << (2 * BlockShift), ((k + 1) & (BlockEdge - 1)) << (2 * BlockShift)}};
+  const uint8_t* densities = reinterpret_cast<const uint8_t*>(this->Densities.get());  // see Interpolate
+  uint8_t d[8];
+  int64_t where[8];  // slot * BlockVoxels + local, −1 none
+  for (int c = 0; c < 8; ++c) {
+    const int32_t slot = blocks[c & mask];
+    where[c] = slot < 0 ? -1 : int64_t(slot) * BlockVoxels + (l[0][c & 1] | l[1][(c >> 1) & 1] | l[2][c >> 2]);
+    d[c] = slot < 0 ? uint8_t(0) : densities[where[c]];
+  }
+  if constexpr (WithCode) {
+    const int densest = drill_detail::Densest(d);
+    if (d[densest] > 0) *code = this->MaterialCodes[size_t(where[densest])];
+  }
+  return drill_detail::Trilinear(d, u, v, w);
 }
 
 template <typename F>
@@ -249,50 +299,66 @@ void DrillVolume::ForEachBlock(const VoxelBox& region, F&& f) const {
 }
 
 template <typename F>
-void DrillVolume::ForEachInShell(const Vec3& c, double rIn, double rOut, F&& f, const Vec3* clipLo,
-                                 const Vec3* clipHi) const {
+void DrillVolume::ForEachRunInShell(const Vec3& c, double rIn, double rOut, const HalfSpace* keep, const Vec3& clipLo,
+                                    const Vec3& clipHi, const RowSlice& rows, F&& f) const {
   if (!(rOut > 0)) return;
-  const double h = this->Geometry.Spacing;
+  const double h = this->Geometry.Spacing, inv = this->InvSpacing;
   const Vec3& o = this->Geometry.Origin;
   const double out2 = rOut * rOut, in2 = rIn > 0 ? rIn * rIn : -1.0;
   const Vec3 reach{rOut, rOut, rOut};
-  const VoxelBox box = this->BoxAround(clipLo ? Max(c - reach, *clipLo) : c - reach, clipHi ? Min(c + reach, *clipHi) : c + reach);
+  const VoxelBox box = this->BoxAround(Max(c - reach, clipLo), Min(c + reach, clipHi));
   if (box.Empty()) return;
-  // Row by row over the whole box: the i-range of a row is computed once, then walked across
-  // the blocks it passes.
+  // The least index at or above, the greatest at or below a coordinate x, clamped to
+  // [−1, Hi + 1] before converting (a far bound must not overflow int); floor as a truncation of
+  // a non-negative value (no libm call: these run a few times per row).
+  const double top = box.Hi[0] + 1.0;
+  const auto atMost = [&](double x) { return static_cast<int>(std::clamp((x - o.x) * inv, -1.0, top) + 1.0) - 1; };
+  const auto atLeast = [&](double x) {
+    const double t = std::clamp((x - o.x) * inv, -1.0, top);
+    const int f = static_cast<int>(t + 1.0) - 1;
+    return f + (f < t);
+  };
+  // A segment [a, b] of row (j, k), split at block edges; blocks not stored are skipped.
+  const auto walk = [&](int a, int b, int j, int k, double dy, double dz) {
+    const int rowLocal = Local(0, j, k);
+    for (int i = a; i <= b;) {
+      const int blockLast = std::min(b, i | (BlockEdge - 1));
+      const int32_t slot = this->Slot(i >> BlockShift, j >> BlockShift, k >> BlockShift);
+      if (slot >= 0) f(slot, rowLocal | (i & (BlockEdge - 1)), blockLast - i + 1, Vec3{o.x + i * h - c.x, dy, dz});
+      i = blockLast + 1;
+    }
+  };
   for (int k = box.Lo[2]; k <= box.Hi[2]; ++k) {
     const double dz = o.z + k * h - c.z;
-    for (int j = box.Lo[1]; j <= box.Hi[1]; ++j) {
+    const int period = std::max(1, rows.Period);
+    const int firstJ = box.Lo[1] + ((rows.Phase - box.Lo[1] - 2 * k) % period + period) % period;
+    for (int j = firstJ; j <= box.Hi[1]; j += period) {
       const double dy = o.y + j * h - c.y;
       const double row2 = dy * dy + dz * dz;
       if (row2 > out2) continue;
       const double half = std::sqrt(out2 - row2);
-      const int first = std::max(box.Lo[0], static_cast<int>(std::ceil((c.x - half - o.x) / h)));
-      const int last = std::min(box.Hi[0], static_cast<int>(std::floor((c.x + half - o.x) / h)));
-      int skipFirst = last + 1, skipLast = last;  // the part inside the inner sphere
-      if (row2 < in2) {
-        const double inner = std::sqrt(in2 - row2);
-        skipFirst = static_cast<int>(std::floor((c.x - inner - o.x) / h)) + 1;
-        skipLast = static_cast<int>(std::ceil((c.x + inner - o.x) / h)) - 1;
+      int first = std::max(box.Lo[0], atLeast(c.x - half)), last = std::min(box.Hi[0], atMost(c.x + half));
+      if (keep) {  // n·(v − c) >= offset is a bound on i (or all or nothing when n ⟂ the row)
+        const Vec3& n = keep->Normal;
+        const double rest = keep->Offset - n.y * dy - n.z * dz;
+        if (n.x > 1e-12)
+          first = std::max(first, atLeast(c.x + rest / n.x));
+        else if (n.x < -1e-12)
+          last = std::min(last, atMost(c.x + rest / n.x));
+        else if (rest > 0)
+          continue;
       }
-      const int rowLocal = Local(0, j, k);
-      int32_t slot = -1;
-      int blockEnd = -1;  // last i of the block `slot` belongs to
-      for (int i = first; i <= last; ++i) {
-        if (i >= skipFirst && i <= skipLast) {
-          i = skipLast;
+      if (first > last) continue;
+      if (row2 < in2) {  // the part inside the inner sphere is left out
+        const double inner = std::sqrt(in2 - row2);
+        const int skipFirst = atMost(c.x - inner) + 1, skipLast = atLeast(c.x + inner) - 1;
+        if (skipFirst <= skipLast) {
+          walk(first, std::min(last, skipFirst - 1), j, k, dy, dz);
+          walk(std::max(first, skipLast + 1), last, j, k, dy, dz);
           continue;
         }
-        if (i > blockEnd) {
-          slot = this->Slot(i >> BlockShift, j >> BlockShift, k >> BlockShift);
-          blockEnd = (i | (BlockEdge - 1));
-          if (slot < 0) {  // not stored: skip the block
-            i = blockEnd;
-            continue;
-          }
-        }
-        f(slot, rowLocal | (i & (BlockEdge - 1)), i, j, k, Vec3{o.x + i * h - c.x, dy, dz});
       }
+      walk(first, last, j, k, dy, dz);
     }
   }
 }

@@ -6,6 +6,8 @@
 //    not faster than the feed rate allows, and the force never turns inwards);
 //  - a protected voxel is never removed and the burr stops there;
 //  - undo restores the last stroke exactly, reset the bone as built;
+//  - a cut carved in shares over several ticks equals the cut at once; a sample is the trilinear
+//    interpolation of the voxels around it, across block faces too;
 //  - 0 allocations in 3000 drilling ticks;
 //  - the mesh kept up to date block by block equals a whole re-contour, also while the servo,
 //    display and main threads run together (run this test under ThreadSanitizer too).
@@ -98,7 +100,8 @@ rp::DrillState Stroke(Rig& rig, const Vec3& from, const Vec3& to, double radius,
   }
   for (int i = 0; i < 5; ++i) s = rig.Step();
   rig.Servo->SetControl({false, radius, 60000});
-  rig.Step();
+  const rp::DrillState off = rig.Step();  // the stroke ends: the cut in progress is finished
+  s.RemovedTotalMm3 = off.RemovedTotalMm3;
   return s;
 }
 
@@ -164,6 +167,87 @@ TEST(DrillVolume, BlockVolumeAndSparseStorage) {
   bad.Spacing = 0;
   EXPECT_FALSE(sparse.Initialize(bad, mat, error));
   EXPECT_NE(error.find("voxel size"), std::string::npos) << error;
+}
+
+TEST(DrillVolume, SampleIsTheTrilinearInterpolationAcrossBlockFaces) {
+  // The sample at any point (inside a block, across its faces and corners, at the grid's edge)
+  // equals the trilinear interpolation of the voxels around it, read one by one; the material
+  // is the densest voxel's.
+  const auto mat = Materials();
+  rp::DrillVolume volume;
+  std::string error;
+  ASSERT_TRUE(rp::BuildAnalyticBone(rp::BlockBone({-3, -4, -2}, {4, 3, 5}, Cortical(mat), 1.0, Trabecular(mat)), 0.25, mat,
+                                    volume, error))
+      << error;
+  const rp::DrillGrid& g = volume.Grid();
+  uint64_t state = 12345;
+  const auto uniform = [&state]() {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return double(state >> 11) / double(1ull << 53);
+  };
+  int acrossBlocks = 0;
+  for (int n = 0; n < 20000; ++n) {
+    Vec3 ras;
+    for (int a = 0; a < 3; ++a) ras[a] = g.Origin[a] - g.Spacing + uniform() * (g.Dimensions[a] + 1) * g.Spacing;
+    if (n % 4 == 0) ras.x = g.Origin.x + (8 * (1 + n % 5) - 0.5) * g.Spacing;  // on a block face
+    const Vec3 x = g.ToIndex(ras);
+    const int i = int(std::floor(x.x)), j = int(std::floor(x.y)), k = int(std::floor(x.z));
+    double expected = 0;
+    uint8_t densest = 0, code = 0;
+    for (int c = 0; c < 8; ++c) {
+      const int di = c & 1, dj = (c >> 1) & 1, dk = c >> 2;
+      const double weight = (di ? x.x - i : 1 - (x.x - i)) * (dj ? x.y - j : 1 - (x.y - j)) * (dk ? x.z - k : 1 - (x.z - k));
+      const uint8_t d = volume.Density(i + di, j + dj, k + dk);
+      expected += weight * d / 255.0;
+      if (d > densest) densest = d, code = volume.MaterialCode(i + di, j + dj, k + dk);
+    }
+    const bool inGrid = x.x >= -1 && x.y >= -1 && x.z >= -1 && x.x < g.Dimensions[0] && x.y < g.Dimensions[1] &&
+                        x.z < g.Dimensions[2];
+    if (!inGrid) expected = 0, code = 0;
+    acrossBlocks += ((i & 7) == 7 || (j & 7) == 7 || (k & 7) == 7) && expected > 0;
+    uint8_t sampledCode = 0xff;
+    ASSERT_NEAR(volume.Sample(ras, sampledCode), expected, 1e-12) << "at " << ras.x << "," << ras.y << "," << ras.z;
+    ASSERT_NEAR(volume.Sample(ras), expected, 1e-12);
+    if (expected > 0) {
+      ASSERT_EQ(sampledCode, code);
+    }
+  }
+  EXPECT_GT(acrossBlocks, 1000);
+}
+
+TEST(Drilling, ACutInSharesLeavesTheBoneOneCutLeaves) {
+  // BeginCut(…, 4) + three ContinueCut() carve exactly what Cut() carves at once, and count the
+  // same volume; the cut is pending in between, and a stroke's end finishes it.
+  const auto mat = Materials();
+  std::string error;
+  rp::DrillVolume once, shared;
+  for (rp::DrillVolume* v : {&once, &shared})
+    ASSERT_TRUE(rp::BuildAnalyticBone(rp::BlockBone({-6, -6, -6}, {6, 6, 6}, Cortical(mat)), 0.2, mat, *v, error)) << error;
+  rp::BoneCutter a(once), b(shared);
+  const Vec3 c0{0.11, -0.23, 4.5}, dir = rp::Normalized(Vec3{0.2, 0.1, -1});
+  const double advance = 0.07;
+  a.BeginStroke(), b.BeginStroke();
+  ASSERT_TRUE(a.Cut(c0, 2.5).Removed);
+  ASSERT_TRUE(b.Cut(c0, 2.5).Removed);
+  ASSERT_TRUE(a.Cut(c0 + dir * advance, 2.5, dir, advance).Removed);
+  const std::vector<uint8_t> before = Densities(shared);
+  b.BeginCut(c0 + dir * advance, 2.5, dir, advance, 4);
+  EXPECT_TRUE(b.CutPending());
+  EXPECT_NE(Densities(shared), Densities(once)) << "one share is not the whole cut";
+  EXPECT_NE(Densities(shared), before) << "the first share carves";
+  b.ContinueCut();
+  b.ContinueCut();
+  EXPECT_TRUE(b.CutPending());
+  b.EndStroke();  // finishes the last share
+  EXPECT_FALSE(b.CutPending());
+  EXPECT_EQ(Densities(shared), Densities(once));
+  EXPECT_DOUBLE_EQ(b.RemovedTotal(), a.RemovedTotal());
+  // Undo restores the stroke, the shared cut included.
+  ASSERT_TRUE(b.StartUndo());
+  while (b.Restoring()) b.Step();
+  rp::DrillVolume fresh;
+  ASSERT_TRUE(rp::BuildAnalyticBone(rp::BlockBone({-6, -6, -6}, {6, 6, 6}, Cortical(mat)), 0.2, mat, fresh, error)) << error;
+  EXPECT_EQ(Densities(shared), Densities(fresh));
 }
 
 TEST(BlockMesher, ClosedSurfaceHasTheBoneVolume) {
