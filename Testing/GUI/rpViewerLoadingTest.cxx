@@ -1,7 +1,8 @@
 // The viewer loads without blocking (GUI test under Xvfb): a 512x512x300 DICOM series, written
 // at test time into the build tree by our DICOM writer, is read on a worker thread while a
 // 20 ms QTimer keeps firing; the reader's per-file progress reaches the progress dialog; Cancel
-// leaves the scene unchanged; a failing read names the problem and changes nothing.
+// leaves the scene unchanged; a failing read names the problem and changes nothing; a scene file,
+// whose reader fills the scene, is handed back to the GUI thread and opens.
 // No wall-clock bounds (speed belongs in Testing/Benchmarks): the load is off the GUI thread when
 // the GUI thread read almost none of the series' bytes (the kernel's per-thread I/O counts) and the
 // timer fired at several stages of the read, however slowly a loaded machine runs either thread.
@@ -24,6 +25,7 @@
 
 #include "rpDicomWriter.h"
 #include "rpImageVolume.h"
+#include "rpSceneIO.h"
 #include "rpViewerMainWindow.h"
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
@@ -198,4 +200,42 @@ TEST(ViewerLoading, CancelLeavesTheSceneUnchanged) {
   EXPECT_FALSE(window.LoadFile(QString::fromStdString(broken.string()), &error));
   EXPECT_TRUE(error.contains("would need")) << error.toStdString();
   EXPECT_EQ(scene->GetNumberOfNodes(), before);
+}
+
+TEST(ViewerLoading, ASceneFileIsHandedBackToTheGuiThreadAndOpens) {
+  Application();
+  const fs::path dir = fs::path(ROBOPLAN_TEST_OUTPUT_DIR) / "scene-file";
+  fs::create_directories(dir);
+  const std::string path = (dir / "plan.rpscene").string();
+  {
+    vtkNew<vtkRPScene> source;
+    vtkNew<vtkImageData> image;
+    image->SetDimensions(8, 6, 4);
+    image->AllocateScalars(VTK_SHORT, 1);
+    short* v = static_cast<short*>(image->GetScalarPointer());
+    for (int n = 0; n < 8 * 6 * 4; ++n) v[n] = static_cast<short>(n);
+    vtkNew<vtkRPScalarVolumeNode> volume;
+    volume->SetName("small CT");
+    volume->SetImageData(image);
+    source->AddNode(volume);
+    std::string error;
+    ASSERT_TRUE(rp::SaveScene(source, path, error)) << error;
+  }
+  vtkNew<vtkRPScene> scene;
+  rp::ViewerMainWindow window(nullptr, scene);
+  window.show();
+  ASSERT_TRUE(QTest::qWaitForWindowExposed(&window));
+  QString error;
+  ASSERT_TRUE(window.LoadFile(QString::fromStdString(path), &error)) << error.toStdString();
+  const auto volumes = scene->GetNodesByClass("vtkRPScalarVolumeNode");
+  ASSERT_EQ(volumes.size(), 1u);
+  EXPECT_EQ(volumes[0]->GetName(), "small CT");
+  vtkImageData* loaded = vtkRPScalarVolumeNode::SafeDownCast(volumes[0])->GetImageData();
+  ASSERT_NE(loaded, nullptr);
+  int dims[3];
+  loaded->GetDimensions(dims);
+  EXPECT_EQ(dims[0], 8);
+  EXPECT_EQ(dims[1], 6);
+  EXPECT_EQ(dims[2], 4);
+  EXPECT_EQ(loaded->GetScalarComponentAsDouble(7, 5, 3, 0), 8 * 6 * 4 - 1);
 }
