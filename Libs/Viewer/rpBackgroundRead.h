@@ -25,6 +25,9 @@ struct BackgroundReadResult {
   std::string Error;
   std::vector<std::string> Warnings;
   std::vector<vtkSmartPointer<vtkRPNode>> Nodes;  // not in any scene yet
+  /// The read found that its work belongs on the main thread (a scene file: its reader fills the
+  /// scene as it goes) and did nothing else.
+  bool LeftToMainThread = false;
 };
 
 /// The work: fills `result` (nodes, warnings, error) and returns success. Runs on a worker

@@ -29,11 +29,17 @@ namespace rp {
 
 BackgroundRead MakeDataRead(vtkRPScene* scene, const std::string& path) {
   // The one loader (rpDataLoader.h) on the worker thread: readers that do not read into the scene
-  // only create nodes through it (a const lookup in its node registry).
+  // only create nodes through it (a const lookup in its node registry). The lookup too: for a
+  // folder it looks into every file (is one a DICOM SEG or RTSTRUCT?).
   return [scene, path](BackgroundReadResult& result, const ProgressCallback& progress) {
+    const DataReader* reader = FindDataReader(path);
+    if (reader && reader->ReadsIntoScene()) {
+      result.LeftToMainThread = true;
+      return false;
+    }
     ReadOptions options;
     options.Progress = progress;
-    LoadResult read = ReadPath(scene, path, options);
+    LoadResult read = ReadPath(scene, path, reader, options);
     result.Error = read.Error;
     result.Warnings = read.Warnings;
     result.Nodes = read.Nodes;

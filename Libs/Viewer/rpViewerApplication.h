@@ -20,8 +20,9 @@ int RunViewer(int argc, char* argv[], ModuleManager& manager, vtkRPScene* scene,
 std::vector<rp::Command> ViewerCommands();
 
 /// The read of a data file or a DICOM series folder as a BackgroundRead (rp::ReadPath: nodes
-/// made, not added to the scene); it may run on any thread. Not for paths whose DataReader
-/// ReadsIntoScene (scene files): loading them changes the scene as it goes.
+/// made, not added to the scene); it may run on any thread. A path whose DataReader
+/// ReadsIntoScene (a scene file: loading it changes the scene as it goes) is not read: the
+/// result is LeftToMainThread (LoadSceneOrDataFile reads it there).
 BackgroundRead MakeDataRead(vtkRPScene* scene, const std::string& path);
 
 /// Loads a scene file (*.rpscene, *.mrml, *.mrb), a data file or a DICOM series folder into the scene (rp::LoadPath). Problems that did not stop the

@@ -436,15 +436,16 @@ bool ViewerMainWindow::LoadFile(const QString& path, QString* error) {
   std::string message;
   std::vector<std::string> warnings;
   bool ok = false;
-  const DataReader* reader = FindDataReader(path.toStdString());
-  if (reader && reader->ReadsIntoScene()) {
+  // The worker finds the reader too (for a folder that looks into every file) and reads unless
+  // the path is a scene file.
+  BackgroundReadResult result = RunBackgroundRead(this, "Loading " + QFileInfo(path).fileName(),
+                                                  MakeDataRead(this->Scene, path.toStdString()));
+  if (result.LeftToMainThread && !result.Cancelled) {
     // A scene file fills the scene as it reads: on this thread.
     QApplication::setOverrideCursor(Qt::WaitCursor);
     ok = LoadSceneOrDataFile(this->Scene, path.toStdString(), message, &warnings);
     QApplication::restoreOverrideCursor();
   } else {
-    BackgroundReadResult result = RunBackgroundRead(this, "Loading " + QFileInfo(path).fileName(),
-                                                    MakeDataRead(this->Scene, path.toStdString()));
     ok = result.Ok;
     message = result.Error;
     warnings = result.Warnings;

@@ -67,8 +67,11 @@ const DataReader* FindDataReader(const std::string& path) {
 }
 
 LoadResult ReadPath(vtkRPScene* scene, const std::string& path, const ReadOptions& options) {
+  return ReadPath(scene, path, FindDataReader(path), options);
+}
+
+LoadResult ReadPath(vtkRPScene* scene, const std::string& path, const DataReader* reader, const ReadOptions& options) {
   LoadResult result;
-  const DataReader* reader = FindDataReader(path);
   if (!reader) {
     result.Error = "'" + path + "': no reader for this file type";
     return result;

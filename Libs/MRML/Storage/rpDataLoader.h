@@ -100,6 +100,10 @@ const DataReader* FindDataReader(const std::string& path);
 /// Reads `path` with its reader; the nodes are not added to the scene unless the reader
 /// ReadsIntoScene (then it is the main thread's call). Safe on a worker thread otherwise.
 LoadResult ReadPath(vtkRPScene* scene, const std::string& path, const ReadOptions& options = {});
+/// The same with the reader FindDataReader(path) returned (nullptr: the "no reader" error), for a
+/// caller that looked it up already: a folder's lookup may look into every file in it.
+LoadResult ReadPath(vtkRPScene* scene, const std::string& path, const DataReader* reader,
+                    const ReadOptions& options = {});
 /// Reads `path` and adds the nodes to `scene` (in result.Nodes). On failure the scene is as it was.
 LoadResult LoadPath(vtkRPScene* scene, const std::string& path, const ReadOptions& options = {});
 /// For commands that take one data file or folder: LoadPath, then the one node it added, or

@@ -2,10 +2,10 @@
 // and multi-layer 4-D), round trips, the storage registry, and malformed files.
 #include <gtest/gtest.h>
 
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -100,19 +100,44 @@ int VoxelAt(vtkImageData* image, int i, int j, int k) {
   return static_cast<int>(image->GetScalarComponentAsDouble(i, j, k, 0));
 }
 
+// The names in `text` of the form `Get<word>ParameterName() { return "<name>"`. Scanned by hand:
+// std::regex's automaton draws GCC 12's false -Wmaybe-uninitialized from libstdc++ under
+// -fsanitize=address.
+void CollectParameterNames(const std::string& text, std::set<std::string>& names) {
+  const std::string call = "ParameterName()";
+  auto isWord = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+  for (size_t at = text.find(call); at != std::string::npos; at = text.find(call, at + 1)) {
+    size_t word = at;
+    while (word > 0 && isWord(text[word - 1])) --word;
+    if (text.substr(word, at - word).find("Get") == std::string::npos) continue;
+    size_t p = at + call.size();
+    auto skipSpace = [&]() {
+      while (p < text.size() && std::isspace(static_cast<unsigned char>(text[p]))) ++p;
+    };
+    skipSpace();
+    if (p >= text.size() || text[p] != '{') continue;
+    ++p;
+    skipSpace();
+    if (text.compare(p, 6, "return") != 0) continue;
+    p += 6;
+    skipSpace();
+    if (p >= text.size() || text[p] != '"') continue;
+    const size_t close = text.find('"', p + 1);
+    if (close != std::string::npos && close > p + 1) names.insert(text.substr(p + 1, close - p - 1));
+  }
+}
+
 // The parameter names Slicer 5.0.3's own conversion rules define, read from their headers in the
 // oracle folder (`static const std::string Get...ParameterName() { return "..."; }`).
 std::set<std::string> SlicerRuleParameterNames(const std::string& dir) {
   std::set<std::string> names;
-  const std::regex pattern(R"re(Get\w*ParameterName\(\)\s*\{\s*return\s*"([^"]+)")re");
   for (const auto& entry : fs::directory_iterator(dir)) {
     const std::string file = entry.path().filename().string();
     if (file.find("ConversionRule.h") == std::string::npos || file == "vtkSegmentationConverterRule.h") continue;
     std::ifstream in(entry.path());
     std::stringstream text;
     text << in.rdbuf();
-    const std::string body = text.str();
-    for (std::sregex_iterator m(body.begin(), body.end(), pattern), end; m != end; ++m) names.insert((*m)[1]);
+    CollectParameterNames(text.str(), names);
   }
   return names;
 }

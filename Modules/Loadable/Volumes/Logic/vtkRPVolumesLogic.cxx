@@ -40,7 +40,7 @@ vtkRPScalarVolumeNode* vtkRPVolumesLogic::LoadVolume(const std::string& path, co
     error = "'" + path + "' is a " + reader->Description() + " file, not a volume";
     return nullptr;
   }
-  rp::LoadResult loaded = rp::ReadPath(this->Scene, path, read);
+  rp::LoadResult loaded = rp::ReadPath(this->Scene, path, reader, read);
   auto* volume = loaded.Ok && loaded.Nodes.size() == 1 ? vtkRPScalarVolumeNode::SafeDownCast(loaded.Nodes.front()) : nullptr;
   if (!volume) {
     error = loaded.Ok ? "'" + path + "' is not a volume" : loaded.Error;
