@@ -243,7 +243,6 @@ void BoneCutter::RestoreBlock(int32_t slot, const uint8_t* data) noexcept {
     changed = true;
   }
   if (!changed) return;
-  this->Volume.NoteDensitiesRaised();
   const auto& c = this->Volume.BlockCoordinate(slot);
   VoxelBox box;
   for (int a = 0; a < 3; ++a) {

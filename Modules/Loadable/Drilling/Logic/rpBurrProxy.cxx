@@ -14,7 +14,6 @@ inline Vec3 Splat(double s) { return {s, s, s}; }
 void BurrProxy::Reset(const Vec3& position) noexcept {
   ShellDirections();  // build the shell now, not in a tick
   this->P = position;
-  this->TouchVolume = nullptr;
   this->State = BurrContact{};
   this->State.Anchor = position;
 }
@@ -51,7 +50,7 @@ const Shell& TheShell() noexcept {
 const Vec3* BurrProxy::ShellDirections() noexcept { return TheShell().Directions; }
 
 double BurrProxy::Sweep(const DrillVolume& volume, const Vec3& from, const Vec3& to, double radius,
-                        double& startOverlap, const double* knownGaps) noexcept {
+                        double& startOverlap) noexcept {
   const double h = volume.Spacing();
   const Vec3 d = to - from;
   const double length = Norm(d);
@@ -76,9 +75,7 @@ double BurrProxy::Sweep(const DrillVolume& volume, const Vec3& from, const Vec3&
   for (int i = 0; i < ShellPoints; ++i) {
     const double c = Dot(u[i], dir);
     if (c <= 0) continue;
-    // A point known to be clear stays clear (its bound is all the interpolation below needs);
-    // one known to touch may have been cut free: sampled.
-    const double gap = knownGaps && knownGaps[i] > 0 ? knownGaps[i] : Gap(volume.Sample(from + u[i] * radius), h, allowance);
+    const double gap = Gap(volume.Sample(from + u[i] * radius), h, allowance);
     if (gap <= 0) {
       startOverlap = std::max(startOverlap, -gap);
       if (c > 0.5) return 0.0;
@@ -105,7 +102,7 @@ double BurrProxy::Sweep(const DrillVolume& volume, const Vec3& from, const Vec3&
 }
 
 bool BurrProxy::Touching(const DrillVolume& volume, const Vec3& p, double radius, const Vec3& push,
-                         BurrContact& contact, double* gaps) noexcept {
+                         BurrContact& contact) noexcept {
   const double h = volume.Spacing();
   const double band = TouchBand * h;
   const auto& materials = volume.Materials();
@@ -121,9 +118,9 @@ bool BurrProxy::Touching(const DrillVolume& volume, const Vec3& p, double radius
   for (int i = 0; i < ShellPoints; ++i) {
     uint8_t code;
     const double rho = volume.Sample(p + u[i] * radius, code);
+    if (rho <= 0) continue;
     const double gap = Gap(rho, h, allowance);
-    if (gaps) gaps[i] = gap;
-    if (rho <= 0 || gap >= band) continue;
+    if (gap >= band) continue;
     ++count;
     const double weight = std::min(band - gap, 2 * band);
     sum -= u[i] * weight;  // inward normal (bone → burr centre)
@@ -231,13 +228,10 @@ const BurrContact& BurrProxy::Update(const DrillVolume& volume, const Vec3& hip,
     const Vec3 d = target - p;
     if (Norm2(d) < still * still) break;
     double overlap = 0;
-    const bool fromTouch = pass == 0 && this->TouchVolume == &volume && this->TouchRadius == radius &&
-                       this->TouchRaises == volume.DensityRaises();
-    const double t = Sweep(volume, p, target, radius, overlap, fromTouch ? this->TouchGaps : nullptr);
+    const double t = Sweep(volume, p, target, radius, overlap);
     if (pass == 0 && overlap > EmbeddedDepth * h) {
       // Inside bone (material came back around the burr): let it go until it is out again.
       this->P = goal;
-      this->TouchVolume = nullptr;
       s.Embedded = true;
       s.Anchor = goal;
       return s;
@@ -250,7 +244,7 @@ const BurrContact& BurrProxy::Update(const DrillVolume& volume, const Vec3& hip,
     if (n == 3) break;  // a corner
     if (t > 0 || !touchValid) {
       p = p + d * t;
-      touchValid = Touching(volume, p, radius, goal - p, touch, this->TouchGaps);
+      touchValid = Touching(volume, p, radius, goal - p, touch);
     }
     if (!touchValid || Norm2(touch.Normal) == 0) break;
     // Blocked where it stood by the same contact as before: no other way to go.
@@ -301,11 +295,7 @@ const BurrContact& BurrProxy::Update(const DrillVolume& volume, const Vec3& hip,
   if (touchValid)
     s = touch;
   else
-    Touching(volume, p, radius, goal - p, s, this->TouchGaps);
-  // TouchGaps now hold the gaps at P (a touch is redone wherever p moved).
-  this->TouchVolume = &volume;
-  this->TouchRadius = radius;
-  this->TouchRaises = volume.DensityRaises();
+    Touching(volume, p, radius, goal - p, s);
   s.Planes = n;
   s.Anchor = p;
   // The exact contact (for the force) only where the hand presses into the bone.

@@ -63,16 +63,12 @@ class BurrProxy {
 
   /// Fraction of the move from `from` to `to` the sphere can make before it touches bone (> 1:
   /// free). `startOverlap` gets the deepest overlap (mm) at `from`.
-  /// `knownGaps` (optional, ShellPoints values): lower bounds of each shell point's gap at
-  /// `from` (e.g. the last touch's, with only cutting since); a point known to be clear is not
-  /// sampled again there, one known to touch is.
   static double Sweep(const DrillVolume& volume, const Vec3& from, const Vec3& to, double radius,
-                      double& startOverlap, const double* knownGaps = nullptr) noexcept;
+                      double& startOverlap) noexcept;
   /// Contact normal, materials and touching voxels of the sphere at `p`; `push` is the direction
   /// the hand pushes (HIP − proxy). False when nothing touches.
-  /// `gaps` (optional, ShellPoints values) gets every shell point's gap (mm).
   static bool Touching(const DrillVolume& volume, const Vec3& p, double radius, const Vec3& push,
-                       BurrContact& contact, double* gaps = nullptr) noexcept;
+                       BurrContact& contact) noexcept;
   /// The signed distance (mm) from `p` to the bone surface along the fitted local plane near the
   /// contact point p − normal·radius; false when the ramp there does not fit a plane.
   static bool SurfaceDistance(const DrillVolume& volume, const Vec3& p, const Vec3& normal, double radius,
@@ -81,12 +77,6 @@ class BurrProxy {
  private:
   Vec3 P;
   BurrContact State;
-  // The last touch's gaps at P: the next tick's sweep starts there, and cutting in between only
-  // widens them (valid while the volume, radius and DensityRaises() are the same).
-  double TouchGaps[ShellPoints] = {};
-  const DrillVolume* TouchVolume = nullptr;
-  double TouchRadius = 0;
-  uint64_t TouchRaises = 0;
 };
 
 }  // namespace rp

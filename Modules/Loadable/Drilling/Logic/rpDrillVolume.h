@@ -161,12 +161,6 @@ class DrillVolume {
   void ForEachRunInShell(const Vec3& c, double rIn, double rOut, const HalfSpace* keep, const Vec3& clipLo,
                          const Vec3& clipHi, const RowSlice& rows, F&& f) const;
 
-  /// Densities only fall while the burr cuts; a restore (undo, reset) raises them. The servo
-  /// thread counts each raise here, so what it learnt about the bone before (rpBurrProxy's touch
-  /// samples, lower bounds of the gaps while nothing was restored) knows when it no longer holds.
-  uint64_t DensityRaises() const noexcept { return this->Raises; }
-  void NoteDensitiesRaised() noexcept { ++this->Raises; }
-
   // ---- dirty blocks: servo thread marks, display thread takes
   /// Marks the blocks whose contour cells (and their normals) depend on voxels in `changed`.
   void MarkDirty(const VoxelBox& changed) noexcept;
@@ -199,7 +193,6 @@ class DrillVolume {
   std::unique_ptr<DirtyRing> Dirty;
   std::atomic<bool> DirtyOverflow{false};
   std::vector<double> InitialVolumes;
-  uint64_t Raises = 0;  // servo thread only
   bool Finished = false;
 };
 

@@ -250,35 +250,6 @@ TEST(Drilling, ACutInSharesLeavesTheBoneOneCutLeaves) {
   EXPECT_EQ(Densities(shared), Densities(fresh));
 }
 
-TEST(Drilling, TheLastTouchsGapsAreSafeStartingBoundsForTheNextSweep) {
-  // The burr rests on a block's top face; a cut ahead of it widens the gaps. A sweep that starts
-  // from the touch's gaps (as the next tick's does) stops no later than one that samples them
-  // again, and not much earlier; before the cut both are the same.
-  const auto mat = Materials();
-  std::string error;
-  rp::DrillVolume volume;
-  ASSERT_TRUE(rp::BuildAnalyticBone(rp::BlockBone({-6, -6, -6}, {6, 6, 0}, Cortical(mat)), 0.2, mat, volume, error)) << error;
-  const double r = 2.0;
-  const Vec3 rest{0.07, -0.03, r + 0.002}, down{0, 0, -1};
-  double gaps[rp::BurrProxy::ShellPoints];
-  rp::BurrContact contact;
-  ASSERT_TRUE(rp::BurrProxy::Touching(volume, rest, r, down, contact, gaps));
-  double overlapKnown = 0, overlap = 0;
-  // Nothing cut yet: the bounds are the gaps, and the burr sinks no more than the allowance.
-  const double blockedKnown = rp::BurrProxy::Sweep(volume, rest, rest + down, r, overlapKnown, gaps);
-  EXPECT_DOUBLE_EQ(blockedKnown, rp::BurrProxy::Sweep(volume, rest, rest + down, r, overlap));
-  EXPECT_LT(blockedKnown, 0.05);
-  rp::BoneCutter cutter(volume);
-  cutter.BeginStroke();
-  ASSERT_TRUE(cutter.Cut(rest + down * 0.15, r).Removed);  // the bone recedes 0.15 mm under the burr
-  const double known = rp::BurrProxy::Sweep(volume, rest, rest + down, r, overlapKnown, gaps);
-  const double exact = rp::BurrProxy::Sweep(volume, rest, rest + down, r, overlap);
-  EXPECT_GT(exact, 0.1);
-  EXPECT_LE(known, exact);
-  EXPECT_GT(known, 0.5 * exact) << "the bounds only cost the interpolation a little";
-  EXPECT_DOUBLE_EQ(overlapKnown, overlap);
-}
-
 TEST(BlockMesher, ClosedSurfaceHasTheBoneVolume) {
   const auto mat = Materials();
   rp::DrillVolume volume;
