@@ -26,20 +26,14 @@ void HapticServo::Tick(const TickInfo& tick) noexcept {
   DeviceState device;
   const bool ok = this->Device.Read(tick.Time, device);
   s.DeviceError = !ok;
-  if (this->First) {
-    this->RampStart = tick.Time;
-    this->LastTime = tick.Time - tick.Period;
-  }
-  // Measured time since the previous tick: a stall (the thread was not run) shows here.
-  const double elapsed = tick.Time > this->LastTime ? tick.Time - this->LastTime : tick.Period;
-  this->LastTime = tick.Time;
+  const double elapsed = this->Clock.Elapsed(tick, this->First, tick.Period);
   if (elapsed > 1.5 * tick.Period) ++this->Stalls;
   s.Elapsed = elapsed;
   s.Stalls = this->Stalls;
   // Watchdog: an overrun or a device error zeroes the force and restarts the ramp.
   if (!ok || tick.PreviousOverran) {
     ++this->Trips;
-    this->RampStart = tick.Time;
+    this->Clock.RestartRamp(tick.Time);
     this->Device.WriteForce(Vec3{});
     s.Force = Vec3{};
     s.RampScale = 0;
@@ -70,7 +64,7 @@ void HapticServo::Tick(const TickInfo& tick) noexcept {
     this->First = false;
   }
   const RenderOutput& out = this->Render.Update(stylus, elapsed);
-  const double ramp = this->RampSeconds > 0 ? std::min(1.0, (tick.Time - this->RampStart) / this->RampSeconds) : 1.0;
+  const double ramp = this->Clock.Ramp(tick.Time, this->RampSeconds);
   const Vec3 force = out.Force * ramp;
   this->Device.WriteForce(xf.DeviceToRAS.RotateInverse(force));
 

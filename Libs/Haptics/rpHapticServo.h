@@ -4,6 +4,7 @@
 // start, and a watchdog zeroes it when a tick overran or the device reported an error. It
 // publishes its state for the main thread (LatestValue) and log records for a writer thread
 // (SPSC ring). It never touches a scene node, never allocates, locks or logs in Tick().
+#include <algorithm>
 #include <atomic>
 
 #include "rpHapticRenderer.h"
@@ -14,6 +15,29 @@
 namespace rp {
 
 /// Device frame → scene (RAS): scene = R·(Scale·device) + T.
+/// The time a servo task keeps (servo thread only): the measured time since the previous tick
+/// (a stall, the thread not run, shows as more than one period) and the force ramp that starts
+/// the force again after a start or a watchdog trip. Shared by every haptic servo task.
+struct ServoClock {
+  double RampStart = 0, LastTime = 0;
+  /// Seconds since the previous tick (`fallback` when the clock did not advance). On the first
+  /// tick (`first`) it is one period, and the ramp starts.
+  double Elapsed(const TickInfo& tick, bool first, double fallback) noexcept {
+    if (first) {
+      this->RampStart = tick.Time;
+      this->LastTime = tick.Time - tick.Period;
+    }
+    const double elapsed = tick.Time > this->LastTime ? tick.Time - this->LastTime : fallback;
+    this->LastTime = tick.Time;
+    return elapsed;
+  }
+  void RestartRamp(double time) noexcept { this->RampStart = time; }
+  /// The force's scale at `time`: 0 → 1 over `seconds` since the ramp started (1 when 0 s).
+  double Ramp(double time, double seconds) const noexcept {
+    return seconds > 0 ? std::min(1.0, (time - this->RampStart) / seconds) : 1.0;
+  }
+};
+
 struct DeviceToScene {
   Pose DeviceToRAS;
   double Scale = 1.0;
@@ -98,8 +122,7 @@ class HapticServo : public ServoTask {
   std::atomic<double> StabilityPeriod{0};
   double RampSeconds = 0.5;
   // Servo thread only:
-  double RampStart = 0;
-  double LastTime = 0;
+  ServoClock Clock;
   bool First = true;
   uint32_t Trips = 0, Stalls = 0;
   HapticState Scratch;

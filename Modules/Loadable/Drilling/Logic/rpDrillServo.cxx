@@ -192,17 +192,11 @@ void DrillServo::Tick(const TickInfo& tick) noexcept {
   DeviceState device;
   const bool ok = this->Device.Read(tick.Time, device);
   s.DeviceError = !ok;
-  if (this->First) {
-    this->RampStart = tick.Time;
-    this->LastTime = tick.Time - tick.Period;
-  }
-  // Measured time since the previous tick: a stall (the thread was not run) shows here.
-  const double elapsed = tick.Time > this->LastTime ? tick.Time - this->LastTime : dt;
-  this->LastTime = tick.Time;
+  const double elapsed = this->Clock.Elapsed(tick, this->First, dt);
   if (!ok || tick.PreviousOverran) {
     // Watchdog: no force, no cutting, ramp in again.
     ++this->Trips;
-    this->RampStart = tick.Time;
+    this->Clock.RestartRamp(tick.Time);
     this->Device.WriteForce(Vec3{});
     s.Force = Vec3{};
     s.Cutting = false;
@@ -275,7 +269,7 @@ void DrillServo::Tick(const TickInfo& tick) noexcept {
   const double magnitude = Norm(total);
   const bool clamped = burr.Clamped || meshOut.Clamped || magnitude > maxForce;
   if (magnitude > maxForce) total = total * (maxForce / magnitude);
-  const double ramp = this->Settings.RampSeconds > 0 ? std::min(1.0, (tick.Time - this->RampStart) / this->Settings.RampSeconds) : 1.0;
+  const double ramp = this->Clock.Ramp(tick.Time, this->Settings.RampSeconds);
   const Vec3 force = total * ramp;
   this->Device.WriteForce(xf.DeviceToRAS.RotateInverse(force));
 

@@ -155,7 +155,7 @@ class DrillServo : public ServoTask {
   bool HasLastCut = false;
   bool CutRemoved = false;  // the pending (sliced) cut has removed bone so far
   double CutFeed = 0;       // the feed that cut advanced at (mm/s)
-  double RampStart = 0, LastTime = 0;
+  ServoClock Clock;
   uint32_t Trips = 0;
   DrillState Scratch;
 };
