@@ -199,6 +199,7 @@ DrillRunResult DrillAlongPlan(DemoState& state, const TunnelPlan& plan, DrillSer
   run.RecordInfo = {Voxel, options.FeedRate, options.ReferenceRpm, false};
   run.Progress = [&state](double f, const std::string& m) { state.Runner->Progress(0.1 + 0.7 * f, m); };
   run.OnMesh = [&mesh](vtkPolyData* m) { mesh = m; };
+  run.MeshEveryFrame = false;  // only the drilled tibia's last mesh is shown
   DrillRunResult result;
   std::string error;
   if (!RunDrill(servo, display, run, result, error)) throw std::runtime_error(error);
@@ -254,7 +255,8 @@ void ReportTunnelVolumes(DemoState& state, const std::string& stage, const Tunne
 void ReportTunnelTimings(DemoState& state, const std::string& stage, const DrillRunResult& result,
                          DrillVolume& bone, const DrillBoneReport& built, double maxForce) {
   std::vector<double> contour;
-  for (const DisplayFrame& f : result.Frames) contour.push_back(f.ContourMs);
+  for (const DisplayFrame& f : result.Frames)
+    if (f.Blocks > 0) contour.push_back(f.ContourMs);
   double peak = 0;
   for (const DrillRecordLine& l : result.Records) peak = std::max(peak, Norm(l.Record.Force));
   state.Report->AddFigureBelow(stage, "peak force on the hand", peak, "N", maxForce + 1e-6,

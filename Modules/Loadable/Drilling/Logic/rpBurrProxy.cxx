@@ -50,7 +50,7 @@ const Shell& TheShell() noexcept {
 const Vec3* BurrProxy::ShellDirections() noexcept { return TheShell().Directions; }
 
 double BurrProxy::Sweep(const DrillVolume& volume, const Vec3& from, const Vec3& to, double radius,
-                        double& startOverlap) noexcept {
+                        double& startOverlap, const double* atFrom) noexcept {
   const double h = volume.Spacing();
   const Vec3 d = to - from;
   const double length = Norm(d);
@@ -59,13 +59,14 @@ double BurrProxy::Sweep(const DrillVolume& volume, const Vec3& from, const Vec3&
   const Vec3 dir = d / length;
   const Vec3* u = ShellDirections();
   const double allowance = Allowance(h, radius);
+  auto startDensity = [&](int i) { return atFrom ? atFrom[i] : volume.Sample(from + u[i] * radius); };
   // The points facing the move; those already in the bone at the start block a move that heads
   // into them (within 60°) and are ignored otherwise (the burr slides past them). The point
   // facing the move most squarely first: pressing on the bone it is in it, and one sample decides.
   int front = 0;
   for (int i = 1; i < ShellPoints; ++i)
     if (Dot(u[i], dir) > Dot(u[front], dir)) front = i;
-  if (const double gap = Gap(volume.Sample(from + u[front] * radius), h, allowance); gap <= 0) {
+  if (const double gap = Gap(startDensity(front), h, allowance); gap <= 0) {
     startOverlap = -gap;
     return 0.0;
   }
@@ -75,7 +76,7 @@ double BurrProxy::Sweep(const DrillVolume& volume, const Vec3& from, const Vec3&
   for (int i = 0; i < ShellPoints; ++i) {
     const double c = Dot(u[i], dir);
     if (c <= 0) continue;
-    const double gap = Gap(volume.Sample(from + u[i] * radius), h, allowance);
+    const double gap = Gap(startDensity(i), h, allowance);
     if (gap <= 0) {
       startOverlap = std::max(startOverlap, -gap);
       if (c > 0.5) return 0.0;
@@ -102,7 +103,7 @@ double BurrProxy::Sweep(const DrillVolume& volume, const Vec3& from, const Vec3&
 }
 
 bool BurrProxy::Touching(const DrillVolume& volume, const Vec3& p, double radius, const Vec3& push,
-                         BurrContact& contact) noexcept {
+                         BurrContact& contact, double* shell) noexcept {
   const double h = volume.Spacing();
   const double band = TouchBand * h;
   const auto& materials = volume.Materials();
@@ -118,6 +119,7 @@ bool BurrProxy::Touching(const DrillVolume& volume, const Vec3& p, double radius
   for (int i = 0; i < ShellPoints; ++i) {
     uint8_t code;
     const double rho = volume.Sample(p + u[i] * radius, code);
+    if (shell) shell[i] = rho;
     if (rho <= 0) continue;
     const double gap = Gap(rho, h, allowance);
     if (gap >= band) continue;
@@ -223,12 +225,15 @@ const BurrContact& BurrProxy::Update(const DrillVolume& volume, const Vec3& hip,
   int n = 0;
   BurrContact touch;
   bool touchValid = false;  // `touch` is the contact at p
+  // The shell's densities at p, from the last Touching: the next pass's sweep starts there, at
+  // the same points of the same volume (up to a third of a sliding tick's samples).
+  double shell[ShellPoints];
   const double still = 1e-3 * h;  // moves shorter than this are not worth a sweep
   for (int pass = 0; pass < 4; ++pass) {
     const Vec3 d = target - p;
     if (Norm2(d) < still * still) break;
     double overlap = 0;
-    const double t = Sweep(volume, p, target, radius, overlap);
+    const double t = Sweep(volume, p, target, radius, overlap, touchValid ? shell : nullptr);
     if (pass == 0 && overlap > EmbeddedDepth * h) {
       // Inside bone (material came back around the burr): let it go until it is out again.
       this->P = goal;
@@ -244,7 +249,7 @@ const BurrContact& BurrProxy::Update(const DrillVolume& volume, const Vec3& hip,
     if (n == 3) break;  // a corner
     if (t > 0 || !touchValid) {
       p = p + d * t;
-      touchValid = Touching(volume, p, radius, goal - p, touch);
+      touchValid = Touching(volume, p, radius, goal - p, touch, shell);
     }
     if (!touchValid || Norm2(touch.Normal) == 0) break;
     // Blocked where it stood by the same contact as before: no other way to go.

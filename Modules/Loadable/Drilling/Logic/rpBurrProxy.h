@@ -62,13 +62,15 @@ class BurrProxy {
   static const Vec3* ShellDirections() noexcept;
 
   /// Fraction of the move from `from` to `to` the sphere can make before it touches bone (> 1:
-  /// free). `startOverlap` gets the deepest overlap (mm) at `from`.
+  /// free). `startOverlap` gets the deepest overlap (mm) at `from`. `atFrom`, when given, holds
+  /// the shell's densities at `from` (Touching's `shell`), which the sweep then does not sample again.
   static double Sweep(const DrillVolume& volume, const Vec3& from, const Vec3& to, double radius,
-                      double& startOverlap) noexcept;
+                      double& startOverlap, const double* atFrom = nullptr) noexcept;
   /// Contact normal, materials and touching voxels of the sphere at `p`; `push` is the direction
-  /// the hand pushes (HIP − proxy). False when nothing touches.
+  /// the hand pushes (HIP − proxy). False when nothing touches. `shell`, when given, gets the
+  /// density at each of the ShellPoints.
   static bool Touching(const DrillVolume& volume, const Vec3& p, double radius, const Vec3& push,
-                       BurrContact& contact) noexcept;
+                       BurrContact& contact, double* shell = nullptr) noexcept;
   /// The signed distance (mm) from `p` to the bone surface along the fitted local plane near the
   /// contact point p − normal·radius; false when the ramp there does not fit a plane.
   static bool SurfaceDistance(const DrillVolume& volume, const Vec3& p, const Vec3& normal, double radius,

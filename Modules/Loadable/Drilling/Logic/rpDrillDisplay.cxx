@@ -78,18 +78,32 @@ vtkSmartPointer<vtkPolyData> DrillDisplay::Initialize() {
 
 DisplayFrame DrillDisplay::Frame() {
   DisplayFrame frame;
-  auto start = std::chrono::steady_clock::now();
+  const auto start = std::chrono::steady_clock::now();
   frame.Blocks = this->Blocks.UpdateDirty();
   frame.ContourMs = MillisecondsSince(start);
   if (frame.Blocks == 0) return frame;
-  start = std::chrono::steady_clock::now();
-  vtkSmartPointer<vtkPolyData> mesh = Assemble(this->Blocks);
-  frame.AssembleMs = MillisecondsSince(start);
-  frame.Triangles = static_cast<size_t>(mesh->GetNumberOfPolys());
+  vtkSmartPointer<vtkPolyData> mesh;
+  if (this->MeshEveryFrame) mesh = this->AssembleInto(frame);
+  std::lock_guard<std::mutex> guard(this->Lock);
+  if (mesh) this->Pending = mesh;
+  this->History.push_back(frame);
+  return frame;
+}
+
+void DrillDisplay::PostMesh() {
+  DisplayFrame frame;
+  vtkSmartPointer<vtkPolyData> mesh = this->AssembleInto(frame);
   std::lock_guard<std::mutex> guard(this->Lock);
   this->Pending = mesh;
   this->History.push_back(frame);
-  return frame;
+}
+
+vtkSmartPointer<vtkPolyData> DrillDisplay::AssembleInto(DisplayFrame& frame) const {
+  const auto start = std::chrono::steady_clock::now();
+  vtkSmartPointer<vtkPolyData> mesh = Assemble(this->Blocks);
+  frame.AssembleMs = MillisecondsSince(start);
+  frame.Triangles = static_cast<size_t>(mesh->GetNumberOfPolys());
+  return mesh;
 }
 
 bool DrillDisplay::Start(double rateHz, std::string& error) {

@@ -19,7 +19,7 @@ class vtkPolyData;
 namespace rp {
 
 struct DisplayFrame {
-  size_t Blocks = 0;         // blocks re-contoured in this frame
+  size_t Blocks = 0;         // blocks re-contoured in this frame (0: PostMesh's assembly only)
   double ContourMs = 0;      // re-contouring those blocks
   double AssembleMs = 0;     // building the model's polydata from the block meshes
   size_t Triangles = 0;
@@ -34,9 +34,17 @@ class DrillDisplay {
 
   /// Contours the whole bone (once, before the threads start) and returns its mesh.
   vtkSmartPointer<vtkPolyData> Initialize();
-  /// One frame: re-contours the dirty blocks; when any changed, assembles and posts the mesh.
-  /// Called by the display thread, or by the caller in scripted runs.
+  /// One frame: re-contours the dirty blocks; when any changed and meshes are posted every
+  /// frame, assembles and posts the mesh. Called by the display thread, or by the caller in
+  /// scripted runs.
   DisplayFrame Frame();
+  /// Whether Frame() assembles and posts the mesh (the default) or only keeps the block meshes
+  /// current, for a scripted run whose caller wants only the last mesh (PostMesh): the assembly
+  /// writes the whole bone's mesh (23 MB for a 40 mm block at 0.2 mm), which on the servo's own
+  /// thread evicts the servo's data from the cache every 33rd tick.
+  void SetMeshEveryFrame(bool every) { this->MeshEveryFrame = every; }
+  /// Assembles the block meshes as they are and posts them (recorded as a frame of no blocks).
+  void PostMesh();
   /// Runs Frame() at `rateHz` on a display thread.
   bool Start(double rateHz, std::string& error);
   void Stop();
@@ -51,9 +59,12 @@ class DrillDisplay {
   static vtkSmartPointer<vtkPolyData> Assemble(const BlockMesher& mesher);
 
  private:
+  vtkSmartPointer<vtkPolyData> AssembleInto(DisplayFrame& frame) const;  // timed, into frame
+
   BlockMesher Blocks;
   std::thread Thread;
   std::atomic<bool> StopRequested{false};
+  bool MeshEveryFrame = true;
   mutable std::mutex Lock;  // guards Pending and History (display ↔ main; never the servo)
   vtkSmartPointer<vtkPolyData> Pending;
   std::vector<DisplayFrame> History;

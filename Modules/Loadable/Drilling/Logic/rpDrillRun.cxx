@@ -66,6 +66,7 @@ bool RunDrill(DrillServo& servo, DrillDisplay& display, const DrillRunOptions& o
     const int perFrame = std::max(1, static_cast<int>(std::lround(displayPeriod / period)));
     TickInfo tick;
     tick.Period = period;
+    display.SetMeshEveryFrame(options.MeshEveryFrame);
     servo.ServoStarted();
     DrillState state;
     LoadMeter meter;
@@ -91,6 +92,7 @@ bool RunDrill(DrillServo& servo, DrillDisplay& display, const DrillRunOptions& o
     result.Load.MemoryLockNote = "scripted run: not locked";
     servo.ServoStopping();
     display.Frame();
+    if (!options.MeshEveryFrame) display.PostMesh();
     caller.Step(tick.Time);
     result.Ticks = tick.Index;
     result.TickCompute = compute.Stats();

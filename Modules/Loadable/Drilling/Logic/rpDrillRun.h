@@ -30,6 +30,7 @@ struct DrillRunOptions {
   DrillRecordingInfo RecordInfo;
   bool KeepRecords = true;                                 // keep the path in the result (charts)
   std::function<void(vtkPolyData*)> OnMesh;                // caller's thread: a new bone mesh
+  bool MeshEveryFrame = true;                              // scripted: false builds only the last mesh
   ServoLoop::Options Loop;                                 // real-time mode
   ProgressCallback Progress;
 };

@@ -130,14 +130,20 @@ bool DrillServo::CutAhead(const BurrForce& burr, const Vec3& hip, double radius,
   return refused;
 }
 
-// Distance to the protected structure (burr surface to its surface).
+// Distance to the protected structure (burr surface to its surface). Last tick's closest point
+// lies on the surface, so its distance from the proxy bounds this tick's: the search starts with
+// that bound and skips the tree's farther boxes (still exact; a quarter of the tunnel's tick
+// went to this search from scratch).
 void DrillServo::MeasureProtected(const Vec3& proxy, double radius) noexcept {
   DrillState& s = this->Scratch;
   if (this->Protected == nullptr || this->Protected->Empty()) return;
   ClosestPointHit hit;
-  if (this->Protected->ClosestPoint(proxy, HUGE_VAL, hit)) {
+  const double bound = this->HasProtectedPoint ? Norm(proxy - this->ProtectedPoint) * (1 + 1e-9) + 1e-9 : HUGE_VAL;
+  if (this->Protected->ClosestPoint(proxy, bound, hit) || this->Protected->ClosestPoint(proxy, HUGE_VAL, hit)) {
     s.ProtectedDistance = std::sqrt(hit.Distance2) - radius;
     s.ClosestApproach = std::min(s.ClosestApproach, s.ProtectedDistance);
+    this->ProtectedPoint = hit.Point;
+    this->HasProtectedPoint = true;
   }
 }
 

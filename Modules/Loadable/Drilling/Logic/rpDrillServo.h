@@ -97,7 +97,10 @@ class DrillServo : public ServoTask {
   /// The other haptic models (rendered by the Haptics module's god-object in the same tick).
   HapticRenderer& MeshRenderer() { return this->Mesh; }
   /// A protected structure's surface for the distance read-out (kept alive by the owner).
-  void SetProtectedSurface(const BVH* tree) { this->Protected = tree; }
+  void SetProtectedSurface(const BVH* tree) {
+    this->Protected = tree;
+    this->HasProtectedPoint = false;
+  }
   const DrillServoOptions& Options() const { return this->Settings; }
   /// How far a cut can lead the proxy (mm): one cut's advance at the fastest feed (the hand at
   /// the device's maximum force, the softest material) over CutSlices ticks of `period` s. The
@@ -148,6 +151,8 @@ class DrillServo : public ServoTask {
   // Servo thread only:
   uint32_t UndoSeen = 0, ResetSeen = 0;
   bool First = true, Placed = false, WasOn = false;
+  bool HasProtectedPoint = false;
+  Vec3 ProtectedPoint{};  // last tick's closest point on the protected surface
   Vec3 CutCenter;          // centre of the last cut; the next one advances from here
   bool HasCutCenter = false;
   Vec3 LastCut;            // centre of the last cut made (the bone around it is carved)

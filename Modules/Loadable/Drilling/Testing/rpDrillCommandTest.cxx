@@ -18,6 +18,7 @@
 #include <vtkMatrix4x4.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
+#include <vtkPolyData.h>
 #include <vtkSmartPointer.h>
 
 #include "rpBVH.h"
@@ -27,6 +28,7 @@
 #include "rpDrillRun.h"
 #include "rpDrillSession.h"
 #include "rpSharedData.h"
+#include "rpSimulatedDevice.h"
 #include "rpVolumeIO.h"
 
 namespace fs = std::filesystem;
@@ -150,6 +152,69 @@ TEST(DrillCommand, RealTimeStrokeOnTheServoAndDisplayThreads) {
   EXPECT_GT(doc["displayFrames"].get<int>(), 3);
   EXPECT_GT(doc["removedVolumeMm3"].get<double>(), 10.0);
   EXPECT_TRUE(doc["servo"].contains("periodP99Us"));
+}
+
+// A scripted stroke into a block, with a bone mesh every display frame or only the last one.
+struct ScriptedStroke {
+  std::vector<vtkSmartPointer<vtkPolyData>> Meshes;
+  rp::DrillRunResult Result;
+};
+ScriptedStroke DrillScripted(bool meshEveryFrame) {
+  rp::MaterialTable table;
+  std::string error;
+  EXPECT_TRUE(rp::LoadMaterialTable(table, error)) << error;
+  const std::vector<rp::Material> materials = rp::DrillableMaterials(table);
+  rp::DrillVolume volume;
+  EXPECT_TRUE(rp::BuildAnalyticBone(rp::BlockBone({-6, -6, -6}, {6, 6, 6}, rp::FindDrillMaterial(materials, "bone")), 0.4,
+                                    materials, volume, error))
+      << error;
+  rp::SimulatedDevice device;
+  auto path = std::make_shared<rp::WaypointTrajectory>();
+  EXPECT_TRUE(path->Set({0.0, 2.0}, {{0, 0, 9}, {0, 0, 3}}, error)) << error;
+  device.SetTrajectory(path);
+  rp::DrillServo servo(device, volume);
+  rp::DrillDisplay display(volume);
+  display.Initialize();
+  rp::DrillRunOptions run;
+  run.Schedule = [](double) { return rp::DrillControl{true, 1.5, 60000}; };
+  run.MaxSeconds = 2.0;
+  run.KeepRecords = false;
+  run.MeshEveryFrame = meshEveryFrame;
+  ScriptedStroke stroke;
+  run.OnMesh = [&stroke](vtkPolyData* m) { stroke.Meshes.emplace_back(m); };
+  EXPECT_TRUE(rp::RunDrill(servo, display, run, stroke.Result, error)) << error;
+  return stroke;
+}
+
+TEST(DrillRun, AScriptedRunAskedForTheLastMeshOnlyBuildsThatMeshAlone) {
+  // The CLI and the demo keep only the last mesh: assembling the whole bone's mesh every frame on
+  // the servo's thread evicted the servo's data from the cache every 33rd tick. Without those
+  // assemblies the frames still re-contour, and the one mesh is the every-frame run's last.
+  const ScriptedStroke every = DrillScripted(true), last = DrillScripted(false);
+  ASSERT_GT(every.Meshes.size(), 3u);
+  ASSERT_EQ(last.Meshes.size(), 1u);
+  EXPECT_EQ(last.Result.Final.RemovedTotalMm3, every.Result.Final.RemovedTotalMm3);
+  EXPECT_GT(last.Result.Final.RemovedTotalMm3, 2.0);
+  size_t contoured = 0, assembled = 0;
+  for (const rp::DisplayFrame& f : last.Result.Frames) {
+    contoured += f.Blocks > 0 && f.AssembleMs == 0;
+    assembled += f.Blocks == 0 && f.AssembleMs > 0;
+  }
+  EXPECT_EQ(assembled, 1u) << "the last mesh only";
+  EXPECT_EQ(contoured + assembled, last.Result.Frames.size());
+  EXPECT_EQ(contoured, every.Result.Frames.size()) << "the same frames re-contoured the same blocks";
+  vtkPolyData* a = every.Meshes.back();
+  vtkPolyData* b = last.Meshes.back();
+  ASSERT_EQ(a->GetNumberOfPoints(), b->GetNumberOfPoints());
+  ASSERT_EQ(a->GetNumberOfPolys(), b->GetNumberOfPolys());
+  double worst = 0;
+  for (vtkIdType i = 0; i < a->GetNumberOfPoints(); ++i) {
+    double p[3], q[3];
+    a->GetPoint(i, p);
+    b->GetPoint(i, q);
+    for (int c = 0; c < 3; ++c) worst = std::max(worst, std::fabs(p[c] - q[c]));
+  }
+  EXPECT_EQ(worst, 0.0);
 }
 
 TEST(DrillCommand, LabelmapWithProtectedSegmentAndCT) {

@@ -8,6 +8,8 @@
 //  - undo restores the last stroke exactly, reset the bone as built;
 //  - a cut carved in shares over several ticks equals the cut at once; a sample is the trilinear
 //    interpolation of the voxels around it, across block faces too;
+//  - a sweep handed the densities Touching sampled at its start is the sweep that samples them;
+//  - the distance to a protected surface is, every tick, the closest point's (brute force);
 //  - 0 allocations in 3000 drilling ticks;
 //  - the mesh kept up to date block by block equals a whole re-contour, also while the servo,
 //    display and main threads run together (run this test under ThreadSanitizer too).
@@ -19,6 +21,7 @@
 #include <thread>
 
 #include "rpAllocationCounter.h"
+#include "rpBVH.h"
 #include "rpBlockMesher.h"
 #include "rpDrillAnalytic.h"
 #include "rpDrillServo.h"
@@ -395,6 +398,69 @@ TEST(Drilling, UndoRestoresTheLastStrokeAndResetTheBone) {
   EXPECT_EQ(Densities(rig.Volume), original);
   EXPECT_EQ(s.RemovedTotalMm3, 0.0);
   EXPECT_EQ(s.UndoableStrokes, 0);
+}
+
+TEST(BurrProxy, ASweepGivenTouchingsDensitiesIsTheSweepThatSamplesThem) {
+  // Update() hands each pass's sweep the densities the last Touching sampled where it starts:
+  // the result must be the same to the bit, in free space, grazing, touching and in bone.
+  const auto mat = Materials();
+  rp::DrillVolume volume;
+  std::string error;
+  ASSERT_TRUE(rp::BuildAnalyticBone(rp::BlockBone({-6, -6, -6}, {6, 6, 6}, Cortical(mat)), 0.3, mat, volume, error))
+      << error;
+  const double r = 2.0;
+  int blocked = 0, free = 0;
+  for (int i = 0; i < 400; ++i) {
+    // Burr centres from 1 mm inside the top face to 2 mm above its surface, moves in all directions.
+    const Vec3 from{-3.0 + 0.015 * i, 1.7 - 0.008 * i, 6.0 + r - 1.0 + 3.0 * ((i * 37) % 100) / 100.0};
+    const double a = 0.7 * i, b = 0.3 * i;
+    const Vec3 to = from + Vec3{std::cos(a) * std::sin(b), std::sin(a) * std::sin(b), std::cos(b)} * (0.05 + 0.01 * (i % 50));
+    double shell[rp::BurrProxy::ShellPoints];
+    rp::BurrContact contact;
+    rp::BurrProxy::Touching(volume, from, r, to - from, contact, shell);
+    double sampledOverlap = -1, givenOverlap = -1;
+    const double sampled = rp::BurrProxy::Sweep(volume, from, to, r, sampledOverlap);
+    const double given = rp::BurrProxy::Sweep(volume, from, to, r, givenOverlap, shell);
+    EXPECT_EQ(sampled, given) << "move " << i;
+    EXPECT_EQ(sampledOverlap, givenOverlap) << "move " << i;
+    blocked += sampled <= 1.0;
+    free += sampled > 1.0;
+  }
+  EXPECT_GT(blocked, 50);
+  EXPECT_GT(free, 50);
+}
+
+TEST(Drilling, TheProtectedDistanceIsTheClosestPointsEveryTick) {
+  // The servo starts each tick's search from the last closest point: the distance must still
+  // be the exact one, here against every triangle of a sphere beside and below the stroke.
+  const auto mat = Materials();
+  Rig rig(rp::BlockBone({-8, -8, -12}, {8, 8, 12}, Cortical(mat)), 0.3);
+  const Vec3 centre{4.0, 1.0, 7.0};
+  const rp::TriangleMesh sphere = rp::shapes::Sphere(centre, 1.5, 3);
+  rp::BVH tree;
+  tree.Build(sphere);
+  rig.Servo->SetProtectedSurface(&tree);
+  const double r = 1.5;
+  rig.Path({0.0, 0.3, 1.3, 2.3, 3.3}, {{0, 0, 14}, {0, 0, 12}, {0, 0, 6}, {1.5, 1.0, 4}, {-2, 3, 9}});
+  rig.Servo->SetControl({true, r, 60000});
+  double worst = 0, nearest = HUGE_VAL;
+  for (int i = 0; i < 3300; ++i) {
+    const rp::DrillState s = rig.Step();
+    double closest2 = HUGE_VAL;
+    for (const auto& t : sphere.Triangles) {
+      double bary[3];
+      const Vec3 q = rp::BVH::ClosestPointOnTriangle(s.Proxy, sphere.Points[size_t(t[0])], sphere.Points[size_t(t[1])],
+                                                     sphere.Points[size_t(t[2])], bary);
+      closest2 = std::min(closest2, rp::Norm2(q - s.Proxy));
+    }
+    worst = std::max(worst, std::fabs(s.ProtectedDistance - (std::sqrt(closest2) - r)));
+    nearest = std::min(nearest, s.ProtectedDistance);
+  }
+  EXPECT_LT(worst, 1e-9);
+  EXPECT_LT(nearest, 4.0) << "the burr came near the sphere";
+  rp::DrillState s;
+  rig.Servo->ReadState(s);
+  EXPECT_NEAR(s.ClosestApproach, nearest, 1e-12);
 }
 
 TEST(Drilling, ThreeThousandTicksDoNotAllocate) {
