@@ -116,9 +116,8 @@ def haptics(build, out, i, loaded):
         for p in loops:
             p.wait()
     s = json.loads(text)["servo"]
-    ticks = s["lateness"]["count"]
     return {"latenessP99Us": s["lateness"]["p99Us"], "latenessMaxUs": s["lateness"]["maxUs"],
-            "missed": s["missedDeadlines"], "missedPercent": 100.0 * s["missedDeadlines"] / max(1, ticks),
+            "missed": s["missedDeadlines"], "missedPercent": s["missedPercent"],
             "reading": s.get("missesReading", ""), "priority": s.get("priorityNote", "")}
 
 

@@ -19,6 +19,7 @@
 #include "rpHapticSceneBridge.h"
 #include "rpHapticSession.h"
 #include "rpReport.h"
+#include "rpServoLoadReport.h"
 #include "rpSimulatedDevice.h"
 #include "rpStageRunner.h"
 #include "vtkRPModelNode.h"
@@ -82,6 +83,7 @@ struct PassResult {
   double MaxForce = 0;
   uint64_t Records = 0, Dropped = 0;
   uint32_t WatchdogTrips = 0;
+  MachineLoad Load;  // what the machine did to the servo thread over the pass
   std::vector<double> PeriodBinsUs, PeriodCounts;
 };
 
@@ -131,6 +133,7 @@ PassResult RunPass(DemoState& state, const std::string& name, double maxSeconds)
   }
   session.Stop();
   result->Servo = session.Scheduler().Stats();
+  result->Load = session.Scheduler().Load();
   result->Materials = session.Materials();
   result->Clamps = session.Clamps();
   result->Warnings = session.Warnings();
@@ -182,9 +185,11 @@ void ExploreHaptically(DemoState& state) {
     state.Report->AddFigureBelow(stage, name + " pass: servo period p99 jitter", std::abs(r.Servo.Period.P99Us - 1000.0),
                                  "µs", 50.0, std::to_string(r.Servo.Ticks) + " ticks at 1 kHz");
     state.Report->AddFigureBelow(stage, name + " pass: compute time per tick p99", r.Servo.Compute.P99Us, "µs", 20.0);
-    state.Report->AddFigureBelow(stage, name + " pass: missed deadlines (> 0.5 ms late)",
-                                 static_cast<double>(r.Servo.MissedDeadlines), "", 0.5,
-                                 r.Servo.RealTimePriority ? "SCHED_FIFO" : "no real-time priority here");
+    state.Report->AddFigureBelow(stage, name + " pass: missed deadlines (> 0.5 ms late)", r.Servo.MissedPercent(), "%",
+                                 ServoStats::MissedBudgetPercent + 1e-9,
+                                 std::to_string(r.Servo.MissedDeadlines) + " of " + std::to_string(r.Servo.Ticks) +
+                                     " ticks (" + (r.Servo.RealTimePriority ? "SCHED_FIFO" : "no real-time priority here") +
+                                     "); " + MachineLoadReading(r.Load, r.Servo.MissedDeadlines, r.Servo.Overruns));
     state.Report->AddFigureBelow(stage, name + " pass: maximum force", r.MaxForce, "N", 3.3 + 1e-6,
                                  "device maximum 3.3 N (eq. 6 clamp)");
     for (const std::string& warning : r.Warnings) state.Report->AddNote("Haptics (" + name + " pass): " + warning);

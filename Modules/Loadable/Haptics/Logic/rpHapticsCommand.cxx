@@ -371,6 +371,8 @@ void ReportHapticsJson(const HapticsOutcome& o, std::ostream& out) {
         {"compute", StatsJson(servo.Compute)},
         {"lateness", StatsJson(servo.Lateness)},
         {"missedDeadlines", servo.MissedDeadlines},
+        {"missedPercent", servo.MissedPercent()},
+        {"missedBudgetPercent", ServoStats::MissedBudgetPercent},
         {"overruns", servo.Overruns},
         {"stalls", o.Last.Stalls},
         {"watchdogTrips", o.Last.WatchdogTrips},
@@ -404,9 +406,10 @@ void ReportHapticsText(const HapticsOutcome& o, std::ostream& out) {
                 request.Trajectory.c_str(), request.Seconds);
   out << Format("servo: %llu ticks at %.0f Hz (%s)\n", static_cast<unsigned long long>(servo.Ticks), request.Rate,
                 session.Scheduler().PriorityNote().c_str());
-  out << Format("  period  p50 %.1f us  p99 %.1f us  max %.1f us  missed deadlines %llu  overruns %llu  stalls %u\n",
+  out << Format("  period  p50 %.1f us  p99 %.1f us  max %.1f us  missed deadlines %llu (%.2f %%, budget %.1f %%)  "
+                "overruns %llu  stalls %u\n",
                 servo.Period.P50Us, servo.Period.P99Us, servo.Period.MaxUs,
-                static_cast<unsigned long long>(servo.MissedDeadlines),
+                static_cast<unsigned long long>(servo.MissedDeadlines), servo.MissedPercent(), ServoStats::MissedBudgetPercent,
                 static_cast<unsigned long long>(servo.Overruns), o.Last.Stalls);
   out << Format("  compute p50 %.2f us  p99 %.2f us  max %.1f us  watchdog trips %u\n", servo.Compute.P50Us,
                 servo.Compute.P99Us, servo.Compute.MaxUs, o.Last.WatchdogTrips);
