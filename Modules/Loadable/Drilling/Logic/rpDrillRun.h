@@ -6,6 +6,9 @@
 //   display 30 Hz: re-contour dirty blocks, post the mesh (rpDrillDisplay)
 //   caller  30 Hz: take the mesh (OnMesh: swap it into a model node), drain the path record
 //                  into the recording file, watch the state (Finished) and report progress.
+// Scripted, the display's frame runs between ticks on the same thread; a caller that wants only
+// the last mesh (MeshEveryFrame = false) gets it assembled once, at the end, so no frame fills
+// the servo's cache with the whole bone's mesh.
 #include <functional>
 #include <string>
 #include <vector>
