@@ -140,14 +140,10 @@ bool Tunnel(rp::DrillVolume& bone, double radius, GridFigures& f, bool realtime,
     std::cerr << error << "\n";
     return false;
   }
-  std::vector<double> contour, blocks, assemble;
-  for (const rp::DisplayFrame& frame : result.Frames) {
-    if (frame.Blocks > 0) {
-      contour.push_back(frame.ContourMs);
-      blocks.push_back(double(frame.Blocks));
-    }
-    if (frame.AssembleMs > 0) assemble.push_back(frame.AssembleMs);
-  }
+  const rp::DisplayTimings frames = rp::SplitDisplayFrames(result.Frames);
+  const std::vector<double>& contour = frames.ContourMs;
+  const std::vector<double>& blocks = frames.Blocks;
+  const std::vector<double>& assemble = frames.AssembleMs;
   f.TickP50 = result.TickCompute.P50Us;
   f.TickP99 = result.TickCompute.P99Us;
   f.TickMax = result.TickCompute.MaxUs;
@@ -276,9 +272,7 @@ nlohmann::json RealTibia(const std::vector<rp::Material>& m) {
   run.MeshEveryFrame = false;
   rp::DrillRunResult result;
   rp::RunDrill(servo, display, run, result, error);
-  std::vector<double> contour;
-  for (const auto& frame : result.Frames)
-    if (frame.Blocks > 0) contour.push_back(frame.ContourMs);
+  const std::vector<double> contour = rp::SplitDisplayFrames(result.Frames).ContourMs;
   return {{"voxelMm", 0.3},
           {"storedBlocks", report.StoredBlocks},
           {"memoryMB", report.MemoryMB},

@@ -254,9 +254,7 @@ void ReportTunnelVolumes(DemoState& state, const std::string& stage, const Tunne
 // Force, servo timing and machine load, re-contour times.
 void ReportTunnelTimings(DemoState& state, const std::string& stage, const DrillRunResult& result,
                          DrillVolume& bone, const DrillBoneReport& built, double maxForce) {
-  std::vector<double> contour;
-  for (const DisplayFrame& f : result.Frames)
-    if (f.Blocks > 0) contour.push_back(f.ContourMs);
+  const std::vector<double> contour = SplitDisplayFrames(result.Frames).ContourMs;
   double peak = 0;
   for (const DrillRecordLine& l : result.Records) peak = std::max(peak, Norm(l.Record.Force));
   state.Report->AddFigureBelow(stage, "peak force on the hand", peak, "N", maxForce + 1e-6,

@@ -490,15 +490,10 @@ DrillFigures MeasureDrill(const DrillRequest& q, const DrillSession& session) {
   g.Length = Norm(q.To - q.From);
   g.Reached = Norm(s.Proxy - q.To) < std::max(0.01, 0.05 * q.Voxel);
   g.StopReason = q.Replay ? "replayed" : g.Reached ? "reached" : (s.Stopped ? "protected" : "timeout");
-  std::vector<double> blocks;
-  for (const DisplayFrame& f : session.Result.Frames) {
-    if (f.Blocks > 0) {
-      g.ContourMs.push_back(f.ContourMs);
-      blocks.push_back(double(f.Blocks));
-    }
-    if (f.AssembleMs > 0) g.AssembleMs.push_back(f.AssembleMs);
-  }
-  for (double b : blocks) g.MeanBlocks += b / std::max<size_t>(1, blocks.size());
+  DisplayTimings frames = SplitDisplayFrames(session.Result.Frames);
+  g.ContourMs = std::move(frames.ContourMs);
+  g.AssembleMs = std::move(frames.AssembleMs);
+  for (double b : frames.Blocks) g.MeanBlocks += b / std::max<size_t>(1, frames.Blocks.size());
   // The whole bone contoured from scratch, once, for comparison (same code, every block).
   BlockMesher whole(*session.Bone);
   const auto wholeStart = std::chrono::steady_clock::now();

@@ -19,6 +19,18 @@ double MillisecondsSince(std::chrono::steady_clock::time_point start) {
 }
 }  // namespace
 
+DisplayTimings SplitDisplayFrames(const std::vector<DisplayFrame>& frames) {
+  DisplayTimings t;
+  for (const DisplayFrame& f : frames) {
+    if (f.Blocks > 0) {
+      t.ContourMs.push_back(f.ContourMs);
+      t.Blocks.push_back(double(f.Blocks));
+    }
+    if (f.AssembleMs > 0) t.AssembleMs.push_back(f.AssembleMs);
+  }
+  return t;
+}
+
 DrillDisplay::DrillDisplay(DrillVolume& volume) : Blocks(volume) {}
 
 DrillDisplay::~DrillDisplay() { this->Stop(); }

@@ -25,6 +25,13 @@ struct DisplayFrame {
   size_t Triangles = 0;
 };
 
+/// A run's display timings: the frames that re-contoured blocks, and the mesh assemblies (every
+/// such frame's, or PostMesh's one).
+struct DisplayTimings {
+  std::vector<double> ContourMs, Blocks, AssembleMs;
+};
+DisplayTimings SplitDisplayFrames(const std::vector<DisplayFrame>& frames);
+
 class DrillDisplay {
  public:
   explicit DrillDisplay(DrillVolume& volume);

@@ -99,6 +99,7 @@ bool RunDrill(DrillServo& servo, DrillDisplay& display, const DrillRunOptions& o
   } else {
     ServoLoop loop;
     control(0.0);
+    display.SetMeshEveryFrame(true);  // the caller swaps each frame's mesh in
     if (!display.Start(options.DisplayHz, error)) return false;
     if (!loop.Start(&servo, options.Loop, error)) {
       display.Stop();

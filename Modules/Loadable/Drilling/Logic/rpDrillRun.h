@@ -34,6 +34,7 @@ struct DrillRunOptions {
   bool KeepRecords = true;                                 // keep the path in the result (charts)
   std::function<void(vtkPolyData*)> OnMesh;                // caller's thread: a new bone mesh
   bool MeshEveryFrame = true;                              // scripted: false builds only the last mesh
+                                                           // (real time: always every frame)
   ServoLoop::Options Loop;                                 // real-time mode
   ProgressCallback Progress;
 };
