@@ -4,12 +4,19 @@
 #include <cmath>
 
 #include <cstring>
+#include <type_traits>
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#endif
 
 #include <vtkDataArray.h>
 #include <vtkImageData.h>
 #include <vtkPointData.h>
 #include <vtkSMPTools.h>
 #include <vtkTemplateAliasMacro.h>
+
+#include "rpRGBA8.h"
 
 namespace rp {
 
@@ -20,6 +27,8 @@ namespace {
 // across the CT's rows, so row after row re-reads lines a whole row has evicted).
 constexpr int Chunk = 32;  // pixels sampled per layer at a time (stack buffers)
 constexpr int Band = 16;
+
+bool UseAVX2 = true;  // SetCompositeVectorized
 
 struct Sampled {
   float Values[Chunk];
@@ -41,20 +50,29 @@ struct Grid {
   }
 };
 
-// Trilinear (or nearest for labels) samples of a row of pixels, in Values; Inside is 0 where a
-// pixel lies outside the volume.
+inline float Lerp(float a, float b, float t) { return a + t * (b - a); }
+
+// A row's samples lie at p(k) = start + k · step (always computed so, whatever path takes them).
+struct Row {
+  const double* Start;
+  const double* Step;
+  double At(int a, int k) const { return this->Start[a] + k * this->Step[a]; }
+};
+
+// Samples k0 … k1 − 1 of a row, any of them (near the edges or outside too): trilinear, or the
+// nearest voxel for labels; Inside is 0 where a pixel lies outside the volume.
 template <typename T, bool Nearest>
-void SampleRow(const SliceLayer& layer, const double start[3], const double step[3], int n, Sampled& out) {
+void SampleAny(const SliceLayer& layer, const Grid& grid, Row row, int k0, int k1, Sampled& out) {
   const T* base = static_cast<const T*>(layer.Scalars);
-  const Grid grid(layer);
-  for (int k = 0; k < n; ++k) {
-    const double p[3] = {start[0] + k * step[0], start[1] + k * step[1], start[2] + k * step[2]};
+  for (int k = k0; k < k1; ++k) {
+    const double p[3] = {row.At(0, k), row.At(1, k), row.At(2, k)};
     out.Inside[k] = grid.Contains(p);
     if (!out.Inside[k]) continue;
     if constexpr (Nearest) {
       vtkIdType offset = 0;
       for (int a = 0; a < 3; ++a) {
-        offset += std::clamp(static_cast<int>(std::floor(p[a] + 0.5)), 0, grid.Size[a] - 1) * layer.Increments[a];
+        // p ≥ −0.5 (inside): truncation is the floor; p = size − 0.5 rounds to size.
+        offset += std::min(static_cast<int>(p[a] + 0.5), grid.Size[a] - 1) * layer.Increments[a];
       }
       out.Values[k] = static_cast<float>(base[offset]);
     } else {
@@ -68,20 +86,196 @@ void SampleRow(const SliceLayer& layer, const double start[3], const double step
         next[a] = index[a] + 1 < grid.Size[a] ? layer.Increments[a] : 0;
       }
       const T* q = base + index[0] * layer.Increments[0] + index[1] * layer.Increments[1] + index[2] * layer.Increments[2];
-      auto lerp = [](float a, float b, float t) { return a + t * (b - a); };
-      const float c00 = lerp(float(q[0]), float(q[next[0]]), f[0]);
-      const float c10 = lerp(float(q[next[1]]), float(q[next[1] + next[0]]), f[0]);
-      const float c01 = lerp(float(q[next[2]]), float(q[next[2] + next[0]]), f[0]);
-      const float c11 = lerp(float(q[next[2] + next[1]]), float(q[next[2] + next[1] + next[0]]), f[0]);
-      out.Values[k] = lerp(lerp(c00, c10, f[1]), lerp(c01, c11, f[1]), f[2]);
+      const float c00 = Lerp(float(q[0]), float(q[next[0]]), f[0]);
+      const float c10 = Lerp(float(q[next[1]]), float(q[next[1] + next[0]]), f[0]);
+      const float c01 = Lerp(float(q[next[2]]), float(q[next[2] + next[0]]), f[0]);
+      const float c11 = Lerp(float(q[next[2] + next[1]]), float(q[next[2] + next[1] + next[0]]), f[0]);
+      out.Values[k] = Lerp(Lerp(c00, c10, f[1]), Lerp(c01, c11, f[1]), f[2]);
     }
   }
 }
 
+#if defined(__x86_64__) && defined(__GNUC__)
+// SampleInterior for 16-bit volumes (CT, MR), eight samples at a time with AVX2's gathers: the
+// same operations in the same order (doubles for the positions, floats for the weights and the
+// lerps, no fused multiply-add), so the same values bit for bit. Returns the first sample it
+// left (fewer than eight at the end, or a group whose last corner is the volume's last voxel: a
+// 32-bit gather there would read past it).
+#define RP_AVX2 __attribute__((target("avx2"), always_inline)) inline
+// p = start + k · step for samples k … k + 7: their voxel index (truncated) and fraction.
+RP_AVX2 void Positions8(double start, double step, int k, __m256i& index, __m256& fraction) {
+  const __m256d s = _mm256_set1_pd(start), d = _mm256_set1_pd(step);
+  const __m256d p0 = _mm256_add_pd(s, _mm256_mul_pd(_mm256_set_pd(k + 3, k + 2, k + 1, k), d));
+  const __m256d p1 = _mm256_add_pd(s, _mm256_mul_pd(_mm256_set_pd(k + 7, k + 6, k + 5, k + 4), d));
+  const __m128i i0 = _mm256_cvttpd_epi32(p0), i1 = _mm256_cvttpd_epi32(p1);
+  const __m128 f0 = _mm256_cvtpd_ps(_mm256_sub_pd(p0, _mm256_cvtepi32_pd(i0)));
+  const __m128 f1 = _mm256_cvtpd_ps(_mm256_sub_pd(p1, _mm256_cvtepi32_pd(i1)));
+  index = _mm256_setr_m128i(i0, i1);
+  fraction = _mm256_setr_m128(f0, f1);
+}
+// Eight 16-bit voxels at byte offsets from `bytes`, as floats.
+template <bool Signed>
+RP_AVX2 __m256 Load8(const int* bytes, __m256i byteOffsets) {
+  const __m256i low = _mm256_slli_epi32(_mm256_i32gather_epi32(bytes, byteOffsets, 1), 16);
+  return _mm256_cvtepi32_ps(Signed ? _mm256_srai_epi32(low, 16) : _mm256_srli_epi32(low, 16));
+}
+RP_AVX2 __m256 Lerp8(__m256 a, __m256 b, __m256 t) { return _mm256_add_ps(a, _mm256_mul_ps(t, _mm256_sub_ps(b, a))); }
+
+template <bool Signed>
+__attribute__((target("avx2"))) int SampleInterior16AVX2(const SliceLayer& layer, const Grid& grid, Row row, int k0,
+                                                          int k1, Sampled& out) {
+  const vtkIdType di = layer.Increments[0], dj = layer.Increments[1], dk = layer.Increments[2];
+  const vtkIdType last = (grid.Size[0] - 1) * di + (grid.Size[1] - 1) * dj + (grid.Size[2] - 1) * dk;
+  if (2 * (last + 1) > 0x7FFFFFFF) return k0;  // byte offsets must fit 32 bits
+  const auto* bytes = static_cast<const int*>(layer.Scalars);
+  // A sample whose first corner is this voxel or beyond has the volume's last voxel as a corner.
+  const __m256i unsafe = _mm256_set1_epi32(static_cast<int>(last - di - dj - dk));
+  const __m256i ci = _mm256_set1_epi32(static_cast<int>(2 * di)), cj = _mm256_set1_epi32(static_cast<int>(2 * dj)),
+                ck = _mm256_set1_epi32(static_cast<int>(2 * dk));
+  const __m256i cij = _mm256_add_epi32(ci, cj), cik = _mm256_add_epi32(ci, ck), cjk = _mm256_add_epi32(cj, ck),
+                cijk = _mm256_add_epi32(cij, ck);
+  const __m256i ei = _mm256_set1_epi32(static_cast<int>(di)), ej = _mm256_set1_epi32(static_cast<int>(dj)),
+                ek = _mm256_set1_epi32(static_cast<int>(dk));
+  int k = k0;
+  for (; k + 8 <= k1; k += 8) {
+    __m256i i, j, l;
+    __m256 fx, fy, fz;
+    Positions8(row.Start[0], row.Step[0], k, i, fx);
+    Positions8(row.Start[1], row.Step[1], k, j, fy);
+    Positions8(row.Start[2], row.Step[2], k, l, fz);
+    const __m256i voxel = _mm256_add_epi32(_mm256_add_epi32(_mm256_mullo_epi32(i, ei), _mm256_mullo_epi32(j, ej)),
+                                           _mm256_mullo_epi32(l, ek));
+    const __m256i atOrPast = _mm256_cmpgt_epi32(_mm256_add_epi32(voxel, _mm256_set1_epi32(1)), unsafe);
+    if (!_mm256_testz_si256(atOrPast, atOrPast)) break;
+    const __m256i q = _mm256_add_epi32(voxel, voxel);  // bytes
+    const __m256 c00 = Lerp8(Load8<Signed>(bytes, q), Load8<Signed>(bytes, _mm256_add_epi32(q, ci)), fx);
+    const __m256 c10 = Lerp8(Load8<Signed>(bytes, _mm256_add_epi32(q, cj)), Load8<Signed>(bytes, _mm256_add_epi32(q, cij)), fx);
+    const __m256 c01 = Lerp8(Load8<Signed>(bytes, _mm256_add_epi32(q, ck)), Load8<Signed>(bytes, _mm256_add_epi32(q, cik)), fx);
+    const __m256 c11 = Lerp8(Load8<Signed>(bytes, _mm256_add_epi32(q, cjk)), Load8<Signed>(bytes, _mm256_add_epi32(q, cijk)), fx);
+    _mm256_storeu_ps(out.Values + k, Lerp8(Lerp8(c00, c10, fy), Lerp8(c01, c11, fy), fz));
+  }
+  return k;
+}
+#undef RP_AVX2
+
+bool HasAVX2() {
+  static const bool has = __builtin_cpu_supports("avx2");
+  return has;
+}
+#endif
+
+// Samples whose 2 × 2 × 2 voxels all lie in the grid (most of a picture): SampleAny's arithmetic
+// without its clamps and tests, so the same values. A row that steps along the volume's fastest
+// axis alone (an axis-aligned plane on its layout copy) keeps its other two coordinates: those are
+// worked out once.
+template <typename T>
+void SampleInterior(const SliceLayer& layer, const Grid& grid, Row row, int k0, int k1, Sampled& out) {
+  const T* base = static_cast<const T*>(layer.Scalars);
+  const vtkIdType di = layer.Increments[0], dj = layer.Increments[1], dk = layer.Increments[2];
+  std::fill(out.Inside + k0, out.Inside + k1, std::uint8_t{1});
+#if defined(__x86_64__) && defined(__GNUC__)
+  if constexpr (std::is_same_v<T, short> || std::is_same_v<T, unsigned short>) {
+    if (UseAVX2 && HasAVX2()) k0 = SampleInterior16AVX2<std::is_same_v<T, short>>(layer, grid, row, k0, k1, out);
+  }
+#else
+  (void)grid;
+#endif
+  if (row.Step[1] == 0 && row.Step[2] == 0) {
+    const int j = static_cast<int>(row.Start[1]), l = static_cast<int>(row.Start[2]);
+    const float fy = static_cast<float>(row.Start[1] - j), fz = static_cast<float>(row.Start[2] - l);
+    const T* line = base + j * dj + l * dk;
+    for (int k = k0; k < k1; ++k) {
+      const double x = row.At(0, k);
+      const int i = static_cast<int>(x);
+      const float fx = static_cast<float>(x - i);
+      const T* q = line + i * di;
+      const float c00 = Lerp(float(q[0]), float(q[di]), fx);
+      const float c10 = Lerp(float(q[dj]), float(q[dj + di]), fx);
+      const float c01 = Lerp(float(q[dk]), float(q[dk + di]), fx);
+      const float c11 = Lerp(float(q[dk + dj]), float(q[dk + dj + di]), fx);
+      out.Values[k] = Lerp(Lerp(c00, c10, fy), Lerp(c01, c11, fy), fz);
+    }
+    return;
+  }
+  for (int k = k0; k < k1; ++k) {
+    const double x = row.At(0, k), y = row.At(1, k), z = row.At(2, k);
+    const int i = static_cast<int>(x), j = static_cast<int>(y), l = static_cast<int>(z);
+    const float fx = static_cast<float>(x - i), fy = static_cast<float>(y - j), fz = static_cast<float>(z - l);
+    const T* q = base + i * di + j * dj + l * dk;
+    const float c00 = Lerp(float(q[0]), float(q[di]), fx);
+    const float c10 = Lerp(float(q[dj]), float(q[dj + di]), fx);
+    const float c01 = Lerp(float(q[dk]), float(q[dk + di]), fx);
+    const float c11 = Lerp(float(q[dk + dj]), float(q[dk + dj + di]), fx);
+    out.Values[k] = Lerp(Lerp(c00, c10, fy), Lerp(c01, c11, fy), fz);
+  }
+}
+
+// Labels within half a voxel of the grid: the nearest voxel without the test.
+template <typename T>
+void SampleNearestInside(const SliceLayer& layer, const Grid& grid, Row row, int k0, int k1, Sampled& out) {
+  const T* base = static_cast<const T*>(layer.Scalars);
+  std::fill(out.Inside + k0, out.Inside + k1, std::uint8_t{1});
+  for (int k = k0; k < k1; ++k) {
+    vtkIdType offset = 0;
+    for (int a = 0; a < 3; ++a) {
+      offset += std::min(static_cast<int>(row.At(a, k) + 0.5), grid.Size[a] - 1) * layer.Increments[a];
+    }
+    out.Values[k] = static_cast<float>(base[offset]);
+  }
+}
+
+// The samples of a row that the fast paths may take: trilinear, those with all 2 × 2 × 2 voxels
+// in the grid (p in [0, size − 1) on every axis); nearest, those within half a voxel of it. Each
+// axis's p(k) is monotone in k, so these samples are one run [first, end): estimated from the
+// line, then moved until its two ends pass the test itself.
+struct FastRun {
+  int First = 0, End = 0;
+};
+FastRun FindFastRun(const Grid& grid, bool nearest, Row row, int n) {
+  auto fast = [&](int k) {
+    for (int a = 0; a < 3; ++a) {
+      const double p = row.At(a, k);
+      if (nearest ? !(p >= -0.5 && p <= grid.Size[a] - 0.5) : !(p >= 0 && p < grid.Size[a] - 1)) return false;
+    }
+    return true;
+  };
+  double lo = 0, hi = n - 1;
+  for (int a = 0; a < 3; ++a) {
+    const double low = nearest ? -0.5 : 0.0, high = nearest ? grid.Size[a] - 0.5 : grid.Size[a] - 1.0;
+    const double s = row.Start[a], d = row.Step[a];
+    if (d == 0) {
+      if (!(s >= low && s <= high)) return {};
+      continue;
+    }
+    const double k0 = (low - s) / d, k1 = (high - s) / d;
+    lo = std::max(lo, std::min(k0, k1));
+    hi = std::min(hi, std::max(k0, k1));
+  }
+  if (!(lo <= hi)) return {};
+  FastRun run{static_cast<int>(std::clamp(std::ceil(lo), 0.0, double(n))), 0};
+  run.End = std::max(run.First, static_cast<int>(std::clamp(std::floor(hi) + 1, 0.0, double(n))));
+  // The estimate is within a sample or two of the exact ends; step in (or out) until it matches.
+  while (run.First > 0 && fast(run.First - 1)) --run.First;
+  while (run.First < run.End && !fast(run.First)) ++run.First;
+  while (run.End < n && run.End > run.First && fast(run.End)) ++run.End;
+  while (run.End > run.First && !fast(run.End - 1)) --run.End;
+  return run;
+}
+
 template <typename T>
 void SampleTyped(const SliceLayer& layer, const double start[3], const double step[3], int n, Sampled& out) {
-  if (layer.Nearest) SampleRow<T, true>(layer, start, step, n, out);
-  else SampleRow<T, false>(layer, start, step, n, out);
+  const Grid grid(layer);
+  const Row row{start, step};
+  const FastRun run = FindFastRun(grid, layer.Nearest, row, n);
+  auto any = [&](int k0, int k1) {
+    if (k0 >= k1) return;
+    if (layer.Nearest) SampleAny<T, true>(layer, grid, row, k0, k1, out);
+    else SampleAny<T, false>(layer, grid, row, k0, k1, out);
+  };
+  any(0, run.First);
+  if (layer.Nearest) SampleNearestInside<T>(layer, grid, row, run.First, run.End, out);
+  else SampleInterior<T>(layer, grid, row, run.First, run.End, out);
+  any(run.End, n);
 }
 
 void Sample(const SliceLayer& layer, const double start[3], const double step[3], int n, Sampled& out) {
@@ -102,12 +296,7 @@ inline std::uint32_t Lookup(const SliceLayer& layer, float value) {
 // `over` drawn on `under` with `weight` of 256 (its alpha times the layer's opacity); the alpha
 // stays `under`'s.
 inline std::uint32_t Blend(std::uint32_t under, std::uint32_t over, std::uint32_t weight) {
-  std::uint32_t result = under & 0xFF000000u;
-  for (int shift = 0; shift < 24; shift += 8) {
-    const std::uint32_t a = (under >> shift) & 0xFF, b = (over >> shift) & 0xFF;
-    result |= ((a * (256 - weight) + b * weight + 128) >> 8) << shift;
-  }
-  return result;
+  return (under & 0xFF000000u) | rgba8::GatherRGB(rgba8::Mix(rgba8::Spread(under), rgba8::Spread(over), weight));
 }
 
 // The first component of every voxel, from `in` (increments `from`) to `out` with `axis` fastest.
@@ -148,6 +337,30 @@ SliceLayer SliceLayerOf(vtkImageData* image, const double planeToIJK[3][4], cons
     layer.PixelToIJK[a][2] = m[0] * origin[0] + m[1] * origin[1] + m[3];
   }
   return layer;
+}
+
+void SetCompositeVectorized(bool vectorized) { UseAVX2 = vectorized; }
+
+bool OpaqueExtent(const std::uint32_t* picture, int width, int height, int extent[4]) {
+  int x0 = width, x1 = -1, y0 = height, y1 = -1;
+  for (int y = 0; y < height; ++y) {
+    const std::uint32_t* row = picture + static_cast<std::int64_t>(y) * width;
+    int first = 0;
+    while (first < width && !(row[first] >> 24)) ++first;
+    if (first == width) continue;
+    int last = width - 1;
+    while (!(row[last] >> 24)) --last;
+    x0 = std::min(x0, first);
+    x1 = std::max(x1, last);
+    y0 = std::min(y0, y);
+    y1 = y;
+  }
+  if (x1 < 0) return false;
+  extent[0] = x0;
+  extent[1] = x1;
+  extent[2] = y0;
+  extent[3] = y1;
+  return true;
 }
 
 void SliceLayoutCache::Apply(vtkImageData* image, SliceLayer& layer) {

@@ -14,15 +14,19 @@
 #include <vtkNew.h>
 #include <vtkObjectFactory.h>
 #include <vtkOpenGLShaderProperty.h>
+#include <vtkCellArray.h>
+#include <vtkFloatArray.h>
 #include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
 #include <vtkPolyDataMapper.h>
-#include <vtkPlaneSource.h>
 #include <vtkProperty.h>
 #include <vtkRenderer.h>
 #include <vtkShader.h>
 #include <vtkTexture.h>
 
 #include "rpPictureResample.h"
+#include "rpSliceComposite.h"
 #include "rpView.h"
 #include "vtkRPSliceLogic.h"
 #include "vtkRPSliceNode.h"
@@ -30,13 +34,14 @@
 
 vtkStandardNewMacro(vtkRPVolumeSliceDisplayableManager);
 
-// One slice node's picture in this view. In 3D a quad in plane coordinates, placed by the
-// plane's matrix, textured with the RGBA picture as it is. In a slice view the picture
+// One slice node's picture in this view. In 3D a quad in plane coordinates over the picture's
+// patient pixels, placed by the plane's matrix, textured with the RGBA picture as it is. In a slice view the picture
 // resampled onto the view's pixels (Screen), put into the framebuffer as it is (ScreenActor).
 struct vtkRPVolumeSliceDisplayableManager::Picture {
   vtkRPSliceLogic* Logic = nullptr;
   unsigned long Tag = 0;
-  vtkNew<vtkPlaneSource> Quad;
+  vtkNew<vtkPolyData> Quad;
+  double QuadKey[5] = {-1, 0, 0, 0, 0};  // the picture's time and the pixels the quad spans
   vtkNew<vtkPolyDataMapper> QuadMapper;
   vtkNew<vtkTexture> Texture;
   vtkNew<vtkActor> QuadActor;
@@ -77,7 +82,20 @@ void vtkRPVolumeSliceDisplayableManager::OnInitialize() {
     if (logic) picture->Texture->SetInputConnection(logic->GetOutputPort());
     picture->Texture->InterpolateOn();
     picture->Texture->SetColorModeToDirectScalars();
-    picture->QuadMapper->SetInputConnection(picture->Quad->GetOutputPort());
+    {
+      vtkNew<vtkPoints> corners;
+      corners->SetNumberOfPoints(4);
+      vtkNew<vtkFloatArray> tcoords;
+      tcoords->SetNumberOfComponents(2);
+      tcoords->SetNumberOfTuples(4);
+      vtkNew<vtkCellArray> quad;
+      const vtkIdType ids[4] = {0, 1, 2, 3};
+      quad->InsertNextCell(4, ids);
+      picture->Quad->SetPoints(corners);
+      picture->Quad->GetPointData()->SetTCoords(tcoords);
+      picture->Quad->SetPolys(quad);
+    }
+    picture->QuadMapper->SetInputData(picture->Quad);
     SkipVertexShift(picture->QuadMapper);  // moves with its slice
     // The air is cut away rather than blended: discarded fragments write no depth, so the three
     // planes and the models behind them are drawn correctly without sorting or peeling.
@@ -97,16 +115,18 @@ void vtkRPVolumeSliceDisplayableManager::OnInitialize() {
     this->UpdatePicture(*picture);
   }
   // A slice view makes its screen picture when it renders: the camera and size are known then,
-  // and many slice moves between two frames cost one resampling.
-  if (view->IsSlice()) {
-    this->RenderCallback->SetClientData(this);
-    this->RenderCallback->SetCallback([](vtkObject*, unsigned long, void* clientData, void*) {
-      auto* self = static_cast<vtkRPVolumeSliceDisplayableManager*>(clientData);
-      for (Picture* picture : self->Pictures) self->UpdateScreenPicture(*picture);
-    });
-    this->RenderTarget = view->GetRenderer();
-    this->RenderTag = this->RenderTarget->AddObserver(vtkCommand::StartEvent, this->RenderCallback);
-  }
+  // and many slice moves between two frames cost one resampling. The 3D view fits its quads to
+  // the pictures then, once however often they changed.
+  this->RenderCallback->SetClientData(this);
+  this->RenderCallback->SetCallback([](vtkObject*, unsigned long, void* clientData, void*) {
+    auto* self = static_cast<vtkRPVolumeSliceDisplayableManager*>(clientData);
+    for (Picture* picture : self->Pictures) {
+      if (self->GetView()->IsSlice()) self->UpdateScreenPicture(*picture);
+      else self->UpdateQuad(*picture);
+    }
+  });
+  this->RenderTarget = view->IsSlice() ? view->GetRenderer() : view->GetOverlayRenderer();
+  this->RenderTag = this->RenderTarget->AddObserver(vtkCommand::StartEvent, this->RenderCallback);
 }
 
 // The picture resampled at the slice view's pixels. Pixel (i, j)'s centre is a point of the
@@ -187,18 +207,18 @@ void vtkRPVolumeSliceDisplayableManager::OnFinalize() {
 }
 
 vtkActor* vtkRPVolumeSliceDisplayableManager::GetSliceActor(int i) const {
-  if (this->RenderTarget || i < 0 || i >= static_cast<int>(this->Pictures.size())) return nullptr;
+  if (this->GetView()->IsSlice() || i < 0 || i >= static_cast<int>(this->Pictures.size())) return nullptr;
   return this->Pictures[static_cast<size_t>(i)]->QuadActor;
 }
 
 vtkRPViewportImageActor* vtkRPVolumeSliceDisplayableManager::GetScreenPictureActor() const {
-  return this->RenderTarget && !this->Pictures.empty() ? this->Pictures[0]->ScreenActor.GetPointer() : nullptr;
+  return this->GetView()->IsSlice() && !this->Pictures.empty() ? this->Pictures[0]->ScreenActor.GetPointer() : nullptr;
 }
 
 int vtkRPVolumeSliceDisplayableManager::GetNumberOfVisibleSlices() const {
   int visible = 0;
   for (Picture* picture : this->Pictures) {
-    visible += (this->RenderTarget ? picture->ScreenActor->GetVisibility() : picture->QuadActor->GetVisibility()) ? 1 : 0;
+    visible += (this->GetView()->IsSlice() ? picture->ScreenActor->GetVisibility() : picture->QuadActor->GetVisibility()) ? 1 : 0;
   }
   return visible;
 }
@@ -229,12 +249,46 @@ void vtkRPVolumeSliceDisplayableManager::UpdatePicture(Picture& picture) {
   }
   const bool visible = hasImage && node && node->GetSliceVisible();
   picture.QuadActor->SetVisibility(visible);
-  if (!visible) return;
-  // The quad covers the picture's pixels (centres ± half a pixel), in plane coordinates.
-  const double* b = logic->GetPlaneBounds();
-  const double h = 0.5 * logic->GetPixelSpacing();
-  picture.Quad->SetOrigin(b[0] - h, b[2] - h, 0);
-  picture.Quad->SetPoint1(b[1] + h, b[2] - h, 0);
-  picture.Quad->SetPoint2(b[0] - h, b[3] + h, 0);
 }
 
+// The quad over the picture's patient pixels (their bounding rectangle, pixel centres ± half a
+// pixel) in plane coordinates, and the texture coordinates of those pixels; nothing where the
+// picture is all air. Redone only when the picture changed.
+void vtkRPVolumeSliceDisplayableManager::UpdateQuad(Picture& picture) {
+  vtkRPSliceLogic* logic = picture.Logic;
+  if (!logic || !picture.QuadActor->GetVisibility()) return;
+  vtkAlgorithm* producer = logic->GetOutputPort()->GetProducer();
+  producer->Update();
+  auto* source = vtkImageData::SafeDownCast(producer->GetOutputDataObject(0));
+  vtkDataArray* colours = source ? source->GetPointData()->GetScalars() : nullptr;
+  if (!colours || colours->GetNumberOfComponents() != 4 || colours->GetDataType() != VTK_UNSIGNED_CHAR) return;
+  int dims[3];
+  source->GetDimensions(dims);
+  const double* b = logic->GetPlaneBounds();
+  const double spacing = logic->GetPixelSpacing();
+  const double key[5] = {double(source->GetMTime()), b[0], b[2], spacing, double(dims[0]) * dims[1]};
+  if (std::equal(key, key + 5, picture.QuadKey)) return;
+  std::copy(key, key + 5, picture.QuadKey);
+  int extent[4];
+  if (!rp::OpaqueExtent(static_cast<const std::uint32_t*>(colours->GetVoidPointer(0)), dims[0], dims[1], extent)) {
+    extent[0] = extent[2] = 0;  // all air: a quad of no area
+    extent[1] = extent[3] = -1;
+  }
+  // Pixel x's centre lies at b[0] + x · spacing; the quad runs from the first pixel's left edge
+  // to the last one's right edge, and so do the texture coordinates (pixel x spans x/n … (x+1)/n).
+  const double x0 = b[0] + (extent[0] - 0.5) * spacing, x1 = b[0] + (extent[1] + 0.5) * spacing;
+  const double y0 = b[2] + (extent[2] - 0.5) * spacing, y1 = b[2] + (extent[3] + 0.5) * spacing;
+  const float u0 = float(extent[0]) / dims[0], u1 = float(extent[1] + 1) / dims[0];
+  const float v0 = float(extent[2]) / dims[1], v1 = float(extent[3] + 1) / dims[1];
+  vtkPoints* corners = picture.Quad->GetPoints();
+  corners->SetPoint(0, x0, y0, 0);
+  corners->SetPoint(1, x1, y0, 0);
+  corners->SetPoint(2, x1, y1, 0);
+  corners->SetPoint(3, x0, y1, 0);
+  corners->Modified();
+  vtkDataArray* tcoords = picture.Quad->GetPointData()->GetTCoords();
+  const float uv[4][2] = {{u0, v0}, {u1, v0}, {u1, v1}, {u0, v1}};
+  for (int k = 0; k < 4; ++k) tcoords->SetTuple2(k, uv[k][0], uv[k][1]);
+  tcoords->Modified();
+  picture.Quad->Modified();
+}

@@ -8,7 +8,8 @@
 // quad placed in RAS where the node's SliceVisible is on, drawn only where there is patient (air
 // is cut away, so the models behind show through) and depth-tested as opaque geometry, so the
 // three planes cross correctly; drawn with what moves (layer 1), so the models' picture is kept
-// while they move.
+// while they move. The quad spans only the picture's patient pixels (their bounding rectangle),
+// not the whole plane: a software rasterizer pays for every fragment it cuts away.
 #include <vector>
 
 #include <vtkNew.h>
@@ -57,10 +58,12 @@ class vtkRPVolumeSliceDisplayableManager : public vtkRPDisplayableManager {
   static void OnLogicModified(vtkObject* caller, unsigned long, void* clientData, void*);
   void UpdatePicture(Picture& picture);
   void UpdateScreenPicture(Picture& picture);
+  void UpdateQuad(Picture& picture);
 
   std::vector<Picture*> Pictures;
   vtkSmartPointer<vtkCallbackCommand> LogicCallback;
-  // A slice view's layer 0, observed to make the screen picture as it starts rendering.
+  // Observed as it starts rendering: a slice view's layer 0, to make the screen picture; the 3D
+  // view's layer 1, to fit the quads to their pictures.
   vtkNew<vtkCallbackCommand> RenderCallback;
   vtkRenderer* RenderTarget = nullptr;
   unsigned long RenderTag = 0;

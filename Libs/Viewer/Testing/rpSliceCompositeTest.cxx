@@ -251,6 +251,62 @@ TEST(SliceComposite, MatchesVTKsResliceToColorsAndBlendOnTheRealKneeCT) {
   }
 }
 
+TEST(SliceComposite, EightSamplesAtATimeGiveTheSameValuesAsOneAtATime) {
+  // The 16-bit volumes' samples taken eight at a time (AVX2, where the CPU has it) and one at a
+  // time: the same operations in the same order, so the same values. A table of 1/64 HU steps,
+  // each entry its own colour, turns any difference in a sample into a different pixel.
+  RP_REQUIRE_SHARED_DATA("knee-ct-vhf/dicom");
+  vtkNew<vtkRPScene> scene;
+  std::string error;
+  ASSERT_TRUE(rp::LoadSceneOrDataFile(scene, rptest::SharedDataPath("knee-ct-vhf/dicom"), error)) << error;
+  auto* ct = vtkRPScalarVolumeNode::SafeDownCast(scene->GetNodesByClass("vtkRPScalarVolumeNode").at(0));
+  ASSERT_NE(ct, nullptr);
+  auto image = InIndexSpace(ct->GetImageData());
+  const int type = image->GetScalarType();
+  ASSERT_TRUE(type == VTK_SHORT || type == VTK_UNSIGNED_SHORT) << image->GetScalarTypeAsString();
+  int extent[6];
+  image->GetExtent(extent);
+  std::vector<std::uint32_t> words(static_cast<size_t>(64 * 5000));
+  for (size_t k = 0; k < words.size(); ++k) words[k] = static_cast<std::uint32_t>(k * 2654435761u) | 0xFF000000u;
+
+  vtkNew<vtkTransform> oblique;
+  oblique->Translate(0.5 * (extent[1] + extent[0]) + 0.37, 0.5 * (extent[3] + extent[2]) - 0.21,
+                     0.5 * (extent[5] + extent[4]) + 0.43);
+  oblique->RotateX(23);
+  oblique->RotateY(-31);
+  vtkNew<vtkMatrix4x4> axial, sagittal;
+  axial->SetElement(2, 3, 0.5 * (extent[5] + extent[4]) + 0.3);
+  sagittal->Zero();
+  sagittal->SetElement(1, 0, 1);
+  sagittal->SetElement(2, 1, 1);
+  sagittal->SetElement(0, 2, 1);
+  sagittal->SetElement(0, 3, 0.5 * (extent[1] + extent[0]) + 0.3);
+  sagittal->SetElement(3, 3, 1);
+  double origin[2] = {-95.3, -88.7};
+  for (const vtkMatrix4x4* axes : {oblique->GetMatrix(), axial.GetPointer(), sagittal.GetPointer()}) {
+    double rows[3][4];
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 4; ++c) rows[r][c] = axes->GetElement(r, c);
+    rp::SliceLayer layer = rp::SliceLayerOf(image, rows, origin, 0.83);
+    layer.Table = words.data();
+    layer.TableSize = static_cast<int>(words.size());
+    layer.TableMin = -1100;
+    layer.TableScale = 64;
+    rp::SliceLayoutCache cache;
+    cache.Apply(image, layer);  // the sagittal plane reads a copy with j fastest
+    const int w = 250, h = 230;
+    std::vector<std::uint32_t> one(static_cast<size_t>(w * h)), eight(static_cast<size_t>(w * h));
+    rp::SetCompositeVectorized(false);
+    rp::CompositeSlice(&layer, 1, w, h, one.data());
+    rp::SetCompositeVectorized(true);
+    rp::CompositeSlice(&layer, 1, w, h, eight.data());
+    EXPECT_EQ(one, eight);
+    std::vector<std::uint32_t> distinct(one);
+    std::sort(distinct.begin(), distinct.end());
+    EXPECT_GT(std::unique(distinct.begin(), distinct.end()) - distinct.begin(), 5000) << "the picture is all one colour";
+  }
+}
+
 TEST(SliceComposite, TheLayoutCopyFollowsTheVolume) {
   // A 6×5×4 short volume, a picture along j (so the cache copies): change a voxel, mark the
   // image modified, and the picture through that voxel changes.
@@ -366,4 +422,28 @@ TEST(SliceComposite, LabelsTakeTheNearestVoxelAndBlendWithTheirOpacity) {
     }
     EXPECT_EQ(picture[static_cast<size_t>(x)] >> 24, 255u) << "the background's alpha stays";
   }
+}
+
+TEST(SliceComposite, TheOpaqueExtentIsTheSmallestRectangleAroundThePatient) {
+  // A 9 × 7 picture of air with patient pixels at (2, 1), (6, 4) and (3, 5): x 2…6, y 1…5. The
+  // 3D view's quad spans these pixels only (a software rasterizer pays for the air it cuts away).
+  const int w = 9, h = 7;
+  std::vector<std::uint32_t> picture(w * h, 0x00FFFFFFu);  // white air: alpha 0 decides
+  int extent[4] = {-1, -1, -1, -1};
+  EXPECT_FALSE(rp::OpaqueExtent(picture.data(), w, h, extent));
+  picture[1 * w + 2] = 0xFF000000u;
+  picture[4 * w + 6] = 0x01000000u;  // any alpha but 0 is patient
+  picture[5 * w + 3] = 0xFF102030u;
+  ASSERT_TRUE(rp::OpaqueExtent(picture.data(), w, h, extent));
+  EXPECT_EQ(extent[0], 2);
+  EXPECT_EQ(extent[1], 6);
+  EXPECT_EQ(extent[2], 1);
+  EXPECT_EQ(extent[3], 5);
+  picture[6 * w + 8] = 0xFF000000u;  // the far corner
+  picture[0] = 0xFF000000u;          // the first pixel
+  ASSERT_TRUE(rp::OpaqueExtent(picture.data(), w, h, extent));
+  EXPECT_EQ(extent[0], 0);
+  EXPECT_EQ(extent[1], 8);
+  EXPECT_EQ(extent[2], 0);
+  EXPECT_EQ(extent[3], 6);
 }
