@@ -41,7 +41,7 @@ struct vtkRPVolumeSliceDisplayableManager::Picture {
   vtkRPSliceLogic* Logic = nullptr;
   unsigned long Tag = 0;
   vtkNew<vtkPolyData> Quad;
-  double QuadKey[5] = {-1, 0, 0, 0, 0};  // the picture's time and the pixels the quad spans
+  double QuadKey[6] = {-1, 0, 0, 0, 0, 0};  // the picture it was fitted to: time, first pixel, spacing, size
   vtkNew<vtkPolyDataMapper> QuadMapper;
   vtkNew<vtkTexture> Texture;
   vtkNew<vtkActor> QuadActor;
@@ -83,11 +83,16 @@ void vtkRPVolumeSliceDisplayableManager::OnInitialize() {
     picture->Texture->InterpolateOn();
     picture->Texture->SetColorModeToDirectScalars();
     {
+      // No area until the first render fits it to its picture (UpdateQuad).
       vtkNew<vtkPoints> corners;
       corners->SetNumberOfPoints(4);
       vtkNew<vtkFloatArray> tcoords;
       tcoords->SetNumberOfComponents(2);
       tcoords->SetNumberOfTuples(4);
+      for (vtkIdType k = 0; k < 4; ++k) {
+        corners->SetPoint(k, 0, 0, 0);
+        tcoords->SetTuple2(k, 0, 0);
+      }
       vtkNew<vtkCellArray> quad;
       const vtkIdType ids[4] = {0, 1, 2, 3};
       quad->InsertNextCell(4, ids);
@@ -266,9 +271,9 @@ void vtkRPVolumeSliceDisplayableManager::UpdateQuad(Picture& picture) {
   source->GetDimensions(dims);
   const double* b = logic->GetPlaneBounds();
   const double spacing = logic->GetPixelSpacing();
-  const double key[5] = {double(source->GetMTime()), b[0], b[2], spacing, double(dims[0]) * dims[1]};
-  if (std::equal(key, key + 5, picture.QuadKey)) return;
-  std::copy(key, key + 5, picture.QuadKey);
+  const double key[6] = {double(source->GetMTime()), b[0], b[2], spacing, double(dims[0]), double(dims[1])};
+  if (std::equal(key, key + 6, picture.QuadKey)) return;
+  std::copy(key, key + 6, picture.QuadKey);
   int extent[4];
   if (!rp::OpaqueExtent(static_cast<const std::uint32_t*>(colours->GetVoidPointer(0)), dims[0], dims[1], extent)) {
     extent[0] = extent[2] = 0;  // all air: a quad of no area

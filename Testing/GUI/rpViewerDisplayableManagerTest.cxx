@@ -8,6 +8,7 @@
 #include <vtkActor.h>
 #include <vtkAlgorithm.h>
 #include <vtkAlgorithmOutput.h>
+#include <vtkDataArray.h>
 #include <vtkImageData.h>
 #include <vtkMapper.h>
 #include <vtkCamera.h>
@@ -16,6 +17,7 @@
 #include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
 #include <vtkNew.h>
+#include <vtkPointData.h>
 #include <vtkPolyData.h>
 #include <vtkProperty.h>
 #include <vtkActor2DCollection.h>
@@ -400,6 +402,63 @@ TEST(ViewerDisplayableManagers, FiducialsShowOnTheirSliceAndIn3D) {
 
 // Eight landmarks within 3 mm of each other (a crowded spot): rendered, no label overprints
 // another, in the 3D view and in the axial view, and every label is inside its view.
+// In 3D each slice is a quad over its picture's patient pixels only: air around a body of radius
+// 40 mm is not rasterized (a software renderer pays for every fragment the shader cuts away), and
+// the texture coordinates follow, so the body shows where it did with the whole plane drawn.
+TEST(ViewerDisplayableManagers, TheSlicesIn3DSpanTheirPatientPixelsOnly) {
+  vtkNew<vtkRPScene> scene;
+  ViewController controller(scene);
+  auto volume = test::MakeVolume();
+  vtkImageData* image = volume->GetImageData();  // axis-aligned: voxel (i, j) at Center + Spacing · (i − c, j − c)
+  int dims[3];
+  image->GetDimensions(dims);
+  constexpr double Body = 40.0;  // mm from the centre's S axis: air beyond
+  for (int k = 0; k < dims[2]; ++k)
+    for (int j = 0; j < dims[1]; ++j)
+      for (int i = 0; i < dims[0]; ++i) {
+        const double x = (i - 0.5 * (dims[0] - 1)) * test::Spacing[0], y = (j - 0.5 * (dims[1] - 1)) * test::Spacing[1];
+        if (std::hypot(x, y) > Body) *static_cast<short*>(image->GetScalarPointer(i, j, k)) = -1000;
+      }
+  scene->AddNode(volume);
+  auto window = OffscreenWindow(400, 400);
+  const double full[4] = {0, 0, 1, 1};
+  View* view = controller.GetView(ViewKind::ThreeD);
+  view->AttachToRenderWindow(window, full);
+  controller.ResetCameras3D();
+  window->Render();
+  auto* manager = view->GetDisplayableManager<vtkRPVolumeSliceDisplayableManager>();
+  vtkRPSliceLogic* axial = controller.GetSliceLogic(ViewKind::Axial);
+  const double* plane = axial->GetPlaneBounds();  // pixel centres, plane coordinates (R, A from the centre)
+  const double h = 0.5 * axial->GetPixelSpacing();
+  double quad[6];
+  vtkPolyData::SafeDownCast(manager->GetSliceActor(0)->GetMapper()->GetInput())->GetBounds(quad);
+  // The body's disc (around the centre's place on the plane), to within a pixel, not the whole
+  // plane of 96 × 80 mm; cut by the plane's edges where it reaches past them.
+  vtkNew<vtkMatrix4x4> rasToPlane;
+  vtkMatrix4x4::Invert(axial->GetPlaneToRAS(), rasToPlane);
+  const double centre[4] = {test::Center[0], test::Center[1], test::Center[2], 1};
+  double c[4];
+  rasToPlane->MultiplyPoint(centre, c);
+  EXPECT_GT(plane[1] - plane[0] + 2 * h, 95.0);
+  EXPECT_NEAR(quad[0], std::max(c[0] - Body, plane[0] - h), 2 * h + 1e-6);
+  EXPECT_NEAR(quad[1], std::min(c[0] + Body, plane[1] + h), 2 * h + 1e-6);
+  EXPECT_NEAR(quad[2], std::max(c[1] - Body, plane[2] - h), 2 * h + 1e-6);
+  EXPECT_NEAR(quad[3], std::min(c[1] + Body, plane[3] + h), 2 * h + 1e-6);
+  EXPECT_LT(quad[1] - quad[0], plane[1] - plane[0] - 10);
+  // Its corners' texture coordinates are those pixels' place in the whole picture.
+  vtkDataArray* tcoords = vtkPolyData::SafeDownCast(manager->GetSliceActor(0)->GetMapper()->GetInput())->GetPointData()->GetTCoords();
+  ASSERT_NE(tcoords, nullptr);
+  const double width = plane[1] - plane[0] + 2 * h;
+  EXPECT_NEAR(tcoords->GetComponent(0, 0), (quad[0] - (plane[0] - h)) / width, 1e-6);
+  EXPECT_NEAR(tcoords->GetComponent(1, 0), (quad[1] - (plane[0] - h)) / width, 1e-6);
+  // The body's centre still shows the slice there (the ball, bright), seen from the front: the
+  // coronal slice through the centre faces the camera.
+  unsigned char rgb[3];
+  PixelAt(view, window, test::Center, rgb);
+  EXPECT_GT(rgb[0], 150);
+  view->DetachFromRenderWindow();
+}
+
 TEST(ViewerDisplayableManagers, FiducialLabelsDoNotOverprint) {
   vtkNew<vtkRPScene> scene;
   ViewController controller(scene);
