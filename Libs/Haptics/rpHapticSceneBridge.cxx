@@ -16,60 +16,6 @@
 
 namespace rp {
 
-bool PolyDataToTriangleMesh(vtkPolyData* polyData, vtkMatrix4x4* toWorld, TriangleMesh& mesh, std::string& error) {
-  mesh = TriangleMesh{};
-  if (polyData == nullptr || polyData->GetPoints() == nullptr) {
-    error = "no points";
-    return false;
-  }
-  const vtkIdType n = polyData->GetNumberOfPoints();
-  mesh.Points.resize(static_cast<size_t>(n));
-  for (vtkIdType i = 0; i < n; ++i) {
-    double p[4] = {0, 0, 0, 1};
-    polyData->GetPoint(i, p);
-    if (toWorld) toWorld->MultiplyPoint(p, p);
-    mesh.Points[static_cast<size_t>(i)] = {p[0], p[1], p[2]};
-  }
-  vtkIdType count;
-  const vtkIdType* ids;
-  if (vtkCellArray* polys = polyData->GetPolys()) {
-    for (polys->InitTraversal(); polys->GetNextCell(count, ids);)
-      for (vtkIdType k = 1; k + 1 < count; ++k)
-        mesh.Triangles.push_back({static_cast<int32_t>(ids[0]), static_cast<int32_t>(ids[k]), static_cast<int32_t>(ids[k + 1])});
-  }
-  if (vtkCellArray* strips = polyData->GetStrips()) {
-    for (strips->InitTraversal(); strips->GetNextCell(count, ids);)
-      for (vtkIdType k = 0; k + 2 < count; ++k) {
-        if (k % 2 == 0)
-          mesh.Triangles.push_back({static_cast<int32_t>(ids[k]), static_cast<int32_t>(ids[k + 1]), static_cast<int32_t>(ids[k + 2])});
-        else
-          mesh.Triangles.push_back({static_cast<int32_t>(ids[k + 1]), static_cast<int32_t>(ids[k]), static_cast<int32_t>(ids[k + 2])});
-      }
-  }
-  if (mesh.Triangles.empty()) {
-    error = "no polygons";
-    return false;
-  }
-  return mesh.Validate(error);
-}
-
-vtkSmartPointer<vtkPolyData> TriangleMeshToPolyData(const TriangleMesh& mesh) {
-  vtkNew<vtkPoints> points;
-  points->SetDataTypeToDouble();
-  points->SetNumberOfPoints(static_cast<vtkIdType>(mesh.Points.size()));
-  for (size_t i = 0; i < mesh.Points.size(); ++i)
-    points->SetPoint(static_cast<vtkIdType>(i), mesh.Points[i].x, mesh.Points[i].y, mesh.Points[i].z);
-  vtkNew<vtkCellArray> polys;
-  for (const auto& t : mesh.Triangles) {
-    const vtkIdType ids[3] = {t[0], t[1], t[2]};
-    polys->InsertNextCell(3, ids);
-  }
-  auto polyData = vtkSmartPointer<vtkPolyData>::New();
-  polyData->SetPoints(points);
-  polyData->SetPolys(polys);
-  return polyData;
-}
-
 std::vector<HapticMeshInput> CollectHapticMeshes(vtkRPScene* scene, std::vector<std::string>& warnings) {
   std::vector<HapticMeshInput> meshes;
   if (scene == nullptr) return meshes;

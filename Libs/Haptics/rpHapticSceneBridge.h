@@ -11,6 +11,7 @@
 #include <vtkSmartPointer.h>
 
 #include "rpHapticServo.h"
+#include "rpPolyDataTriangleMesh.h"  // the models' meshes are read with it
 
 class vtkMatrix4x4;
 class vtkPolyData;
@@ -21,13 +22,6 @@ namespace rp {
 constexpr const char* HapticDeviceToRASName = "HapticDeviceToRAS";
 constexpr const char* HapticInterfacePointName = "HapticInterfacePoint";  // tool node: HIP pose in RAS
 constexpr const char* HapticProxyName = "HapticProxy";  // tool node: proxy; attributes Force, Tissue, Contact
-
-/// Triangles of `polyData` (polygons fan-triangulated, strips split; lines and vertices
-/// ignored), points mapped by `toWorld` (may be null). False names the problem.
-bool PolyDataToTriangleMesh(vtkPolyData* polyData, vtkMatrix4x4* toWorld, TriangleMesh& mesh, std::string& error);
-
-/// A vtkPolyData (points + triangles) of a mesh, e.g. to put an analytic shape into a model node.
-vtkSmartPointer<vtkPolyData> TriangleMeshToPolyData(const TriangleMesh& mesh);
 
 /// The haptic models of the scene. Models without polygons are skipped with a warning.
 std::vector<HapticMeshInput> CollectHapticMeshes(vtkRPScene* scene, std::vector<std::string>& warnings);

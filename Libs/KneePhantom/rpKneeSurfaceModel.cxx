@@ -15,6 +15,7 @@
 #include "rpKneePhantom.h"
 #include "rpMeshSignedDistance.h"
 #include "rpModelIO.h"
+#include "rpPolyDataTriangleMesh.h"
 #include "rpResources.h"
 
 namespace rp {
@@ -106,22 +107,6 @@ vtkSmartPointer<vtkPolyData> AppendPolyData(const std::vector<vtkSmartPointer<vt
   return out;
 }
 
-TriangleMesh ToTriangleMesh(vtkPolyData* poly) {
-  TriangleMesh mesh;
-  mesh.Points.resize(static_cast<size_t>(poly->GetNumberOfPoints()));
-  for (vtkIdType i = 0; i < poly->GetNumberOfPoints(); ++i) {
-    double p[3];
-    poly->GetPoint(i, p);
-    mesh.Points[static_cast<size_t>(i)] = {p[0], p[1], p[2]};
-  }
-  vtkIdType n;
-  const vtkIdType* ids;
-  for (poly->GetPolys()->InitTraversal(); poly->GetPolys()->GetNextCell(n, ids);)
-    for (vtkIdType k = 1; k + 1 < n; ++k)
-      mesh.Triangles.push_back({int32_t(ids[0]), int32_t(ids[k]), int32_t(ids[k + 1])});
-  return mesh;
-}
-
 class KneeSurfaceModel : public KneeModel {
  public:
   bool Load(const std::string& folder, std::string& error);
@@ -193,8 +178,8 @@ bool KneeSurfaceModel::Load(const std::string& folder, std::string& error) {
     if (files.Structure == KneeStructure::TibialCartilage) plateaus = polys;  // medial, lateral
     Part& part = this->Parts[files.Structure];
     part.Poly = AppendPolyData(polys);
-    const TriangleMesh mesh = ToTriangleMesh(part.Poly);
-    if (!part.Distance.Build(mesh, error)) {
+    TriangleMesh mesh;
+    if (!PolyDataToTriangleMesh(part.Poly, nullptr, mesh, error) || !part.Distance.Build(mesh, error)) {
       error = "knee anatomy: " + std::string(files.Files[0]) + ": " + error;
       return false;
     }

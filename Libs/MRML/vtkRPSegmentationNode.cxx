@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 #include <vtkObjectFactory.h>
+#include <vtkType.h>
 
 vtkStandardNewMacro(vtkRPSegmentationNode);
 
@@ -98,4 +99,15 @@ void vtkRPSegmentationNode::ReadProperties(const PropertyMap& properties) {
     this->SetSegment(s);
   }
   this->EndModify(previous);
+}
+
+bool vtkRPSegmentationNode::IsLabelScalarType(int vtkType) {
+  switch (vtkType) {
+    case VTK_CHAR: case VTK_SIGNED_CHAR: case VTK_UNSIGNED_CHAR: case VTK_SHORT: case VTK_UNSIGNED_SHORT:
+    case VTK_INT: case VTK_UNSIGNED_INT: case VTK_LONG: case VTK_UNSIGNED_LONG: case VTK_LONG_LONG:
+    case VTK_UNSIGNED_LONG_LONG: case VTK_ID_TYPE:
+      return true;
+    default:
+      return false;
+  }
 }

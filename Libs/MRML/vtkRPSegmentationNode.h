@@ -30,6 +30,8 @@ class vtkRPSegmentationNode : public vtkRPImageNode {
   const Segment* GetSegmentByLabel(int labelValue) const;
   /// Smallest label value not used by any segment (>= 1).
   int GetUnusedLabelValue() const;
+  /// Whether a labelmap may hold voxels of this VTK scalar type: integer labels only.
+  static bool IsLabelScalarType(int vtkType);
 
   void WriteProperties(PropertyMap& properties) const override;
   void ReadProperties(const PropertyMap& properties) override;

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <map>
 #include <numeric>
+#include <string>
 #include <vector>
 
 #include <vtkCellArray.h>
@@ -21,34 +22,9 @@
 
 #include "rpBVH.h"
 #include "rpManifoldDecimation.h"
+#include "rpPolyDataTriangleMesh.h"
 
 namespace rp {
-
-namespace {
-TriangleMesh ToTriangleMesh(vtkPolyData* mesh) {
-  TriangleMesh t;
-  const vtkIdType np = mesh->GetNumberOfPoints();
-  t.Points.resize(static_cast<size_t>(np));
-  double p[3];
-  for (vtkIdType i = 0; i < np; ++i) {
-    mesh->GetPoint(i, p);
-    t.Points[static_cast<size_t>(i)] = Vec3(p[0], p[1], p[2]);
-  }
-  vtkIdType n;
-  const vtkIdType* ids;
-  vtkCellArray* polys = mesh->GetPolys();
-  t.Triangles.reserve(static_cast<size_t>(polys->GetNumberOfCells()));
-  // An iterator of its own, not the array's traversal cursor: the mesh may be written to a file
-  // on another thread meanwhile (read-only there too).
-  auto cells = vtk::TakeSmartPointer(polys->NewIterator());
-  for (cells->GoToFirstCell(); !cells->IsDoneWithTraversal(); cells->GoToNextCell()) {
-    cells->GetCurrentCell(n, ids);
-    if (n == 3)
-      t.Triangles.push_back({static_cast<int32_t>(ids[0]), static_cast<int32_t>(ids[1]), static_cast<int32_t>(ids[2])});
-  }
-  return t;
-}
-}  // namespace
 
 double MaxSurfaceDeviation(vtkPolyData* mesh, vtkPolyData* reference) {
   // Each way: the largest distance from a vertex of one surface to the other (exact closest
@@ -71,8 +47,9 @@ double MaxSurfaceDeviation(vtkPolyData* mesh, vtkPolyData* reference) {
     for (double w : worst) result = std::max(result, w);
     return std::sqrt(result);
   };
-  if (!mesh || !reference || mesh->GetNumberOfPolys() == 0 || reference->GetNumberOfPolys() == 0) return -1;
-  const TriangleMesh a = ToTriangleMesh(mesh), b = ToTriangleMesh(reference);
+  TriangleMesh a, b;
+  std::string error;
+  if (!PolyDataToTriangleMesh(mesh, nullptr, a, error) || !PolyDataToTriangleMesh(reference, nullptr, b, error)) return -1;
   BVH bvhA, bvhB;
   vtkSMPTools::For(0, 2, [&](vtkIdType i0, vtkIdType i1) {
     for (vtkIdType i = i0; i < i1; ++i) (i == 0 ? bvhA : bvhB).Build(i == 0 ? a : b);

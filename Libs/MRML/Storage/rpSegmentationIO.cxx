@@ -78,17 +78,6 @@ void ComputeExtents(const T* voxels, const int dims[3], std::map<long, std::arra
   }
 }
 
-bool IsIntegerType(int vtkType) {
-  switch (vtkType) {
-    case VTK_UNSIGNED_CHAR: case VTK_SIGNED_CHAR: case VTK_CHAR: case VTK_SHORT: case VTK_UNSIGNED_SHORT:
-    case VTK_INT: case VTK_UNSIGNED_INT: case VTK_LONG: case VTK_UNSIGNED_LONG: case VTK_LONG_LONG:
-    case VTK_UNSIGNED_LONG_LONG:
-      return true;
-    default:
-      return false;
-  }
-}
-
 // Reads a 4-D multi-layer file (ITK sees the "list" axis as pixel components) into one labelmap
 // per layer.
 bool ReadLayers(const std::string& path, std::vector<vtkSmartPointer<vtkImageData>>& layers, vtkMatrix4x4* ijkToRAS,
@@ -208,7 +197,7 @@ bool WriteSegmentationFile(const std::string& path, vtkRPSegmentationNode* node,
             "' has no labelmap";
     return false;
   }
-  if (!IsIntegerType(image->GetScalarType()) || image->GetNumberOfScalarComponents() != 1) {
+  if (!vtkRPSegmentationNode::IsLabelScalarType(image->GetScalarType()) || image->GetNumberOfScalarComponents() != 1) {
     error = "cannot write '" + path + "': the labelmap must hold one integer label per voxel";
     return false;
   }
@@ -272,7 +261,7 @@ bool ReadSegmentationFile(const std::string& path, vtkRPSegmentationNode* node, 
     return false;
   }
   for (const auto& layer : layers) {
-    if (!IsIntegerType(layer->GetScalarType())) {
+    if (!vtkRPSegmentationNode::IsLabelScalarType(layer->GetScalarType())) {
       error = "'" + path + "': a segmentation labelmap must have integer voxels, not " +
               std::string(layer->GetScalarTypeAsString());
       return false;

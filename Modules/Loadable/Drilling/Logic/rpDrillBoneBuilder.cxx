@@ -19,6 +19,7 @@
 #include "rpHapticSceneBridge.h"
 #include "rpLabelmapToMesh.h"
 #include "rpMeshSignedDistance.h"
+#include "vtkRPSegmentationNode.h"
 
 namespace rp {
 
@@ -44,17 +45,6 @@ struct Crop {
     return this->Values[(size_t(k) * this->Dims[1] + j) * this->Dims[0] + i];
   }
 };
-
-bool IsIntegerType(int type) {
-  switch (type) {
-    case VTK_CHAR: case VTK_SIGNED_CHAR: case VTK_UNSIGNED_CHAR: case VTK_SHORT: case VTK_UNSIGNED_SHORT:
-    case VTK_INT: case VTK_UNSIGNED_INT: case VTK_LONG: case VTK_UNSIGNED_LONG: case VTK_LONG_LONG:
-    case VTK_UNSIGNED_LONG_LONG: case VTK_ID_TYPE:
-      return true;
-    default:
-      return false;
-  }
-}
 
 // Codes of every voxel: bone label index + 1, | ProtectedCode.
 template <typename T>
@@ -571,7 +561,7 @@ bool BuildDrillBone(const DrillBoneSource& source, const std::vector<Material>& 
     error = "drill bone: the segmentation has no labelmap";
     return false;
   }
-  if (!IsIntegerType(labels->GetScalarType()) || labels->GetNumberOfScalarComponents() != 1) {
+  if (!vtkRPSegmentationNode::IsLabelScalarType(labels->GetScalarType()) || labels->GetNumberOfScalarComponents() != 1) {
     error = "drill bone: the labelmap must hold integer labels (one component)";
     return false;
   }
