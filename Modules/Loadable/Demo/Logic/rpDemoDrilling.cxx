@@ -19,6 +19,7 @@
 #include <vtkPointData.h>
 
 #include "rpBenchmarkChart.h"
+#include "rpBlockMesher.h"
 #include "rpDemoStages.h"
 #include "rpDrillAnalytic.h"
 #include "rpDrillBoneBuilder.h"

@@ -151,4 +151,17 @@ void BlockMesher::Contour(int32_t slot) {
   }
 }
 
+TriangleMesh ContourToTriangleMesh(DrillVolume& volume) {
+  TriangleMesh mesh;
+  BlockMesher mesher(volume);
+  mesher.ContourAll();
+  for (const BlockMesh& b : mesher.Blocks()) {
+    const int32_t base = static_cast<int32_t>(mesh.Points.size());
+    for (size_t p = 0; p < b.Points.size(); p += 3) mesh.Points.push_back({b.Points[p], b.Points[p + 1], b.Points[p + 2]});
+    for (size_t t = 0; t < b.Triangles.size(); t += 3)
+      mesh.Triangles.push_back({base + int32_t(b.Triangles[t]), base + int32_t(b.Triangles[t + 1]), base + int32_t(b.Triangles[t + 2])});
+  }
+  return mesh;
+}
+
 }  // namespace rp

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "rpDrillVolume.h"
+#include "rpTriangleMesh.h"
 
 namespace rp {
 
@@ -43,5 +44,9 @@ class BlockMesher {
   std::vector<float> Field;          // (Edge + 3)³ densities around the block being contoured
   std::vector<int32_t> EdgeVertex;   // vertex of each (corner, axis) in the block, −1 none
 };
+
+/// The ½ iso-surface of a whole volume as one triangle mesh (every block contoured): the
+/// protected structure's surface for the distance read-out.
+TriangleMesh ContourToTriangleMesh(DrillVolume& volume);
 
 }  // namespace rp

@@ -14,6 +14,7 @@
 #include <vtkPolyData.h>
 #include <vtkType.h>
 
+#include "rpBlockMesher.h"
 #include "rpDrillRun.h"
 #include "rpDrillSession.h"
 #include "rpHapticSceneBridge.h"

@@ -379,15 +379,7 @@ int BuildSegmentedBone(const DrillRequest& q, DrillSession& s, TerminalProgress&
 // The protected structure's surface (distance read-out).
 void BuildProtectedTree(DrillSession& s) {
   if (!s.Built.HasProtected) return;
-  BlockMesher mesher(*s.ProtectedSurface);
-  mesher.ContourAll();
-  for (const BlockMesh& b : mesher.Blocks()) {
-    const int32_t base = static_cast<int32_t>(s.ProtectedMesh.Points.size());
-    for (size_t p = 0; p < b.Points.size(); p += 3) s.ProtectedMesh.Points.push_back({b.Points[p], b.Points[p + 1], b.Points[p + 2]});
-    for (size_t t = 0; t < b.Triangles.size(); t += 3)
-      s.ProtectedMesh.Triangles.push_back({base + int32_t(b.Triangles[t]), base + int32_t(b.Triangles[t + 1]),
-                                           base + int32_t(b.Triangles[t + 2])});
-  }
+  s.ProtectedMesh = ContourToTriangleMesh(*s.ProtectedSurface);
   s.ProtectedTree.Build(s.ProtectedMesh);
 }
 

@@ -63,7 +63,4 @@ class DrillSession {
   double LastPathTime = -1, Rpm = 0;
 };
 
-/// The ½ iso-surface of a volume as a triangle mesh (rpBlockMesher over every block).
-TriangleMesh ContourToTriangleMesh(DrillVolume& volume);
-
 }  // namespace rp

@@ -8,6 +8,7 @@
 #include <vtkObjectFactory.h>
 #include <vtkPolyData.h>
 
+#include "rpBlockMesher.h"
 #include "rpDrillAnalytic.h"
 #include "rpDrillSession.h"
 #include "rpHapticSceneBridge.h"
