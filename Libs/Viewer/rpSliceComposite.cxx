@@ -1,6 +1,7 @@
 #include "rpSliceComposite.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 #include <cstring>
@@ -28,7 +29,7 @@ namespace {
 constexpr int Chunk = 32;  // pixels sampled per layer at a time (stack buffers)
 constexpr int Band = 16;
 
-bool UseAVX2 = true;  // SetCompositeVectorized
+std::atomic<bool> UseAVX2{true};  // SetCompositeVectorized (tests, benchmarks)
 
 struct Sampled {
   float Values[Chunk];
@@ -175,7 +176,7 @@ void SampleInterior(const SliceLayer& layer, const Grid& grid, Row row, int k0, 
   std::fill(out.Inside + k0, out.Inside + k1, std::uint8_t{1});
 #if defined(__x86_64__) && defined(__GNUC__)
   if constexpr (std::is_same_v<T, short> || std::is_same_v<T, unsigned short>) {
-    if (UseAVX2 && HasAVX2()) k0 = SampleInterior16AVX2<std::is_same_v<T, short>>(layer, grid, row, k0, k1, out);
+    if (UseAVX2.load(std::memory_order_relaxed) && HasAVX2()) k0 = SampleInterior16AVX2<std::is_same_v<T, short>>(layer, grid, row, k0, k1, out);
   }
 #else
   (void)grid;
@@ -339,7 +340,7 @@ SliceLayer SliceLayerOf(vtkImageData* image, const double planeToIJK[3][4], cons
   return layer;
 }
 
-void SetCompositeVectorized(bool vectorized) { UseAVX2 = vectorized; }
+void SetCompositeVectorized(bool vectorized) { UseAVX2.store(vectorized, std::memory_order_relaxed); }
 
 bool OpaqueExtent(const std::uint32_t* picture, int width, int height, int extent[4]) {
   int x0 = width, x1 = -1, y0 = height, y1 = -1;

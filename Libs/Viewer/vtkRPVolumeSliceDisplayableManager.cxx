@@ -35,8 +35,9 @@
 vtkStandardNewMacro(vtkRPVolumeSliceDisplayableManager);
 
 // One slice node's picture in this view. In 3D a quad in plane coordinates over the picture's
-// patient pixels, placed by the plane's matrix, textured with the RGBA picture as it is. In a slice view the picture
-// resampled onto the view's pixels (Screen), put into the framebuffer as it is (ScreenActor).
+// patient pixels, placed by the plane's matrix, textured with the RGBA picture as it is. In a
+// slice view the picture resampled onto the view's pixels (Screen), put into the framebuffer as
+// it is (ScreenActor).
 struct vtkRPVolumeSliceDisplayableManager::Picture {
   vtkRPSliceLogic* Logic = nullptr;
   unsigned long Tag = 0;
@@ -126,7 +127,7 @@ void vtkRPVolumeSliceDisplayableManager::OnInitialize() {
   this->RenderCallback->SetCallback([](vtkObject*, unsigned long, void* clientData, void*) {
     auto* self = static_cast<vtkRPVolumeSliceDisplayableManager*>(clientData);
     for (Picture* picture : self->Pictures) {
-      if (self->GetView()->IsSlice()) self->UpdateScreenPicture(*picture);
+      if (self->InSliceView()) self->UpdateScreenPicture(*picture);
       else self->UpdateQuad(*picture);
     }
   });
@@ -211,19 +212,24 @@ void vtkRPVolumeSliceDisplayableManager::OnFinalize() {
   this->Pictures.clear();
 }
 
+bool vtkRPVolumeSliceDisplayableManager::InSliceView() const {
+  const rp::View* view = this->GetView();
+  return view && view->IsSlice();
+}
+
 vtkActor* vtkRPVolumeSliceDisplayableManager::GetSliceActor(int i) const {
-  if (this->GetView()->IsSlice() || i < 0 || i >= static_cast<int>(this->Pictures.size())) return nullptr;
+  if (this->InSliceView() || i < 0 || i >= static_cast<int>(this->Pictures.size())) return nullptr;
   return this->Pictures[static_cast<size_t>(i)]->QuadActor;
 }
 
 vtkRPViewportImageActor* vtkRPVolumeSliceDisplayableManager::GetScreenPictureActor() const {
-  return this->GetView()->IsSlice() && !this->Pictures.empty() ? this->Pictures[0]->ScreenActor.GetPointer() : nullptr;
+  return this->InSliceView() && !this->Pictures.empty() ? this->Pictures[0]->ScreenActor.GetPointer() : nullptr;
 }
 
 int vtkRPVolumeSliceDisplayableManager::GetNumberOfVisibleSlices() const {
   int visible = 0;
   for (Picture* picture : this->Pictures) {
-    visible += (this->GetView()->IsSlice() ? picture->ScreenActor->GetVisibility() : picture->QuadActor->GetVisibility()) ? 1 : 0;
+    visible += (this->InSliceView() ? picture->ScreenActor->GetVisibility() : picture->QuadActor->GetVisibility()) ? 1 : 0;
   }
   return visible;
 }

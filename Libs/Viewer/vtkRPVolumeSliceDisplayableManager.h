@@ -59,6 +59,7 @@ class vtkRPVolumeSliceDisplayableManager : public vtkRPDisplayableManager {
   void UpdatePicture(Picture& picture);
   void UpdateScreenPicture(Picture& picture);
   void UpdateQuad(Picture& picture);
+  bool InSliceView() const;  // a slice view (else the 3D view)
 
   std::vector<Picture*> Pictures;
   vtkSmartPointer<vtkCallbackCommand> LogicCallback;

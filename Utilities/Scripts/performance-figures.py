@@ -71,6 +71,8 @@ def viewer(build, out, i):
     b = data["benchmarks"][0]
     ctx = data["context"]
     return {"p50Ms": b["p50_ms"], "p95Ms": b["p95_ms"], "maxMs": b["max_ms"], "fps": b["fps"],
+            "slicesMovingFrames": b.get("slices_moving_frames", 0), "slicesMovingP95Ms": b.get("slices_moving_p95_ms", 0),
+            "processCpuMsPerFrame": b.get("process_cpu_ms_per_frame", 0),
             "gl": ctx.get("gl renderer", "?"), "screen": ctx.get("screen", "?"), "load": ctx.get("load average before", "?")}
 
 
@@ -161,7 +163,9 @@ def main():
     print("|---|---|---|")
     print(f"| viewer display rate, 4-up 1400x1100 | p95 <= 33 ms | p95 {join([r['p95Ms'] for r in v], '{:.1f}')} ms; "
           f"p50 {join([r['p50Ms'] for r in v], '{:.1f}')}; max {join([r['maxMs'] for r in v], '{:.1f}')}; "
-          f"{join([r['fps'] for r in v], '{:.1f}')} fps |")
+          f"{join([r['fps'] for r in v], '{:.1f}')} fps; frames whose slices moved: p95 "
+          f"{join([r['slicesMovingP95Ms'] for r in v], '{:.1f}')} ms; process CPU per frame "
+          f"{join([r['processCpuMsPerFrame'] for r in v], '{:.1f}')} ms |")
     for key, r in (("drillR2", 2), ("drillR3", 3)):
         d = figures[key]
         print(f"| drill --block, {r} mm burr radius, 0.2 mm | tick p99 < 100 us | p99 {join([x['p99Us'] for x in d], '{:.1f}')} us; "
