@@ -329,7 +329,7 @@ struct Run {
   std::vector<int> ViewsRendered;
   std::vector<std::array<double, 4>> FrameViewMs;  // per frame: each view's render call (ms)
   std::vector<double> FrameSceneMs;  // per frame: servo state into the scene (ms)
-  // Per frame: slice pictures made. The proxy rests on a surface for part of the stroke; then
+  // Per frame: slice pictures made. The proxy holds still on a surface for part of the stroke; then
   // only the tool moves and no picture changes. Frames that made pictures are the hard ones.
   std::vector<int> FramePictures;
   int Reslices = 0, PicturesAhead = 0;  // slice pictures made; of those, made ahead on a worker
