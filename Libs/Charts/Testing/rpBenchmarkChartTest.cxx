@@ -1,7 +1,9 @@
 // The chart helper draws what it is given: a red line on white lands in the PNG.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <vector>
 
 #include <vtkImageData.h>
 #include <vtkNew.h>
@@ -56,4 +58,41 @@ TEST(BenchmarkChart, WritesAPNGWithTheSeriesColours) {
   std::vector<std::vector<double>> rows{{1, 2}, {3, 4}};
   EXPECT_TRUE(rp::bench::WriteCSV(std::string(ROBOPLAN_TEST_OUTPUT_DIR) + "/t.csv", {"a", "b"}, rows, error));
   EXPECT_FALSE(rp::bench::WriteCSV(std::string(ROBOPLAN_TEST_OUTPUT_DIR) + "/t.csv", {"a"}, rows, error));
+}
+
+// The legend (top right, opaque) must not hide the top of a tall bar beneath it: a bar twice as
+// high as another shows twice as many pixels, even with four series in the legend.
+TEST(BenchmarkChart, TheLegendLeavesTheTallestBarWhole) {
+  std::filesystem::create_directories(ROBOPLAN_TEST_OUTPUT_DIR);
+  const std::string path = std::string(ROBOPLAN_TEST_OUTPUT_DIR) + "/bars-legend.png";
+  std::string error;
+  std::vector<rp::bench::Series> series{{"first, blue", {}, {0.5, 0.1, 0.1, 1.0}},
+                                        {"second, with a name as long as benchmarks give theirs", {}, {0.1, 0.1, 0.1, 0.1}},
+                                        {"third", {}, {0.1, 0.1, 0.1, 0.1}},
+                                        {"fourth", {}, {0.1, 0.1, 0.1, 0.1}}};
+  rp::bench::ChartOptions options{"Legend over the bars", "", "value"};
+  ASSERT_TRUE(rp::bench::WriteBarChartPNG(path, {"a", "b", "c", "d"}, series, options, error)) << error;
+  vtkNew<vtkPNGReader> reader;
+  reader->SetFileName(path.c_str());
+  reader->Update();
+  vtkImageData* image = reader->GetOutput();
+  int dims[3];
+  image->GetDimensions(dims);
+  // The longest vertical run of the first series' blue in each half of the picture: the 0.5 bar
+  // on the left, the 1.0 bar (under the legend) on the right.
+  auto longestBlueRun = [&](int x0, int x1) {
+    int longest = 0;
+    for (int x = x0; x < x1; ++x) {
+      int run = 0;
+      for (int y = 0; y < dims[1]; ++y) {
+        auto* p = static_cast<unsigned char*>(image->GetScalarPointer(x, y, 0));
+        run = (p[0] < 60 && p[1] > 100 && p[1] < 140 && p[2] > 160) ? run + 1 : 0;
+        longest = std::max(longest, run);
+      }
+    }
+    return longest;
+  };
+  const int half = longestBlueRun(0, dims[0] / 2), whole = longestBlueRun(dims[0] / 2, dims[0]);
+  ASSERT_GT(half, 100);
+  EXPECT_NEAR(whole, 2 * half, 4) << "the 1.0 bar shows " << whole << " px against " << half << " px for 0.5";
 }
