@@ -8,13 +8,8 @@
 #include <string>
 #include <vector>
 
-#include <vtkSmartPointer.h>
-
 #include "rpHapticServo.h"
-#include "rpPolyDataTriangleMesh.h"  // the models' meshes are read with it
 
-class vtkMatrix4x4;
-class vtkPolyData;
 class vtkRPScene;
 
 namespace rp {

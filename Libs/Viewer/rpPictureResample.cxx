@@ -124,7 +124,7 @@ void ResampleAxisAligned(const std::uint32_t* source, int width, int height, con
     weights[2 * static_cast<size_t>(i) + 1] = columns.Weight[i] * 0x0001000100010001ull;
   }
   vtkSMPTools::For(0, targetHeight, 32, [&](int firstRow, int endRow) {
-    std::vector<std::uint64_t> mixed(static_cast<size_t>(width) + 1);  // one target row's source row, mixed
+    std::vector<std::uint64_t> mixed(static_cast<size_t>(width));  // one target row's source row, mixed
     for (int j = firstRow; j < endRow; ++j) {
       std::uint32_t* out = target + static_cast<std::int64_t>(j) * targetWidth;
       if (!rows.Inside[j] || lastColumn < 0) {

@@ -31,7 +31,7 @@
 
 #include "rpBenchmarkChart.h"
 #include "rpBenchmarkMain.h"
-#include "rpHapticSceneBridge.h"
+#include "rpPolyDataTriangleMesh.h"
 #include "rpHapticServo.h"
 #include "rpSimulatedDevice.h"
 

@@ -22,7 +22,7 @@
 #include "rpBVH.h"
 #include "rpBenchmarkChart.h"
 #include "rpDemoStages.h"
-#include "rpHapticSceneBridge.h"
+#include "rpPolyDataTriangleMesh.h"
 #include "rpImageVolume.h"
 #include "rpKneePhantom.h"
 #include "rpLabelmapToMesh.h"

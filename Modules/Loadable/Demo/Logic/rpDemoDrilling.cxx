@@ -26,7 +26,7 @@
 #include "rpDrillCommand.h"
 #include "rpDrillRun.h"
 #include "rpDrillSession.h"
-#include "rpHapticSceneBridge.h"
+#include "rpPolyDataTriangleMesh.h"
 #include "rpKneePhantom.h"
 #include "rpReport.h"
 #include "rpServoLoadReport.h"

@@ -17,7 +17,7 @@
 #include "rpBlockMesher.h"
 #include "rpDrillRun.h"
 #include "rpDrillSession.h"
-#include "rpHapticSceneBridge.h"
+#include "rpPolyDataTriangleMesh.h"
 #include "rpLabelmapToMesh.h"
 #include "rpMeshSignedDistance.h"
 #include "vtkRPSegmentationNode.h"

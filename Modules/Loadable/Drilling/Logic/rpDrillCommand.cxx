@@ -17,7 +17,7 @@
 #include "rpDrillAnalytic.h"
 #include "rpDrillBoneBuilder.h"
 #include "rpDrillRun.h"
-#include "rpHapticSceneBridge.h"
+#include "rpPolyDataTriangleMesh.h"
 #include "rpModelIO.h"
 #include "rpSegmentationIO.h"
 #include "rpServoLoadReport.h"

@@ -12,6 +12,7 @@
 #include "rpDrillAnalytic.h"
 #include "rpDrillSession.h"
 #include "rpHapticSceneBridge.h"
+#include "rpPolyDataTriangleMesh.h"
 #include "rpSimulatedDevice.h"
 #include "rpTunnelPicture.h"
 #include "vtkRPModelNode.h"

@@ -14,6 +14,7 @@
 #include "rpArgParser.h"
 #include "rpDeviceProfiles.h"
 #include "rpHapticSession.h"
+#include "rpPolyDataTriangleMesh.h"
 #include "rpProgress.h"
 #include "rpSceneIO.h"
 #include "rpServoLoadReport.h"

@@ -25,6 +25,7 @@
 #include "qRPHapticsPanel.h"
 #include "qRPSliceFollowCheckBox.h"
 #include "rpHapticSceneBridge.h"
+#include "rpPolyDataTriangleMesh.h"
 #include "rpHapticSession.h"
 #include "rpSimulatedDevice.h"
 #include "vtkRPHapticsLogic.h"

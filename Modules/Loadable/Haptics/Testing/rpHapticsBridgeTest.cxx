@@ -12,6 +12,7 @@
 #include <vtkPolyData.h>
 
 #include "rpHapticSession.h"
+#include "rpPolyDataTriangleMesh.h"
 #include "rpSimulatedDevice.h"
 #include "vtkRPHapticsLogic.h"
 #include "vtkRPLinearTransformNode.h"
