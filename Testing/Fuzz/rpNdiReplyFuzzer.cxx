@@ -27,6 +27,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       uint8_t handles[MaxHandles];
       int count;
       ParsePhsr(payload, payloadLength, handles, MaxHandles, count);
+      PortLocation location;
+      ParsePhinfPortLocation(payload, payloadLength, location);
     }
     offset += length;
   }

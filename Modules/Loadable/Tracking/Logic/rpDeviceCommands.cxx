@@ -124,6 +124,7 @@ void AddPlusTrackOptions(ArgParser& parser) {
   parser.Option("plus-config", "FILE", "a PLUS device-set configuration (PlusDeviceSet_*.xml): its NDI tracker, tools, "
                                        "CoordinateDefinitions and PlusOpenIGTLinkServer section")
       .Option("plus-config-dir", "DIR", "PLUS's DeviceSetConfigurationDirectory (where RomFile paths are looked for first)")
+      .Option("plus-device", "ID", "with --plus-config: the Id of the NDI tracker to run (default: the first with tools)")
       .Flag("check", "with --plus-config: print what would be set up and what is refused, open no device");
 }
 
@@ -139,7 +140,12 @@ void PrintCheck(const plus::Configuration& c, const plus::NdiTracker* tracker, c
     else if (!d.SerialDevice.empty()) out << "serial " << d.SerialDevice << " (SerialPort " << d.SerialPort << ")";
     else out << "no port in the file: give --serial PORT or --ndi-tcp HOST";
     out << ", tools in frame " << d.ToolReferenceFrame << "\n";
-    for (const plus::Tool& t : d.Tools) out << "  tool " << t.Id << " -> " << t.Id << "To" << d.ToolReferenceFrame << ": " << t.RomPath << "\n";
+    for (const plus::Tool& t : d.Tools) {
+      out << "  tool " << t.Id << " -> " << t.Id << "To" << d.ToolReferenceFrame << ": ";
+      if (t.WiredPort >= 0) out << "wired port " << t.WiredPort % 100 + 1 << (t.WiredPort >= 100 ? " channel " + std::to_string(t.WiredPort / 100) : "")
+                                << (t.RomPath.empty() ? " (the SROM in the tool)" : ", virtual SROM " + t.RomPath) << "\n";
+      else out << t.RomPath << "\n";
+    }
   }
   for (const plus::FixedTransform& t : c.Transforms)
     out << "fixed transform " << t.From << "To" << t.To << (t.Error >= 0 ? " (error " + std::to_string(t.Error) + ")" : "") << "\n";
@@ -166,13 +172,27 @@ int PreparePlusTrack(const ArgParser& parser, PlusTrack& plan, std::ostream& out
     return 1;
   }
   const plus::Configuration& c = plan.Configuration;
-  // One tracker per `roboplan track`: the first with tools it can load.
+  // One tracker per `roboplan track`: the one named by --plus-device, else the first with tools.
   const plus::NdiTracker* tracker = nullptr;
   std::vector<plus::Refusal> refused = c.Refused;
+  const std::string wanted = parser.Get("plus-device");
+  if (!wanted.empty()) {
+    for (const plus::NdiTracker& d : c.Trackers)
+      if (d.Id == wanted && !d.Tools.empty()) tracker = &d;
+    if (!tracker) {
+      std::string ids;
+      for (const plus::NdiTracker& d : c.Trackers)
+        if (!d.Tools.empty()) ids += (ids.empty() ? "" : ", ") + d.Id;
+      err << "roboplan track: " << c.Source << " has no NDI tracker with Id " << wanted << " and tools to track (it has: "
+          << (ids.empty() ? std::string("none") : ids) << ")\n";
+      return 2;
+    }
+  }
   for (const plus::NdiTracker& d : c.Trackers) {
-    if (d.Tools.empty()) continue;
+    if (d.Tools.empty() || &d == tracker) continue;
     if (!tracker) tracker = &d;
-    else refused.push_back({"Device " + d.Id + " (" + d.Type + ")", "a second NDI tracker: run it with a second `roboplan track`"});
+    else refused.push_back({"Device " + d.Id + " (" + d.Type + ")",
+                            "another NDI tracker: run it with a second `roboplan track --plus-device " + d.Id + "`"});
   }
   const nlohmann::json served = ServedTransformsJson(c, tracker, &refused);
   if (parser.Has("check")) {

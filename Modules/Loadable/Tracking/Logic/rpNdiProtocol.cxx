@@ -329,5 +329,22 @@ ParseResult ParsePhsr(const char* payload, size_t length, uint8_t* handles, int 
   return ParseResult{};
 }
 
+ParseResult ParsePhinfPortLocation(const char* payload, size_t length, PortLocation& location) noexcept {
+  constexpr size_t kBasic = 33, kLocation = 14;
+  location = PortLocation{};
+  if (length != kBasic + kLocation) return Fail(length < kBasic + kLocation ? ParseCode::Truncated : ParseCode::BadFormat, length);
+  const char* at = payload + kBasic;
+  if (at[9] != '0' && at[9] != '1') return Fail(ParseCode::BadFormat, kBasic + 9);
+  location.Wired = at[9] == '0';
+  if (!location.Wired) return ParseResult{};
+  uint32_t channel;
+  if (at[10] < '0' || at[10] > '9' || at[11] < '0' || at[11] > '9') return Fail(ParseCode::BadFormat, kBasic + 10);
+  if (!ParseHex(at + 12, 2, channel)) return Fail(ParseCode::BadFormat, kBasic + 12);
+  const int port = (at[10] - '0') * 10 + (at[11] - '0');
+  if (port < 1) return Fail(ParseCode::BadFormat, kBasic + 10);
+  location.WiredPort = static_cast<int>(channel) * 100 + port - 1;
+  return ParseResult{};
+}
+
 }  // namespace ndi
 }  // namespace rp

@@ -81,6 +81,16 @@ ParseResult ParseBx(const uint8_t* frame, size_t length, TrackingReply& reply) n
 /// Parses "PHSR" payloads: count then per handle 2-hex handle + 3-hex status.
 ParseResult ParsePhsr(const char* payload, size_t length, uint8_t* handles, int capacity, int& count) noexcept;
 
+/// Where a port handle's tool is plugged, from a "PHINF:hh0021" reply: 33 characters of basic
+/// tool information, then the 14-character port location (8 device number, 1 system, 1 wired '0'
+/// or wireless '1', 2 port number "01"-"12" for a wired port, 2 channel in hex). `WiredPort` is
+/// numbered as PLUS's PortName: channel * 100 + port - 1 (the channel is a 5-DOF splitter's).
+struct PortLocation {
+  bool Wired = false;
+  int WiredPort = -1;  // -1 for a wireless (passive or active wireless) tool
+};
+ParseResult ParsePhinfPortLocation(const char* payload, size_t length, PortLocation& location) noexcept;
+
 /// Hex helpers (uppercase or lowercase accepted when reading).
 bool ParseHex(const char* text, int digits, uint32_t& value) noexcept;
 void WriteHex(char* out, uint32_t value, int digits) noexcept;

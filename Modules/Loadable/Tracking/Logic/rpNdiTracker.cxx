@@ -328,18 +328,8 @@ bool NdiTracker::Configure() {
   std::fill(std::begin(this->LastFrame), std::end(this->LastFrame), 0u);
   this->Handles.clear();
   std::string problems;
-  for (size_t t = 0; t < this->Opts.Tools.size(); ++t) {
-    const Tool& tool = this->Opts.Tools[t];
-    std::string romError;
-    if (!rom::Validate(tool.Rom, romError)) {
-      problems += tool.Name + ": " + romError + "; ";
-      continue;
-    }
-    r = this->Command("PHRQ", "*********1****", timeout, retries);
-    uint32_t handle;
-    if (!r.Ok() || this->PayloadLength < 2 || !ndi::ParseHex(this->Payload, 2, handle))
-      return this->Fail(Describe("PHRQ", r)), false;
-    // The definition, zero-padded to 1024 bytes, in 64-byte chunks.
+  // The definition, zero-padded to 1024 bytes, in 64-byte chunks, onto a port handle.
+  auto writeRom = [&](const Tool& tool, uint32_t handle) {
     uint8_t image[1024] = {};
     std::memcpy(image, tool.Rom.data(), std::min<size_t>(tool.Rom.size(), sizeof image));
     for (uint32_t address = 0; address < 1024; address += 64) {
@@ -351,9 +341,63 @@ bool NdiTracker::Configure() {
       r = this->Command("PVWR", args, timeout, retries);
       if (!r.Ok()) return this->Fail(tool.Name + ": " + Describe("PVWR", r)), false;
     }
+    return true;
+  };
+  auto assign = [&](const Tool& tool, uint32_t handle) {
     const std::string slotName = ToolToTrackerName(tool.Name);
     this->HandleSlot[handle] = this->Table.Find(slotName.c_str(), slotName.size());
     this->Handles.push_back(static_cast<uint8_t>(handle));
+  };
+  bool anyWired = false;
+  for (size_t t = 0; t < this->Opts.Tools.size(); ++t) {
+    const Tool& tool = this->Opts.Tools[t];
+    std::string romError;
+    if ((tool.WiredPort < 0 || !tool.Rom.empty()) && !rom::Validate(tool.Rom, romError)) {
+      problems += tool.Name + ": " + romError + "; ";
+      continue;
+    }
+    if (tool.WiredPort >= 0) {  // found by its port below
+      anyWired = true;
+      continue;
+    }
+    r = this->Command("PHRQ", "*********1****", timeout, retries);
+    uint32_t handle;
+    if (!r.Ok() || this->PayloadLength < 2 || !ndi::ParseHex(this->Payload, 2, handle))
+      return this->Fail(Describe("PHRQ", r)), false;
+    if (!writeRom(tool, handle)) return false;
+    assign(tool, handle);
+  }
+  // Wired tools: the device gives each occupied port a handle; PHINF's port location says which
+  // port (as PLUS finds them). A virtual SROM, when given, goes over the tool's own before PINIT.
+  if (anyWired) {
+    r = this->Command("PHSR", "00", timeout, retries);
+    if (!r.Ok() || !ndi::ParsePhsr(this->Payload, this->PayloadLength, handles, ndi::MaxHandles, count).Ok())
+      return this->Fail(Describe("PHSR:00", r)), false;
+    std::vector<int> wiredHandle(this->Opts.Tools.size(), -1);
+    for (int i = 0; i < count; ++i) {
+      char args[7];
+      ndi::WriteHex(args, handles[i], 2);
+      std::memcpy(args + 2, "0021", 5);
+      r = this->Command("PHINF", args, timeout, retries);
+      ndi::PortLocation location;
+      if (!r.Ok() || !ndi::ParsePhinfPortLocation(this->Payload, this->PayloadLength, location).Ok() || !location.Wired)
+        continue;  // unoccupied, wireless, or a reply we cannot read: not a wired tool of ours
+      for (size_t t = 0; t < this->Opts.Tools.size(); ++t)
+        if (this->Opts.Tools[t].WiredPort == location.WiredPort && wiredHandle[t] < 0) wiredHandle[t] = handles[i];
+    }
+    for (size_t t = 0; t < this->Opts.Tools.size(); ++t) {
+      const Tool& tool = this->Opts.Tools[t];
+      if (tool.WiredPort < 0) continue;
+      if (wiredHandle[t] < 0) {
+        problems += tool.Name + ": no tool in wired port " + std::to_string(tool.WiredPort % 100 + 1) +
+                    (tool.WiredPort >= 100 ? " channel " + std::to_string(tool.WiredPort / 100) : std::string()) +
+                    " (PortName " + std::to_string(tool.WiredPort) + "): is it plugged in?; ";
+        continue;
+      }
+      const uint32_t handle = static_cast<uint32_t>(wiredHandle[t]);
+      if (!tool.Rom.empty() && !writeRom(tool, handle)) return false;
+      assign(tool, handle);
+    }
   }
   for (int pass = 0; pass < 3; ++pass) {
     r = this->Command("PHSR", "02", timeout, retries);

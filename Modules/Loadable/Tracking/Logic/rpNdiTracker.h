@@ -1,6 +1,7 @@
 #pragma once
 // The NDI Combined API driver (pose sources "serial" and "tcp"): one I/O thread that resets, probes
-// and configures the tracker, loads passive tool definitions, tracks (BX or TX polling at the
+// and configures the tracker, loads passive tool definitions (and finds wired tools by their port,
+// as PLUS's PortName names them), tracks (BX or TX polling at the
 // frame rate) and publishes each tool's newest pose into a ToolPoseTable (slot <Tool>ToTracker).
 // Unplug is detected and the whole set-up repeated with back-off, without restarting the program.
 // The link is an NdiTransport: a serial port, or TCP to a Polaris Vega/Lyra (no COMM, no break).
@@ -25,7 +26,9 @@ class NdiTracker : public PoseSource {
  public:
   struct Tool {
     std::string Name;            // tool name, e.g. "Stylus" (slot "StylusToTracker" in the pose table)
-    std::vector<uint8_t> Rom;    // passive tool definition (.rom bytes)
+    std::vector<uint8_t> Rom;    // tool definition (.rom bytes); for a wired tool, empty to use the
+                                 // SROM in the tool, or a virtual SROM written over it
+    int WiredPort = -1;          // a wired tool's port as PLUS's PortName (channel * 100 + port - 1)
   };
 
   struct Options {

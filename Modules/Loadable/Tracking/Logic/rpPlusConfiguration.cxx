@@ -126,11 +126,16 @@ void ReadTool(vtkXMLDataElement* e, NdiTracker& device, std::set<std::string>& i
   tool.RomFile = Attr(e, "RomFile");
   if (tool.Id.empty()) return c.Refused.push_back({where + "a tool DataSource", "it has no Id"});
   if (!ids.insert(tool.Id).second) return c.Refused.push_back({where + "tool " + tool.Id, "a second tool with that Id"});
-  if (tool.RomFile.empty()) {
-    const std::string port = tool.PortName.empty() ? std::string("no PortName either") : "wired port " + tool.PortName;
-    return c.Refused.push_back({where + "tool " + tool.Id, "no RomFile (" + port +
-                                "): RoboPlan loads tool definitions from ROM files only (wired tools' own SROMs are not read)"});
+  if (!tool.PortName.empty()) {  // a wired tool (Aurora sensor, Polaris active tool), as PLUS reads PortName
+    char* end = nullptr;
+    const long port = std::strtol(tool.PortName.c_str(), &end, 10);
+    if (end == tool.PortName.c_str() || *end != '\0' || port < 0 || port > 9999)
+      return c.Refused.push_back({where + "tool " + tool.Id, "PortName \"" + tool.PortName + "\" is not a wired port number (an integer >= 0)"});
+    tool.WiredPort = static_cast<int>(port);
+    if (tool.RomFile.empty()) return device.Tools.push_back(tool);  // the SROM in the tool defines it
   }
+  if (tool.RomFile.empty())
+    return c.Refused.push_back({where + "tool " + tool.Id, "neither a RomFile (a passive tool) nor a PortName (a wired tool)"});
   ResolveRom(tool, source, options);
   if (tool.RomPath.empty()) {
     std::string tried;
@@ -421,9 +426,12 @@ nlohmann::json ToJson(const Configuration& c) {
     else t["serial"] = {{"serialPort", d.SerialPort}, {"device", d.SerialDevice}, {"baudRate", d.BaudRate}};
     if (d.AcquisitionRate > 0) t["acquisitionRateHz"] = d.AcquisitionRate;
     t["tools"] = nlohmann::json::array();
-    for (const Tool& tool : d.Tools)
-      t["tools"].push_back({{"id", tool.Id}, {"transform", tool.Id + "To" + d.ToolReferenceFrame}, {"romFile", tool.RomFile},
-                            {"romPath", tool.RomPath}});
+    for (const Tool& tool : d.Tools) {
+      nlohmann::json j = {{"id", tool.Id}, {"transform", tool.Id + "To" + d.ToolReferenceFrame}, {"romFile", tool.RomFile},
+                          {"romPath", tool.RomPath}};
+      if (tool.WiredPort >= 0) j["wiredPort"] = tool.WiredPort;
+      t["tools"].push_back(j);
+    }
     doc["trackers"].push_back(t);
   }
   doc["transforms"] = nlohmann::json::array();

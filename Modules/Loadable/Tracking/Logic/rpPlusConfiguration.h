@@ -32,8 +32,9 @@ namespace plus {
 
 struct Tool {
   std::string Id;             // DataSource Id: the tool transform is <Id>To<ToolReferenceFrame>
-  std::string PortName;       // wired (Aurora) port, "" for a passive tool
-  std::string RomFile;        // as written
+  std::string PortName;       // as written, "" for a wireless tool
+  int WiredPort = -1;         // PortName read as PLUS reads it (channel * 100 + port - 1), -1 wireless
+  std::string RomFile;        // as written; with a PortName, a virtual SROM written over the tool's
   std::string RomPath;        // resolved, "" when none or not found
   std::vector<std::string> RomTried;  // paths tried when not found
 };

@@ -60,12 +60,20 @@ nlohmann::json ServedTransformsJson(const plus::Configuration& c, const plus::Nd
 std::unique_ptr<PoseSource> MakePlusPoseSource(const plus::NdiTracker& tracker, const std::string& address, bool simulate) {
   if (tracker.Tools.empty()) throw std::invalid_argument("tracker " + tracker.Id + " has no tool RoboPlan can load");
   std::vector<ToolDefinition> tools;
+  std::vector<int> wiredPorts;
   for (const plus::Tool& t : tracker.Tools) {
-    ToolDefinition tool = ReadToolFile(t.RomPath);  // markers and part number from the ROM
-    tool.Name = t.Id;                               // PLUS names a tool by its DataSource Id
+    ToolDefinition tool;
+    if (!t.RomPath.empty()) {
+      tool = ReadToolFile(t.RomPath);  // markers and part number from the ROM
+    } else {  // a wired tool's SROM is in the tool; on the simulator, a four-marker tool in that port
+      tool.PartNumber = "WIRED-PORT-" + std::to_string(t.WiredPort);
+      tool.Markers = {{0, 0, 0}, {0, 50, 0}, {0, 0, 60}, {40, 40, 0}};
+    }
+    tool.Name = t.Id;  // PLUS names a tool by its DataSource Id
     tool.Motion.Type = ToolTrajectory::Static;
     tool.Motion.Center[0] = -200.0 + 150.0 * static_cast<double>(tools.size());
     tools.push_back(tool);
+    wiredPorts.push_back(t.WiredPort);
   }
   NdiTracker::Options driver;
   if (tracker.AcquisitionRate > 0) {
@@ -75,9 +83,9 @@ std::unique_ptr<PoseSource> MakePlusPoseSource(const plus::NdiTracker& tracker, 
     PolarisSimulator::Options so;
     so.NoiseMm = 0.05;
     so.NoiseDeg = 0.02;
-    return std::make_unique<SimulatedPolaris>(so, tools, driver);
+    return std::make_unique<SimulatedPolaris>(so, tools, driver, wiredPorts);
   }
-  for (const ToolDefinition& t : tools) driver.Tools.push_back({t.Name, t.Rom});
+  for (size_t i = 0; i < tools.size(); ++i) driver.Tools.push_back({tools[i].Name, tools[i].Rom, wiredPorts[i]});
   driver.Tcp = tracker.Tcp();
   driver.Port = !address.empty() ? address
                 : tracker.Tcp()  ? tracker.NetworkHostname + ":" + std::to_string(tracker.NetworkPort)

@@ -67,9 +67,10 @@ PolarisSimulator::PolarisSimulator() : PolarisSimulator(Options()) {}
 PolarisSimulator::PolarisSimulator(Options options) : Opts(std::move(options)), Rng(Opts.Seed) {}
 PolarisSimulator::~PolarisSimulator() { this->Stop(); }
 
-void PolarisSimulator::AddTool(const ToolDefinition& tool) {
+void PolarisSimulator::AddTool(const ToolDefinition& tool, int wiredPort) {
   auto runtime = std::make_unique<ToolRuntime>();
   runtime->Definition = tool;
+  runtime->WiredPort = wiredPort;
   if (runtime->Definition.Rom.empty()) runtime->Definition.Rom = rom::Build(tool.PartNumber, tool.Markers);
   std::string error;  // a ROM that does not read leaves the geometry empty: always visible
   rom::Read(runtime->Definition.Rom.data(), runtime->Definition.Rom.size(), runtime->Rom, error);
@@ -79,6 +80,7 @@ void PolarisSimulator::AddTool(const ToolDefinition& tool) {
 
 int PolarisSimulator::ToolForRom(const std::vector<uint8_t>& image) {
   for (size_t t = 0; t < this->Tools.size(); ++t) {
+    if (this->Tools[t]->WiredPort >= 0) continue;  // a wired tool is its port's, not a ROM's
     const auto& known = this->Tools[t]->Definition.Rom;
     if (known.size() <= image.size() && std::equal(known.begin(), known.end(), image.begin())) return static_cast<int>(t);
   }
@@ -291,6 +293,18 @@ bool PolarisSimulator::TruePose(const std::string& toolName, double t, double m[
 
 void PolarisSimulator::PowerOnReset() {
   this->Handles.clear();
+  {  // each occupied wired port has a handle from power-on (01, 02, ...), its SROM the tool's
+    std::lock_guard<std::mutex> lock(this->ToolsMutex);
+    for (size_t t = 0; t < this->Tools.size(); ++t) {
+      if (this->Tools[t]->WiredPort < 0) continue;
+      Handle h;
+      h.Number = static_cast<int>(this->Handles.size()) + 1;
+      h.WiredTool = static_cast<int>(t);
+      const auto& srom = this->Tools[t]->Definition.Rom;
+      std::copy(srom.begin(), srom.begin() + static_cast<long>(std::min(srom.size(), h.Rom.size())), h.Rom.begin());
+      this->Handles.push_back(h);
+    }
+  }
   this->Input.clear();
   this->Initialized = false;
   this->Tracking = false;
@@ -548,6 +562,7 @@ void PolarisSimulator::OnPhsr(const std::string&, const std::string& args) {
   std::string out;
   std::vector<const Handle*> listed;
   for (const auto& h : this->Handles) {
+    if (args == "01" && h.WiredTool >= 0) continue;  // a plugged-in wired tool needs no freeing
     if (args == "02" && (h.Initialized)) continue;
     if (args == "03" && (!h.Initialized || h.Enabled)) continue;
     if (args == "04" && !h.Enabled) continue;
@@ -586,7 +601,16 @@ PolarisSimulator::Handle* PolarisSimulator::CommandHandle(const std::string& arg
 void PolarisSimulator::OnPhf(const std::string&, const std::string& args) {
   Handle* h = this->CommandHandle(args);
   if (!h) return;
-  this->Handles.erase(this->Handles.begin() + (h - this->Handles.data()));
+  if (h->WiredTool >= 0) {  // the tool stays in its port: its handle back as at power-on
+    const auto& srom = this->Tools[static_cast<size_t>(h->WiredTool)]->Definition.Rom;
+    std::fill(h->Rom.begin(), h->Rom.end(), uint8_t{0});
+    std::copy(srom.begin(), srom.begin() + static_cast<long>(std::min(srom.size(), h->Rom.size())), h->Rom.begin());
+    h->Initialized = h->Enabled = false;
+    h->Tool = -1;
+    h->ChunksWritten = 0;
+  } else {
+    this->Handles.erase(this->Handles.begin() + (h - this->Handles.data()));
+  }
   this->Reply("OKAY");
 }
 
@@ -610,7 +634,12 @@ void PolarisSimulator::OnPinit(const std::string&, const std::string& args) {
   if (!h) return;
   std::string error;
   if (!rom::Validate(h->Rom, error)) return this->ReplyError(0x40);
-  h->Tool = this->ToolForRom(h->Rom);
+  const auto sameAsPlugged = [&] {
+    const auto& srom = this->Tools[static_cast<size_t>(h->WiredTool)]->Definition.Rom;
+    return srom.size() <= h->Rom.size() && std::equal(srom.begin(), srom.end(), h->Rom.begin());
+  };
+  // A wired port tracks its own tool unless a virtual SROM of another definition was written over it.
+  h->Tool = h->WiredTool >= 0 && sameAsPlugged() ? h->WiredTool : this->ToolForRom(h->Rom);
   h->Initialized = true;
   {
     std::lock_guard<std::mutex> lock(this->CountersMutex);
@@ -622,13 +651,38 @@ void PolarisSimulator::OnPinit(const std::string&, const std::string& args) {
 void PolarisSimulator::OnPhinf(const std::string&, const std::string& args) {
   const Handle* h = this->CommandHandle(args);
   if (!h) return;
-  std::string out = "0A000000";  // passive tool
-  std::string part = h->Tool >= 0 ? this->Tools[static_cast<size_t>(h->Tool)]->Definition.PartNumber : "UNKNOWN";
-  part.resize(12, ' ');
-  out += part;
-  out += "000";
-  out += "00000001";
-  PutHex(out, (h->Initialized ? 0x10u : 0u) | (h->Enabled ? 0x20u : 0u) | 0x01u, 2);
+  // The reply option: basic information (0001) and the port location (0020) are simulated; the
+  // other fields (testing, part number, accessories, marker type, GPIO) are not.
+  uint32_t option = 0x0001;
+  if (args.size() != 2 && (args.size() != 6 || !ndi::ParseHex(args.c_str() + 2, 4, option))) return this->ReplyError(0x07);
+  if ((option & ~0x0021u) != 0) return this->ReplyError(0x07);
+  std::string out;
+  if (option & 0x0001) {
+    const int tool = h->Tool >= 0 ? h->Tool : h->WiredTool;
+    out += h->WiredTool >= 0 ? "01000000" : "0A000000";  // tool type: reference/pointer (wired), passive
+    std::string part = tool >= 0 ? this->Tools[static_cast<size_t>(tool)]->Definition.PartNumber : "UNKNOWN";
+    part.resize(12, ' ');
+    out += part;
+    out += "000";
+    out += "00000001";
+    PutHex(out, (h->Initialized ? 0x10u : 0u) | (h->Enabled ? 0x20u : 0u) | 0x01u, 2);
+  }
+  if (option & 0x0020) {
+    out += "00000000";  // device number
+    out += '0';         // Polaris
+    if (h->WiredTool >= 0) {
+      const int port = this->Tools[static_cast<size_t>(h->WiredTool)]->WiredPort;
+      char digits[8];
+      std::snprintf(digits, sizeof digits, "0%02d", port % 100 + 1);
+      out += digits;
+      PutHex(out, static_cast<uint32_t>(port / 100), 2);
+    } else {
+      out += '1';                                    // wireless
+      out += "0";
+      out += static_cast<char>('A' + std::min(h->Number - 0x0A, 8));  // "0A".."0I"
+      out += "00";
+    }
+  }
   this->Reply(out.c_str());
 }
 

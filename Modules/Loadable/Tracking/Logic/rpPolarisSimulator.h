@@ -53,7 +53,11 @@ class PolarisSimulator {
   explicit PolarisSimulator(Options options);
   ~PolarisSimulator();
 
-  void AddTool(const ToolDefinition& tool);
+  /// A tool it tracks. `wiredPort` >= 0 plugs it into that wired port (numbered as PLUS's
+  /// PortName: channel * 100 + port - 1), its definition then being the SROM inside the tool: the
+  /// device gives the port a handle at power-on, PHINF tells where it is plugged, and a host may
+  /// write a virtual SROM over it. Call before Start.
+  void AddTool(const ToolDefinition& tool, int wiredPort = -1);
   bool Start(std::string& error);
   void Stop();
   /// What a driver opens: the link when one was given, the pty slave otherwise; over TCP
@@ -94,12 +98,14 @@ class PolarisSimulator {
     uint16_t ChunksWritten = 0;
     bool Initialized = false, Enabled = false;
     int Tool = -1;  // index into Tools, -1 for an unknown definition
+    int WiredTool = -1;  // the tool plugged into this handle's wired port, -1 for a wireless handle
     uint32_t LastFrame = 0;
   };
   struct ToolRuntime {
     ToolDefinition Definition;
     rom::Definition Rom;  // geometry as the camera sees it: normals, minimum markers, maximum angle
     std::atomic<bool> Occluded{false}, OutOfVolume{false};
+    int WiredPort = -1;   // plugged into this wired port (PLUS's PortName numbering), -1 wireless
   };
   /// Enough markers of the tool face the camera at pose m (row-major ToolToTracker).
   static bool MarkersVisible(const ToolRuntime& tool, const double m[16]);

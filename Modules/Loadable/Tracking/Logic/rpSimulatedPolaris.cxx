@@ -19,17 +19,20 @@ std::string FreshLinkPath() {
 }  // namespace
 
 SimulatedPolaris::SimulatedPolaris(PolarisSimulator::Options simulator, const std::vector<ToolDefinition>& tools,
-                                   NdiTracker::Options driver)
+                                   NdiTracker::Options driver, const std::vector<int>& wiredPorts)
     : Device([&] {
         if (simulator.LinkPath.empty()) simulator.LinkPath = FreshLinkPath();
         return simulator;
       }()),
       Driver([&] {
         driver.Port = this->Device.PortPath();
-        for (const ToolDefinition& tool : tools) driver.Tools.push_back({tool.Name, tool.Rom});
+        for (size_t i = 0; i < tools.size(); ++i) {
+          const int port = i < wiredPorts.size() ? wiredPorts[i] : -1;
+          driver.Tools.push_back({tools[i].Name, port >= 0 ? std::vector<uint8_t>{} : tools[i].Rom, port});
+        }
         return driver;
       }()) {
-  for (const ToolDefinition& tool : tools) this->Device.AddTool(tool);
+  for (size_t i = 0; i < tools.size(); ++i) this->Device.AddTool(tools[i], i < wiredPorts.size() ? wiredPorts[i] : -1);
 }
 
 SimulatedPolaris::~SimulatedPolaris() { this->Stop(); }

@@ -15,7 +15,10 @@ namespace rp {
 
 class SimulatedPolaris : public PoseSource {
  public:
-  SimulatedPolaris(PolarisSimulator::Options simulator, const std::vector<ToolDefinition>& tools, NdiTracker::Options driver);
+  /// `wiredPorts[i]` >= 0 plugs tools[i] into that wired port (PLUS's PortName numbering); the
+  /// driver then finds it by its port and reads the SROM in the tool.
+  SimulatedPolaris(PolarisSimulator::Options simulator, const std::vector<ToolDefinition>& tools, NdiTracker::Options driver,
+                   const std::vector<int>& wiredPorts = {});
   ~SimulatedPolaris() override;
   /// Address: the link path (optional); ToolFiles: definitions (.json; default every
   /// Resources/Tools/*.json); options "noise" (mm), "noise-deg", "rate" (20|30|60 Hz).

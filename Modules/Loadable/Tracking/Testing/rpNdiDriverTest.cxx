@@ -362,3 +362,75 @@ TEST_P(NdiDriver, SimulatorSeesOnlyToolsWhoseRomMarkersFaceTheCamera) {
   EXPECT_EQ(test::Newest(tracker.Poses(), "AwayToTracker").State, ToolState::Missing);
   tracker.Stop();
 }
+
+// Wired tools (Aurora sensors, Polaris active tools) are found by their port, as PLUS's PortName
+// names it (channel * 100 + port - 1), their definitions read from the SROM in each tool; a
+// passive tool beside them is loaded from its ROM; a port with nothing plugged in is named and
+// the others track.
+TEST_P(NdiDriver, FindsWiredToolsByTheirPortAsPlusNamesThem) {
+  PolarisSimulator::Options options;
+  if (Serial()) options.LinkPath = OutputDir() + "/wired";
+  else options.TcpPort = 0;
+  PolarisSimulator sim(options);
+  const ToolDefinition stylus = Tool("Stylus"), reference = Tool("Reference");
+  ToolDefinition needle = Tool("Pointer");
+  needle.Name = "Needle";
+  needle.Motion.Type = ToolTrajectory::Static;
+  needle.Motion.Center[0] = 120;
+  needle.Motion.Center[1] = -40;
+  sim.AddTool(reference);       // passive: the driver uploads its ROM
+  sim.AddTool(stylus, 1);       // wired port 2
+  sim.AddTool(needle, 100);     // wired port 1, channel 1 (a 5-DOF splitter's second sensor)
+  std::string error;
+  ASSERT_TRUE(sim.Start(error)) << error;
+  NdiTracker::Options o;
+  o.Port = sim.PortPath();
+  o.Tcp = !Serial();
+  o.Tools = {{"Reference", reference.Rom}, {"Stylus", {}, 1}, {"Needle", {}, 100}, {"Empty", {}, 2}};
+  o.CommandTimeoutMs = 1000;
+  NdiTracker tracker(o);
+  tracker.Start();
+  ASSERT_TRUE(WaitFor([&] { return test::Newest(tracker.Poses(), "NeedleToTracker").State == ToolState::OK &&
+                                   test::Newest(tracker.Poses(), "StylusToTracker").State == ToolState::OK &&
+                                   test::Newest(tracker.Poses(), "ReferenceToTracker").State == ToolState::OK; }, 5))
+      << tracker.LastError();
+  EXPECT_EQ(sim.GetCounters().LoadedTools, 3);
+  EXPECT_NE(tracker.LastError().find("Empty: no tool in wired port 3 (PortName 2)"), std::string::npos) << tracker.LastError();
+  // Each name carries its own tool's pose: the needle where it stands, the stylus tip on its pivot.
+  double truth[16], got[16];
+  sim.TruePose("Needle", 0, truth);
+  test::Newest(tracker.Poses(), "NeedleToTracker").ToMatrix(got);
+  for (int i = 0; i < 12; ++i) EXPECT_NEAR(got[i], truth[i], i % 4 == 3 ? 1e-3 : 1e-6) << i;
+  double tip[3];
+  TipPosition(test::Newest(tracker.Poses(), "StylusToTracker"), stylus.TipOffset, tip);
+  for (int r = 0; r < 3; ++r) EXPECT_NEAR(tip[r], stylus.Motion.Center[r], 0.01);
+  tracker.Stop();
+}
+
+// PLUS's PortName with a RomFile: the ROM goes over the wired tool's own SROM (a broken SROM's
+// replacement), and the device tracks the tool the written definition describes.
+TEST_P(NdiDriver, AVirtualSromWrittenOverAWiredPortDefinesItsTool) {
+  PolarisSimulator::Options options;
+  if (Serial()) options.LinkPath = OutputDir() + "/virtual-srom";
+  else options.TcpPort = 0;
+  PolarisSimulator sim(options);
+  const ToolDefinition stylus = Tool("Stylus"), reference = Tool("Reference");
+  sim.AddTool(reference);   // known to the camera, never uploaded as a passive tool here
+  sim.AddTool(stylus, 0);   // plugged into wired port 1
+  std::string error;
+  ASSERT_TRUE(sim.Start(error)) << error;
+  NdiTracker::Options o;
+  o.Port = sim.PortPath();
+  o.Tcp = !Serial();
+  o.Tools = {{"Rewritten", reference.Rom, 0}};
+  o.CommandTimeoutMs = 1000;
+  NdiTracker tracker(o);
+  tracker.Start();
+  ASSERT_TRUE(WaitFor([&] { return test::Newest(tracker.Poses(), "RewrittenToTracker").State == ToolState::OK; }, 5))
+      << tracker.LastError();
+  double truth[16], got[16];
+  sim.TruePose("Reference", 0, truth);
+  test::Newest(tracker.Poses(), "RewrittenToTracker").ToMatrix(got);
+  for (int i = 0; i < 12; ++i) EXPECT_NEAR(got[i], truth[i], i % 4 == 3 ? 1e-3 : 1e-6) << i;
+  tracker.Stop();
+}

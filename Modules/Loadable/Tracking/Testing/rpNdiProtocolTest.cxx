@@ -236,6 +236,32 @@ TEST(NdiPhsr, HandleLists) {
   EXPECT_EQ(ndi::ParsePhsr("03", 2, handles, 8, count).Code, ndi::ParseCode::Truncated);
 }
 
+// PHINF reply option 0021: 33 characters of basic information, then the port location as the
+// NDI API lays it out (ndicapi's ndiGetPHINFPortLocation: 8 device number, 1 system, 1 wired/
+// wireless, 2 port "01"-"12", 2 channel), numbered as PLUS's PortName (channel * 100 + port - 1).
+TEST(NdiPhinf, PortLocationGivesPlusWiredPortNumber) {
+  const std::string basic = std::string("01000000") + "NDI         " + "001" + "34801401" + "31";
+  ASSERT_EQ(basic.size(), 33u);
+  ndi::PortLocation location;
+  std::string reply = basic + "3A1B2C3D" + "1" + "0" + "03" + "01";  // Aurora, wired port 3, channel 1
+  ASSERT_TRUE(ndi::ParsePhinfPortLocation(reply.data(), reply.size(), location).Ok());
+  EXPECT_TRUE(location.Wired);
+  EXPECT_EQ(location.WiredPort, 102);
+  reply = basic + "00000000" + "0" + "0" + "01" + "00";  // Polaris, wired port 1: PortName 0
+  ASSERT_TRUE(ndi::ParsePhinfPortLocation(reply.data(), reply.size(), location).Ok());
+  EXPECT_EQ(location.WiredPort, 0);
+  reply = basic + "00000000" + "0" + "1" + "0A" + "00";  // a wireless (passive) tool
+  ASSERT_TRUE(ndi::ParsePhinfPortLocation(reply.data(), reply.size(), location).Ok());
+  EXPECT_FALSE(location.Wired);
+  EXPECT_EQ(location.WiredPort, -1);
+  EXPECT_EQ(ndi::ParsePhinfPortLocation(reply.data(), 40, location).Code, ndi::ParseCode::Truncated);
+  EXPECT_EQ(ndi::ParsePhinfPortLocation("UNOCCUPIED", 10, location).Code, ndi::ParseCode::Truncated);
+  reply = basic + "00000000" + "0" + "X" + "01" + "00";
+  EXPECT_EQ(ndi::ParsePhinfPortLocation(reply.data(), reply.size(), location).Code, ndi::ParseCode::BadFormat);
+  reply = basic + "00000000" + "0" + "0" + "00" + "00";  // no port 0
+  EXPECT_EQ(ndi::ParsePhinfPortLocation(reply.data(), reply.size(), location).Code, ndi::ParseCode::BadFormat);
+}
+
 TEST(NdiRom, BuildAndValidate) {
   auto bytes = rom::Build("RP-TEST", {{0, 0, 0}, {0, 50, 0}, {40, 0, 0}});
   std::string error;

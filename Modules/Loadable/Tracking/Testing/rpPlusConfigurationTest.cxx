@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <random>
 #include <sstream>
 
@@ -92,15 +93,18 @@ TEST(PlusConfiguration, VegaOverTcpAndSerialPortNumbersAsPlusMapsThem) {
   EXPECT_EQ(vega.Trackers[0].ToolReferenceFrame, "Reference");
   EXPECT_TRUE(RefusedMentions(vega, "VideoDevice (OpenCVVideo)", "video"));
   EXPECT_TRUE(RefusedMentions(vega, "message type IMAGE", "tool poses only"));
-  // Aurora + Polaris: SerialPort 6 is ndicapi's /dev/ttyUSB3 on Linux; the wired EM tool has no
-  // ROM file and is refused, the optical tracker runs.
+  // Aurora + Polaris: SerialPort 6 is ndicapi's /dev/ttyUSB3 on Linux; the EM pointer is a wired
+  // tool in port 1 (PortName 0), defined by the SROM in the tool.
   const plus::Configuration both = Read("PlusDeviceSet_Server_NDIAurora_NDIPolaris.xml");
   ASSERT_EQ(both.Trackers.size(), 2u);
   EXPECT_EQ(both.Trackers[1].SerialDevice, "/dev/ttyUSB3");
   EXPECT_EQ(both.Trackers[1].BaudRate, 115200);
   EXPECT_DOUBLE_EQ(both.Trackers[1].AcquisitionRate, 20);
-  EXPECT_TRUE(both.Trackers[0].Tools.empty());
-  EXPECT_TRUE(RefusedMentions(both, "tool Pointer", "no RomFile"));
+  ASSERT_EQ(both.Trackers[0].Tools.size(), 1u);
+  EXPECT_EQ(both.Trackers[0].Tools[0].Id, "Pointer");
+  EXPECT_EQ(both.Trackers[0].Tools[0].WiredPort, 0);
+  EXPECT_TRUE(both.Trackers[0].Tools[0].RomPath.empty());
+  EXPECT_FALSE(RefusedMentions(both, "tool Pointer", ""));
   EXPECT_TRUE(RefusedMentions(both, "CombinedTracker (VirtualMixer)", "mixer"));
   EXPECT_EQ(plus::SerialDeviceForPort(1), "/dev/ttyS0");
   EXPECT_EQ(plus::SerialDeviceForPort(3), "/dev/ttyUSB0");
@@ -347,4 +351,74 @@ TEST(PlusConfiguration, PhantomRegistrationSettingsAreReadWithTheRestOfTheFile) 
   EXPECT_NE(bad.PhantomRegistration.LandmarkProblem.find("landmark #1"), std::string::npos);
   EXPECT_FALSE(bad.PhantomRegistration.DetectionTimeSec.has_value());
   EXPECT_TRUE(RefusedMentions(bad, "DetectionTimeSec", "not a number"));
+}
+
+// Wired tools as PLUS configures them: PortName alone (the SROM in the tool), PortName with a
+// RomFile (a virtual SROM written over it), a 5-DOF splitter's second channel (PortName 101), a
+// PortName that is not a number (refused); then the file run end to end on the simulator, the
+// tools found by their ports; and, of two trackers, the one --plus-device names.
+TEST(PlusConfiguration, WiredToolsAreFoundByTheirPortNameAndRunOnTheSimulator) {
+  RP_REQUIRE_SHARED_DATA(kConfigs);
+  const std::string dir = std::string(ROBOPLAN_TEST_OUTPUT_DIR) + "/plus-wired";
+  std::filesystem::create_directories(dir);
+  const std::string file = dir + "/PlusDeviceSet_Server_Wired.xml";
+  std::ofstream(file) << R"(<PlusConfiguration version="2.1"><DataCollection>
+    <DeviceSet Name="wired tools" />
+    <Device Id="TrackerDevice" Type="AuroraTracker" SerialPort="4" ToolReferenceFrame="Tracker">
+      <DataSources>
+        <DataSource Type="Tool" Id="Needle" PortName="0" />
+        <DataSource Type="Tool" Id="Probe" PortName="101" />
+        <DataSource Type="Tool" Id="Patched" PortName="2" RomFile=")" + kConfigs + R"(NdiToolDefinitions/8700449.rom" />
+        <DataSource Type="Tool" Id="Odd" PortName="two" />
+      </DataSources>
+    </Device></DataCollection>
+    <PlusOpenIGTLinkServer ListeningPort="18944"><DefaultClientInfo><MessageTypes><Message Type="TRANSFORM" /></MessageTypes>
+      <TransformNames><Transform Name="NeedleToTracker" /><Transform Name="ProbeToTracker" /><Transform Name="PatchedToTracker" />
+      </TransformNames></DefaultClientInfo></PlusOpenIGTLinkServer></PlusConfiguration>)";
+  plus::Configuration c;
+  std::string error;
+  ASSERT_TRUE(plus::ReadConfiguration(file, {}, c, error)) << error;
+  ASSERT_EQ(c.Trackers.size(), 1u);
+  const auto& tools = c.Trackers[0].Tools;
+  ASSERT_EQ(tools.size(), 3u);
+  EXPECT_EQ(tools[0].WiredPort, 0);
+  EXPECT_EQ(tools[1].WiredPort, 101);
+  EXPECT_EQ(tools[2].WiredPort, 2);
+  EXPECT_FALSE(tools[2].RomPath.empty());
+  EXPECT_TRUE(RefusedMentions(c, "tool Odd", "PortName \"two\" is not a wired port number"));
+
+  std::ostringstream check, checkErr;
+  ASSERT_EQ(RunTrackCommand({"--plus-config", file, "--check"}, nullptr, check, checkErr), 0) << checkErr.str();
+  EXPECT_NE(check.str().find("tool Probe -> ProbeToTracker: wired port 2 channel 1 (the SROM in the tool)"), std::string::npos)
+      << check.str();
+
+  // On the simulator the tools stand still 150 mm apart along x in the order of the file.
+  std::ostringstream out, err;
+  ASSERT_EQ(RunTrackCommand({"--plus-config", file, "--simulate", "--seconds", "1.5", "--serve", "0", "--json"}, nullptr, out, err), 0)
+      << err.str();
+  const auto doc = nlohmann::json::parse(out.str());
+  std::map<std::string, double> x;
+  for (const auto& t : doc["plusTransforms"]) {
+    EXPECT_EQ(t["state"], "OK") << t.dump();
+    EXPECT_GT(t["published"].get<int>(), 10) << t.dump();
+    x[t["name"]] = t["position"][0].get<double>();
+  }
+  ASSERT_EQ(x.size(), 3u) << out.str();
+  EXPECT_NEAR(x["NeedleToTracker"], -200.0, 0.5);
+  EXPECT_NEAR(x["ProbeToTracker"], -50.0, 0.5);
+  EXPECT_NEAR(x["PatchedToTracker"], 100.0, 0.5);
+
+  // Aurora and Polaris in one file: the first tracker with tools by default, the other by its Id.
+  std::ostringstream first, firstErr, optical, opticalErr, none, noneErr;
+  ASSERT_EQ(RunTrackCommand({"--plus-config", kConfigs + "PlusDeviceSet_Server_NDIAurora_NDIPolaris.xml", "--check", "--json"},
+                            nullptr, first, firstErr), 0);
+  EXPECT_EQ(nlohmann::json::parse(first.str())["runs"], "EmTracker");
+  ASSERT_EQ(RunTrackCommand({"--plus-config", kConfigs + "PlusDeviceSet_Server_NDIAurora_NDIPolaris.xml", "--plus-device",
+                             "OpticalTracker", "--check", "--json"}, nullptr, optical, opticalErr), 0);
+  const auto opticalDoc = nlohmann::json::parse(optical.str());
+  EXPECT_EQ(opticalDoc["runs"], "OpticalTracker");
+  EXPECT_NE(opticalDoc["refused"].dump().find("--plus-device EmTracker"), std::string::npos) << opticalDoc["refused"].dump();
+  EXPECT_EQ(RunTrackCommand({"--plus-config", kConfigs + "PlusDeviceSet_Server_NDIAurora_NDIPolaris.xml", "--plus-device", "Nope",
+                             "--check"}, nullptr, none, noneErr), 2);
+  EXPECT_NE(noneErr.str().find("no NDI tracker with Id Nope"), std::string::npos) << noneErr.str();
 }
