@@ -83,10 +83,34 @@ void TipPosition(const ToolPose& pose, const std::array<double, 3>& tip, double 
   for (int r = 0; r < 3; ++r) out[r] = m[4 * r] * tip[0] + m[4 * r + 1] * tip[1] + m[4 * r + 2] * tip[2] + m[4 * r + 3];
 }
 
+// The tracked pose is the simulator's true pose at t = 0 (a static tool), to BX's float precision.
+void ExpectTruePose(const PolarisSimulator& sim, const std::string& tool, const ToolPose& pose) {
+  double truth[16], got[16];
+  sim.TruePose(tool, 0, truth);
+  pose.ToMatrix(got);
+  for (int i = 0; i < 12; ++i) EXPECT_NEAR(got[i], truth[i], i % 4 == 3 ? 1e-3 : 1e-6) << tool << " " << i;
+}
+
 class NdiDriver : public ::testing::TestWithParam<Link> {
  protected:
   Link Kind() const { return this->GetParam(); }
   bool Serial() const { return this->GetParam() == Link::Serial; }
+  /// A simulator on this test's link: a pty behind OutputDir()/name, or TCP on a free port.
+  PolarisSimulator::Options LinkOptions(const std::string& name) const {
+    PolarisSimulator::Options options;
+    if (Serial()) options.LinkPath = OutputDir() + "/" + name;
+    else options.TcpPort = 0;
+    return options;
+  }
+  /// A driver for `sim` over this test's link, loading `tools`.
+  NdiTracker::Options DriverFor(const PolarisSimulator& sim, std::vector<NdiTracker::Tool> tools) const {
+    NdiTracker::Options o;
+    o.Port = sim.PortPath();
+    o.Tcp = !Serial();
+    o.Tools = std::move(tools);
+    o.CommandTimeoutMs = 1000;
+    return o;
+  }
 };
 
 }  // namespace
@@ -110,10 +134,7 @@ TEST_P(NdiDriver, TracksSimulatedToolsWithBx) {
   // The static reference: exactly its scripted pose (float precision of BX).
   const ToolPose reference = rig.Newest("ReferenceToTracker");
   ASSERT_EQ(reference.State, ToolState::OK);
-  double truth[16], got[16];
-  rig.Sim->TruePose("Reference", 0, truth);
-  reference.ToMatrix(got);
-  for (int i = 0; i < 12; ++i) EXPECT_NEAR(got[i], truth[i], i % 4 == 3 ? 1e-3 : 1e-6) << i;
+  ExpectTruePose(*rig.Sim, "Reference", reference);
   EXPECT_GT(reference.Error, 0.1);
   EXPECT_LT(reference.Error, 0.3);
 
@@ -301,19 +322,11 @@ TEST_P(NdiDriver, SlowRepliesAreWaitedForOrTakenLate) {
 TEST_P(NdiDriver, SimulatorTracksAToolFromARomItWasNotGiven) {
   // The camera knows no tools; the driver uploads a ROM (PVWR) it has never seen: the simulator
   // makes a tool of it, with the ROM's part number and markers, and tracks it standing still.
-  PolarisSimulator::Options options;
-  if (Serial()) options.LinkPath = OutputDir() + "/romonly";
-  else options.TcpPort = 0;
-  PolarisSimulator sim(options);
+  PolarisSimulator sim(LinkOptions("romonly"));
   std::string error;
   ASSERT_TRUE(sim.Start(error)) << error;
   const std::vector<std::array<double, 3>> markers = {{0, 0, 0}, {0, 0, 50}, {0, 25, 100}, {0, -25, 135}};
-  NdiTracker::Options o;
-  o.Port = sim.PortPath();
-  o.Tcp = !Serial();
-  o.Tools = {{"Probe", rom::Build("RP-PROBE-7", markers)}};
-  o.CommandTimeoutMs = 1000;
-  NdiTracker tracker(o);
+  NdiTracker tracker(DriverFor(sim, {{"Probe", rom::Build("RP-PROBE-7", markers)}}));
   tracker.Start();
   ASSERT_TRUE(WaitFor([&] { return test::Newest(tracker.Poses(), "ProbeToTracker").State == ToolState::OK; }, 5))
       << tracker.LastError();
@@ -322,20 +335,15 @@ TEST_P(NdiDriver, SimulatorTracksAToolFromARomItWasNotGiven) {
   ASSERT_EQ(geometry.size(), markers.size());
   for (size_t m = 0; m < markers.size(); ++m)
     for (size_t k = 0; k < 3; ++k) EXPECT_FLOAT_EQ(geometry[m][k], markers[m][k]);
-  double truth[16], got[16];
-  ASSERT_TRUE(sim.TruePose("RP-PROBE-7", 0, truth));
-  test::Newest(tracker.Poses(), "ProbeToTracker").ToMatrix(got);
-  for (int i = 0; i < 12; ++i) EXPECT_NEAR(got[i], truth[i], i % 4 == 3 ? 1e-3 : 1e-6) << i;
+  ExpectTruePose(sim, "RP-PROBE-7", test::Newest(tracker.Poses(), "ProbeToTracker"));
   tracker.Stop();
 }
 
 TEST_P(NdiDriver, SimulatorSeesOnlyToolsWhoseRomMarkersFaceTheCamera) {
   // With marker visibility on, the ROM's geometry decides: normals +z, a 90 degree maximum angle,
   // three markers needed. The same tool facing the camera is tracked, turned away it is MISSING.
-  PolarisSimulator::Options options;
+  PolarisSimulator::Options options = LinkOptions("visibility");
   options.MarkerVisibility = true;
-  if (Serial()) options.LinkPath = OutputDir() + "/visibility";
-  else options.TcpPort = 0;
   PolarisSimulator sim(options);
   ToolDefinition facing;
   facing.Name = facing.PartNumber = "Facing";
@@ -350,12 +358,7 @@ TEST_P(NdiDriver, SimulatorSeesOnlyToolsWhoseRomMarkersFaceTheCamera) {
   sim.AddTool(away);
   std::string error;
   ASSERT_TRUE(sim.Start(error)) << error;
-  NdiTracker::Options o;
-  o.Port = sim.PortPath();
-  o.Tcp = !Serial();
-  o.Tools = {{"Facing", facing.Rom}, {"Away", away.Rom}};
-  o.CommandTimeoutMs = 1000;
-  NdiTracker tracker(o);
+  NdiTracker tracker(DriverFor(sim, {{"Facing", facing.Rom}, {"Away", away.Rom}}));
   tracker.Start();
   ASSERT_TRUE(WaitFor([&] { return test::Newest(tracker.Poses(), "FacingToTracker").State == ToolState::OK; }, 5))
       << tracker.LastError();
@@ -368,10 +371,7 @@ TEST_P(NdiDriver, SimulatorSeesOnlyToolsWhoseRomMarkersFaceTheCamera) {
 // passive tool beside them is loaded from its ROM; a port with nothing plugged in is named and
 // the others track.
 TEST_P(NdiDriver, FindsWiredToolsByTheirPortAsPlusNamesThem) {
-  PolarisSimulator::Options options;
-  if (Serial()) options.LinkPath = OutputDir() + "/wired";
-  else options.TcpPort = 0;
-  PolarisSimulator sim(options);
+  PolarisSimulator sim(LinkOptions("wired"));
   const ToolDefinition stylus = Tool("Stylus"), reference = Tool("Reference");
   ToolDefinition needle = Tool("Pointer");
   needle.Name = "Needle";
@@ -383,12 +383,7 @@ TEST_P(NdiDriver, FindsWiredToolsByTheirPortAsPlusNamesThem) {
   sim.AddTool(needle, 100);     // wired port 1, channel 1 (a 5-DOF splitter's second sensor)
   std::string error;
   ASSERT_TRUE(sim.Start(error)) << error;
-  NdiTracker::Options o;
-  o.Port = sim.PortPath();
-  o.Tcp = !Serial();
-  o.Tools = {{"Reference", reference.Rom}, {"Stylus", {}, 1}, {"Needle", {}, 100}, {"Empty", {}, 2}};
-  o.CommandTimeoutMs = 1000;
-  NdiTracker tracker(o);
+  NdiTracker tracker(DriverFor(sim, {{"Reference", reference.Rom}, {"Stylus", {}, 1}, {"Needle", {}, 100}, {"Empty", {}, 2}}));
   tracker.Start();
   ASSERT_TRUE(WaitFor([&] { return test::Newest(tracker.Poses(), "NeedleToTracker").State == ToolState::OK &&
                                    test::Newest(tracker.Poses(), "StylusToTracker").State == ToolState::OK &&
@@ -397,10 +392,7 @@ TEST_P(NdiDriver, FindsWiredToolsByTheirPortAsPlusNamesThem) {
   EXPECT_EQ(sim.GetCounters().LoadedTools, 3);
   EXPECT_NE(tracker.LastError().find("Empty: no tool in wired port 3 (PortName 2)"), std::string::npos) << tracker.LastError();
   // Each name carries its own tool's pose: the needle where it stands, the stylus tip on its pivot.
-  double truth[16], got[16];
-  sim.TruePose("Needle", 0, truth);
-  test::Newest(tracker.Poses(), "NeedleToTracker").ToMatrix(got);
-  for (int i = 0; i < 12; ++i) EXPECT_NEAR(got[i], truth[i], i % 4 == 3 ? 1e-3 : 1e-6) << i;
+  ExpectTruePose(sim, "Needle", test::Newest(tracker.Poses(), "NeedleToTracker"));
   double tip[3];
   TipPosition(test::Newest(tracker.Poses(), "StylusToTracker"), stylus.TipOffset, tip);
   for (int r = 0; r < 3; ++r) EXPECT_NEAR(tip[r], stylus.Motion.Center[r], 0.01);
@@ -410,27 +402,16 @@ TEST_P(NdiDriver, FindsWiredToolsByTheirPortAsPlusNamesThem) {
 // PLUS's PortName with a RomFile: the ROM goes over the wired tool's own SROM (a broken SROM's
 // replacement), and the device tracks the tool the written definition describes.
 TEST_P(NdiDriver, AVirtualSromWrittenOverAWiredPortDefinesItsTool) {
-  PolarisSimulator::Options options;
-  if (Serial()) options.LinkPath = OutputDir() + "/virtual-srom";
-  else options.TcpPort = 0;
-  PolarisSimulator sim(options);
+  PolarisSimulator sim(LinkOptions("virtual-srom"));
   const ToolDefinition stylus = Tool("Stylus"), reference = Tool("Reference");
   sim.AddTool(reference);   // known to the camera, never uploaded as a passive tool here
   sim.AddTool(stylus, 0);   // plugged into wired port 1
   std::string error;
   ASSERT_TRUE(sim.Start(error)) << error;
-  NdiTracker::Options o;
-  o.Port = sim.PortPath();
-  o.Tcp = !Serial();
-  o.Tools = {{"Rewritten", reference.Rom, 0}};
-  o.CommandTimeoutMs = 1000;
-  NdiTracker tracker(o);
+  NdiTracker tracker(DriverFor(sim, {{"Rewritten", reference.Rom, 0}}));
   tracker.Start();
   ASSERT_TRUE(WaitFor([&] { return test::Newest(tracker.Poses(), "RewrittenToTracker").State == ToolState::OK; }, 5))
       << tracker.LastError();
-  double truth[16], got[16];
-  sim.TruePose("Reference", 0, truth);
-  test::Newest(tracker.Poses(), "RewrittenToTracker").ToMatrix(got);
-  for (int i = 0; i < 12; ++i) EXPECT_NEAR(got[i], truth[i], i % 4 == 3 ? 1e-3 : 1e-6) << i;
+  ExpectTruePose(sim, "Reference", test::Newest(tracker.Poses(), "RewrittenToTracker"));
   tracker.Stop();
 }
