@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
+#include <sstream>
 #include <stdexcept>
 
 #include "rpSerialTransport.h"
@@ -38,11 +40,21 @@ namespace {
 NdiTracker::Options OptionsFrom(const PoseSourceConfig& config) {
   NdiTracker::Options o;
   o.Port = config.Address;
-  if (config.ToolFiles.empty()) throw std::invalid_argument("give at least one tool definition (.rom or .json)");
   for (const std::string& file : config.ToolFiles) {
     const ToolDefinition tool = ReadToolFile(file);  // throws std::runtime_error naming the file
     o.Tools.push_back({tool.Name, tool.Rom});
   }
+  // Wired tools, "NAME=PORT,...", PORT numbered as PLUS's PortName (channel * 100 + port - 1).
+  std::stringstream wired(config.Option("wired"));
+  for (std::string item; std::getline(wired, item, ',');) {
+    const size_t equals = item.find('=');
+    char* end = nullptr;
+    const long port = equals == std::string::npos ? -1 : std::strtol(item.c_str() + equals + 1, &end, 10);
+    if (equals == 0 || port < 0 || port > 9999 || end == item.c_str() + equals + 1 || *end != '\0')
+      throw std::invalid_argument("wired tool '" + item + "': give NAME=PORT, PORT 0 for port 1 (as PLUS's PortName)");
+    o.Tools.push_back({item.substr(0, equals), {}, static_cast<int>(port)});
+  }
+  if (o.Tools.empty()) throw std::invalid_argument("give at least one tool definition (.rom or .json) or wired tool");
   const double rate = config.Number("rate", 60);
   if (rate != 20 && rate != 30 && rate != 60) throw std::invalid_argument("rate must be 20, 30 or 60 (Hz)");
   o.PollHz = rate;

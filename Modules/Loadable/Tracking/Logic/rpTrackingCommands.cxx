@@ -3,6 +3,7 @@
 #include <poll.h>
 
 #include <csignal>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -80,6 +81,8 @@ PoseSourceConfig SourceConfig(const ArgParser& parser) {
                                 "--simulate, --plus-config <file> or "
                                 "--source <kind> (kinds: " + SourceKindsText() + ")");
   config.ToolFiles = parser.GetAll("rom");
+  for (const std::string& wired : parser.GetAll("wired"))
+    config.Options["wired"] += (config.Options["wired"].empty() ? "" : ",") + wired;
   for (const char* option : {"rate", "header-version", "request", "speed"})
     if (parser.Has(option)) config.Options[option] = parser.Get(option);
   if (parser.Has("text")) config.Options["text"] = "1";
@@ -110,6 +113,9 @@ void DeclareTrackOptions(ArgParser& parser) {
       .Option("address", "ADDRESS", "with --source: port, HOST:PORT or file")
       .Option("option", "KEY=VALUE", "a source option (e.g. noise=0.1); repeatable")
       .Option("rom", "FILE", "tool definition (.rom, or a Resources/Tools .json); repeatable")
+      .Option("wired", "NAME=PORT", "serial/ndi-tcp: a wired tool (Aurora sensor, Polaris active tool) in PORT, numbered as "
+                                    "PLUS's PortName (0 is port 1; channel * 100 + port - 1)")
+          .Repeatable()
       .Option("seconds", "N", "how long to track (a replay ends with its recording)", std::string("5"))
       .Option("record", "FILE", "record every pose to a file (replay, `roboplan pivot`); .igs.mha/.igs.nrrd: a PLUS recording")
       .Option("stale", "S", "seconds without data before a tool is stale", std::string("0.5"))
@@ -449,6 +455,9 @@ int RunPolarisSimCommand(const std::vector<std::string>& args, std::ostream& out
   parser.Option("port-link", "PATH", "symlink to the pty (kept across replug); breaks arrive on PATH.break")
       .Option("tcp", "PORT", "serve the Combined API over TCP on 127.0.0.1:PORT (a Vega/Lyra; 0: any free port)")
       .Option("tool", "FILE", "tool definition .json or NDI .rom (default: every Resources/Tools/*.json); repeatable")
+      .Option("wired", "PORT=FILE", "a tool (.json or .rom: the SROM in it) plugged into wired PORT, numbered as PLUS's "
+                                    "PortName (0 is port 1)")
+          .Repeatable()
       .Option("rate", "HZ", "frame rate: 20 (Vicra) or 60 (Spectra)", std::string("60"))
       .Option("noise", "MM", "translation noise (standard deviation)", std::string("0.05"))
       .Option("noise-deg", "DEG", "rotation noise (standard deviation)", std::string("0.02"))
@@ -473,10 +482,22 @@ int RunPolarisSimCommand(const std::vector<std::string>& args, std::ostream& out
   }
   o.LinkPath = parser.Get("port-link");
   std::vector<std::string> files = parser.GetAll("tool");
-  if (files.empty()) files = DefaultToolFiles();
+  const std::vector<std::string> wired = parser.GetAll("wired");
+  if (files.empty() && wired.empty()) files = DefaultToolFiles();
   std::vector<ToolDefinition> tools;
+  std::vector<int> ports;  // -1: a passive tool, else its wired port (PLUS's PortName numbering)
   try {
     for (const auto& f : files) tools.push_back(ReadToolFile(f));  // a .rom: its markers, standing still
+    ports.assign(tools.size(), -1);
+    for (const std::string& item : wired) {
+      const size_t equals = item.find('=');
+      char* end = nullptr;
+      const long port = equals == std::string::npos ? -1 : std::strtol(item.c_str(), &end, 10);
+      if (port < 0 || port > 9999 || end != item.c_str() + equals)
+        throw std::invalid_argument("--wired '" + item + "': give PORT=FILE, PORT 0 for port 1 (as PLUS's PortName)");
+      tools.push_back(ReadToolFile(item.substr(equals + 1)));
+      ports.push_back(static_cast<int>(port));
+    }
   } catch (const std::exception& e) {
     err << "roboplan polaris-sim: " << e.what() << "\n";
     return 1;
@@ -496,7 +517,7 @@ int RunPolarisSimCommand(const std::vector<std::string>& args, std::ostream& out
     return 0;
   }
   PolarisSimulator sim(o);
-  for (const auto& t : tools) sim.AddTool(t);
+  for (size_t i = 0; i < tools.size(); ++i) sim.AddTool(tools[i], ports[i]);
   std::string error;
   if (!sim.Start(error)) {
     err << "roboplan polaris-sim: " << error << "\n";

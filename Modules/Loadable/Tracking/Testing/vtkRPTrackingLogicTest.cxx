@@ -12,9 +12,11 @@
 #include <netinet/in.h>
 #include <sys/socket.h>
 #include <unistd.h>
+#include <set>
 #include <sstream>
 #include <thread>
 
+#include <nlohmann/json.hpp>
 #include <vtkCallbackCommand.h>
 #include <vtkMatrix4x4.h>
 #include <vtkNew.h>
@@ -331,6 +333,40 @@ TEST(TrackingLogic, TrackCommandAt20HzServingOpenIGTLink) {
   client.Stop();
   stop = true;
   simThread.join();
+}
+
+// Wired tools without a PLUS configuration: `polaris-sim --wired PORT=FILE` plugs a tool into a
+// wired port, `track --serial ... --wired NAME=PORT` finds it there (PLUS's PortName numbering)
+// beside a passive tool; a malformed --wired is named.
+TEST(TrackingLogic, TrackFindsAWiredToolThePolarisSimulatorHasInAPort) {
+  const std::string link = OutputDir() + "/cli-wired";
+  const std::string tools = std::string(ROBOPLAN_RESOURCES_DIR) + "/Tools/";
+  std::atomic<bool> stop{false};
+  std::ostringstream simOut, simErr;
+  std::thread simThread([&] {
+    RunPolarisSimCommand({"--port-link", link, "--tool", tools + "Reference.json", "--wired", "1=" + tools + "Stylus.json"},
+                         simOut, simErr, &stop);
+  });
+  ASSERT_TRUE(WaitFor([&] { return std::filesystem::exists(link + ".break"); }, 3));
+  std::ostringstream out, err;
+  ASSERT_EQ(RunTrackCommand({"--serial", link, "--rom", tools + "Reference.json", "--wired", "Pointer=1", "--seconds", "1",
+                             "--json"},
+                            nullptr, out, err),
+            0)
+      << err.str();
+  const auto doc = nlohmann::json::parse(out.str());
+  std::set<std::string> ok;
+  for (const auto& t : doc["tools"])
+    if (t["status"] == "OK") ok.insert(t["name"].get<std::string>());
+  EXPECT_EQ(ok, (std::set<std::string>{"PointerToTracker", "ReferenceToTracker"})) << out.str();
+  std::ostringstream badOut, badErr;
+  EXPECT_EQ(RunTrackCommand({"--serial", link, "--wired", "Pointer", "--seconds", "1"}, nullptr, badOut, badErr), 2);
+  EXPECT_NE(badErr.str().find("wired tool 'Pointer': give NAME=PORT"), std::string::npos) << badErr.str();
+  stop = true;
+  simThread.join();
+  std::ostringstream simBadOut, simBadErr;
+  EXPECT_NE(RunPolarisSimCommand({"--wired", "port1=" + tools + "Stylus.json"}, simBadOut, simBadErr), 0);
+  EXPECT_NE(simBadErr.str().find("give PORT=FILE"), std::string::npos) << simBadErr.str();
 }
 
 TEST(TrackingLogic, CommandsPrintTheirOwnUsage) {
