@@ -11,6 +11,8 @@ nlohmann::json MachineLoadJson(const MachineLoad& l) {
                       {"pinnedCpu", l.Cpu},
                       {"otherThreadsMovedOff", l.OthersMovedOff},
                       {"threadsMoved", l.ThreadsMoved}};
+  if (l.Shielded || l.ShieldStayed > 0)
+    j["shield"] = {{"otherProcessesThreadsMoved", l.ShieldMoved}, {"threadsThatStayed", l.ShieldStayed}};
   if (l.HasSteal) {
     j["machine"] = {{"cpus", l.Cpus},
                     {"stealSeconds", l.StealSeconds},
@@ -46,7 +48,8 @@ std::string MachineLoadSummary(const MachineLoad& l) {
   s += l.MemoryLocked ? "memory locked" : "memory not locked (" + l.MemoryLockNote + ")";
   if (l.Cpu >= 0)
     s += "; pinned to CPU " + std::to_string(l.Cpu) +
-         (l.OthersMovedOff ? " (" + std::to_string(l.ThreadsMoved) + " other threads moved off)" : "");
+         (l.OthersMovedOff ? " (" + std::to_string(l.ThreadsMoved) + " other threads moved off)" : "") +
+         (l.Shielded ? ", shielded (" + std::to_string(l.ShieldMoved) + " threads of other processes moved off)" : "");
   return s;
 }
 

@@ -36,6 +36,8 @@ struct MachineLoad {
   int Cpu = -1;                     // the CPU the thread was pinned to (−1: not pinned)
   bool OthersMovedOff = false;      // the process's other threads were moved off that CPU
   int ThreadsMoved = 0;
+  bool Shielded = false;            // other processes' threads were kept off that CPU (rp::CpuShield)
+  int ShieldMoved = 0, ShieldStayed = 0;
   bool MemoryLocked = false;        // mlockall succeeded
   std::string MemoryLockNote;       // why not, or how ("mlockall(MCL_CURRENT|MCL_FUTURE|MCL_ONFAULT)")
   int64_t StealOnCpuTicks = -1;     // steal on the pinned CPU (clock ticks), −1 unknown

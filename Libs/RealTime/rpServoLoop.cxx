@@ -62,6 +62,14 @@ bool ServoLoop::Start(ServoTask* task, const Options& options, std::string& erro
     error = "servo loop: rate " + std::to_string(options.RateHz) + " Hz is outside [1, 100000]";
     return false;
   }
+  if (options.ShieldCpu && options.CpuAffinity < 0) {
+    error = "servo loop: shielding a CPU needs the CPU the loop is pinned to";
+    return false;
+  }
+  if (options.ShieldCpu) {
+    std::string note;
+    if (!this->Shield.Raise(options.CpuAffinity, this->ShieldResult, note)) std::fprintf(stderr, "[servo] %s\n", note.c_str());
+  }
   this->StopRequested.store(false);
   this->StartState.store(0);
   this->GotRealTime.store(false);
@@ -82,6 +90,11 @@ void ServoLoop::Stop() {
   if (!this->Thread.joinable()) return;
   this->StopRequested.store(true, std::memory_order_release);
   this->Thread.join();
+  this->LoadFigures.Shielded = this->Shield.Raised();
+  this->LoadFigures.ShieldMoved = this->ShieldResult.Moved;
+  this->LoadFigures.ShieldStayed = this->ShieldResult.Stayed;
+  this->Shield.Lower();
+  this->ShieldResult = {};
   if (this->Isolated) RestoreOtherThreads();
   if (this->Locked) UnlockProcessMemory();
   this->Isolated = this->Locked = false;

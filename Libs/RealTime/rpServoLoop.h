@@ -11,6 +11,7 @@
 #include <string>
 #include <thread>
 
+#include "rpCpuShield.h"
 #include "rpMachineLoad.h"
 #include "rpTimingHistogram.h"
 
@@ -57,6 +58,8 @@ class ServoLoop {
     int CpuAffinity = -1;           // pin to this CPU when >= 0
     bool MoveOthersOff = true;      // with CpuAffinity: move the process's other threads (display,
                                     // I/O, main) off that CPU while the loop runs
+    bool ShieldCpu = false;         // with CpuAffinity: also keep other processes' threads off it
+                                    // while the loop runs (rp::CpuShield)
     bool LockMemory = true;         // mlockall while the loop runs (when permitted), stack prefaulted
     double SpinUs = 0;              // sleep until this long before the deadline, then spin:
                                     // trades CPU for a smaller timer wake-up latency
@@ -103,6 +106,8 @@ class ServoLoop {
   std::atomic<int64_t> StallNs{0};
   std::string Note;
   MachineLoad LoadFigures;  // written by the servo thread before/after its loop, read after join
+  CpuShield Shield;         // raised by Start, lowered by Stop (the calling thread, not the servo's)
+  CpuShield::Result ShieldResult;
   bool Locked = false, Isolated = false;
   TimingHistogram PeriodHist{1000, 20000};    // 1 µs bins to 20 ms
   TimingHistogram ComputeHist{100, 20000};    // 0.1 µs bins to 2 ms

@@ -6,10 +6,14 @@
 #include <chrono>
 #include <thread>
 
+#include <signal.h>
 #include <sys/mman.h>
+#include <sys/wait.h>
+#include <unistd.h>
 #include <time.h>
 
 #include "rpAllocationCounter.h"
+#include "rpCpuShield.h"
 #include "rpServoLoop.h"
 #include "rpSpscRing.h"
 
@@ -205,4 +209,57 @@ TEST(ServoLoop, ReportsWhatTheMachineDidOverTheRun) {
   EXPECT_FALSE(l.MemoryLockNote.empty());
   EXPECT_EQ(l.Cpu, -1);
   EXPECT_EQ(task.AllocationsInTicks, 0u);
+}
+
+// The shield moves another process's thread off the CPU and gives it its set back; the process's
+// own threads are not its business; a CPU this process may not use is refused.
+TEST(CpuShield, MovesAnotherProcessOffTheCpuAndGivesItsSetBack) {
+  cpu_set_t mine;
+  ASSERT_EQ(sched_getaffinity(0, sizeof mine, &mine), 0);
+  if (CPU_COUNT(&mine) < 2) GTEST_SKIP() << "one CPU: nowhere to move a process";
+  int shielded = -1;
+  for (int c = 0; c < CPU_SETSIZE; ++c)
+    if (CPU_ISSET(c, &mine)) shielded = c;  // the last of ours
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {  // a process that only waits to be killed
+    for (;;) pause();
+  }
+  cpu_set_t set;
+  auto readChild = [&] { EXPECT_EQ(sched_getaffinity(child, sizeof set, &set), 0); };
+  readChild();
+  ASSERT_TRUE(CPU_ISSET(shielded, &set));
+  {
+    rp::CpuShield shield;
+    rp::CpuShield::Result result;
+    std::string note;
+    ASSERT_TRUE(shield.Raise(shielded, result, note)) << note;
+    EXPECT_GE(result.Moved, 1) << note;
+    readChild();
+    EXPECT_FALSE(CPU_ISSET(shielded, &set)) << note;
+    EXPECT_EQ(CPU_COUNT(&set), CPU_COUNT(&mine) - 1);
+    cpu_set_t own;
+    ASSERT_EQ(sched_getaffinity(0, sizeof own, &own), 0);
+    EXPECT_TRUE(CPU_ISSET(shielded, &own));  // this process keeps the CPU
+    shield.Lower();
+    readChild();
+    EXPECT_TRUE(CPU_EQUAL(&set, &mine));
+  }
+  kill(child, SIGKILL);
+  waitpid(child, nullptr, 0);
+  rp::CpuShield shield;
+  rp::CpuShield::Result result;
+  std::string note;
+  EXPECT_FALSE(shield.Raise(CPU_SETSIZE + 5, result, note));
+  EXPECT_NE(note.find("not available"), std::string::npos) << note;
+  // The servo loop asks for the CPU it is pinned to.
+  rp::ServoLoop loop;
+  rp::ServoLoop::Options options;
+  options.ShieldCpu = true;
+  struct Idle : rp::ServoTask {
+    void Tick(const rp::TickInfo&) noexcept override {}
+  } idle;
+  std::string error;
+  EXPECT_FALSE(loop.Start(&idle, options, error));
+  EXPECT_NE(error.find("pinned to"), std::string::npos) << error;
 }

@@ -184,6 +184,7 @@ struct DrillRequest {
   bool Json = false, Replay = false, Block = false, Realtime = false;
   bool VoxelGiven = false, FeedGiven = false, HasCT = false, HasModel = false, HasPicture = false;
   int Cpu = -1;
+  bool Shield = false;
   double Radius = 0, Speed = 0, Voxel = 0.3, Rpm = 60000, Feed = 2, Shell = 0, Margin = 0, Timeout = -1;
   Vec3 From, To, BlockLo{-20, -20, -20}, BlockHi{20, 20, 20};
   std::string Segmentation, CT, Materials, Record, ReplayPath, Model, Picture;
@@ -216,6 +217,7 @@ ArgParser DrillParser() {
       .Option("model", "FILE", "write the drilled bone's surface (" + ModelFileExtensionsText() + ")")
       .Option("picture", "FILE.png", "render a picture of the tunnel (needs a display or Xvfb)")
       .Option("cpu", "N", "--realtime: pin the servo thread to CPU N and move the other threads off it (-1: not pinned)", "-1")
+      .Flag("shield", "with --cpu: also keep every other process's threads off that CPU while the servo runs")
       .Flag("realtime", "run the 1 kHz servo thread and the 30 Hz display thread on the wall clock (default: the same "
                         "ticks scripted on one thread, as fast as the CPU allows)");
   return parser;
@@ -226,6 +228,8 @@ bool ReadDrillNumbers(const ArgParser& parser, DrillRequest& q, std::ostream& er
   try {
     q.Voxel = parser.GetDouble("voxel");
     q.Cpu = static_cast<int>(parser.GetDouble("cpu"));
+    q.Shield = parser.Has("shield");
+    if (q.Shield && q.Cpu < 0) throw std::invalid_argument("--shield needs --cpu N (the CPU to keep the other processes off)");
     q.Rpm = parser.GetDouble("rpm");
     q.Feed = parser.GetDouble("feed");
     q.Shell = parser.GetDouble("shell");
@@ -445,6 +449,7 @@ int DriveDrill(const DrillRequest& q, DrillSession& s, TerminalProgress& progres
   run.Progress = [&](double f, const std::string& m) { progress.Report(0.3 + 0.65 * f, m); };
   run.Loop.RequestRealTimePriority = run.Realtime;
   run.Loop.CpuAffinity = q.Cpu;
+  run.Loop.ShieldCpu = q.Shield;
   if (!RunDrill(*s.Servo, *s.Display, run, s.Result, error)) return Fail(err, error);
   return 0;
 }

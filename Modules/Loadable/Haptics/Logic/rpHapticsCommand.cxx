@@ -128,6 +128,7 @@ std::string Format(const char* format, ...) {
 struct HapticsRequest {
   double Seconds = -1, Rate = 1000, Spin = 100;
   long ToolPoints = 1, Cpu = -1;
+  bool Shield = false;
   bool Json = false;
   std::string ScenePath, Trajectory, MaterialsPath, LogPath;
   DeviceProfile Profile;
@@ -170,7 +171,9 @@ void DeclareHapticsOptions(rp::ArgParser& parser) {
               "-1")
       .Integer()
       .AtLeast(-1)
-      .AtMost(1023);
+      .AtMost(1023)
+      .Flag("shield", "with --cpu: also keep every other process's threads off that CPU while the servo runs "
+                      "(as `cset shield` does; needs root for other users' processes)");
 }
 
 // Options -> request; 0 when they make a request, else the exit code (reason on `err`).
@@ -181,6 +184,7 @@ int ReadHapticsRequest(const rp::ArgParser& parser, HapticsRequest& request, std
     request.Spin = parser.GetDouble("spin");
     request.ToolPoints = parser.GetInt("tool-points");
     request.Cpu = parser.GetInt("cpu");
+    request.Shield = parser.Has("shield");
   } catch (const std::exception& e) {
     err << "roboplan haptics: " << e.what() << "\n";
     return 2;
@@ -188,6 +192,10 @@ int ReadHapticsRequest(const rp::ArgParser& parser, HapticsRequest& request, std
   // Types and ranges were checked by the parser (declared above); the spin depends on the rate.
   if (!(request.Spin < 1e6 / request.Rate)) {
     err << "roboplan haptics: --spin must be shorter than the servo period (" << 1e6 / request.Rate << " us)\n";
+    return 2;
+  }
+  if (request.Shield && request.Cpu < 0) {
+    err << "roboplan haptics: --shield needs --cpu N (the CPU to keep the other processes off)\n";
     return 2;
   }
   std::string error;
@@ -280,6 +288,7 @@ int PrepareHapticsRun(vtkRPScene* scene, HapticsRequest& request, rp::HapticSess
   options.Loop.RateHz = request.Rate;
   options.Loop.SpinUs = request.Spin;
   options.Loop.CpuAffinity = static_cast<int>(request.Cpu);
+  options.Loop.ShieldCpu = request.Shield;
   options.RampSeconds = 0.2;
   return 0;
 }
