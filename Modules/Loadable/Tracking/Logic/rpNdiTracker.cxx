@@ -338,7 +338,7 @@ bool NdiTracker::Configure() {
 
   std::fill(std::begin(this->HandleSlot), std::end(this->HandleSlot), -1);
   std::fill(std::begin(this->LastFrame), std::end(this->LastFrame), 0u);
-  this->Handles.clear();
+  this->HandlesToFree.clear();
   std::string problems;
   // The definition, zero-padded to 1024 bytes, in 64-byte chunks, onto a port handle.
   auto writeRom = [&](const Tool& tool, uint32_t handle) {
@@ -358,7 +358,7 @@ bool NdiTracker::Configure() {
   auto assign = [&](const Tool& tool, uint32_t handle) {
     const std::string slotName = ToolToTrackerName(tool.Name);
     this->HandleSlot[handle] = this->Table.Find(slotName.c_str(), slotName.size());
-    this->Handles.push_back(static_cast<uint8_t>(handle));
+    if (!tool.Rom.empty()) this->HandlesToFree.push_back(static_cast<uint8_t>(handle));  // a wired tool keeps its port's
   };
   bool anyWired = false;
   for (size_t t = 0; t < this->Opts.Tools.size(); ++t) {
@@ -543,7 +543,7 @@ void NdiTracker::Shutdown() {
   const int timeout = 500;
   this->ShuttingDown = true;  // let the few stop commands through
   this->Command("TSTOP", "", timeout, 0);
-  for (uint8_t h : this->Handles) {
+  for (uint8_t h : this->HandlesToFree) {
     char args[3];
     ndi::WriteHex(args, h, 2);
     args[2] = '\0';

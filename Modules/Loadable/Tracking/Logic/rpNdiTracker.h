@@ -133,7 +133,7 @@ class NdiTracker : public PoseSource {
   size_t PayloadLength = 0;
   int HandleSlot[256];
   uint32_t LastFrame[256];
-  std::vector<uint8_t> Handles;
+  std::vector<uint8_t> HandlesToFree;  // loaded from a definition we sent (PVWR): freed at stop, as PLUS does
   ndi::TrackingReply Reply;
 };
 

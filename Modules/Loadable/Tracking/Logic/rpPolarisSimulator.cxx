@@ -291,6 +291,12 @@ bool PolarisSimulator::TruePose(const std::string& toolName, double t, double m[
   return false;
 }
 
+void PolarisSimulator::LoadPluggedSrom(Handle& h) const {
+  const auto& srom = this->Tools[static_cast<size_t>(h.WiredTool)]->Definition.Rom;
+  std::fill(h.Rom.begin(), h.Rom.end(), uint8_t{0});
+  std::copy(srom.begin(), srom.begin() + static_cast<long>(std::min(srom.size(), h.Rom.size())), h.Rom.begin());
+}
+
 void PolarisSimulator::PowerOnReset() {
   this->Handles.clear();
   {  // each occupied wired port has a handle from power-on (01, 02, ...), its SROM the tool's
@@ -300,8 +306,7 @@ void PolarisSimulator::PowerOnReset() {
       Handle h;
       h.Number = static_cast<int>(this->Handles.size()) + 1;
       h.WiredTool = static_cast<int>(t);
-      const auto& srom = this->Tools[t]->Definition.Rom;
-      std::copy(srom.begin(), srom.begin() + static_cast<long>(std::min(srom.size(), h.Rom.size())), h.Rom.begin());
+      this->LoadPluggedSrom(h);
       this->Handles.push_back(h);
     }
   }
@@ -602,9 +607,7 @@ void PolarisSimulator::OnPhf(const std::string&, const std::string& args) {
   Handle* h = this->CommandHandle(args);
   if (!h) return;
   if (h->WiredTool >= 0) {  // the tool stays in its port: its handle back as at power-on
-    const auto& srom = this->Tools[static_cast<size_t>(h->WiredTool)]->Definition.Rom;
-    std::fill(h->Rom.begin(), h->Rom.end(), uint8_t{0});
-    std::copy(srom.begin(), srom.begin() + static_cast<long>(std::min(srom.size(), h->Rom.size())), h->Rom.begin());
+    this->LoadPluggedSrom(*h);
     h->Initialized = h->Enabled = false;
     h->Tool = -1;
     h->ChunksWritten = 0;

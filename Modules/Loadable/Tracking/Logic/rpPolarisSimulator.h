@@ -117,6 +117,8 @@ class PolarisSimulator {
   void AcceptClient();
   int ToolForRom(const std::vector<uint8_t>& rom);
   void PowerOnReset();
+  /// A wired port's handle holds the SROM of the tool plugged into it (h.WiredTool).
+  void LoadPluggedSrom(Handle& h) const;
   void HandleCommand(const char* line, size_t length);
   // One handler per NDI command (the table in the .cxx); each replies through Reply/ReplyError.
   using CommandHandler = void (PolarisSimulator::*)(const std::string& name, const std::string& args);
