@@ -64,8 +64,13 @@ std::string MachineLoadReading(const MachineLoad& l, uint64_t missed, uint64_t o
     machine += (machine.empty() ? "" : ", ") + std::to_string(l.MajorFaults) + " major page faults";
   if (!machine.empty()) return "the machine: " + machine;
   return overruns > 0 ? "RoboPlan: ticks computed longer than the period, with no steal or preemption"
-                      : "the host or the timer: woken late although no tick overran and there was no steal (counted "
-                        "in 10 ms ticks: shorter stalls do not show), preemption or major fault";
+                      : l.Shielded
+                            ? "the host: woken late on a shielded CPU although no tick overran and there was no steal "
+                              "(counted in 10 ms ticks: shorter stalls do not show), preemption or major fault"
+                            : "the host or the timer: woken late although no tick overran and there was no steal (counted "
+                              "in 10 ms ticks: shorter stalls do not show), preemption or major fault; another process "
+                              "holding interrupts off on the servo's CPU also does this (servo-wakeup-trace.py names it, "
+                              "--cpu N --shield keeps the others off)";
 }
 
 }  // namespace rp

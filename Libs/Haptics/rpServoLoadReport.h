@@ -17,8 +17,9 @@ nlohmann::json MachineLoadJson(const MachineLoad& load);
 /// 0 major / 12 minor faults; memory locked; pinned to CPU 1 (5 threads moved off)".
 std::string MachineLoadSummary(const MachineLoad& load);
 /// Whose the misses are: "no misses", "the machine: ..." (steal, preemption or major faults
-/// during the run), "RoboPlan: ..." (ticks overran the period) or "the host or the timer: ..."
-/// (late wake-ups with none of those; steal is counted in 10 ms ticks, so shorter stalls hide).
+/// during the run), "RoboPlan: ..." (ticks overran the period), or late wake-ups with none of
+/// those (steal is counted in 10 ms ticks, so shorter stalls hide): "the host: ..." on a shielded
+/// CPU, else "the host or the timer: ..." (or another process holding interrupts off).
 std::string MachineLoadReading(const MachineLoad& load, uint64_t missedDeadlines, uint64_t overruns);
 
 }  // namespace rp

@@ -8,6 +8,7 @@
 
 #include "rpAllocationCounter.h"
 #include "rpHapticsTestScenes.h"
+#include "rpServoLoadReport.h"
 #include "rpSessionLog.h"
 #include "rpSimulatedDevice.h"
 
@@ -212,4 +213,21 @@ TEST(HapticServo, RunsInItsThreadWhileTheMainThreadSwapsScenesAndReads) {
   }
   EXPECT_EQ(static_cast<uint64_t>(lines), writer.RecordsWritten());
   EXPECT_GT(bone, 0);
+}
+
+// The reading names whose the misses were: the machine when it counted steal or preemption, RoboPlan
+// when ticks overran, the host on a shielded CPU, and otherwise points at the tool that tells a host
+// stall from another process holding interrupts off.
+TEST(ServoLoadReading, NamesTheMachineRoboPlanOrTheHost) {
+  rp::MachineLoad load;
+  load.HasSteal = load.HasThread = true;
+  EXPECT_EQ(rp::MachineLoadReading(load, 0, 0), "no misses");
+  EXPECT_EQ(rp::MachineLoadReading(load, 3, 2).rfind("RoboPlan:", 0), 0u);
+  const std::string unshielded = rp::MachineLoadReading(load, 3, 0);
+  EXPECT_EQ(unshielded.rfind("the host or the timer:", 0), 0u) << unshielded;
+  EXPECT_NE(unshielded.find("servo-wakeup-trace.py"), std::string::npos) << unshielded;
+  load.Shielded = true;
+  EXPECT_EQ(rp::MachineLoadReading(load, 3, 0).rfind("the host: woken late on a shielded CPU", 0), 0u);
+  load.StealSeconds = 0.02;
+  EXPECT_EQ(rp::MachineLoadReading(load, 3, 0).rfind("the machine: the hypervisor stole", 0), 0u);
 }
