@@ -1,4 +1,4 @@
-// libFuzzer target: NDI reply framing and the TX, BX and PHSR parsers on arbitrary bytes.
+// libFuzzer target: NDI reply framing and the TX, BX, PHSR and PHINF port-location parsers on arbitrary bytes.
 // Built by Testing/Fuzz (clang sub-build); ctest -L fuzz runs it on its committed corpus.
 #include <cstdint>
 #include <cstring>

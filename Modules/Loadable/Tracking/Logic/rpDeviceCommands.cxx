@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "rpArgParser.h"
+#include "rpNdiProtocol.h"
 #include "rpNdiRom.h"
 #include "rpToolDefinition.h"
 
@@ -142,8 +143,8 @@ void PrintCheck(const plus::Configuration& c, const plus::NdiTracker* tracker, c
     out << ", tools in frame " << d.ToolReferenceFrame << "\n";
     for (const plus::Tool& t : d.Tools) {
       out << "  tool " << t.Id << " -> " << t.Id << "To" << d.ToolReferenceFrame << ": ";
-      if (t.WiredPort >= 0) out << "wired port " << t.WiredPort % 100 + 1 << (t.WiredPort >= 100 ? " channel " + std::to_string(t.WiredPort / 100) : "")
-                                << (t.RomPath.empty() ? " (the SROM in the tool)" : ", virtual SROM " + t.RomPath) << "\n";
+      if (t.WiredPort >= 0)
+        out << ndi::DescribeWiredPort(t.WiredPort) << (t.RomPath.empty() ? " (the SROM in the tool)" : ", virtual SROM " + t.RomPath) << "\n";
       else out << t.RomPath << "\n";
     }
   }

@@ -1,5 +1,7 @@
 #include "rpNdiProtocol.h"
 
+#include <cstdlib>
+
 #include <cstring>
 
 namespace rp {
@@ -344,6 +346,19 @@ ParseResult ParsePhinfPortLocation(const char* payload, size_t length, PortLocat
   if (port < 1) return Fail(ParseCode::BadFormat, kBasic + 10);
   location.WiredPort = static_cast<int>(channel) * 100 + port - 1;
   return ParseResult{};
+}
+
+bool ParseWiredPort(const std::string& text, int& wiredPort) {
+  char* end = nullptr;
+  const long port = std::strtol(text.c_str(), &end, 10);
+  if (text.empty() || end != text.c_str() + text.size() || port < 0 || port > 9999) return false;
+  wiredPort = static_cast<int>(port);
+  return true;
+}
+
+std::string DescribeWiredPort(int wiredPort) {
+  return "wired port " + std::to_string(wiredPort % 100 + 1) +
+         (wiredPort >= 100 ? " channel " + std::to_string(wiredPort / 100) : std::string());
 }
 
 }  // namespace ndi

@@ -4,6 +4,7 @@
 // never throws; every parser reports what is wrong and where.
 #include <cstddef>
 #include <cstdint>
+#include <string>
 
 namespace rp {
 namespace ndi {
@@ -90,6 +91,10 @@ struct PortLocation {
   int WiredPort = -1;  // -1 for a wireless (passive or active wireless) tool
 };
 ParseResult ParsePhinfPortLocation(const char* payload, size_t length, PortLocation& location) noexcept;
+/// A wired port as PLUS's PortName writes it: an integer 0-9999 (channel * 100 + port - 1).
+bool ParseWiredPort(const std::string& text, int& wiredPort);
+/// "wired port 2", "wired port 2 channel 1": the port as the device's labels number it.
+std::string DescribeWiredPort(int wiredPort);
 
 /// Hex helpers (uppercase or lowercase accepted when reading).
 bool ParseHex(const char* text, int digits, uint32_t& value) noexcept;

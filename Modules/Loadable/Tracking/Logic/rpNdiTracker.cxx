@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdlib>
 #include <cstring>
 #include <sstream>
 #include <stdexcept>
@@ -48,11 +47,10 @@ NdiTracker::Options OptionsFrom(const PoseSourceConfig& config) {
   std::stringstream wired(config.Option("wired"));
   for (std::string item; std::getline(wired, item, ',');) {
     const size_t equals = item.find('=');
-    char* end = nullptr;
-    const long port = equals == std::string::npos ? -1 : std::strtol(item.c_str() + equals + 1, &end, 10);
-    if (equals == 0 || port < 0 || port > 9999 || end == item.c_str() + equals + 1 || *end != '\0')
+    int port = -1;
+    if (equals == 0 || equals == std::string::npos || !ndi::ParseWiredPort(item.substr(equals + 1), port))
       throw std::invalid_argument("wired tool '" + item + "': give NAME=PORT, PORT 0 for port 1 (as PLUS's PortName)");
-    o.Tools.push_back({item.substr(0, equals), {}, static_cast<int>(port)});
+    o.Tools.push_back({item.substr(0, equals), {}, port});
   }
   if (o.Tools.empty()) throw std::invalid_argument("give at least one tool definition (.rom or .json) or wired tool");
   const double rate = config.Number("rate", 60);
@@ -401,9 +399,8 @@ bool NdiTracker::Configure() {
       const Tool& tool = this->Opts.Tools[t];
       if (tool.WiredPort < 0) continue;
       if (wiredHandle[t] < 0) {
-        problems += tool.Name + ": no tool in wired port " + std::to_string(tool.WiredPort % 100 + 1) +
-                    (tool.WiredPort >= 100 ? " channel " + std::to_string(tool.WiredPort / 100) : std::string()) +
-                    " (PortName " + std::to_string(tool.WiredPort) + "): is it plugged in?; ";
+        problems += tool.Name + ": no tool in " + ndi::DescribeWiredPort(tool.WiredPort) + " (PortName " +
+                    std::to_string(tool.WiredPort) + "): is it plugged in?; ";
         continue;
       }
       const uint32_t handle = static_cast<uint32_t>(wiredHandle[t]);

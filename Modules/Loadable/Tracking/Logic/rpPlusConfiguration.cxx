@@ -11,6 +11,7 @@
 
 #include <vtkXMLDataElement.h>
 
+#include "rpNdiProtocol.h"
 #include "rpNdiRom.h"
 #include "rpXmlDocument.h"
 
@@ -127,11 +128,8 @@ void ReadTool(vtkXMLDataElement* e, NdiTracker& device, std::set<std::string>& i
   if (tool.Id.empty()) return c.Refused.push_back({where + "a tool DataSource", "it has no Id"});
   if (!ids.insert(tool.Id).second) return c.Refused.push_back({where + "tool " + tool.Id, "a second tool with that Id"});
   if (!tool.PortName.empty()) {  // a wired tool (Aurora sensor, Polaris active tool), as PLUS reads PortName
-    char* end = nullptr;
-    const long port = std::strtol(tool.PortName.c_str(), &end, 10);
-    if (end == tool.PortName.c_str() || *end != '\0' || port < 0 || port > 9999)
+    if (!ndi::ParseWiredPort(tool.PortName, tool.WiredPort))
       return c.Refused.push_back({where + "tool " + tool.Id, "PortName \"" + tool.PortName + "\" is not a wired port number (an integer >= 0)"});
-    tool.WiredPort = static_cast<int>(port);
     if (tool.RomFile.empty()) return device.Tools.push_back(tool);  // the SROM in the tool defines it
   }
   if (tool.RomFile.empty())

@@ -3,7 +3,6 @@
 #include <poll.h>
 
 #include <csignal>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -17,6 +16,7 @@
 #include "rpArgParser.h"
 #include "rpDeviceCommands.h"
 #include "rpIgtlServer.h"
+#include "rpNdiProtocol.h"
 #include "rpPivotCalibration.h"
 #include "rpPolarisSimulator.h"
 #include "rpPoseSource.h"
@@ -491,12 +491,11 @@ int RunPolarisSimCommand(const std::vector<std::string>& args, std::ostream& out
     ports.assign(tools.size(), -1);
     for (const std::string& item : wired) {
       const size_t equals = item.find('=');
-      char* end = nullptr;
-      const long port = equals == std::string::npos ? -1 : std::strtol(item.c_str(), &end, 10);
-      if (port < 0 || port > 9999 || end != item.c_str() + equals)
+      int port = -1;
+      if (equals == std::string::npos || !ndi::ParseWiredPort(item.substr(0, equals), port))
         throw std::invalid_argument("--wired '" + item + "': give PORT=FILE, PORT 0 for port 1 (as PLUS's PortName)");
       tools.push_back(ReadToolFile(item.substr(equals + 1)));
-      ports.push_back(static_cast<int>(port));
+      ports.push_back(port);
     }
   } catch (const std::exception& e) {
     err << "roboplan polaris-sim: " << e.what() << "\n";
