@@ -1,26 +1,10 @@
 #include "rpCpuShield.h"
 
-#include <dirent.h>
 #include <unistd.h>
 
-#include <cstdlib>
-#include <functional>
+#include "rpProcEntries.h"
 
 namespace rp {
-
-namespace {
-// Calls `visit` with each numeric entry of a /proc directory.
-void ForEachNumber(const char* path, const std::function<void(pid_t)>& visit) {
-  DIR* dir = opendir(path);
-  if (!dir) return;
-  while (const dirent* entry = readdir(dir)) {
-    char* end = nullptr;
-    const long n = std::strtol(entry->d_name, &end, 10);
-    if (end != entry->d_name && *end == '\0' && n > 0) visit(static_cast<pid_t>(n));
-  }
-  closedir(dir);
-}
-}  // namespace
 
 bool CpuShield::Raise(int cpu, Result& result, std::string& note) {
   result = Result{};
@@ -34,9 +18,9 @@ bool CpuShield::Raise(int cpu, Result& result, std::string& note) {
     return false;
   }
   const pid_t self = getpid();
-  ForEachNumber("/proc", [&](pid_t pid) {
+  ForEachProcEntry("/proc", [&](pid_t pid) {
     if (pid == self) return;  // this process's own threads: rp::PinAndIsolate's job
-    ForEachNumber(("/proc/" + std::to_string(pid) + "/task").c_str(), [&](pid_t tid) {
+    ForEachProcEntry(("/proc/" + std::to_string(pid) + "/task").c_str(), [&](pid_t tid) {
       cpu_set_t set;
       if (sched_getaffinity(tid, sizeof set, &set) != 0 || !CPU_ISSET(cpu, &set)) return;
       cpu_set_t elsewhere = set;

@@ -1,7 +1,6 @@
 #include "rpMachineLoad.h"
 
 #include <alloca.h>
-#include <dirent.h>
 #include <pthread.h>
 #include <sched.h>
 #include <sys/mman.h>
@@ -15,6 +14,8 @@
 #include <cstdlib>
 #include <cstring>
 #include <mutex>
+
+#include "rpProcEntries.h"
 
 namespace rp {
 
@@ -52,14 +53,9 @@ long isolatedTid = -1;
 
 template <typename F>
 void ForEachOtherThread(long self, F&& f) noexcept {
-  DIR* dir = opendir("/proc/self/task");
-  if (dir == nullptr) return;
-  while (dirent* e = readdir(dir)) {
-    if (e->d_name[0] < '0' || e->d_name[0] > '9') continue;
-    const long tid = std::strtol(e->d_name, nullptr, 10);
-    if (tid != self) f(static_cast<pid_t>(tid));
-  }
-  closedir(dir);
+  ForEachProcEntry("/proc/self/task", [&](pid_t tid) {
+    if (tid != self) f(tid);
+  });
 }
 }  // namespace
 
