@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include <vtkMarchingCubesTriangleCases.h>
 #include <vtkSMPThreadLocal.h>
@@ -24,6 +25,17 @@ void Clear(BlockMesh& mesh) {  // keeps the capacity: the block is re-contoured 
   mesh.Points.clear(), mesh.Normals.clear(), mesh.Materials.clear(), mesh.Triangles.clear();
 }
 
+// A row of a block is 8 densities in a row in memory: read as one 8-byte atomic load (relaxed,
+// as the byte loads elsewhere; the servo thread's byte stores are atomic too). Aligned: the
+// densities are one new[] (16-byte aligned) of 512-byte blocks. Bytes in memory order (x86-64).
+static_assert(E == 8, "a block row is one 64-bit word");
+constexpr uint64_t HighBits = 0x8080808080808080ull;  // a density >= Bone (128) has its high bit set
+inline uint64_t LoadRow(const std::atomic<uint8_t>* row) {
+  return __atomic_load_n(reinterpret_cast<const uint64_t*>(row), __ATOMIC_RELAXED);
+}
+// The high bit of each byte of a row (x = 0..7), packed into bits 0..7.
+inline unsigned InsideBits(uint64_t row) { return unsigned(((row & HighBits) * 0x0002040810204081ull) >> 56); }
+
 // Each edge as its lower corner and the axis it runs along (a vertex is cached by both).
 struct EdgeStart {
   int Lower[3];
@@ -45,10 +57,14 @@ constexpr EdgeStart EdgeStarts[12] = {MakeEdgeStart(0), MakeEdgeStart(1), MakeEd
 // One block's samples, the inside bits of its cell corners, its edge vertices and its output
 // before it is copied to the block's cache entry (one allocation per array there).
 struct BlockMesher::Scratch {
+  static constexpr int MaxVertices = C * C * C * 3;  // one per (corner, axis)
+  static constexpr int MaxTriangles = E * E * E * 5;  // at most 5 per cell
   uint8_t Field[F * F * F];
-  uint16_t Rows[C][C];          // bit x of Rows[z][y]: corner (x, y, z) is inside
-  int32_t EdgeVertex[C * C * C * 3];  // vertex of each (corner, axis), −1 none
-  BlockMesh Out;
+  uint16_t Rows[C][C];                 // bit x of Rows[z][y]: corner (x, y, z) is inside
+  int32_t EdgeVertex[MaxVertices];     // vertex of each (corner, axis), −1 none
+  float Points[3 * MaxVertices], Normals[3 * MaxVertices];
+  uint8_t Materials[MaxVertices];
+  uint32_t Triangles[3 * MaxTriangles];
 };
 
 BlockMesher::BlockMesher(DrillVolume& volume)
@@ -85,13 +101,12 @@ void BlockMesher::ClassifyBlocks() {
   vtkSMPTools::For(0, static_cast<vtkIdType>(this->Cache.size()), [this](vtkIdType s0, vtkIdType s1) {
     for (vtkIdType s = s0; s < s1; ++s) {
       const std::atomic<uint8_t>* d = this->Volume.BlockDensities(static_cast<int32_t>(s));
-      uint8_t lo = 255, hi = 0;
-      for (int v = 0; v < DrillVolume::BlockVoxels; ++v) {
-        const uint8_t q = d[v].load(std::memory_order_relaxed);
-        lo = std::min(lo, q);
-        hi = std::max(hi, q);
+      uint64_t all = HighBits, any = 0;
+      for (int row = 0; row < DrillVolume::BlockVoxels; row += E) {
+        const uint64_t w = LoadRow(d + row) & HighBits;
+        all &= w, any |= w;
       }
-      this->Sides[size_t(s)] = lo >= Bone ? 1 : (hi < Bone ? 0 : 2);
+      this->Sides[size_t(s)] = all == HighBits ? 1 : (any == 0 ? 0 : 2);
     }
   });
 }
@@ -153,8 +168,7 @@ double BlockMesher::EnclosedVolume() const {
 
 void BlockMesher::ContourBlock(int32_t slot, Scratch& scratch) {
   BlockMesh& mesh = this->Cache[size_t(slot)];
-  BlockMesh& out = scratch.Out;
-  Clear(out);
+  int vertices = 0, triangles = 0;
   const auto& block = this->Volume.BlockCoordinate(slot);
   const int base[3] = {block[0] * E, block[1] * E, block[2] * E};
   const auto& dims = this->Volume.Grid().Dimensions;
@@ -172,6 +186,9 @@ void BlockMesher::ContourBlock(int32_t slot, Scratch& scratch) {
   auto load = [](const std::atomic<uint8_t>* d, int local) -> uint8_t {
     return d ? d[local].load(std::memory_order_relaxed) : uint8_t(0);
   };
+  // Inside bits of the cell corners [0, E]³ as they are read, one row of C bits per (y, z): a
+  // surface needs both kinds of corner.
+  unsigned any = 0, all = FullRow;
   for (int z = -1; z <= E + 1; ++z) {
     const int bz = z < 0 ? 0 : (z < E ? 1 : 2), lz = (z + E) & (E - 1);
     for (int y = -1; y <= E + 1; ++y) {
@@ -179,28 +196,19 @@ void BlockMesher::ContourBlock(int32_t slot, Scratch& scratch) {
       const int row = (ly << DrillVolume::BlockShift) | (lz << (2 * DrillVolume::BlockShift));
       const std::atomic<uint8_t>* const* d = neighbours[bz][by];
       uint8_t* f = field + FieldIndex(-1, y, z);
+      const uint64_t middle = d[1] ? LoadRow(d[1] + row) : 0;
       f[0] = load(d[0], row | (E - 1));
-      if (d[1]) {
-        for (int x = 0; x < E; ++x) f[1 + x] = d[1][row | x].load(std::memory_order_relaxed);
-      } else {
-        std::fill(f + 1, f + 1 + E, uint8_t(0));
-      }
+      std::memcpy(f + 1, &middle, E);
       f[E + 1] = load(d[2], row);
       f[E + 2] = load(d[2], row | 1);
+      if (y >= 0 && z >= 0 && y < C && z < C) {
+        const unsigned bits = InsideBits(middle) | (unsigned(f[E + 1] >= Bone) << E);
+        scratch.Rows[z][y] = uint16_t(bits);
+        any |= bits;
+        all &= bits;
+      }
     }
   }
-  // Inside bits of the cell corners [0, E]³, one row of C bits per (y, z): a surface needs both
-  // kinds of corner.
-  uint16_t any = 0, all = FullRow;
-  for (int z = 0; z < C; ++z)
-    for (int y = 0; y < C; ++y) {
-      const uint8_t* f = field + FieldIndex(0, y, z);
-      uint16_t bits = 0;
-      for (int x = 0; x < C; ++x) bits |= uint16_t(f[x] >= Bone) << x;
-      scratch.Rows[z][y] = bits;
-      any |= bits;
-      all &= bits;
-    }
   if (any == 0 || all == FullRow) {
     Clear(mesh);
     return;
@@ -226,13 +234,15 @@ void BlockMesher::ContourBlock(int32_t slot, Scratch& scratch) {
     for (int k = 0; k < 3; ++k) p[k] = base[k] + a[k] + t * (b[k] - a[k]);
     const Vec3 n = -(gradient(a[0], a[1], a[2]) * (1 - t) + gradient(b[0], b[1], b[2]) * t);
     const Vec3 unit = Normalized(n);
-    id = static_cast<int32_t>(out.Points.size() / 3);
-    out.Points.insert(out.Points.end(), {float(grid.Origin.x + p[0] * h), float(grid.Origin.y + p[1] * h),
-                                         float(grid.Origin.z + p[2] * h)});
-    out.Normals.insert(out.Normals.end(), {float(unit.x), float(unit.y), float(unit.z)});
+    id = vertices++;
+    float* point = scratch.Points + 3 * id;
+    point[0] = float(grid.Origin.x + p[0] * h), point[1] = float(grid.Origin.y + p[1] * h);
+    point[2] = float(grid.Origin.z + p[2] * h);
+    float* normal = scratch.Normals + 3 * id;
+    normal[0] = float(unit.x), normal[1] = float(unit.y), normal[2] = float(unit.z);
     const int* bone = sa >= sb ? a : b;  // the bone end of the edge
-    out.Materials.push_back(this->Volume.MaterialCode(base[0] + bone[0], base[1] + bone[1], base[2] + bone[2]) &
-                            DrillVolume::MaterialMask);
+    scratch.Materials[id] = this->Volume.MaterialCode(base[0] + bone[0], base[1] + bone[1], base[2] + bone[2]) &
+                            DrillVolume::MaterialMask;
     return uint32_t(id);
   };
   // Cells whose far corner is beyond the grid are not contoured.
@@ -257,15 +267,17 @@ void BlockMesher::ContourBlock(int32_t slot, Scratch& scratch) {
             ids[v] = vertex(x + e.Lower[0], y + e.Lower[1], z + e.Lower[2], e.Axis);
           }
           if (ids[0] == ids[1] || ids[1] == ids[2] || ids[0] == ids[2]) continue;
-          out.Triangles.insert(out.Triangles.end(), {ids[0], ids[1], ids[2]});
+          uint32_t* triangle = scratch.Triangles + 3 * triangles++;
+          triangle[0] = ids[0], triangle[1] = ids[1], triangle[2] = ids[2];
         }
       }
     }
   }
-  mesh.Points.assign(out.Points.begin(), out.Points.end());
-  mesh.Normals.assign(out.Normals.begin(), out.Normals.end());
-  mesh.Materials.assign(out.Materials.begin(), out.Materials.end());
-  mesh.Triangles.assign(out.Triangles.begin(), out.Triangles.end());
+  // One allocation per array of the block's entry (none when it had the room).
+  mesh.Points.assign(scratch.Points, scratch.Points + 3 * vertices);
+  mesh.Normals.assign(scratch.Normals, scratch.Normals + 3 * vertices);
+  mesh.Materials.assign(scratch.Materials, scratch.Materials + vertices);
+  mesh.Triangles.assign(scratch.Triangles, scratch.Triangles + 3 * triangles);
 }
 
 TriangleMesh ContourToTriangleMesh(DrillVolume& volume) {
