@@ -111,19 +111,7 @@ const RenderOutput& HapticRenderer::Update(const Pose& pose, double elapsed, Too
   const Vec3 tip = out.Points[0].Hip;
   out.Constraint = ConstraintForce{};
   if (constraints != nullptr) {
-    ConstraintContext tool;
-    tool.Dt = dt;
-    tool.Period = period;
-    tool.Stylus = pose;
-    tool.Tip = tip;
-    tool.TipVelocity = (tip - this->LastTip) / dt;
-    tool.Proxy = out.Points[0].Proxy;
-    tool.InContact = out.Contacts > 0;
-    tool.ContactStiffness = out.Contacts > 0 ? out.Gains.Stiffness : 0.0;
-    tool.ContactDamping = out.Contacts > 0 ? out.Gains.Damping : 0.0;
-    tool.Device = &this->Device;
-    tool.WorkspaceScale = this->Options.WorkspaceScale;
-    out.Constraint = constraints->Evaluate(tool);
+    out.Constraint = this->EvaluateConstraints(*constraints, pose, dt, period);
     total += out.Constraint.Force;
     stored += out.Constraint.StoredEnergy;
     renderedStiffness += out.Constraint.Stiffness;
@@ -158,6 +146,24 @@ const RenderOutput& HapticRenderer::Update(const Pose& pose, double elapsed, Too
   out.Force = out.Clamped ? total * (this->MaxForce / magnitude) : total;
   this->Observer.Held(out.Force);
   return out;
+}
+
+ConstraintForce HapticRenderer::EvaluateConstraints(ToolConstraints& constraints, const Pose& pose, double dt,
+                                                   double period) noexcept {
+  const RenderOutput& out = this->Out;
+  ConstraintContext tool;
+  tool.Dt = dt;
+  tool.Period = period;
+  tool.Stylus = pose;
+  tool.Tip = out.Points[0].Hip;
+  tool.TipVelocity = (tool.Tip - this->LastTip) / dt;
+  tool.Proxy = out.Points[0].Proxy;
+  tool.InContact = out.Contacts > 0;
+  tool.ContactStiffness = out.Contacts > 0 ? out.Gains.Stiffness : 0.0;
+  tool.ContactDamping = out.Contacts > 0 ? out.Gains.Damping : 0.0;
+  tool.Device = &this->Device;
+  tool.WorkspaceScale = this->Options.WorkspaceScale;
+  return constraints.Evaluate(tool);
 }
 
 }  // namespace rp

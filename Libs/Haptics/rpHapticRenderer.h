@@ -71,6 +71,9 @@ class HapticRenderer {
   const RenderOutput& Output() const { return this->Out; }
 
  private:
+  /// The virtual fixtures' force this tick (after the contacts' pass 2).
+  ConstraintForce EvaluateConstraints(ToolConstraints& constraints, const Pose& pose, double dt, double period) noexcept;
+
   RendererOptions Options;
   DeviceInfo Device;
   double MaxForce = 3.3;
