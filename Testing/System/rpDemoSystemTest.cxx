@@ -168,7 +168,8 @@ std::vector<std::string> SceneDataFiles(const fs::path& sceneFile) {
   std::string text, error;
   std::vector<std::string> files;
   if (!rp::ReadFile(sceneFile.string(), text, error)) return files;
-  for (const auto& node : nlohmann::json::parse(text)["nodes"])
+  const nlohmann::json scene = nlohmann::json::parse(text);
+  for (const auto& node : scene["nodes"])
     if (node.contains("dataFile")) files.push_back(node["dataFile"].get<std::string>());
   return files;
 }
