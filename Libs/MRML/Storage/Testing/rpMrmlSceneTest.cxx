@@ -1,14 +1,16 @@
 // 3D Slicer scenes (.mrml, .mrb) with our reader and writer: round trips of every node type we
 // map (matrices, model points in RAS, colours, references, attributes), the link forms and file
-// name encodings Slicer's files use, bad bundles and scenes, and the .mrml scenes of Slicer
+// name encodings Slicer's files use, saving again over a scene, bad bundles and scenes, and the .mrml scenes of Slicer
 // 5.0.3's own MRMLCore tests (../shared/oracles).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include <archive.h>
@@ -301,6 +303,59 @@ TEST(MrmlScene, APlanRoundTripsThroughAnMrbAndNothingIsLeftBesideIt) {
   ASSERT_TRUE(result.Ok) << result.Error;
   EXPECT_EQ(result.Reader, "3D Slicer scene");
   ExpectSamePlan(original, viaLoader);
+}
+
+// Issue 45 for Slicer's scenes: saving a plan again over its .mrml keeps the Data/ names with the
+// new content, removes the file of a node it no longer has, and never touches a file of Data/ it
+// did not write (that node takes another name); a .mrb saved twice holds the same files.
+TEST(MrmlScene, SavingAgainKeepsTheDataFileNamesAndNeverTouchesAFileItDidNotWrite) {
+  const fs::path dir = TestDir("mrml-resave");
+  const auto filesUnder = [](const fs::path& folder) {
+    std::set<std::string> names;
+    for (const auto& entry : fs::recursive_directory_iterator(folder))
+      if (entry.is_regular_file()) names.insert(fs::relative(entry.path(), folder).generic_string());
+    return names;
+  };
+  fs::create_directories(dir / "Data");
+  std::ofstream(dir / "Data" / "Landmarks.mrk.json") << "another scene's landmarks";
+  vtkNew<vtkRPScene> plan;
+  MakePlan(plan);
+  const std::string path = (dir / "plan.mrml").string();
+  rp::SceneTransferReport first, second, third, read;
+  ASSERT_TRUE(rp::WriteMrmlScene(plan, path, first)) << first.Error;
+  EXPECT_EQ(std::count(first.Files.begin(), first.Files.end(), "Data/Landmarks_2.mrk.json"), 1);
+  const std::set<std::string> files = filesUnder(dir);
+  EXPECT_EQ(files.size(), first.Files.size() + 2) << "the data files, the scene file and the other file";
+  auto* ct = Named<vtkRPScalarVolumeNode>(plan, "CT");
+  static_cast<short*>(ct->GetImageData()->GetScalarPointer())[0] = 1234;  // new content, same node
+  ct->GetImageData()->Modified();
+  ASSERT_TRUE(rp::WriteMrmlScene(plan, path, second)) << second.Error;
+  EXPECT_EQ(second.Files, first.Files);
+  EXPECT_EQ(filesUnder(dir), files);
+  vtkNew<vtkRPScene> loaded;
+  ASSERT_TRUE(rp::ReadMrmlScene(path, loaded, read)) << read.Error;
+  EXPECT_TRUE(read.Skipped.empty()) << read.FirstProblem();
+  EXPECT_EQ(static_cast<short*>(Named<vtkRPScalarVolumeNode>(loaded, "CT")->GetImageData()->GetScalarPointer())[0], 1234);
+  plan->RemoveNode(Named<vtkRPModelNode>(plan, "Femur"));
+  ASSERT_TRUE(rp::WriteMrmlScene(plan, path, third)) << third.Error;
+  std::set<std::string> withoutFemur = files;
+  withoutFemur.erase("Data/Femur.vtk");
+  EXPECT_EQ(filesUnder(dir), withoutFemur);
+  EXPECT_EQ(ReadText(dir / "Data" / "Landmarks.mrk.json"), "another scene's landmarks");
+  EXPECT_EQ(ReadText(path).find("roboplanOwnedFiles"), std::string::npos) << "a settled scene lists nothing more";
+
+  const fs::path bundleDir = TestDir("mrb-resave");
+  const std::string bundle = (bundleDir / "plan.mrb").string();
+  std::vector<std::string> entries[2];
+  for (auto& files : entries) {
+    rp::SceneTransferReport written, readBack;
+    vtkNew<vtkRPScene> fromBundle;
+    ASSERT_TRUE(rp::WriteMrmlBundle(plan, bundle, written)) << written.Error;
+    ASSERT_TRUE(rp::ReadMrmlBundle(bundle, fromBundle, readBack)) << readBack.Error;
+    files = readBack.Files;
+  }
+  EXPECT_EQ(entries[0], entries[1]);
+  EXPECT_EQ(filesUnder(bundleDir), std::set<std::string>{"plan.mrb"});
 }
 
 TEST(MrmlScene, OldLinkAttributesDoubleEncodedNamesAndLegacyModelCoordinatesReadAsSlicerReadsThem) {
