@@ -86,15 +86,47 @@ LoadResult ReadPath(vtkRPScene* scene, const std::string& path, const DataReader
   return result;
 }
 
+void AddReadNodes(vtkRPScene* scene, std::vector<vtkSmartPointer<vtkRPNode>>& nodes) {
+  // A reader that reads into the scene has added its nodes already.
+  std::vector<vtkSmartPointer<vtkRPNode>> added;
+  for (const auto& node : nodes)
+    if (!node->GetScene()) added.push_back(node);
+  if (added.size() > 1) {
+    scene->Import(added);
+    return;
+  }
+  for (auto& node : nodes)
+    if (!node->GetScene()) node = scene->AddNode(node);
+}
+
 LoadResult LoadPath(vtkRPScene* scene, const std::string& path, const ReadOptions& options) {
   LoadResult result = ReadPath(scene, path, options);
-  if (!result.Ok) return result;
-  for (auto& node : result.Nodes) {
-    // A reader that reads into the scene has added its nodes already.
-    if (!node->GetScene()) node = scene->AddNode(node);
-  }
+  if (result.Ok) AddReadNodes(scene, result.Nodes);
   return result;
 }
+
+namespace {
+
+// "'path' holds 2 objects: CT \"knee\" (1.2.3), SEG \"bones\" (1.2.4); choose one (--series <ID>)"
+// from what the reader listed (Details "objects"), else the nodes' names.
+std::string SeveralNodesError(const std::string& path, const LoadResult& result) {
+  std::string list;
+  const nlohmann::json& objects = result.Details.contains("objects") ? result.Details["objects"] : nlohmann::json();
+  if (objects.is_array() && objects.size() == result.Nodes.size()) {
+    for (const auto& o : objects) {
+      std::string kind = o.value("modality", std::string());  // an image's modality, else the object's kind
+      if (kind.empty()) kind = o.value("kind", std::string());
+      list += (list.empty() ? "" : ", ") + kind + " \"" + o.value("description", std::string()) + "\" (" +
+              o.value("id", std::string()) + ")";
+    }
+    return "'" + path + "' holds " + std::to_string(objects.size()) + " objects: " + list +
+           "; choose one by its ID (--series <ID>)";
+  }
+  for (const auto& node : result.Nodes) list += (list.empty() ? "" : ", ") + node->GetName();
+  return "'" + path + "' holds " + std::to_string(result.Nodes.size()) + " nodes (" + list + "), not one";
+}
+
+}  // namespace
 
 vtkRPNode* LoadSingleNode(vtkRPScene* scene, const std::string& path, LoadResult& result, const ReadOptions& options) {
   const DataReader* reader = FindDataReader(path);
@@ -107,7 +139,7 @@ vtkRPNode* LoadSingleNode(vtkRPScene* scene, const std::string& path, LoadResult
   result = ReadPath(scene, path, options);
   if (result.Ok && result.Nodes.size() != 1) {
     result.Ok = false;
-    result.Error = "'" + path + "' holds " + std::to_string(result.Nodes.size()) + " nodes, not one";
+    result.Error = SeveralNodesError(path, result);
   }
   if (!result.Ok) {
     result.Nodes.clear();
