@@ -274,26 +274,14 @@ static bool ReadRtStruct(const std::string& path, vtkRPSegmentationNode* node, s
 
 bool ReadDicomRtStruct(const std::string& path, vtkRPSegmentationNode* node, std::string& error,
                        const std::string& referencePath, std::vector<std::string>* warnings) {
-  try {
-    return ReadRtStruct(path, node, error, referencePath, nullptr, warnings);
-  } catch (const std::bad_alloc&) {
-    error = "out of memory reading " + path;
-  } catch (const std::exception& e) {
-    error = path + ": " + e.what();
-  }
-  return false;
+  return Guarded("reading", path, error,
+                 [&] { return ReadRtStruct(path, node, error, referencePath, nullptr, warnings); });
 }
 
 bool ReadDicomRtStruct(const std::string& file, vtkRPSegmentationNode* node, std::string& error,
                        const DicomReferenceSeries& reference, std::vector<std::string>* warnings) {
-  try {
-    return ReadRtStruct(file, node, error, "", &reference, warnings);
-  } catch (const std::bad_alloc&) {
-    error = "out of memory reading " + file;
-  } catch (const std::exception& e) {
-    error = file + ": " + e.what();
-  }
-  return false;
+  return Guarded("reading", file, error,
+                 [&] { return ReadRtStruct(file, node, error, "", &reference, warnings); });
 }
 
 }  // namespace rp

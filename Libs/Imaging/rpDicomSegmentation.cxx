@@ -620,38 +620,20 @@ static bool WriteSegmentation(vtkRPSegmentationNode* node, const std::string& re
 
 bool ReadDicomSegmentation(const std::string& path, vtkRPSegmentationNode* node, std::string& error,
                            const std::string& referencePath, std::vector<std::string>* warnings) {
-  try {
-    return ReadSegmentation(path, node, error, referencePath, nullptr, warnings);
-  } catch (const std::bad_alloc&) {
-    error = "out of memory reading " + path;
-  } catch (const std::exception& e) {
-    error = path + ": " + e.what();
-  }
-  return false;
+  return Guarded("reading", path, error,
+                 [&] { return ReadSegmentation(path, node, error, referencePath, nullptr, warnings); });
 }
 
 bool ReadDicomSegmentation(const std::string& file, vtkRPSegmentationNode* node, std::string& error,
                            const DicomReferenceSeries& reference, std::vector<std::string>* warnings) {
-  try {
-    return ReadSegmentation(file, node, error, "", &reference, warnings);
-  } catch (const std::bad_alloc&) {
-    error = "out of memory reading " + file;
-  } catch (const std::exception& e) {
-    error = file + ": " + e.what();
-  }
-  return false;
+  return Guarded("reading", file, error,
+                 [&] { return ReadSegmentation(file, node, error, "", &reference, warnings); });
 }
 
 bool WriteDicomSegmentation(vtkRPSegmentationNode* node, const std::string& referencePath, const std::string& outputFile,
                             std::string& error, const DicomSegmentationWriteOptions& options) {
-  try {
-    return WriteSegmentation(node, referencePath, outputFile, error, options);
-  } catch (const std::bad_alloc&) {
-    error = "out of memory writing " + outputFile;
-  } catch (const std::exception& e) {
-    error = outputFile + ": " + e.what();
-  }
-  return false;
+  return Guarded("writing", outputFile, error,
+                 [&] { return WriteSegmentation(node, referencePath, outputFile, error, options); });
 }
 
 }  // namespace rp

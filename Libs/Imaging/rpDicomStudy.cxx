@@ -2,9 +2,8 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <new>
-#include <stdexcept>
 
+#include "rpDicomCommon.h"
 #include "rpDicomReferenceSeries.h"
 #include "rpDicomRtStruct.h"
 #include "rpDicomSegmentation.h"
@@ -179,17 +178,12 @@ bool ReadStudy(const std::string& path, DicomStudy& study, std::string& error, c
 
 bool ReadDicomStudy(const std::string& path, DicomStudy& study, std::string& error, const DicomStudyOptions& options,
                     const ProgressCallback& progress) {
-  try {
+  return Guarded("reading", path, error, [&] {
     DicomStudy read;
     if (!ReadStudy(path, read, error, options, progress)) return false;
     study = std::move(read);
     return true;
-  } catch (const std::bad_alloc&) {
-    error = "out of memory reading " + path;
-  } catch (const std::exception& e) {
-    error = path + ": " + e.what();
-  }
-  return false;
+  });
 }
 
 }  // namespace rp
