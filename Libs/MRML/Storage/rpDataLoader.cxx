@@ -87,14 +87,13 @@ LoadResult ReadPath(vtkRPScene* scene, const std::string& path, const DataReader
 }
 
 void AddReadNodes(vtkRPScene* scene, std::vector<vtkSmartPointer<vtkRPNode>>& nodes) {
-  // A reader that reads into the scene has added its nodes already.
-  std::vector<vtkSmartPointer<vtkRPNode>> added;
+  // A reader that reads into the scene has added its nodes already. Nodes with IDs (those that
+  // may be referenced) go in one import; nodes without one are added one by one, as Import gives
+  // every node without an ID the same new one.
+  std::vector<vtkSmartPointer<vtkRPNode>> withIDs;
   for (const auto& node : nodes)
-    if (!node->GetScene()) added.push_back(node);
-  if (added.size() > 1) {
-    scene->Import(added);
-    return;
-  }
+    if (!node->GetScene() && !node->GetID().empty()) withIDs.push_back(node);
+  if (withIDs.size() > 1) scene->Import(withIDs);
   for (auto& node : nodes)
     if (!node->GetScene()) node = scene->AddNode(node);
 }
