@@ -1,12 +1,14 @@
 #pragma once
 // A volume file that is a labelmap (ITK-SNAP, TotalSegmentator, nnU-Net, Slicer's "labelmap
 // volume": plain integer NRRD/NIfTI) taken as a segmentation: one segment per label value, named
-// and coloured from a label table when one is given, "Label N" otherwise.
+// and coloured from a label table when one is given, "Label N" otherwise. `roboplan mesh` and
+// `roboplan convert <labelmap> <x.seg.nrrd>` take labelmaps this way.
 //
 // Labelmap or intensity image? `--input-kind labelmap|intensity` decides; `auto` takes a labelmap when
 // no threshold option was given, the voxels are whole numbers >= 0 with few distinct values, and
-// either a label table was given or the file is named like one (*-label.*, *_label.*,
-// *.label.*, *labelmap*, *.seg.*). The reason is returned so the caller can say it.
+// a label table was given, the file is named like one (*-label.*, *_label.*, *.label.*,
+// *labelmap*, *.seg.*) or the caller has other evidence (convert: the output is a .seg.nrrd).
+// The reason is returned so the caller can say it.
 #include <string>
 #include <vector>
 
@@ -45,11 +47,16 @@ struct InputChoice {
 
 InputChoice ChooseInputKind(InputKind requested, vtkImageData* image, const std::string& fileName,
                             bool haveLabelTable, bool intensityOptionsGiven);
+/// The same rule with other evidence that the image is a labelmap in place of a label table, e.g.
+/// "a .seg.nrrd output" (`roboplan convert`): "" when there is none.
+InputChoice ChooseInputKind(InputKind requested, vtkImageData* image, const std::string& fileName,
+                            const std::string& labelEvidence);
 
 /// True when the file name says "labelmap" (see above).
 bool LabelmapFileName(const std::string& fileName);
 
-/// Fills `segmentation` (labelmap + one segment per non-zero value) from `labels`. Integer images
+/// Fills `segmentation` (labelmap + one segment per non-zero value, its tissue class the table's
+/// or, failing that, the one its name gives: KnownTissueClass) from `labels`. Integer images
 /// are used as they are (not copied: pass a copy when the volume must stay independent);
 /// float/double images of whole numbers are converted to the smallest integer type that holds
 /// them. Fails, leaving `segmentation` untouched, on negative or fractional values, more than

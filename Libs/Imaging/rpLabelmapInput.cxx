@@ -18,6 +18,7 @@
 #include <vtkSMPThreadLocal.h>
 #include <vtkSMPTools.h>
 
+#include "rpDicomSegmentation.h"
 #include "vtkRPSegmentationNode.h"
 
 namespace rp {
@@ -168,6 +169,16 @@ bool LabelmapFileName(const std::string& fileName) {
 
 InputChoice ChooseInputKind(InputKind requested, vtkImageData* image, const std::string& fileName,
                             bool haveLabelTable, bool intensityOptionsGiven) {
+  if (intensityOptionsGiven && requested == InputKind::Auto) {
+    InputChoice choice;
+    choice.Reason = "intensity image (threshold or segmentation options given)";
+    return choice;
+  }
+  return ChooseInputKind(requested, image, fileName, haveLabelTable ? "a label table" : "");
+}
+
+InputChoice ChooseInputKind(InputKind requested, vtkImageData* image, const std::string& fileName,
+                            const std::string& labelEvidence) {
   InputChoice choice;
   auto decide = [&](bool labelmap, const std::string& reason) {
     choice.Labelmap = labelmap;
@@ -176,7 +187,6 @@ InputChoice ChooseInputKind(InputKind requested, vtkImageData* image, const std:
   };
   if (requested == InputKind::Labelmap) return decide(true, "labelmap (--input-kind labelmap)");
   if (requested == InputKind::Intensity) return decide(false, "intensity image (--input-kind intensity)");
-  if (intensityOptionsGiven) return decide(false, "intensity image (threshold or segmentation options given)");
   choice.Scanned = true;
   choice.Values = CollectImageValues(image, MaxLabels + 1);
   const ImageValues& values = choice.Values;
@@ -187,7 +197,7 @@ InputChoice ChooseInputKind(InputKind requested, vtkImageData* image, const std:
   const size_t labels = values.Values.size() - (values.Values.front() == 0 ? 1 : 0);
   const std::string what = Plural(labels, "label value");
   if (LabelmapFileName(fileName)) return decide(true, "labelmap (" + what + ", the file name says labelmap)");
-  if (haveLabelTable) return decide(true, "labelmap (" + what + " and a label table)");
+  if (!labelEvidence.empty()) return decide(true, "labelmap (" + what + " and " + labelEvidence + ")");
   return decide(false, "intensity image (whole numbers with " + what +
                      ": if it is a labelmap, say --input-kind labelmap or give --labels)");
 }
@@ -252,6 +262,7 @@ bool LabelmapToSegmentation(vtkImageData* labels, const vtkMatrix4x4* ijkToRAS, 
     if (segmentation->GetSegmentByID(s.ID)) s.ID += "_" + std::to_string(v);  // names need not be unique
     const auto color = entry ? entry->Color : DefaultLabelColor(v);
     for (int c = 0; c < 3; ++c) s.Color[c] = color[static_cast<size_t>(c)];
+    s.TissueClass = entry && !entry->TissueClass.empty() ? entry->TissueClass : KnownTissueClass(s.Name);
     segmentation->SetSegment(s);
   }
   segmentation->Modified();

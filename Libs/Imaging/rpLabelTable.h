@@ -2,7 +2,10 @@
 // Label tables: the names and colours of a labelmap's values, as other tools write them.
 //   Slicer colour table (.ctbl, .txt):   value name r g b a        (0-255, '#' comments)
 //   ITK-SNAP label description (.txt):   IDX R G B A VIS MSH "LABEL" (A in 0..1)
-// Both are read line by line; a line with a quoted label is ITK-SNAP's, otherwise Slicer's.
+//   a segmentation (.seg.nrrd):          its segments' label values, names, colours and tissue
+//                                        classes (the labels' own names, e.g. of an earlier run)
+// The text formats are read line by line; a line with a quoted label is ITK-SNAP's, otherwise
+// Slicer's.
 #include <array>
 #include <string>
 #include <vector>
@@ -13,6 +16,7 @@ struct LabelEntry {
   long Value = 0;
   std::string Name;
   std::array<double, 3> Color = {1, 1, 1};  // 0..1
+  std::string TissueClass;                  // "" when the table does not say (text formats)
 };
 
 struct LabelTable {
@@ -20,8 +24,8 @@ struct LabelTable {
   const LabelEntry* Find(long value) const;
 };
 
-/// Reads either format. Fails naming the file and line on a malformed entry, a duplicate value
-/// or a file without entries.
+/// Reads any of the formats. Fails naming the file (and line) on a malformed entry, a duplicate
+/// value or a file without entries.
 bool ReadLabelTable(const std::string& path, LabelTable& table, std::string& error);
 
 /// A colour for a label without a table entry: distinct for neighbouring values, stable.

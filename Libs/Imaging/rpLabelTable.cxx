@@ -6,6 +6,12 @@
 #include <set>
 #include <sstream>
 
+#include <vtkNew.h>
+
+#include "rpNodeStorage.h"
+#include "rpSegmentationIO.h"
+#include "vtkRPSegmentationNode.h"
+
 namespace rp {
 
 const LabelEntry* LabelTable::Find(long value) const {
@@ -79,9 +85,34 @@ bool ParseLine(const std::string& line, LabelEntry& entry, std::string& why) {
   return true;
 }
 
+// A .seg.nrrd's segments as a table.
+bool ReadSegmentationTable(const std::string& path, LabelTable& table, std::string& error) {
+  vtkNew<vtkRPSegmentationNode> segmentation;
+  if (!ReadSegmentationFile(path, segmentation, error)) {
+    error = "label table '" + path + "': " + error;
+    return false;
+  }
+  LabelTable result;
+  for (const auto& segment : segmentation->GetSegments()) {
+    LabelEntry entry;
+    entry.Value = segment.LabelValue;
+    entry.Name = segment.Name.empty() ? segment.ID : segment.Name;
+    for (size_t c = 0; c < 3; ++c) entry.Color[c] = segment.Color[c];
+    entry.TissueClass = segment.TissueClass;
+    result.Entries.push_back(entry);
+  }
+  if (result.Entries.empty()) {
+    error = "label table '" + path + "': the segmentation has no segments";
+    return false;
+  }
+  table = std::move(result);
+  return true;
+}
+
 }  // namespace
 
 bool ReadLabelTable(const std::string& path, LabelTable& table, std::string& error) {
+  if (HasExtension(path, ".seg.nrrd")) return ReadSegmentationTable(path, table, error);
   std::ifstream in(path);
   if (!in) {
     error = "cannot open label table '" + path + "'";
