@@ -7,9 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <fcntl.h>
-#include <sched.h>
 #include <signal.h>
-#include <sys/mount.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -34,6 +32,7 @@
 
 #include "rpSceneIO.h"
 #include "rpTestOutput.h"
+#include "rpTinyDisk.h"
 #include "vtkRPFiducialListNode.h"
 #include "vtkRPLinearTransformNode.h"
 #include "vtkRPModelNode.h"
@@ -253,30 +252,6 @@ TEST(SceneSaveFault, SavingAgainKeepsOnlyTheNewFilesAndNeverOverwritesTheCommitt
   EXPECT_EQ(LoadFingerprint(sceneFile).find("LOAD"), std::string::npos);
 }
 
-namespace {
-
-// In a child process with a private mount namespace (the mount vanishes with it): mount a
-// `megabytes` tmpfs on `dir`. Returns "" on success, else why not (no permission here).
-std::string MountTinyTmpfs(const fs::path& dir, int kilobytes) {
-  if (unshare(CLONE_NEWNS) != 0) {
-    // Not root: a user namespace maps us to root inside it, where tmpfs may be mounted.
-    const uid_t uid = getuid();
-    const gid_t gid = getgid();
-    if (unshare(CLONE_NEWUSER | CLONE_NEWNS) != 0) return std::string("unshare: ") + std::strerror(errno);
-    std::ofstream("/proc/self/setgroups") << "deny";
-    std::ofstream("/proc/self/uid_map") << "0 " << uid << " 1";
-    std::ofstream("/proc/self/gid_map") << "0 " << gid << " 1";
-  }
-  if (mount("none", "/", nullptr, MS_REC | MS_PRIVATE, nullptr) != 0)
-    return std::string("making mounts private: ") + std::strerror(errno);
-  const std::string options = "size=" + std::to_string(kilobytes) + "k";
-  if (mount("tmpfs", dir.c_str(), "tmpfs", 0, options.c_str()) != 0)
-    return std::string("mount -t tmpfs: ") + std::strerror(errno);
-  return "";
-}
-
-}  // namespace
-
 TEST(SceneSaveFault, AFullDiskSaysSoAndKeepsThePreviousScene) {
   // Scene 0 with a 48-slice CT (~400 kB) fits in 1 MiB; scene 1 with a 160-slice CT (~1.3 MB)
   // cannot be written beside it.
@@ -292,7 +267,7 @@ TEST(SceneSaveFault, AFullDiskSaysSoAndKeepsThePreviousScene) {
       (void)!write(out[1], text.data(), text.size());
       _exit(0);
     };
-    const std::string why = MountTinyTmpfs(dir, 1024);
+    const std::string why = rptest::MountTinyTmpfs(dir, 1024);
     if (!why.empty()) report("skip\n" + why);
     vtkNew<vtkRPScene> first, second;
     BuildScene(first, 0, 48);

@@ -3,10 +3,6 @@
 // v3 framing), COMMAND with MRMLNodeName metadata (→ RTS_COMMAND with Status/Message metadata)
 // and the older STRING CMD_<uid> (→ STRING ACK_<uid> with <CommandReply .../>); StartRecording /
 // StopRecording write a PLUS sequence file read back by rpPlusSequenceFile.
-#include <arpa/inet.h>
-#include <netinet/in.h>
-#include <poll.h>
-#include <sys/socket.h>
 #include <unistd.h>
 
 #include <cstring>
@@ -41,46 +37,19 @@ struct Reply {
   }
 };
 
+// Slicer's OpenIGTLinkIF as a raw client (rpTrackingTestHelpers), with the messages kept whole.
 class SlicerLikeClient {
  public:
-  explicit SlicerLikeClient(int port) {
-    this->Fd = ::socket(AF_INET, SOCK_STREAM, 0);
-    sockaddr_in a{};
-    a.sin_family = AF_INET;
-    a.sin_port = htons(static_cast<uint16_t>(port));
-    inet_pton(AF_INET, "127.0.0.1", &a.sin_addr);
-    this->Connected = ::connect(this->Fd, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0;
-  }
-  ~SlicerLikeClient() { ::close(this->Fd); }
-  void Send(const std::vector<uint8_t>& m) { ASSERT_EQ(::send(this->Fd, m.data(), m.size(), MSG_NOSIGNAL), static_cast<ssize_t>(m.size())); }
+  explicit SlicerLikeClient(int port) : Client(port), Connected(Client.Connected()) {}
+  void Send(const std::vector<uint8_t>& m) { ASSERT_TRUE(this->Client.Send(m)); }
   /// The next message of `type` (keep-alives and poses are passed over), within 5 s.
-  bool Next(const char* type, Reply& out) {
-    const double deadline = rp::SteadySeconds() + 5;
-    while (rp::SteadySeconds() < deadline) {
-      uint8_t header[rp::igtl::HeaderSize];
-      if (!this->ReadExactly(header, sizeof header, deadline)) return false;
-      if (rp::igtl::ParseHeader(header, out.Header, 1u << 20) != rp::igtl::Status::Ok) return false;
-      out.Body.resize(out.Header.BodySize);
-      if (!this->ReadExactly(out.Body.data(), out.Body.size(), deadline)) return false;
-      if (out.Header.Is(type)) return true;
-    }
-    return false;
-  }
-  bool Connected = false;
+  bool Next(const char* type, Reply& out) { return this->Client.Next(type, out.Header, out.Body); }
 
  private:
-  bool ReadExactly(uint8_t* p, size_t n, double deadline) {
-    while (n > 0) {
-      pollfd f{this->Fd, POLLIN, 0};
-      if (::poll(&f, 1, static_cast<int>(std::max(0.0, deadline - rp::SteadySeconds()) * 1000)) <= 0) return false;
-      const ssize_t got = ::recv(this->Fd, p, n, 0);
-      if (got <= 0) return false;
-      p += got;
-      n -= static_cast<size_t>(got);
-    }
-    return true;
-  }
-  int Fd = -1;
+  rp::test::IgtlTestClient Client;
+
+ public:
+  const bool Connected;
 };
 
 std::vector<uint8_t> Command(uint32_t id, const std::string& name, const std::string& xml) {

@@ -9,12 +9,6 @@
 //    simulator) with upstream OpenIGTLink 3.x as both clients, each a second process
 //    (rpUpstreamIgtlClient), the refused one from 127.0.0.2 asking for the stylus calibration to
 //    change and for an existing file elsewhere to be overwritten.
-#include <arpa/inet.h>
-#include <netinet/in.h>
-#include <poll.h>
-#include <sys/socket.h>
-#include <unistd.h>
-
 #include <atomic>
 #include <cmath>
 #include <filesystem>
@@ -26,11 +20,13 @@
 
 #include <gtest/gtest.h>
 
+#include "rpAtomicFile.h"
 #include "rpIgtlProtocol.h"
 #include "rpIgtlServer.h"
 #include "rpNetworkAddress.h"
 #include "rpPlusSequenceFile.h"
 #include "rpSharedData.h"
+#include "rpTestOutput.h"
 #include "rpTestTime.h"
 #include "rpTrackingCommands.h"
 #include "rpTrackingTestHelpers.h"
@@ -40,80 +36,12 @@ using namespace rp;
 
 namespace {
 
-fs::path TestDir(const std::string& name) {
-  const fs::path dir = fs::path(ROBOPLAN_TEST_OUTPUT_DIR) / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
 std::string ReadText(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
+  std::string text, error;
+  return rp::ReadFile(path.string(), text, error) ? text : "(unreadable: " + error + ")";
 }
 
-// A raw OpenIGTLink client whose socket is bound to `from` before it connects.
-class ClientFrom {
- public:
-  ClientFrom(const char* from, const char* to, int port) {
-    this->Fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-    sockaddr_in local{}, remote{};
-    local.sin_family = remote.sin_family = AF_INET;
-    inet_pton(AF_INET, from, &local.sin_addr);
-    inet_pton(AF_INET, to, &remote.sin_addr);
-    remote.sin_port = htons(static_cast<uint16_t>(port));
-    this->Connected = ::bind(this->Fd, reinterpret_cast<sockaddr*>(&local), sizeof local) == 0 &&
-                      ::connect(this->Fd, reinterpret_cast<sockaddr*>(&remote), sizeof remote) == 0;
-  }
-  ~ClientFrom() { ::close(this->Fd); }
-  // COMMAND (header v2) and its RTS_COMMAND's Status and Message.
-  bool Command(const std::string& xml, std::string& status, std::string& message) {
-    std::vector<uint8_t> content(igtl::CommandHeaderSize + xml.size());
-    igtl::EncodeCommand(++this->Id, "Command", xml.data(), xml.size(), content.data());
-    const auto bytes = igtl::BuildMessage(2, "COMMAND", "CMD", WallSeconds(), content.data(), content.size(), {}, this->Id);
-    if (::send(this->Fd, bytes.data(), bytes.size(), MSG_NOSIGNAL) != static_cast<ssize_t>(bytes.size())) return false;
-    igtl::Header h;
-    std::vector<uint8_t> body;
-    if (!this->Next("RTS_COMMAND", h, body)) return false;
-    igtl::Body split;
-    if (igtl::SplitBody(h, body.data(), split) != igtl::Status::Ok) return false;
-    uint32_t size = 0;
-    const char* s = split.Find("Status", size);
-    status = s ? std::string(s, size) : "";
-    const char* m = split.Find("Message", size);
-    message = m ? std::string(m, size) : "";
-    return true;
-  }
-  bool Next(const char* type, igtl::Header& h, std::vector<uint8_t>& body) {
-    const double deadline = SteadySeconds() + 5;
-    while (SteadySeconds() < deadline) {
-      uint8_t header[igtl::HeaderSize];
-      if (!this->Read(header, sizeof header, deadline) || igtl::ParseHeader(header, h, 1u << 20) != igtl::Status::Ok) return false;
-      body.resize(h.BodySize);
-      if (!this->Read(body.data(), body.size(), deadline)) return false;
-      if (h.Is(type)) return true;
-    }
-    return false;
-  }
-  bool Connected = false;
-
- private:
-  bool Read(uint8_t* p, size_t n, double deadline) {
-    while (n > 0) {
-      pollfd f{this->Fd, POLLIN, 0};
-      if (::poll(&f, 1, static_cast<int>(std::max(0.0, deadline - SteadySeconds()) * 1000)) <= 0) return false;
-      const ssize_t got = ::recv(this->Fd, p, n, 0);
-      if (got <= 0) return false;
-      p += got;
-      n -= static_cast<size_t>(got);
-    }
-    return true;
-  }
-  int Fd = -1;
-  uint32_t Id = 0;
-};
+using ClientFrom = test::IgtlTestClient;  // (port, from, to)
 
 // The server's session log lines, collected from its thread.
 struct LogLines {
@@ -174,9 +102,9 @@ TEST(IgtlNetwork, TheServerListensOnTheAddressItIsGivenOnly) {
   IgtlServer server(table, o);
   std::string error;
   ASSERT_TRUE(server.Start(error)) << error;
-  ClientFrom there("127.0.0.2", "127.0.0.3", server.Port()), elsewhere("127.0.0.2", "127.0.0.1", server.Port());
-  EXPECT_TRUE(there.Connected);
-  EXPECT_FALSE(elsewhere.Connected);  // nothing listens on 127.0.0.1 at that port
+  ClientFrom there(server.Port(), "127.0.0.2", "127.0.0.3"), elsewhere(server.Port(), "127.0.0.2", "127.0.0.1");
+  EXPECT_TRUE(there.Connected());
+  EXPECT_FALSE(elsewhere.Connected());  // nothing listens on 127.0.0.1 at that port
   server.Stop();
 
   o.BindAddress = "192.168.300.1";
@@ -193,7 +121,7 @@ TEST(IgtlNetwork, TheServerListensOnTheAddressItIsGivenOnly) {
 // The policy on the server itself: a client from 127.0.0.2 (another machine) with 127.0.0.1 alone
 // allowed to change state; the allowed client from 127.0.0.1.
 TEST(IgtlNetwork, AClientNotAllowedGetsTheStreamAndReadOnlyCommandsAndAReplyNamingWhyForTheRest) {
-  const fs::path dir = TestDir("policy");
+  const fs::path dir = rptest::TestDir("policy");
   const fs::path victim = dir / "victim.igs.mha";
   { std::ofstream(victim) << "an earlier recording\n"; }
   ToolPoseTable table;
@@ -221,8 +149,8 @@ TEST(IgtlNetwork, AClientNotAllowedGetsTheStreamAndReadOnlyCommandsAndAReplyNami
     }
   });
 
-  ClientFrom other("127.0.0.2", "127.0.0.1", server.Port());
-  ASSERT_TRUE(other.Connected);
+  ClientFrom other(server.Port(), "127.0.0.2", "127.0.0.1");
+  ASSERT_TRUE(other.Connected());
   igtl::Header h;
   std::vector<uint8_t> body;
   ASSERT_TRUE(other.Next("TRANSFORM", h, body)) << "the stream reaches a client that may not change state";
@@ -244,8 +172,8 @@ TEST(IgtlNetwork, AClientNotAllowedGetsTheStreamAndReadOnlyCommandsAndAReplyNami
   ASSERT_TRUE(other.Command("<Command Name=\"StopRecording\" />", status, message));
   EXPECT_NE(message.find("StopRecording refused"), std::string::npos) << message;
 
-  ClientFrom local("127.0.0.1", "127.0.0.1", server.Port());
-  ASSERT_TRUE(local.Connected);
+  ClientFrom local(server.Port(), "127.0.0.1", "127.0.0.1");
+  ASSERT_TRUE(local.Connected());
   ASSERT_TRUE(local.Command(update, status, message));
   EXPECT_EQ(status, "SUCCESS") << message;
   ASSERT_TRUE(other.Command("<Command Name=\"GetTransform\" TransformName=\"StylusTipToStylus\" />", status, message));
@@ -339,7 +267,7 @@ double TipZ(const std::vector<std::string>& lines, size_t nth) {
 TEST(IgtlNetwork, TrackServesAnotherMachineWithUpstreamClientsRefusedAndAllowed) {
   const std::string config = std::string(ROBOPLAN_SHARED_DATA_DIR) + "/../oracles/plus-data/ConfigFiles/PlusDeviceSet_Server_NDIPolaris.xml";
   RP_REQUIRE_SHARED_DATA(config);
-  const fs::path dir = TestDir("two-machines");
+  const fs::path dir = rptest::TestDir("two-machines");
   const fs::path victim = dir / "elsewhere" / "earlier.igs.mha";
   fs::create_directories(victim.parent_path());
   { std::ofstream(victim) << "an earlier recording\n"; }

@@ -10,14 +10,8 @@
 //  * a full disk (a tiny tmpfs in a private mount namespace): the recording stops with a message
 //    naming the file and the reason, the file keeps every frame written before, readable; the
 //    server's StopRecording says so.
-#include <arpa/inet.h>
 #include <fcntl.h>
 #include <malloc.h>
-#include <netinet/in.h>
-#include <poll.h>
-#include <sched.h>
-#include <sys/mount.h>
-#include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -35,13 +29,17 @@
 #include <gtest/gtest.h>
 
 #include "rpAllocationCounter.h"
+#include "rpAtomicFile.h"
 #include "rpIgtlProtocol.h"
 #include "rpIgtlServer.h"
 #include "rpPlusRecorder.h"
 #include "rpPlusSequenceFile.h"
 #include "rpPlusSequenceWriter.h"
 #include "rpRecordingFolder.h"
+#include "rpTestOutput.h"
+#include "rpTinyDisk.h"
 #include "rpTrackingRecording.h"
+#include "rpTrackingTestHelpers.h"
 
 namespace fs = std::filesystem;
 using namespace rp;
@@ -52,18 +50,9 @@ extern "C" size_t __sanitizer_get_current_allocated_bytes();
 
 namespace {
 
-fs::path TestDir(const std::string& name) {
-  const fs::path dir = fs::path(ROBOPLAN_TEST_OUTPUT_DIR) / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
 std::string ReadText(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
+  std::string text, error;
+  return rp::ReadFile(path.string(), text, error) ? text : "(unreadable: " + error + ")";
 }
 
 // Heap bytes in use (the sanitizers' allocator when one runs, else glibc's).
@@ -95,7 +84,7 @@ ToolState StateOf(int frame, int tool) {
 // ---------------------------------------------------------------- the recording folder
 
 TEST(RecordingFolder, EveryHostileOutputFilenameIsRefusedByNameOrMadeUnique) {
-  const fs::path dir = TestDir("folder");
+  const fs::path dir = rptest::TestDir("folder");
   const fs::path outside = dir / "outside";
   const fs::path inside = dir / "recordings";
   fs::create_directories(outside);
@@ -158,7 +147,7 @@ TEST(RecordingFolder, EveryHostileOutputFilenameIsRefusedByNameOrMadeUnique) {
 // ---------------------------------------------------------------- the streaming writer
 
 TEST(PlusSequenceWriter, FramesReachTheDiskAsTheyComeAndTheFileReadsAfterEveryBatch) {
-  const fs::path dir = TestDir("stream");
+  const fs::path dir = rptest::TestDir("stream");
   for (const char* name : {"stream.igs.mha", "stream.igs.nrrd"}) {
     SCOPED_TRACE(name);
     const fs::path path = dir / name;
@@ -212,7 +201,7 @@ TEST(PlusSequenceWriter, FramesReachTheDiskAsTheyComeAndTheFileReadsAfterEveryBa
 }
 
 TEST(PlusSequenceWriter, ToolNamesAndValuesCannotBreakTheHeader) {
-  const fs::path path = TestDir("names") / "names.igs.mha";
+  const fs::path path = rptest::TestDir("names") / "names.igs.mha";
   PlusSequenceWriter writer;
   std::string error;
   ASSERT_TRUE(writer.Create(path.string(), error)) << error;
@@ -233,7 +222,7 @@ TEST(PlusSequenceWriter, ToolNamesAndValuesCannotBreakTheHeader) {
 }
 
 TEST(PlusSequenceWriter, TrackRecordStreamsAPlusRecordingThatReadsBack) {
-  const fs::path path = TestDir("track-record") / "track.igs.mha";
+  const fs::path path = rptest::TestDir("track-record") / "track.igs.mha";
   RecordingWriter recorder;
   std::string error;
   ASSERT_TRUE(recorder.Open(path.string(), error)) << error;
@@ -307,58 +296,10 @@ TEST(PlusRecorder, AnHourOfTenToolsAt60HzKeepsMemoryFlat) {
 
 namespace {
 
-// In a child process with a private mount namespace (the mount vanishes with it): a tmpfs of
-// `kilobytes` on `dir`. "" on success, else why not (as rpSceneSaveFaultTest).
-std::string MountTinyTmpfs(const fs::path& dir, int kilobytes) {
-  if (unshare(CLONE_NEWNS) != 0) {
-    const uid_t uid = getuid();
-    const gid_t gid = getgid();
-    if (unshare(CLONE_NEWUSER | CLONE_NEWNS) != 0) return std::string("unshare: ") + std::strerror(errno);
-    std::ofstream("/proc/self/setgroups") << "deny";
-    std::ofstream("/proc/self/uid_map") << "0 " << uid << " 1";
-    std::ofstream("/proc/self/gid_map") << "0 " << gid << " 1";
-  }
-  if (mount("none", "/", nullptr, MS_REC | MS_PRIVATE, nullptr) != 0) return std::string("making mounts private: ") + std::strerror(errno);
-  const std::string options = "size=" + std::to_string(kilobytes) + "k";
-  if (mount("tmpfs", dir.c_str(), "tmpfs", 0, options.c_str()) != 0) return std::string("mount -t tmpfs: ") + std::strerror(errno);
-  return "";
-}
-
-// A raw client's COMMAND and its RTS_COMMAND's Status + ": " + Message.
-std::string Command(int fd, uint32_t id, const std::string& xml) {
-  std::vector<uint8_t> content(igtl::CommandHeaderSize + xml.size());
-  igtl::EncodeCommand(id, "Command", xml.data(), xml.size(), content.data());
-  const auto bytes = igtl::BuildMessage(2, "COMMAND", "CMD", WallSeconds(), content.data(), content.size(), {}, id);
-  if (::send(fd, bytes.data(), bytes.size(), MSG_NOSIGNAL) != static_cast<ssize_t>(bytes.size())) return "send failed";
-  const double deadline = SteadySeconds() + 10;
-  std::vector<uint8_t> body;
-  auto read = [&](uint8_t* p, size_t n) {
-    while (n > 0) {
-      pollfd f{fd, POLLIN, 0};
-      if (::poll(&f, 1, 1000) <= 0 && SteadySeconds() > deadline) return false;
-      const ssize_t got = ::recv(fd, p, n, MSG_DONTWAIT);
-      if (got == 0) return false;
-      if (got < 0) continue;
-      p += got;
-      n -= static_cast<size_t>(got);
-    }
-    return true;
-  };
-  for (;;) {
-    uint8_t header[igtl::HeaderSize];
-    igtl::Header h;
-    if (!read(header, sizeof header) || igtl::ParseHeader(header, h, 1u << 20) != igtl::Status::Ok) return "no reply";
-    body.resize(h.BodySize);
-    if (!read(body.data(), body.size())) return "no reply";
-    if (!h.Is("RTS_COMMAND")) continue;
-    igtl::Body split;
-    igtl::SplitBody(h, body.data(), split);
-    uint32_t size = 0;
-    const char* status = split.Find("Status", size);
-    std::string text = status ? std::string(status, size) : "";
-    const char* message = split.Find("Message", size);
-    return text + ": " + (message ? std::string(message, size) : "");
-  }
+// A raw client's COMMAND: its RTS_COMMAND's Status + ": " + Message.
+std::string Command(test::IgtlTestClient& client, const std::string& xml) {
+  std::string status, message;
+  return client.Command(xml, status, message) ? status + ": " + message : "no reply";
 }
 
 // The child's work on the tiny disk: the writer alone, then the server's StartRecording and
@@ -425,20 +366,16 @@ std::string FullDiskRun(const fs::path& dir) {
       std::this_thread::sleep_for(std::chrono::microseconds(1500));
     }
   });
-  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_port = htons(static_cast<uint16_t>(server.Port()));
-  inet_pton(AF_INET, "127.0.0.1", &a.sin_addr);
-  if (::connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0) return "fail\nconnect";
+  test::IgtlTestClient client(server.Port());
+  if (!client.Connected()) return "fail\nconnect";
   // PlusServer's CLIENTINFO without TRANSFORM: this client gets keep-alives only, so it can sit
   // without reading while the disk fills (a client that reads nothing for 2 s is dropped).
   const std::string info = "<ClientInfo><MessageTypes><Message Type=\"STATUS\" /></MessageTypes></ClientInfo>";
   std::vector<uint8_t> content(igtl::StringHeaderSize + info.size());
   igtl::EncodeString(info.data(), info.size(), content.data());
   const auto clientInfo = igtl::BuildMessage(1, "CLIENTINFO", "Client", WallSeconds(), content.data(), content.size());
-  if (::send(fd, clientInfo.data(), clientInfo.size(), MSG_NOSIGNAL) != static_cast<ssize_t>(clientInfo.size())) return "fail\nclientinfo";
-  report << "start " << Command(fd, 1, "<Command Name=\"StartRecording\" OutputFilename=\"server.igs.mha\" />") << "\n";
+  if (!client.Send(clientInfo)) return "fail\nclientinfo";
+  report << "start " << Command(client, "<Command Name=\"StartRecording\" OutputFilename=\"server.igs.mha\" />") << "\n";
   bool stopped = false;
   for (int i = 0; i < 600 && !stopped; ++i) {  // up to 30 s
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
@@ -446,10 +383,9 @@ std::string FullDiskRun(const fs::path& dir) {
     for (const auto& line : log) stopped |= line.rfind("recording stopped: ", 0) == 0;
   }
   report << "logged-stop " << stopped << "\n";
-  report << "stop " << Command(fd, 2, "<Command Name=\"StopRecording\" />") << "\n";
+  report << "stop " << Command(client, "<Command Name=\"StopRecording\" />") << "\n";
   run = false;
   tracker.join();
-  ::close(fd);
   server.Stop();
   try {
     report << "server-frames " << ReadPlusSequence((dir / "server.igs.mha").string()).Frames.size() << "\n";
@@ -462,14 +398,14 @@ std::string FullDiskRun(const fs::path& dir) {
 }  // namespace
 
 TEST(PlusRecorder, AFullDiskStopsTheRecordingWithAClearReplyAndKeepsWhatWasWrittenReadable) {
-  const fs::path dir = TestDir("full-disk");
+  const fs::path dir = rptest::TestDir("full-disk");
   int out[2];
   ASSERT_EQ(pipe(out), 0);
   const pid_t child = fork();
   ASSERT_GE(child, 0);
   if (child == 0) {
     close(out[0]);
-    const std::string why = MountTinyTmpfs(dir, 256);
+    const std::string why = rptest::MountTinyTmpfs(dir, 256);
     const std::string result = why.empty() ? FullDiskRun(dir) : "skip\n" + why;
     (void)!write(out[1], result.data(), result.size());
     _exit(0);

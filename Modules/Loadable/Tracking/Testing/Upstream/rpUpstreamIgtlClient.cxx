@@ -31,6 +31,8 @@
 #include <igtlStatusMessage.h>
 #include <igtlTransformMessage.h>
 
+#include "rpUpstreamReceive.h"
+
 namespace {
 
 // upstream's ClientSocket, bound to a chosen local address before it connects.
@@ -62,25 +64,9 @@ int Fail(const std::string& what) {
 // The next message of `type` (others are skipped), unpacked by upstream with its CRC check.
 template <class M>
 typename M::Pointer Receive(igtl::Socket* socket, const char* type) {
-  for (int skipped = 0; skipped < 2000; ++skipped) {
-    auto header = igtl::MessageHeader::New();
-    header->InitBuffer();
-    bool timeout = false;
-    if (socket->Receive(header->GetBufferPointer(), header->GetBufferSize(), timeout) != header->GetBufferSize()) return nullptr;
-    header->Unpack();
-    if (std::strcmp(header->GetDeviceType(), type) != 0) {
-      socket->Skip(header->GetBodySizeToRead(), 0);
-      continue;
-    }
-    auto message = M::New();
-    message->SetMessageHeader(header);
-    message->AllocateBuffer();
-    if (socket->Receive(message->GetBufferBodyPointer(), message->GetBufferBodySize(), timeout) != message->GetBufferBodySize())
-      return nullptr;
-    if (!(message->Unpack(1) & igtl::MessageHeader::UNPACK_BODY)) return nullptr;
-    return message;
-  }
-  return nullptr;
+  int result = 0;
+  auto message = rptest::UpstreamReceive<M>(socket, type, result, 2000);
+  return message && (result & igtl::MessageHeader::UNPACK_BODY) ? message : nullptr;
 }
 
 }  // namespace
