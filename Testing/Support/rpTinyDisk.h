@@ -4,12 +4,14 @@
 // namespace that maps us to root there. "" on success, else why not (the caller skips, saying so).
 #include <sched.h>
 #include <sys/mount.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <string>
 
 namespace rptest {
@@ -27,6 +29,31 @@ inline std::string MountTinyTmpfs(const std::filesystem::path& dir, int kilobyte
   const std::string options = "size=" + std::to_string(kilobytes) + "k";
   if (mount("tmpfs", dir.c_str(), "tmpfs", 0, options.c_str()) != 0) return std::string("mount -t tmpfs: ") + std::strerror(errno);
   return "";
+}
+
+/// Runs `work` in a child process whose `dir` is a tmpfs of `kilobytes` and returns what it
+/// returned; "skip\n<why>" when no such disk can be made here (the test then skips, saying why).
+/// The child ends with _exit: it runs no destructor of the test process's objects.
+inline std::string RunOnTinyDisk(const std::filesystem::path& dir, int kilobytes, const std::function<std::string()>& work) {
+  int out[2];
+  if (pipe(out) != 0) return "skip\npipe: " + std::string(std::strerror(errno));
+  const pid_t child = fork();
+  if (child < 0) return "skip\nfork: " + std::string(std::strerror(errno));
+  if (child == 0) {
+    close(out[0]);
+    const std::string why = MountTinyTmpfs(dir, kilobytes);
+    const std::string text = why.empty() ? work() : "skip\n" + why;
+    (void)!write(out[1], text.data(), text.size());
+    _exit(0);
+  }
+  close(out[1]);
+  std::string result;
+  char buffer[4096];
+  for (ssize_t n; (n = read(out[0], buffer, sizeof buffer)) > 0;) result.append(buffer, static_cast<size_t>(n));
+  close(out[0]);
+  int status = 0;
+  waitpid(child, &status, 0);
+  return result;
 }
 
 }  // namespace rptest

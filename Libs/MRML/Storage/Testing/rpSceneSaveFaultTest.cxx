@@ -257,40 +257,22 @@ TEST(SceneSaveFault, AFullDiskSaysSoAndKeepsThePreviousScene) {
   // cannot be written beside it.
   const std::string small = FingerprintOf(0, 48);
   const fs::path dir = TestDir("full-disk");
-  int out[2];
-  ASSERT_EQ(pipe(out), 0);
-  const pid_t child = fork();
-  ASSERT_GE(child, 0);
-  if (child == 0) {
-    close(out[0]);
-    auto report = [&](const std::string& text) {
-      (void)!write(out[1], text.data(), text.size());
-      _exit(0);
-    };
-    const std::string why = rptest::MountTinyTmpfs(dir, 1024);
-    if (!why.empty()) report("skip\n" + why);
+  const std::string result = rptest::RunOnTinyDisk(dir, 1024, [&]() -> std::string {
     vtkNew<vtkRPScene> first, second;
     BuildScene(first, 0, 48);
     BuildScene(second, 1, 160);
     const std::string sceneFile = (dir / "knee.rpscene").string();
     std::string error;
-    if (!rp::SaveScene(first, sceneFile, error)) report("fail\nthe small scene did not fit: " + error);
+    if (!rp::SaveScene(first, sceneFile, error)) return "fail\nthe small scene did not fit: " + error;
     std::set<std::string> before;
     for (const auto& entry : fs::directory_iterator(dir)) before.insert(entry.path().filename().string());
     const bool saved = rp::SaveScene(second, sceneFile, error);
     std::set<std::string> after;
     for (const auto& entry : fs::directory_iterator(dir)) after.insert(entry.path().filename().string());
     std::replace(error.begin(), error.end(), '\n', ' ');  // one line through the pipe
-    report(std::string(saved ? "saved" : "refused") + "\n" + error + "\n" + (before == after ? "same files" : "files changed") +
-           "\n" + LoadFingerprint(sceneFile));
-  }
-  close(out[1]);
-  std::string result;
-  char buffer[4096];
-  for (ssize_t n; (n = read(out[0], buffer, sizeof(buffer))) > 0;) result.append(buffer, static_cast<size_t>(n));
-  close(out[0]);
-  int status = 0;
-  waitpid(child, &status, 0);
+    return std::string(saved ? "saved" : "refused") + "\n" + error + "\n" + (before == after ? "same files" : "files changed") +
+           "\n" + LoadFingerprint(sceneFile);
+  });
   if (result.rfind("skip\n", 0) == 0)
     GTEST_SKIP() << "cannot mount a tiny tmpfs here (needs root, CAP_SYS_ADMIN or user namespaces): " << result.substr(5);
   std::istringstream lines(result);

@@ -12,7 +12,6 @@
 //    server's StopRecording says so.
 #include <fcntl.h>
 #include <malloc.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -399,24 +398,7 @@ std::string FullDiskRun(const fs::path& dir) {
 
 TEST(PlusRecorder, AFullDiskStopsTheRecordingWithAClearReplyAndKeepsWhatWasWrittenReadable) {
   const fs::path dir = rptest::TestDir("full-disk");
-  int out[2];
-  ASSERT_EQ(pipe(out), 0);
-  const pid_t child = fork();
-  ASSERT_GE(child, 0);
-  if (child == 0) {
-    close(out[0]);
-    const std::string why = rptest::MountTinyTmpfs(dir, 256);
-    const std::string result = why.empty() ? FullDiskRun(dir) : "skip\n" + why;
-    (void)!write(out[1], result.data(), result.size());
-    _exit(0);
-  }
-  close(out[1]);
-  std::string result;
-  char buffer[4096];
-  for (ssize_t n; (n = read(out[0], buffer, sizeof buffer)) > 0;) result.append(buffer, static_cast<size_t>(n));
-  close(out[0]);
-  int status = 0;
-  waitpid(child, &status, 0);
+  const std::string result = rptest::RunOnTinyDisk(dir, 256, [&] { return FullDiskRun(dir); });
   if (result.rfind("skip\n", 0) == 0)
     GTEST_SKIP() << "cannot mount a tiny tmpfs here (needs root, CAP_SYS_ADMIN or user namespaces): " << result.substr(5);
   ASSERT_EQ(result.rfind("ran\n", 0), 0u) << result;
