@@ -9,9 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <fcntl.h>
-#include <sched.h>
 #include <signal.h>
-#include <sys/mount.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -40,6 +38,7 @@
 #include "rpAtomicFile.h"
 #include "rpSceneIO.h"
 #include "rpTestOutput.h"
+#include "rpTinyDisk.h"
 #include "vtkRPFiducialListNode.h"
 #include "vtkRPLinearTransformNode.h"
 #include "vtkRPModelNode.h"
@@ -357,69 +356,27 @@ TEST(SceneSave, ASaveKilledBetweenItsCommitsLeavesItsFilesToTheNextSave) {
   EXPECT_EQ(Bytes(sceneFile).find("ownedFiles"), std::string::npos) << "a settled scene owns only its data files";
 }
 
-namespace {
-
-// In a child process with a private mount namespace (the mount vanishes with it): mount a
-// `megabytes` tmpfs on `dir`. Returns "" on success, else why not (no permission here).
-std::string MountTinyTmpfs(const fs::path& dir, int kilobytes) {
-  if (unshare(CLONE_NEWNS) != 0) {
-    // Not root: a user namespace maps us to root inside it, where tmpfs may be mounted.
-    const uid_t uid = getuid();
-    const gid_t gid = getgid();
-    if (unshare(CLONE_NEWUSER | CLONE_NEWNS) != 0) return std::string("unshare: ") + std::strerror(errno);
-    std::ofstream("/proc/self/setgroups") << "deny";
-    std::ofstream("/proc/self/uid_map") << "0 " << uid << " 1";
-    std::ofstream("/proc/self/gid_map") << "0 " << gid << " 1";
-  }
-  if (mount("none", "/", nullptr, MS_REC | MS_PRIVATE, nullptr) != 0)
-    return std::string("making mounts private: ") + std::strerror(errno);
-  const std::string options = "size=" + std::to_string(kilobytes) + "k";
-  if (mount("tmpfs", dir.c_str(), "tmpfs", 0, options.c_str()) != 0)
-    return std::string("mount -t tmpfs: ") + std::strerror(errno);
-  return "";
-}
-
-}  // namespace
-
 TEST(SceneSaveFault, AFullDiskSaysSoAndKeepsThePreviousScene) {
   // Scene 0 with a 48-slice CT (~400 kB) fits in 1 MiB; scene 1 with a 160-slice CT (~1.3 MB)
   // cannot be written beside it.
   const std::string small = FingerprintOf(0, 48);
   const fs::path dir = TestDir("full-disk");
-  int out[2];
-  ASSERT_EQ(pipe(out), 0);
-  const pid_t child = fork();
-  ASSERT_GE(child, 0);
-  if (child == 0) {
-    close(out[0]);
-    auto report = [&](const std::string& text) {
-      (void)!write(out[1], text.data(), text.size());
-      _exit(0);
-    };
-    const std::string why = MountTinyTmpfs(dir, 1024);
-    if (!why.empty()) report("skip\n" + why);
+  const std::string result = rptest::RunOnTinyDisk(dir, 1024, [&]() -> std::string {
     vtkNew<vtkRPScene> first, second;
     BuildScene(first, 0, 48);
     BuildScene(second, 1, 160);
     const std::string sceneFile = (dir / "knee.rpscene").string();
     std::string error;
-    if (!rp::SaveScene(first, sceneFile, error)) report("fail\nthe small scene did not fit: " + error);
+    if (!rp::SaveScene(first, sceneFile, error)) return "fail\nthe small scene did not fit: " + error;
     std::set<std::string> before;
     for (const auto& entry : fs::directory_iterator(dir)) before.insert(entry.path().filename().string());
     const bool saved = rp::SaveScene(second, sceneFile, error);
     std::set<std::string> after;
     for (const auto& entry : fs::directory_iterator(dir)) after.insert(entry.path().filename().string());
     std::replace(error.begin(), error.end(), '\n', ' ');  // one line through the pipe
-    report(std::string(saved ? "saved" : "refused") + "\n" + error + "\n" + (before == after ? "same files" : "files changed") +
-           "\n" + LoadFingerprint(sceneFile));
-  }
-  close(out[1]);
-  std::string result;
-  char buffer[4096];
-  for (ssize_t n; (n = read(out[0], buffer, sizeof(buffer))) > 0;) result.append(buffer, static_cast<size_t>(n));
-  close(out[0]);
-  int status = 0;
-  waitpid(child, &status, 0);
+    return std::string(saved ? "saved" : "refused") + "\n" + error + "\n" + (before == after ? "same files" : "files changed") +
+           "\n" + LoadFingerprint(sceneFile);
+  });
   if (result.rfind("skip\n", 0) == 0)
     GTEST_SKIP() << "cannot mount a tiny tmpfs here (needs root, CAP_SYS_ADMIN or user namespaces): " << result.substr(5);
   std::istringstream lines(result);
