@@ -1,6 +1,6 @@
-// ReadDicomSegmentation, WriteDicomSegmentation and ReadDicomRtStruct (rpDicomSegmentation.h,
-// rpDicomRtStruct.h) forward to libRoboPlanDicomObjects.so beside this library, loaded on the
-// first SEG or RTSTRUCT: DCMTK's dcmseg, dcmfg, dcmiod and dcmrt are about a quarter of the
+// ReadDicomSegmentation (from a path or an already read series), WriteDicomSegmentation and
+// ReadDicomRtStruct (rpDicomSegmentation.h, rpDicomRtStruct.h) forward to
+// libRoboPlanDicomObjects.so beside this library, loaded on the first SEG or RTSTRUCT: DCMTK's dcmseg, dcmfg, dcmiod and dcmrt are about a quarter of the
 // symbol bindings of every command that links RoboPlanImaging, and few commands read them.
 // The library's entry points: rpDicomObjectsEntry.cxx.
 #include "rpDicomRtStruct.h"
@@ -42,6 +42,22 @@ bool ReadDicomRtStruct(const std::string& path, vtkRPSegmentationNode* node, std
                         std::vector<std::string>*);
   const auto read = DicomObjects<Read>("roboplan_read_dicom_rtstruct", error);
   return read && read(path, node, error, referencePath, warnings);
+}
+
+bool ReadDicomSegmentation(const std::string& file, vtkRPSegmentationNode* node, std::string& error,
+                           const DicomReferenceSeries& reference, std::vector<std::string>* warnings) {
+  using Read = bool (*)(const std::string&, vtkRPSegmentationNode*, std::string&, const DicomReferenceSeries&,
+                        std::vector<std::string>*);
+  const auto read = DicomObjects<Read>("roboplan_read_dicom_segmentation_on", error);
+  return read && read(file, node, error, reference, warnings);
+}
+
+bool ReadDicomRtStruct(const std::string& file, vtkRPSegmentationNode* node, std::string& error,
+                       const DicomReferenceSeries& reference, std::vector<std::string>* warnings) {
+  using Read = bool (*)(const std::string&, vtkRPSegmentationNode*, std::string&, const DicomReferenceSeries&,
+                        std::vector<std::string>*);
+  const auto read = DicomObjects<Read>("roboplan_read_dicom_rtstruct_on", error);
+  return read && read(file, node, error, reference, warnings);
 }
 
 }  // namespace rp

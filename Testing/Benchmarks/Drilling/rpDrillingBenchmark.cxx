@@ -7,8 +7,8 @@
 //  * Display: re-contouring the dirty blocks of each 30 Hz frame (p95, blocks per frame) against
 //    re-contouring the whole bone in the same run, with our block mesher and the VTK way
 //    (vtkFlyingEdges3D on the whole voxel volume, what a VTK user would call each frame), both on
-//    VTK's SMP threads (the count and back-end are printed), each with its vertices' distance to
-//    the true surface (the analytic bone less the tunnel's capsule).
+//    VTK's SMP threads (the count and back-end are printed; each the fastest of 3), each with its
+//    vertices' distance to the true surface (the analytic bone less the tunnel's capsule).
 //  * Accuracy: the removed volume of a straight stroke (r = 2, L = 10 mm) in a homogeneous block
 //    against πr²L + 4/3·πr³, on each grid: error against grid size, and time against accuracy.
 //  * The real knee CT's tibia (../shared/data/knee-ct-vhf, when present): whole-bone re-contour
@@ -100,6 +100,8 @@ SurfaceError MeasureSurfaceError(const rp::BlockMesher& mesher, const SignedDist
   return e;
 }
 
+constexpr int WholeBoneRuns = 3;  // the whole-bone contours, ours and VTK's, are the fastest of 3
+
 // The whole bone contoured the VTK way: the voxels as one dense image, vtkFlyingEdges3D (on VTK's
 // SMP threads, as our mesher). Its vertices' distance to the surface `sd` goes to `error`.
 double WholeBoneVTK(const rp::DrillVolume& volume, size_t& triangles, const SignedDistanceFunction& sd = nullptr,
@@ -124,9 +126,13 @@ double WholeBoneVTK(const rp::DrillVolume& volume, size_t& triangles, const Sign
   contour->SetInputData(image);
   contour->SetValue(0, 127.5);
   contour->ComputeNormalsOn();
-  const auto start = std::chrono::steady_clock::now();
-  contour->Update();
-  const double ms = Milliseconds(start);
+  double ms = 1e300;
+  for (int run = 0; run < WholeBoneRuns; ++run) {
+    contour->Modified();
+    const auto start = std::chrono::steady_clock::now();
+    contour->Update();
+    ms = std::min(ms, Milliseconds(start));
+  }
   vtkPolyData* mesh = contour->GetOutput();
   triangles = static_cast<size_t>(mesh->GetNumberOfPolys());
   if (error && sd && mesh->GetNumberOfPoints() > 0) {
@@ -212,9 +218,12 @@ GridFigures MeasureGrid(double h, const std::vector<rp::Material>& m) {
     // scored against the true surface: the long bone less the burr's capsule (r = 2) from the
     // tunnel's start to where the burr stopped.
     rp::BlockMesher whole(bone);
-    const auto start = std::chrono::steady_clock::now();
-    whole.ContourAll();
-    f.WholeOursMs = Milliseconds(start);
+    f.WholeOursMs = 1e300;
+    for (int run = 0; run < WholeBoneRuns; ++run) {
+      const auto start = std::chrono::steady_clock::now();
+      whole.ContourAll();
+      f.WholeOursMs = std::min(f.WholeOursMs, Milliseconds(start));
+    }
     f.WholeTriangles = whole.TriangleCount();
     const auto boneSd = LongBone(m).SignedDistance;
     const Vec3 a = TunnelFrom, b = result.Final.Proxy;

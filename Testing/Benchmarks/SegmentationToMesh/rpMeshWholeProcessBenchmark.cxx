@@ -488,6 +488,7 @@ int main(int argc, char** argv) {
   chart.YLabel = "seconds (2 cores, fastest of 3)";
   chart.Width = 1200;
   rp::bench::WriteBarChartPNG(out + "/whole_process_seconds.png", categories, {bars}, chart, error);  // names what it wrote
+  ReportStartup(out);
   benchmark::Shutdown();
   return 0;
 }
