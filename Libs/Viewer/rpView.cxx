@@ -27,6 +27,7 @@
 #include "vtkRPModelDisplayableManager.h"
 #include "vtkRPModelNode.h"
 #include "vtkRPModelSliceDisplayableManager.h"
+#include "vtkRPPlanDisplayableManager.h"
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
 #include "vtkRPSliceLogic.h"
@@ -97,6 +98,7 @@ View::View(ViewKind kind, vtkRPScene* scene, vtkRPViewState* state, const SliceV
     this->Managers.push_back(vtkSmartPointer<vtkRPModelDisplayableManager>::New());
     this->Marker = std::make_unique<OrientationMarker>(this->Renderer);
   }
+  this->Managers.push_back(vtkSmartPointer<vtkRPPlanDisplayableManager>::New());
   this->Managers.push_back(vtkSmartPointer<vtkRPFiducialDisplayableManager>::New());
   this->Managers.push_back(vtkSmartPointer<vtkRPToolDisplayableManager>::New());
 
