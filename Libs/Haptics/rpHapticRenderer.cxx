@@ -35,7 +35,7 @@ void HapticRenderer::Reset(const Pose& pose) noexcept {
   this->Out.NumberOfPoints = this->PointCount;
 }
 
-const RenderOutput& HapticRenderer::Update(const Pose& pose, double elapsed) noexcept {
+const RenderOutput& HapticRenderer::Update(const Pose& pose, double elapsed, ToolConstraints* constraints) noexcept {
   if (!this->Initialized) this->Reset(pose);
   RenderOutput& out = this->Out;
   out.NumberOfPoints = this->PointCount;
@@ -107,10 +107,19 @@ const RenderOutput& HapticRenderer::Update(const Pose& pose, double elapsed) noe
     total += c.Force;
   }
 
-  // Passivity: each contact episode must not create energy. The observer follows the tip (where
-  // the device applies the force) and accounts the exit step too.
+  // Virtual fixtures on the tip, beside the contacts (rpToolConstraint.h).
   const Vec3 tip = out.Points[0].Hip;
-  const bool touching = out.Contacts > 0;
+  out.Constraint = ConstraintForce{};
+  if (constraints != nullptr) {
+    out.Constraint = this->EvaluateConstraints(*constraints, pose, dt, period);
+    total += out.Constraint.Force;
+    stored += out.Constraint.StoredEnergy;
+    renderedStiffness += out.Constraint.Stiffness;
+  }
+
+  // Passivity: each contact (or fixture) episode must not create energy. The observer follows the
+  // tip (where the device applies the force) and accounts the exit step too.
+  const bool touching = out.Contacts > 0 || out.Constraint.Engaged;
   if (touching && !this->WasInContact) this->Observer.Reset(this->LastTip);
   if (touching || this->WasInContact) this->Observer.Observe(tip);
   if (touching && this->Options.PassivityControl) total = this->Observer.Correct((tip - this->LastTip) / dt, total, dt, stored);
@@ -137,6 +146,24 @@ const RenderOutput& HapticRenderer::Update(const Pose& pose, double elapsed) noe
   out.Force = out.Clamped ? total * (this->MaxForce / magnitude) : total;
   this->Observer.Held(out.Force);
   return out;
+}
+
+ConstraintForce HapticRenderer::EvaluateConstraints(ToolConstraints& constraints, const Pose& pose, double dt,
+                                                   double period) noexcept {
+  const RenderOutput& out = this->Out;
+  ConstraintContext tool;
+  tool.Dt = dt;
+  tool.Period = period;
+  tool.Stylus = pose;
+  tool.Tip = out.Points[0].Hip;
+  tool.TipVelocity = (tool.Tip - this->LastTip) / dt;
+  tool.Proxy = out.Points[0].Proxy;
+  tool.InContact = out.Contacts > 0;
+  tool.ContactStiffness = out.Contacts > 0 ? out.Gains.Stiffness : 0.0;
+  tool.ContactDamping = out.Contacts > 0 ? out.Gains.Damping : 0.0;
+  tool.Device = &this->Device;
+  tool.WorkspaceScale = this->Options.WorkspaceScale;
+  return constraints.Evaluate(tool);
 }
 
 }  // namespace rp

@@ -6,11 +6,13 @@
 // observer, and the clamp of eq. 6 that keeps the direction: |F| > Fmax → F·Fmax/|F|.
 // (The damping term opposes the HIP's motion relative to the proxy: the seed's eq. 2 writes
 // −b·Δv with Δv = v_proxy − v_probe, which would inject energy; we use the dissipative sign.)
-// Not thread-aware: the servo task owns one. Update() never allocates.
+// Virtual fixtures (rpToolConstraint.h) add their force to the contacts' before the passivity
+// observer and the clamp. Not thread-aware: the servo task owns one. Update() never allocates.
 #include "rpGodObjectProxy.h"
 #include "rpHapticDevice.h"
 #include "rpPassivityObserver.h"
 #include "rpStability.h"
+#include "rpToolConstraint.h"
 
 namespace rp {
 
@@ -41,6 +43,7 @@ struct RenderOutput {
   int Contacts = 0;
   int PrimaryPoint = -1;  // the deepest contact
   GainLimits Gains;
+  ConstraintForce Constraint;  // what the virtual fixtures added (included in Force)
   double ObservedEnergy = 0, AddedDamping = 0;
   int NumberOfPoints = 0;
   PointContact Points[MaxToolPoints];
@@ -62,10 +65,15 @@ class HapticRenderer {
   /// 1.5 periods) the force may grow over the previous one by no more than the contacts'
   /// rendered stiffness times the distance the tool moved: the hand felt a stale force during
   /// the stall, and a damping or passivity term estimated over it must not come back as a kick.
-  const RenderOutput& Update(const Pose& stylusToScene, double elapsed = 0) noexcept;
+  /// `constraints` (virtual fixtures, rpToolConstraint.h) act on the tip beside the contacts,
+  /// inside the passivity observer, the stall bound and the clamp.
+  const RenderOutput& Update(const Pose& stylusToScene, double elapsed = 0, ToolConstraints* constraints = nullptr) noexcept;
   const RenderOutput& Output() const { return this->Out; }
 
  private:
+  /// The virtual fixtures' force this tick (after the contacts' pass 2).
+  ConstraintForce EvaluateConstraints(ToolConstraints& constraints, const Pose& pose, double dt, double period) noexcept;
+
   RendererOptions Options;
   DeviceInfo Device;
   double MaxForce = 3.3;

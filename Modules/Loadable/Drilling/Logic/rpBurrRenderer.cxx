@@ -24,7 +24,8 @@ void BurrRenderer::Reset(const Vec3& hip) noexcept {
 }
 
 const BurrForce& BurrRenderer::Update(const DrillVolume& volume, const Vec3& hip, double radius, double otherStiffness,
-                                      double otherDamping, double elapsed) noexcept {
+                                      double otherDamping, double elapsed, ToolConstraints* constraints,
+                                      const Pose& stylus) noexcept {
   if (!this->Initialized) this->Reset(hip);
   BurrForce& out = this->Out;
   const double period = this->Options.Period > 0 ? this->Options.Period : 0.001;
@@ -68,13 +69,35 @@ const BurrForce& BurrRenderer::Update(const DrillVolume& volume, const Vec3& hip
     total = stretch * k + (proxyVelocity - hipVelocity) * b;
   }
 
-  // Passivity over each contact episode, following the HIP (where the device applies the force).
-  if (touching && !this->WasInContact) this->Observer.Reset(hip - hipVelocity * dt);
-  if (touching || this->WasInContact) this->Observer.Observe(hip);
-  if (touching && this->Options.PassivityControl) total = this->Observer.Correct(hipVelocity, total, dt);
+  // Virtual fixtures on the burr's centre, beside the bone's contact (rpToolConstraint.h).
+  out.Constraint = ConstraintForce{};
+  if (constraints != nullptr) {
+    ConstraintContext tool;
+    tool.Dt = dt;
+    tool.Period = period;
+    tool.Stylus = stylus;
+    tool.Tip = hip;
+    tool.TipVelocity = hipVelocity;
+    tool.Proxy = out.Proxy;
+    tool.Radius = radius;
+    tool.InContact = touching;
+    tool.ContactStiffness = otherStiffness + (touching ? out.Gains.Stiffness : 0.0);
+    tool.ContactDamping = otherDamping + (touching ? out.Gains.Damping : 0.0);
+    tool.Device = &this->DeviceLimits;
+    tool.WorkspaceScale = this->Options.WorkspaceScale;
+    out.Constraint = constraints->Evaluate(tool);
+    total += out.Constraint.Force;
+  }
+  const bool engaged = touching || out.Constraint.Engaged;
+
+  // Passivity over each contact (or fixture) episode, following the HIP (where the device applies the force).
+  if (engaged && !this->WasInContact) this->Observer.Reset(hip - hipVelocity * dt);
+  if (engaged || this->WasInContact) this->Observer.Observe(hip);
+  if (engaged && this->Options.PassivityControl)
+    total = this->Observer.Correct(hipVelocity, total, dt, out.Constraint.StoredEnergy);
   out.ObservedEnergy = this->Observer.ObservedEnergy();
-  out.AddedDamping = touching && this->Options.PassivityControl ? this->Observer.AddedDamping() : 0.0;
-  this->WasInContact = touching;
+  out.AddedDamping = engaged && this->Options.PassivityControl ? this->Observer.AddedDamping() : 0.0;
+  this->WasInContact = engaged;
 
   // eq. 6: clamp the magnitude, keep the direction.
   out.UnclampedForce = total;
