@@ -18,6 +18,7 @@ void HapticRenderer::SetDevice(const DeviceInfo& device) {
   this->Device = device;
   this->MaxForce = device.MaxForce;
   this->Observer.SetMaxDamping(device.NominalMaxDamping);
+  this->Guides.SetDevice(device);
 }
 
 void HapticRenderer::Reset(const Pose& pose) noexcept {
@@ -29,14 +30,15 @@ void HapticRenderer::Reset(const Pose& pose) noexcept {
   }
   this->LastTip = this->LastHip[0];
   this->Observer.Reset(this->LastTip);
+  this->Guides.Reset(this->LastTip);
   this->WasInContact = false;
   this->Initialized = true;
   this->Out = RenderOutput{};
   this->Out.NumberOfPoints = this->PointCount;
 }
 
-const RenderOutput& HapticRenderer::Update(const Pose& pose, double elapsed) noexcept {
-  if (!this->Initialized) this->Reset(pose);
+const RenderOutput& HapticRenderer::Update(const Pose& device, double elapsed) noexcept {
+  if (!this->Initialized) this->Reset(device);
   RenderOutput& out = this->Out;
   out.NumberOfPoints = this->PointCount;
   out.Contacts = 0;
@@ -45,6 +47,14 @@ const RenderOutput& HapticRenderer::Update(const Pose& pose, double elapsed) noe
   const double dt = elapsed > 0 ? elapsed : period;
   const bool stalled = dt > 1.5 * period;
   const Vec3 previousForce = out.Force;
+
+  // Fixtures first: their walls decide where the tool may be; the tissue sees it there.
+  out.Tip = device.Apply(this->ToolPoints[0]);
+  const FixtureTool tool{out.Tip, Normalized(device.Rotate(ToolForward)), this->ToolRadius};
+  const FixtureOutput& guides =
+      this->Guides.Update(this->FixtureSnapshot, tool, dt, period, this->Options.WorkspaceScale);
+  Pose pose = device;
+  pose.T += guides.Goal - out.Tip;
 
   // Pass 1: proxies, and the summed gains of the points in contact (eq. 4–5 act in parallel).
   double kSum = 0, bSum = 0, deepest = -1;
@@ -78,8 +88,9 @@ const RenderOutput& HapticRenderer::Update(const Pose& pose, double elapsed) noe
     }
   }
   out.Gains = GainLimits{};
-  if (this->Options.LimitGains && out.Contacts > 0)
-    out.Gains = LimitGains(kSum, bSum, this->Device, period, this->Options.WorkspaceScale);
+  if (this->Options.LimitGains && out.Contacts > 0)  // the fixtures' gains come first
+    out.Gains = LimitGains(kSum, bSum, RemainingBudget(this->Device, guides.Stiffness, guides.Damping, period), period,
+                           this->Options.WorkspaceScale);
 
   // Pass 2: spring-damper per contact with the limited gains, summed (eq. 4).
   Vec3 total{};
@@ -107,10 +118,16 @@ const RenderOutput& HapticRenderer::Update(const Pose& pose, double elapsed) noe
     total += c.Force;
   }
 
-  // Passivity: each contact episode must not create energy. The observer follows the tip (where
-  // the device applies the force) and accounts the exit step too.
-  const Vec3 tip = out.Points[0].Hip;
-  const bool touching = out.Contacts > 0;
+  // The fixtures' springs act beside the tissue's.
+  out.FixtureForce = guides.Force;
+  total += guides.Force;
+  stored += guides.Stored;
+  renderedStiffness += guides.Stiffness;
+
+  // Passivity: each contact episode (tissue or fixture) must not create energy. The observer
+  // follows the device's tip (where the force is applied) and accounts the exit step too.
+  const Vec3 tip = out.Tip;
+  const bool touching = out.Contacts > 0 || guides.Active;
   if (touching && !this->WasInContact) this->Observer.Reset(this->LastTip);
   if (touching || this->WasInContact) this->Observer.Observe(tip);
   if (touching && this->Options.PassivityControl) total = this->Observer.Correct((tip - this->LastTip) / dt, total, dt, stored);
@@ -136,6 +153,8 @@ const RenderOutput& HapticRenderer::Update(const Pose& pose, double elapsed) noe
   out.Clamped = magnitude > this->MaxForce;
   out.Force = out.Clamped ? total * (this->MaxForce / magnitude) : total;
   this->Observer.Held(out.Force);
+  const double torque = Norm(guides.Torque);
+  out.Torque = torque > this->Device.MaxTorque ? guides.Torque * (this->Device.MaxTorque / torque) : guides.Torque;
   return out;
 }
 

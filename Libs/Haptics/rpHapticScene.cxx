@@ -30,31 +30,4 @@ std::unique_ptr<HapticScene> HapticScene::Build(const std::vector<HapticMeshInpu
   return scene;
 }
 
-SceneExchange::~SceneExchange() { this->Clear(); }
-
-void SceneExchange::Publish(std::unique_ptr<HapticScene> scene) {
-  HapticScene* previous = this->Pending.exchange(scene.release(), std::memory_order_acq_rel);
-  delete previous;  // never taken by the servo thread
-  this->Collect();
-}
-
-void SceneExchange::Collect() { delete this->Retired.exchange(nullptr, std::memory_order_acq_rel); }
-
-const HapticScene* SceneExchange::Acquire() noexcept {
-  HapticScene* current = this->Current.load(std::memory_order_relaxed);
-  if (this->Pending.load(std::memory_order_relaxed) == nullptr) return current;
-  if (current != nullptr && this->Retired.load(std::memory_order_acquire) != nullptr) return current;  // wait for Collect
-  HapticScene* next = this->Pending.exchange(nullptr, std::memory_order_acq_rel);
-  if (next == nullptr) return current;
-  if (current != nullptr) this->Retired.store(current, std::memory_order_release);
-  this->Current.store(next, std::memory_order_release);
-  return next;
-}
-
-void SceneExchange::Clear() {
-  delete this->Pending.exchange(nullptr);
-  delete this->Retired.exchange(nullptr);
-  delete this->Current.exchange(nullptr);
-}
-
 }  // namespace rp

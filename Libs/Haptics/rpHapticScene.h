@@ -2,7 +2,6 @@
 // The immutable collision world of the servo loop: all haptic meshes merged into one triangle
 // mesh (label = material index), its BVH and the materials. Built on the main thread (or any
 // non-servo thread), then handed to the servo thread through a SceneExchange without locks.
-#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -10,6 +9,7 @@
 
 #include "rpBVH.h"
 #include "rpMaterial.h"
+#include "rpSnapshotExchange.h"
 #include "rpTriangleMesh.h"
 
 namespace rp {
@@ -35,24 +35,7 @@ struct HapticScene {
   const Material& MaterialOf(uint32_t triangle) const { return this->Materials[this->Mesh.Label(triangle)]; }
 };
 
-/// Hands new scenes to the servo thread: the owner Publish()es (any number of times); the servo
-/// thread Acquire()s at the start of a tick (wait-free: two atomic exchanges, no allocation, no
-/// free); the owner deletes scenes the servo thread retired in Collect(). At most one scene is
-/// retired at a time, so the servo thread keeps using its current scene until Collect() ran.
-class SceneExchange {
- public:
-  ~SceneExchange();
-  void Publish(std::unique_ptr<HapticScene> scene);  // owner thread
-  void Collect();                                    // owner thread: frees retired scenes
-  /// Servo thread: the scene to use this tick (may be nullptr: no scene yet).
-  const HapticScene* Acquire() noexcept;
-  /// Owner thread, servo stopped: deletes everything.
-  void Clear();
-
- private:
-  std::atomic<HapticScene*> Pending{nullptr};
-  std::atomic<HapticScene*> Retired{nullptr};
-  std::atomic<HapticScene*> Current{nullptr};  // written by the servo thread only (atomic for Clear)
-};
+/// Hands new scenes to the servo thread without locks (rpSnapshotExchange.h).
+using SceneExchange = SnapshotExchange<HapticScene>;
 
 }  // namespace rp

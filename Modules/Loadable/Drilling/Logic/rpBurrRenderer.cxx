@@ -49,15 +49,7 @@ const BurrForce& BurrRenderer::Update(const DrillVolume& volume, const Vec3& hip
     double k = m.Stiffness, b = m.Damping;
     if (this->Options.LimitGains) {
       // Share the device's passive budget with the other contacts rendered this tick.
-      DeviceInfo budget;  // the numbers only: copying the name could allocate
-      budget.MaxForce = this->DeviceLimits.MaxForce;
-      budget.PhysicalDamping = this->DeviceLimits.PhysicalDamping;
-      budget.NominalMaxStiffness = this->DeviceLimits.NominalMaxStiffness;
-      budget.NominalMaxDamping = this->DeviceLimits.NominalMaxDamping;
-      budget.NominalMaxStiffness = std::max(0.0, budget.NominalMaxStiffness - otherStiffness);
-      budget.NominalMaxDamping = std::max(0.0, budget.NominalMaxDamping - otherDamping);
-      if (budget.PhysicalDamping > 0)
-        budget.PhysicalDamping = std::max(0.0, budget.PhysicalDamping - (otherStiffness * period / 2 + otherDamping));
+      const DeviceInfo budget = RemainingBudget(this->DeviceLimits, otherStiffness, otherDamping, period);
       out.Gains = LimitGains(k, b, budget, period, this->Options.WorkspaceScale);
       k *= out.Gains.StiffnessScale;
       b *= out.Gains.DampingScale;
