@@ -27,6 +27,8 @@ void AxisGuidance::Evaluate(const FixtureTuning& t, const FixtureTool& tool, con
   out.Spring = offset * -t.Stiffness;
   out.Damper = across * -t.Damping;
   out.Stiffness = t.Stiffness;
+  out.Direction = u;
+  out.Across = true;
   out.Stored = 0.5 * t.Stiffness * radial * radial;
   out.Engaged = m.Engaged;
   // Orientation: turn the tool's direction towards the axis's (about their common normal).

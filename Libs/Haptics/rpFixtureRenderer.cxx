@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Eigenvalues>
+
 namespace rp {
 
 namespace {
@@ -11,6 +13,24 @@ bool SameTuning(const FixtureTuning& a, const FixtureTuning& b) {
          a.AngularStiffness == b.AngularStiffness;
 }
 constexpr int ConstrainRounds = 3;  // walls applied in turn until none moves the goal
+
+// The springs act along (k·ddᵀ) or across (k·(I − ddᵀ)) their directions: what a device feels of
+// them together is the largest eigenvalue of their sum (an axis guide across the axis and a depth
+// stop along it are two orthogonal springs, not one of their summed stiffness).
+struct StiffnessMatrix {
+  Eigen::Matrix3d K = Eigen::Matrix3d::Zero();
+  void Add(double k, const Vec3& d, bool across) noexcept {
+    const Eigen::Vector3d u(d.x, d.y, d.z);
+    const Eigen::Matrix3d along = u.squaredNorm() > 0 ? Eigen::Matrix3d(u * u.transpose() / u.squaredNorm())
+                                                      : Eigen::Matrix3d::Identity();
+    this->K += k * (across ? Eigen::Matrix3d(Eigen::Matrix3d::Identity() - along) : along);
+  }
+  double Largest() const noexcept {
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
+    solver.computeDirect(this->K, Eigen::EigenvaluesOnly);
+    return std::max(0.0, solver.eigenvalues()(2));
+  }
+};
 }  // namespace
 
 void FixtureRenderer::SetDevice(const DeviceInfo& device) {
@@ -90,7 +110,7 @@ void FixtureRenderer::Arm(const FixtureSet& set, const FixtureTool& tool) noexce
 
 // The walls in turn until none moves the goal. A wall touched in any round is in contact this
 // tick (a later round sees the goal already on it); each round starts from what it knew last tick.
-Vec3 FixtureRenderer::Constrain(const FixtureSet& set, const FixtureTool& tool) noexcept {
+Vec3 FixtureRenderer::ConstrainWalls(const FixtureSet& set, const FixtureTool& tool) noexcept {
   const Vec3 from = this->Goal;
   Vec3 goal = tool.Tip;
   bool before[MaxFixtures], touched[MaxFixtures];
@@ -153,23 +173,71 @@ void FixtureRenderer::Fade(const FixtureSet& set, const FixtureForce* forces, do
 
 const FixtureOutput& FixtureRenderer::Update(const FixtureSet* set, const FixtureTool& tool, double dt, double period,
                                              double workspaceScale) noexcept {
+  double k, b;
+  this->Constrain(set, tool, period, workspaceScale, k, b);
+  return this->Render(set, tool, dt, period, workspaceScale);
+}
+
+const Vec3& FixtureRenderer::Constrain(const FixtureSet* set, const FixtureTool& tool, double period, double workspaceScale,
+                                       double& stiffness, double& damping) noexcept {
   if (!this->Initialized) this->Reset(tool.Tip);
   if (set != this->Current) this->Adopt(set);
+  this->Constrained = true;
+  stiffness = damping = 0;
+  if (set == nullptr || this->CurrentCount == 0) {
+    this->Goal = tool.Tip;
+    return this->Goal;
+  }
+  this->Arm(*set, tool);
+  this->Goal = this->ConstrainWalls(*set, tool);
+  // The gains that will act: walls pressed now, guides holding the tool (or fading).
+  StiffnessMatrix matrix;
+  double b = 0;
+  for (int i = 0; i < this->CurrentCount; ++i) {
+    const FixtureEntry& e = set->Entries[size_t(i)];
+    const FixtureMemory& m = this->Memory[i];
+    const bool wall = e.Fixture->IsWall();
+    if (!e.Enabled || !(wall ? m.Contact : (m.Engaged || m.Weight > 0))) continue;
+    matrix.Add(e.Tuning.Stiffness, wall ? m.ContactNormal : m.SpringDirection, !wall && m.SpringAcross);
+    b += e.Tuning.Damping;
+  }
+  const double k = matrix.Largest();
+  if (k > 0) {
+    const GainLimits g = LimitGains(k, b, this->Limits, period > 0 ? period : 0.001, workspaceScale);
+    stiffness = g.Stiffness;
+    damping = g.Damping;
+  }
+  return this->Goal;
+}
+
+GainLimits FixtureRenderer::Gains(const FixtureSet& set, const FixtureForce* forces, double period,
+                                  double workspaceScale) const noexcept {
+  StiffnessMatrix matrix;
+  double b = 0;
+  for (int i = 0; i < this->CurrentCount; ++i)
+    if (forces[i].Stiffness > 0) {
+      matrix.Add(forces[i].Stiffness, forces[i].Direction, forces[i].Across);
+      b += set.Entries[size_t(i)].Tuning.Damping;
+    }
+  const double k = matrix.Largest();
+  return k > 0 ? LimitGains(k, b, this->Limits, period, workspaceScale) : GainLimits{};
+}
+
+const FixtureOutput& FixtureRenderer::Render(const FixtureSet* set, const FixtureTool& tool, double dt, double period,
+                                             double workspaceScale) noexcept {
+  if (!this->Constrained) {
+    double k, b;
+    this->Constrain(set, tool, period, workspaceScale, k, b);
+  }
+  this->Constrained = false;
   FixtureOutput& out = this->Out;
   out.Count = this->CurrentCount;
   const double tick = period > 0 ? period : 0.001;
-  if (set == nullptr || this->CurrentCount == 0) {
-    this->Goal = tool.Tip;
-  } else {
-    this->Arm(*set, tool);
-    this->Goal = this->Constrain(*set, tool);
-  }
   out.Goal = this->Goal;
   out.Blocked = Norm2(this->Goal - tool.Tip) > 1e-24;
 
-  // Each fixture's force, and the gains they render together (weighted as they are delivered).
+  // Each fixture's force, the gains they render together, and the fades.
   FixtureForce forces[MaxFixtures];
-  double k = 0, b = 0;
   for (int i = 0; i < this->CurrentCount; ++i) {
     const FixtureEntry& e = set->Entries[size_t(i)];
     FixtureMemory& m = this->Memory[i];
@@ -178,18 +246,18 @@ const FixtureOutput& FixtureRenderer::Update(const FixtureSet* set, const Fixtur
       continue;
     }
     e.Fixture->Evaluate(e.Tuning, tool, this->Goal, dt > 0 ? dt : tick, m, forces[i]);
-    // Gains at full weight: the limit must not change as a fixture fades in or out.
     if (forces[i].Stiffness > 0) {
-      k += forces[i].Stiffness;
-      b += e.Tuning.Damping;
+      m.SpringDirection = forces[i].Direction;
+      m.SpringAcross = forces[i].Across;
     }
   }
-  const GainLimits gains = k > 0 ? LimitGains(k, b, this->Limits, tick, workspaceScale) : GainLimits{};
+  const GainLimits gains = set ? this->Gains(*set, forces, tick, workspaceScale) : GainLimits{};
   if (set) this->Fade(*set, forces, gains.StiffnessScale, gains.DampingScale, this->Limits.MaxForceRate * tick);
 
   out.Force = this->Residual;
   out.Torque = Vec3{};
-  out.Stiffness = out.Damping = out.Stored = 0;
+  out.Stiffness = gains.Stiffness;  // the springs together, as the device feels them
+  out.Damping = out.Stored = 0;
   out.Active = Norm2(this->Residual) > 0;
   for (int i = 0; i < this->CurrentCount; ++i) {
     const FixtureEntry& e = set->Entries[size_t(i)];
@@ -198,7 +266,6 @@ const FixtureOutput& FixtureRenderer::Update(const FixtureSet* set, const Fixtur
     m.Delivered = (f.Spring * gains.StiffnessScale + f.Damper * gains.DampingScale) * m.Weight;
     out.Force += m.Delivered;
     out.Torque += f.Torque * m.Weight;
-    out.Stiffness += f.Stiffness * gains.StiffnessScale * m.Weight;
     out.Damping += f.Stiffness > 0 ? e.Tuning.Damping * gains.DampingScale * m.Weight : 0.0;
     out.Stored += f.Stored * gains.StiffnessScale * m.Weight;
     out.Active = out.Active || (m.Weight > 0 && (f.Stiffness > 0 || Norm2(f.Damper) > 0));

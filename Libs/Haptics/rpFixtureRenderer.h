@@ -48,16 +48,27 @@ class FixtureRenderer {
   void SetDevice(const DeviceInfo& device);
   /// Forgets every fixture's memory; the goal starts at `tip` (walls arm when it is allowed).
   void Reset(const Vec3& tip) noexcept;
-  /// One tick. `set` may be nullptr (no fixtures: the goal is the tool point, no force). `dt` the
-  /// time since the previous tick (s), `period` the servo's (its event budget and gain limits).
+  /// One tick: Constrain then Render. `set` may be nullptr (no fixtures: the goal is the tool
+  /// point, no force). `dt` the time since the previous tick (s), `period` the servo's (its event
+  /// budget and gain limits).
   const FixtureOutput& Update(const FixtureSet* set, const FixtureTool& tool, double dt, double period,
+                              double workspaceScale = 1.0) noexcept;
+  /// Step 1 alone (before the tissue contact): adopts a new set, arms the walls and moves the
+  /// goal; `stiffness`/`damping` get the gains the fixtures will render this tick (the contacts
+  /// share what is left of the device's passive budget).
+  const Vec3& Constrain(const FixtureSet* set, const FixtureTool& tool, double period, double workspaceScale,
+                        double& stiffness, double& damping) noexcept;
+  /// Steps 2–3 (Constrain first when it did not run this tick).
+  const FixtureOutput& Render(const FixtureSet* set, const FixtureTool& tool, double dt, double period,
                               double workspaceScale = 1.0) noexcept;
   const FixtureOutput& Output() const { return this->Out; }
 
  private:
   void Adopt(const FixtureSet* set) noexcept;
   void Arm(const FixtureSet& set, const FixtureTool& tool) noexcept;
-  Vec3 Constrain(const FixtureSet& set, const FixtureTool& tool) noexcept;
+  Vec3 ConstrainWalls(const FixtureSet& set, const FixtureTool& tool) noexcept;
+  /// The fixtures' summed gains within the device's limits (at full weight: fades do not move them).
+  GainLimits Gains(const FixtureSet& set, const FixtureForce* forces, double period, double workspaceScale) const noexcept;
   void Fade(const FixtureSet& set, const FixtureForce* forces, double stiffnessScale, double dampingScale,
             double budget) noexcept;
 
@@ -69,6 +80,7 @@ class FixtureRenderer {
   FixtureTuning Tunings[MaxFixtures];
   Vec3 Goal;
   bool Initialized = false;
+  bool Constrained = false;  // Constrain ran this tick (Render clears it)
   Vec3 Residual;  // force of fixtures that left or changed, still fading out
   FixtureOutput Out;
 };

@@ -2,13 +2,13 @@
 // The virtual fixtures the servo renders, as one immutable snapshot (as the haptic scene): each
 // fixture's geometry (shared between snapshots: switching one on or retuning it builds a new
 // snapshot without rebuilding a BVH), its tuning and whether it is on. Built on the main thread
-// (from the plan's nodes) and handed to the servo through a FixtureExchange without locks.
+// (from the plan's nodes) and handed to a servo inside a FixtureConstraint (rpFixtureConstraint.h),
+// through the servo's ConstraintExchange, without locks.
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "rpHapticDevice.h"
-#include "rpSnapshotExchange.h"
 #include "rpVirtualFixture.h"
 
 namespace rp {
@@ -43,7 +43,5 @@ std::string FixtureTuningProblem(const FixtureTuning& tuning);
 /// passive limit at `period` with the fixture's damping), as the servo renders it.
 double RenderedFixtureStiffness(const FixtureTuning& tuning, const DeviceInfo& device, double period,
                                 double workspaceScale = 1.0);
-
-using FixtureExchange = SnapshotExchange<FixtureSet>;
 
 }  // namespace rp

@@ -11,16 +11,28 @@ constexpr int AdvanceSteps = 12;  // conservative-advancement steps per move (ea
 
 std::unique_ptr<ForbiddenRegion> ForbiddenRegion::Make(uint32_t id, std::string name, const TriangleMesh& structure,
                                                        double margin, std::string& error) {
-  if (!(margin >= 0)) {
-    error = "forbidden region '" + name + "': the margin must not be negative";
-    return nullptr;
-  }
-  std::unique_ptr<ForbiddenRegion> f(new ForbiddenRegion(id, name, margin));
+  auto field = std::make_shared<MeshSignedDistance>();
   std::string why;
-  if (!f->Distance.Build(structure, why)) {
+  if (!field->Build(structure, why)) {
     error = "forbidden region '" + name + "': the structure must be a closed surface (" + why + ")";
     return nullptr;
   }
+  return Make(id, std::move(name), std::move(field), margin, error);
+}
+
+std::unique_ptr<ForbiddenRegion> ForbiddenRegion::Make(uint32_t id, std::string name,
+                                                       std::shared_ptr<const MeshSignedDistance> structure, double margin,
+                                                       std::string& error) {
+  if (!(margin >= 0) || !std::isfinite(margin)) {
+    error = "forbidden region '" + name + "': the margin must be a number ≥ 0 mm";
+    return nullptr;
+  }
+  if (!structure || structure->Empty()) {
+    error = "forbidden region '" + name + "': the structure has no closed surface";
+    return nullptr;
+  }
+  std::unique_ptr<ForbiddenRegion> f(new ForbiddenRegion(id, std::move(name), margin));
+  f->Distance = std::move(structure);
   return f;
 }
 
@@ -29,7 +41,7 @@ bool ForbiddenRegion::Measure(const Vec3& p, double reach, FixtureMemory& m, dou
   Vec3 closest;
   double d = 0;
   m.DistancePoint = p;
-  if (!this->Distance.SignedDistance(p, reach, d, closest)) {
+  if (!this->Distance->SignedDistance(p, reach, d, closest)) {
     m.Distance = distance = reach;  // a lower bound: the structure is farther
     return false;
   }

@@ -23,8 +23,12 @@ class ForbiddenRegion : public VirtualFixture {
   /// The structure must be a closed surface (its inside is forbidden too). nullptr with `error`.
   static std::unique_ptr<ForbiddenRegion> Make(uint32_t id, std::string name, const TriangleMesh& structure, double margin,
                                                std::string& error);
+  /// The same sharing a signed distance already built (a plan snapshot's structure at risk).
+  static std::unique_ptr<ForbiddenRegion> Make(uint32_t id, std::string name,
+                                               std::shared_ptr<const MeshSignedDistance> structure, double margin,
+                                               std::string& error);
   double Margin() const { return this->SafetyMargin; }
-  const MeshSignedDistance& Field() const { return this->Distance; }
+  const MeshSignedDistance& Field() const { return *this->Distance; }
 
   Vec3 Constrain(const FixtureTuning& tuning, const Vec3& from, const Vec3& to, double radius,
                  FixtureMemory& memory) const noexcept override;
@@ -48,7 +52,7 @@ class ForbiddenRegion : public VirtualFixture {
                Vec3& normal) const noexcept;
 
   double SafetyMargin = 0;
-  MeshSignedDistance Distance;
+  std::shared_ptr<const MeshSignedDistance> Distance;
 };
 
 }  // namespace rp

@@ -18,7 +18,6 @@ void HapticRenderer::SetDevice(const DeviceInfo& device) {
   this->Device = device;
   this->MaxForce = device.MaxForce;
   this->Observer.SetMaxDamping(device.NominalMaxDamping);
-  this->Guides.SetDevice(device);
 }
 
 void HapticRenderer::Reset(const Pose& pose) noexcept {
@@ -30,14 +29,13 @@ void HapticRenderer::Reset(const Pose& pose) noexcept {
   }
   this->LastTip = this->LastHip[0];
   this->Observer.Reset(this->LastTip);
-  this->Guides.Reset(this->LastTip);
   this->WasInContact = false;
   this->Initialized = true;
   this->Out = RenderOutput{};
   this->Out.NumberOfPoints = this->PointCount;
 }
 
-const RenderOutput& HapticRenderer::Update(const Pose& device, double elapsed) noexcept {
+const RenderOutput& HapticRenderer::Update(const Pose& device, double elapsed, ToolConstraints* constraints) noexcept {
   if (!this->Initialized) this->Reset(device);
   RenderOutput& out = this->Out;
   out.NumberOfPoints = this->PointCount;
@@ -48,13 +46,21 @@ const RenderOutput& HapticRenderer::Update(const Pose& device, double elapsed) n
   const bool stalled = dt > 1.5 * period;
   const Vec3 previousForce = out.Force;
 
-  // Fixtures first: their walls decide where the tool may be; the tissue sees it there.
-  out.Tip = device.Apply(this->ToolPoints[0]);
-  const FixtureTool tool{out.Tip, Normalized(device.Rotate(ToolForward)), this->ToolRadius};
-  const FixtureOutput& guides =
-      this->Guides.Update(this->FixtureSnapshot, tool, dt, period, this->Options.WorkspaceScale);
+  // Step 0: the constraints' walls decide where the tool may be; the tissue touches it there.
+  ConstraintContext tool;
+  tool.Dt = dt;
+  tool.Period = period;
+  tool.Stylus = device;
+  tool.Tip = out.Tip = device.Apply(this->ToolPoints[0]);
+  tool.TipVelocity = (tool.Tip - this->LastTip) / dt;
+  tool.Device = &this->Device;
+  tool.WorkspaceScale = this->Options.WorkspaceScale;
+  ConstraintGoal goal;
+  goal.Goal = tool.Tip;
+  if (constraints != nullptr) goal = constraints->Constrain(tool);
+  out.Goal = goal.Goal;
   Pose pose = device;
-  pose.T += guides.Goal - out.Tip;
+  pose.T += goal.Goal - tool.Tip;
 
   // Pass 1: proxies, and the summed gains of the points in contact (eq. 4–5 act in parallel).
   double kSum = 0, bSum = 0, deepest = -1;
@@ -88,8 +94,8 @@ const RenderOutput& HapticRenderer::Update(const Pose& device, double elapsed) n
     }
   }
   out.Gains = GainLimits{};
-  if (this->Options.LimitGains && out.Contacts > 0)  // the fixtures' gains come first
-    out.Gains = LimitGains(kSum, bSum, RemainingBudget(this->Device, guides.Stiffness, guides.Damping, period), period,
+  if (this->Options.LimitGains && out.Contacts > 0)  // within what the constraints left of the budget
+    out.Gains = LimitGains(kSum, bSum, RemainingBudget(this->Device, goal.Stiffness, goal.Damping, period), period,
                            this->Options.WorkspaceScale);
 
   // Pass 2: spring-damper per contact with the limited gains, summed (eq. 4).
@@ -118,16 +124,23 @@ const RenderOutput& HapticRenderer::Update(const Pose& device, double elapsed) n
     total += c.Force;
   }
 
-  // The fixtures' springs act beside the tissue's.
-  out.FixtureForce = guides.Force;
-  total += guides.Force;
-  stored += guides.Stored;
-  renderedStiffness += guides.Stiffness;
-
-  // Passivity: each contact episode (tissue or fixture) must not create energy. The observer
-  // follows the device's tip (where the force is applied) and accounts the exit step too.
+  // Virtual fixtures on the device's tip, beside the contacts (rpToolConstraint.h).
   const Vec3 tip = out.Tip;
-  const bool touching = out.Contacts > 0 || guides.Active;
+  out.Constraint = ConstraintForce{};
+  if (constraints != nullptr) {
+    tool.Proxy = out.Points[0].Proxy;
+    tool.InContact = out.Contacts > 0;
+    tool.ContactStiffness = out.Contacts > 0 ? out.Gains.Stiffness : 0.0;
+    tool.ContactDamping = out.Contacts > 0 ? out.Gains.Damping : 0.0;
+    out.Constraint = constraints->Evaluate(tool);
+    total += out.Constraint.Force;
+    stored += out.Constraint.StoredEnergy;
+    renderedStiffness += out.Constraint.Stiffness;
+  }
+
+  // Passivity: each contact (or fixture) episode must not create energy. The observer follows the
+  // tip (where the device applies the force) and accounts the exit step too.
+  const bool touching = out.Contacts > 0 || out.Constraint.Engaged;
   if (touching && !this->WasInContact) this->Observer.Reset(this->LastTip);
   if (touching || this->WasInContact) this->Observer.Observe(tip);
   if (touching && this->Options.PassivityControl) total = this->Observer.Correct((tip - this->LastTip) / dt, total, dt, stored);
@@ -153,8 +166,6 @@ const RenderOutput& HapticRenderer::Update(const Pose& device, double elapsed) n
   out.Clamped = magnitude > this->MaxForce;
   out.Force = out.Clamped ? total * (this->MaxForce / magnitude) : total;
   this->Observer.Held(out.Force);
-  const double torque = Norm(guides.Torque);
-  out.Torque = torque > this->Device.MaxTorque ? guides.Torque * (this->Device.MaxTorque / torque) : guides.Torque;
   return out;
 }
 

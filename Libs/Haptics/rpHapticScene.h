@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "rpBVH.h"
+#include "rpHandover.h"
 #include "rpMaterial.h"
-#include "rpSnapshotExchange.h"
 #include "rpTriangleMesh.h"
 
 namespace rp {
@@ -35,7 +35,7 @@ struct HapticScene {
   const Material& MaterialOf(uint32_t triangle) const { return this->Materials[this->Mesh.Label(triangle)]; }
 };
 
-/// Hands new scenes to the servo thread without locks (rpSnapshotExchange.h).
-using SceneExchange = SnapshotExchange<HapticScene>;
+/// Hands new scenes to the servo thread without locks (rpHandover.h).
+using SceneExchange = Handover<HapticScene>;
 
 }  // namespace rp

@@ -72,6 +72,24 @@ bool ReadDeviceToScene(vtkRPScene* scene, DeviceToScene& transform) {
   return true;
 }
 
+Pose PoseFromMatrix(const vtkMatrix4x4* matrix) {
+  Pose pose;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) pose.R[3 * r + c] = matrix->GetElement(r, c);
+    pose.T[r] = matrix->GetElement(r, 3);
+  }
+  return pose;
+}
+
+bool ReadToolPose(vtkRPScene* scene, const std::string& nodeID, Pose& stylusToRAS) {
+  auto* node = scene ? vtkRPTransformableNode::SafeDownCast(scene->GetNodeByID(nodeID)) : nullptr;
+  if (node == nullptr) return false;
+  vtkNew<vtkMatrix4x4> toWorld;
+  node->GetMatrixTransformToWorld(toWorld);
+  stylusToRAS = PoseFromMatrix(toWorld);
+  return true;
+}
+
 namespace {
 vtkRPTrackedToolNode* ToolNode(vtkRPScene* scene, const char* name) {
   auto* node = vtkRPTrackedToolNode::SafeDownCast(scene->GetFirstNodeByName(name));

@@ -2,7 +2,8 @@
 // The bridge between the scene (main thread, VTK nodes) and the haptic servo loop (plain C++):
 //  - haptic meshes come from model nodes flagged Haptic, in RAS, with their TissueClass;
 //  - the device-to-scene transform comes from the transform node named HapticDeviceToRAS
-//    (a uniform scale in its matrix is the workspace scale);
+//    (a uniform scale in its matrix is the workspace scale); a tool followed from the scene (a
+//    tracked stylus's or drill's tip node) is read in RAS, as the servo takes it (rpToolInput);
 //  - the servo's published state is copied into tool nodes at display rate, each inside one
 //    StartModify/EndModify. The servo thread never touches a node.
 #include <string>
@@ -10,6 +11,7 @@
 
 #include "rpHapticServo.h"
 
+class vtkMatrix4x4;
 class vtkRPScene;
 
 namespace rp {
@@ -26,6 +28,14 @@ unsigned long HapticMeshesSignature(vtkRPScene* scene);
 
 /// Reads the HapticDeviceToRAS node; false (and identity) when the scene has none.
 bool ReadDeviceToScene(vtkRPScene* scene, DeviceToScene& transform);
+
+/// The pose of a 4x4 rigid matrix (rotation and translation; no scale expected).
+Pose PoseFromMatrix(const vtkMatrix4x4* matrix);
+
+/// The world (RAS) pose of a transformable node whose origin is the tool's tip, e.g. a tracked
+/// stylus's StylusTipToStylus under StylusToTracker under TrackerToRAS: what a servo following a
+/// tracked tool takes (ToolInput::SetPosesInScene). False when no such node.
+bool ReadToolPose(vtkRPScene* scene, const std::string& nodeID, Pose& stylusToRAS);
 
 /// Copies the state into the HapticInterfacePoint and HapticProxy tool nodes (created when
 /// missing). `labelNames[i]` is material i's tissue name.

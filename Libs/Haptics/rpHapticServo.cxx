@@ -4,27 +4,26 @@
 
 namespace rp {
 
-HapticServo::HapticServo(HapticDevice& device) : Device(device) { this->Render.SetDevice(device.Info()); }
+HapticServo::HapticServo(HapticDevice& device) : Tool(device) { this->Render.SetDevice(device.Info()); }
 
 void HapticServo::ServoStarted() noexcept {
   this->First = true;
   this->Trips = 0;
   this->Stalls = 0;
-  this->Device.WriteForce(Vec3{});
+  this->Tool.WriteForce(Vec3{});
 }
 
-void HapticServo::ServoStopping() noexcept { this->Device.WriteForce(Vec3{}); }
+void HapticServo::ServoStopping() noexcept { this->Tool.WriteForce(Vec3{}); }
 
 void HapticServo::Tick(const TickInfo& tick) noexcept {
   HapticState& s = this->Scratch;
   s.Time = tick.Time;
   s.Tick = tick.Index;
   this->Render.SetScene(this->SceneSlots.Acquire());
-  DeviceToScene xf;
-  if (this->Transform.Read(xf) == 0) xf = DeviceToScene{};
+  ToolConstraints* constraints = AcquireConstraints(this->ConstraintSlots);
 
-  DeviceState device;
-  const bool ok = this->Device.Read(tick.Time, device);
+  ToolSample tool;
+  const bool ok = this->Tool.Read(tick.Time, tool);
   s.DeviceError = !ok;
   const double elapsed = this->Clock.Elapsed(tick, this->First, tick.Period);
   if (elapsed > 1.5 * tick.Period) ++this->Stalls;
@@ -34,7 +33,7 @@ void HapticServo::Tick(const TickInfo& tick) noexcept {
   if (!ok || tick.PreviousOverran) {
     ++this->Trips;
     this->Clock.RestartRamp(tick.Time);
-    this->Device.WriteForce(Vec3{});
+    this->Tool.WriteForce(Vec3{});
     s.Force = Vec3{};
     s.RampScale = 0;
     s.WatchdogTrips = this->Trips;
@@ -52,21 +51,20 @@ void HapticServo::Tick(const TickInfo& tick) noexcept {
     return;
   }
 
-  const Pose stylus = xf.StylusInScene(device.StylusToDevice);
-  const double scale = xf.Scale > 0 ? xf.Scale : 1.0;
+  const Pose& stylus = tool.StylusToScene;
 
   RendererOptions options = this->Render.GetOptions();
-  options.WorkspaceScale = scale;
+  options.WorkspaceScale = this->Tool.WorkspaceScale();
   options.Period = std::max(tick.Period, this->StabilityPeriod.load(std::memory_order_relaxed));
   this->Render.SetOptions(options);
   if (this->First) {
     this->Render.Reset(stylus);
     this->First = false;
   }
-  const RenderOutput& out = this->Render.Update(stylus, elapsed);
+  const RenderOutput& out = this->Render.Update(stylus, elapsed, constraints);
   const double ramp = this->Clock.Ramp(tick.Time, this->RampSeconds);
   const Vec3 force = out.Force * ramp;
-  this->Device.WriteForce(xf.DeviceToRAS.RotateInverse(force));
+  this->Tool.WriteForce(force);
 
   s.Hip = out.Points[0].Hip;
   s.Proxy = out.Points[0].Proxy;
@@ -80,7 +78,7 @@ void HapticServo::Tick(const TickInfo& tick) noexcept {
   s.ObservedEnergy = out.ObservedEnergy;
   s.StiffnessScale = out.Gains.StiffnessScale;
   s.StallLimited = out.StallLimited;
-  s.Buttons = device.Buttons;
+  s.Buttons = tool.Buttons;
   s.NumberOfPoints = out.NumberOfPoints;
   for (int i = 0; i < out.NumberOfPoints; ++i) {
     s.Hips[i] = out.Points[i].Hip;

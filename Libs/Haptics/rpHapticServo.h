@@ -1,6 +1,7 @@
 #pragma once
-// The haptic servo task (runs inside rp::ServoLoop at 1 kHz): reads the device, maps the stylus
-// into the scene (HapticDeviceToRAS with workspace scaling), renders the force, ramps it in on
+// The haptic servo task (runs inside rp::ServoLoop at 1 kHz): reads the tool in the scene frame
+// (rpToolInput: a device through HapticDeviceToRAS, or a pose already in RAS such as a tracked
+// stylus), renders the force (contacts and virtual fixtures, rpToolConstraint), ramps it in on
 // start, and a watchdog zeroes it when a tick overran or the device reported an error. It
 // publishes its state for the main thread (LatestValue) and log records for a writer thread
 // (SPSC ring). It never touches a scene node, never allocates, locks or logs in Tick().
@@ -11,10 +12,10 @@
 #include "rpLatestValue.h"
 #include "rpServoLoop.h"
 #include "rpSpscRing.h"
+#include "rpToolInput.h"
 
 namespace rp {
 
-/// Device frame → scene (RAS): scene = R·(Scale·device) + T.
 /// The time a servo task keeps (servo thread only): the measured time since the previous tick
 /// (a stall, the thread not run, shows as more than one period) and the force ramp that starts
 /// the force again after a start or a watchdog trip. Shared by every haptic servo task.
@@ -35,21 +36,6 @@ struct ServoClock {
   /// The force's scale at `time`: 0 → 1 over `seconds` since the ramp started (1 when 0 s).
   double Ramp(double time, double seconds) const noexcept {
     return seconds > 0 ? std::min(1.0, (time - this->RampStart) / seconds) : 1.0;
-  }
-};
-
-struct DeviceToScene {
-  Pose DeviceToRAS;
-  double Scale = 1.0;
-  /// The stylus pose in the scene (rotations composed; the position scaled, then moved).
-  Pose StylusInScene(const Pose& stylusToDevice) const noexcept {
-    Pose stylus;
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c)
-        stylus.R[3 * r + c] = DeviceToRAS.R[3 * r] * stylusToDevice.R[c] + DeviceToRAS.R[3 * r + 1] * stylusToDevice.R[3 + c] +
-                              DeviceToRAS.R[3 * r + 2] * stylusToDevice.R[6 + c];
-    stylus.T = DeviceToRAS.Apply(stylusToDevice.T * (Scale > 0 ? Scale : 1.0));
-    return stylus;
   }
 };
 
@@ -99,7 +85,10 @@ class HapticServo : public ServoTask {
 
   /// Any time, from the owner thread.
   SceneExchange& Scenes() { return this->SceneSlots; }
-  void SetDeviceToScene(const DeviceToScene& transform) { this->Transform.Publish(transform); }
+  /// The virtual fixtures evaluated beside the contacts (rpToolConstraint.h); none by default.
+  ConstraintExchange& Constraints() { return this->ConstraintSlots; }
+  /// The tool in the scene frame: HapticDeviceToRAS (SetDeviceToScene), or poses in RAS already.
+  ToolInput& Input() { return this->Tool; }
   /// The servo period the passivity limits assume (s): the measured one when it is longer
   /// than the nominal period (Colgate-Schenkel's T). ≤ 0: the nominal period.
   void SetStabilityPeriod(double seconds) { this->StabilityPeriod.store(seconds, std::memory_order_relaxed); }
@@ -112,10 +101,10 @@ class HapticServo : public ServoTask {
   void ServoStopping() noexcept override;
 
  private:
-  HapticDevice& Device;
+  ToolInput Tool;
   HapticRenderer Render;
   SceneExchange SceneSlots;
-  LatestValue<DeviceToScene> Transform;
+  ConstraintExchange ConstraintSlots;
   LatestValue<HapticState> State;
   HapticLogRing Log;
   std::atomic<bool> LogEnabled{false};

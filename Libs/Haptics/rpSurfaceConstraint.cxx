@@ -84,6 +84,7 @@ void SurfaceConstraint::Evaluate(const FixtureTuning& t, const FixtureTool& tool
   out.Spring = stretch * t.Stiffness;
   out.Damper = relative * t.Damping;
   out.Stiffness = t.Stiffness;
+  out.Direction = Norm2(stretch) > 0 ? Normalized(stretch) : m.SpringDirection;
   out.Stored = 0.5 * t.Stiffness * Norm2(stretch);
   out.Engaged = m.Engaged;
   m.LastProxy = point;

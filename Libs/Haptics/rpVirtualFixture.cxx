@@ -33,6 +33,7 @@ void WallContactForce(const FixtureTuning& t, const FixtureTool& tool, const Vec
   out.Spring = n * spring;
   out.Damper = n * damper;
   out.Stiffness = t.Stiffness;
+  out.Direction = n;
   out.Stored = 0.5 * t.Stiffness * press * press;
 }
 

@@ -53,6 +53,8 @@ struct FixtureMemory {
   double Distance = std::numeric_limits<double>::infinity();  // last measured (see each fixture)
   Vec3 DistancePoint;     // where Distance was measured from (walls: for the Lipschitz bound)
   Vec3 Delivered;         // the force delivered last tick (N, after the weight)
+  Vec3 SpringDirection;   // the last tick's FixtureForce::Direction and Across (the gains reserved
+  bool SpringAcross = false;  // before the contact)
   bool Contact = false;   // walls: an active constraint plane this tick
   Vec3 ContactNormal;
 };
@@ -62,7 +64,9 @@ struct FixtureForce {
   Vec3 Spring;            // N
   Vec3 Damper;            // N
   Vec3 Torque;            // N·mm (axis guidance with AngularStiffness)
-  double Stiffness = 0;   // N/mm acting this tick (0 when no spring acts)
+  double Stiffness = 0;   // N/mm acting this tick (0 when no spring acts) ...
+  Vec3 Direction;         // ... along this unit direction (a wall's normal, the pull to a surface),
+  bool Across = false;    // or across it (axis guidance: every direction normal to the axis)
   double Stored = 0;      // ½ k |stretch|²: what the spring gives back (passivity)
   bool Engaged = false;   // see FixtureMemory::Engaged
 };

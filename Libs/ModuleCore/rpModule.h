@@ -5,6 +5,7 @@
 //     extern "C" int roboplan_module_abi_version();   // must return ROBOPLAN_MODULE_ABI_VERSION
 // (use ROBOPLAN_DECLARE_MODULE(ClassName) at the end of the plugin's .cxx).
 #include <functional>
+#include <iostream>
 #include <memory>
 #include <string>
 #include <vector>
@@ -13,14 +14,17 @@ class vtkRPScene;
 class vtkObject;
 class QWidget;
 
-#define ROBOPLAN_MODULE_ABI_VERSION 1
+#define ROBOPLAN_MODULE_ABI_VERSION 2  // 2: CommandContext carries the output streams
 
 namespace rp {
 
-/// What a CLI subcommand gets: its arguments (after the subcommand name) and where to print.
+/// What a CLI subcommand gets: its arguments (after the subcommand name), a scene, and where to
+/// print (a host or a test may capture them; commands never write to std::cout/std::cerr).
 struct CommandContext {
   std::vector<std::string> Arguments;
-  vtkRPScene* Scene = nullptr;  // a scene the command may use (headless; owned by the host)
+  vtkRPScene* Scene = nullptr;    // a scene the command may use (headless; owned by the host)
+  std::ostream* Out = &std::cout;  // results: text, or the --json document
+  std::ostream* Err = &std::cerr;  // messages, warnings and errors
 };
 
 /// A `roboplan <name> ...` subcommand contributed by a module. Returns the process exit code:

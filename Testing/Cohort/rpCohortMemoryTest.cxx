@@ -55,9 +55,8 @@ class Cohort {
     context.Arguments.assign(args.begin() + 1, args.end());
     context.Arguments.push_back("--json");
     std::ostringstream captured;
-    std::streambuf* old = std::cout.rdbuf(captured.rdbuf());
+    context.Out = &captured;
     code = command->Run(context);
-    std::cout.rdbuf(old);
     const std::string text = captured.str();
     return text.empty() ? nlohmann::json() : nlohmann::json::parse(text, nullptr, false);
   }

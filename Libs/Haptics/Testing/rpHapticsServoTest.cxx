@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cmath>
 #include <fstream>
 #include <thread>
 
@@ -139,7 +140,7 @@ TEST(HapticServo, DeviceToSceneTransformAndWorkspaceScale) {
   const double r[9] = {1, 0, 0, 0, 0, -1, 0, 1, 0};
   std::copy(r, r + 9, xf.DeviceToRAS.R);
   xf.DeviceToRAS.T = {0, 0, 100};
-  servo.SetDeviceToScene(xf);
+  servo.Input().SetDeviceToScene(xf);
   servo.ServoStarted();
   rp::TickInfo tick;
   for (int i = 0; i < 50; ++i, ++tick.Index) {
@@ -167,6 +168,128 @@ TEST(HapticServo, DeviceToSceneTransformAndWorkspaceScale) {
   EXPECT_NEAR(s.Force.z, BoneStiffness() * (1 + rp::GodObjectProxy::Gap), 1e-6);
   EXPECT_NEAR(device.LastForce().y, s.Force.z, 1e-9);
   EXPECT_NEAR(device.LastForce().z, 0.0, 1e-9);
+}
+
+TEST(ToolInput, APoseInTheSceneIsTakenAsItIsWithTheDevicesWorkspaceScale) {
+  // A tracked stylus, the viewer's spin boxes or a script in RAS: the pose reaches the renderer
+  // unchanged (no trip to device coordinates and back), the force goes back in RAS, and the
+  // scene's HapticDeviceToRAS only gives the scale of the device it stands for (gain limits).
+  rp::SimulatedDevice device;
+  rp::HapticServo servo(device);
+  servo.SetRampSeconds(0);
+  rp::RendererOptions o;
+  o.PassivityControl = false;
+  o.ForceShading = false;  // the box's corner normals would tilt the force off the face's normal
+  servo.Renderer().SetOptions(o);
+  servo.Scenes().Publish(BoneSlab(100));
+  rp::DeviceToScene xf;
+  xf.Scale = 2;
+  const double r[9] = {1, 0, 0, 0, 0, -1, 0, 1, 0};
+  std::copy(r, r + 9, xf.DeviceToRAS.R);
+  xf.DeviceToRAS.T = {0, 0, 100};
+  servo.Input().SetDeviceToScene(xf);
+  servo.Input().SetPosesInScene(true);
+  rp::Pose stylus;  // RAS: 1 mm into the slab, the stylus tilted 30° about A
+  const double c = std::cos(M_PI / 6), sn = std::sin(M_PI / 6);
+  const double tilt[9] = {c, 0, sn, 0, 1, 0, -sn, 0, c};
+  std::copy(tilt, tilt + 9, stylus.R);
+  stylus.T = {3, 4, 110};
+  device.SetManualPose(stylus);
+  servo.ServoStarted();
+  rp::TickInfo tick;
+  for (int i = 0; i < 20; ++i, ++tick.Index) {
+    tick.Time = tick.Index * 1e-3;
+    servo.Tick(tick);
+  }
+  stylus.T = {3, 4, 99};
+  device.SetManualPose(stylus);
+  for (int i = 0; i < 100; ++i, ++tick.Index) {
+    tick.Time = tick.Index * 1e-3;
+    servo.Tick(tick);
+  }
+  rp::HapticState s;
+  ASSERT_TRUE(servo.ReadState(s));
+  EXPECT_EQ(s.Hip.x, 3.0);
+  EXPECT_EQ(s.Hip.y, 4.0);
+  EXPECT_EQ(s.Hip.z, 99.0);
+  for (int k = 0; k < 9; ++k) EXPECT_EQ(s.Stylus.R[k], tilt[k]) << k;
+  ASSERT_EQ(s.Contacts, 1);
+  // The Omni's nominal maximum (0.7 N/mm) bounds the bone's stiffness felt through the 2x scale.
+  const rp::DeviceInfo omni = rp::SimulatedDevice::DefaultInfo();
+  const double k = std::min(BoneStiffness() * 2, omni.NominalMaxStiffness) / 2;
+  EXPECT_NEAR(s.Force.z, k * (1 + rp::GodObjectProxy::Gap), 1e-6);
+  EXPECT_EQ(device.LastForce().z, s.Force.z);  // in RAS, not rotated into the device's frame
+  EXPECT_EQ(device.LastForce().y, 0.0);
+}
+
+namespace {
+// A one-sided wall z >= Top held by a spring k (a depth stop's simplest form), counting how it is
+// carried over when a new set replaces its set.
+class WallConstraint : public rp::ToolConstraint {
+ public:
+  WallConstraint(double top, double k) : Top(top), K(k) {}
+  void Evaluate(const rp::ConstraintContext& tool, rp::ConstraintForce& out) noexcept override {
+    const double depth = this->Top - tool.Tip.z;
+    ++this->Evaluations;
+    if (depth <= 0) return;
+    out.Force += Vec3{0, 0, this->K * depth};
+    out.Stiffness += this->K;
+    out.StoredEnergy += 0.5 * this->K * depth * depth;
+    out.Engaged = true;
+  }
+  void CarryFrom(const rp::ToolConstraint& previous) noexcept override {
+    this->Evaluations = static_cast<const WallConstraint&>(previous).Evaluations;
+    this->Carried = true;
+  }
+  double Top, K;
+  int Evaluations = 0;
+  bool Carried = false;
+};
+std::unique_ptr<rp::ToolConstraints> Wall(double top, double k, WallConstraint** wall = nullptr) {
+  auto set = std::make_unique<rp::ToolConstraints>();
+  auto constraint = std::make_unique<WallConstraint>(top, k);
+  if (wall) *wall = constraint.get();
+  set->Add(std::move(constraint));
+  return set;
+}
+}  // namespace
+
+TEST(HapticServo, AFixtureActsBesideTheContactsInsideThePassivityObserverAndTheClamp) {
+  // No tissue anywhere: the wall alone pushes back, through the same observer and clamp.
+  rp::SimulatedDevice device;
+  device.SetTrajectory(rp::WaypointTrajectory::Line({0, 0, 5}, {0, 0, -1}, 10.0));
+  rp::HapticServo servo(device);
+  servo.SetRampSeconds(0);
+  WallConstraint* wall = nullptr;
+  servo.Constraints().Publish(Wall(0, 0.5, &wall));
+  servo.ServoStarted();
+  rp::TickInfo tick;
+  rp::HapticState s;
+  auto run = [&](int n) {
+    for (int i = 0; i < n; ++i, ++tick.Index) {
+      tick.Time = tick.Index * 1e-3;
+      servo.Tick(tick);
+    }
+    servo.ReadState(s);
+  };
+  run(700);  // pressed 1 mm beyond the wall at 10 mm/s, then held
+  EXPECT_EQ(s.Contacts, 0);
+  EXPECT_NEAR(s.Force.z, 0.5, 1e-9);
+  EXPECT_FALSE(s.Clamped);
+  EXPECT_NE(s.ObservedEnergy, 0.0) << "the passivity observer ran over the fixture's episode";
+  // A stiffer wall in its place: its state comes along, the force is clamped to the device's maximum.
+  const int evaluated = wall->Evaluations;
+  WallConstraint* stiff = nullptr;
+  servo.Constraints().Publish(Wall(0, 10, &stiff));
+  const uint64_t before = rp::alloc::ThreadAllocations();
+  run(50);
+  EXPECT_EQ(rp::alloc::ThreadAllocations(), before) << "swapping a fixture set in and evaluating it";
+  servo.Constraints().Collect();
+  EXPECT_TRUE(stiff->Carried);
+  EXPECT_EQ(stiff->Evaluations, evaluated + 50);
+  EXPECT_EQ(evaluated, 700);
+  EXPECT_TRUE(s.Clamped);
+  EXPECT_NEAR(rp::Norm(s.Force), rp::SimulatedDevice::DefaultInfo().MaxForce, 1e-9);
 }
 
 TEST(HapticServo, RunsInItsThreadWhileTheMainThreadSwapsScenesAndReads) {

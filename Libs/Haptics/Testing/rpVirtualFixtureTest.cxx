@@ -12,6 +12,7 @@
 #include "rpAxisGuidance.h"
 #include "rpDepthStop.h"
 #include "rpDeviceProfiles.h"
+#include "rpFixtureConstraint.h"
 #include "rpFixtureRenderer.h"
 #include "rpForbiddenRegion.h"
 #include "rpHapticRenderer.h"
@@ -349,13 +350,14 @@ TEST(FixturesInTheRenderer, TheDepthStopHoldsTheToolBeforeTheTissueAndTheClampKe
                                                              {-50, 50, -30}, {0, 0, 1})}},
                              table);
   const rp::TrajectoryAxis axis = Axis({0, 0, 0}, {0, 0, -20});  // stops 10 mm before the tissue
-  const auto set = One(std::make_shared<rp::DepthStop>(1, "stop", axis), Tuning(0.6, 0.001, 4, 4));
+  const auto constraints =
+      rp::MakeFixtureConstraints(One(std::make_shared<rp::DepthStop>(1, "stop", axis), Tuning(0.6, 0.001, 4, 4)));
   rp::HapticRenderer r;
   r.SetDevice(Omni());
   r.SetScene(scene.get());
-  r.SetFixtures(set.get());
   r.Reset(rptest::At({0, 0, 0}));
-  const rp::RenderOutput& o = rptest::MoveTo(r, {0, 0, 0}, {0, 0, -35}, 300);  // the hand goes 5 mm into the tissue
+  for (int i = 1; i < 300; ++i) r.Update(rptest::At({0, 0, -35.0 * i / 300}), 0, constraints.get());
+  const rp::RenderOutput& o = r.Update(rptest::At({0, 0, -35}), 0, constraints.get());  // the hand 5 mm into the tissue
   EXPECT_EQ(o.Contacts, 0);  // the tool was held at the stop
   EXPECT_NEAR(o.Points[0].Hip.z, -20, 1e-9);
   EXPECT_NEAR(o.Tip.z, -35, 1e-12);

@@ -1,6 +1,5 @@
 // The Demo module: the seed's whole workflow end to end. CLI `roboplan demo`
 // (Logic/rpDemoCommand.cxx). The only module that depends on other modules: it drives their logic.
-#include <iostream>
 
 #include "rpDemoCommand.h"
 #include "rpModule.h"
@@ -16,7 +15,7 @@ class DemoModule : public rp::Module {
   }
   std::vector<rp::Command> Commands() override {
     return {{"demo", "run the seed's whole workflow on the knee phantom and write report.html",
-             [](rp::CommandContext& c) { return rp::RunDemoCommand(c.Arguments, std::cout, std::cerr); }}};
+             [](rp::CommandContext& c) { return rp::RunDemoCommand(c.Arguments, *c.Out, *c.Err); }}};
   }
 };
 

@@ -1,6 +1,5 @@
 // The Drilling module: remove bone with a spherical burr at the servo rate (the seed paper's
 // "drilling" of section 5). Logic: vtkRPDrillingLogic; panel: qRPDrillingPanel; CLI: roboplan drill.
-#include <iostream>
 
 #include <vtkNew.h>
 
@@ -29,7 +28,7 @@ class DrillingModule : public rp::Module {
   }
   std::vector<rp::Command> Commands() override {
     return {{"drill", "drill a stroke into a bone with a burr at 1 kHz (removed volume, forces, timings)",
-             [](rp::CommandContext& context) { return rp::RunDrillCommand(context.Arguments, std::cout, std::cerr); }}};
+             [](rp::CommandContext& c) { return rp::RunDrillCommand(c.Arguments, c.Scene, *c.Out, *c.Err); }}};
   }
 
  private:

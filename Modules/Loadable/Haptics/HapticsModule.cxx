@@ -1,6 +1,5 @@
 // The Haptics module plugin: touch the patient's tissues at 1 kHz (seed 2.2, 3.2.1). CLI
 // `roboplan haptics` (Logic/rpHapticsCommand.cxx), panel qRPHapticsPanel.
-#include <iostream>
 
 #include <vtkNew.h>
 
@@ -29,7 +28,7 @@ class HapticsModule : public rp::Module {
   }
   std::vector<rp::Command> Commands() override {
     return {{"haptics", "touch the haptic models at 1 kHz with a simulated device (timing, forces, clamped tissues)",
-             [](rp::CommandContext& c) { return rp::RunHapticsCommand(c.Arguments, c.Scene, std::cout, std::cerr); }}};
+             [](rp::CommandContext& c) { return rp::RunHapticsCommand(c.Arguments, c.Scene, *c.Out, *c.Err); }}};
   }
 
  private:

@@ -1,6 +1,5 @@
 // LandmarkRegistration module plugin: paired-point registration of two fiducial lists into a
 // linear transform node, with FRE, accept/reject, predicted TRE (CLI `roboplan register`).
-#include <iostream>
 
 #include <vtkNew.h>
 #include <vtkSmartPointer.h>
@@ -34,7 +33,7 @@ class LandmarkRegistrationModule : public rp::Module {
     return {{"register",
              "paired-point registration of two fiducial files into a transform file, with FRE, "
              "accept/reject and predicted TRE",
-             [](rp::CommandContext& context) { return rp::RunRegisterCommand(context.Arguments, std::cout, std::cerr); }}};
+             [](rp::CommandContext& context) { return rp::RunRegisterCommand(context.Arguments, *context.Out, *context.Err); }}};
   }
 
  private:

@@ -1,5 +1,4 @@
 // SegmentationToMesh module plugin: the Qt panel and `roboplan mesh` (Logic/rpMeshCommand.cxx).
-#include <iostream>
 
 #include "rpMeshCommand.h"
 #include "rpModule.h"
@@ -32,7 +31,7 @@ class SegmentationToMeshModule : public rp::Module {
   }
   std::vector<rp::Command> Commands() override {
     return {{"mesh", "segment a CT/MR (or take a .seg.nrrd) and write one closed surface per tissue",
-             [](rp::CommandContext& c) { return rp::RunMeshCommand(c.Arguments, c.Scene, std::cout, std::cerr); }}};
+             [](rp::CommandContext& c) { return rp::RunMeshCommand(c.Arguments, c.Scene, *c.Out, *c.Err); }}};
   }
 
  private:

@@ -1,6 +1,5 @@
 // Tracking module plugin: NDI Polaris tool poses into the scene through a direct serial link or
 // OpenIGTLink. CLI: `roboplan track`, `roboplan pivot`, `roboplan polaris-sim`, `roboplan phantom-registration`.
-#include <iostream>
 
 #include <vtkSmartPointer.h>
 
@@ -34,17 +33,17 @@ class TrackingModule : public rp::Module {
   std::vector<rp::Command> Commands() override {
     return {
         {"track", "track tools from a pose source (--serial, --igtl, --replay, --simulate); pose, frame counts, rate, latency per tool",
-         [](rp::CommandContext& c) { return rp::RunTrackCommand(c.Arguments, c.Scene, std::cout, std::cerr); }},
+         [](rp::CommandContext& c) { return rp::RunTrackCommand(c.Arguments, c.Scene, *c.Out, *c.Err); }},
         {"pivot", "pivot calibration (StylusTipToStylus, RMSE) from a tracking recording",
-         [](rp::CommandContext& c) { return rp::RunPivotCommand(c.Arguments, std::cout, std::cerr); }},
+         [](rp::CommandContext& c) { return rp::RunPivotCommand(c.Arguments, *c.Out, *c.Err); }},
         {"tool-info", "an NDI tool definition (.rom) or tool .json: markers, normals, part number, checksum (--json, --write)",
-         [](rp::CommandContext& c) { return rp::RunToolInfoCommand(c.Arguments, std::cout, std::cerr); }},
+         [](rp::CommandContext& c) { return rp::RunToolInfoCommand(c.Arguments, *c.Out, *c.Err); }},
         {"polaris-sim", "a simulated NDI Polaris on a pseudo-terminal (prints the port to open)",
-         [](rp::CommandContext& c) { return rp::RunPolarisSimCommand(c.Arguments, std::cout, std::cerr); }},
+         [](rp::CommandContext& c) { return rp::RunPolarisSimCommand(c.Arguments, *c.Out, *c.Err); }},
         {"phantom-registration",
          "PLUS's phantom registration (fCal, landmark detection) from a PLUS recording and configuration: "
          "PhantomToReference, FRE, predicted TRE",
-         [](rp::CommandContext& c) { return rp::RunPhantomRegistrationCommand(c.Arguments, std::cout, std::cerr); }},
+         [](rp::CommandContext& c) { return rp::RunPhantomRegistrationCommand(c.Arguments, *c.Out, *c.Err); }},
     };
   }
 

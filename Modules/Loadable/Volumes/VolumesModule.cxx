@@ -1,6 +1,5 @@
 // Volumes module plugin: DICOM series, NRRD/NIfTI, the knee phantom and CT-MR registration.
 // CLI: `roboplan dicom`, `roboplan convert`, `roboplan phantom`, `roboplan register-volumes`.
-#include <iostream>
 
 #include <vtkSmartPointer.h>
 
@@ -20,7 +19,7 @@ class VolumesModule : public rp::Module {
   vtkObject* Logic() override { return this->LogicObject; }
   std::vector<rp::Command> Commands() override {
     auto bind = [](int (*run)(const std::vector<std::string>&, std::ostream&, std::ostream&)) {
-      return [run](rp::CommandContext& context) { return run(context.Arguments, std::cout, std::cerr); };
+      return [run](rp::CommandContext& context) { return run(context.Arguments, *context.Out, *context.Err); };
     };
     return {{"dicom", "list the DICOM image series in a folder or DICOMDIR", bind(rp::RunDicomCommand)},
             {"convert", "convert volumes between DICOM series, NRRD, NIfTI and MetaImage", bind(rp::RunConvertCommand)},

@@ -33,7 +33,7 @@
 #include "rpBenchmarkMain.h"
 #include "rpDrillAnalytic.h"
 #include "rpDrillBoneBuilder.h"
-#include "rpDrillRun.h"
+#include "rpDrillSession.h"
 #include "rpSimulatedDevice.h"
 #include "rpVolumeFiles.h"
 #include "rpVolumeIO.h"
@@ -122,21 +122,22 @@ bool Tunnel(rp::DrillVolume& bone, double radius, GridFigures& f, bool realtime,
   std::string error;
   path->Set({0.0, 25 / 10.0}, {from, to}, error);
   device.SetTrajectory(path);
-  rp::DrillServoOptions options;
-  options.RampSeconds = 0;
-  rp::DrillServo servo(device, bone, options);
   rp::DrillDisplay display(bone);
   display.Initialize();
+  rp::DrillSession session(device, bone, display);
+  rp::DrillSession::Options options;
+  options.Servo.RampSeconds = 0;
+  options.KeepRecords = !realtime;
+  options.KeepPath = false;
+  options.Loop.RequestRealTimePriority = realtime;
   rp::DrillRunOptions run;
   run.Realtime = realtime;
   run.MaxSeconds = realtime ? 6.0 : 30.0;
   const rp::DrillControl on{true, radius, 60000};
   run.Schedule = [on](double) { return on; };
   run.Finished = [to](const rp::DrillState& s) { return rp::Norm(s.Proxy - to) < 0.02; };
-  run.KeepRecords = !realtime;
-  run.MeshEveryFrame = realtime;  // scripted: no mesh between the ticks (rpDrillRun.h)
-  run.Loop.RequestRealTimePriority = realtime;
-  if (!rp::RunDrill(servo, display, run, result, error)) {
+  run.MeshEveryFrame = realtime;  // scripted: no mesh between the ticks (rpDrillSession.h)
+  if (!session.Prepare(options, {}, nullptr, error) || !session.Run(run, result, error)) {
     std::cerr << error << "\n";
     return false;
   }
@@ -185,19 +186,20 @@ GridFigures MeasureGrid(double h, const std::vector<rp::Material>& m) {
     auto path = std::make_shared<rp::WaypointTrajectory>();
     path->Set({0.0, 1e-3, 1e-3 + 10 / 5.0}, {from, from, to}, error);
     device.SetTrajectory(path);
-    rp::DrillServoOptions options;
-    options.RampSeconds = 0;
-    rp::DrillServo servo(device, block, options);
-    const rp::DrillControl on{true, 2.0, 60000};
-    servo.PlaceBurr(from, on);
     rp::DrillDisplay display(block);
+    rp::DrillSession session(device, block, display);
+    rp::DrillSession::Options options;
+    options.Servo.RampSeconds = 0;
+    options.KeepPath = false;
+    const rp::DrillControl on{true, 2.0, 60000};
+    session.Prepare(options, {}, nullptr, error);
+    session.Servo().PlaceBurr(from, on);
     rp::DrillRunOptions run;
     run.Schedule = [on](double) { return on; };
     run.Finished = [to](const rp::DrillState& s) { return rp::Norm(s.Proxy - to) < 1e-3; };
-    run.KeepRecords = false;
     run.MaxSeconds = 20;
     rp::DrillRunResult result;
-    rp::RunDrill(servo, display, run, result, error);
+    session.Run(run, result, error);
     f.Expected = M_PI * 4 * 10 + 4.0 / 3.0 * M_PI * 8;
     f.StrokeRemoved = result.Final.RemovedTotalMm3;
     f.ErrorPercent = 100 * (f.StrokeRemoved - f.Expected) / f.Expected;
@@ -258,20 +260,21 @@ nlohmann::json RealTibia(const std::vector<rp::Material>& m) {
   const Vec3 from{centre.x, hi.y + 3, centre.z}, to = centre;
   path->Set({0.0, rp::Norm(to - from) / 10.0}, {from, to}, error);
   device.SetTrajectory(path);
-  rp::DrillServoOptions options;
-  options.RampSeconds = 0;
-  rp::DrillServo servo(device, bone, options);
   rp::DrillDisplay display(bone);
   display.Initialize();
+  rp::DrillSession session(device, bone, display);
+  rp::DrillSession::Options options;
+  options.Servo.RampSeconds = 0;
+  options.KeepPath = false;
+  session.Prepare(options, {}, nullptr, error);
   rp::DrillRunOptions run;
   const rp::DrillControl on{true, 2.5, 60000};
   run.Schedule = [on](double) { return on; };
   run.Finished = [to](const rp::DrillState& s) { return rp::Norm(s.Proxy - to) < 0.02; };
   run.MaxSeconds = 40;
-  run.KeepRecords = false;
   run.MeshEveryFrame = false;
   rp::DrillRunResult result;
-  rp::RunDrill(servo, display, run, result, error);
+  session.Run(run, result, error);
   const std::vector<double> contour = rp::SplitDisplayFrames(result.Frames).ContourMs;
   return {{"voxelMm", 0.3},
           {"storedBlocks", report.StoredBlocks},

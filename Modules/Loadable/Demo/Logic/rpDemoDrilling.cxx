@@ -24,8 +24,6 @@
 #include "rpDrillAnalytic.h"
 #include "rpDrillBoneBuilder.h"
 #include "rpDrillCommand.h"
-#include "rpDrillRun.h"
-#include "rpDrillSession.h"
 #include "rpPolyDataTriangleMesh.h"
 #include "rpKneePhantom.h"
 #include "rpReport.h"
@@ -36,6 +34,7 @@
 #include "vtkRPModelNode.h"
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
+#include "vtkRPDrillingLogic.h"
 #include "vtkRPSegmentationNode.h"
 
 namespace fs = std::filesystem;
@@ -154,9 +153,8 @@ bool TibiaModelSurface(const DemoState& state, const Segment& tibia, TriangleMes
 
 // The voxel tibia around the tunnel (cortical / trabecular from the CT), PCL protected; its
 // density follows the tibia model's surface.
-void BuildTunnelBone(const DemoState& state, const Segment& tibia, const TriangleMesh& tibiaSurface, const TunnelPlan& plan,
-                     const std::vector<Material>& materials, DrillVolume& bone, DrillVolume& protectedVolume,
-                     DrillBoneReport& built) {
+DrillBoneSource TunnelBone(const DemoState& state, const Segment& tibia, const TriangleMesh& tibiaSurface,
+                           const TunnelPlan& plan) {
   DrillBoneSource source;
   source.BoneSurface = tibiaSurface;
   int pcl = 0;
@@ -171,8 +169,7 @@ void BuildTunnelBone(const DemoState& state, const Segment& tibia, const Triangl
   const Vec3 margin{15, 15, 15};
   source.RegionLo = Min(plan.From, plan.To) - margin;
   source.RegionHi = Max(plan.From, plan.To) + margin;
-  std::string error;
-  if (!BuildDrillBone(source, materials, bone, &protectedVolume, built, error)) throw std::runtime_error(error);
+  return source;
 }
 
 // How long the voxel tibia took, and that its surface is the tibia model's (within a fraction of
@@ -187,23 +184,28 @@ void ReportTunnelBone(DemoState& state, const std::string& stage, DrillVolume& b
                                    std::to_string(fit.Vertices) + " vertices; target 0.15 voxel");
 }
 
-// Drills it: the simulated hand pushes the burr along the axis at 5 mm/s; the drill path is kept.
-DrillRunResult DrillAlongPlan(DemoState& state, const TunnelPlan& plan, DrillServo& servo, const DrillServoOptions& options,
-                              DrillDisplay& display, vtkSmartPointer<vtkPolyData>& mesh) {
+// Drills it in the Drilling logic: the simulated hand pushes the burr along the axis at 5 mm/s
+// (through the soft tissue models: only the bone is touched); the drill path is kept.
+DrillRunResult DrillAlongPlan(DemoState& state, const TunnelPlan& plan, vtkRPDrillingLogic* logic) {
+  std::string error;
+  auto path = std::make_shared<WaypointTrajectory>();
+  path->Set({0.0, Norm(plan.To - plan.From) / 5.0}, {plan.From, plan.To}, error);
+  logic->SetSimulatedTrajectory(path);
+  logic->SetTouchOtherModels(false);
+  DrillServoOptions servo;
+  servo.RampSeconds = 0.05;
+  logic->SetServoOptions(servo);
+  logic->SetRecordPath((fs::path(state.Output) / "drill-tibial-tunnel.txt").string());
   DrillRunOptions run;
   const DrillControl on{true, BurrRadius, DrillControl{}.Rpm};
   const Vec3 to = plan.To;
   run.Schedule = [on](double) { return on; };
   run.Finished = [to](const DrillState& s) { return Norm(s.Proxy - to) < 0.05 || s.Stopped; };
   run.MaxSeconds = 60;
-  run.RecordPath = (fs::path(state.Output) / "drill-tibial-tunnel.txt").string();
-  run.RecordInfo = {Voxel, options.FeedRate, options.ReferenceRpm, false};
   run.Progress = [&state](double f, const std::string& m) { state.Runner->Progress(0.1 + 0.7 * f, m); };
-  run.OnMesh = [&mesh](vtkPolyData* m) { mesh = m; };
   run.MeshEveryFrame = false;  // only the drilled tibia's last mesh is shown
   DrillRunResult result;
-  std::string error;
-  if (!RunDrill(servo, display, run, result, error)) throw std::runtime_error(error);
+  if (!logic->RunSimulated(run, result, error)) throw std::runtime_error(error);
   return result;
 }
 
@@ -342,42 +344,22 @@ void DrillTibialTunnel(DemoState& state) {
   const TunnelPlan plan = PlanTunnel(state);
   state.Runner->Progress(0.05, "voxel tibia");
 
-  MaterialTable table;
+  // The voxel tibia and the drilled tibia's model node ("Tibia (drilled)") in the Drilling logic.
+  vtkNew<vtkRPDrillingLogic> logic;
+  logic->SetScene(state.Scene);
   std::string error;
-  if (!LoadMaterialTable(table, error)) throw std::runtime_error(error);
-  const std::vector<Material> materials = DrillableMaterials(table);
-  DrillVolume bone, protectedVolume;
-  DrillBoneReport built;
-  BuildTunnelBone(state, *tibia, tibiaSurface, plan, materials, bone, protectedVolume, built);
-  ReportTunnelBone(state, stage, bone, built, tibiaSurface);
-  const TriangleMesh pclSurface = built.HasProtected ? ContourToTriangleMesh(protectedVolume) : TriangleMesh{};
-  BVH pclTree;
-  if (!pclSurface.Triangles.empty()) pclTree.Build(pclSurface);
+  if (!logic->BuildBone(TunnelBone(state, *tibia, tibiaSurface, plan), {"Tibia"}, error)) throw std::runtime_error(error);
+  DrillVolume& bone = *logic->GetBone();
+  const std::vector<Material>& materials = logic->GetMaterials();
+  ReportTunnelBone(state, stage, bone, logic->GetBoneReport(), tibiaSurface);
+  const TriangleMesh& pclSurface = logic->GetProtectedSurface();
   const std::vector<double> planned = PlannedVolume(bone, plan.From, plan.To, BurrRadius);
 
-  SimulatedDevice device;
-  auto path = std::make_shared<WaypointTrajectory>();
-  path->Set({0.0, Norm(plan.To - plan.From) / 5.0}, {plan.From, plan.To}, error);
-  device.SetTrajectory(path);
-  DrillServoOptions options;
-  options.RampSeconds = 0.05;
-  DrillServo servo(device, bone, options);
-  if (!pclTree.Empty()) servo.SetProtectedSurface(&pclTree);
-  DrillDisplay display(bone);
-  vtkSmartPointer<vtkPolyData> mesh = display.Initialize();
-  const DrillRunResult result = DrillAlongPlan(state, plan, servo, options, display, mesh);
-
-  ReportTunnelVolumes(state, stage, plan, materials, planned, result, bone, !pclTree.Empty(),
-                      servo.MaxCutLead(DrillControl{}.Rpm, 0.001));
-  ReportTunnelTimings(state, stage, result, bone, built, device.Info().MaxForce);
-
-  // ---- the drilled tibia in the scene
-  vtkNew<vtkRPModelNode> drilled;
-  drilled->SetName("Tibia (drilled)");
-  drilled->SetTissueClass("bone");
-  drilled->SetColor(0.95, 0.92, 0.82);
-  drilled->SetPolyData(mesh);
-  state.Scene->AddNode(drilled);
+  const DrillRunResult result = DrillAlongPlan(state, plan, logic);
+  ReportTunnelVolumes(state, stage, plan, materials, planned, result, bone, !pclSurface.Triangles.empty(),
+                      logic->GetSession()->Servo().MaxCutLead(DrillControl{}.Rpm, 0.001));
+  ReportTunnelTimings(state, stage, result, bone, logic->GetBoneReport(), SimulatedDevice::DefaultInfo().MaxForce);
+  vtkPolyData* mesh = logic->GetDrilledMesh();
   state.Runner->Progress(0.9, "pictures");
 
   if (!CanDrawPictures(state, why)) {

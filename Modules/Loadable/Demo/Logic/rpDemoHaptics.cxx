@@ -3,25 +3,24 @@
 // outside, then the bones with the soft tissue hidden. Each pass presses into surfaces found by
 // casting rays from the front (anterior), holds, and retracts.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <memory>
-#include <mutex>
 #include <stdexcept>
-#include <thread>
+
+#include <vtkNew.h>
 
 #include "rpBenchmarkChart.h"
 #include "rpDemoStages.h"
 #include "rpDeviceProfiles.h"
 #include "rpHapticSceneBridge.h"
-#include "rpHapticSession.h"
 #include "rpReport.h"
 #include "rpServoLoadReport.h"
 #include "rpSimulatedDevice.h"
 #include "rpStageRunner.h"
+#include "vtkRPHapticsLogic.h"
 #include "vtkRPModelNode.h"
 #include "vtkRPScene.h"
 
@@ -87,68 +86,54 @@ struct PassResult {
   std::vector<double> PeriodBinsUs, PeriodCounts;
 };
 
+// One pass in the Haptics logic: the Omni's stylus (in RAS) along the anterior probe path.
 PassResult RunPass(DemoState& state, const std::string& name, double maxSeconds) {
-  std::vector<std::string> warnings;
   std::string error;
-  HapticSession::Options options;
-  if (!LoadMaterialTable(options.Materials, error)) throw std::runtime_error(error);
-  DeviceProfile profile;
-  if (!FindDeviceProfile(DemoDevice, profile, error)) throw std::runtime_error(error);
-  auto preview = HapticScene::Build(CollectHapticMeshes(state.Scene, warnings), options.Materials, warnings, error);
+  vtkNew<vtkRPHapticsLogic> logic;
+  logic->SetScene(state.Scene);
+  if (!logic->SetDeviceProfile(DemoDevice, error)) throw std::runtime_error(error);
+  auto preview = logic->PreviewHapticScene(error);
   if (!preview || preview->Tree.Empty()) throw std::runtime_error(name + ": no haptic models (" + error + ")");
   auto path = AnteriorProbePath(*preview, 4, 3, error);
   if (!path) throw std::runtime_error(name + ": " + error);
-  // The device frame is the scene frame here (HapticDeviceToRAS identity, scale 1).
-  SimulatedDevice device(profile.Info);
-  device.SetTrajectory(path);
-  HapticSession session(device);
-  options.LogPath = (fs::path(state.Output) / ("haptics-" + name + ".csv")).string();
-  options.RampSeconds = 0.1;
-  options.Loop.SpinUs = 100;
-  auto result = std::make_shared<PassResult>();
-  std::mutex mutex;  // log writer thread → stage thread, read after Stop()
-  session.Log().OnRecord = [result, &session](const HapticLogRecord& r) {
-    ++result->Records;
-    const double f = Norm(r.Force);
-    result->MaxForce = std::fmax(result->MaxForce, f);
-    if (r.Contacts <= 0 || r.Label < 0) return;
-    const auto& names = session.TissueNames();
-    const std::string tissue = static_cast<size_t>(r.Label) < names.size() ? names[static_cast<size_t>(r.Label)] : "?";
-    ++result->ContactTicks[tissue];
-    auto& curve = result->ForceCurves[tissue];
-    if (result->ContactTicks[tissue] % 5 == 0) {  // every 5th contact tick is enough for a plot
-      curve.first.push_back(Norm(r.Hip - r.Proxy));
-      curve.second.push_back(f);
-    }
-  };
-  if (!session.Start(state.Scene, options, error)) throw std::runtime_error(name + ": " + error);
+  logic->SetSimulatedTrajectory(path);
+  logic->SetLogPath((fs::path(state.Output) / ("haptics-" + name + ".csv")).string());
+  logic->SetRampSeconds(0.1);
+  ServoLoop::Options loop;
+  loop.SpinUs = 100;
+  logic->SetLoopOptions(loop);
+  logic->SetSummarize(true);
   const double seconds = std::min(maxSeconds, path->Duration() + 0.2);
-  const auto start = std::chrono::steady_clock::now();
-  for (;;) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(33));  // the display-rate update
-    session.Update();
-    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    state.Runner->Progress(std::min(1.0, elapsed / seconds), name);
-    if (elapsed >= seconds) break;
-  }
-  session.Stop();
-  result->Servo = session.Scheduler().Stats();
-  result->Load = session.Scheduler().Load();
-  result->Materials = session.Materials();
-  result->Clamps = session.Clamps();
-  result->Warnings = session.Warnings();
-  result->TissueNames = session.TissueNames();
-  result->Dropped = session.Servo().LogRing().DroppedCount();
+  if (!logic->RunSimulated(seconds, [&](double elapsed) { state.Runner->Progress(std::min(1.0, elapsed / seconds), name); },
+                           error))
+    throw std::runtime_error(name + ": " + error);
+  const HapticSession& session = *logic->GetSession();
+  PassResult result;
+  result.Servo = session.Scheduler().Stats();
+  result.Load = session.Scheduler().Load();
+  result.Materials = session.Materials();
+  result.Clamps = session.Clamps();
+  result.Warnings = session.Warnings();
+  result.TissueNames = session.TissueNames();
+  result.Dropped = logic->GetSession()->Servo().LogRing().DroppedCount();
+  const HapticForceSummary& figures = session.Summary();
+  result.Records = figures.Records;
+  result.MaxForce = figures.MaxForce;
+  auto tissue = [&](int label) {
+    return label >= 0 && static_cast<size_t>(label) < result.TissueNames.size() ? result.TissueNames[size_t(label)] : "?";
+  };
+  for (const auto& [label, ticks] : figures.TissueTicks) result.ContactTicks[tissue(label)] = ticks;
+  for (const auto& [label, curve] : figures.ForceCurves) result.ForceCurves[tissue(label)] = curve;
   HapticState last;
-  if (session.Servo().ReadState(last)) result->WatchdogTrips = last.WatchdogTrips;
+  if (logic->GetSession()->Servo().ReadState(last)) result.WatchdogTrips = last.WatchdogTrips;
   const TimingHistogram& hist = session.Scheduler().PeriodHistogram();
   for (size_t i = 0; i < hist.BinCount(); ++i) {
     const double us = (i + 0.5) * hist.BinWidthNs() / 1000.0;
     if (us < 800 || us > 1200) continue;  // around the 1 ms period
-    result->PeriodBinsUs.push_back(us);
-    result->PeriodCounts.push_back(static_cast<double>(hist.BinValue(i)));
+    result.PeriodBinsUs.push_back(us);
+    result.PeriodCounts.push_back(static_cast<double>(hist.BinValue(i)));
   }
-  return *result;
+  return result;
 }
 
 void SetHaptic(DemoState& state, const std::vector<std::string>& ids, bool haptic) {

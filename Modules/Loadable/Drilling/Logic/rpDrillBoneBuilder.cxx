@@ -15,14 +15,40 @@
 #include <vtkType.h>
 
 #include "rpBlockMesher.h"
-#include "rpDrillRun.h"
-#include "rpDrillSession.h"
+#include "rpDrillDisplay.h"
 #include "rpPolyDataTriangleMesh.h"
 #include "rpLabelmapToMesh.h"
 #include "rpMeshSignedDistance.h"
 #include "vtkRPSegmentationNode.h"
 
 namespace rp {
+
+bool FindDrillSegments(vtkRPSegmentationNode* segmentation, const std::vector<std::string>& refs, DrillSegments& found,
+                       std::string& error) {
+  for (const std::string& ref : refs) {
+    const vtkRPSegmentationNode::Segment* segment = segmentation->GetSegmentByID(ref);
+    for (int n = 0; !segment && n < segmentation->GetNumberOfSegments(); ++n) {
+      const auto& s = segmentation->GetNthSegment(n);
+      if (s.Name.size() == ref.size() && std::equal(ref.begin(), ref.end(), s.Name.begin(), [](char a, char b) {
+            return std::tolower(static_cast<unsigned char>(a)) == std::tolower(static_cast<unsigned char>(b));
+          }))
+        segment = &s;
+    }
+    if (!segment && !ref.empty() && ref.find_first_not_of("0123456789") == std::string::npos)
+      segment = segmentation->GetSegmentByLabel(std::stoi(ref));
+    if (!segment) {
+      error = "no segment '" + ref + "' in the segmentation (segments:";
+      for (int n = 0; n < segmentation->GetNumberOfSegments(); ++n) error += " " + segmentation->GetNthSegment(n).ID;
+      error += ")";
+      return false;
+    }
+    found.Labels.push_back(segment->LabelValue);
+    found.Tissues.push_back(segment->TissueClass);
+    found.IDs.push_back(segment->ID);
+    found.Names.push_back(segment->Name.empty() ? segment->ID : segment->Name);
+  }
+  return true;
+}
 
 namespace {
 

@@ -27,7 +27,19 @@
 #include "rpProgress.h"
 #include "rpTriangleMesh.h"
 
+class vtkRPSegmentationNode;
+
 namespace rp {
+
+/// Segments of a segmentation node, as a drill bone takes them.
+struct DrillSegments {
+  std::vector<int> Labels;
+  std::vector<std::string> Tissues, IDs, Names;  // a segment without a name is named by its ID
+};
+/// The segments `refs` name (each an ID, a name in any case, or a label value), appended to
+/// `found`. False names the first unknown reference and lists the segments.
+bool FindDrillSegments(vtkRPSegmentationNode* segmentation, const std::vector<std::string>& refs, DrillSegments& found,
+                       std::string& error);
 
 struct DrillBoneSource {
   ImageVolume Labels;                    // the labelmap (integer scalars), RAS geometry

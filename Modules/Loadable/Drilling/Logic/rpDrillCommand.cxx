@@ -14,18 +14,17 @@
 #include <vtkPolyData.h>
 
 #include "rpArgParser.h"
-#include "rpDrillAnalytic.h"
-#include "rpDrillBoneBuilder.h"
-#include "rpDrillRun.h"
-#include "rpPolyDataTriangleMesh.h"
+#include "rpBlockMesher.h"
 #include "rpModelIO.h"
+#include "rpPolyDataTriangleMesh.h"
 #include "rpSegmentationIO.h"
 #include "rpServoLoadReport.h"
 #include "rpSimulatedDevice.h"
 #include "rpTunnelPicture.h"
-#include "rpBlockMesher.h"
 #include "rpVolumeFiles.h"
 #include "rpVolumeIO.h"
+#include "vtkRPDrillingLogic.h"
+#include "vtkRPScene.h"
 #include "vtkRPSegmentationNode.h"
 
 namespace rp {
@@ -91,33 +90,6 @@ namespace {
 
 Vec3 ToVec3(const std::vector<double>& v) { return {v[0], v[1], v[2]}; }
 nlohmann::json Json(const Vec3& v) { return nlohmann::json::array({v.x, v.y, v.z}); }
-
-// Resolves segment references (ID, name or label value) against a segmentation.
-bool FindSegments(vtkRPSegmentationNode* segmentation, const std::vector<std::string>& refs, std::vector<int>& labels,
-                  std::vector<std::string>& tissues, std::vector<std::string>& names, std::string& error) {
-  for (const std::string& ref : refs) {
-    const vtkRPSegmentationNode::Segment* found = segmentation->GetSegmentByID(ref);
-    for (int n = 0; !found && n < segmentation->GetNumberOfSegments(); ++n) {
-      const auto& s = segmentation->GetNthSegment(n);
-      if (s.Name.size() == ref.size() && std::equal(ref.begin(), ref.end(), s.Name.begin(), [](char a, char b) {
-            return std::tolower(static_cast<unsigned char>(a)) == std::tolower(static_cast<unsigned char>(b));
-          }))
-        found = &s;
-    }
-    if (!found && !ref.empty() && ref.find_first_not_of("0123456789") == std::string::npos)
-      found = segmentation->GetSegmentByLabel(std::stoi(ref));
-    if (!found) {
-      error = "no segment '" + ref + "' in the segmentation (segments:";
-      for (int n = 0; n < segmentation->GetNumberOfSegments(); ++n) error += " " + segmentation->GetNthSegment(n).ID;
-      error += ")";
-      return false;
-    }
-    labels.push_back(found->LabelValue);
-    tissues.push_back(found->TissueClass);
-    names.push_back(found->ID);
-  }
-  return true;
-}
 
 // Reads a .seg.nrrd, or any labelmap volume (segments are then label values).
 bool ReadLabels(const std::string& path, vtkRPSegmentationNode* segmentation, std::string& error) {
@@ -299,22 +271,11 @@ std::optional<int> ParseDrillRequest(const std::vector<std::string>& args, std::
   return std::nullopt;
 }
 
-// Everything a drill run made, declared in the order the single function declared it (same lifetimes).
-struct DrillSession {
+// What a drill run made: the logic (bone, session, drilled mesh), the replayed recording, the run.
+struct DrillWork {
+  vtkSmartPointer<vtkRPDrillingLogic> Logic = vtkSmartPointer<vtkRPDrillingLogic>::New();
   DrillRecording Recording;
-  MaterialTable Table;
-  std::vector<Material> Materials;
-  std::unique_ptr<DrillVolume> Bone = std::make_unique<DrillVolume>();
-  std::unique_ptr<DrillVolume> ProtectedSurface = std::make_unique<DrillVolume>();
-  DrillBoneReport Built;
-  std::vector<std::string> BoneNames;
-  TriangleMesh ProtectedMesh;
-  BVH ProtectedTree;
-  std::shared_ptr<WaypointTrajectory> Path = std::make_shared<WaypointTrajectory>();
-  std::unique_ptr<SimulatedDevice> Device;
-  std::unique_ptr<DrillServo> Servo;
-  std::unique_ptr<DrillDisplay> Display;
-  vtkSmartPointer<vtkPolyData> Mesh;
+  std::vector<std::string> Segments;  // the drilled segments' IDs ("block" for --block)
   DrillRunOptions Run;
   DrillRunResult Result;
 };
@@ -325,7 +286,7 @@ int Fail(std::ostream& err, const std::string& message) {
 }
 
 // The --replay recording: the stroke, burr and (unless given) voxel and feed come from it.
-int ReadReplay(DrillRequest& q, DrillSession& s, std::ostream& err) {
+int ReadReplay(DrillRequest& q, DrillWork& s, std::ostream& err) {
   std::string error;
   if (!DrillRecording::Read(q.ReplayPath, s.Recording, error)) return Fail(err, error);
   q.From = s.Recording.Lines.front().Record.Hip;
@@ -336,36 +297,20 @@ int ReadReplay(DrillRequest& q, DrillSession& s, std::ostream& err) {
   return 0;
 }
 
-// The analytic block of bone (--block).
-int BuildBlockBone(const DrillRequest& q, DrillSession& s, std::ostream& err) {
-  std::string error;
-  const auto buildStart = std::chrono::steady_clock::now();
-  const uint8_t cortical = FindDrillMaterial(s.Materials, "bone") ? FindDrillMaterial(s.Materials, "bone") : 1;
-  const uint8_t trabecular = FindDrillMaterial(s.Materials, "trabecular bone");
-  if (q.Shell > 0 && trabecular == 0)
-    return Fail(err, "--shell needs a drillable \"trabecular bone\" in the material table");
-  if (!BuildAnalyticBone(BlockBone(q.BlockLo, q.BlockHi, cortical, q.Shell, trabecular), q.Voxel, s.Materials, *s.Bone, error))
-    return Fail(err, error);
-  s.Built.GridVoxels = s.Bone->Grid().VoxelCount();
-  s.Built.StoredBlocks = s.Bone->AllocatedBlocks();
-  s.Built.MemoryMB = s.Bone->MemoryBytes() / 1e6;
-  s.Built.VolumeMm3 = s.Bone->OriginalVolumes();
-  s.Built.Seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - buildStart).count();
-  s.BoneNames = {"block"};
-  return 0;
-}
-
-// The voxel bone (and protected surface) from a segmentation's segments.
-int BuildSegmentedBone(const DrillRequest& q, DrillSession& s, TerminalProgress& progress, std::ostream& err) {
+// The voxel bone (and protected surface) from the segmentation file's segments, in the logic.
+int BuildSegmentedBone(const DrillRequest& q, DrillWork& s, TerminalProgress& progress, std::ostream& err) {
   std::string error;
   vtkNew<vtkRPSegmentationNode> segmentation;
   if (!ReadLabels(q.Segmentation, segmentation, error)) return Fail(err, error);
   DrillBoneSource source;
   source.Labels = FromNode(segmentation);
-  std::vector<std::string> protectedNames;
-  if (!FindSegments(segmentation, q.Segments, source.BoneLabels, source.BoneTissues, s.BoneNames, error) ||
-      !FindSegments(segmentation, q.Protect, source.ProtectedLabels, source.ProtectedTissues, protectedNames, error))
+  DrillSegments bone, guarded;
+  if (!FindDrillSegments(segmentation, q.Segments, bone, error) || !FindDrillSegments(segmentation, q.Protect, guarded, error))
     return Fail(err, error);
+  source.BoneLabels = bone.Labels;
+  source.BoneTissues = bone.Tissues;
+  source.ProtectedLabels = guarded.Labels;
+  source.ProtectedTissues = guarded.Tissues;
   if (q.HasCT && !ReadVolume(q.CT, source.CT, error)) return Fail(err, "the CT: " + error);
   source.Spacing = q.Voxel;
   if (q.Margin > 0) {
@@ -374,21 +319,16 @@ int BuildSegmentedBone(const DrillRequest& q, DrillSession& s, TerminalProgress&
     source.RegionLo = Min(q.From, q.To) - pad;
     source.RegionHi = Max(q.From, q.To) + pad;
   }
-  if (!BuildDrillBone(source, s.Materials, *s.Bone, s.ProtectedSurface.get(), s.Built, error,
-                      [&](double f, const std::string& m) { progress.Report(0.3 * f, "voxel bone: " + m); }))
+  s.Segments = bone.IDs;
+  if (!s.Logic->BuildBone(source, bone.Names, error,
+                          [&](double f, const std::string& m) { progress.Report(0.3 * f, "voxel bone: " + m); }))
     return Fail(err, error);
   return 0;
 }
 
-// The protected structure's surface (distance read-out).
-void BuildProtectedTree(DrillSession& s) {
-  if (!s.Built.HasProtected) return;
-  s.ProtectedMesh = ContourToTriangleMesh(*s.ProtectedSurface);
-  s.ProtectedTree.Build(s.ProtectedMesh);
-}
-
 // The burr's path and its on/off, radius and rpm over time: the straight stroke, or the recording.
-int PlanPath(const DrillRequest& q, DrillSession& s, std::function<DrillControl(double)>& schedule, std::ostream& err) {
+int PlanPath(const DrillRequest& q, const DrillWork& s, WaypointTrajectory& path, std::function<DrillControl(double)>& schedule,
+             std::ostream& err) {
   std::string error;
   if (q.Replay) {
     std::vector<double> times;
@@ -397,7 +337,7 @@ int PlanPath(const DrillRequest& q, DrillSession& s, std::function<DrillControl(
       times.push_back(l.Record.Time);
       points.push_back(l.Record.Hip);
     }
-    if (!s.Path->Set(times, points, error)) return Fail(err, q.ReplayPath + ": " + error);
+    if (!path.Set(times, points, error)) return Fail(err, q.ReplayPath + ": " + error);
     const auto* lines = &s.Recording.Lines;
     schedule = [lines](double t) {
       auto it = std::upper_bound(lines->begin(), lines->end(), t,
@@ -406,29 +346,35 @@ int PlanPath(const DrillRequest& q, DrillSession& s, std::function<DrillControl(
       return DrillControl{(l.Record.Flags & DrillRecordFlags::BurrOn) != 0, l.Record.Radius, l.Rpm};
     };
   } else {
-    s.Path->Set({0.0, 1e-3, 1e-3 + std::max(Norm(q.To - q.From), 1e-6) / q.Speed}, {q.From, q.From, q.To}, error);
+    path.Set({0.0, 1e-3, 1e-3 + std::max(Norm(q.To - q.From), 1e-6) / q.Speed}, {q.From, q.From, q.To}, error);
   }
   return 0;
 }
 
-// The device, the servo and the display, then the run itself.
-int DriveDrill(const DrillRequest& q, DrillSession& s, TerminalProgress& progress, std::ostream& err) {
+// The stroke in the logic: the simulated hand along the path (RAS), the burr placed at --from,
+// the run to its end.
+int DriveDrill(const DrillRequest& q, DrillWork& s, TerminalProgress& progress, std::ostream& err) {
   std::string error;
   const DrillControl on{true, q.Radius, q.Rpm};
   std::function<DrillControl(double)> schedule = [on](double) { return on; };
-  if (const int code = PlanPath(q, s, schedule, err)) return code;
-  s.Device = std::make_unique<SimulatedDevice>();
-  s.Device->SetTrajectory(s.Path);
-  DrillServoOptions servoOptions;
-  servoOptions.FeedRate = q.Feed;
-  servoOptions.RampSeconds = 0;  // the burr starts in the bone: no force ramp to hide a jump
-  s.Servo = std::make_unique<DrillServo>(*s.Device, *s.Bone, servoOptions);
-  if (s.Built.HasProtected) s.Servo->SetProtectedSurface(&s.ProtectedTree);
+  auto path = std::make_shared<WaypointTrajectory>();
+  if (const int code = PlanPath(q, s, *path, schedule, err)) return code;
+  vtkRPDrillingLogic* logic = s.Logic;
+  logic->SetSimulatedTrajectory(path);
+  logic->SetTouchOtherModels(false);  // the bone alone
+  DrillServoOptions servo;
+  servo.FeedRate = q.Feed;
+  servo.RampSeconds = 0;  // the burr starts in the bone: no force ramp to hide a jump
+  logic->SetServoOptions(servo);
+  ServoLoop::Options loop;
+  loop.RequestRealTimePriority = q.Realtime;
+  loop.CpuAffinity = q.Cpu;
+  loop.ShieldCpu = q.Shield;
+  logic->SetLoopOptions(loop);
+  logic->SetRecordPath(q.Record);
   DrillControl start = q.Replay ? schedule(0) : on;
   if (q.Replay && !s.Recording.Info.StartCut) start.BurrOn = false;  // a session that began outside the bone
-  s.Servo->PlaceBurr(q.From, start);
-  s.Display = std::make_unique<DrillDisplay>(*s.Bone);
-  s.Mesh = s.Display->Initialize();
+  logic->PlaceBurr(q.From, start);
 
   DrillRunOptions& run = s.Run;
   run.Realtime = q.Realtime;
@@ -442,28 +388,25 @@ int DriveDrill(const DrillRequest& q, DrillSession& s, TerminalProgress& progres
     run.MaxSeconds = q.Timeout > 0 ? q.Timeout : 3.0 * length / std::min(q.Speed, q.Feed) + 5.0;
     run.Finished = [to, tolerance](const DrillState& state) { return Norm(state.Proxy - to) < tolerance || state.Stopped; };
   }
-  run.RecordPath = q.Record;
-  run.RecordInfo = {q.Voxel, q.Feed, servoOptions.ReferenceRpm, q.Replay ? s.Recording.Info.StartCut : true};
-  run.OnMesh = [&s](vtkPolyData* m) { s.Mesh = m; };
   run.MeshEveryFrame = run.Realtime;  // scripted: only the last mesh is written or pictured
   run.Progress = [&](double f, const std::string& m) { progress.Report(0.3 + 0.65 * f, m); };
-  run.Loop.RequestRealTimePriority = run.Realtime;
-  run.Loop.CpuAffinity = q.Cpu;
-  run.Loop.ShieldCpu = q.Shield;
-  if (!RunDrill(*s.Servo, *s.Display, run, s.Result, error)) return Fail(err, error);
+  if (!logic->RunSimulated(run, s.Result, error)) return Fail(err, error);
   return 0;
 }
 
-// Runs the drill the request describes: materials, voxel bone, protected surface, servo and display.
-int RunDrillSession(DrillRequest& q, DrillSession& s, TerminalProgress& progress, std::ostream& err) {
+// Runs the drill the request describes: the bone in the logic, then the stroke.
+int RunDrillSession(DrillRequest& q, DrillWork& s, vtkRPScene* scene, TerminalProgress& progress, std::ostream& err) {
   std::string error;
   if (q.Replay)
     if (const int code = ReadReplay(q, s, err)) return code;
-  if (!LoadMaterialTable(s.Table, error, q.Materials)) return Fail(err, error);
-  s.Materials = DrillableMaterials(s.Table);
-  if (s.Materials.empty()) return Fail(err, s.Table.Source() + " has no drillable material (no \"hardness\")");
-  if (const int code = q.Block ? BuildBlockBone(q, s, err) : BuildSegmentedBone(q, s, progress, err)) return code;
-  BuildProtectedTree(s);
+  s.Logic->SetScene(scene);
+  s.Logic->SetMaterialsPath(q.Materials);
+  if (q.Block) {
+    s.Segments = {"block"};
+    if (!s.Logic->BuildBlockBone(q.BlockLo, q.BlockHi, q.Shell, q.Voxel, error)) return Fail(err, error);
+  } else if (const int code = BuildSegmentedBone(q, s, progress, err)) {
+    return code;
+  }
   if (const int code = DriveDrill(q, s, progress, err)) return code;
   progress.Report(0.97, "measuring");
   return 0;
@@ -481,7 +424,7 @@ struct DrillFigures {
   size_t Clamped = 0, CuttingTicks = 0;
 };
 
-DrillFigures MeasureDrill(const DrillRequest& q, const DrillSession& session) {
+DrillFigures MeasureDrill(const DrillRequest& q, const DrillWork& session) {
   DrillFigures g;
   const DrillState& s = session.Result.Final;
   g.Length = Norm(q.To - q.From);
@@ -492,7 +435,7 @@ DrillFigures MeasureDrill(const DrillRequest& q, const DrillSession& session) {
   g.AssembleMs = std::move(frames.AssembleMs);
   for (double b : frames.Blocks) g.MeanBlocks += b / std::max<size_t>(1, frames.Blocks.size());
   // The whole bone contoured from scratch, once, for comparison (same code, every block).
-  BlockMesher whole(*session.Bone);
+  BlockMesher whole(*session.Logic->GetBone());
   const auto wholeStart = std::chrono::steady_clock::now();
   whole.ContourAll();
   g.WholeMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - wholeStart).count();
@@ -506,20 +449,21 @@ DrillFigures MeasureDrill(const DrillRequest& q, const DrillSession& session) {
   return g;
 }
 
-nlohmann::json DrillJson(const DrillRequest& q, const DrillSession& session, const DrillFigures& g) {
+nlohmann::json DrillJson(const DrillRequest& q, const DrillWork& session, const DrillFigures& g) {
   const DrillState& s = session.Result.Final;
   const DrillRunResult& result = session.Result;
-  const DrillBoneReport& built = session.Built;
+  const DrillBoneReport& built = session.Logic->GetBoneReport();
+  const std::vector<Material>& materials = session.Logic->GetMaterials();
   nlohmann::json removedByTissue = nlohmann::json::object(), volumeByTissue = nlohmann::json::object();
-  for (size_t m = 0; m < session.Materials.size(); ++m) {
-    removedByTissue[session.Materials[m].Tissue] = s.RemovedMm3[m];
-    volumeByTissue[session.Materials[m].Tissue] = m < built.VolumeMm3.size() ? built.VolumeMm3[m] : 0.0;
+  for (size_t m = 0; m < materials.size(); ++m) {
+    removedByTissue[materials[m].Tissue] = s.RemovedMm3[m];
+    volumeByTissue[materials[m].Tissue] = m < built.VolumeMm3.size() ? built.VolumeMm3[m] : 0.0;
   }
-  const double farthest = FarthestChangeFromPath(*session.Bone, {q.From, q.To});
+  const double farthest = FarthestChangeFromPath(*session.Logic->GetBone(), {q.From, q.To});
   nlohmann::json doc = {
       {"bone",
        {{"source", q.Block ? std::string("block") : q.Segmentation},
-        {"segments", session.BoneNames},
+        {"segments", session.Segments},
         {"voxelMm", q.Voxel},
         {"gridVoxels", built.GridVoxels},
         {"storedBlocks", built.StoredBlocks},
@@ -572,34 +516,36 @@ nlohmann::json DrillJson(const DrillRequest& q, const DrillSession& session, con
 }
 
 // Writes the --model and --picture files; their names go into the report's "outputs".
-int WriteDrillOutputs(const DrillRequest& q, const DrillSession& session, nlohmann::json& outputs, std::ostream& err) {
+int WriteDrillOutputs(const DrillRequest& q, const DrillWork& session, nlohmann::json& outputs, std::ostream& err) {
   std::string error;
-  if (!session.Run.RecordPath.empty()) outputs["recording"] = session.Run.RecordPath;
+  if (!q.Record.empty()) outputs["recording"] = q.Record;
   if (q.HasModel) {
-    if (!WriteModelFile(q.Model, session.Mesh, error)) return Fail(err, error);
+    if (!WriteModelFile(q.Model, session.Logic->GetDrilledMesh(), error)) return Fail(err, error);
     outputs["model"] = q.Model;
   }
   if (q.HasPicture) {
     TunnelPicture picture;
-    picture.Bone = session.Mesh;
-    picture.Volume = session.Bone.get();
-    picture.Materials = session.Materials;
+    picture.Bone = session.Logic->GetDrilledMesh();
+    picture.Volume = session.Logic->GetBone();
+    picture.Materials = session.Logic->GetMaterials();
     picture.From = q.From;
     picture.To = q.To;
     picture.Radius = q.Radius;
     for (const DrillRecordLine& l : session.Result.Records) picture.Path.push_back(l.Record.Proxy);
-    if (session.Built.HasProtected) picture.Protected = TriangleMeshToPolyData(session.ProtectedMesh);
+    if (!session.Logic->GetProtectedSurface().Triangles.empty())
+      picture.Protected = TriangleMeshToPolyData(session.Logic->GetProtectedSurface());
     if (!WriteTunnelPicture(q.Picture, picture, error)) return Fail(err, error);
     outputs["picture"] = q.Picture;
   }
   return 0;
 }
 
-void ReportDrillText(const DrillRequest& q, const DrillSession& session, const DrillFigures& g, const nlohmann::json& doc,
+void ReportDrillText(const DrillRequest& q, const DrillWork& session, const DrillFigures& g, const nlohmann::json& doc,
                      std::ostream& out) {
   const DrillState& s = session.Result.Final;
   const DrillRunResult& result = session.Result;
-  const DrillBoneReport& built = session.Built;
+  const DrillBoneReport& built = session.Logic->GetBoneReport();
+  const std::vector<Material>& materials = session.Logic->GetMaterials();
   char line[512];
   std::snprintf(line, sizeof line, "bone: %s at %.2f mm, %zu blocks (%.1f MB), built in %.2f s\n",
                 q.Block ? "block" : q.Segmentation.c_str(), q.Voxel, built.StoredBlocks, built.MemoryMB, built.Seconds);
@@ -609,9 +555,9 @@ void ReportDrillText(const DrillRequest& q, const DrillSession& session, const D
   out << line;
   std::snprintf(line, sizeof line, "removed: %.2f mm^3", s.RemovedTotalMm3);
   out << line;
-  for (size_t m = 0; m < session.Materials.size(); ++m)
+  for (size_t m = 0; m < materials.size(); ++m)
     if (s.RemovedMm3[m] > 0) {
-      std::snprintf(line, sizeof line, ", %s %.2f", session.Materials[m].Tissue.c_str(), s.RemovedMm3[m]);
+      std::snprintf(line, sizeof line, ", %s %.2f", materials[m].Tissue.c_str(), s.RemovedMm3[m]);
       out << line;
     }
   if (q.Block) {
@@ -641,12 +587,13 @@ void ReportDrillText(const DrillRequest& q, const DrillSession& session, const D
 
 }  // namespace
 
-int RunDrillCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
+int RunDrillCommand(const std::vector<std::string>& args, vtkRPScene* sceneIn, std::ostream& out, std::ostream& err) {
   DrillRequest request;
   if (const auto exitCode = ParseDrillRequest(args, out, err, request)) return *exitCode;
   TerminalProgress progress("drill", request.Json);
-  DrillSession session;
-  if (const int code = RunDrillSession(request, session, progress, err)) return code;
+  vtkNew<vtkRPScene> ownScene;
+  DrillWork session;
+  if (const int code = RunDrillSession(request, session, sceneIn ? sceneIn : ownScene.GetPointer(), progress, err)) return code;
   const DrillFigures figures = MeasureDrill(request, session);
   nlohmann::json doc = DrillJson(request, session, figures);
   nlohmann::json outputs = nlohmann::json::object();

@@ -1,5 +1,6 @@
 #pragma once
-// `roboplan drill`: a headless drilling stroke for tests and scripts.
+// `roboplan drill`: a headless drilling stroke for tests and scripts, through the Drilling
+// module's logic (vtkRPDrillingLogic) as the panel and the demo drill.
 //   roboplan drill [--block | <segmentation> --segment ID] --burr-radius MM --from R,A,S --to R,A,S
 //                  --speed MM/S [--voxel MM] [--protect ID] [--ct FILE] [--record FILE]
 //                  [--replay FILE] [--model FILE] [--picture FILE] [--realtime] [--json]
@@ -13,9 +14,13 @@
 
 #include "rpDrillVolume.h"
 
+class vtkRPScene;
+
 namespace rp {
 
-int RunDrillCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
+/// Parse → vtkRPDrillingLogic (the bone, the stroke) → report. `scene` may be null (a scene of its
+/// own is used); the drilled bone's model node is added to it.
+int RunDrillCommand(const std::vector<std::string>& args, vtkRPScene* scene, std::ostream& out, std::ostream& err);
 
 /// Volume of the capsule (segment a–b, radius r) inside the axis-aligned box: closed form when
 /// it lies wholly inside (πr²L + 4/3·πr³), else integrated numerically. `exact` says which.

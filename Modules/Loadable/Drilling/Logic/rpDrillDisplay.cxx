@@ -1,6 +1,8 @@
 #include "rpDrillDisplay.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstring>
 
 #include <vtkCellArray.h>
@@ -29,6 +31,13 @@ DisplayTimings SplitDisplayFrames(const std::vector<DisplayFrame>& frames) {
     if (f.AssembleMs > 0) t.AssembleMs.push_back(f.AssembleMs);
   }
   return t;
+}
+
+double NearestRankPercentile(std::vector<double> values, double q) {
+  if (values.empty()) return 0;
+  std::sort(values.begin(), values.end());
+  const size_t rank = static_cast<size_t>(std::ceil(q * static_cast<double>(values.size())));
+  return values[std::min(values.size() - 1, rank > 0 ? rank - 1 : 0)];
 }
 
 DrillDisplay::DrillDisplay(DrillVolume& volume) : Blocks(volume) {}

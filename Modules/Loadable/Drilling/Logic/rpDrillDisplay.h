@@ -32,6 +32,9 @@ struct DisplayTimings {
 };
 DisplayTimings SplitDisplayFrames(const std::vector<DisplayFrame>& frames);
 
+/// Nearest-rank percentile (q in 0–1) of a run's timings, e.g. the frames' re-contour ms; 0 when empty.
+double NearestRankPercentile(std::vector<double> values, double q);
+
 class DrillDisplay {
  public:
   explicit DrillDisplay(DrillVolume& volume);
@@ -52,6 +55,9 @@ class DrillDisplay {
   void SetMeshEveryFrame(bool every) { this->MeshEveryFrame = every; }
   /// Assembles the block meshes as they are and posts them (recorded as a frame of no blocks).
   void PostMesh();
+  /// Re-contours the blocks a change before a run dirtied (the burr placed cutting: part of the
+  /// bone the run starts from), outside the frames and their figures.
+  size_t CatchUp() { return this->Blocks.UpdateDirty(); }
   /// Runs Frame() at `rateHz` on a display thread.
   bool Start(double rateHz, std::string& error);
   void Stop();

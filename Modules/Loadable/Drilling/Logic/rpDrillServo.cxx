@@ -6,7 +6,7 @@
 namespace rp {
 
 DrillServo::DrillServo(HapticDevice& device, DrillVolume& volume, const DrillServoOptions& options)
-    : Device(device), Volume(volume), Settings(options), Cut(volume) {
+    : Tool(device), Volume(volume), Settings(options), Cut(volume) {
   this->Render.SetDevice(device.Info());
   this->Mesh.SetDevice(device.Info());
   this->ControlValue.Publish(DrillControl{});
@@ -40,11 +40,11 @@ double DrillServo::MaxCutLead(double rpm, double period) const {
 void DrillServo::ServoStarted() noexcept {
   this->First = true;
   this->Trips = 0;
-  this->Device.WriteForce(Vec3{});
+  this->Tool.WriteForce(Vec3{});
 }
 
 void DrillServo::ServoStopping() noexcept {
-  this->Device.WriteForce(Vec3{});
+  this->Tool.WriteForce(Vec3{});
   this->Cut.EndStroke();
 }
 
@@ -191,19 +191,18 @@ void DrillServo::Tick(const TickInfo& tick) noexcept {
   s.Tick = tick.Index;
   DrillControl control;
   this->ControlValue.Read(control);
-  DeviceToScene xf;
-  if (this->Transform.Read(xf) == 0) xf = DeviceToScene{};
+  ToolConstraints* constraints = AcquireConstraints(this->ConstraintSlots);
   const double dt = tick.Period > 0 ? tick.Period : 0.001;
 
-  DeviceState device;
-  const bool ok = this->Device.Read(tick.Time, device);
+  ToolSample tool;
+  const bool ok = this->Tool.Read(tick.Time, tool);
   s.DeviceError = !ok;
   const double elapsed = this->Clock.Elapsed(tick, this->First, dt);
   if (!ok || tick.PreviousOverran) {
     // Watchdog: no force, no cutting, ramp in again.
     ++this->Trips;
     this->Clock.RestartRamp(tick.Time);
-    this->Device.WriteForce(Vec3{});
+    this->Tool.WriteForce(Vec3{});
     s.Force = Vec3{};
     s.Cutting = false;
     s.RampScale = 0;
@@ -213,8 +212,8 @@ void DrillServo::Tick(const TickInfo& tick) noexcept {
   }
 
   // Stylus (and burr centre) in the scene.
-  const Pose stylus = xf.StylusInScene(device.StylusToDevice);
-  const double scale = xf.Scale > 0 ? xf.Scale : 1.0;
+  const Pose& stylus = tool.StylusToScene;
+  const double scale = this->Tool.WorkspaceScale();
   const Vec3 hip = stylus.Apply(this->Settings.BurrCenter);
   const double radius = std::clamp(control.Radius, 0.25, 10.0);
   if (this->First) {
@@ -245,7 +244,7 @@ void DrillServo::Tick(const TickInfo& tick) noexcept {
   burrOptions.WorkspaceScale = scale;
   this->Render.SetOptions(burrOptions);
   const BurrForce& burr = this->Render.Update(this->Volume, hip, radius, meshOut.Contacts ? meshOut.Gains.Stiffness : 0.0,
-                                             meshOut.Contacts ? meshOut.Gains.Damping : 0.0, elapsed);
+                                             meshOut.Contacts ? meshOut.Gains.Damping : 0.0, elapsed, constraints, stylus);
 
   // Cutting.
   s.Cutting = false;
@@ -256,8 +255,9 @@ void DrillServo::Tick(const TickInfo& tick) noexcept {
     this->CutRemoved = this->Cut.ContinueCut().Removed || this->CutRemoved;
     s.Cutting = this->CutRemoved;
     s.FeedMmPerS = this->CutFeed;
-  } else if (on && contact.InContact && !contact.Embedded && contact.CutMaterial > 0 && !this->Cut.Restoring()) {
-    refused = this->CutAhead(burr, hip, radius, control.Rpm, dt);
+  } else if (on && contact.InContact && !contact.Embedded && contact.CutMaterial > 0 && !this->Cut.Restoring() &&
+             !burr.Constraint.ForbidCut) {
+    refused = this->CutAhead(burr, burr.Goal, radius, control.Rpm, dt);  // towards where the walls let the burr go
   }
   if (!s.Cutting && !on) this->HasCutCenter = false;
   if (refused) {
@@ -277,7 +277,7 @@ void DrillServo::Tick(const TickInfo& tick) noexcept {
   if (magnitude > maxForce) total = total * (maxForce / magnitude);
   const double ramp = this->Clock.Ramp(tick.Time, this->Settings.RampSeconds);
   const Vec3 force = total * ramp;
-  this->Device.WriteForce(xf.DeviceToRAS.RotateInverse(force));
+  this->Tool.WriteForce(force);
 
   const uint32_t flags = this->FillState(burr, hip, force, radius, on, clamped, refused, ramp);
   this->Publish(tick, flags);

@@ -1,8 +1,9 @@
 #pragma once
 // The drilling servo task (inside rp::ServoLoop at 1 kHz, or ticked by hand for scripted runs):
-// device → burr centre in RAS (HapticDeviceToRAS with workspace scale) → burr god-object and
-// force (rpBurrRenderer) → cut (rpBoneCutter) → force to the device, summed with the mesh
-// god-object of the scene's other haptic models and clamped (eq. 6).
+// tool in RAS (rpToolInput: a device through HapticDeviceToRAS, or a pose already in RAS such as
+// a tracked drill) → burr god-object and force (rpBurrRenderer, with the virtual fixtures of
+// rpToolConstraint) → cut (rpBoneCutter, unless a fixture forbids it) → force to the device,
+// summed with the mesh god-object of the scene's other haptic models and clamped (eq. 6).
 //
 // Cutting: while the burr is on and presses on bone, the bone ahead of it recedes at
 //     v = FeedRate · (|F| / Fmax) · (rpm / ReferenceRpm) / hardness        (mm/s)
@@ -116,7 +117,10 @@ class DrillServo : public ServoTask {
   void RequestUndo() { this->UndoRequests.fetch_add(1, std::memory_order_release); }
   void RequestReset() { this->ResetRequests.fetch_add(1, std::memory_order_release); }
   SceneExchange& Scenes() { return this->SceneSlots; }
-  void SetDeviceToScene(const DeviceToScene& transform) { this->Transform.Publish(transform); }
+  /// The virtual fixtures evaluated beside the bone's contact (rpToolConstraint.h); none by default.
+  ConstraintExchange& Constraints() { return this->ConstraintSlots; }
+  /// The tool in the scene frame: HapticDeviceToRAS (SetDeviceToScene), or poses in RAS already.
+  ToolInput& Input() { return this->Tool; }
   bool ReadState(DrillState& state) const { return this->StateValue.Read(state) != 0; }
   DrillRecordRing& Records() { return this->Log; }
   void EnableRecords(bool enable) { this->Recording.store(enable, std::memory_order_relaxed); }
@@ -134,16 +138,16 @@ class DrillServo : public ServoTask {
   uint32_t FillState(const BurrForce& burr, const Vec3& hip, const Vec3& force, double radius, bool on, bool clamped,
                      bool refused, double ramp) noexcept;
 
-  HapticDevice& Device;
+  ToolInput Tool;
   DrillVolume& Volume;
   DrillServoOptions Settings;
   BurrRenderer Render;
   BoneCutter Cut;
   HapticRenderer Mesh;
   SceneExchange SceneSlots;
+  ConstraintExchange ConstraintSlots;
   const BVH* Protected = nullptr;
   LatestValue<DrillControl> ControlValue;
-  LatestValue<DeviceToScene> Transform;
   LatestValue<DrillState> StateValue;
   std::atomic<uint32_t> UndoRequests{0}, ResetRequests{0};
   std::atomic<bool> Recording{false};

@@ -2,15 +2,13 @@
 
 #include <algorithm>
 #include <cctype>
+#include <chrono>
 
-#include <vtkMatrix4x4.h>
 #include <vtkNew.h>
 #include <vtkObjectFactory.h>
 #include <vtkPolyData.h>
 
-#include "rpBlockMesher.h"
 #include "rpDrillAnalytic.h"
-#include "rpDrillSession.h"
 #include "rpHapticSceneBridge.h"
 #include "rpPolyDataTriangleMesh.h"
 #include "rpSimulatedDevice.h"
@@ -38,43 +36,44 @@ std::vector<std::string> vtkRPDrillingLogic::GetTissueNames() const {
   return names;
 }
 
+vtkPolyData* vtkRPDrillingLogic::GetDrilledMesh() const {
+  auto* model = this->Scene ? vtkRPModelNode::SafeDownCast(this->Scene->GetNodeByID(this->ModelID)) : nullptr;
+  return model ? model->GetPolyData() : nullptr;
+}
+
+bool vtkRPDrillingLogic::LoadMaterials(std::string& error) {
+  if (!rp::LoadMaterialTable(this->Table, error, this->MaterialsPath)) return false;
+  this->Materials = rp::DrillableMaterials(this->Table);
+  if (this->Materials.empty()) {
+    error = this->Table.Source() + " has no drillable material (no \"hardness\")";
+    return false;
+  }
+  return true;
+}
+
 bool vtkRPDrillingLogic::BuildBone(const BoneChoice& choice, std::string& error) {
   if (this->Scene == nullptr) {
     error = "drilling: no scene";
     return false;
   }
-  this->Stop();
   auto* segmentation = vtkRPSegmentationNode::SafeDownCast(this->Scene->GetNodeByID(choice.SegmentationID));
   if (segmentation == nullptr || segmentation->GetImageData() == nullptr) {
     error = "drilling: choose a segmentation";
     return false;
   }
-  rp::MaterialTable table;
-  if (!rp::LoadMaterialTable(table, error)) return false;
-  const std::vector<rp::Material> materials = rp::DrillableMaterials(table);
   rp::DrillBoneSource source;
   source.Labels = rp::FromNode(segmentation);
   source.Spacing = choice.VoxelMm;
-  std::vector<std::string> names;
-  for (const std::string& id : choice.BoneSegments) {
-    const auto* s = segmentation->GetSegmentByID(id);
-    if (s == nullptr) {
-      error = "drilling: no segment '" + id + "' in " + segmentation->GetName();
-      return false;
-    }
-    source.BoneLabels.push_back(s->LabelValue);
-    source.BoneTissues.push_back(s->TissueClass);
-    names.push_back(s->Name.empty() ? s->ID : s->Name);
+  rp::DrillSegments bone, guarded;
+  if (!rp::FindDrillSegments(segmentation, choice.BoneSegments, bone, error) ||
+      !rp::FindDrillSegments(segmentation, choice.ProtectedSegments, guarded, error)) {
+    error = "drilling: " + error;
+    return false;
   }
-  for (const std::string& id : choice.ProtectedSegments) {
-    const auto* s = segmentation->GetSegmentByID(id);
-    if (s == nullptr) {
-      error = "drilling: no protected segment '" + id + "'";
-      return false;
-    }
-    source.ProtectedLabels.push_back(s->LabelValue);
-    source.ProtectedTissues.push_back(s->TissueClass);
-  }
+  source.BoneLabels = bone.Labels;
+  source.BoneTissues = bone.Tissues;
+  source.ProtectedLabels = guarded.Labels;
+  source.ProtectedTissues = guarded.Tissues;
   if (!choice.CTVolumeID.empty()) {
     auto* ct = vtkRPScalarVolumeNode::SafeDownCast(this->Scene->GetNodeByID(choice.CTVolumeID));
     if (ct == nullptr) {
@@ -83,17 +82,69 @@ bool vtkRPDrillingLogic::BuildBone(const BoneChoice& choice, std::string& error)
     }
     source.CT = rp::FromNode(ct);
   }
+  return this->BuildBone(source, bone.Names, error);
+}
+
+bool vtkRPDrillingLogic::BuildBone(const rp::DrillBoneSource& source, const std::vector<std::string>& boneNames,
+                                   std::string& error, const rp::ProgressCallback& progress) {
+  if (this->Scene == nullptr) {
+    error = "drilling: no scene";
+    return false;
+  }
+  this->Stop();
+  this->Session.reset();  // it holds the bone and its display
+  if (!this->LoadMaterials(error)) return false;
   auto bone = std::make_unique<rp::DrillVolume>();
   rp::DrillVolume protectedVolume;
   rp::DrillBoneReport report;
-  if (!rp::BuildDrillBone(source, materials, *bone, &protectedVolume, report, error)) return false;
+  if (!rp::BuildDrillBone(source, this->Materials, *bone, &protectedVolume, report, error, progress)) return false;
+  this->Display.reset();
   this->Bone = std::move(bone);
-  this->LastPath.clear();
   this->ProtectedSurface = report.HasProtected ? rp::ContourToTriangleMesh(protectedVolume) : rp::TriangleMesh{};
-  this->Materials = materials;
   this->Report = report;
-  this->BoneNames = names;
-  // The drilled bone's model node (created once, its mesh replaced).
+  return this->ShowBone(boneNames);
+}
+
+bool vtkRPDrillingLogic::BuildBlockBone(const rp::Vec3& lo, const rp::Vec3& hi, double shellMm, double voxelMm,
+                                        std::string& error) {
+  if (this->Scene == nullptr) {
+    error = "drilling: no scene";
+    return false;
+  }
+  this->Stop();
+  this->Session.reset();
+  if (!this->LoadMaterials(error)) return false;
+  const auto start = std::chrono::steady_clock::now();
+  const uint8_t bone = rp::FindDrillMaterial(this->Materials, "bone");
+  const uint8_t cortical = bone ? bone : 1;
+  const uint8_t trabecular = rp::FindDrillMaterial(this->Materials, "trabecular bone");
+  if (shellMm > 0 && trabecular == 0) {
+    error = "a cortical shell needs a drillable \"trabecular bone\" in the material table";
+    return false;
+  }
+  this->Display.reset();
+  this->Bone = std::make_unique<rp::DrillVolume>();
+  if (!rp::BuildAnalyticBone(rp::BlockBone(lo, hi, cortical, shellMm, trabecular), voxelMm, this->Materials, *this->Bone,
+                             error)) {
+    this->Bone.reset();
+    return false;
+  }
+  rp::DrillBoneReport report;
+  report.GridVoxels = this->Bone->Grid().VoxelCount();
+  report.StoredBlocks = this->Bone->AllocatedBlocks();
+  report.MemoryMB = this->Bone->MemoryBytes() / 1e6;
+  report.VolumeMm3 = this->Bone->OriginalVolumes();
+  report.Seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  this->Report = report;
+  this->ProtectedSurface = rp::TriangleMesh{};
+  return this->ShowBone({"block"});
+}
+
+// The bone's display (contoured once, kept across sessions) and its model node (created once,
+// its mesh replaced).
+bool vtkRPDrillingLogic::ShowBone(const std::vector<std::string>& boneNames) {
+  this->Display = std::make_unique<rp::DrillDisplay>(*this->Bone);
+  this->BoneNames = boneNames;
   auto* model = vtkRPModelNode::SafeDownCast(this->Scene->GetNodeByID(this->ModelID));
   if (model == nullptr) {
     vtkNew<vtkRPModelNode> node;
@@ -101,22 +152,34 @@ bool vtkRPDrillingLogic::BuildBone(const BoneChoice& choice, std::string& error)
     model = node;
     this->ModelID = node->GetID();
   }
-  rp::BlockMesher mesher(*this->Bone);
-  mesher.ContourAll();
   const int wasModifying = model->StartModify();
-  std::string title = names.empty() ? "Bone" : names.front();
-  for (size_t i = 1; i < names.size(); ++i) title += " + " + names[i];
+  std::string title = boneNames.empty() ? "Bone" : boneNames.front();
+  for (size_t i = 1; i < boneNames.size(); ++i) title += " + " + boneNames[i];
   model->SetName(title + " (drilled)");
   model->SetTissueClass("bone");
   model->SetColor(0.95, 0.92, 0.82);
   model->SetHaptic(false);  // the burr renders it (voxels), not the Haptics module's mesh proxy
-  model->SetPolyData(rp::DrillDisplay::Assemble(mesher));
+  model->SetPolyData(this->Display->Initialize());
   model->EndModify(wasModifying);
+  this->Placed = false;
   this->Modified();
   return true;
 }
 
-bool vtkRPDrillingLogic::StartSimulated(std::string& error) {
+void vtkRPDrillingLogic::SetSimulatedTrajectory(std::shared_ptr<const rp::Trajectory> path) {
+  this->Device->SetTrajectory(std::move(path));
+}
+
+void vtkRPDrillingLogic::PlaceBurr(const rp::Vec3& center, const rp::DrillControl& control) {
+  this->Placed = true;
+  this->PlacedAt = center;
+  this->PlacedControl = control;
+}
+
+// A new session on the bone: the scene's other haptic models (when touched), the recording, the
+// burr placed; the simulated device's poses are in RAS already (the panel, a followed tool, a
+// path in RAS): HapticDeviceToRAS only gives the workspace scale of the device it stands for.
+bool vtkRPDrillingLogic::PrepareSession(bool keepRecords, std::string& error) {
   if (this->Scene == nullptr) {
     error = "drilling: no scene";
     return false;
@@ -137,58 +200,89 @@ bool vtkRPDrillingLogic::StartSimulated(std::string& error) {
     std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     return s;
   };
-  for (rp::HapticMeshInput& m : rp::CollectHapticMeshes(this->Scene, warnings)) {
-    bool drilled = false;
-    for (const std::string& name : this->BoneNames) drilled = drilled || lower(m.Name).rfind(lower(name), 0) == 0;
-    if (!drilled) meshes.push_back(std::move(m));
+  if (this->TouchOthers) {
+    for (rp::HapticMeshInput& m : rp::CollectHapticMeshes(this->Scene, warnings)) {
+      bool drilled = false;
+      for (const std::string& name : this->BoneNames) drilled = drilled || lower(m.Name).rfind(lower(name), 0) == 0;
+      if (!drilled) meshes.push_back(std::move(m));
+    }
   }
   std::unique_ptr<rp::HapticScene> others;
   if (!meshes.empty()) {
-    rp::MaterialTable table;
-    if (!rp::LoadMaterialTable(table, error)) return false;
-    others = rp::HapticScene::Build(meshes, table, warnings, error);
+    others = rp::HapticScene::Build(meshes, this->Table, warnings, error);
     if (!others) return false;
   }
   rp::DrillSession::Options options;
+  options.Servo = this->ServoSettings;
   options.Control = this->Control;
+  options.Loop = this->LoopSettings;
   options.RecordPath = this->RecordPath;
-  this->Session = std::make_unique<rp::DrillSession>(*this->Device);
-  if (!this->Session->Start(*this->Bone, this->ProtectedSurface, std::move(others), options, error)) {
+  options.StartCut = this->Placed && this->PlacedControl.BurrOn;
+  options.KeepRecords = keepRecords;
+  this->Session.reset();
+  this->Session = std::make_unique<rp::DrillSession>(*this->Device, *this->Bone, *this->Display);
+  if (!this->Session->Prepare(options, this->ProtectedSurface, std::move(others), error)) {
     this->Session.reset();
     return false;
   }
+  this->Session->Servo().Input().SetPosesInScene(true);
   rp::DeviceToScene xf;
   rp::ReadDeviceToScene(this->Scene, xf);
-  this->Session->Servo().SetDeviceToScene(xf);
+  this->Session->Servo().Input().SetDeviceToScene(xf);
+  if (this->Placed) {
+    this->Session->Servo().PlaceBurr(this->PlacedAt, this->PlacedControl);
+    // The placed cut belongs to the bone the run starts from (not to the run's display frames).
+    if (this->Display->CatchUp() > 0) this->SwapMesh(rp::DrillDisplay::Assemble(this->Display->Mesher()));
+    this->Placed = false;
+  }
+  return true;
+}
+
+bool vtkRPDrillingLogic::StartSimulated(std::string& error) {
+  if (!this->PrepareSession(false, error)) return false;
+  if (!this->Session->Start(error)) {
+    this->Session.reset();
+    return false;
+  }
+  return true;
+}
+
+bool vtkRPDrillingLogic::RunSimulated(const rp::DrillRunOptions& run, rp::DrillRunResult& result, std::string& error) {
+  if (!this->PrepareSession(true, error)) return false;
+  rp::DrillRunOptions options = run;
+  options.OnMesh = [this, &run](vtkPolyData* mesh) {
+    this->SwapMesh(mesh);
+    if (run.OnMesh) run.OnMesh(mesh);
+  };
+  return this->Session->Run(options, result, error);
+}
+
+bool vtkRPDrillingLogic::SwapMesh(vtkPolyData* mesh) {
+  auto* model = this->Scene ? vtkRPModelNode::SafeDownCast(this->Scene->GetNodeByID(this->ModelID)) : nullptr;
+  if (mesh == nullptr || model == nullptr) return false;
+  model->SetPolyData(mesh);  // one pointer swap; the display built it
   return true;
 }
 
 void vtkRPDrillingLogic::Stop() {
-  if (this->Session) {
-    this->Session->Stop();
-    this->LastPath = this->Session->Path();
-  }
-  this->Session.reset();
+  if (this->Session) this->SwapMesh(this->Session->Stop());  // the last cuts
 }
 
 bool vtkRPDrillingLogic::IsRunning() const { return this->Session && this->Session->Running(); }
 
 void vtkRPDrillingLogic::SetBurrOn(bool on) {
   this->Control.BurrOn = on;
-  if (this->Session) this->Session->Servo().SetControl(this->Control);
+  if (this->Session) this->Session->SetControl(this->Control);
 }
 
 void vtkRPDrillingLogic::SetBurrRadius(double mm) {
   this->Control.Radius = mm;
-  if (this->Session) this->Session->Servo().SetControl(this->Control);
+  if (this->Session) this->Session->SetControl(this->Control);
 }
 
 void vtkRPDrillingLogic::SetRpm(double rpm) {
   this->Control.Rpm = rpm;
-  if (this->Session) {
-    this->Session->Servo().SetControl(this->Control);
-    this->Session->SetRpm(rpm);
-  }
+  if (this->Session) this->Session->SetControl(this->Control);
 }
 
 void vtkRPDrillingLogic::Undo() {
@@ -200,34 +294,20 @@ void vtkRPDrillingLogic::ResetBone() {
 }
 
 void vtkRPDrillingLogic::SetSimulatedBurrPosition(const double ras[3]) {
-  rp::DeviceToScene xf;
-  rp::ReadDeviceToScene(this->Scene, xf);
-  const double scale = xf.Scale > 0 ? xf.Scale : 1.0;
   rp::Pose pose;
-  pose.T = xf.DeviceToRAS.RotateInverse(rp::Vec3{ras[0], ras[1], ras[2]} - xf.DeviceToRAS.T) / scale;
+  pose.T = rp::Vec3{ras[0], ras[1], ras[2]};
   this->Device->SetManualPose(pose);
 }
 
 bool vtkRPDrillingLogic::Update() {
-  if (!this->Session) return false;
-  if (!this->FollowedID.empty()) {
-    if (auto* node = vtkRPTransformableNode::SafeDownCast(this->Scene->GetNodeByID(this->FollowedID))) {
-      vtkNew<vtkMatrix4x4> toWorld;
-      node->GetMatrixTransformToWorld(toWorld);
-      const double tip[3] = {toWorld->GetElement(0, 3), toWorld->GetElement(1, 3), toWorld->GetElement(2, 3)};
-      this->SetSimulatedBurrPosition(tip);
-    }
-  }
+  if (!this->Session || !this->Session->Running()) return false;
+  rp::Pose followed;
+  if (!this->FollowedID.empty() && rp::ReadToolPose(this->Scene, this->FollowedID, followed))
+    this->Device->SetManualPose(followed);  // the tracked drill's tip, in RAS as the servo takes it
   rp::DeviceToScene xf;
   rp::ReadDeviceToScene(this->Scene, xf);
-  this->Session->Servo().SetDeviceToScene(xf);
-  bool changed = false;
-  if (vtkSmartPointer<vtkPolyData> mesh = this->Session->Update()) {
-    if (auto* model = vtkRPModelNode::SafeDownCast(this->Scene->GetNodeByID(this->ModelID))) {
-      model->SetPolyData(mesh);  // one pointer swap; the display thread built it
-      changed = true;
-    }
-  }
+  this->Session->Servo().Input().SetDeviceToScene(xf);
+  const bool changed = this->SwapMesh(this->Session->Update());
   rp::DrillState s;
   if (this->Session->Servo().ReadState(s)) {
     // The burr in the views, as the Haptics module shows its tool.
@@ -259,7 +339,7 @@ bool vtkRPDrillingLogic::SaveTunnelPicture(const std::string& path, std::string&
   picture.Bone = model->GetPolyData();
   picture.Volume = this->Bone.get();
   picture.Materials = this->Materials;
-  picture.Path = this->Session ? this->Session->Path() : this->LastPath;
+  if (this->Session) picture.Path = this->Session->Path();
   if (picture.Path.size() < 2) {
     error = "drilling: nothing drilled yet (no burr path)";
     return false;

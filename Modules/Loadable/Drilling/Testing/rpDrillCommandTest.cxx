@@ -1,15 +1,17 @@
 // `roboplan drill` end to end: the analytic block's stroke volume (known answer) through the
 // loaded module, a recorded path replayed to the same removal, a labelmap with a protected
 // segment (the burr stops there, nothing protected removed) and a CT giving cortical and
-// trabecular bone, bad arguments (exit 2) and bad files (exit 1), and the real knee CT's tibia
-// when ../shared/data is present.
+// trabecular bone, bad arguments (exit 2) and bad files (exit 1), the real knee CT's tibia
+// when ../shared/data is present, and a tracked drill driving the burr through the logic in RAS.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <thread>
 
 #include <sys/wait.h>
 
@@ -25,11 +27,15 @@
 #include "rpDrillAnalytic.h"
 #include "rpDrillBoneBuilder.h"
 #include "rpDrillCommand.h"
-#include "rpDrillRun.h"
 #include "rpDrillSession.h"
 #include "rpSharedData.h"
 #include "rpSimulatedDevice.h"
+#include "rpHapticSceneBridge.h"
 #include "rpVolumeIO.h"
+#include "vtkRPDrillingLogic.h"
+#include "vtkRPLinearTransformNode.h"
+#include "vtkRPScene.h"
+#include "vtkRPTrackedToolNode.h"
 
 namespace fs = std::filesystem;
 
@@ -51,7 +57,7 @@ struct DrillRun {
 DrillRun Drill(const std::vector<std::string>& args) {
   std::ostringstream out, err;
   DrillRun r;
-  r.Code = rp::RunDrillCommand(args, out, err);
+  r.Code = rp::RunDrillCommand(args, nullptr, out, err);
   r.Out = out.str();
   r.Err = err.str();
   return r;
@@ -172,17 +178,19 @@ ScriptedStroke DrillScripted(bool meshEveryFrame) {
   auto path = std::make_shared<rp::WaypointTrajectory>();
   EXPECT_TRUE(path->Set({0.0, 2.0}, {{0, 0, 9}, {0, 0, 3}}, error)) << error;
   device.SetTrajectory(path);
-  rp::DrillServo servo(device, volume);
   rp::DrillDisplay display(volume);
   display.Initialize();
+  rp::DrillSession session(device, volume, display);
+  rp::DrillSession::Options options;
+  options.KeepPath = false;
+  EXPECT_TRUE(session.Prepare(options, {}, nullptr, error)) << error;
   rp::DrillRunOptions run;
   run.Schedule = [](double) { return rp::DrillControl{true, 1.5, 60000}; };
   run.MaxSeconds = 2.0;
-  run.KeepRecords = false;
   run.MeshEveryFrame = meshEveryFrame;
   ScriptedStroke stroke;
   run.OnMesh = [&stroke](vtkPolyData* m) { stroke.Meshes.emplace_back(m); };
-  EXPECT_TRUE(rp::RunDrill(servo, display, run, stroke.Result, error)) << error;
+  EXPECT_TRUE(session.Run(run, stroke.Result, error)) << error;
   return stroke;
 }
 
@@ -408,4 +416,54 @@ TEST(DrillBone, ARegionOfTheBoneIsTheGivenModelCutByTheRegionNotTheLabels) {
   EXPECT_GT(onLabels.MeanMm, 0.9) << "the labels' surface is a millimetre out";
   std::printf("region cut at S = %.2f: volume %.1f mm³ (ball below it %.1f); to the model mean %.4f / p95 %.4f mm\n", top,
               built, expected, onModel.MeanMm, onModel.P95Mm);
+}
+
+TEST(DrillingLogic, ATrackedDrillDrivesTheBurrInRAS) {
+  // A drill's tip tracked under TrackerToRAS drives the burr as it is (no trip through the scene's
+  // rotated and scaled HapticDeviceToRAS and back): the burr's centre is the tip's RAS position.
+  vtkNew<vtkRPScene> scene;
+  vtkNew<vtkRPDrillingLogic> logic;
+  logic->SetScene(scene);
+  std::string error;
+  ASSERT_TRUE(logic->BuildBlockBone({-10, -10, -10}, {10, 10, 10}, 0, 0.4, error)) << error;
+  vtkNew<vtkRPLinearTransformNode> device;
+  device->SetName(rp::HapticDeviceToRASName);
+  const double scaled[16] = {2, 0, 0, 0, 0, 0, -2, 0, 0, 2, 0, 100, 0, 0, 0, 1};
+  device->SetMatrixTransformToParent(scaled);
+  scene->AddNode(device);
+  vtkNew<vtkRPLinearTransformNode> tracker;
+  const double rz90[16] = {0, -1, 0, 5, 1, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};  // tracker (x, y, z) → RAS (5 − y, x, z)
+  tracker->SetMatrixTransformToParent(rz90);
+  scene->AddNode(tracker);
+  vtkNew<vtkRPTrackedToolNode> tip;
+  scene->AddNode(tip);
+  ASSERT_TRUE(tip->SetAndObserveTransformNodeID(tracker->GetID()));
+  auto place = [&](double z) {  // the tip at tracker (0, −3, z): RAS (8, 0, z)
+    const double m[16] = {1, 0, 0, 0, 0, 1, 0, -3, 0, 0, 1, z, 0, 0, 0, 1};
+    tip->SetMatrixTransformToParent(m);
+  };
+  place(14);
+  logic->SetBurrRadius(1.5);
+  logic->SetFollowedNodeID(tip->GetID());
+  ASSERT_TRUE(logic->StartSimulated(error)) << error;
+  auto follow = [&](int frames) {
+    for (int i = 0; i < frames; ++i) {
+      logic->Update();
+      std::this_thread::sleep_for(std::chrono::milliseconds(33));
+    }
+  };
+  follow(3);
+  place(11);  // the burr 0.5 mm into the block's top (S = 10)
+  follow(12);
+  rp::DrillState s;
+  ASSERT_TRUE(logic->ReadState(s));
+  EXPECT_EQ(s.Hip.x, 8.0);
+  EXPECT_EQ(s.Hip.y, 0.0);
+  EXPECT_EQ(s.Hip.z, 11.0);
+  EXPECT_TRUE(s.Contact);
+  EXPECT_FALSE(s.Cutting);  // the burr is off
+  EXPECT_GT(s.Force.z, 0.1);  // along +S in RAS (rotated by HapticDeviceToRAS it would be along A)
+  EXPECT_LT(std::hypot(s.Force.x, s.Force.y), 0.01 * s.Force.z);
+  logic->Stop();
+  EXPECT_FALSE(logic->IsRunning());
 }

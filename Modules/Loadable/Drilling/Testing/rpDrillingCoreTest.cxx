@@ -545,3 +545,53 @@ TEST(Drilling, BlockByBlockMeshEqualsWholeRecontourAcrossThreads) {
   const auto now = volume->CurrentVolumes();
   EXPECT_NEAR(whole.EnclosedVolume(), now[0] + now[1], 0.01 * (now[0] + now[1]));
 }
+
+namespace {
+// A fixture that forbids every cut and holds the burr's centre above S = Top with a spring k (the
+// simplest depth stop): what the guidance issue's fixtures plug into.
+class StopAbove : public rp::ToolConstraint {
+ public:
+  StopAbove(double top, double k) : Top(top), K(k) {}
+  void Evaluate(const rp::ConstraintContext& tool, rp::ConstraintForce& out) noexcept override {
+    out.ForbidCut = true;
+    const double depth = this->Top - tool.Tip.z;
+    if (depth <= 0) return;
+    out.Force += Vec3{0, 0, this->K * depth};
+    out.Stiffness += this->K;
+    out.StoredEnergy += 0.5 * this->K * depth * depth;
+    out.Engaged = true;
+  }
+  double Top, K;
+};
+}  // namespace
+
+TEST(DrillServo, AFixtureForbidsTheCutAndPushesBackInsideTheClamp) {
+  // The burr pressed 1 mm into the block's top (S = 12) with the burr on: with the fixture nothing
+  // is removed and the force is the bone's spring plus the fixture's, clamped; without it the
+  // burr cuts its way down.
+  auto press = [](bool fixture, rp::DrillState& s) {
+    Rig rig(rp::BlockBone({-8, -8, -12}, {8, 8, 12}, 1), 0.3);
+    if (fixture) {
+      auto set = std::make_unique<rp::ToolConstraints>();
+      set->Add(std::make_unique<StopAbove>(14.0, 0.5));
+      rig.Servo->Constraints().Publish(std::move(set));
+    }
+    rig.Path({0.0, 0.1}, {{0, 0, 16}, {0, 0, 13}});  // burr centre 1 mm above the face, radius 2
+    rig.Servo->SetControl({true, 2.0, 60000});
+    rig.Servo->ServoStarted();
+    for (int i = 0; i < 5; ++i) s = rig.Step();  // the first contact
+    const uint64_t before = rp::alloc::ThreadAllocations();
+    for (int i = 0; i < 600; ++i) s = rig.Step();
+    EXPECT_EQ(rp::alloc::ThreadAllocations(), before);
+  };
+  rp::DrillState guided, free;
+  press(true, guided);
+  press(false, free);
+  EXPECT_EQ(guided.RemovedTotalMm3, 0.0);
+  EXPECT_FALSE(guided.Cutting);
+  EXPECT_GT(free.RemovedTotalMm3, 0.1);
+  // The fixture's 0.5 N/mm over 1 mm beside the bone's contact, the sum within the device's maximum.
+  EXPECT_TRUE(guided.Contact);
+  EXPECT_GT(guided.Force.z, 0.5);
+  EXPECT_LE(rp::Norm(guided.Force), rp::SimulatedDevice::DefaultInfo().MaxForce + 1e-9);
+}

@@ -21,6 +21,7 @@
 #include <vtkPolyData.h>
 
 #include "rpDrillSession.h"
+#include "rpHapticSceneBridge.h"
 #include "vtkRPDrillingLogic.h"
 #include "vtkRPModelNode.h"
 #include "vtkRPScalarVolumeNode.h"
@@ -176,8 +177,11 @@ void qRPDrillingPanel::RefreshChoices() {
     const QSignalBlocker block(this->Drive);
     this->Drive->clear();
     this->Drive->addItem("Panel (simulated device)", QString());
-    for (vtkRPNode* node : scene->GetNodesByClass("vtkRPTrackedToolNode"))
-      this->Drive->addItem(QString::fromStdString(node->GetName().empty() ? node->GetID() : node->GetName()), QString::fromStdString(node->GetID()));
+    for (vtkRPNode* node : scene->GetNodesByClass("vtkRPTrackedToolNode")) {
+      const std::string& name = node->GetName();
+      if (name == rp::HapticInterfacePointName || name == rp::HapticProxyName) continue;  // the burr's own output
+      this->Drive->addItem(QString::fromStdString(name.empty() ? node->GetID() : name), QString::fromStdString(node->GetID()));
+    }
     if (this->Drive->findData(drive) >= 0) this->Drive->setCurrentIndex(this->Drive->findData(drive));
   }
   auto* segmentation = vtkRPSegmentationNode::SafeDownCast(scene->GetNodeByID(this->Segmentation->currentData().toString().toStdString()));

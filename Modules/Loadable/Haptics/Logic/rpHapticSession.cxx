@@ -1,6 +1,27 @@
 #include "rpHapticSession.h"
 
+#include <cmath>
+
 namespace rp {
+
+void HapticForceSummary::Add(const HapticLogRecord& r) {
+  ++this->Records;
+  const double f = Norm(r.Force);
+  this->MaxForce = std::fmax(this->MaxForce, f);
+  if (r.Contacts > 0) {
+    ++this->ContactTicks;
+    this->SumForceInContact += f;
+    const uint64_t ticks = ++this->TissueTicks[r.Label];
+    if (ticks % 5 == 0) {  // every 5th contact tick is enough for a plot
+      auto& curve = this->ForceCurves[r.Label];
+      curve.first.push_back(Norm(r.Hip - r.Proxy));
+      curve.second.push_back(f);
+    }
+  }
+  this->ClampedTicks += (r.Flags & 2u) ? 1 : 0;
+  this->WatchdogTicks += (r.Flags & 1u) ? 1 : 0;
+  this->StallLimitedTicks += (r.Flags & 4u) ? 1 : 0;
+}
 
 HapticSession::HapticSession(HapticDevice& device) : Device(device) {}
 
@@ -26,9 +47,10 @@ bool HapticSession::Start(vtkRPScene* scene, const Options& options, std::string
     return false;
   }
   this->Task->SetRampSeconds(options.RampSeconds);
+  this->Task->Input().SetPosesInScene(options.PosesInScene);
   DeviceToScene xf;
   ReadDeviceToScene(scene, xf);
-  this->Task->SetDeviceToScene(xf);
+  this->Task->Input().SetDeviceToScene(xf);
   this->UpdateClamps(1.0 / options.Loop.RateHz);
   auto built = HapticScene::Build(CollectHapticMeshes(scene, this->WarningList), this->Settings.Materials,
                                   this->WarningList, error);
@@ -37,6 +59,14 @@ bool HapticSession::Start(vtkRPScene* scene, const Options& options, std::string
   this->Task->Scenes().Publish(std::move(built));
   this->Builds.fetch_add(1);
   this->Signature = HapticMeshesSignature(scene);
+  this->Figures = HapticForceSummary{};
+  if (options.Summarize) {
+    auto onRecord = this->Writer.OnRecord;  // the owner's, kept
+    this->Writer.OnRecord = [this, onRecord](const HapticLogRecord& r) {
+      this->Figures.Add(r);
+      if (onRecord) onRecord(r);
+    };
+  }
   if (!options.LogPath.empty() || this->Writer.OnRecord) {
     this->Task->EnableLog(true);
     if (!this->Writer.Start(this->Task->LogRing(), options.LogPath, this->Names, error)) return false;
@@ -93,7 +123,7 @@ bool HapticSession::Update() {
   }
   DeviceToScene xf;
   ReadDeviceToScene(this->Scene, xf);
-  this->Task->SetDeviceToScene(xf);
+  this->Task->Input().SetDeviceToScene(xf);
   // Colgate-Schenkel's T is the period the loop really keeps: follow the measured p99 once it
   // is 5 % past the last value used (enough ticks for a p99 first).
   const ServoStats stats = this->Loop.Stats();

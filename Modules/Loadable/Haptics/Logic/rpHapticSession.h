@@ -4,6 +4,7 @@
 // scene when haptic models changed (meshes read here, BVH built on a worker thread, swapped into
 // the servo loop atomically), frees retired scenes, and copies the servo state into tool nodes.
 #include <atomic>
+#include <map>
 #include <memory>
 #include <string>
 #include <thread>
@@ -14,6 +15,19 @@
 
 namespace rp {
 
+/// Every tick's log record folded into the figures a run reports (the `haptics` command, the
+/// demo's passes): gathered on the log writer thread, read after Stop.
+struct HapticForceSummary {
+  uint64_t Records = 0, ContactTicks = 0, ClampedTicks = 0, WatchdogTicks = 0, StallLimitedTicks = 0;
+  double MaxForce = 0, SumForceInContact = 0;  // N
+  std::map<int, uint64_t> TissueTicks;         // material index → ticks in contact
+  /// Per material: penetration |HIP − proxy| (mm) and force (N) of every 5th tick in contact.
+  std::map<int, std::pair<std::vector<double>, std::vector<double>>> ForceCurves;
+  void Add(const HapticLogRecord& record);
+  double MeanForceInContact() const { return this->ContactTicks ? this->SumForceInContact / this->ContactTicks : 0.0; }
+  double ContactFraction() const { return this->Records ? double(this->ContactTicks) / double(this->Records) : 0.0; }
+};
+
 class HapticSession {
  public:
   struct Options {
@@ -21,8 +35,11 @@ class HapticSession {
     RendererOptions Renderer;
     std::vector<Vec3> ToolPoints{Vec3{}};  // stylus frame; [0] is the tip
     double RampSeconds = 0.5;
+    bool PosesInScene = false;  // the device's poses are in RAS already (rpToolInput.h): a simulated
+                                // device moved by the viewer, a script in RAS or a tracked tool
     ServoLoop::Options Loop;
     std::string LogPath;  // empty: no session log file
+    bool Summarize = false;  // gather Summary() from every tick's record
   };
 
   explicit HapticSession(HapticDevice& device);
@@ -52,6 +69,8 @@ class HapticSession {
   /// The servo period the clamps assume (s): nominal, or the measured p99 when longer.
   double StabilityPeriod() const { return this->Period; }
   size_t SceneTriangles() const { return this->Triangles; }
+  /// The run's figures (Options::Summarize), complete after Stop().
+  const HapticForceSummary& Summary() const { return this->Figures; }
   uint64_t ScenesBuilt() const { return this->Builds.load(); }
 
  private:
@@ -72,6 +91,7 @@ class HapticSession {
   std::atomic<bool> BuildDone{false};
   std::unique_ptr<HapticScene> Built;
   std::atomic<uint64_t> Builds{0};
+  HapticForceSummary Figures;  // written by the log writer thread while running
 };
 
 }  // namespace rp

@@ -13,12 +13,12 @@
 
 #include "rpArgParser.h"
 #include "rpDeviceProfiles.h"
-#include "rpHapticSession.h"
 #include "rpPolyDataTriangleMesh.h"
 #include "rpProgress.h"
 #include "rpSceneIO.h"
 #include "rpServoLoadReport.h"
 #include "rpSimulatedDevice.h"
+#include "vtkRPHapticsLogic.h"
 #include "vtkRPModelNode.h"
 #include "vtkRPScene.h"
 
@@ -134,13 +134,6 @@ struct HapticsRequest {
   DeviceProfile Profile;
 };
 
-// Statistics from every tick's record, gathered on the log writer thread (read after Stop).
-struct ForceStats {
-  uint64_t Records = 0, ContactTicks = 0, Clamped = 0, Watchdog = 0, StallLimited = 0;
-  double MaxForce = 0, SumForce = 0;
-  std::map<int, uint64_t> Tissue;
-};
-
 void DeclareHapticsOptions(rp::ArgParser& parser) {
   parser.Option("scene", "file.rpscene", "scene with model nodes flagged haptic (default: an analytic demo)")
       .Input(FileKind::Any, {SceneFileExtension})
@@ -226,40 +219,16 @@ bool FillHapticsScene(vtkRPScene* scene, const HapticsRequest& request, std::ost
   return true;
 }
 
-// The RAS path sampled every 10 ms and mapped into the device frame (the device moves in its own frame).
-std::shared_ptr<rp::WaypointTrajectory> ToDeviceFrame(const rp::WaypointTrajectory& path, const rp::DeviceToScene& xf,
-                                                      std::string& error) {
-  std::vector<double> times;
-  std::vector<rp::Vec3> points;
-  const double duration = path.Duration();
-  const int samples = std::max(2, static_cast<int>(duration * 100) + 1);
-  for (int i = 0; i < samples; ++i) {
-    const double t = duration * i / (samples - 1);
-    rp::Pose pose;
-    rp::Vec3 v;
-    path.Evaluate(t, pose, v);
-    times.push_back(t);
-    points.push_back(xf.DeviceToRAS.RotateInverse(pose.T - xf.DeviceToRAS.T) / xf.Scale);
-  }
-  if (duration <= 0) {
-    times = {0.0, 1e-3};
-    points = {points.front(), points.front()};
-  }
-  auto devicePath = std::make_shared<rp::WaypointTrajectory>();
-  if (!devicePath->Set(times, points, error)) return nullptr;
-  return devicePath;
-}
-
-// Materials, haptic surfaces and the scripted motion in the device frame; 0 or the exit code.
-int PrepareHapticsRun(vtkRPScene* scene, HapticsRequest& request, rp::HapticSession::Options& options,
-                      std::shared_ptr<rp::WaypointTrajectory>& devicePath, std::ostream& err) {
+// The logic's session as the request asks: device, materials, the scripted motion over the
+// scene's haptic surfaces (RAS), tool points, log, loop; 0 or the exit code.
+int PrepareHapticsRun(vtkRPHapticsLogic* logic, HapticsRequest& request, std::ostream& err) {
   std::string error;
-  if (!LoadMaterialTable(options.Materials, error, request.MaterialsPath)) {
+  if (!logic->SetDeviceProfile(request.Profile.Key, error)) {
     err << "roboplan haptics: " << error << "\n";
-    return 1;
+    return 2;
   }
-  std::vector<std::string> warnings;
-  auto preview = rp::HapticScene::Build(rp::CollectHapticMeshes(scene, warnings), options.Materials, warnings, error);
+  logic->SetMaterialsPath(request.MaterialsPath);
+  auto preview = logic->PreviewHapticScene(error);
   if (!preview) {
     err << "roboplan haptics: " << error << "\n";
     return 1;
@@ -274,71 +243,48 @@ int PrepareHapticsRun(vtkRPScene* scene, HapticsRequest& request, rp::HapticSess
     return request.Trajectory == "probe" || request.Trajectory == "sweep" ? 1 : 2;
   }
   if (request.Seconds < 0) request.Seconds = std::fmin(path->Duration() + 0.1, 600.0);
-  rp::DeviceToScene xf;
-  rp::ReadDeviceToScene(scene, xf);
-  devicePath = ToDeviceFrame(*path, xf, error);
-  if (!devicePath) {
-    err << "roboplan haptics: " << error << "\n";
-    return 2;
-  }
-  for (long i = 0; i < request.ToolPoints; ++i) {
-    if (i > 0) options.ToolPoints.push_back({0, 0, 10.0 * i});
-  }
-  options.LogPath = request.LogPath;
-  options.Loop.RateHz = request.Rate;
-  options.Loop.SpinUs = request.Spin;
-  options.Loop.CpuAffinity = static_cast<int>(request.Cpu);
-  options.Loop.ShieldCpu = request.Shield;
-  options.RampSeconds = 0.2;
+  logic->SetSimulatedTrajectory(path);  // in RAS, as the servo takes the simulated stylus
+  std::vector<rp::Vec3> points{rp::Vec3{}};
+  for (long i = 1; i < request.ToolPoints; ++i) points.push_back({0, 0, 10.0 * i});
+  logic->SetToolPoints(points);
+  logic->SetLogPath(request.LogPath);
+  rp::ServoLoop::Options loop;
+  loop.RateHz = request.Rate;
+  loop.SpinUs = request.Spin;
+  loop.CpuAffinity = static_cast<int>(request.Cpu);
+  loop.ShieldCpu = request.Shield;
+  logic->SetLoopOptions(loop);
+  logic->SetRampSeconds(0.2);
+  logic->SetSummarize(true);
   return 0;
 }
 
-// Every tick's record folded into `stats` (on the log writer thread).
-void GatherForceStats(rp::HapticSession& session, const std::shared_ptr<ForceStats>& stats) {
-  session.Log().OnRecord = [stats](const rp::HapticLogRecord& r) {
-    ++stats->Records;
-    const double f = rp::Norm(r.Force);
-    stats->MaxForce = std::fmax(stats->MaxForce, f);
-    if (r.Contacts > 0) {
-      ++stats->ContactTicks;
-      stats->SumForce += f;
-      ++stats->Tissue[r.Label];
-    }
-    stats->Clamped += (r.Flags & 2u) ? 1 : 0;
-    stats->Watchdog += (r.Flags & 1u) ? 1 : 0;
-    stats->StallLimited += (r.Flags & 4u) ? 1 : 0;
-  };
-}
-
-// Runs the started session for the request's seconds at the display rate, printing new warnings and progress.
-void RunHapticsSession(rp::HapticSession& session, const HapticsRequest& request, std::ostream& err) {
+// Runs the logic's session for the request's seconds, printing new warnings and progress.
+bool RunHapticsSession(vtkRPHapticsLogic* logic, const HapticsRequest& request, std::ostream& err) {
   rp::TerminalProgress progress("haptics", request.Json);
   size_t warned = 0;
   auto printWarnings = [&] {
-    for (; warned < session.Warnings().size(); ++warned)
-      err << "roboplan haptics: warning: " << session.Warnings()[warned] << "\n";
+    const rp::HapticSession* session = logic->GetSession();
+    for (; session && warned < session->Warnings().size(); ++warned)
+      err << "roboplan haptics: warning: " << session->Warnings()[warned] << "\n";
   };
-  printWarnings();
-  const auto start = std::chrono::steady_clock::now();
-  for (;;) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(33));  // display rate
-    session.Update();
+  std::string error;
+  const bool ran = logic->RunSimulated(request.Seconds, [&](double elapsed) {
     printWarnings();  // e.g. a tissue clamped once the measured servo period is known
-    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     progress.Report(std::floor(10 * std::fmin(1.0, elapsed / request.Seconds)) / 10, "exploring");
-    if (elapsed >= request.Seconds) break;
-  }
-  session.Stop();
+  }, error);
+  printWarnings();
+  if (!ran) err << "roboplan haptics: " << error << "\n";
+  return ran;
 }
 
 // What the finished run measured, read once after Stop.
 struct HapticsOutcome {
   const HapticsRequest& Request;
   rp::HapticSession& Session;
-  const ForceStats& Stats;
+  const rp::HapticForceSummary& Stats;
   rp::ServoStats Servo;
   rp::HapticState Last;
-  double MeanForce, ContactFraction;
   std::string TissueName(int label) const {
     const auto& names = Session.TissueNames();
     return label >= 0 && static_cast<size_t>(label) < names.size() ? names[static_cast<size_t>(label)] : std::string("?");
@@ -348,10 +294,10 @@ struct HapticsOutcome {
 void ReportHapticsJson(const HapticsOutcome& o, std::ostream& out) {
   const HapticsRequest& request = o.Request;
   const rp::HapticSession& session = o.Session;
-  const ForceStats& stats = o.Stats;
+  const rp::HapticForceSummary& stats = o.Stats;
   const rp::ServoStats& servo = o.Servo;
   nlohmann::json tissues = nlohmann::json::object();
-  for (const auto& [label, ticks] : stats.Tissue) tissues[o.TissueName(label)] = ticks;
+  for (const auto& [label, ticks] : stats.TissueTicks) tissues[o.TissueName(label)] = ticks;
   nlohmann::json clamps = nlohmann::json::array();
   for (const MaterialClamp& c : session.Clamps())
     clamps.push_back({{"tissue", c.Tissue},
@@ -390,10 +336,10 @@ void ReportHapticsJson(const HapticsOutcome& o, std::ostream& out) {
         {"missesReading", MachineLoadReading(session.Scheduler().Load(), servo.MissedDeadlines, servo.Overruns)}}},
       {"force",
        {{"maxN", stats.MaxForce},
-        {"meanInContactN", o.MeanForce},
-        {"contactFraction", o.ContactFraction},
-        {"clampedTicks", stats.Clamped},
-        {"stallLimitedTicks", stats.StallLimited},
+        {"meanInContactN", stats.MeanForceInContact()},
+        {"contactFraction", stats.ContactFraction()},
+        {"clampedTicks", stats.ClampedTicks},
+        {"stallLimitedTicks", stats.StallLimitedTicks},
         {"tissueTicks", tissues}}},
       {"log", {{"path", request.LogPath}, {"records", stats.Records}, {"dropped", o.Session.Servo().LogRing().DroppedCount()}}}};
   out << doc.dump(2) << "\n";
@@ -403,7 +349,7 @@ void ReportHapticsText(const HapticsOutcome& o, std::ostream& out) {
   const HapticsRequest& request = o.Request;
   const DeviceProfile& profile = request.Profile;
   const rp::HapticSession& session = o.Session;
-  const ForceStats& stats = o.Stats;
+  const rp::HapticForceSummary& stats = o.Stats;
   const rp::ServoStats& servo = o.Servo;
   out << Format("device: %s (%.1f N peak, %.2f N/mm nominal maximum stiffness)\n", profile.Info.Name.c_str(),
                 profile.Info.MaxForce, profile.Info.NominalMaxStiffness);
@@ -426,8 +372,9 @@ void ReportHapticsText(const HapticsOutcome& o, std::ostream& out) {
   out << "  load: " << MachineLoadSummary(session.Scheduler().Load()) << "\n";
   out << "  misses: " << MachineLoadReading(session.Scheduler().Load(), servo.MissedDeadlines, servo.Overruns) << "\n";
   out << Format("force: max %.3f N, mean in contact %.3f N, contact %.1f%% of ticks, clamped %llu ticks\n",
-                stats.MaxForce, o.MeanForce, 100 * o.ContactFraction, static_cast<unsigned long long>(stats.Clamped));
-  for (const auto& [label, ticks] : stats.Tissue)
+                stats.MaxForce, stats.MeanForceInContact(), 100 * stats.ContactFraction(),
+                static_cast<unsigned long long>(stats.ClampedTicks));
+  for (const auto& [label, ticks] : stats.TissueTicks)
     out << Format("  %-10s %llu ticks in contact\n", o.TissueName(label).c_str(), static_cast<unsigned long long>(ticks));
   if (!request.LogPath.empty())
     out << Format("log: %s (%llu records)\n", request.LogPath.c_str(), static_cast<unsigned long long>(stats.Records));
@@ -445,30 +392,17 @@ int RunHapticsCommand(const std::vector<std::string>& arguments, vtkRPScene* sce
   HapticsRequest request;
   if (const int exitCode = ReadHapticsRequest(parser, request, err)) return exitCode;
 
-  vtkRPScene* scene = sceneIn;
   vtkNew<vtkRPScene> ownScene;
-  if (scene == nullptr) scene = ownScene;
+  vtkRPScene* scene = sceneIn ? sceneIn : ownScene.GetPointer();
   if (!FillHapticsScene(scene, request, err)) return 1;
-  rp::HapticSession::Options options;
-  std::shared_ptr<rp::WaypointTrajectory> devicePath;
-  if (const int exitCode = PrepareHapticsRun(scene, request, options, devicePath, err)) return exitCode;
+  vtkNew<vtkRPHapticsLogic> logic;
+  logic->SetScene(scene);
+  if (const int exitCode = PrepareHapticsRun(logic, request, err)) return exitCode;
+  if (!RunHapticsSession(logic, request, err)) return 1;
 
-  rp::SimulatedDevice device(request.Profile.Info);
-  device.SetTrajectory(devicePath);
-  rp::HapticSession session(device);
-  auto stats = std::make_shared<ForceStats>();
-  GatherForceStats(session, stats);
-  std::string error;
-  if (!session.Start(scene, options, error)) {
-    err << "roboplan haptics: " << error << "\n";
-    return 1;
-  }
-  RunHapticsSession(session, request, err);
-
-  HapticsOutcome outcome{request, session, *stats, session.Scheduler().Stats(), {}, 0, 0};
+  rp::HapticSession& session = *logic->GetSession();
+  HapticsOutcome outcome{request, session, session.Summary(), session.Scheduler().Stats(), {}};
   session.Servo().ReadState(outcome.Last);
-  outcome.MeanForce = stats->ContactTicks ? stats->SumForce / stats->ContactTicks : 0.0;
-  outcome.ContactFraction = stats->Records ? static_cast<double>(stats->ContactTicks) / stats->Records : 0.0;
   if (request.Json)
     ReportHapticsJson(outcome, out);
   else

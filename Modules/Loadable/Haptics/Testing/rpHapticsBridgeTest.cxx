@@ -1,17 +1,21 @@
 // Scene bridge: haptic meshes from model nodes flagged haptic (RAS through their transforms),
 // HapticDeviceToRAS with workspace scale, tool nodes updated from the servo state on the main
-// thread, and a live session that rebuilds its scene when a model changes.
+// thread, a live session that rebuilds its scene when a model changes, a tracked tool driving the
+// proxy in RAS, and the `haptics` command through the module's logic.
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <sstream>
 #include <thread>
 
+#include <nlohmann/json.hpp>
 #include <vtkCallbackCommand.h>
 #include <vtkMatrix4x4.h>
 #include <vtkNew.h>
 #include <vtkPolyData.h>
 
 #include "rpHapticSession.h"
+#include "rpHapticsCommand.h"
 #include "rpPolyDataTriangleMesh.h"
 #include "rpSimulatedDevice.h"
 #include "vtkRPHapticsLogic.h"
@@ -207,4 +211,81 @@ TEST(HapticsLogic, SimulatedStylusFromTheViewerTouchesTheScene) {
   EXPECT_NEAR(force[2], kSkin * (1 + rp::GodObjectProxy::Gap), 1e-6);
   logic->Stop();
   EXPECT_FALSE(logic->IsRunning());
+}
+
+TEST(HapticsLogic, ATrackedToolDrivesTheProxy) {
+  // A stylus tip tracked under TrackerToRAS drives the haptic proxy in RAS as it is: the scene's
+  // HapticDeviceToRAS (rotated, translated, scaled 2x) is not applied to it; only its scale stays,
+  // for the gain limits of the device the stylus stands for.
+  vtkNew<vtkRPScene> scene;
+  AddModel(scene, "Tibia", "bone", true, rp::shapes::Box({-40, -40, -20}, {40, 40, 0}));
+  vtkNew<vtkRPLinearTransformNode> device;
+  device->SetName(rp::HapticDeviceToRASName);
+  const double scaled[16] = {2, 0, 0, 0, 0, 0, -2, 0, 0, 2, 0, 100, 0, 0, 0, 1};
+  device->SetMatrixTransformToParent(scaled);
+  scene->AddNode(device);
+  vtkNew<vtkRPLinearTransformNode> tracker;
+  tracker->SetName("TrackerToRAS");
+  const double rz90[16] = {0, -1, 0, 5, 1, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};  // tracker (x, y, z) → RAS (5 − y, x, z)
+  tracker->SetMatrixTransformToParent(rz90);
+  scene->AddNode(tracker);
+  vtkNew<vtkRPTrackedToolNode> tip;
+  tip->SetName("StylusTip");
+  scene->AddNode(tip);
+  ASSERT_TRUE(tip->SetAndObserveTransformNodeID(tracker->GetID()));
+  auto place = [&](double z) {  // the tip at tracker (0, 5, z): RAS (0, 0, z), mid-face (no shading tilt)
+    const double m[16] = {1, 0, 0, 0, 0, 1, 0, 5, 0, 0, 1, z, 0, 0, 0, 1};
+    tip->SetMatrixTransformToParent(m);
+  };
+  place(10);
+  vtkNew<vtkRPHapticsLogic> logic;
+  logic->SetScene(scene);
+  logic->SetRampSeconds(0.01);
+  logic->SetFollowedNodeID(tip->GetID());
+  std::string error;
+  ASSERT_TRUE(logic->StartSimulated(error)) << error;
+  for (int i = 0; i < 5; ++i) {
+    logic->Update();
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  place(-1);  // 1 mm into the bone
+  for (int i = 0; i < 6; ++i) {
+    logic->Update();
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  ASSERT_TRUE(logic->Update());
+  auto* hip = vtkRPTrackedToolNode::SafeDownCast(scene->GetFirstNodeByName(rp::HapticInterfacePointName));
+  auto* proxy = vtkRPTrackedToolNode::SafeDownCast(scene->GetFirstNodeByName(rp::HapticProxyName));
+  ASSERT_TRUE(hip && proxy);
+  EXPECT_EQ(hip->GetMatrixTransformToParent()->GetElement(0, 3), 0.0);
+  EXPECT_EQ(hip->GetMatrixTransformToParent()->GetElement(1, 3), 0.0);
+  EXPECT_EQ(hip->GetMatrixTransformToParent()->GetElement(2, 3), -1.0);
+  EXPECT_NEAR(proxy->GetMatrixTransformToParent()->GetElement(2, 3), 0.0, 1e-3);
+  EXPECT_EQ(proxy->GetAttribute("Tissue"), "bone");
+  // The Omni's 0.7 N/mm through the 2x workspace scale: 0.35 N/mm in the scene, along +S in RAS.
+  double force[3];
+  logic->GetLastForce(force);
+  EXPECT_NEAR(force[2], 0.35 * (1 + rp::GodObjectProxy::Gap), 1e-6);
+  EXPECT_NEAR(force[0], 0.0, 1e-9);
+  EXPECT_NEAR(force[1], 0.0, 1e-9);
+  logic->Stop();
+}
+
+TEST(HapticsCommand, ProbesTheDemoSceneThroughTheLogic) {
+  // `roboplan haptics` is parse → vtkRPHapticsLogic → report: the probe path over the analytic
+  // scene touches both tissues, within the device's force.
+  std::ostringstream out, err;
+  ASSERT_EQ(rp::RunHapticsCommand({"--seconds", "2", "--json"}, nullptr, out, err), 0) << err.str();
+  const nlohmann::json doc = nlohmann::json::parse(out.str());
+  EXPECT_EQ(doc["device"]["profile"], "omni");
+  EXPECT_GT(doc["scene"]["triangles"].get<int>(), 100);
+  EXPECT_GT(doc["servo"]["ticks"].get<int>(), 1000);
+  EXPECT_TRUE(doc["force"]["tissueTicks"].contains("bone")) << doc["force"].dump();
+  EXPECT_GT(doc["force"]["maxN"].get<double>(), 0.2);
+  EXPECT_LE(doc["force"]["maxN"].get<double>(), 3.3 + 1e-9);
+  EXPECT_EQ(doc["log"]["records"].get<uint64_t>() + doc["log"]["dropped"].get<uint64_t>(), doc["servo"]["ticks"].get<uint64_t>());
+  // A trajectory file that is not one: exit 2, named.
+  std::ostringstream out2, err2;
+  EXPECT_EQ(rp::RunHapticsCommand({"--seconds", "1", "--trajectory", "/nonexistent/path.csv"}, nullptr, out2, err2), 2);
+  EXPECT_NE(err2.str().find("/nonexistent/path.csv"), std::string::npos) << err2.str();
 }

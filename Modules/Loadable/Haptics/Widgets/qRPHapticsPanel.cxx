@@ -41,6 +41,9 @@ qRPHapticsPanel::qRPHapticsPanel(vtkRPHapticsLogic* logic, QWidget* parent) : QW
   this->LogPath->setToolTip("Session log (one CSV row per servo tick), written while the loop runs, flushed when it stops; empty: none");
   form->addRow("Session log", this->LogPath);
   form->addRow(this->StartButton, this->State);
+  this->Drive = new QComboBox;
+  this->Drive->setToolTip("The spin boxes below, or a tracked tool whose tip drives the haptic stylus");
+  form->addRow("Stylus driven by", this->Drive);
   const char* names[3] = {"Stylus R (mm)", "Stylus A (mm)", "Stylus S (mm)"};
   for (int k = 0; k < 3; ++k) {
     this->Stylus[k] = new QDoubleSpinBox;
@@ -82,7 +85,30 @@ qRPHapticsPanel::qRPHapticsPanel(vtkRPHapticsLogic* logic, QWidget* parent) : QW
     else
       this->Start();
   });
+  connect(this->Drive, QOverload<int>::of(&QComboBox::currentIndexChanged), this, [this](int) {
+    const QString id = this->Drive->currentData().toString();
+    if (this->Logic) this->Logic->SetFollowedNodeID(id.toStdString());
+    for (QDoubleSpinBox* spin : this->Stylus) spin->setEnabled(id.isEmpty());
+  });
+  this->RefreshDrives();
   this->FitRangesToHapticModels();
+}
+
+void qRPHapticsPanel::RefreshDrives() {
+  vtkRPScene* scene = this->Logic ? this->Logic->GetScene() : nullptr;
+  const QString chosen = this->Drive->currentData().toString();
+  const QSignalBlocker block(this->Drive);
+  this->Drive->clear();
+  this->Drive->addItem("Panel (simulated device)", QString());
+  if (scene != nullptr) {
+    for (vtkRPNode* node : scene->GetNodesByClass("vtkRPTrackedToolNode")) {
+      const std::string& name = node->GetName();
+      if (name == rp::HapticInterfacePointName || name == rp::HapticProxyName) continue;  // the servo's own output
+      this->Drive->addItem(QString::fromStdString(name.empty() ? node->GetID() : name), QString::fromStdString(node->GetID()));
+    }
+  }
+  const int index = this->Drive->findData(chosen);
+  this->Drive->setCurrentIndex(index >= 0 ? index : 0);
 }
 
 qRPHapticsPanel::~qRPHapticsPanel() {
@@ -128,22 +154,16 @@ void qRPHapticsPanel::FitRangesToHapticModels() {
 
 void qRPHapticsPanel::SendStylusPose() {
   if (this->Logic == nullptr) return;
-  // The spin boxes are in RAS; the simulated device moves in its own frame (HapticDeviceToRAS).
-  rp::DeviceToScene xf;
-  rp::ReadDeviceToScene(this->Logic->GetScene(), xf);
-  const double scale = xf.Scale > 0 ? xf.Scale : 1.0;
-  const rp::Vec3 ras{this->Stylus[0]->value(), this->Stylus[1]->value(), this->Stylus[2]->value()};
-  const rp::Vec3 device = xf.DeviceToRAS.RotateInverse(ras - xf.DeviceToRAS.T) / scale;
-  vtkNew<vtkMatrix4x4> stylusToDevice;
-  stylusToDevice->SetElement(0, 3, device.x);
-  stylusToDevice->SetElement(1, 3, device.y);
-  stylusToDevice->SetElement(2, 3, device.z);
-  this->Logic->SetSimulatedStylusPose(stylusToDevice);
+  // The spin boxes are in RAS, as the servo takes the simulated stylus (rpToolInput.h).
+  vtkNew<vtkMatrix4x4> stylusToRAS;
+  for (int k = 0; k < 3; ++k) stylusToRAS->SetElement(k, 3, this->Stylus[k]->value());
+  this->Logic->SetSimulatedStylusPose(stylusToRAS);
 }
 
 bool qRPHapticsPanel::Start() {
   if (this->Logic == nullptr) return false;
   if (this->IsRunning()) return true;
+  this->RefreshDrives();
   this->FitRangesToHapticModels();
   this->SendStylusPose();  // before the first tick: the loop starts where the spin boxes say
   this->Logic->SetLogPath(this->LogPath->text().trimmed().toStdString());

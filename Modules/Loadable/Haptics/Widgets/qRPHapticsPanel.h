@@ -2,7 +2,8 @@
 #define qRPHapticsPanel_h
 // The Haptics module's Qt panel: pick the simulated device (Phantom Omni, Touch), start/stop its
 // 1 kHz servo loop on the scene's haptic models, move the simulated stylus tip with R/A/S spin
-// boxes (so the module is usable without hardware), and live read-outs (tissue, force,
+// boxes (so the module is usable without hardware) or let a tracked tool (a stylus or drill
+// under the tracker) drive it, and live read-outs (tissue, force,
 // penetration, servo timing) with a warning per tissue the device cannot render stably.
 // A 30 Hz timer drives vtkRPHapticsLogic::Update (main thread). Destroying the panel stops the
 // loop (zero force on the device) and flushes the session log.
@@ -31,6 +32,10 @@ class qRPHapticsPanel : public QWidget {
   void Update();
 
   QDoubleSpinBox* StylusSpinBox(int axis) const { return this->Stylus[axis]; }
+  /// What moves the stylus: the spin boxes (item data "") or a tracked tool node (its ID).
+  QComboBox* DriveComboBox() const { return this->Drive; }
+  /// Refills the tracked tools that can drive the stylus.
+  void RefreshDrives();
   /// The simulated device profile (item data: the profile key, e.g. "omni").
   QComboBox* DeviceComboBox() const { return this->Device; }
   /// "Slices follow the haptic proxy": the scene's slice nodes follow the HapticProxy node (the
@@ -56,6 +61,7 @@ class qRPHapticsPanel : public QWidget {
   vtkRPHapticsLogic* Logic;
   QPushButton* StartButton;
   QComboBox* Device;
+  QComboBox* Drive;
   QLineEdit* LogPath;
   QDoubleSpinBox* Stylus[3];
   QLabel* State;
