@@ -51,6 +51,7 @@ bool DrillSession::Prepare(const Options& options, const TriangleMesh& protected
   this->Task = std::make_unique<DrillServo>(this->Device, this->Bone, options.Servo);
   if (!this->ProtectedTree.Empty()) this->Task->SetProtectedSurface(&this->ProtectedTree);
   if (others) this->Task->Scenes().Publish(std::move(others));
+  if (options.MakeConstraints) this->Task->Constraints().Publish(options.MakeConstraints());  // the fixtures
   this->SetControl(options.Control);
   this->PathPoints.clear();
   this->Kept.clear();
@@ -85,6 +86,7 @@ bool DrillSession::Start(std::string& error) {
 vtkSmartPointer<vtkPolyData> DrillSession::Update() {
   if (!this->Task) return nullptr;
   this->Task->Scenes().Collect();
+  this->Task->Constraints().Collect();
   DrillRecord r;
   while (this->Task->Records().TryPop(r)) {
     this->Writer.Add(r, this->Rpm);
@@ -105,6 +107,7 @@ vtkSmartPointer<vtkPolyData> DrillSession::Stop() {
     this->Frames.Frame();     // the blocks the last ticks dirtied
     last = this->Update();    // and the last records
     this->Task->Scenes().Clear();
+    this->Task->Constraints().Clear();
   }
   this->Writer.Close();
   if (this->DeviceOpen) this->Device.Close();

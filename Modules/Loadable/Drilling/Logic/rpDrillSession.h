@@ -71,6 +71,9 @@ class DrillSession {
     bool KeepRecords = false;   // every tick's record in Records() (charts, reports)
     bool KeepPath = true;       // the burr's path at 100 Hz in Path() (pictures); with neither, and
                                 // no recording, the servo publishes no records
+    /// The virtual fixtures of this session (rpToolConstraint.h), made when it is prepared; a
+    /// running session takes new ones through Servo().Constraints().Publish().
+    std::function<std::unique_ptr<ToolConstraints>()> MakeConstraints;
   };
 
   /// `bone` and `display` (a DrillDisplay of that bone, initialised) outlive the session.

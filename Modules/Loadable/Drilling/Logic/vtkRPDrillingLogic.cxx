@@ -219,6 +219,7 @@ bool vtkRPDrillingLogic::PrepareSession(bool keepRecords, std::string& error) {
   options.RecordPath = this->RecordPath;
   options.StartCut = this->Placed && this->PlacedControl.BurrOn;
   options.KeepRecords = keepRecords;
+  options.MakeConstraints = this->MakeConstraints;
   this->Session.reset();
   this->Session = std::make_unique<rp::DrillSession>(*this->Device, *this->Bone, *this->Display);
   if (!this->Session->Prepare(options, this->ProtectedSurface, std::move(others), error)) {

@@ -11,6 +11,7 @@
 //    StartSimulated() runs it in real time for the viewer (Update() from a display-rate timer swaps
 //    the re-contoured mesh into the model node and moves the HapticInterfacePoint / HapticProxy
 //    tool nodes); RunSimulated() runs a stroke to its end, scripted or in real time.
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -79,6 +80,11 @@ class vtkRPDrillingLogic : public vtkObject {
   /// Whether the scene's other haptic models are touched in the same tick (default on: in the
   /// viewer the burr meets the soft tissue on its way; a planned stroke through it turns this off).
   void SetTouchOtherModels(bool touch) { this->TouchOthers = touch; }
+  /// The virtual fixtures of each session (rpToolConstraint.h: made anew for each, a set belongs to
+  /// its servo once handed over); nullptr: none. A running session: GetSession()->Servo().Constraints().
+  void SetConstraints(std::function<std::unique_ptr<rp::ToolConstraints>()> make) {
+    this->MakeConstraints = std::move(make);
+  }
   /// The next run starts with the burr placed at `center` (RAS), cutting when `control` has it on
   /// (a stroke that begins inside bone: `roboplan drill --from`).
   void PlaceBurr(const rp::Vec3& center, const rp::DrillControl& control);
@@ -141,6 +147,7 @@ class vtkRPDrillingLogic : public vtkObject {
   rp::DrillControl Control;
   rp::DrillServoOptions ServoSettings;
   rp::ServoLoop::Options LoopSettings;
+  std::function<std::unique_ptr<rp::ToolConstraints>()> MakeConstraints;
   bool TouchOthers = true;
   bool Placed = false;
   rp::Vec3 PlacedAt;

@@ -467,3 +467,36 @@ TEST(DrillingLogic, ATrackedDrillDrivesTheBurrInRAS) {
   logic->Stop();
   EXPECT_FALSE(logic->IsRunning());
 }
+
+namespace {
+// Forbids every cut (a forbidden region everywhere).
+struct ForbidEverything : rp::ToolConstraint {
+  void Evaluate(const rp::ConstraintContext&, rp::ConstraintForce& out) noexcept override { out.ForbidCut = true; }
+};
+}  // namespace
+
+TEST(DrillingLogic, EverySessionItRunsGetsTheFixtures) {
+  // The same stroke with and without a fixture that forbids every cut, through RunSimulated.
+  auto stroke = [](bool fixtures) {
+    vtkNew<vtkRPScene> scene;
+    vtkNew<vtkRPDrillingLogic> logic;
+    logic->SetScene(scene);
+    std::string error;
+    EXPECT_TRUE(logic->BuildBlockBone({-6, -6, -6}, {6, 6, 6}, 0, 0.4, error)) << error;
+    if (fixtures)
+      logic->SetConstraints([] {
+        auto set = std::make_unique<rp::ToolConstraints>();
+        set->Add(std::make_unique<ForbidEverything>());
+        return set;
+      });
+    logic->SetSimulatedTrajectory(rp::WaypointTrajectory::Line({0, 0, 9}, {0, 0, 3}, 3.0));
+    rp::DrillRunOptions run;
+    run.Schedule = [](double) { return rp::DrillControl{true, 1.5, 60000}; };
+    run.MaxSeconds = 2.0;
+    rp::DrillRunResult result;
+    EXPECT_TRUE(logic->RunSimulated(run, result, error)) << error;
+    return result.Final.RemovedTotalMm3;
+  };
+  EXPECT_GT(stroke(false), 1.0);
+  EXPECT_EQ(stroke(true), 0.0);
+}

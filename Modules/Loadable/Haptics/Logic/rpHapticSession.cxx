@@ -59,6 +59,7 @@ bool HapticSession::Start(vtkRPScene* scene, const Options& options, std::string
   this->Task->Scenes().Publish(std::move(built));
   this->Builds.fetch_add(1);
   this->Signature = HapticMeshesSignature(scene);
+  if (options.MakeConstraints) this->Task->Constraints().Publish(options.MakeConstraints());  // the fixtures
   this->Figures = HapticForceSummary{};
   if (options.Summarize) {
     auto onRecord = this->Writer.OnRecord;  // the owner's, kept
@@ -108,6 +109,7 @@ void HapticSession::StartRebuild() {
 bool HapticSession::Update() {
   if (!this->Task) return false;
   this->Task->Scenes().Collect();
+  this->Task->Constraints().Collect();
   if (this->Builder.joinable() && this->BuildDone.load(std::memory_order_acquire)) {
     this->Builder.join();
     if (this->Built) {
@@ -140,7 +142,10 @@ void HapticSession::Stop() {
   this->Writer.Stop();
   if (this->Builder.joinable()) this->Builder.join();
   this->Built.reset();
-  if (this->Task) this->Task->Scenes().Clear();
+  if (this->Task) {
+    this->Task->Scenes().Clear();
+    this->Task->Constraints().Clear();
+  }
   this->Device.Close();
 }
 

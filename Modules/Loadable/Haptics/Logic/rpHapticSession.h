@@ -4,6 +4,7 @@
 // scene when haptic models changed (meshes read here, BVH built on a worker thread, swapped into
 // the servo loop atomically), frees retired scenes, and copies the servo state into tool nodes.
 #include <atomic>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -40,6 +41,9 @@ class HapticSession {
     ServoLoop::Options Loop;
     std::string LogPath;  // empty: no session log file
     bool Summarize = false;  // gather Summary() from every tick's record
+    /// The virtual fixtures of this session (rpToolConstraint.h), made when it starts; a running
+    /// session takes new ones through Servo().Constraints().Publish().
+    std::function<std::unique_ptr<ToolConstraints>()> MakeConstraints;
   };
 
   explicit HapticSession(HapticDevice& device);

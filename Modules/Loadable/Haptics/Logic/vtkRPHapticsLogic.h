@@ -51,6 +51,11 @@ class vtkRPHapticsLogic : public vtkObject {
   void SetLoopOptions(const rp::ServoLoop::Options& options) { this->Settings.Loop = options; }
   /// Gather the run's force figures (HapticSession::Summary()) from every tick.
   void SetSummarize(bool summarize) { this->Settings.Summarize = summarize; }
+  /// The virtual fixtures of each session (rpToolConstraint.h: made anew for each, a set belongs to
+  /// its servo once handed over); nullptr: none. A running session: GetSession()->Servo().Constraints().
+  void SetConstraints(std::function<std::unique_ptr<rp::ToolConstraints>()> make) {
+    this->Settings.MakeConstraints = std::move(make);
+  }
   /// The session log CSV written while running (empty: none); flushed by Stop().
   void SetLogPath(const std::string& path) { this->Settings.LogPath = path; }
   const std::string& GetLogPath() const { return this->Settings.LogPath; }
