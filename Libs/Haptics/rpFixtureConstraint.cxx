@@ -5,7 +5,7 @@
 namespace rp {
 
 FixtureTool FixtureConstraint::Tool(const ConstraintContext& context, const Vec3& tip) const noexcept {
-  return FixtureTool{tip, Normalized(context.Stylus.Rotate(ToolForward)), context.Radius};
+  return FixtureTool{tip, Normalized(context.Stylus.Rotate(ToolForward)), context.Radius, context.From, context.HasFrom};
 }
 
 void FixtureConstraint::Constrain(const ConstraintContext& tool, ConstraintGoal& goal) noexcept {

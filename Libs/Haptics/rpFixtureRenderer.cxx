@@ -111,7 +111,7 @@ void FixtureRenderer::Arm(const FixtureSet& set, const FixtureTool& tool) noexce
 // The walls in turn until none moves the goal. A wall touched in any round is in contact this
 // tick (a later round sees the goal already on it); each round starts from what it knew last tick.
 Vec3 FixtureRenderer::ConstrainWalls(const FixtureSet& set, const FixtureTool& tool) noexcept {
-  const Vec3 from = this->Goal;
+  const Vec3 from = tool.HasFrom ? tool.From : this->Goal;
   Vec3 goal = tool.Tip;
   bool before[MaxFixtures], touched[MaxFixtures];
   Vec3 normal[MaxFixtures];
@@ -119,25 +119,35 @@ Vec3 FixtureRenderer::ConstrainWalls(const FixtureSet& set, const FixtureTool& t
     before[i] = this->Memory[i].Contact;
     touched[i] = false;
   }
-  bool agreed = false;
-  for (int round = 0; round < ConstrainRounds && !agreed; ++round) {
-    agreed = true;
-    for (int i = 0; i < this->CurrentCount; ++i) {
-      const FixtureEntry& e = set.Entries[size_t(i)];
-      FixtureMemory& m = this->Memory[i];
-      if (!m.Armed || !e.Enabled) continue;
-      m.Contact = before[i];
-      const Vec3 next = e.Fixture->Constrain(e.Tuning, from, goal, tool.Radius, m);
-      if (m.Contact) {
-        touched[i] = true;
-        normal[i] = m.ContactNormal;
-      }
-      if (Norm2(next - goal) > 1e-24) {
-        goal = next;
-        agreed = false;
-      }
+  // Each wall in turn; a wall that moved the goal is not asked again until another one moved it
+  // (a wall's own answer stands: sliding is not idempotent to the last micrometre).
+  int mover = -1, quiet = 0, armed = 0;
+  for (int i = 0; i < this->CurrentCount; ++i) armed += this->Memory[i].Armed && set.Entries[size_t(i)].Enabled;
+  bool agreed = armed <= 1;
+  for (int visit = 0; visit < ConstrainRounds * this->CurrentCount && quiet < armed; ++visit) {
+    const int i = visit % this->CurrentCount;
+    const FixtureEntry& e = set.Entries[size_t(i)];
+    FixtureMemory& m = this->Memory[i];
+    if (!m.Armed || !e.Enabled) continue;
+    if (i == mover) {
+      ++quiet;
+      continue;
+    }
+    m.Contact = before[i];
+    const Vec3 next = e.Fixture->Constrain(e.Tuning, from, goal, tool.Radius, m);
+    if (m.Contact) {
+      touched[i] = true;
+      normal[i] = m.ContactNormal;
+    }
+    if (Norm2(next - goal) > 1e-12) {  // moved by more than a micrometre
+      goal = next;
+      mover = i;
+      quiet = 0;
+    } else {
+      ++quiet;
     }
   }
+  agreed = agreed || quiet >= armed;
   for (int i = 0; i < this->CurrentCount; ++i) {
     FixtureMemory& m = this->Memory[i];
     m.Contact = touched[i];

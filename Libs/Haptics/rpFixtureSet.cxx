@@ -53,6 +53,25 @@ std::unique_ptr<FixtureSet> FixtureSet::WithKindEnabled(FixtureKind kind, bool e
   return copy;
 }
 
+FixtureTuning DefaultFixtureTuning(FixtureKind kind) {
+  FixtureTuning t;
+  switch (kind) {
+    case FixtureKind::AxisGuidance:  // holds the tool on the axis against a light lateral grip
+      t.Stiffness = 0.6, t.Damping = 0.0005, t.Capture = 3, t.Release = 4.5;
+      break;
+    case FixtureKind::DepthStop:  // holds across a tunnel's width and the hand's wander
+      t.Stiffness = 0.6, t.Damping = 0.001, t.Capture = 5, t.Release = 5;
+      break;
+    case FixtureKind::ForbiddenRegion:  // the approach damped over the last 2 mm
+      t.Stiffness = 0.6, t.Damping = 0.001, t.Capture = 2, t.Release = 2;
+      break;
+    case FixtureKind::SurfaceConstraint:
+      t.Stiffness = 0.4, t.Damping = 0.0005, t.Capture = 2, t.Release = 3;
+      break;
+  }
+  return t;
+}
+
 double RenderedFixtureStiffness(const FixtureTuning& t, const DeviceInfo& device, double period, double workspaceScale) {
   return t.Stiffness * LimitGains(t.Stiffness, t.Damping, device, period, workspaceScale).StiffnessScale;
 }

@@ -36,6 +36,10 @@ struct FixtureSet {
   std::unique_ptr<FixtureSet> WithKindEnabled(FixtureKind kind, bool enabled) const;
 };
 
+/// How each fixture feels unless tuned (for the seed paper's Phantom Omni, 0.7 N/mm and 3.3 N;
+/// the Haptics README says how to tune them).
+FixtureTuning DefaultFixtureTuning(FixtureKind kind);
+
 /// "" when the tuning can be used; else what is wrong with it (negative stiffness, a release
 /// nearer than the capture, ...).
 std::string FixtureTuningProblem(const FixtureTuning& tuning);

@@ -6,8 +6,9 @@
 //   - a move from outside is advanced conservatively along the segment (each step the distance to
 //     the offset surface, which no part of the region can be nearer than: Lipschitz), so the first
 //     contact is found at any speed;
-//   - pressing on, the proxy slides: the tool projected onto the offset surface along the distance
-//     field's gradient (refused when it would land on the region's far side);
+//   - pressing on, the proxy slides from where the tool is towards the tool projected onto the
+//     offset surface (along the distance field's gradient), in short steps each put back onto
+//     the wall, so the tool's own path hugs the wall (never the region's far side);
 //   - before the wall, within the capture band, the approach is damped (slowing the hand, no force
 //     at rest, none at the band's edge).
 // Far from the structure the last distance bounds the next (Lipschitz) and no query is made.
@@ -50,6 +51,8 @@ class ForbiddenRegion : public VirtualFixture {
   /// point proven outside).
   bool Advance(const Vec3& from, const Vec3& to, double clearance, FixtureMemory& m, Vec3& at,
                Vec3& normal) const noexcept;
+
+  Vec3 Slide(const Vec3& from, const Vec3& goal, const Vec3& goalNormal, double clearance, FixtureMemory& m) const noexcept;
 
   double SafetyMargin = 0;
   std::shared_ptr<const MeshSignedDistance> Distance;

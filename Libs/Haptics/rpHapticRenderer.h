@@ -19,6 +19,9 @@
 namespace rp {
 
 constexpr int MaxToolPoints = 8;
+/// The way the tool points in the stylus frame: its shaft runs from the tip along +z (the tool
+/// points of a multi-point tool), so the tip leads along −z.
+constexpr Vec3 ToolForward{0, 0, -1};
 
 struct RendererOptions {
   bool Friction = true;

@@ -6,8 +6,7 @@
 //   forbidden  a forbidden region per structure at risk (its closed surface + its safety margin);
 //   surface    the seed's constraint mode on a chosen cut plane, or on a model's surface.
 // Each fixture's id comes from its node's ID and kind, so a new snapshot (the plan dragged, a
-// fixture switched) carries the servo's fades over. The default tunings are for the seed paper's
-// Phantom Omni (0.7 N/mm, 3.3 N); the Haptics README says how to tune them.
+// fixture switched) carries the servo's fades over. The default tunings: DefaultFixtureTuning.
 #include <memory>
 #include <string>
 
@@ -21,12 +20,10 @@ struct PlanFixtureChoice {
   std::string Trajectory;          // node ID or name; "" the plan's first trajectory
   std::string SurfacePlane;        // the surface constraint on this cut plane (ID or name), or
   std::shared_ptr<const TriangleMesh> SurfaceModel;  // on this model's surface (RAS), when no plane is named
-  FixtureTuning AxisTuning = DefaultTuning(FixtureKind::AxisGuidance);
-  FixtureTuning DepthTuning = DefaultTuning(FixtureKind::DepthStop);
-  FixtureTuning ForbiddenTuning = DefaultTuning(FixtureKind::ForbiddenRegion);
-  FixtureTuning SurfaceTuning = DefaultTuning(FixtureKind::SurfaceConstraint);
-
-  static FixtureTuning DefaultTuning(FixtureKind kind);
+  FixtureTuning AxisTuning = DefaultFixtureTuning(FixtureKind::AxisGuidance);
+  FixtureTuning DepthTuning = DefaultFixtureTuning(FixtureKind::DepthStop);
+  FixtureTuning ForbiddenTuning = DefaultFixtureTuning(FixtureKind::ForbiddenRegion);
+  FixtureTuning SurfaceTuning = DefaultFixtureTuning(FixtureKind::SurfaceConstraint);
 };
 
 /// "axis,depth,forbidden" (any of axis, depth, forbidden, surface; "none" for none) into the

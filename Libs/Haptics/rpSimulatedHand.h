@@ -7,8 +7,8 @@
 //   tremor: nine sinusoids (three per axis) at frequencies drawn in 8–12 Hz with random phases,
 //           scaled so the tremor's RMS displacement (3-D) is TremorMm;
 //   drift:  a constant speed DriftMmPerS whose direction turns slowly (a full turn in
-//           DriftPeriodS) in a random plane, starting at 0: about DriftMmPerS·t for the first
-//           seconds, never farther than DriftMmPerS·DriftPeriodS/π;
+//           DriftPeriodS, 10 s) in a random plane, starting at 0: about DriftMmPerS·t for the
+//           first seconds, never farther than DriftMmPerS·DriftPeriodS/π;
 //   all in closed form of t (any tick order gives the same hand), from one seed (splitmix64).
 // Where the stylus tip is: a mass pulled to x_i by the hand's spring and damper, stiffer along the
 // stylus's shaft (a surgeon pushes a drill firmly along it) than across it (and holds it lightly
@@ -24,7 +24,7 @@ struct HandNoise {
   double TremorMm = 0;       // RMS tremor displacement
   double TremorMinHz = 8, TremorMaxHz = 12;
   double DriftMmPerS = 0;    // drift speed
-  double DriftPeriodS = 20;  // a full turn of the drift's direction
+  double DriftPeriodS = 10;  // a full turn of the drift's direction (a slow postural sway, 0.1 Hz)
   uint64_t Seed = 1;
 };
 
@@ -49,10 +49,10 @@ class HandNoiseField {
 /// The hand's mechanics (SI-friendly units: kg, N/mm, N·s/mm).
 struct HandImpedance {
   double MassKg = 0.1;                 // fingers, hand and the device's end effector
-  double AxialStiffness = 1.0;         // N/mm along the stylus's shaft
-  double LateralStiffness = 0.15;      // N/mm across it
-  double AxialDamping = 0.014;         // N·s/mm (about 0.7 of critical with the mass)
-  double LateralDamping = 0.0055;      // N·s/mm
+  double AxialStiffness = 0.6;         // N/mm along the stylus's shaft: the surgeon pushes the drill
+  double LateralStiffness = 0.1;       // N/mm across it: a light precision grip that lets a guide lead
+  double AxialDamping = 0.011;         // N·s/mm (about 0.7 of critical with the mass)
+  double LateralDamping = 0.0044;      // N·s/mm
   int SubSteps = 10;                   // integration steps per servo tick
 };
 

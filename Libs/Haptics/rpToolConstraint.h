@@ -36,6 +36,10 @@ struct ConstraintContext {
   Vec3 Tip;                      // the point the device holds: the haptic tip (HIP) or the burr's centre
   Vec3 TipVelocity;              // mm/s
   Vec3 Proxy;                    // where tissue contact holds the tool this tick (= Tip when free)
+  /// Step 0: where the tool itself was last tick when it can lag the hand (a burr held by the
+  /// bone it cuts): the walls' moves start there, so the tool's own path stays outside them.
+  Vec3 From;
+  bool HasFrom = false;
   double Radius = 0;             // the tool's radius (the burr's; 0 for a point)
   bool InContact = false;        // tissue contact this tick
   double ContactStiffness = 0;   // N/mm and N·s/mm the tissue contacts render at the device this tick

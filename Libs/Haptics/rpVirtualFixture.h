@@ -36,9 +36,14 @@ struct FixtureTuning {
 
 /// The tool as the servo sees it this tick (scene frame).
 struct FixtureTool {
+  FixtureTool() = default;
+  FixtureTool(const Vec3& tip, const Vec3& direction, double radius, const Vec3& from = {}, bool hasFrom = false)
+      : Tip(tip), Direction(direction), Radius(radius), From(from), HasFrom(hasFrom) {}
   Vec3 Tip;            // the tool point: a stylus tip, a burr centre
   Vec3 Direction;      // unit, the way the tool points (tip forward); zero when the device has no orientation
   double Radius = 0;   // a burr's radius (walls keep its surface, not its centre, off the forbidden region)
+  Vec3 From;           // where the tool was last tick, when it can lag the hand (HasFrom)
+  bool HasFrom = false;
 };
 
 /// What one fixture keeps between ticks (servo thread; FixtureRenderer holds one per fixture).

@@ -42,6 +42,8 @@ const BurrForce& BurrRenderer::Update(const DrillVolume& volume, const Vec3& hip
   tool.Radius = radius;
   tool.Device = &this->DeviceLimits;
   tool.WorkspaceScale = this->Options.WorkspaceScale;
+  tool.From = this->God.Position();  // the burr lags the hand where it cuts: the walls start from it
+  tool.HasFrom = true;
   ConstraintGoal goal;
   goal.Goal = hip;
   if (constraints != nullptr) goal = constraints->Constrain(tool);
