@@ -288,4 +288,149 @@ bool BVH::FirstHit(const Vec3& a, const Vec3& b, Faces faces, SegmentHit& hit) c
   return found;
 }
 
+namespace {
+
+// Closest points of segments p1→q1 and p2→q2 (Ericson, RTCD 5.1.9): parameters s, t in [0,1].
+double SegmentSegmentDistance2(const Vec3& p1, const Vec3& q1, const Vec3& p2, const Vec3& q2, double& s, double& t,
+                               Vec3& c1, Vec3& c2) noexcept {
+  const Vec3 d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
+  const double a = Dot(d1, d1), e = Dot(d2, d2), f = Dot(d2, r);
+  constexpr double eps = 1e-300;
+  if (a <= eps && e <= eps) {
+    s = t = 0;
+    c1 = p1, c2 = p2;
+    return Norm2(c1 - c2);
+  }
+  if (a <= eps) {
+    s = 0;
+    t = std::clamp(f / e, 0.0, 1.0);
+  } else {
+    const double c = Dot(d1, r);
+    if (e <= eps) {
+      t = 0;
+      s = std::clamp(-c / a, 0.0, 1.0);
+    } else {
+      const double b = Dot(d1, d2), denom = a * e - b * b;
+      s = denom > 0 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
+      t = (b * s + f) / e;
+      if (t < 0) {
+        t = 0;
+        s = std::clamp(-c / a, 0.0, 1.0);
+      } else if (t > 1) {
+        t = 1;
+        s = std::clamp((b - c) / a, 0.0, 1.0);
+      }
+    }
+  }
+  c1 = p1 + d1 * s;
+  c2 = p2 + d2 * t;
+  return Norm2(c1 - c2);
+}
+
+// Where the segment p0→p1 crosses the triangle's plane inside the triangle: fraction t, or -1.
+double SegmentCrossesTriangle(const Vec3& p0, const Vec3& p1, const Vec3& a, const Vec3& b, const Vec3& c) noexcept {
+  const Vec3 dir = p1 - p0, e1 = b - a, e2 = c - a;
+  const Vec3 pv = Cross(dir, e2);
+  const double det = Dot(e1, pv);
+  if (det == 0) return -1;
+  const double inv = 1.0 / det;
+  const Vec3 tv = p0 - a;
+  const double u = Dot(tv, pv) * inv;
+  if (u < 0 || u > 1) return -1;
+  const Vec3 qv = Cross(tv, e1);
+  const double v = Dot(dir, qv) * inv;
+  if (v < 0 || u + v > 1) return -1;
+  const double t = Dot(e2, qv) * inv;
+  return t >= 0 && t <= 1 ? t : -1;
+}
+
+// A lower bound of the squared distance between the segment and a box: the larger of the gap
+// between the box and the segment's own box, and the distance from the box's centre to the
+// segment less its half-diagonal.
+inline double SegmentBoxLowerBound2(const Vec3& a, const Vec3& d, double invLength2, const Vec3& segLo,
+                                    const Vec3& segHi, const Vec3& lo, const Vec3& hi) noexcept {
+  double gap2 = 0;
+  for (int i = 0; i < 3; ++i) {
+    const double g = std::max(lo[i] - segHi[i], segLo[i] - hi[i]);
+    if (g > 0) gap2 += g * g;
+  }
+  const Vec3 center = (lo + hi) * 0.5;
+  const double t = std::clamp(Dot(center - a, d) * invLength2, 0.0, 1.0);
+  const double fromCenter = Norm(center - (a + d * t)) - 0.5 * Norm(hi - lo);
+  return fromCenter > 0 ? std::max(gap2, fromCenter * fromCenter) : gap2;
+}
+
+}  // namespace
+
+double BVH::SegmentTriangleDistance2(const Vec3& p0, const Vec3& p1, const Vec3& a, const Vec3& b, const Vec3& c,
+                                     Vec3& onSegment, Vec3& onTriangle, double& t) noexcept {
+  const double cross = SegmentCrossesTriangle(p0, p1, a, b, c);
+  if (cross >= 0) {
+    t = cross;
+    onSegment = onTriangle = p0 + (p1 - p0) * cross;
+    return 0;
+  }
+  // Not crossing: the closest pair has an end of the segment or a point of an edge.
+  double bary[3], best;
+  onTriangle = ClosestPointOnTriangle(p0, a, b, c, bary);
+  onSegment = p0;
+  t = 0;
+  best = Norm2(onTriangle - p0);
+  const Vec3 q1 = ClosestPointOnTriangle(p1, a, b, c, bary);
+  if (const double d2 = Norm2(q1 - p1); d2 < best) best = d2, onSegment = p1, onTriangle = q1, t = 1;
+  const Vec3* corners[3] = {&a, &b, &c};
+  for (int e = 0; e < 3; ++e) {
+    double s, u;
+    Vec3 c1, c2;
+    const double d2 = SegmentSegmentDistance2(p0, p1, *corners[e], *corners[(e + 1) % 3], s, u, c1, c2);
+    if (d2 < best) best = d2, onSegment = c1, onTriangle = c2, t = s;
+  }
+  return best;
+}
+
+bool BVH::ClosestToSegment(const Vec3& a, const Vec3& b, double maxDistance, SegmentClosestHit& hit,
+                           const uint32_t* warmLeaf) const noexcept {
+  if (this->Nodes.empty()) return false;
+  double best2 = std::isfinite(maxDistance) ? maxDistance * maxDistance : std::numeric_limits<double>::infinity();
+  bool found = false;
+  auto test = [&](uint32_t i) {
+    const Tri& tri = this->Tris[i];
+    Vec3 onSegment, onTriangle;
+    double t;
+    const double d2 = SegmentTriangleDistance2(a, b, tri.A, tri.B, tri.C, onSegment, onTriangle, t);
+    if (d2 > best2 || (found && d2 == best2)) return;
+    best2 = d2;
+    found = true;
+    hit.SegmentPoint = onSegment, hit.SurfacePoint = onTriangle, hit.Distance2 = d2, hit.T = t;
+    hit.Triangle = tri.Source, hit.Leaf = i;
+  };
+  if (warmLeaf && *warmLeaf < this->Tris.size()) test(*warmLeaf);
+  const Vec3 d = b - a, segLo = Min(a, b), segHi = Max(a, b);
+  const double length2 = Norm2(d), invLength2 = length2 > 0 ? 1.0 / length2 : 0.0;
+  auto bound = [&](const Node& node) { return SegmentBoxLowerBound2(a, d, invLength2, segLo, segHi, node.Lo, node.Hi); };
+  uint32_t stack[MaxDepth];
+  int top = 0;
+  if (bound(this->Nodes[0]) > best2) return found;
+  stack[top++] = 0;
+  while (top > 0 && !(found && best2 == 0)) {  // a crossing cannot be beaten
+    const uint32_t index = stack[--top];
+    const Node& node = this->Nodes[index];
+    if (bound(node) > best2) continue;
+    if (node.Count > 0) {
+      for (uint32_t i = node.First; i < node.First + node.Count; ++i) test(i);
+      continue;
+    }
+    const uint32_t left = index + 1, right = node.First;
+    const double dl = bound(this->Nodes[left]), dr = bound(this->Nodes[right]);
+    if (dl <= dr) {  // the nearer child last, so it is visited first
+      if (dr <= best2) stack[top++] = right;
+      if (dl <= best2) stack[top++] = left;
+    } else {
+      if (dl <= best2) stack[top++] = left;
+      if (dr <= best2) stack[top++] = right;
+    }
+  }
+  return found;
+}
+
 }  // namespace rp

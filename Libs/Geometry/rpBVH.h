@@ -25,6 +25,15 @@ struct SegmentHit {
   double Barycentric[3] = {0, 0, 0};
 };
 
+struct SegmentClosestHit {
+  Vec3 SegmentPoint;       // on the segment
+  Vec3 SurfacePoint;       // on the surface
+  double Distance2 = 0;    // squared distance between them (0: the segment crosses the surface)
+  double T = 0;            // fraction along the segment of SegmentPoint, in [0,1]
+  uint32_t Triangle = 0;   // index in the source mesh
+  uint32_t Leaf = 0;       // the tree's own index of that triangle: a warm start for the next query
+};
+
 class BVH {
  public:
   /// Builds over `mesh` (keeps its own copy of the triangle corners; `mesh` may go away).
@@ -41,6 +50,17 @@ class BVH {
   /// First triangle crossed by the segment a→b (smallest T). With FrontOnly, triangles whose
   /// normal points along the segment (exits of a closed surface) are ignored.
   bool FirstHit(const Vec3& a, const Vec3& b, Faces faces, SegmentHit& hit) const noexcept;
+
+  /// Closest pair between the segment a→b and the surface, within `maxDistance` (infinity for no
+  /// limit). False when none is that close. `warmLeaf` (a previous hit's Leaf, e.g. of a
+  /// neighbouring segment) seeds the search bound: the answer is the same, found sooner. The
+  /// distance is 0 where the segment crosses a triangle (then T is the first crossing found, not
+  /// necessarily the first along the segment).
+  bool ClosestToSegment(const Vec3& a, const Vec3& b, double maxDistance, SegmentClosestHit& hit,
+                        const uint32_t* warmLeaf = nullptr) const noexcept;
+  /// Squared distance between segment p0→p1 and triangle (a,b,c), with the closest points.
+  static double SegmentTriangleDistance2(const Vec3& p0, const Vec3& p1, const Vec3& a, const Vec3& b, const Vec3& c,
+                                         Vec3& onSegment, Vec3& onTriangle, double& t) noexcept;
 
   /// Closest point on triangle (a,b,c) to p, with barycentric weights (Ericson, RTCD 5.1.5).
   static Vec3 ClosestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c,

@@ -3,6 +3,8 @@
 // .seg.nrrd header parser produces.
 #include <string>
 
+#include "rpProtection.h"
+
 namespace rp {
 
 struct Segment {
@@ -11,6 +13,7 @@ struct Segment {
   int LabelValue = 1;       // voxel value in the labelmap
   double Color[3] = {1, 1, 1};
   std::string TissueClass;  // a tissue of Resources/Materials/materials.json (bone, cartilage, ...)
+  rp::StructureProtection Protection;  // a structure at risk when Protection.Protected (rpProtection.h)
 };
 
 }  // namespace rp

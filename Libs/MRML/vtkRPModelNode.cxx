@@ -17,6 +17,7 @@ void vtkRPModelNode::PrintSelf(ostream& os, vtkIndent indent) {
   os << indent << "Points: " << this->PolyData->GetNumberOfPoints() << " Cells: " << this->PolyData->GetNumberOfCells()
      << "\n"
      << indent << "TissueClass: " << this->TissueClass << " Haptic: " << this->Haptic << "\n";
+  if (this->Protection.Protected) os << indent << "Protected, safety margin " << this->Protection.SafetyMarginMm << " mm\n";
 }
 
 void vtkRPModelNode::SetPolyData(vtkPolyData* polyData) {
@@ -27,6 +28,12 @@ void vtkRPModelNode::SetPolyData(vtkPolyData* polyData) {
 void vtkRPModelNode::SetTissueClass(const std::string& tissueClass) {
   if (tissueClass == this->TissueClass) return;
   this->TissueClass = tissueClass;
+  this->Modified();
+}
+
+void vtkRPModelNode::SetProtection(const rp::StructureProtection& protection) {
+  if (protection == this->Protection) return;
+  this->Protection = protection;
   this->Modified();
 }
 
@@ -41,6 +48,7 @@ void vtkRPModelNode::WriteProperties(PropertyMap& properties) const {
   if (!this->SliceIntersectionVisibility) properties["sliceIntersectionVisibility"] = "false";
   properties["haptic"] = this->Haptic ? "true" : "false";
   properties["tissueClass"] = this->TissueClass;
+  rp::WriteProtection(this->Protection, properties, rp::ProtectedKey, rp::SafetyMarginKey);
 }
 
 void vtkRPModelNode::ReadProperties(const PropertyMap& properties) {
@@ -56,4 +64,5 @@ void vtkRPModelNode::ReadProperties(const PropertyMap& properties) {
   this->SetSliceIntersectionVisibility(properties.count("sliceIntersectionVisibility") == 0 ||
                                        properties.at("sliceIntersectionVisibility") == "true");
   if (auto it = properties.find("tissueClass"); it != properties.end()) this->SetTissueClass(it->second);
+  this->SetProtection(rp::ReadProtection(properties, rp::ProtectedKey, rp::SafetyMarginKey));
 }

@@ -4,11 +4,12 @@
 // the haptics and the viewer use. `Haptic` marks a model the haptic renderer touches; a tissue
 // may have a display model and a separate (coarser) haptic model. `SliceIntersectionVisibility`
 // is whether the slice views draw the model's outline where the slice cuts it (Slicer's display
-// `visibility2D`); on by default.
+// `visibility2D`); on by default. `Protection` flags the model a structure at risk (rpProtection.h).
 #include <string>
 
 #include <vtkSmartPointer.h>
 
+#include "rpProtection.h"
 #include "vtkRPTransformableNode.h"
 
 #include <vtkPolyData.h>
@@ -39,6 +40,9 @@ class vtkRPModelNode : public vtkRPTransformableNode {
   vtkBooleanMacro(Haptic, bool);
   const std::string& GetTissueClass() const { return this->TissueClass; }
   void SetTissueClass(const std::string& tissueClass);
+  /// A structure at risk: protected, with a safety margin (planning, drilling and guidance).
+  const rp::StructureProtection& GetProtection() const { return this->Protection; }
+  void SetProtection(const rp::StructureProtection& protection);
 
   void WriteProperties(PropertyMap& properties) const override;
   void ReadProperties(const PropertyMap& properties) override;
@@ -57,6 +61,7 @@ class vtkRPModelNode : public vtkRPTransformableNode {
   bool SliceIntersectionVisibility = true;
   bool Haptic = false;
   std::string TissueClass;
+  rp::StructureProtection Protection;
 };
 
 #endif

@@ -5,15 +5,18 @@
 
 #include <vtkObjectFactory.h>
 
+#include "vtkRPCutPlaneNode.h"
 #include "vtkRPFiducialListNode.h"
 #include "vtkRPLayoutNode.h"
 #include "vtkRPLinearTransformNode.h"
 #include "vtkRPModelNode.h"
 #include "vtkRPNode.h"
 #include "vtkRPScalarVolumeNode.h"
+#include "vtkRPScrewNode.h"
 #include "vtkRPSegmentationNode.h"
 #include "vtkRPSliceNode.h"
 #include "vtkRPTrackedToolNode.h"
+#include "vtkRPTrajectoryNode.h"
 
 vtkStandardNewMacro(vtkRPScene);
 
@@ -22,7 +25,8 @@ vtkRPScene::vtkRPScene() {
        std::initializer_list<vtkRPNode*>{vtkRPLinearTransformNode::New(), vtkRPTrackedToolNode::New(),
                                          vtkRPScalarVolumeNode::New(), vtkRPSegmentationNode::New(),
                                          vtkRPModelNode::New(), vtkRPFiducialListNode::New(),
-                                         vtkRPSliceNode::New(), vtkRPLayoutNode::New()}) {
+                                         vtkRPTrajectoryNode::New(), vtkRPScrewNode::New(),
+                                         vtkRPCutPlaneNode::New(), vtkRPSliceNode::New(), vtkRPLayoutNode::New()}) {
     this->RegisterNodeClass(prototype);
     prototype->Delete();
   }

@@ -1,6 +1,7 @@
 #include "vtkRPSegmentationNode.h"
 
 #include <algorithm>
+#include <cctype>
 #include <set>
 
 #include <nlohmann/json.hpp>
@@ -61,6 +62,19 @@ const vtkRPSegmentationNode::Segment* vtkRPSegmentationNode::GetSegmentByLabel(i
   return nullptr;
 }
 
+const vtkRPSegmentationNode::Segment* vtkRPSegmentationNode::FindSegment(const std::string& reference) const {
+  if (const Segment* byID = this->GetSegmentByID(reference)) return byID;
+  auto lower = [](std::string s) {
+    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return s;
+  };
+  for (const auto& s : this->Segments)
+    if (lower(s.Name) == lower(reference)) return &s;
+  if (!reference.empty() && reference.size() < 10 && reference.find_first_not_of("0123456789") == std::string::npos)
+    return this->GetSegmentByLabel(std::stoi(reference));
+  return nullptr;
+}
+
 int vtkRPSegmentationNode::GetUnusedLabelValue() const {
   std::set<int> used;
   for (const auto& s : this->Segments) used.insert(s.LabelValue);
@@ -73,8 +87,13 @@ void vtkRPSegmentationNode::WriteProperties(PropertyMap& properties) const {
   this->Superclass::WriteProperties(properties);
   nlohmann::json segments = nlohmann::json::array();
   for (const auto& s : this->Segments) {
-    segments.push_back({{"id", s.ID}, {"name", s.Name}, {"labelValue", s.LabelValue},
-                        {"color", {s.Color[0], s.Color[1], s.Color[2]}}, {"tissueClass", s.TissueClass}});
+    nlohmann::json segment = {{"id", s.ID}, {"name", s.Name}, {"labelValue", s.LabelValue},
+                              {"color", {s.Color[0], s.Color[1], s.Color[2]}}, {"tissueClass", s.TissueClass}};
+    if (s.Protection.Protected) {
+      segment[rp::ProtectedKey] = true;
+      segment[rp::SafetyMarginKey] = s.Protection.SafetyMarginMm;
+    }
+    segments.push_back(segment);
   }
   properties["segments"] = segments.dump();
 }
@@ -93,6 +112,9 @@ void vtkRPSegmentationNode::ReadProperties(const PropertyMap& properties) {
     s.Name = j.value("name", s.ID);
     s.LabelValue = j.value("labelValue", 1);
     s.TissueClass = j.value("tissueClass", "");
+    if (j.contains(rp::ProtectedKey) && j[rp::ProtectedKey].is_boolean()) s.Protection.Protected = j[rp::ProtectedKey].get<bool>();
+    if (j.contains(rp::SafetyMarginKey) && j[rp::SafetyMarginKey].is_number())
+      s.Protection.SafetyMarginMm = std::max(0.0, j[rp::SafetyMarginKey].get<double>());
     if (j.contains("color") && j["color"].is_array() && j["color"].size() == 3) {
       for (int c = 0; c < 3; ++c) s.Color[c] = j["color"][static_cast<size_t>(c)].get<double>();
     }

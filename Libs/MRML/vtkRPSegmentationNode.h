@@ -28,6 +28,8 @@ class vtkRPSegmentationNode : public vtkRPImageNode {
   void RemoveAllSegments();
   const Segment* GetSegmentByID(const std::string& id) const;
   const Segment* GetSegmentByLabel(int labelValue) const;
+  /// A segment as users name it: its ID, its name (any case) or its label value; nullptr if none.
+  const Segment* FindSegment(const std::string& reference) const;
   /// Smallest label value not used by any segment (>= 1).
   int GetUnusedLabelValue() const;
   /// Whether a labelmap may hold voxels of this VTK scalar type: integer labels only.

@@ -1,6 +1,7 @@
 // BVH queries against brute force and closed forms; queries must not allocate.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -190,4 +191,78 @@ TEST(BVH, RandomTriangleSoupMatchesBruteForce) {
       EXPECT_NEAR(sh.T, bestT, 1e-9);
     }
   }
+}
+
+namespace {
+// Distance from a segment to a triangle by another route: the distance from p(t) to the triangle
+// is convex in t, so a golden-section search with the point query finds its minimum.
+double GoldenSegmentTriangleDistance(const rp::Vec3& a, const rp::Vec3& b, const rp::Vec3& p, const rp::Vec3& q,
+                                     const rp::Vec3& r) {
+  auto f = [&](double t) {
+    double bary[3];
+    const rp::Vec3 x = a + (b - a) * t;
+    return rp::Norm(rp::BVH::ClosestPointOnTriangle(x, p, q, r, bary) - x);
+  };
+  double lo = 0, hi = 1;
+  const double g = (std::sqrt(5.0) - 1) / 2;
+  for (int i = 0; i < 200; ++i) {
+    const double m1 = hi - g * (hi - lo), m2 = lo + g * (hi - lo);
+    if (f(m1) < f(m2)) hi = m2;
+    else lo = m1;
+  }
+  return std::min({f(0), f(1), f(0.5 * (lo + hi))});
+}
+}  // namespace
+
+TEST(BVH, SegmentClosestMatchesAnIndependentSearchOverEveryTriangle) {
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> u(-40, 40), s(0.5, 6);
+  rp::TriangleMesh m;
+  for (int i = 0; i < 600; ++i) {
+    const rp::Vec3 c{u(rng), u(rng), u(rng)};
+    const double size = s(rng);
+    const int32_t base = static_cast<int32_t>(m.Points.size());
+    for (int k = 0; k < 3; ++k) m.Points.push_back(c + rp::Vec3{u(rng), u(rng), u(rng)} * (size / 40));
+    m.Triangles.push_back({base, base + 1, base + 2});
+  }
+  rp::BVH bvh;
+  bvh.Build(m);
+  uint32_t warm = 0;
+  for (int q = 0; q < 150; ++q) {
+    const rp::Vec3 a{u(rng), u(rng), u(rng)}, b = q % 3 == 0 ? a : rp::Vec3{u(rng), u(rng), u(rng)};  // points too
+    double reference = HUGE_VAL;
+    for (const auto& t : m.Triangles)
+      reference = std::min(reference, GoldenSegmentTriangleDistance(a, b, m.Points[t[0]], m.Points[t[1]], m.Points[t[2]]));
+    rp::SegmentClosestHit hit;
+    ASSERT_TRUE(bvh.ClosestToSegment(a, b, HUGE_VAL, hit, q % 2 ? &warm : nullptr));
+    EXPECT_NEAR(std::sqrt(hit.Distance2), reference, 1e-7) << "query " << q;
+    EXPECT_NEAR(rp::Norm(hit.SegmentPoint - hit.SurfacePoint), std::sqrt(hit.Distance2), 1e-9);
+    EXPECT_NEAR(rp::Norm(hit.SegmentPoint - (a + (b - a) * hit.T)), 0, 1e-9);
+    warm = hit.Leaf;
+    rp::SegmentClosestHit bounded;
+    // Nothing within half the distance, unless the segment crosses the surface (the search's
+    // reference is then 0 to rounding).
+    EXPECT_EQ(bvh.ClosestToSegment(a, b, 0.5 * reference, bounded), reference < 1e-9) << "query " << q;
+  }
+}
+
+TEST(BVH, SegmentClearanceFromASphereIsItsClosedForm) {
+  // A segment at height h above the centre of a sphere of radius R misses it by h - R (up to the
+  // icosphere's flats, at most R(1 - cos of half its edge angle)); one through it touches.
+  const double R = 10;
+  const rp::TriangleMesh m = rp::shapes::Sphere({0, 0, 0}, R, 5);
+  rp::BVH bvh;
+  bvh.Build(m);
+  rp::SegmentClosestHit hit;
+  for (double h : {10.5, 12.0, 20.0}) {
+    ASSERT_TRUE(bvh.ClosestToSegment({-30, 0, h}, {30, 0, h}, HUGE_VAL, hit));
+    EXPECT_NEAR(std::sqrt(hit.Distance2), h - R, 0.01);
+    EXPECT_NEAR(hit.T, 0.5, 0.02);
+  }
+  ASSERT_TRUE(bvh.ClosestToSegment({-30, 1, 2}, {30, 1, 2}, HUGE_VAL, hit));
+  EXPECT_EQ(hit.Distance2, 0);
+  // Queries do not allocate.
+  const uint64_t before = rp::alloc::ThreadAllocations();
+  for (int i = 0; i < 200; ++i) bvh.ClosestToSegment({-30, 0, 11.0 + i}, {30, 5, 11.0}, HUGE_VAL, hit, &hit.Leaf);
+  EXPECT_EQ(rp::alloc::ThreadAllocations(), before);
 }

@@ -3,6 +3,7 @@
 #include <set>
 
 #include "vtkRPLayoutNode.h"
+#include "vtkRPScrewNode.h"
 
 namespace rp {
 
@@ -11,8 +12,13 @@ bool IsMrmlHelperTag(const std::string& tag) {
       "VolumeDisplay",       "LabelMapVolumeDisplay", "ScalarVolumeDisplay",   "VolumeArchetypeStorage",
       "ModelDisplay",        "ModelStorage",          "TransformStorage",      "SegmentationStorage",
       "SegmentationDisplay", "MarkupsJsonStorage",    "MarkupsFiducialStorage", "MarkupsFiducialDisplay",
-      "MarkupsDisplay",      "SliceComposite"};
+      "MarkupsDisplay",      "MarkupsPlaneDisplay",   "MarkupsPlaneJsonStorage", "SliceComposite"};
   return tags.count(tag) > 0;
+}
+
+const std::vector<const char*>& MrmlPlanReferenceRoles() {
+  static const std::vector<const char*> roles = {vtkRPScrewNode::ScrewModelRole()};
+  return roles;
 }
 
 // Slicer's codes (vtkMRMLLayoutNode::SlicerLayout...View): 3 four-up, 4 3D only, 6/7/8 the red,

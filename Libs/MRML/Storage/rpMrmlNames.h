@@ -3,6 +3,7 @@
 // Slicer has no place for ("RoboPlan.<field>", "RoboPlan.Class"), the display and storage node
 // tags read with the node they serve, and the layout codes of vtkMRMLLayoutNode.
 #include <string>
+#include <vector>
 
 namespace rp {
 
@@ -17,6 +18,10 @@ constexpr const char* MrmlLabelMapAttribute = "Slicer.LabelMapVolume";
 
 /// Display and storage node tags of the node types we read (they are read with their node).
 bool IsMrmlHelperTag(const std::string& tag);
+
+/// Links between plan nodes that travel in the MRML `references` (Slicer keeps every role):
+/// a screw's model ("screwModel").
+const std::vector<const char*>& MrmlPlanReferenceRoles();
 
 /// vtkMRMLLayoutNode's view arrangement code <-> vtkRPLayoutNode::Arrangement.
 int ArrangementFromSlicerLayout(int slicerLayout);

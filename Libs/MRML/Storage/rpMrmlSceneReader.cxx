@@ -20,7 +20,7 @@
 #include "rpMrmlText.h"
 #include "rpNodeStorage.h"
 #include "rpXmlDocument.h"
-#include "vtkRPFiducialListNode.h"
+#include "vtkRPMarkupsNode.h"
 #include "vtkRPLayoutNode.h"
 #include "vtkRPLinearTransformNode.h"
 #include "vtkRPModelNode.h"
@@ -288,20 +288,49 @@ vtkSmartPointer<vtkRPNode> ReadSegmentation(ReadContext& context, const MrmlElem
   return node;
 }
 
-vtkSmartPointer<vtkRPNode> ReadFiducials(ReadContext& context, const MrmlElement& element) {
-  auto node = NewNode(context, element, "vtkRPFiducialListNode");
-  auto* list = vtkRPFiducialListNode::SafeDownCast(node);
+// Our fields of a node's MRML attributes (RoboPlan.<field>): applied again after its data file so
+// that the scene's values win over a copy inside the file (a .mrk.json Slicer rewrote has none).
+void ApplyOwnFields(ReadContext& context, const MrmlElement& element, vtkRPNode* node) {
+  vtkRPNode::PropertyMap properties;
+  for (const auto& [key, value] : ParseMrmlAttributes(element.Att("attributes")))
+    if (key.rfind(MrmlOwnPrefix, 0) == 0 && key != MrmlOwnClassAttribute)
+      properties[key.substr(std::string(MrmlOwnPrefix).size())] = value;
+  try {
+    node->ReadProperties(properties);
+  } catch (const std::exception& e) {
+    context.Report->Warnings.push_back("node '" + node->GetName() + "': RoboPlan fields ignored (" + e.what() + ")");
+  }
+}
+
+// Point lists, lines and planes: the .mrk.json through the registry, then the scene's name, our
+// fields and links (a screw's model), and Slicer's display colour.
+vtkSmartPointer<vtkRPNode> ReadMarkups(ReadContext& context, const MrmlElement& element, const char* className) {
+  auto node = NewNode(context, element, className);
+  auto* markups = vtkRPMarkupsNode::SafeDownCast(node);
   if (context.Linked(element, "storage")) {
-    const std::string name = list->GetName();
+    const std::string name = markups->GetName();
     if (!ReadData(context, element, node, [&](const std::string& path, std::string& why) { return ReadThroughRegistry(node, path, why); }))
       return nullptr;
-    list->SetName(name);  // the scene's name, not the one inside the file
+    markups->SetName(name);  // the scene's name, not the one inside the file
+    ApplyOwnFields(context, element, node);
   }
+  for (const char* role : MrmlPlanReferenceRoles())
+    if (!element.Ref(role).empty()) node->SetNodeReferenceID(role, element.Ref(role));
   // Slicer draws control points in the display node's selectedColor (unselected: color).
   const MrmlElement* display = context.Linked(element, "display");
   double color[3];
-  if (ReadColor(display, "selectedColor", color) || ReadColor(display, "color", color)) list->SetColor(color);
+  if (ReadColor(display, "selectedColor", color) || ReadColor(display, "color", color)) markups->SetColor(color);
   return node;
+}
+
+vtkSmartPointer<vtkRPNode> ReadFiducials(ReadContext& context, const MrmlElement& element) {
+  return ReadMarkups(context, element, "vtkRPFiducialListNode");
+}
+vtkSmartPointer<vtkRPNode> ReadLine(ReadContext& context, const MrmlElement& element) {
+  return ReadMarkups(context, element, "vtkRPTrajectoryNode");
+}
+vtkSmartPointer<vtkRPNode> ReadPlane(ReadContext& context, const MrmlElement& element) {
+  return ReadMarkups(context, element, "vtkRPCutPlaneNode");
 }
 
 vtkSmartPointer<vtkRPNode> ReadSlice(ReadContext& context, const MrmlElement& element) {
@@ -350,6 +379,7 @@ ElementReader ReaderFor(const std::string& tag) {
   static const std::map<std::string, ElementReader> readers = {
       {"Volume", ReadVolume},         {"LabelMapVolume", ReadVolume},   {"Model", ReadModel},
       {"LinearTransform", ReadTransform}, {"Segmentation", ReadSegmentation}, {"MarkupsFiducial", ReadFiducials},
+      {"MarkupsLine", ReadLine},      {"MarkupsPlane", ReadPlane},
       {"Slice", ReadSlice},           {"Layout", ReadLayout}};
   const auto it = readers.find(tag);
   return it == readers.end() ? nullptr : it->second;

@@ -7,12 +7,13 @@
 #include <vtkNew.h>
 
 #include "rpAtomicFile.h"
+#include "rpMarkupsIO.h"
 #include "rpMrmlBundle.h"
 #include "rpMrmlNames.h"
 #include "rpMrmlScene.h"
 #include "rpMrmlText.h"
 #include "rpNodeStorage.h"
-#include "vtkRPFiducialListNode.h"
+#include "vtkRPMarkupsNode.h"
 #include "vtkRPLayoutNode.h"
 #include "vtkRPLinearTransformNode.h"
 #include "vtkRPModelNode.h"
@@ -50,6 +51,8 @@ const Mapping Mappings[] = {
     {"vtkRPModelNode", "Model", "vtkMRMLModelNode"},
     {"vtkRPLinearTransformNode", "LinearTransform", "vtkMRMLLinearTransformNode"},
     {"vtkRPFiducialListNode", "MarkupsFiducial", "vtkMRMLMarkupsFiducialNode"},
+    {"vtkRPTrajectoryNode", "MarkupsLine", "vtkMRMLMarkupsLineNode"},
+    {"vtkRPCutPlaneNode", "MarkupsPlane", "vtkMRMLMarkupsPlaneNode"},
     {"vtkRPSliceNode", "Slice", "vtkMRMLSliceNode"},
     {"vtkRPLayoutNode", "Layout", "vtkMRMLLayoutNode"}};
 
@@ -64,15 +67,15 @@ const Mapping* MappingFor(vtkRPNode* node) {
   return nullptr;
 }
 
-// Our fields that MRML holds in its own attributes, display nodes or data files; the others
-// travel as RoboPlan.<field> attributes.
-bool IsMrmlField(const std::string& key) {
+// Our fields that MRML holds in its own attributes, display nodes or data files (a markups node's
+// .mrk.json keys: rpMarkupsIO.h); the others travel as RoboPlan.<field> attributes.
+bool IsMrmlField(vtkRPNode* node, const std::string& key) {
   static const std::set<std::string> keys = {
       "ijkToRAS",   "matrixToParent", "color",       "opacity",      "visibility",        "window",
       "level",      "segments",       "layoutName",  "orientation",  "sliceToRAS",        "fieldOfView",
       "xyOrigin",   "sliceVisible",   "foregroundOpacity", "labelOpacity", "viewArrangement",
       "sliceIntersectionVisibility"};
-  return keys.count(key) > 0;
+  return keys.count(key) > 0 || (node->IsA("vtkRPMarkupsNode") && IsMarkupsFileField(key));
 }
 
 struct WriteContext {
@@ -101,10 +104,14 @@ XmlNode MainElement(WriteContext& context, vtkRPNode* node, const Mapping& mappi
   vtkRPNode::PropertyMap properties;
   node->WriteProperties(properties);
   for (const auto& [key, value] : properties)
-    if (!IsMrmlField(key)) element.Attributes[MrmlOwnPrefix + key] = value;
+    if (!IsMrmlField(node, key)) element.Attributes[MrmlOwnPrefix + key] = value;
   if (std::string(node->GetClassName()) != mapping.OurClass) element.Attributes[MrmlOwnClassAttribute] = node->GetClassName();
   const std::string parent = context.MrmlID(node->GetNodeReferenceID(vtkRPTransformableNode::TransformRole()));
   if (!parent.empty()) element.References.push_back({"transform", {parent}});
+  for (const char* role : MrmlPlanReferenceRoles()) {
+    const std::string target = context.MrmlID(node->GetNodeReferenceID(role));
+    if (!target.empty()) element.References.push_back({role, {target}});
+  }
   return element;
 }
 
@@ -212,12 +219,29 @@ bool WriteTransform(WriteContext& context, vtkRPNode* node, XmlNode& main) {
   return AddStorage(context, node, main, "TransformStorage", "vtkMRMLTransformStorageNode", ".h5");
 }
 
-bool WriteFiducials(WriteContext& context, vtkRPNode* node, XmlNode& main) {
-  auto* list = vtkRPFiducialListNode::SafeDownCast(node);
-  if (!AddStorage(context, node, main, "MarkupsJsonStorage", "vtkMRMLMarkupsJsonStorageNode", ".mrk.json")) return false;
-  XmlNode& display = AddDisplay(context, main, "MarkupsFiducialDisplay", "vtkMRMLMarkupsFiducialDisplayNode");
-  display.Add("color", Color(list->GetColor()));
-  display.Add("selectedColor", Color(list->GetColor()));
+// The storage and display nodes Slicer gives each markups type (vtkMRMLMarkups*Node::
+// CreateDefaultStorageNode / CreateDefaultDisplayNodes).
+struct MarkupsNodes {
+  const char* StorageTag;
+  const char* StorageClass;
+  const char* DisplayTag;
+  const char* DisplayClass;
+};
+MarkupsNodes MarkupsNodesFor(const std::string& type) {
+  if (type == "Fiducial")
+    return {"MarkupsJsonStorage", "vtkMRMLMarkupsJsonStorageNode", "MarkupsFiducialDisplay", "vtkMRMLMarkupsFiducialDisplayNode"};
+  if (type == "Plane")
+    return {"MarkupsPlaneJsonStorage", "vtkMRMLMarkupsPlaneJsonStorageNode", "MarkupsPlaneDisplay", "vtkMRMLMarkupsPlaneDisplayNode"};
+  return {"MarkupsJsonStorage", "vtkMRMLMarkupsJsonStorageNode", "MarkupsDisplay", "vtkMRMLMarkupsDisplayNode"};
+}
+
+bool WriteMarkups(WriteContext& context, vtkRPNode* node, XmlNode& main) {
+  auto* markups = vtkRPMarkupsNode::SafeDownCast(node);
+  const MarkupsNodes nodes = MarkupsNodesFor(markups->GetMarkupsType());
+  if (!AddStorage(context, node, main, nodes.StorageTag, nodes.StorageClass, ".mrk.json")) return false;
+  XmlNode& display = AddDisplay(context, main, nodes.DisplayTag, nodes.DisplayClass);
+  display.Add("color", Color(markups->GetColor()));
+  display.Add("selectedColor", Color(markups->GetColor()));
   display.Add("visibility", "true");
   return true;
 }
@@ -274,7 +298,8 @@ NodeWriter WriterFor(const std::string& tag) {
   static const std::map<std::string, NodeWriter> writers = {
       {"Volume", WriteVolume},         {"LabelMapVolume", WriteLabelMap}, {"Segmentation", WriteSegmentation},
       {"Model", WriteModel},
-      {"LinearTransform", WriteTransform}, {"MarkupsFiducial", WriteFiducials}, {"Slice", WriteSlice},
+      {"LinearTransform", WriteTransform}, {"MarkupsFiducial", WriteMarkups}, {"MarkupsLine", WriteMarkups},
+      {"MarkupsPlane", WriteMarkups},     {"Slice", WriteSlice},
       {"Layout", WriteLayout}};
   return writers.at(tag);
 }

@@ -101,8 +101,10 @@ vtkSmartPointer<vtkRPNode> CreateNodeForFile(vtkRPScene* scene, const std::strin
     error = "'" + path + "': no reader for this file type";
     return nullptr;
   }
-  vtkSmartPointer<vtkRPNode> node = scene->CreateNodeByClass(storage->NodeClassForFiles());
-  if (!node) error = "'" + path + "': node class " + storage->NodeClassForFiles() + " is not registered in the scene";
+  const std::string nodeClass = storage->NodeClassForFile(path, error);
+  if (nodeClass.empty()) return nullptr;
+  vtkSmartPointer<vtkRPNode> node = scene->CreateNodeByClass(nodeClass);
+  if (!node) error = "'" + path + "': node class " + nodeClass + " is not registered in the scene";
   return node;
 }
 

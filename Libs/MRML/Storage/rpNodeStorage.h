@@ -26,6 +26,13 @@ class NodeStorage {
   virtual std::string DefaultExtension() const { return this->Extensions().front(); }
   /// Node class a file of this kind loads into (e.g. "vtkRPModelNode").
   virtual std::string NodeClassForFiles() const = 0;
+  /// Node class this very file loads into, when its content decides (a .mrk.json holds a point
+  /// list, a line or a plane); by default NodeClassForFiles(). "" with `error` for a file that
+  /// cannot be told.
+  virtual std::string NodeClassForFile(const std::string& path, std::string& error) const {
+    (void)path, (void)error;
+    return this->NodeClassForFiles();
+  }
   /// Higher wins when several storages handle a node or an extension (".seg.nrrd" over ".nrrd").
   virtual int Priority() const { return 0; }
 

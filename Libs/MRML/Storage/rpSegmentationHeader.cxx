@@ -123,6 +123,12 @@ bool ParseSegmentationHeader(const std::string& path, const std::map<std::string
       const auto tags = ParseTags(text);
       auto it = tags.find(SegmentTissueTag);
       if (it != tags.end()) s.TissueClass = it->second;
+      std::string warning;
+      s.Protection = ReadProtection(tags, ProtectedSegmentTag, SafetyMarginSegmentTag, &warning);
+      if (!warning.empty()) {
+        error = "'" + path + "': " + prefix + "Tags: " + warning;
+        return false;
+      }
     }
     segments.push_back(fs);
   }

@@ -227,6 +227,9 @@ bool WriteSegmentationFile(const std::string& path, vtkRPSegmentationNode* node,
     metadata[prefix + "Extent"] = layerExtent;
     std::string tags = "Segmentation.Status:inprogress|";
     if (!s.TissueClass.empty()) tags += std::string(SegmentTissueTag) + ":" + s.TissueClass + "|";
+    std::map<std::string, std::string> protection;
+    WriteProtection(s.Protection, protection, ProtectedSegmentTag, SafetyMarginSegmentTag);
+    for (const auto& [key, value] : protection) tags += key + ":" + value + "|";
     metadata[prefix + "Tags"] = tags;
   }
   metadata["Segmentation_MasterRepresentation"] = "Binary labelmap";
@@ -343,5 +346,33 @@ class SegmentationStorage : public NodeStorage {
 };
 const bool registered = RegisterNodeStorage(std::make_shared<SegmentationStorage>());
 }  // namespace
+
+bool ReadSegmentationOrLabelmap(const std::string& path, vtkRPSegmentationNode* node, std::string& error) {
+  std::string segError;
+  if (ReadSegmentationFile(path, node, segError) && node->GetNumberOfSegments() > 0) return true;
+  if (!ReadVolumeFile(path, node, error)) {
+    error = "cannot read the segmentation '" + path + "': " + (segError.empty() ? error : segError);
+    return false;
+  }
+  if (!vtkRPSegmentationNode::IsLabelScalarType(node->GetImageData()->GetScalarType())) {
+    error = "'" + path + "' is no segmentation: its voxels are not integer labels";
+    return false;
+  }
+  vtkDataArray* scalars = node->GetImageData()->GetPointData()->GetScalars();
+  std::set<long long> values;
+  for (vtkIdType i = 0; i < scalars->GetNumberOfTuples() && values.size() < 255; ++i)
+    if (const auto v = static_cast<long long>(scalars->GetTuple1(i)); v != 0) values.insert(v);
+  const int previous = node->StartModify();
+  node->RemoveAllSegments();
+  for (long long v : values) {
+    vtkRPSegmentationNode::Segment s;
+    s.ID = std::to_string(v);
+    s.Name = "Label " + s.ID;
+    s.LabelValue = static_cast<int>(v);
+    node->SetSegment(s);
+  }
+  node->EndModify(previous);
+  return true;
+}
 
 }  // namespace rp

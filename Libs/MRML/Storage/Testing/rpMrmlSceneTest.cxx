@@ -80,7 +80,8 @@ void MakePlan(vtkRPScene* scene) {
   for (int i = 0; i < 120; ++i) static_cast<unsigned char*>(labels->GetScalarPointer())[i] = static_cast<unsigned char>(i % 3);
   segmentation->SetImageData(labels);
   segmentation->SetIJKToRASMatrix(ct->GetIJKToRASMatrix());
-  rp::Segment femur{"femur", "Femur", 1, {0.9, 0.85, 0.7}, "bone"}, cartilage{"cartilage", "Cartilage", 2, {0.2, 0.6, 0.9}, "cartilage"};
+  rp::Segment femur{"femur", "Femur", 1, {0.9, 0.85, 0.7}, "bone", {}},
+      cartilage{"cartilage", "Cartilage", 2, {0.2, 0.6, 0.9}, "cartilage", {}};
   segmentation->SetSegment(femur);
   segmentation->SetSegment(cartilage);
   scene->AddNode(segmentation);
