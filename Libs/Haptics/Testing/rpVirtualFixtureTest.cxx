@@ -17,6 +17,7 @@
 #include "rpForbiddenRegion.h"
 #include "rpHapticRenderer.h"
 #include "rpHapticsTestScenes.h"
+#include "rpPlanFixtures.h"
 #include "rpSurfaceConstraint.h"
 
 namespace {
@@ -364,6 +365,50 @@ TEST(FixturesInTheRenderer, TheDepthStopHoldsTheToolBeforeTheTissueAndTheClampKe
   EXPECT_NEAR(rp::Norm(o.Force), std::min(0.6 * 15, Omni().MaxForce), 1e-9);  // clamped at 3.3 N
   EXPECT_TRUE(o.Clamped);
   EXPECT_GE(o.ObservedEnergy, -1e-9);
+}
+
+}  // namespace
+
+namespace {
+
+// The fixtures a plan drives: one per kind asked, ids stable across snapshots, clear errors.
+TEST(PlanFixtures, BuiltFromAPlanSnapshotWithStableIdsAndClearErrors) {
+  rp::PlanSnapshot plan;
+  rp::TrajectorySnapshot t;
+  t.NodeID = "vtkRPTrajectoryNode1";
+  t.Name = "tibial tunnel";
+  t.Entry = {0, 0, 0};
+  t.Target = {0, 0, -30};
+  plan.Trajectories.push_back(t);
+  rp::StructureAtRiskSnapshot s;
+  s.NodeID = "vtkRPModelNode2";
+  s.Name = "popliteal vessels";
+  s.SafetyMarginMm = 2;
+  auto field = std::make_shared<rp::MeshSignedDistance>();
+  std::string error;
+  ASSERT_TRUE(field->Build(rp::shapes::Sphere({0, 15, -20}, 4, 3), error)) << error;
+  s.Signed = field;
+  plan.StructuresAtRisk.push_back(s);
+  rp::PlanFixtureChoice choice;
+  ASSERT_TRUE(rp::ParseFixtureKinds("axis,depth,forbidden", choice, error)) << error;
+  const auto set = rp::BuildPlanFixtures(plan, choice, error);
+  ASSERT_TRUE(set) << error;
+  ASSERT_EQ(set->Count(), 3);
+  EXPECT_EQ(set->Entries[0].Fixture->Kind(), rp::FixtureKind::AxisGuidance);
+  EXPECT_EQ(set->Entries[1].Fixture->Kind(), rp::FixtureKind::DepthStop);
+  EXPECT_EQ(set->Entries[2].Fixture->Kind(), rp::FixtureKind::ForbiddenRegion);
+  EXPECT_EQ(rp::BuildPlanFixtures(plan, choice, error)->Entries[2].Fixture->Id(), set->Entries[2].Fixture->Id());
+  EXPECT_FALSE(rp::ParseFixtureKinds("axis,wall", choice, error));
+  EXPECT_NE(error.find("unknown fixture 'wall'"), std::string::npos) << error;
+  choice.Trajectory = "screw";
+  ASSERT_TRUE(rp::ParseFixtureKinds("axis", choice, error));
+  EXPECT_FALSE(rp::BuildPlanFixtures(plan, choice, error));
+  EXPECT_NE(error.find("no trajectory 'screw'"), std::string::npos) << error;
+  plan.StructuresAtRisk[0].Signed = nullptr;
+  choice.Trajectory.clear();
+  ASSERT_TRUE(rp::ParseFixtureKinds("forbidden", choice, error));
+  EXPECT_FALSE(rp::BuildPlanFixtures(plan, choice, error));
+  EXPECT_NE(error.find("not a closed surface"), std::string::npos) << error;
 }
 
 }  // namespace
