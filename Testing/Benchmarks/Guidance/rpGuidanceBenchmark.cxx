@@ -32,6 +32,7 @@
 #include "rpBenchmarkChart.h"
 #include "rpBenchmarkMain.h"
 #include "rpDepthStop.h"
+#include "rpDeviceProfiles.h"
 #include "rpFixtureConstraint.h"
 #include "rpForbiddenRegion.h"
 #include "rpGuidedDrill.h"

@@ -3,8 +3,12 @@
 #include <algorithm>
 #include <cmath>
 
+#include <vtkNew.h>
+
+#include "rpDataLoader.h"
 #include "rpFixtureConstraint.h"
 #include "rpSimulatedDevice.h"
+#include "vtkRPPlanningLogic.h"
 
 namespace rp {
 
@@ -39,6 +43,50 @@ void ScoreRun(const GuidedDrillOptions& o, vtkRPDrillingLogic* logic, GuidedDril
   result.DepthOvershootMm = std::max(0.0, result.Score.DepthErrorMm);
 }
 }  // namespace
+
+std::shared_ptr<const PlanSnapshot> SnapshotPlan(vtkRPScene* scene, std::string& error) {
+  vtkNew<vtkRPPlanningLogic> planning;
+  planning->SetScene(scene);
+  return planning->MakePlanSnapshot(error);
+}
+
+std::shared_ptr<const PlanSnapshot> LoadPlan(vtkRPScene* scene, const std::string& file, std::string& error) {
+  const LoadResult loaded = LoadPath(scene, file);
+  if (!loaded.Ok) {
+    error = loaded.Error;
+    return nullptr;
+  }
+  auto plan = SnapshotPlan(scene, error);
+  if (plan && plan->Trajectories.empty()) {
+    error = "'" + file + "' holds no complete trajectory (a Slicer markups line: entry and target)";
+    return nullptr;
+  }
+  return plan;
+}
+
+const TrajectorySnapshot* ChooseTrajectory(const PlanSnapshot& plan, const std::string& name, std::string& error) {
+  const TrajectorySnapshot* t = name.empty() ? (plan.Trajectories.empty() ? nullptr : &plan.Trajectories.front())
+                                             : plan.FindTrajectory(name);
+  if (t) return t;
+  error = "the plan has no trajectory '" + name + "' (it has:";
+  for (const TrajectorySnapshot& each : plan.Trajectories) error += " '" + each.Name + "'";
+  error += ")";
+  return nullptr;
+}
+
+std::vector<ScoredStructure> ScoredStructuresOf(const PlanSnapshot& plan) {
+  std::vector<ScoredStructure> out;
+  for (const StructureAtRiskSnapshot& s : plan.StructuresAtRisk)
+    if (s.Signed) out.push_back({s.Name, s.Signed.get(), s.SafetyMarginMm});
+  return out;
+}
+
+std::vector<ProtectedRegion> ProtectedRegionsOf(const PlanSnapshot& plan) {
+  std::vector<ProtectedRegion> out;
+  for (const StructureAtRiskSnapshot& s : plan.StructuresAtRisk)
+    if (s.Signed) out.push_back({s.Name, s.Signed, s.SafetyMarginMm});
+  return out;
+}
 
 bool RunGuidedDrill(vtkRPDrillingLogic* logic, const GuidedDrillOptions& o, GuidedDrillResult& result, std::string& error) {
   result = GuidedDrillResult{};

@@ -12,7 +12,9 @@
 #include <vector>
 
 #include "rpExecutionScore.h"
+#include "rpDrillProtection.h"
 #include "rpFixtureSet.h"
+#include "rpPlanSnapshot.h"
 #include "rpSimulatedHand.h"
 #include "vtkRPDrillingLogic.h"
 
@@ -51,5 +53,19 @@ struct GuidedDrillResult {
 /// it. False with `error` naming the problem.
 bool RunGuidedDrill(vtkRPDrillingLogic* logic, const GuidedDrillOptions& options, GuidedDrillResult& result,
                     std::string& error);
+
+// ---- a plan for the drill (`roboplan drill --plan`, the demo)
+/// Loads the plan file into `scene` (a `.mrk.json` trajectory, or a scene with its plan, models and
+/// segments) and returns the scene's plan as the Planning logic snapshots it: its trajectories and
+/// every structure at risk of the scene (protected models and segments, with their margins). Null
+/// with `error` naming the file or the problem.
+std::shared_ptr<const PlanSnapshot> LoadPlan(vtkRPScene* scene, const std::string& file, std::string& error);
+/// The scene's plan as it is now (after segments were flagged protected, say).
+std::shared_ptr<const PlanSnapshot> SnapshotPlan(vtkRPScene* scene, std::string& error);
+/// The trajectory to drill: by node ID or name, "" the first. Null with `error` listing them.
+const TrajectorySnapshot* ChooseTrajectory(const PlanSnapshot& plan, const std::string& name, std::string& error);
+/// The plan's structures at risk as the score measures them, and as the drill bone protects them.
+std::vector<ScoredStructure> ScoredStructuresOf(const PlanSnapshot& plan);
+std::vector<ProtectedRegion> ProtectedRegionsOf(const PlanSnapshot& plan);
 
 }  // namespace rp
