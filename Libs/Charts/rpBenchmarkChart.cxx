@@ -209,7 +209,7 @@ bool WriteBarChartPNG(const std::string& path, const std::vector<std::string>& c
 
 bool WriteWindowPNG(vtkRenderWindow* window, const std::string& path, std::string& error) {
   std::string why;
-  if (!rp::EnsureXDisplay(why)) {  // VTK's X window would die in XSync without one
+  if (!rp::PrepareOffscreenWindow(window, why)) {  // never VTK's own X connection (rpXDisplay.h)
     error = "picture '" + path + "' not drawn: " + why;
     return false;
   }

@@ -157,13 +157,12 @@ void Conditions::NoteRenderWindow(vtkRenderWindow* window) {
 // A 16x16 offscreen window, drawn once, for its context's renderer and version strings.
 void Conditions::ProbeGL() {
   std::string error;
-  if (!rp::EnsureXDisplay(error)) {
+  vtkNew<vtkRenderWindow> window;
+  if (!rp::PrepareOffscreenWindow(window, error)) {
     this->GLRenderer = "none (" + error + ")";
     return;
   }
-  vtkNew<vtkRenderWindow> window;
   vtkNew<vtkRenderer> renderer;
-  window->SetOffScreenRendering(1);
   window->SetSize(16, 16);
   window->AddRenderer(renderer);
   window->Render();

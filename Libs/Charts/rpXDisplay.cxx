@@ -16,6 +16,8 @@
 
 #include <X11/Xlib.h>
 
+#include <vtkRenderWindow.h>
+
 namespace rp {
 namespace {
 
@@ -24,12 +26,21 @@ bool Checked = false, Found = false;
 std::string Failure;
 XDisplayInfo Info;
 pid_t Server = -1;
+Display* Connection = nullptr;  // the process's one connection, open until exit (see the header)
 
-// Opens the display to see that it answers, and reads its default screen's size and depth.
-bool Probe(const std::string& name, std::string& error) {
+// Opens the display and keeps the connection, reading its default screen's size and depth. A
+// server that is resetting (its last client just left) refuses for a few milliseconds: try again
+// for up to `patience`.
+bool Connect(const std::string& name, std::chrono::milliseconds patience, std::string& error) {
+  const auto deadline = std::chrono::steady_clock::now() + patience;
   Display* display = XOpenDisplay(name.c_str());
+  while (!display && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    display = XOpenDisplay(name.c_str());
+  }
   if (!display) {
-    error = "cannot open the X display '" + name + "'";
+    error = "cannot open the X display '" + name + "' (tried for " + std::to_string(patience.count() / 1000) +
+            " s)";
     return false;
   }
   const int screen = DefaultScreen(display);
@@ -37,7 +48,7 @@ bool Probe(const std::string& name, std::string& error) {
   Info.Width = DisplayWidth(display, screen);
   Info.Height = DisplayHeight(display, screen);
   Info.Depth = DefaultDepth(display, screen);
-  XCloseDisplay(display);
+  Connection = display;
   return true;
 }
 
@@ -115,12 +126,11 @@ bool StartPrivateServer(std::string& error) {
   close(fds[0]);
   if (number.empty()) {
     StopServer();
-    error = "no X display ($DISPLAY is not set) and no Xvfb could be started (install the xvfb package, or run "
-            "with a display)";
+    error = "no Xvfb could be started (install the xvfb package, or run with a display)";
     return false;
   }
   std::atexit(StopServer);
-  if (!Probe(":" + number, error)) {
+  if (!Connect(":" + number, std::chrono::seconds(5), error)) {
     StopServer();
     return false;
   }
@@ -135,11 +145,32 @@ bool EnsureXDisplay(std::string& error) {
   std::lock_guard<std::mutex> lock(Mutex);
   if (!Checked) {
     Checked = true;
+    XInitThreads();
     const char* display = std::getenv("DISPLAY");
-    Found = display && *display ? Probe(display, Failure) : StartPrivateServer(Failure);
+    std::string refused;
+    if (display && *display) {
+      Found = Connect(display, std::chrono::seconds(5), refused);
+    }
+    if (!Found) {
+      // No display, or one that does not answer: draw on our own rather than not at all.
+      Found = StartPrivateServer(Failure);
+      if (Found) Info.Refused = refused;
+      if (!Found) Failure = (refused.empty() ? "no X display ($DISPLAY is not set)" : refused) + " and " + Failure;
+    }
   }
   if (!Found) error = Failure;
   return Found;
+}
+
+bool PrepareOffscreenWindow(vtkRenderWindow* window, std::string& error) {
+  std::string why;
+  if (!EnsureXDisplay(why)) {
+    error = "no X display for offscreen pictures: " + why;
+    return false;
+  }
+  window->SetOffScreenRendering(1);
+  window->SetDisplayId(Connection);  // VTK's X window then never opens (nor closes) one itself
+  return true;
 }
 
 XDisplayInfo CurrentXDisplay() {

@@ -47,14 +47,8 @@ const RenderOutput& HapticRenderer::Update(const Pose& device, double elapsed, T
   const Vec3 previousForce = out.Force;
 
   // Step 0: the constraints' walls decide where the tool may be; the tissue touches it there.
-  ConstraintContext tool;
-  tool.Dt = dt;
-  tool.Period = period;
-  tool.Stylus = device;
-  tool.Tip = out.Tip = device.Apply(this->ToolPoints[0]);
-  tool.TipVelocity = (tool.Tip - this->LastTip) / dt;
-  tool.Device = &this->Device;
-  tool.WorkspaceScale = this->Options.WorkspaceScale;
+  ConstraintContext tool = this->ToolContext(device, dt, period);
+  out.Tip = tool.Tip;
   ConstraintGoal goal;
   goal.Goal = tool.Tip;
   if (constraints != nullptr) goal = constraints->Constrain(tool);
@@ -128,11 +122,7 @@ const RenderOutput& HapticRenderer::Update(const Pose& device, double elapsed, T
   const Vec3 tip = out.Tip;
   out.Constraint = ConstraintForce{};
   if (constraints != nullptr) {
-    tool.Proxy = out.Points[0].Proxy;
-    tool.InContact = out.Contacts > 0;
-    tool.ContactStiffness = out.Contacts > 0 ? out.Gains.Stiffness : 0.0;
-    tool.ContactDamping = out.Contacts > 0 ? out.Gains.Damping : 0.0;
-    out.Constraint = constraints->Evaluate(tool);
+    out.Constraint = this->EvaluateConstraints(*constraints, tool);
     total += out.Constraint.Force;
     stored += out.Constraint.StoredEnergy;
     renderedStiffness += out.Constraint.Stiffness;
@@ -167,6 +157,27 @@ const RenderOutput& HapticRenderer::Update(const Pose& device, double elapsed, T
   out.Force = out.Clamped ? total * (this->MaxForce / magnitude) : total;
   this->Observer.Held(out.Force);
   return out;
+}
+
+ConstraintContext HapticRenderer::ToolContext(const Pose& device, double dt, double period) const noexcept {
+  ConstraintContext tool;
+  tool.Dt = dt;
+  tool.Period = period;
+  tool.Stylus = device;
+  tool.Tip = device.Apply(this->ToolPoints[0]);
+  tool.TipVelocity = (tool.Tip - this->LastTip) / dt;
+  tool.Device = &this->Device;
+  tool.WorkspaceScale = this->Options.WorkspaceScale;
+  return tool;
+}
+
+ConstraintForce HapticRenderer::EvaluateConstraints(ToolConstraints& constraints, ConstraintContext& tool) noexcept {
+  const RenderOutput& out = this->Out;
+  tool.Proxy = out.Points[0].Proxy;
+  tool.InContact = out.Contacts > 0;
+  tool.ContactStiffness = out.Contacts > 0 ? out.Gains.Stiffness : 0.0;
+  tool.ContactDamping = out.Contacts > 0 ? out.Gains.Damping : 0.0;
+  return constraints.Evaluate(tool);
 }
 
 }  // namespace rp

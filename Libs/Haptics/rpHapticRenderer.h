@@ -78,6 +78,11 @@ class HapticRenderer {
   const RenderOutput& Output() const { return this->Out; }
 
  private:
+  /// The tool as the virtual fixtures see it this tick (before the contacts).
+  ConstraintContext ToolContext(const Pose& device, double dt, double period) const noexcept;
+  /// The virtual fixtures' force this tick (after the contacts' pass 2).
+  ConstraintForce EvaluateConstraints(ToolConstraints& constraints, ConstraintContext& tool) noexcept;
+
   RendererOptions Options;
   DeviceInfo Device;
   double MaxForce = 3.3;

@@ -11,6 +11,7 @@
 #include "rpAtomicFile.h"
 #include "rpView.h"
 #include "rpViewController.h"
+#include "rpXDisplay.h"
 #include "vtkRPLayoutNode.h"
 
 namespace rp {
@@ -49,7 +50,7 @@ bool RenderViews(ViewController& controller, const ScreenshotOptions& options, v
     return false;
   }
   vtkNew<vtkRenderWindow> window;
-  window->SetOffScreenRendering(1);
+  if (!PrepareOffscreenWindow(window, error)) return false;
   window->SetMultiSamples(0);  // identical pixels run to run (regression tests compare them)
   window->SetSize(options.Width, options.Height);
   window->SetNumberOfLayers(2);

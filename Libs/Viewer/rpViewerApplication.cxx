@@ -20,6 +20,7 @@
 #include "rpSceneIO.h"
 #include "rpScreenshot.h"
 #include "rpViewController.h"
+#include "rpXDisplay.h"
 #include "rpViewerMainWindow.h"
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
@@ -92,24 +93,6 @@ bool ParseSize(const std::string& text, int& width, int& height) {
   }
 }
 
-// Offscreen rendering here needs an X display (Debian's VTK renders through GLX). Without one,
-// run this command again under xvfb-run, so `roboplan screenshot` works on a headless machine.
-bool ReexecUnderXvfb(const std::vector<std::string>& arguments) {
-  if (std::getenv("DISPLAY") || std::getenv("ROBOPLAN_NO_XVFB_REEXEC")) return false;
-  char self[4096];
-  const ssize_t length = readlink("/proc/self/exe", self, sizeof(self) - 1);
-  if (length <= 0) return false;
-  self[length] = '\0';
-  setenv("ROBOPLAN_NO_XVFB_REEXEC", "1", 1);
-  std::vector<std::string> command = {"xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", self, "screenshot"};
-  command.insert(command.end(), arguments.begin(), arguments.end());
-  std::vector<char*> argv;
-  for (auto& argument : command) argv.push_back(argument.data());
-  argv.push_back(nullptr);
-  execvp("xvfb-run", argv.data());
-  return false;  // exec failed: fall through and report the missing display
-}
-
 int RunScreenshot(CommandContext& context) {
   ArgParser parser("screenshot", "Render a scene headless (offscreen) into one PNG: the views of a layout.");
   parser.Positional("files", "scene (*.rpscene, Slicer's *.mrml, *.mrb), data files or DICOM series folders to load", true, true)
@@ -143,8 +126,6 @@ int RunScreenshot(CommandContext& context) {
       return 2;
     }
   }
-  if (ReexecUnderXvfb(context.Arguments)) return 1;
-
   vtkRPScene* scene = context.Scene;
   for (const std::string& file : parser.GetAll("files")) {
     std::string error;
@@ -155,11 +136,12 @@ int RunScreenshot(CommandContext& context) {
     }
     for (const std::string& warning : warnings) std::cerr << "roboplan screenshot: warning: " << warning << "\n";
   }
-  if (!std::getenv("DISPLAY")) {
-    std::cerr << "roboplan screenshot: no X display for offscreen rendering and xvfb-run is not available\n";
+  std::string error;
+  // $DISPLAY when it answers, else a private Xvfb for this process (rpXDisplay.h).
+  if (!EnsureXDisplay(error)) {
+    std::cerr << "roboplan screenshot: " << error << "\n";
     return 1;
   }
-  std::string error;
   ViewController controller(scene);
   if (!SaveScreenshot(controller, parser.Get("out"), options, error)) {
     std::cerr << "roboplan screenshot: " << error << "\n";

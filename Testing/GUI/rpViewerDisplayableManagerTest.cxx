@@ -32,6 +32,7 @@
 #include "rpView.h"
 #include "rpViewController.h"
 #include "rpViewerTestScene.h"
+#include "rpXDisplay.h"
 #include "vtkRPCachedRenderPass.h"
 #include "vtkRPFiducialDisplayableManager.h"
 #include "vtkRPFiducialListNode.h"
@@ -79,7 +80,8 @@ void SampleSlice(vtkRPSliceLogic* logic, const double ras[3], unsigned char rgba
 // An offscreen window for one view, no multisampling (pixels are compared exactly).
 vtkSmartPointer<vtkRenderWindow> OffscreenWindow(int width, int height) {
   auto window = vtkSmartPointer<vtkRenderWindow>::New();
-  window->SetOffScreenRendering(1);
+  std::string error;
+  if (!rp::PrepareOffscreenWindow(window, error)) ADD_FAILURE() << error;
   window->SetMultiSamples(0);
   window->SetSize(width, height);
   return window;
@@ -470,7 +472,8 @@ TEST(ViewerDisplayableManagers, FiducialLabelsDoNotOverprint) {
   }
   scene->AddNode(list);
   vtkNew<vtkRenderWindow> window;
-  window->SetOffScreenRendering(1);
+  std::string windowError;
+  ASSERT_TRUE(rp::PrepareOffscreenWindow(window, windowError)) << windowError;
   window->SetSize(600, 300);
   const double left[4] = {0, 0, 0.5, 1}, right[4] = {0.5, 0, 1, 1};
   controller.GetView(ViewKind::Axial)->AttachToRenderWindow(window, left);
@@ -680,7 +683,8 @@ TEST(ViewerDisplayableManagers, ClickIn3DPlacesAFiducialOnTheModelSurface) {
   auto model = test::MakeSphereModel();
   scene->AddNode(model);
   vtkNew<vtkRenderWindow> window;
-  window->SetOffScreenRendering(1);
+  std::string windowError;
+  ASSERT_TRUE(rp::PrepareOffscreenWindow(window, windowError)) << windowError;
   window->SetSize(300, 300);
   const double full[4] = {0, 0, 1, 1};
   View* view = controller.GetView(ViewKind::ThreeD);

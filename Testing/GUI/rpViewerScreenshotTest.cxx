@@ -25,6 +25,7 @@
 #include "rpViewController.h"
 #include "rpViewerApplication.h"
 #include "rpViewerTestScene.h"
+#include "rpXDisplay.h"
 #include "vtkRPModelNode.h"
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
@@ -212,7 +213,8 @@ TEST(ViewerScreenshot, FourViewFrameFitsTheDisplayRate) {
   ViewController controller(scene);
 
   vtkNew<vtkRenderWindow> window;
-  window->SetOffScreenRendering(1);
+  std::string windowError;
+  ASSERT_TRUE(rp::PrepareOffscreenWindow(window, windowError)) << windowError;
   window->SetMultiSamples(0);
   window->SetSize(800, 800);
   for (int kind = 0; kind < 4; ++kind) {

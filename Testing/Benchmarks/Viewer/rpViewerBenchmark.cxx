@@ -170,12 +170,11 @@ class Rig {
       return false;
     }
     this->SceneFile = path;
-    // Debian's VTK draws through GLX: without a display, a private Xvfb (never VTK's XSync crash).
-    if (!rp::EnsureXDisplay(error)) return false;
     this->Controller = std::make_unique<rp::ViewController>(this->Scene);
     for (int kind = 0; kind < 4; ++kind) {
       vtkRenderWindow* window = this->Windows[static_cast<size_t>(kind)];
-      window->SetOffScreenRendering(1);
+      // Debian's VTK draws through GLX: $DISPLAY or a private Xvfb, never VTK's own connection.
+      if (!rp::PrepareOffscreenWindow(window, error)) return false;
       window->SetMultiSamples(0);
       window->SetSize(ViewWidth, ViewHeight);
       const double full[4] = {0, 0, 1, 1};

@@ -20,6 +20,7 @@
 
 #include "rpBenchmarkChart.h"
 #include "rpDemoStages.h"
+#include "rpXDisplay.h"
 #include "vtkRPModelNode.h"
 #include "vtkRPScene.h"
 
@@ -59,7 +60,7 @@ bool DemoBoneViews(DemoState& state, const std::vector<std::string>& modelIDs, c
   }
   const int width = 1600, height = 1000;
   vtkNew<vtkRenderWindow> window;
-  window->SetOffScreenRendering(1);
+  if (!PrepareOffscreenWindow(window, error)) return false;
   window->SetMultiSamples(8);
   window->SetSize(width, height);
   const double centre[3] = {0.5 * (bounds[0] + bounds[1]), 0.5 * (bounds[2] + bounds[3]), 0.5 * (bounds[4] + bounds[5])};

@@ -44,10 +44,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double Seconds(Clock::time_point a) { return std::chrono::duration<double>(Clock::now() - a).count(); }
 
-bool Pictures(DemoState& state) {
-  std::string why;
-  return CanDrawPictures(state, why);
-}
 
 // Femur mesh: time against mean distance to the true femur surface, ours (smoothing × contour
 // grid) and Slicer's default pipeline (discrete flying edges → windowed sinc → normals), all
@@ -119,16 +115,17 @@ void MeshSpeedAccuracy(DemoState& state, const std::string& stage) {
                                "no configuration of ours matched the default's error on this volume");
   }
   std::string error;
-  if (Pictures(state) &&
-      bench::WriteChartPNG((fs::path(state.Output) / "speed-accuracy-mesh.png").string(), {grid1, grid2, slicer},
-                           {"Femur (true labels): meshing time against mean surface error", "time (ms)",
-                            "mean distance to the true femur surface (mm)"},
-                           error)) {
-    state.Report->AddPicture(stage, "speed-accuracy-mesh.png",
-                             "SegmentationToMesh: time against accuracy meshing the phantom's true femur labels, ours "
-                             "across smoothing (sigma) and contour grid against Slicer's default pipeline in the same run; "
-                             "distances to the real femur surface inside the CT.");
-  }
+  if (CanDrawPicturesOrWarn(state, stage, "speed-accuracy-mesh.png"))
+    state.Report->AddPictureIf(
+        bench::WriteChartPNG((fs::path(state.Output) / "speed-accuracy-mesh.png").string(), {grid1, grid2, slicer},
+                             {"Femur (true labels): meshing time against mean surface error", "time (ms)",
+                              "mean distance to the true femur surface (mm)"},
+                             error),
+        stage, "speed-accuracy-mesh.png",
+        "SegmentationToMesh: time against accuracy meshing the phantom's true femur labels, ours "
+        "across smoothing (sigma) and contour grid against Slicer's default pipeline in the same run; "
+        "distances to the real femur surface inside the CT.",
+        error);
 }
 
 // Paired-point solve time (ours vs vtkLandmarkTransform) and TRE against the number of fiducials.
@@ -185,17 +182,17 @@ void RegistrationSpeedAccuracy(DemoState& state, const std::string& stage) {
   state.Report->AddFigureBelow(stage, "measured/predicted TRE − 1 at N = 6 (400 trials)",
                                std::abs(treSeries.Y[1] / predicted.Y[1] - 1.0), "", 0.15);
   std::string error;
-  if (!Pictures(state)) return;
-  if (bench::WriteChartPNG((fs::path(state.Output) / "speed-accuracy-registration-time.png").string(), {oursTime, vtkTime},
-                           {"Paired-point registration: time per solve", "fiducial pairs", "time (µs)"}, error)) {
-    state.Report->AddPicture(stage, "speed-accuracy-registration-time.png",
-                             "LandmarkRegistration: time per rigid solve against vtkLandmarkTransform in the same run.");
-  }
-  if (bench::WriteChartPNG((fs::path(state.Output) / "speed-accuracy-registration-tre.png").string(), {treSeries, predicted},
-                           {"TRE at a target 80 mm from the centroid", "fiducial pairs", "RMS TRE (mm)"}, error)) {
-    state.Report->AddPicture(stage, "speed-accuracy-registration-tre.png",
-                             "LandmarkRegistration: measured RMS TRE (Monte Carlo, FLE 0.5 mm) and its prediction.");
-  }
+  if (!CanDrawPicturesOrWarn(state, stage, "registration speed-accuracy charts")) return;
+  state.Report->AddPictureIf(
+      bench::WriteChartPNG((fs::path(state.Output) / "speed-accuracy-registration-time.png").string(), {oursTime, vtkTime},
+                           {"Paired-point registration: time per solve", "fiducial pairs", "time (µs)"}, error),
+      stage, "speed-accuracy-registration-time.png",
+      "LandmarkRegistration: time per rigid solve against vtkLandmarkTransform in the same run.", error);
+  state.Report->AddPictureIf(
+      bench::WriteChartPNG((fs::path(state.Output) / "speed-accuracy-registration-tre.png").string(), {treSeries, predicted},
+                           {"TRE at a target 80 mm from the centroid", "fiducial pairs", "RMS TRE (mm)"}, error),
+      stage, "speed-accuracy-registration-tre.png",
+      "LandmarkRegistration: measured RMS TRE (Monte Carlo, FLE 0.5 mm) and its prediction.", error);
 }
 
 // Closest-point query on this patient's haptic bone mesh: our BVH vs vtkStaticCellLocator.

@@ -294,10 +294,13 @@ void WriteForceChart(DemoState& state, const std::string& stage, const TunnelPla
   bench::ChartOptions chart{"Force on the hand along the tibial tunnel (4 mm burr, 5 mm/s)",
                             "burr centre along the planned axis (mm from its start)", "force (N)"};
   std::string error;
-  if (!series.empty() && bench::WriteChartPNG((fs::path(state.Output) / "drill-force-along-tunnel.png").string(), series, chart, error))
-    state.Report->AddPicture(stage, "drill-force-along-tunnel.png",
-                             "Force against depth: high through the cortex (hard, slow to cut: the hand pushes at the "
-                             "device's maximum), lower in the trabecular bone, zero where the burr breaks into the joint.");
+  if (!series.empty())
+    state.Report->AddPictureIf(
+        bench::WriteChartPNG((fs::path(state.Output) / "drill-force-along-tunnel.png").string(), series, chart, error),
+        stage, "drill-force-along-tunnel.png",
+        "Force against depth: high through the cortex (hard, slow to cut: the hand pushes at the "
+        "device's maximum), lower in the trabecular bone, zero where the burr breaks into the joint.",
+        error);
 }
 
 void WriteTunnelPictureOf(DemoState& state, const std::string& stage, const TunnelPlan& plan,
@@ -314,12 +317,11 @@ void WriteTunnelPictureOf(DemoState& state, const std::string& stage, const Tunn
   if (!pclSurface.Triangles.empty()) picture.Protected = TriangleMeshToPolyData(pclSurface);
   picture.Title = "Tibial tunnel to the ACL footprint, PCL protected";
   std::string error;
-  if (WriteTunnelPicture((fs::path(state.Output) / "drill-tibial-tunnel.png").string(), picture, error))
-    state.Report->AddPicture(stage, "drill-tibial-tunnel.png",
+  state.Report->AddPictureIf(WriteTunnelPicture((fs::path(state.Output) / "drill-tibial-tunnel.png").string(), picture, error),
+                             stage, "drill-tibial-tunnel.png",
                              "The drilled tibia (left) and a section through the tunnel's axis (right): cortical bone "
-                             "ivory, trabecular tan, drilled blue, the PCL red, the planned tunnel green.");
-  else
-    state.Report->AddNote("Tibial tunnel picture: " + error);
+                             "ivory, trabecular tan, drilled blue, the PCL red, the planned tunnel green.",
+                             error);
 }
 
 }  // namespace
@@ -362,10 +364,7 @@ void DrillTibialTunnel(DemoState& state) {
   vtkPolyData* mesh = logic->GetDrilledMesh();
   state.Runner->Progress(0.9, "pictures");
 
-  if (!CanDrawPictures(state, why)) {
-    state.Report->AddNote("Tibial tunnel pictures skipped: " + why + ".");
-    return;
-  }
+  if (!CanDrawPicturesOrWarn(state, stage, "tibial tunnel pictures")) return;
   WriteForceChart(state, stage, plan, materials, result);
   WriteTunnelPictureOf(state, stage, plan, materials, result, bone, mesh, pclSurface);
 }

@@ -197,11 +197,7 @@ void ExploreHaptically(DemoState& state) {
   for (const MaterialClamp& c : omni) clamped += c.Clamped();
   state.Report->AddFigureBelow(stage, "tissues clamped on the Phantom Omni", clamped, "", 0.5,
                                "stiffness above what the device renders stably (nominal limit, Colgate-Schenkel)");
-  std::string why;
-  if (!CanDrawPictures(state, why)) {
-    state.Report->AddNote("Haptics charts skipped: " + why + ".");
-    return;
-  }
+  if (!CanDrawPicturesOrWarn(state, stage, "haptics charts")) return;
   std::vector<std::string> tissues;
   bench::Series asked{"requested (materials.json)", {}, {}}, onOmni{"rendered: Phantom Omni", {}, {}},
       onTouchBars{"rendered: Touch", {}, {}};
@@ -212,26 +208,27 @@ void ExploreHaptically(DemoState& state) {
     onTouchBars.Y.push_back(onTouch[i].RenderedStiffness);
   }
   bench::ChartOptions clampChart{"Stiffness per tissue: requested against rendered", "tissue", "stiffness (N/mm)"};
-  if (bench::WriteBarChartPNG((fs::path(state.Output) / "haptics-stiffness-clamp.png").string(), tissues,
-                              {asked, onOmni, onTouchBars}, clampChart, error)) {
-    state.Report->AddPicture(stage, "haptics-stiffness-clamp.png",
+  state.Report->AddPictureIf(bench::WriteBarChartPNG((fs::path(state.Output) / "haptics-stiffness-clamp.png").string(),
+                                                     tissues, {asked, onOmni, onTouchBars}, clampChart, error),
+                             stage, "haptics-stiffness-clamp.png",
                              "Stiffness each tissue asks (Resources/Materials/materials.json) and what each device "
-                             "renders stably at the measured servo period: lower bars are clamped, with a warning.");
-  }
+                             "renders stably at the measured servo period: lower bars are clamped, with a warning.",
+                             error);
   bench::ChartOptions chart{"Force against penetration per tissue (eq. 1-3, clamp eq. 6)", "penetration |HIP − proxy| (mm)",
                             "force (N)"};
-  if (bench::WriteChartPNG((fs::path(state.Output) / "haptics-force-per-tissue.png").string(), forceSeries, chart, error)) {
-    state.Report->AddPicture(stage, "haptics-force-per-tissue.png",
-                             "Force against penetration for each tissue touched: the slope is the tissue's rendered "
-                             "stiffness (never above the device's 3.3 N, eq. 6).");
-  }
+  state.Report->AddPictureIf(
+      bench::WriteChartPNG((fs::path(state.Output) / "haptics-force-per-tissue.png").string(), forceSeries, chart, error),
+      stage, "haptics-force-per-tissue.png",
+      "Force against penetration for each tissue touched: the slope is the tissue's rendered "
+      "stiffness (never above the device's 3.3 N, eq. 6).",
+      error);
   for (const auto& [name, r] : passes) {
     if (r.PeriodBinsUs.empty()) continue;
     bench::ChartOptions h{"Servo period histogram (" + name + " pass)", "period (µs)", "ticks"};
     const std::string file = "haptics-period-" + name + ".png";
-    if (bench::WriteHistogramPNG((fs::path(state.Output) / file).string(), r.PeriodBinsUs, r.PeriodCounts, h, error)) {
-      state.Report->AddPicture(stage, file, "1 kHz servo loop: measured period of every tick (" + name + " pass).");
-    }
+    state.Report->AddPictureIf(
+        bench::WriteHistogramPNG((fs::path(state.Output) / file).string(), r.PeriodBinsUs, r.PeriodCounts, h, error),
+        stage, file, "1 kHz servo loop: measured period of every tick (" + name + " pass).", error);
   }
 }
 

@@ -5,6 +5,7 @@
 
 #include "rpDemoStages.h"
 #include "rpReport.h"
+#include "rpXDisplay.h"
 
 #ifdef ROBOPLAN_WORKFLOW_HAVE_VIEWER
 #include "rpScreenshot.h"
@@ -22,11 +23,18 @@ bool CanDrawPictures(const DemoState& state, std::string& error) {
     error = "screenshots turned off (--no-screenshots)";
     return false;
   }
-  if (!std::getenv("DISPLAY")) {
-    error = "no display (run under xvfb-run, as SuperBuild/setup.sh --demo does)";
-    return false;
-  }
-  return true;
+  // $DISPLAY when it answers, else a private Xvfb; once for the run (rpXDisplay.h).
+  return EnsureXDisplay(error);
+}
+
+bool CanDrawPicturesOrWarn(DemoState& state, const std::string& stage, const std::string& what) {
+  std::string why;
+  if (CanDrawPictures(state, why)) return true;
+  if (state.Options.Screenshots)
+    state.Report->AddMissingPicture(stage, what, why);
+  else
+    state.Report->AddNote(what + " skipped: " + why + ".");
+  return false;
 }
 
 bool DemoScreenshot(DemoState& state, const double slicePointRAS[3], const std::string& followNodeID,

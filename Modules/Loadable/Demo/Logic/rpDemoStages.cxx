@@ -361,20 +361,15 @@ void SegmentAndMesh(DemoState& state) {
                             std::to_string(m.Haptic.Triangles) + " haptic triangles, " +
                                 (m.Display.Watertight && (!m.HapticModel || m.Haptic.Watertight) ? "watertight" : "NOT watertight"));
   }
-  if (DemoScreenshot(state, nullptr, "", "segmentation-4up.png", error)) {
-    state.Report->AddPicture(stage, "segmentation-4up.png",
+  state.Report->AddPictureIf(DemoScreenshot(state, nullptr, "", "segmentation-4up.png", error), stage,
+                             "segmentation-4up.png",
                              "4-up of the segmented knee: bone and soft-tissue models with the CT slices in 3D, "
-                             "segment outlines on the slices.");
-  } else {
-    state.Report->AddNote("Segmentation 4-up picture skipped: " + error);
-  }
-  if (DemoBoneViews(state, state.BoneModelIDs, "bones-3d.png", error)) {
-    state.Report->AddPicture(stage, "bones-3d.png",
+                             "segment outlines on the slices.",
+                             error);
+  state.Report->AddPictureIf(DemoBoneViews(state, state.BoneModelIDs, "bones-3d.png", error), stage, "bones-3d.png",
                              "The segmented bones as a surgeon looks at the knee: from the front and from the lateral "
-                             "side, each bone in its colour (display meshes).");
-  } else {
-    state.Report->AddNote("Bone pictures skipped: " + error);
-  }
+                             "side, each bone in its colour (display meshes).",
+                             error);
   ScoreSegmentedBones(state, built, bounds, stage);
 }
 

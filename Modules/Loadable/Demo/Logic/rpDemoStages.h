@@ -61,6 +61,9 @@ void MeasureSpeedAgainstAccuracy(DemoState& state);
 void DrillTibialTunnel(DemoState& state);
 /// Whether pictures can be drawn in this run (screenshots on, a display); else why not.
 bool CanDrawPictures(const DemoState& state, std::string& error);
+/// CanDrawPictures for a group of pictures (`what`, e.g. "haptics charts"): when they cannot be
+/// drawn, a note when screenshots are off, else a missing-picture warning in the report naming why.
+bool CanDrawPicturesOrWarn(DemoState& state, const std::string& stage, const std::string& what);
 /// A 4-up picture (axial, 3D, sagittal, coronal) of the scene into the output folder, slices at
 /// the point (or following the node's origin). False with `error` when it cannot be drawn here.
 bool DemoScreenshot(DemoState& state, const double slicePointRAS[3], const std::string& followNodeID,

@@ -397,13 +397,11 @@ void Navigate(DemoState& state) {
   }
   // 4-up pictures with the slices following the tip: where the path came closest to bone.
   std::string error;
-  if (DemoScreenshot(state, closestTip.data(), "", "navigation-4up.png", error)) {
-    state.Report->AddPicture(stage, "navigation-4up.png",
+  state.Report->AddPictureIf(DemoScreenshot(state, closestTip.data(), "", "navigation-4up.png", error), stage,
+                             "navigation-4up.png",
                              "4-up at the closest approach of the tracked tip to bone: axial, 3D (models, slices, "
-                             "stylus), sagittal, coronal; MR (registered) over CT.");
-  } else {
-    state.Report->AddNote("Navigation 4-up picture skipped: " + error);
-  }
+                             "stylus), sagittal, coronal; MR (registered) over CT.",
+                             error);
   state.Report->AddFigure(stage, "tracked poses along the path", double(poses.size()), "", stats);
   state.Report->AddFigureBelow(stage, "shown tip vs true tip in image space (worst along the path)", worstTipError, "mm", 2.0,
                                "pivot calibration + registration + tracking together");

@@ -63,6 +63,19 @@ void Report::AddPicture(const std::string& stage, const std::string& file, const
   this->Pictures.push_back({stage, file, caption});
 }
 
+void Report::AddMissingPicture(const std::string& stage, const std::string& file, const std::string& why) {
+  this->MissingPictures.push_back({stage, file, why});
+}
+
+bool Report::AddPictureIf(bool drawn, const std::string& stage, const std::string& file, const std::string& caption,
+                          const std::string& why) {
+  if (drawn)
+    this->AddPicture(stage, file, caption);
+  else
+    this->AddMissingPicture(stage, file, why);
+  return drawn;
+}
+
 int Report::CountFailed() const {
   int failed = 0;
   for (const auto& f : this->Figures) failed += f.Result == Verdict::Fail;
@@ -83,6 +96,12 @@ std::string Report::ToHtml() const {
   html << "<p><b>" << (failed == 0 ? "All stages ran and every scored figure met its target."
                                     : std::to_string(failed) + " stage(s) or figure(s) failed.")
        << "</b></p>\n";
+  if (!this->MissingPictures.empty()) {
+    html << "<p class=\"fail\">Warning: " << this->MissingPictures.size() << " picture(s) could not be drawn:</p><ul>\n";
+    for (const auto& p : this->MissingPictures)
+      html << "<li>" << Escape(p.File) << " (" << Escape(p.Stage) << "): " << Escape(p.Caption) << "</li>\n";
+    html << "</ul>\n";
+  }
   for (const auto& note : this->Notes) html << "<p>" << Escape(note) << "</p>\n";
 
   html << "<h2>Stages</h2>\n<table><tr><th>stage</th><th>time (s)</th><th>result</th></tr>\n";
@@ -127,6 +146,11 @@ std::string Report::ToJson() const {
     doc["figures"].push_back({{"stage", f.Stage}, {"name", f.Name}, {"value", value}, {"unit", f.Unit},
                               {"target", f.Target}, {"result", result}, {"note", f.Note}});
   }
+  doc["pictures"] = nlohmann::json::array();
+  for (const Picture& p : this->Pictures) doc["pictures"].push_back({{"stage", p.Stage}, {"file", p.File}});
+  doc["picturesMissing"] = nlohmann::json::array();
+  for (const Picture& p : this->MissingPictures)
+    doc["picturesMissing"].push_back({{"stage", p.Stage}, {"file", p.File}, {"why", p.Caption}});
   return doc.dump(2) + "\n";
 }
 

@@ -43,6 +43,12 @@ class Report {
                  const std::string& note = "");
   void AddNotScored(const std::string& stage, const std::string& name, const std::string& why);
   void AddPicture(const std::string& stage, const std::string& file, const std::string& caption);
+  /// A picture that could not be drawn: a named warning at the top of the report (and under
+  /// "picturesMissing" in the JSON) saying which picture is missing and why; the run goes on.
+  void AddMissingPicture(const std::string& stage, const std::string& file, const std::string& why);
+  /// AddPicture when `drawn`, else AddMissingPicture with `why`. Returns `drawn`.
+  bool AddPictureIf(bool drawn, const std::string& stage, const std::string& file, const std::string& caption,
+                    const std::string& why);
   void AddStage(const StageRecord& stage) { this->Stages.push_back(stage); }
   void AddNote(const std::string& text) { this->Notes.push_back(text); }
 
@@ -53,7 +59,8 @@ class Report {
   std::string ToHtml() const;
   /// The stages and figures as JSON (for scripts and tests): {"title", "stages": [...],
   /// "figures": [{"stage", "name", "value" (null when not measured), "unit", "target", "result"
-  /// ("pass" | "fail" | "not scored"), "note"}]}.
+  /// ("pass" | "fail" | "not scored"), "note"}], "pictures": [{"stage", "file"}],
+  /// "picturesMissing": [{"stage", "file", "why"}]}.
   std::string ToJson() const;
   /// Writes the HTML report atomically, and the JSON beside it (same name, .json). Returns false
   /// with `error`.
@@ -63,6 +70,7 @@ class Report {
   std::string Title;
   std::vector<Figure> Figures;
   std::vector<Picture> Pictures;
+  std::vector<Picture> MissingPictures;  // Caption holds why
   std::vector<StageRecord> Stages;
   std::vector<std::string> Notes;
 };

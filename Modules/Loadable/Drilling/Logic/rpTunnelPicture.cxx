@@ -25,6 +25,7 @@
 
 #include "rpBenchmarkChart.h"
 #include "rpDrillVolume.h"
+#include "rpXDisplay.h"
 
 namespace rp {
 
@@ -194,7 +195,7 @@ bool WriteTunnelPicture(const std::string& path, const TunnelPicture& picture, s
   const Vec3 up = -axis;  // the entrance at the top, the tunnel going down
 
   vtkNew<vtkRenderWindow> window;
-  window->SetOffScreenRendering(1);
+  if (!PrepareOffscreenWindow(window, error)) return false;
   window->SetSize(picture.Width, picture.Height);
   auto lut = MaterialColours(picture.Materials);
   const double planned[3] = {0.2, 0.75, 0.25}, burr[3] = {0.95, 0.75, 0.1}, red[3] = {0.85, 0.15, 0.15};

@@ -1,6 +1,5 @@
 // The TemplateKey module's plugin entry: it only names the module, makes its logic and lists its
 // CLI commands (the work is in Logic/, the panel in Widgets/ when it has one).
-#include <iostream>
 
 #include <vtkSmartPointer.h>
 
@@ -20,7 +19,7 @@ class TemplateKeyModule : public rp::Module {
   vtkObject* Logic() override { return this->LogicObject; }
   std::vector<rp::Command> Commands() override {
     return {{"templatekey-summary", "load files into a scene and count its nodes by class",
-             [](rp::CommandContext& c) { return rp::RunTemplateKeySummaryCommand(c.Arguments, std::cout, std::cerr); }}};
+             [](rp::CommandContext& c) { return rp::RunTemplateKeySummaryCommand(c.Arguments, *c.Out, *c.Err); }}};
   }
 
  private:
