@@ -12,9 +12,14 @@
 //    free and with axis guidance + depth stop, over seeds: entry, tip, angle; against the guidance's
 //    stiffness and against the hand's speed (the drilling time); depth overshoot with the stop at
 //    2–10 mm/s.
+//  * The three executions of one plan under one hand (free; axis guidance + depth stop; guidance
+//    + a forbidden region around a vessel beside the tunnel), scored: "executions".
 // Targets: tick p99 < 100 µs in both servos; guided entry and tip within 0.5 mm and angle within
-// 1°; depth overshoot ≤ 0.1 mm. Figures (JSON, CSV) and charts (PNG) go to
-// $ROBOPLAN_BENCHMARK_OUTPUT (./benchmark-output).
+// 1°; depth overshoot ≤ 0.1 mm. Figures go to $ROBOPLAN_BENCHMARK_OUTPUT (./benchmark-output):
+// guidance_benchmark.json (everything), guidance_ticks.csv/.png (tick with and without the
+// fixtures; drilling 0/1, fixtures 0/4), guidance_accuracy.csv (seed, guided 0/1, the scores) and
+// the accuracy charts. A quick run (ROBOPLAN_BENCHMARK_QUICK) drills at 0.3 mm, one seed, two
+// stiffnesses and two speeds.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -30,6 +35,7 @@
 
 #include "rpAxisGuidance.h"
 #include "rpBenchmarkChart.h"
+#include "rpBenchmarkConditions.h"
 #include "rpBenchmarkMain.h"
 #include "rpDepthStop.h"
 #include "rpDeviceProfiles.h"
@@ -64,7 +70,7 @@ struct TickFigures {
   uint64_t Ticks = 0;
 };
 
-TickFigures Figures(const rp::TimingStats& s, uint64_t ticks) { return {s.P50Us, s.P99Us, s.MaxUs, ticks}; }
+TickFigures FiguresOf(const rp::TimingStats& s, uint64_t ticks) { return {s.P50Us, s.P99Us, s.MaxUs, ticks}; }
 
 nlohmann::json Json(const TickFigures& f) {
   return {{"tickP50Us", f.P50}, {"tickP99Us", f.P99}, {"tickMaxUs", f.Max}, {"ticks", f.Ticks}};
@@ -106,7 +112,7 @@ rp::Pose HandAt(int i) {
   return p;
 }
 
-TickFigures HapticTicks(const HapticWorld& world, bool fixtures) {
+TickFigures HapticTicks(const HapticWorld& world, bool fixtures, int ticks) {
   rp::HapticRenderer renderer;
   rp::DeviceProfile omni;
   std::string error;
@@ -116,24 +122,22 @@ TickFigures HapticTicks(const HapticWorld& world, bool fixtures) {
   auto constraints = fixtures ? rp::MakeFixtureConstraints(world.Fixtures) : nullptr;
   renderer.Reset(HandAt(0));
   rp::TimingHistogram compute(100, 20000);
-  const int ticks = 8000;
   for (int i = 1; i <= ticks; ++i) {
     const rp::Pose pose = HandAt(i);
     const int64_t start = ThreadNs();
     renderer.Update(pose, 0.001, constraints.get());
     compute.Record(ThreadNs() - start);
   }
-  return Figures(compute.Stats(), ticks);
+  return FiguresOf(compute.Stats(), ticks);
 }
 
 // The VTK way to the two distances the mesh fixtures need each tick (the surface constraint's
 // closest point on the bone, the forbidden region's signed distance to the vessel).
-TickFigures VtkDistanceTicks(const HapticWorld& world) {
+TickFigures VtkDistanceTicks(const HapticWorld& world, int ticks) {
   vtkNew<vtkImplicitPolyDataDistance> bone, vessel;
   bone->SetInput(rp::TriangleMeshToPolyData(world.Bone));
   vessel->SetInput(rp::TriangleMeshToPolyData(world.Vessel));
   rp::TimingHistogram compute(100, 200000);
-  const int ticks = 8000;
   double sink = 0;
   for (int i = 1; i <= ticks; ++i) {
     const Vec3 p = HandAt(i).T;
@@ -143,7 +147,7 @@ TickFigures VtkDistanceTicks(const HapticWorld& world) {
     compute.Record(ThreadNs() - start);
   }
   benchmark::DoNotOptimize(sink);
-  return Figures(compute.Stats(), ticks);
+  return FiguresOf(compute.Stats(), ticks);
 }
 
 // ---- the drilling tick and the accuracy runs, on an analytic block (30 × 30 × 40 mm)
@@ -209,7 +213,7 @@ Execution Drill(double voxel, std::shared_ptr<const rp::FixtureSet> fixtures, do
   e.Seconds = r.DrillSeconds;
   e.Outside = r.Score.OutsideVolumeMm3;
   e.Forbidden = r.EnteredForbidden;
-  e.Tick = Figures(r.Run.TickCompute, r.Run.Ticks);
+  e.Tick = FiguresOf(r.Run.TickCompute, r.Run.Ticks);
   return e;
 }
 
@@ -241,6 +245,107 @@ void BM_HapticTickWithFourFixtures(benchmark::State& state) {
 }
 BENCHMARK(BM_HapticTickWithFourFixtures)->Unit(benchmark::kMicrosecond);
 
+
+// ---- the figures
+struct Figures {
+  nlohmann::json Doc;
+  std::vector<std::vector<double>> Accuracy;  // the accuracy table's rows
+};
+
+rp::bench::Series Named(const std::string& name, bool points = false) { return {name, {}, {}, points}; }
+
+// The tick with and without the fixtures, both servos: JSON, CSV, a bar chart.
+void TickFiguresBothServos(Figures& f, bool quick) {
+  const HapticWorld world;
+  const int ticks = quick ? 1000 : 8000;
+  const TickFigures bare = HapticTicks(world, false, ticks), fixed = HapticTicks(world, true, ticks),
+                    vtk = VtkDistanceTicks(world, ticks);
+  f.Doc["haptics"] = {{"withoutFixtures", Json(bare)}, {"withFourFixtures", Json(fixed)},
+                      {"vtkDistancesOnly", Json(vtk)}, {"targetTickP99Us", 100}};
+  // The drilling tick at 0.2 mm (a quick run: 0.3 mm) with all four fixtures, and without.
+  const double voxel = quick ? 0.3 : 0.2;
+  auto vessel = std::make_shared<rp::MeshSignedDistance>();
+  std::string error;
+  vessel->Build(rp::shapes::Sphere({6.5, 0, -15}, 2, 4), error);
+  const Execution drillBare = Drill(voxel, nullptr, 2.5, 1, 0.2, 1.0, vessel);
+  const Execution drillFour = Drill(voxel, DrillFixtures(true, true, true, true, 0, vessel), 2.5, 1, 0.2, 1.0, vessel);
+  f.Doc["drilling"] = {{"voxelMm", voxel}, {"withoutFixtures", Json(drillBare)}, {"withFourFixtures", Json(drillFour)},
+                       {"targetTickP99Us", 100}};
+  const std::string dir = rp::bench::OutputDirectory();
+  std::vector<std::vector<double>> rows;
+  rows.push_back({0, 0, bare.P50, bare.P99, bare.Max, double(bare.Ticks)});
+  rows.push_back({0, 4, fixed.P50, fixed.P99, fixed.Max, double(fixed.Ticks)});
+  rows.push_back({1, 0, drillBare.Tick.P50, drillBare.Tick.P99, drillBare.Tick.Max, double(drillBare.Tick.Ticks)});
+  rows.push_back({1, 4, drillFour.Tick.P50, drillFour.Tick.P99, drillFour.Tick.Max, double(drillFour.Tick.Ticks)});
+  rp::bench::WriteCSV(dir + "/guidance_ticks.csv",
+                      {"drilling", "fixtures", "tickP50Us", "tickP99Us", "tickMaxUs", "ticks"}, rows, error);
+  rp::bench::Series without = Named("without fixtures: p99"), with = Named("four fixtures: p99");
+  without.Y = {bare.P99, drillBare.Tick.P99};
+  with.Y = {fixed.P99, drillFour.Tick.P99};
+  rp::bench::ChartOptions options;
+  options.Title = "Servo tick p99 with and without the four virtual fixtures (thread CPU, us; target 100)";
+  options.YLabel = "tick p99 (us)";
+  rp::bench::WriteBarChartPNG(dir + "/guidance_ticks.png", {"haptics", "drilling"}, {without, with}, options, error);
+}
+
+// The three executions of the same plan under the same hand (the demo's): free hand; axis
+// guidance + depth stop; guidance + a forbidden region around a vessel beside the tunnel.
+void ThreeExecutions(Figures& f) {
+  auto vessel = std::make_shared<rp::MeshSignedDistance>();
+  std::string error;
+  vessel->Build(rp::shapes::Sphere({6.5, 0, -15}, 2, 4), error);
+  struct Way {
+    const char* Name;
+    const char* Fixtures;
+    std::shared_ptr<const rp::FixtureSet> Set;
+  };
+  const Way ways[] = {{"free hand", "", DrillFixtures(false, false, false, false, 0, nullptr)},
+                      {"axis guidance and depth stop", "axis,depth", DrillFixtures(true, true, false, false, 0, nullptr)},
+                      {"guidance and a forbidden region", "axis,depth,forbidden", DrillFixtures(true, true, true, false, 0, vessel)}};
+  for (const Way& w : ways) {
+    nlohmann::json e = Json(Drill(0.3, w.Set, 2.5, 3, 0.2, 1.0, vessel));
+    e["name"] = w.Name;
+    e["fixtures"] = w.Fixtures;
+    f.Doc["executions"].push_back(e);
+  }
+}
+
+// Accuracy: free against guided over seeds, against stiffness, against drilling time.
+void AccuracyFigures(Figures& f, bool quick) {
+  rp::bench::Series freeEntry = Named("free hand: entry", true), freeTip = Named("free hand: tip", true);
+  rp::bench::Series guidedEntry = Named("guided: entry", true), guidedTip = Named("guided: tip", true);
+  for (int s : quick ? std::vector<int>{1} : std::vector<int>{1, 2, 3, 4, 5}) {
+    const Execution free = Drill(0.3, DrillFixtures(false, false, false, false, 0, nullptr), 2.5, uint64_t(s));
+    const Execution guided = Drill(0.3, DrillFixtures(true, true, false, false, 0, nullptr), 2.5, uint64_t(s));
+    f.Doc["accuracy"]["free"].push_back(Json(free));
+    f.Doc["accuracy"]["guided"].push_back(Json(guided));
+    for (const auto* e : {&free, &guided})
+      f.Accuracy.push_back({double(s), e == &guided ? 1.0 : 0.0, e->Entry, e->Tip, e->Angle, e->Depth, e->Seconds});
+    freeEntry.X.push_back(s), freeEntry.Y.push_back(free.Entry), freeTip.X.push_back(s), freeTip.Y.push_back(free.Tip);
+    guidedEntry.X.push_back(s), guidedEntry.Y.push_back(guided.Entry), guidedTip.X.push_back(s), guidedTip.Y.push_back(guided.Tip);
+  }
+  Chart("guidance_accuracy_by_seed.png", "Entry and tip offset, free hand vs axis guidance + depth stop (0.2 mm tremor, 1 mm/s drift)",
+        "seed", "offset (mm)", {freeEntry, freeTip, guidedEntry, guidedTip});
+  rp::bench::Series kEntry = Named("entry"), kTip = Named("tip"), kAngle = Named("angle (deg)");
+  for (double k : quick ? std::vector<double>{0.2, 0.6} : std::vector<double>{0.05, 0.1, 0.2, 0.35, 0.5, 0.7}) {
+    const Execution g = Drill(0.3, DrillFixtures(true, true, false, false, k, nullptr), 2.5, 3);
+    f.Doc["accuracyAgainstStiffness"].push_back({{"stiffnessNPerMm", k}, {"execution", Json(g)}});
+    kEntry.X.push_back(k), kEntry.Y.push_back(g.Entry), kTip.X.push_back(k), kTip.Y.push_back(g.Tip);
+    kAngle.X.push_back(k), kAngle.Y.push_back(g.Angle);
+  }
+  Chart("guidance_accuracy_vs_stiffness.png", "Accuracy against axis guidance stiffness (seed 3)", "stiffness (N/mm)",
+        "offset (mm) / angle (deg)", {kEntry, kTip, kAngle});
+  rp::bench::Series tEntry = Named("entry"), tTip = Named("tip"), tDepth = Named("depth overshoot");
+  for (double speed : quick ? std::vector<double>{2.5, 10.0} : std::vector<double>{1.0, 2.0, 5.0, 10.0}) {
+    const Execution g = Drill(0.3, DrillFixtures(true, true, false, false, 0, nullptr), speed, 3);
+    f.Doc["accuracyAgainstSpeed"].push_back({{"speedMmPerS", speed}, {"execution", Json(g)}});
+    tEntry.X.push_back(g.Seconds), tEntry.Y.push_back(g.Entry), tTip.X.push_back(g.Seconds), tTip.Y.push_back(g.Tip);
+    tDepth.X.push_back(g.Seconds), tDepth.Y.push_back(std::max(0.0, g.Depth));
+  }
+  Chart("guidance_accuracy_vs_time.png", "Accuracy against drilling time (axis guidance + depth stop)", "drilling time (s)",
+        "mm", {tEntry, tTip, tDepth});
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -248,62 +353,19 @@ int main(int argc, char** argv) {
   rp::bench::AddConditionsToContext();
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();
-  nlohmann::json doc;
-
-  // The haptic tick.
-  const HapticWorld world;
-  const TickFigures bare = HapticTicks(world, false), fixed = HapticTicks(world, true), vtk = VtkDistanceTicks(world);
-  doc["haptics"] = {{"withoutFixtures", Json(bare)}, {"withFourFixtures", Json(fixed)},
-                    {"vtkDistancesOnly", Json(vtk)}, {"targetTickP99Us", 100}};
-
-  // The drilling tick at 0.2 mm with all four fixtures, and without.
-  auto vessel = std::make_shared<rp::MeshSignedDistance>();
+  const bool quick = rp::bench::QuickRun();
+  Figures f;
+  TickFiguresBothServos(f, quick);
+  ThreeExecutions(f);
+  AccuracyFigures(f, quick);
+  const std::string dir = rp::bench::OutputDirectory();
   std::string error;
-  vessel->Build(rp::shapes::Sphere({6.5, 0, -15}, 2, 4), error);
-  const Execution drillBare = Drill(0.2, nullptr, 2.5, 1, 0.2, 1.0, vessel);
-  const Execution drillFour = Drill(0.2, DrillFixtures(true, true, true, true, 0, vessel), 2.5, 1, 0.2, 1.0, vessel);
-  doc["drilling"] = {{"voxelMm", 0.2}, {"withoutFixtures", Json(drillBare)}, {"withFourFixtures", Json(drillFour)},
-                     {"targetTickP99Us", 100}};
-
-  // Accuracy over seeds: free hand against axis guidance + depth stop.
-  std::vector<double> seeds = {1, 2, 3, 4, 5};
-  rp::bench::Series freeEntry{"free hand: entry", {}, {}, true}, freeTip{"free hand: tip", {}, {}, true};
-  rp::bench::Series guidedEntry{"guided: entry", {}, {}, true}, guidedTip{"guided: tip", {}, {}, true};
-  for (double s : seeds) {
-    const Execution f = Drill(0.3, DrillFixtures(false, false, false, false, 0, nullptr), 2.5, uint64_t(s));
-    const Execution g = Drill(0.3, DrillFixtures(true, true, false, false, 0, nullptr), 2.5, uint64_t(s));
-    doc["accuracy"]["free"].push_back(Json(f));
-    doc["accuracy"]["guided"].push_back(Json(g));
-    freeEntry.X.push_back(s), freeEntry.Y.push_back(f.Entry), freeTip.X.push_back(s), freeTip.Y.push_back(f.Tip);
-    guidedEntry.X.push_back(s), guidedEntry.Y.push_back(g.Entry), guidedTip.X.push_back(s), guidedTip.Y.push_back(g.Tip);
-  }
-  Chart("guidance_accuracy_by_seed.png", "Entry and tip offset, free hand vs axis guidance + depth stop (0.2 mm tremor, 1 mm/s drift)",
-        "seed", "offset (mm)", {freeEntry, freeTip, guidedEntry, guidedTip});
-
-  // Against the guidance's stiffness, and against the hand's speed (the drilling time).
-  rp::bench::Series kEntry{"entry", {}, {}}, kTip{"tip", {}, {}}, kAngle{"angle (deg)", {}, {}};
-  for (double k : {0.05, 0.1, 0.2, 0.35, 0.5, 0.7}) {
-    const Execution g = Drill(0.3, DrillFixtures(true, true, false, false, k, nullptr), 2.5, 3);
-    doc["accuracyAgainstStiffness"].push_back({{"stiffnessNPerMm", k}, {"execution", Json(g)}});
-    kEntry.X.push_back(k), kEntry.Y.push_back(g.Entry), kTip.X.push_back(k), kTip.Y.push_back(g.Tip);
-    kAngle.X.push_back(k), kAngle.Y.push_back(g.Angle);
-  }
-  Chart("guidance_accuracy_vs_stiffness.png", "Accuracy against axis guidance stiffness (seed 3)", "stiffness (N/mm)",
-        "offset (mm) / angle (deg)", {kEntry, kTip, kAngle});
-  rp::bench::Series tEntry{"entry", {}, {}}, tTip{"tip", {}, {}}, tDepth{"depth overshoot", {}, {}};
-  for (double speed : {1.0, 2.0, 5.0, 10.0}) {
-    const Execution g = Drill(0.3, DrillFixtures(true, true, false, false, 0, nullptr), speed, 3);
-    doc["accuracyAgainstSpeed"].push_back({{"speedMmPerS", speed}, {"execution", Json(g)}});
-    tEntry.X.push_back(g.Seconds), tEntry.Y.push_back(g.Entry), tTip.X.push_back(g.Seconds), tTip.Y.push_back(g.Tip);
-    tDepth.X.push_back(g.Seconds), tDepth.Y.push_back(std::max(0.0, g.Depth));
-  }
-  Chart("guidance_accuracy_vs_time.png", "Accuracy against drilling time (axis guidance + depth stop)", "drilling time (s)",
-        "mm", {tEntry, tTip, tDepth});
-
-  rp::bench::FinishConditions(rp::bench::OutputDirectory(), "rpGuidanceBenchmark");
-  doc["conditions"] = nlohmann::json::parse(rp::bench::ConditionsJson());
-  std::ofstream(rp::bench::OutputDirectory() + "/guidance_benchmark.json") << doc.dump(2) << "\n";
-  std::cout << doc.dump(2) << "\n";
+  rp::bench::WriteCSV(dir + "/guidance_accuracy.csv",
+                      {"seed", "guided", "entryOffsetMm", "tipOffsetMm", "angleDeg", "depthErrorMm", "drillSeconds"},
+                      f.Accuracy, error);
+  rp::bench::FinishConditions(dir, "rpGuidanceBenchmark");
+  rp::bench::WriteFiguresJSON(dir + "/guidance_benchmark.json", f.Doc, error);
+  std::cout << f.Doc.dump(2) << "\n";
   benchmark::Shutdown();
   return 0;
 }

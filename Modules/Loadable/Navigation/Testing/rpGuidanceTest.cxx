@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <nlohmann/json.hpp>
+#include <vtkNew.h>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -16,7 +18,13 @@
 #include "rpExecutionPath.h"
 #include "rpExecutionScore.h"
 #include "rpGuidanceReadout.h"
+#include "rpNodeStorage.h"
+#include "rpScoreCommand.h"
 #include "rpSharedData.h"
+#include "vtkRPLinearTransformNode.h"
+#include "vtkRPNavigationLogic.h"
+#include "vtkRPScene.h"
+#include "vtkRPTrajectoryNode.h"
 
 namespace {
 
@@ -204,6 +212,91 @@ TEST(ExecutionPath, PlusRecordingScoredThroughItsStylusTipAgainstAPlan) {
   double deepest = -1e300;
   for (const auto& p : expected) deepest = std::max(deepest, (Eigen::Vector3d(p.x, p.y, p.z) - entry).dot(n));
   EXPECT_NEAR(score.DepthErrorMm, deepest - (target - entry).norm(), 1e-6);
+}
+
+// The navigation logic reads a moving tool out against the chosen trajectory on every move: a tip
+// 3, 4 mm off a plan running down −S, pointing along it, is 5 mm off at the entry and laterally,
+// 0°, and 40 mm short of a target 50 mm deep; tilted 30° about A its axis crosses the entry plane
+// 10·tan 30° farther along R.
+TEST(NavigationLogic, ReadsTheToolOutAgainstThePlannedTrajectoryWhenItMoves) {
+  vtkNew<vtkRPScene> scene;
+  vtkNew<vtkRPTrajectoryNode> trajectory;
+  const double entry[3] = {0, 0, 0}, target[3] = {0, 0, -50};
+  trajectory->SetEntryAndTarget(entry, target);
+  scene->AddNode(trajectory);
+  vtkNew<vtkRPLinearTransformNode> tip;
+  scene->AddNode(tip);
+  vtkNew<vtkRPNavigationLogic> logic;
+  logic->SetScene(scene);
+  logic->SetToolNodeID(tip->GetID());
+  logic->SetTrajectoryNodeID(trajectory->GetID());
+  const double shifted[16] = {1, 0, 0, 3, 0, 1, 0, 4, 0, 0, 1, -10, 0, 0, 0, 1};
+  tip->SetMatrixTransformToParent(shifted);
+  const rp::GuidanceReadout& r = logic->GetLastReadout();
+  ASSERT_TRUE(r.Valid);
+  EXPECT_NEAR(r.EntryErrorMm, 5, 1e-9);
+  EXPECT_NEAR(r.LateralMm, 5, 1e-9);
+  EXPECT_NEAR(r.AngleDeg, 0, 1e-9);
+  EXPECT_NEAR(r.DepthToTargetMm, 40, 1e-9);
+  EXPECT_EQ(tip->GetAttribute("Navigation.Guidance"), rp::ReadoutString(r));
+  // Tilted 30° about A (the tool's −z leans towards −R at depth): back along the tool's axis to S = 0.
+  const double c = std::cos(M_PI / 6), sn = std::sin(M_PI / 6);
+  const double tilted[16] = {c, 0, sn, 0, 0, 1, 0, 0, -sn, 0, c, -10, 0, 0, 0, 1};
+  tip->SetMatrixTransformToParent(tilted);
+  EXPECT_NEAR(logic->GetLastReadout().AngleDeg, 30, 1e-9);
+  EXPECT_NEAR(logic->GetLastReadout().EntryErrorMm, 10 * std::tan(M_PI / 6), 1e-9);
+  logic->SetTrajectoryNodeID("");
+  logic->Update();
+  EXPECT_FALSE(logic->GetLastReadout().Valid);
+  EXPECT_EQ(tip->GetAttribute("Navigation.Guidance"), "");
+}
+
+// `roboplan score` on a plan file and a CSV path it has never seen: a line offset 1 mm from the
+// planned entry and tilted 2° gives, in closed form, entry offset 1, tip offset 1 + L·tan 2°,
+// angle 2°, depth error (its length along the plan) − L, largest deviation at its deepest point.
+TEST(ScoreCommand, ACsvPathOffsetAndTiltedGivesTheClosedFormsInJson) {
+  const double length = 40, theta = 2 * M_PI / 180, run = 42;
+  vtkNew<vtkRPTrajectoryNode> trajectory;
+  const double entry[3] = {10, 20, 30}, target[3] = {10, 20, 30 - length};
+  trajectory->SetEntryAndTarget(entry, target);
+  trajectory->SetToolDiameterMm(3);
+  trajectory->SetName("tunnel");
+  const std::string plan = (std::filesystem::temp_directory_path() / "rpGuidanceTest-plan.mrk.json").string();
+  std::string error;
+  const rp::NodeStorage* storage = rp::FindNodeStorageForFile(plan);
+  ASSERT_TRUE(storage && storage->Write(trajectory, plan, error)) << error;
+  std::ostringstream csv;
+  csv.precision(17);
+  csv << "R,A,S\n";
+  for (double s = 0; s <= run + 1e-9; s += 0.25)
+    csv << 10 + 1 + s * std::sin(theta) << "," << 20 << "," << 30 - s * std::cos(theta) << "\n";
+  const std::string path = TempFile("tilted.csv", csv.str());
+  const std::string table = (std::filesystem::temp_directory_path() / "rpGuidanceTest-deviation.csv").string();
+  std::ostringstream out, err;
+  ASSERT_EQ(rp::RunScoreCommand({"--plan", plan, "--path", path, "--csv", table, "--json"}, out, err), 0) << err.str();
+  const nlohmann::json doc = nlohmann::json::parse(out.str());
+  EXPECT_NEAR(doc["entryOffsetMm"].get<double>(), 1, 1e-6);
+  EXPECT_NEAR(doc["tipOffsetMm"].get<double>(), 1 + length * std::tan(theta), 1e-6);
+  EXPECT_NEAR(doc["angleDeg"].get<double>(), 2, 1e-6);
+  EXPECT_NEAR(doc["depthErrorMm"].get<double>(), run * std::cos(theta) - length, 1e-6);
+  EXPECT_NEAR(doc["maxDeviationMm"].get<double>(), 1 + run * std::sin(theta), 1e-6);
+  EXPECT_EQ(doc["plan"]["trajectory"], "tunnel");
+  EXPECT_EQ(doc["path"]["kind"], "csv");
+  EXPECT_TRUE(doc["outsideVolumeMm3"].is_null());  // a tip (no radius): no swept volume
+  EXPECT_TRUE(std::filesystem::exists(table));
+
+  // With a tool radius the swept volume is measured; bad input names the file and the problem.
+  out.str("");
+  ASSERT_EQ(rp::RunScoreCommand({"--plan", plan, "--path", path, "--tool-radius", "1.5", "--json"}, out, err), 0) << err.str();
+  EXPECT_GT(nlohmann::json::parse(out.str())["outsideVolumeMm3"].get<double>(), 0);
+  std::ostringstream err2;
+  EXPECT_EQ(rp::RunScoreCommand({"--plan", plan, "--path", "/nonexistent/path.csv"}, out, err2), 1);
+  EXPECT_NE(err2.str().find("/nonexistent/path.csv"), std::string::npos) << err2.str();
+  std::ostringstream err3;
+  EXPECT_EQ(rp::RunScoreCommand({"--plan", path, "--path", path}, out, err3), 1);
+  EXPECT_NE(err3.str().find("--plan"), std::string::npos) << err3.str();
+  std::ostringstream err4;
+  EXPECT_EQ(rp::RunScoreCommand({"--plan", plan}, out, err4), 2);
 }
 
 }  // namespace
