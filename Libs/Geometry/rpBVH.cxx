@@ -110,6 +110,7 @@ void RadixSortByCode(std::vector<std::pair<uint64_t, uint32_t>>& keys) {
 void BVH::Build(const TriangleMesh& mesh, int leafSize) {
   this->Nodes.clear();
   this->Tris.clear();
+  this->Balls.clear();
   auto corners = [&](uint32_t i, Vec3& a, Vec3& b, Vec3& c) {
     const auto& t = mesh.Triangles[i];
     a = mesh.Points[static_cast<size_t>(t[0])], b = mesh.Points[static_cast<size_t>(t[1])],
@@ -152,6 +153,8 @@ void BVH::Build(const TriangleMesh& mesh, int leafSize) {
     tri.Normal = Cross(tri.B - tri.A, tri.C - tri.A);
     tri.Source = i;
     this->Tris.push_back(tri);
+    const Vec3 centroid = (tri.A + tri.B + tri.C) / 3.0;
+    this->Balls.push_back({centroid, std::sqrt(std::max({Norm2(tri.A - centroid), Norm2(tri.B - centroid), Norm2(tri.C - centroid)}))});
     codes.push_back(code);
   }
   leafSize = std::max(1, leafSize);
@@ -344,11 +347,55 @@ double SegmentCrossesTriangle(const Vec3& p0, const Vec3& p1, const Vec3& a, con
   return t >= 0 && t <= 1 ? t : -1;
 }
 
+// The squared distance between the segment a + t d (t in [0,1]) and a box, exactly: it is a
+// convex piecewise quadratic in t whose pieces change where the segment crosses a face's plane;
+// each piece's minimum is its vertex or an end of the piece.
+double SegmentBoxDistance2(const Vec3& a, const Vec3& d, const Vec3& lo, const Vec3& hi) noexcept {
+  double breaks[8];
+  int n = 0;
+  breaks[n++] = 0;
+  breaks[n++] = 1;
+  for (int i = 0; i < 3; ++i) {
+    if (d[i] == 0) continue;
+    for (const double face : {lo[i], hi[i]}) {
+      const double t = (face - a[i]) / d[i];
+      if (t > 0 && t < 1) breaks[n++] = t;
+    }
+  }
+  for (int i = 1; i < n; ++i)  // insertion sort of at most 8 (std::sort trips GCC 12's bounds warning here)
+    for (int j = i; j > 0 && breaks[j - 1] > breaks[j]; --j) std::swap(breaks[j - 1], breaks[j]);
+  auto at = [&](double t) {
+    double f = 0;
+    for (int i = 0; i < 3; ++i) {
+      const double x = a[i] + d[i] * t;
+      if (x < lo[i]) f += (lo[i] - x) * (lo[i] - x);
+      else if (x > hi[i]) f += (x - hi[i]) * (x - hi[i]);
+    }
+    return f;
+  };
+  double best = at(0);
+  for (int k = 0; k + 1 < n; ++k) {
+    const double t0 = breaks[k], t1 = breaks[k + 1], mid = 0.5 * (t0 + t1);
+    // On this piece each axis is below, inside or above its slab: f = sum (a_i + d_i t - face_i)^2.
+    double qa = 0, qb = 0;
+    for (int i = 0; i < 3; ++i) {
+      const double x = a[i] + d[i] * mid;
+      const double face = x < lo[i] ? lo[i] : (x > hi[i] ? hi[i] : std::nan(""));
+      if (std::isnan(face)) continue;
+      qa += d[i] * d[i];
+      qb += 2 * d[i] * (a[i] - face);
+    }
+    const double t = qa > 0 ? std::clamp(-qb / (2 * qa), t0, t1) : t1;
+    best = std::min({best, at(t), at(t1)});
+  }
+  return best;
+}
+
 // A lower bound of the squared distance between the segment and a box: the larger of the gap
 // between the box and the segment's own box, and the distance from the box's centre to the
-// segment less its half-diagonal.
+// segment less its half-diagonal; when neither prunes, the exact distance.
 inline double SegmentBoxLowerBound2(const Vec3& a, const Vec3& d, double invLength2, const Vec3& segLo,
-                                    const Vec3& segHi, const Vec3& lo, const Vec3& hi) noexcept {
+                                    const Vec3& segHi, const Vec3& lo, const Vec3& hi, double best2) noexcept {
   double gap2 = 0;
   for (int i = 0; i < 3; ++i) {
     const double g = std::max(lo[i] - segHi[i], segLo[i] - hi[i]);
@@ -357,7 +404,8 @@ inline double SegmentBoxLowerBound2(const Vec3& a, const Vec3& d, double invLeng
   const Vec3 center = (lo + hi) * 0.5;
   const double t = std::clamp(Dot(center - a, d) * invLength2, 0.0, 1.0);
   const double fromCenter = Norm(center - (a + d * t)) - 0.5 * Norm(hi - lo);
-  return fromCenter > 0 ? std::max(gap2, fromCenter * fromCenter) : gap2;
+  const double cheap = fromCenter > 0 ? std::max(gap2, fromCenter * fromCenter) : gap2;
+  return cheap > best2 ? cheap : SegmentBoxDistance2(a, d, lo, hi);
 }
 
 }  // namespace
@@ -393,8 +441,31 @@ bool BVH::ClosestToSegment(const Vec3& a, const Vec3& b, double maxDistance, Seg
   if (this->Nodes.empty()) return false;
   double best2 = std::isfinite(maxDistance) ? maxDistance * maxDistance : std::numeric_limits<double>::infinity();
   bool found = false;
+  const Vec3 d = b - a, segLo = Min(a, b), segHi = Max(a, b);
+  const double length2 = Norm2(d), invLength2 = length2 > 0 ? 1.0 / length2 : 0.0;
   auto test = [&](uint32_t i) {
+    // Two cheap lower bounds first. The triangle's ball: farther than the best by its radius, the
+    // triangle is too.
+    const Ball& ball = this->Balls[i];
+    const Vec3 toCenter = ball.Center - a;
+    const double along = Dot(toCenter, d) * invLength2;
+    const Vec3 across = toCenter - d * along;  // the centroid seen down the segment's line
+    const double fromCenter = Norm(ball.Center - (a + d * std::clamp(along, 0.0, 1.0))) - ball.Radius;
+    if (fromCenter > 0 && fromCenter * fromCenter > best2) return;
+    // Down the line: the triangle is convex, so no point of it is nearer the line than its
+    // corners' least extent towards the line (a triangle facing the segment, as the ones nearest
+    // it on a smooth surface do, has almost none): a bound on the distance to the segment too.
     const Tri& tri = this->Tris[i];
+    const double acrossLength = Norm(across);
+    if (acrossLength > 0) {
+      const Vec3 w = across / acrossLength;
+      double nearest = acrossLength;
+      for (const Vec3* corner : {&tri.A, &tri.B, &tri.C}) {
+        const Vec3 c = *corner - a;
+        nearest = std::min(nearest, Dot(c - d * (Dot(c, d) * invLength2), w));
+      }
+      if (nearest > 0 && nearest * nearest > best2) return;
+    }
     Vec3 onSegment, onTriangle;
     double t;
     const double d2 = SegmentTriangleDistance2(a, b, tri.A, tri.B, tri.C, onSegment, onTriangle, t);
@@ -405,17 +476,17 @@ bool BVH::ClosestToSegment(const Vec3& a, const Vec3& b, double maxDistance, Seg
     hit.Triangle = tri.Source, hit.Leaf = i;
   };
   if (warmLeaf && *warmLeaf < this->Tris.size()) test(*warmLeaf);
-  const Vec3 d = b - a, segLo = Min(a, b), segHi = Max(a, b);
-  const double length2 = Norm2(d), invLength2 = length2 > 0 ? 1.0 / length2 : 0.0;
-  auto bound = [&](const Node& node) { return SegmentBoxLowerBound2(a, d, invLength2, segLo, segHi, node.Lo, node.Hi); };
-  uint32_t stack[MaxDepth];
+  auto bound = [&](const Node& node) { return SegmentBoxLowerBound2(a, d, invLength2, segLo, segHi, node.Lo, node.Hi, best2); };
+  // The stack keeps each node's bound, computed once (the exact box distance is not free).
+  std::pair<uint32_t, double> stack[MaxDepth];
   int top = 0;
-  if (bound(this->Nodes[0]) > best2) return found;
-  stack[top++] = 0;
+  const double rootBound = bound(this->Nodes[0]);
+  if (rootBound > best2) return found;
+  stack[top++] = {0, rootBound};
   while (top > 0 && !(found && best2 == 0)) {  // a crossing cannot be beaten
-    const uint32_t index = stack[--top];
+    const auto [index, nodeBound] = stack[--top];
+    if (nodeBound > best2) continue;
     const Node& node = this->Nodes[index];
-    if (bound(node) > best2) continue;
     if (node.Count > 0) {
       for (uint32_t i = node.First; i < node.First + node.Count; ++i) test(i);
       continue;
@@ -423,11 +494,11 @@ bool BVH::ClosestToSegment(const Vec3& a, const Vec3& b, double maxDistance, Seg
     const uint32_t left = index + 1, right = node.First;
     const double dl = bound(this->Nodes[left]), dr = bound(this->Nodes[right]);
     if (dl <= dr) {  // the nearer child last, so it is visited first
-      if (dr <= best2) stack[top++] = right;
-      if (dl <= best2) stack[top++] = left;
+      if (dr <= best2) stack[top++] = {right, dr};
+      if (dl <= best2) stack[top++] = {left, dl};
     } else {
-      if (dl <= best2) stack[top++] = left;
-      if (dr <= best2) stack[top++] = right;
+      if (dl <= best2) stack[top++] = {left, dl};
+      if (dr <= best2) stack[top++] = {right, dr};
     }
   }
   return found;

@@ -83,6 +83,13 @@ class BVH {
 
   std::vector<Node> Nodes;
   std::vector<Tri> Tris;  // in leaf order
+  // Per triangle (leaf order), for the segment query only (kept apart so the point query's data
+  // stays as compact): the centroid and the distance from it to the farthest corner.
+  struct Ball {
+    Vec3 Center;
+    double Radius = 0;
+  };
+  std::vector<Ball> Balls;
 };
 
 }  // namespace rp

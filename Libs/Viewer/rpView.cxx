@@ -24,10 +24,11 @@
 #include "rpOrientationMarker.h"
 #include "vtkRPCachedRenderPass.h"
 #include "vtkRPFiducialDisplayableManager.h"
+#include "vtkRPImageNode.h"
 #include "vtkRPModelDisplayableManager.h"
 #include "vtkRPModelNode.h"
 #include "vtkRPModelSliceDisplayableManager.h"
-#include "vtkRPImageNode.h"
+#include "vtkRPPlanDisplayableManager.h"
 #include "vtkRPScene.h"
 #include "vtkRPSliceLogic.h"
 #include "vtkRPSliceNode.h"
@@ -102,6 +103,7 @@ View::View(ViewKind kind, vtkRPScene* scene, vtkRPViewState* state, const SliceV
     this->Managers.push_back(vtkSmartPointer<vtkRPModelDisplayableManager>::New());
     this->Marker = std::make_unique<OrientationMarker>(this->Renderer);
   }
+  this->Managers.push_back(vtkSmartPointer<vtkRPPlanDisplayableManager>::New());
   this->Managers.push_back(vtkSmartPointer<vtkRPFiducialDisplayableManager>::New());
   this->Managers.push_back(vtkSmartPointer<vtkRPToolDisplayableManager>::New());
 

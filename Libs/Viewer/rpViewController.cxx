@@ -16,6 +16,7 @@
 
 #include "rpView.h"
 #include "vtkRPFiducialListNode.h"
+#include "vtkRPPlanNode.h"
 #include "vtkRPLayoutNode.h"
 #include "vtkRPModelNode.h"
 #include "vtkRPScalarVolumeNode.h"
@@ -184,6 +185,10 @@ void ViewController::OnNodeAdded(vtkObject* object) {
     if (this->AssignDefaultLayers()) this->ResetViews();
   } else if (!this->Has3DContent && IsVisibleModel(vtkRPNode::SafeDownCast(object))) {
     this->ResetCameras3D();  // the first model: frame it
+  } else if (auto* plan = vtkRPPlanNode::SafeDownCast(object); plan && plan->GetNumberOfControlPoints() == 0) {
+    // A new, empty plan (the Planning panel's "New trajectory"): the next clicks place its points.
+    this->State->SetActiveFiducialListID(plan->GetID());
+    this->State->SetInteractionMode(vtkRPViewState::ModePlaceFiducial);
   }
 }
 
@@ -322,12 +327,17 @@ bool ViewController::ClickInSliceView(ViewKind kind, double x, double y) {
 
 bool ViewController::ClickIn3DView(double x, double y) {
   if (this->State->GetInteractionMode() != vtkRPViewState::ModePlaceFiducial) return false;
+  double ras[3];
+  return this->PickIn3D(x, y, ras) && this->PlaceFiducial(ras) != nullptr;
+}
+
+bool ViewController::PickIn3D(double x, double y, double ras[3]) const {
   View* view = this->GetView(ViewKind::ThreeD);
   // Models are in layer 0, the slices in layer 1: the hit nearest the camera wins.
   double camera[3];
   view->GetRenderer()->GetActiveCamera()->GetPosition(camera);
   bool hit = false;
-  double ras[3], nearest = 0;
+  double nearest = 0;
   for (vtkRenderer* layer : {view->GetRenderer(), view->GetOverlayRenderer()}) {
     vtkNew<vtkCellPicker> picker;
     picker->SetTolerance(0.0005);
@@ -341,27 +351,73 @@ bool ViewController::ClickIn3DView(double x, double y) {
       hit = true;
     }
   }
-  return hit && this->PlaceFiducial(ras) != nullptr;
+  return hit;
 }
 
-vtkRPFiducialListNode* ViewController::PlaceFiducial(const double ras[3]) {
+bool ViewController::FindControlPointIn3D(double x, double y, double pixels, std::string& nodeID, int& index) const {
+  if (!this->Scene) return false;
+  View* view = this->GetView(ViewKind::ThreeD);
+  double best = pixels * pixels;
+  bool found = false;
+  for (vtkRPNode* node : this->Scene->GetNodesByClass("vtkRPMarkupsNode")) {
+    auto* markups = vtkRPMarkupsNode::SafeDownCast(node);
+    for (int i = 0; i < markups->GetNumberOfControlPoints(); ++i) {
+      if (!markups->GetNthControlPoint(i).Visible || markups->GetNthControlPoint(i).Locked) continue;
+      double world[3], display[2];
+      markups->GetNthControlPointPositionWorld(i, world);
+      view->RASToDisplay(world, display);
+      const double d2 = (display[0] - x) * (display[0] - x) + (display[1] - y) * (display[1] - y);
+      if (d2 <= best) best = d2, nodeID = node->GetID(), index = i, found = true;
+    }
+  }
+  return found;
+}
+
+bool ViewController::DragControlPointIn3D(const std::string& nodeID, int index, double x, double y) {
+  double ras[3];
+  // Onto the model or slice under the cursor; over empty space, in the plane through the point
+  // facing the camera.
+  if (!this->PickIn3D(x, y, ras)) {
+    auto* markups = this->Scene ? vtkRPMarkupsNode::SafeDownCast(this->Scene->GetNodeByID(nodeID)) : nullptr;
+    if (!markups || index < 0 || index >= markups->GetNumberOfControlPoints()) return false;
+    double world[3], display[3];
+    markups->GetNthControlPointPositionWorld(index, world);
+    vtkRenderer* renderer = this->GetView(ViewKind::ThreeD)->GetRenderer();
+    renderer->SetWorldPoint(world[0], world[1], world[2], 1.0);
+    renderer->WorldToDisplay();
+    renderer->GetDisplayPoint(display);
+    renderer->SetDisplayPoint(x, y, display[2]);
+    renderer->DisplayToWorld();
+    double out[4];
+    renderer->GetWorldPoint(out);
+    if (out[3] == 0) return false;
+    for (int i = 0; i < 3; ++i) ras[i] = out[i] / out[3];
+  }
+  return this->MoveFiducial(nodeID, index, ras);
+}
+
+vtkRPMarkupsNode* ViewController::PlaceFiducial(const double ras[3]) {
   if (!this->Scene) return nullptr;
-  auto* list = vtkRPFiducialListNode::SafeDownCast(this->Scene->GetNodeByID(this->State->GetActiveFiducialListID()));
-  if (!list) {
+  auto* markups = vtkRPMarkupsNode::SafeDownCast(this->Scene->GetNodeByID(this->State->GetActiveFiducialListID()));
+  if (!markups) {
     vtkNew<vtkRPFiducialListNode> created;
     created->SetName("F");
     this->Scene->AddNode(created);
-    list = created;
+    markups = created;
     this->State->SetActiveFiducialListID(created->GetID());
   }
-  // The point is given in world RAS; the list stores it in its own frame.
+  // The point is given in world RAS; the node stores it in its own frame.
   vtkNew<vtkMatrix4x4> toWorld, fromWorld;
-  list->GetMatrixTransformToWorld(toWorld);
+  markups->GetMatrixTransformToWorld(toWorld);
   vtkMatrix4x4::Invert(toWorld, fromWorld);
   double in[4] = {ras[0], ras[1], ras[2], 1.0}, local[4];
   fromWorld->MultiplyPoint(in, local);
-  list->AddControlPoint(local);
-  return list;
+  if (markups->AddControlPoint(local) < 0) return nullptr;  // a full line or plane: drag its points instead
+  // A plan placed in full (a trajectory's entry and target, a plane's origin): back to navigating.
+  const int most = markups->GetMaximumNumberOfControlPoints();
+  if (markups->IsA("vtkRPPlanNode") && most >= 0 && markups->GetNumberOfControlPoints() >= most)
+    this->State->SetInteractionMode(vtkRPViewState::ModeNavigate);
+  return markups;
 }
 
 bool ViewController::FindFiducialAt(ViewKind kind, double x, double y, double pixels, std::string& listID,
@@ -375,8 +431,8 @@ bool ViewController::FindFiducialAt(ViewKind kind, double x, double y, double pi
   const double tolerance = 0.5 * view->GetSliceStep() + 1e-6;  // as the fiducial manager draws them
   double best = pixels * pixels;
   bool found = false;
-  for (vtkRPNode* node : this->Scene->GetNodesByClass("vtkRPFiducialListNode")) {
-    auto* list = vtkRPFiducialListNode::SafeDownCast(node);
+  for (vtkRPNode* node : this->Scene->GetNodesByClass("vtkRPMarkupsNode")) {
+    auto* list = vtkRPMarkupsNode::SafeDownCast(node);
     for (int i = 0; i < list->GetNumberOfControlPoints(); ++i) {
       if (!list->GetNthControlPoint(i).Visible) continue;
       double world[3], display[2];
@@ -396,14 +452,9 @@ bool ViewController::FindFiducialAt(ViewKind kind, double x, double y, double pi
 }
 
 bool ViewController::MoveFiducial(const std::string& listID, int index, const double ras[3]) {
-  auto* list = this->Scene ? vtkRPFiducialListNode::SafeDownCast(this->Scene->GetNodeByID(listID)) : nullptr;
+  auto* list = this->Scene ? vtkRPMarkupsNode::SafeDownCast(this->Scene->GetNodeByID(listID)) : nullptr;
   if (!list || index < 0 || index >= list->GetNumberOfControlPoints()) return false;
-  vtkNew<vtkMatrix4x4> toWorld, fromWorld;
-  list->GetMatrixTransformToWorld(toWorld);
-  vtkMatrix4x4::Invert(toWorld, fromWorld);
-  double in[4] = {ras[0], ras[1], ras[2], 1.0}, local[4];
-  fromWorld->MultiplyPoint(in, local);
-  return list->SetNthControlPointPosition(index, local);
+  return list->SetNthControlPointPositionWorld(index, ras);
 }
 
 void ViewController::AdjustWindowLevel(double dx, double dy) {

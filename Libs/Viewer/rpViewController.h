@@ -21,6 +21,7 @@
 
 class vtkCallbackCommand;
 class vtkRPFiducialListNode;
+class vtkRPMarkupsNode;
 class vtkRPLayoutNode;
 class vtkRPScalarVolumeNode;
 class vtkRPSliceLogic;
@@ -80,11 +81,20 @@ class ViewController {
   /// A click at a display pixel of the 3D view in ModePlaceFiducial: adds a fiducial where the
   /// pixel's ray first hits a model or a slice. Returns false when nothing was hit (or not placing).
   bool ClickIn3DView(double x, double y);
-  /// Adds a point to the active fiducial list (created, and made active, when missing).
-  vtkRPFiducialListNode* PlaceFiducial(const double ras[3]);
+  /// Adds a point to the active markups node: a fiducial list (created, and made active, when
+  /// missing) or a plan (a new plan is made active: a trajectory's entry then target, a plane's
+  /// origin; placing its last point ends the placing). Null when the node holds its points already.
+  vtkRPMarkupsNode* PlaceFiducial(const double ras[3]);
 
-  /// The fiducial drawn nearest a display pixel of a slice view, within `pixels`; false if none.
+  /// The control point (of any markups node: fiducials, a trajectory's ends, a plane's origin)
+  /// drawn nearest a display pixel of a slice view, within `pixels`; false if none.
   bool FindFiducialAt(ViewKind kind, double x, double y, double pixels, std::string& listID, int& index) const;
+  /// The 3D view: the control point drawn nearest a display pixel (within `pixels`), and a drag
+  /// of it to where the pixel's ray meets a model or slice (else the plane facing the camera).
+  bool FindControlPointIn3D(double x, double y, double pixels, std::string& nodeID, int& index) const;
+  bool DragControlPointIn3D(const std::string& nodeID, int index, double x, double y);
+  /// Where the 3D view's pixel ray first meets a model or a slice.
+  bool PickIn3D(double x, double y, double ras[3]) const;
   /// Moves a control point to a world RAS position (refused for locked points).
   bool MoveFiducial(const std::string& listID, int index, const double ras[3]);
 

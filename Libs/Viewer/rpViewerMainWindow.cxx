@@ -17,6 +17,7 @@
 #include <QMessageBox>
 #include <QMimeData>
 #include <QSettings>
+#include <QSignalBlocker>
 #include <QSlider>
 #include <QStatusBar>
 #include <QToolBar>
@@ -92,6 +93,13 @@ ViewerMainWindow::ViewerMainWindow(ModuleManager* manager, vtkRPScene* scene, QW
 
   // Render at display rate, only what changed; the timer never waits on anything.
   connect(&this->RenderTimer, &QTimer::timeout, this, [this]() {
+    // The controller ends placing by itself (a plan placed in full, a new plan to place): the
+    // toolbar's button follows the view state.
+    const bool placing = this->Controller->GetViewState()->GetInteractionMode() == vtkRPViewState::ModePlaceFiducial;
+    if (this->PlaceFiducialAction && this->PlaceFiducialAction->isChecked() != placing) {
+      const QSignalBlocker blocker(this->PlaceFiducialAction);
+      this->PlaceFiducialAction->setChecked(placing);
+    }
     if (this->LayoutDirty) {
       this->LayoutDirty = false;
       this->ApplyLayout();
@@ -254,7 +262,9 @@ void ViewerMainWindow::BuildMenus() {
   this->PlaceFiducialAction = toolbar->addAction("Place fiducials");
   this->PlaceFiducialAction->setObjectName("placeFiducials");
   this->PlaceFiducialAction->setCheckable(true);
-  this->PlaceFiducialAction->setToolTip("Clicks in the slice views add points to the active fiducial list");
+  this->PlaceFiducialAction->setToolTip(
+      "Clicks in the views add points to the active fiducial list, or place a new plan's points (a trajectory's entry "
+      "then target)");
   connect(this->PlaceFiducialAction, &QAction::toggled, this, [this](bool on) {
     this->Controller->GetViewState()->SetInteractionMode(on ? vtkRPViewState::ModePlaceFiducial
                                                             : vtkRPViewState::ModeNavigate);

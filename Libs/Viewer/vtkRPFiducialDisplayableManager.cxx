@@ -26,7 +26,7 @@
 
 #include "rpLabelLayout.h"
 #include "rpView.h"
-#include "vtkRPFiducialListNode.h"
+#include "vtkRPMarkupsNode.h"
 #include "vtkRPSliceNode.h"
 
 vtkStandardNewMacro(vtkRPFiducialDisplayableManager);
@@ -118,7 +118,7 @@ void vtkRPFiducialDisplayableManager::LayOutLabels() {
 }
 
 bool vtkRPFiducialDisplayableManager::CanDisplay(vtkRPNode* node) const {
-  return vtkRPFiducialListNode::SafeDownCast(node) != nullptr;
+  return vtkRPMarkupsNode::SafeDownCast(node) != nullptr;  // fiducials, trajectories' ends, planes' origins
 }
 
 int vtkRPFiducialDisplayableManager::GetNumberOfDrawnPoints(vtkRPNode* node) const {
@@ -150,7 +150,7 @@ void vtkRPFiducialDisplayableManager::RemoveDisplay(vtkRPNode* node) {
 }
 
 void vtkRPFiducialDisplayableManager::UpdateDisplay(vtkRPNode* node) {
-  auto* list = vtkRPFiducialListNode::SafeDownCast(node);
+  auto* list = vtkRPMarkupsNode::SafeDownCast(node);
   auto it = this->Displays.find(node);
   if (!list || it == this->Displays.end()) return;
   Display& display = *it->second;

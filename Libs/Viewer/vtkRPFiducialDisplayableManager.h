@@ -1,6 +1,7 @@
 #ifndef vtkRPFiducialDisplayableManager_h
 #define vtkRPFiducialDisplayableManager_h
-// Fiducial lists: a sphere per visible control point, with its label, in the list's colour.
+// Control points of every markups node (fiducial lists, a trajectory's entry and target, a cut
+// plane's origin): a sphere per visible point, with its label, in the node's colour.
 // In a slice view only points within half a slice step of the plane are drawn. Labels are
 // screen text drawn over everything, laid out each time the view renders so that none
 // overprints another (rp::PlaceLabels) and all stay inside the view.

@@ -172,10 +172,32 @@ void vtkRPThreeDInteractorStyle::OnKeyPress() {
 
 void vtkRPThreeDInteractorStyle::OnLeftButtonDown() {
   if (this->Interactor) this->Interactor->GetEventPosition(this->Press);
+  // Pressing on a control point (a fiducial, a trajectory's entry or target) grabs it.
+  this->Dragging = this->Controller && this->Controller->FindControlPointIn3D(this->Press[0], this->Press[1], FiducialGrabPixels,
+                                                                           this->DraggedNodeID, this->DraggedIndex);
+  if (this->Dragging) {
+    this->GrabFocus(this->EventCallbackCommand);
+    return;
+  }
   this->Superclass::OnLeftButtonDown();
 }
 
+void vtkRPThreeDInteractorStyle::OnMouseMove() {
+  if (!this->Dragging || !this->Interactor || !this->Controller) {
+    this->Superclass::OnMouseMove();
+    return;
+  }
+  int position[2];
+  this->Interactor->GetEventPosition(position);
+  this->Controller->DragControlPointIn3D(this->DraggedNodeID, this->DraggedIndex, position[0], position[1]);
+}
+
 void vtkRPThreeDInteractorStyle::OnLeftButtonUp() {
+  if (this->Dragging) {
+    this->Dragging = false;
+    this->ReleaseFocus();
+    return;
+  }
   this->Superclass::OnLeftButtonUp();
   if (!this->Interactor || !this->Controller) return;
   int position[2];

@@ -2,14 +2,14 @@
 #define vtkRPSliceInteractorStyle_h
 // Mouse and keys in a slice view (and the 3D view's keys):
 //   left click            set the slice point (other views follow) / place a fiducial
-//   left drag on a fiducial   move it
+//   left drag on a fiducial   move it (any control point: a trajectory's entry or target too)
 //   left drag             window/level (right = wider window, up = higher level)
 //   wheel, Up/Down, PgUp/PgDn   move the slice by one step
 //   right drag, Ctrl+wheel      zoom;   middle drag, Shift+left drag   pan
 //   +/-                   zoom in/out
 //   r                     reset the view;  1/2/3  CT bone / CT soft tissue / MR presets
 // 3D view: trackball mouse; arrow keys rotate 5°, +/- zoom, r resets; click places a fiducial
-// on a model or slice in "place fiducials" mode.
+// on a model or slice in "place fiducials" mode; a drag from a control point moves it.
 #include <string>
 
 #include <vtkInteractorStyle.h>
@@ -71,9 +71,11 @@ class vtkRPThreeDInteractorStyle : public vtkInteractorStyleTrackballCamera {
   void SetController(rp::ViewController* controller) { this->Controller = controller; }
   void OnChar() override;
   void OnKeyPress() override;
-  /// In "place fiducials" mode a click (no drag) places a point on the model or slice under it.
+  /// In "place fiducials" mode a click (no drag) places a point on the model or slice under it;
+  /// a press on a control point drags it over the models and slices.
   void OnLeftButtonDown() override;
   void OnLeftButtonUp() override;
+  void OnMouseMove() override;
 
  protected:
   vtkRPThreeDInteractorStyle() = default;
@@ -84,6 +86,9 @@ class vtkRPThreeDInteractorStyle : public vtkInteractorStyleTrackballCamera {
   void operator=(const vtkRPThreeDInteractorStyle&) = delete;
   rp::ViewController* Controller = nullptr;
   int Press[2] = {0, 0};
+  bool Dragging = false;
+  std::string DraggedNodeID;
+  int DraggedIndex = -1;
 };
 
 #endif

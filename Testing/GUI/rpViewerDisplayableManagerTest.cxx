@@ -34,6 +34,8 @@
 #include "rpViewerTestScene.h"
 #include "rpXDisplay.h"
 #include "vtkRPCachedRenderPass.h"
+#include "vtkRPPlanDisplayableManager.h"
+#include "vtkRPTrajectoryNode.h"
 #include "vtkRPFiducialDisplayableManager.h"
 #include "vtkRPFiducialListNode.h"
 #include "vtkRPLinearTransformNode.h"
@@ -383,7 +385,7 @@ TEST(ViewerDisplayableManagers, FiducialsShowOnTheirSliceAndIn3D) {
   ViewController controller(scene);
   scene->AddNode(test::MakeVolume());
   const double onSlice[3] = {test::Center[0] + 5, test::Center[1] + 3, test::Center[2]};
-  vtkRPFiducialListNode* list = controller.PlaceFiducial(onSlice);
+  auto* list = vtkRPFiducialListNode::SafeDownCast(controller.PlaceFiducial(onSlice));
   ASSERT_NE(list, nullptr);
   EXPECT_EQ(list->GetNumberOfControlPoints(), 1);
   EXPECT_EQ(controller.GetViewState()->GetActiveFiducialListID(), list->GetID());
@@ -828,4 +830,80 @@ TEST(ViewerDisplayableManagers, EmptyVolumesShowNothingAndDoNotCrash) {
   scene->AddNode(test::MakeVolume());
   EXPECT_TRUE(axial->HasImage());
   EXPECT_NE(controller.GetBackgroundVolume(), empty.GetPointer());
+}
+
+// A plan is placed and dragged in the views: a new empty trajectory makes the next clicks in a
+// slice view its entry and target (then the views go back to navigating); the tool's cylinder is
+// drawn in 3D and its outline on the slice; a press on an end drags it in the slice view, and in
+// the 3D view onto the model under the cursor.
+TEST(ViewerDisplayableManagers, ATrajectoryIsPlacedByClicksAndItsEndsDraggedInSliceAnd3DViews) {
+  vtkNew<vtkRPScene> scene;
+  ViewController controller(scene);
+  scene->AddNode(test::MakeVolume());
+  auto model = test::MakeSphereModel();
+  scene->AddNode(model);
+  vtkNew<vtkRenderWindow> window;
+  window->SetOffScreenRendering(1);
+  window->SetSize(600, 300);
+  const double left[4] = {0, 0, 0.5, 1}, right[4] = {0.5, 0, 1, 1};
+  View* axial = controller.GetView(ViewKind::Axial);
+  View* threeD = controller.GetView(ViewKind::ThreeD);
+  axial->AttachToRenderWindow(window, left);
+  threeD->AttachToRenderWindow(window, right);
+  controller.ResetViews();
+  window->Render();
+
+  vtkNew<vtkRPTrajectoryNode> tunnel;
+  tunnel->SetToolDiameterMm(4);
+  scene->AddNode(tunnel);
+  EXPECT_EQ(controller.GetViewState()->GetInteractionMode(), vtkRPViewState::ModePlaceFiducial);
+  EXPECT_EQ(controller.GetViewState()->GetActiveFiducialListID(), tunnel->GetID());
+  const double entry[3] = {test::Center[0] - 20, test::Center[1], test::Center[2]},
+               target[3] = {test::Center[0] + 10, test::Center[1] + 5, test::Center[2]};
+  double display[2];
+  for (const double* point : {entry, target}) {
+    axial->RASToDisplay(point, display);
+    ASSERT_TRUE(controller.ClickInSliceView(ViewKind::Axial, display[0], display[1]));
+  }
+  ASSERT_TRUE(tunnel->IsComplete());
+  double placed[3];
+  tunnel->GetEntryWorld(placed);
+  EXPECT_LT(std::sqrt(vtkMath::Distance2BetweenPoints(placed, entry)), 1.0);
+  EXPECT_EQ(controller.GetViewState()->GetInteractionMode(), vtkRPViewState::ModeNavigate);  // placed in full
+  auto* plans3D = threeD->GetDisplayableManager<vtkRPPlanDisplayableManager>();
+  auto* plansAxial = axial->GetDisplayableManager<vtkRPPlanDisplayableManager>();
+  ASSERT_NE(plans3D->GetDrawnGeometry(tunnel), nullptr);
+  EXPECT_GT(plans3D->GetDrawnGeometry(tunnel)->GetNumberOfCells(), 24);  // the cylinder
+  ASSERT_NE(plansAxial->GetDrawnGeometry(tunnel), nullptr);  // its outline and projected axis
+  EXPECT_GT(plansAxial->GetDrawnGeometry(tunnel)->GetNumberOfLines(), 2);
+
+  // Drag the entry in the slice view.
+  axial->RASToDisplay(entry, display);
+  std::string id;
+  int index = -1;
+  ASSERT_TRUE(controller.FindFiducialAt(ViewKind::Axial, display[0], display[1], 6, id, index));
+  EXPECT_EQ(id, tunnel->GetID());
+  EXPECT_EQ(index, vtkRPTrajectoryNode::EntryIndex);
+  const double moved[3] = {entry[0], entry[1] + 8, entry[2]};
+  ASSERT_TRUE(controller.MoveFiducial(id, index, moved));
+  tunnel->GetEntryWorld(placed);
+  EXPECT_NEAR(placed[1], entry[1] + 8, 1e-9);
+
+  // Drag the target in 3D onto the model's surface facing the camera.
+  window->Render();
+  tunnel->GetTargetWorld(placed);
+  threeD->RASToDisplay(placed, display);
+  ASSERT_TRUE(controller.FindControlPointIn3D(display[0], display[1], 6, id, index));
+  EXPECT_EQ(index, vtkRPTrajectoryNode::TargetIndex);
+  double camera[3], towards[3], surface[3];
+  threeD->GetRenderer()->GetActiveCamera()->GetPosition(camera);
+  for (int a = 0; a < 3; ++a) towards[a] = camera[a] - test::ModelCenter[a];
+  vtkMath::Normalize(towards);
+  for (int a = 0; a < 3; ++a) surface[a] = test::ModelCenter[a] + test::SphereRadius * towards[a];
+  threeD->RASToDisplay(surface, display);
+  ASSERT_TRUE(controller.DragControlPointIn3D(id, index, display[0], display[1]));
+  tunnel->GetTargetWorld(placed);
+  EXPECT_NEAR(std::sqrt(vtkMath::Distance2BetweenPoints(placed, test::ModelCenter)), test::SphereRadius, 0.5);
+  axial->DetachFromRenderWindow();
+  threeD->DetachFromRenderWindow();
 }

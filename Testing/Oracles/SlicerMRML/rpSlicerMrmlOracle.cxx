@@ -5,6 +5,12 @@
 //   rpSlicerMrmlOracle write-mrb <out.mrb>     a scene written by vtkMRMLScene::WriteToMRB: a CT-like
 //       volume (analytic voxels), a labelmap, two models, fiducials under a linear transform under
 //       another transform, a segmentation with two segments, node attributes
+//   rpSlicerMrmlOracle write-plan <folder>    a plan as Slicer writes it: a markups line ("Tunnel", under a
+//       transform, with attributes), a point-normal plane ("Resection") and a 3-point plane
+//       ("ThreePoint"), each as its own .mrk.json (Slicer's JSON storage nodes) and all in
+//       <folder>/slicer-plan.mrb; prints the values they were built with
+//   rpSlicerMrmlOracle load-markups <file.mrk.json>   loads a markups file as Slicer's Markups module
+//       does (the storage class its type asks for, AddNewMarkupsNodeFromFile) and prints the node
 //   rpSlicerMrmlOracle dump <scene.mrml|.mrb>   loads with vtkMRMLScene::Connect / ReadFromMRB and
 //       prints JSON: the errors and warnings MRML logged (vtkOutputWindow and the message
 //       collection), and per node its class, ID, name, attributes, references, transforms (to
@@ -14,7 +20,7 @@
 // The scene is set up as Slicer's application logic does (BUILDING-ON-DEBIAN12.md): ITK's IO
 // factories, singleton selection and interaction nodes, slice orientation presets, a cache and
 // data IO manager, and the scene view, sequence and markups node classes registered. Exit code:
-// 0 on success, 1 when the scene could not be written or read, 2 on bad usage.
+// 0 on success, 1 when the scene or file could not be written or read, 2 on bad usage.
 #include <itkFactoryRegistration.h>
 
 #include <vtkBinaryLabelmapToClosedSurfaceConversionRule.h>
@@ -69,6 +75,7 @@
 #include <vtkImageData.h>
 #include <vtkLogger.h>
 #include <vtkMatrix4x4.h>
+#include <vtkVector.h>
 #include <vtkNew.h>
 #include <vtkOutputWindow.h>
 #include <vtkPointData.h>
@@ -480,6 +487,8 @@ json DumpTransformable(vtkMRMLTransformableNode* node, json& j) {
   return j;
 }
 
+json PlaneGeometry(vtkMRMLMarkupsPlaneNode* plane);
+
 json DumpNode(vtkMRMLNode* node) {
   json j = {{"class", node->GetClassName()}, {"id", node->GetID()}, {"name", node->GetName() ? node->GetName() : ""}};
   json attributes = json::object();
@@ -509,6 +518,8 @@ json DumpNode(vtkMRMLNode* node) {
   if (auto* volume = vtkMRMLVolumeNode::SafeDownCast(node)) DumpVolume(volume, j);
   if (auto* model = vtkMRMLModelNode::SafeDownCast(node)) DumpModel(model, j);
   if (auto* markups = vtkMRMLMarkupsNode::SafeDownCast(node)) DumpMarkups(markups, j);
+  if (auto* line = vtkMRMLMarkupsLineNode::SafeDownCast(node)) j["lineLengthWorld"] = line->GetLineLengthWorld();
+  if (auto* plane = vtkMRMLMarkupsPlaneNode::SafeDownCast(node)) j["plane"] = PlaneGeometry(plane);
   if (auto* seg = vtkMRMLSegmentationNode::SafeDownCast(node)) DumpSegmentation(seg, j);
   if (auto* slice = vtkMRMLSliceNode::SafeDownCast(node)) {
     j["orientation"] = slice->GetOrientation();
@@ -516,6 +527,114 @@ json DumpNode(vtkMRMLNode* node) {
   }
   if (auto* layout = vtkMRMLLayoutNode::SafeDownCast(node)) j["viewArrangement"] = layout->GetViewArrangement();
   return j;
+}
+
+// ---------------------------------------------------------------- write-plan: a known plan
+vtkMRMLMarkupsLineNode* AddLine(vtkMRMLScene* scene, vtkMRMLTransformNode* parent) {
+  auto* line = vtkMRMLMarkupsLineNode::SafeDownCast(scene->AddNewNodeByClass("vtkMRMLMarkupsLineNode", "Tunnel"));
+  line->AddControlPoint(vtkVector3d(10.5, -20.25, 30.125), "entry");
+  line->AddControlPoint(vtkVector3d(-5.0, 12.5, -8.75), "target");
+  line->CreateDefaultDisplayNodes();
+  line->GetDisplayNode()->SetSelectedColor(0.1, 0.7, 0.35);
+  line->SetAttribute("RoboPlan.toolDiameterMm", "4.5");
+  line->SetAttribute("RoboPlan.intendedTissue", "bone");
+  line->SetAttribute("Lab.Note", "planned in Slicer");
+  line->SetAndObserveTransformNodeID(parent->GetID());
+  return line;
+}
+
+vtkMRMLMarkupsPlaneNode* AddPointNormalPlane(vtkMRMLScene* scene) {
+  auto* plane = vtkMRMLMarkupsPlaneNode::SafeDownCast(scene->AddNewNodeByClass("vtkMRMLMarkupsPlaneNode", "Resection"));
+  plane->SetPlaneType(vtkMRMLMarkupsPlaneNode::PlaneTypePointNormal);
+  plane->SetSizeMode(vtkMRMLMarkupsPlaneNode::SizeModeAbsolute);
+  plane->AddControlPoint(vtkVector3d(3.0, -4.0, 25.0), "origin");
+  const double normal[3] = {0.2, -0.3, 0.9};
+  plane->SetNormal(normal);
+  plane->SetSize(80.0, 60.0);
+  plane->CreateDefaultDisplayNodes();
+  plane->GetDisplayNode()->SetSelectedColor(0.9, 0.5, 0.1);
+  plane->SetAttribute("Lab.Note", "tibial resection");
+  return plane;
+}
+
+vtkMRMLMarkupsPlaneNode* AddThreePointPlane(vtkMRMLScene* scene) {
+  auto* plane = vtkMRMLMarkupsPlaneNode::SafeDownCast(scene->AddNewNodeByClass("vtkMRMLMarkupsPlaneNode", "ThreePoint"));
+  plane->SetPlaneType(vtkMRMLMarkupsPlaneNode::PlaneType3Points);
+  plane->AddControlPoint(vtkVector3d(-10.0, 5.0, 40.0));
+  plane->AddControlPoint(vtkVector3d(20.0, 8.0, 42.0));
+  plane->AddControlPoint(vtkVector3d(-6.0, 30.0, 36.0));
+  plane->CreateDefaultDisplayNodes();
+  return plane;
+}
+
+/// Writes one markups node to its own .mrk.json with the storage class Slicer uses for it.
+bool WriteMarkupsFile(vtkMRMLScene* scene, vtkMRMLMarkupsNode* node, const std::string& path) {
+  vtkSmartPointer<vtkMRMLMarkupsJsonStorageNode> storage;
+  if (vtkMRMLMarkupsPlaneNode::SafeDownCast(node)) storage = vtkSmartPointer<vtkMRMLMarkupsPlaneJsonStorageNode>::New();
+  else storage = vtkSmartPointer<vtkMRMLMarkupsJsonStorageNode>::New();
+  scene->AddNode(storage);
+  storage->SetFileName(path.c_str());
+  const bool ok = storage->WriteData(node) != 0;
+  scene->RemoveNode(storage);
+  return ok;
+}
+
+json PlaneGeometry(vtkMRMLMarkupsPlaneNode* plane) {
+  double origin[3], normal[3], x[3], y[3], z[3], originWorld[3], normalWorld[3];
+  plane->GetOrigin(origin);
+  plane->GetNormal(normal);
+  plane->GetAxes(x, y, z);
+  plane->GetOriginWorld(originWorld);
+  plane->GetNormalWorld(normalWorld);
+  return {{"planeType", vtkMRMLMarkupsPlaneNode::GetPlaneTypeAsString(plane->GetPlaneType())},
+          {"origin", Vec(origin, 3)}, {"normal", Vec(normal, 3)}, {"xAxis", Vec(x, 3)},
+          {"originWorld", Vec(originWorld, 3)}, {"normalWorld", Vec(normalWorld, 3)},
+          {"size", Vec(plane->GetSize(), 2)}};
+}
+
+int WritePlan(const std::string& folder, const std::string& cacheDir, json& messages, json& written) {
+  vtkSmartPointer<vtkMRMLScene> scene = NewSlicerScene(cacheDir);
+  const double shift[3] = {2.0, -1.5, 4.0};
+  vtkMRMLLinearTransformNode* planToCt = AddTransform(scene, "PlanToCT", 15.0, 1, shift, nullptr);
+  vtkMRMLMarkupsLineNode* line = AddLine(scene, planToCt);
+  vtkMRMLMarkupsPlaneNode* plane = AddPointNormalPlane(scene);
+  vtkMRMLMarkupsPlaneNode* threePoint = AddThreePointPlane(scene);
+  vtksys::SystemTools::MakeDirectory(folder);
+  bool ok = WriteMarkupsFile(scene, line, folder + "/slicer-line.mrk.json") &&
+            WriteMarkupsFile(scene, plane, folder + "/slicer-plane.mrk.json") &&
+            WriteMarkupsFile(scene, threePoint, folder + "/slicer-plane-3points.mrk.json");
+  json threePointNode = DumpNode(threePoint);
+  // The bundle holds the line and the point-normal plane (RoboPlan's cut plane is point-normal:
+  // a 3-point plane is read as one, its three points become the origin).
+  scene->RemoveNode(threePoint);
+  vtkNew<vtkMRMLMessageCollection> userMessages;
+  ok = scene->WriteToMRB((folder + "/slicer-plan.mrb").c_str(), nullptr, userMessages) && ok;
+  AddUserMessages(userMessages, messages);
+  written = json::array();
+  written.push_back(DumpNode(line));
+  written.push_back(DumpNode(plane));
+  written.push_back(threePointNode);
+  return ok ? 0 : 1;
+}
+
+/// A .mrk.json loaded as Slicer's Markups module loads it (vtkSlicerMarkupsLogic::LoadMarkupsFromJson):
+/// the storage class the file's type needs, then AddNewMarkupsNodeFromFile.
+int LoadMarkups(const std::string& path, const std::string& cacheDir, json& messages, json& nodes) {
+  vtkSmartPointer<vtkMRMLScene> scene = NewSlicerScene(cacheDir);
+  vtkNew<vtkMRMLMarkupsJsonStorageNode> probe;
+  std::vector<std::string> types;
+  probe->GetMarkupsTypesInFile(path.c_str(), types);
+  if (types.empty()) return 1;
+  vtkSmartPointer<vtkMRMLMarkupsJsonStorageNode> storage;
+  if (types[0] == "Plane") storage = vtkSmartPointer<vtkMRMLMarkupsPlaneJsonStorageNode>::New();
+  else if (types[0] == "ROI") storage = vtkSmartPointer<vtkMRMLMarkupsROIJsonStorageNode>::New();
+  else storage = vtkSmartPointer<vtkMRMLMarkupsJsonStorageNode>::New();
+  scene->AddNode(storage);
+  vtkMRMLMarkupsNode* node = storage->AddNewMarkupsNodeFromFile(path.c_str());
+  AddUserMessages(storage->GetUserMessages(), messages);
+  if (!node) return 1;
+  nodes.push_back(DumpNode(node));
+  return 0;
 }
 
 int Dump(const std::string& path, const std::string& cacheDir, json& messages, json& nodes) {
@@ -537,8 +656,10 @@ int Dump(const std::string& path, const std::string& cacheDir, json& messages, j
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 3 || (std::string(argv[1]) != "write-mrb" && std::string(argv[1]) != "dump")) {
-    std::cerr << "usage: rpSlicerMrmlOracle write-mrb <out.mrb> | dump <scene.mrml|scene.mrb>\n";
+  const std::string command = argc == 3 ? argv[1] : "";
+  if (command != "write-mrb" && command != "dump" && command != "write-plan" && command != "load-markups") {
+    std::cerr << "usage: rpSlicerMrmlOracle write-mrb <out.mrb> | dump <scene.mrml|scene.mrb> | write-plan <folder> | "
+                 "load-markups <file.mrk.json>\n";
     return 2;
   }
   itk::itkFactoryRegistration();
@@ -549,17 +670,20 @@ int main(int argc, char** argv) {
   const std::string tmp = vtksys::SystemTools::GetEnv("TMPDIR") ? vtksys::SystemTools::GetEnv("TMPDIR") : "/tmp";
   const std::string cacheDir = tmp + "/rpSlicerMrmlOracle-" + std::to_string(getpid());
   vtksys::SystemTools::MakeDirectory(cacheDir);
-  json result = {{"command", argv[1]}, {"file", argv[2]}};
+  json result = {{"command", command}, {"file", argv[2]}};
   json messages = json::array();
   json nodes = json::array();
   const std::string path = vtksys::SystemTools::CollapseFullPath(argv[2]);  // ReadFromMRB needs it absolute
-  const int rc = std::string(argv[1]) == "write-mrb" ? WriteMrb(path, cacheDir, output->Messages)
-                                                     : Dump(path, cacheDir, output->Messages, nodes);
+  int rc = 1;
+  if (command == "write-mrb") rc = WriteMrb(path, cacheDir, output->Messages);
+  else if (command == "dump") rc = Dump(path, cacheDir, output->Messages, nodes);
+  else if (command == "write-plan") rc = WritePlan(path, cacheDir, output->Messages, nodes);
+  else rc = LoadMarkups(path, cacheDir, output->Messages, nodes);
   vtksys::SystemTools::RemoveADirectory(cacheDir);
   for (const json& m : output->Messages) messages.push_back(m);
   result["ok"] = rc == 0;
   result["messages"] = MessageSummary(messages);
-  if (std::string(argv[1]) == "dump") result["nodes"] = nodes;
+  if (command != "write-mrb") result["nodes"] = nodes;
   std::cout << result.dump(1) << "\n";
   vtkOutputWindow::SetInstance(nullptr);
   return rc;

@@ -68,8 +68,8 @@ vtkRPScalarVolumeNode* AddVolumes(vtkRPScene* scene) {
   auto* seg = Add<vtkRPSegmentationNode>(scene, "Segmentation");
   seg->SetImageData(labels);
   seg->SetIJKToRASMatrix(ijkToRas);
-  seg->SetSegment({"bone", "Bone", 1, {0.95, 0.84, 0.57}, "bone"});
-  seg->SetSegment({"tumour", "Tumour", 2, {0.8, 0.1, 0.15}, "muscle"});
+  seg->SetSegment({"bone", "Bone", 1, {0.95, 0.84, 0.57}, "bone", {}});
+  seg->SetSegment({"tumour", "Tumour", 2, {0.8, 0.1, 0.15}, "muscle", {}});
   return volume;
 }
 

@@ -11,6 +11,11 @@ Cases (README.md beside this file says what each proves):
                      each loads in MRMLCore with no error and the values MRMLCore read from Slicer's.
   roboplan-to-slicer a RoboPlan scene (the demo's, and its plan.mrb) -> .mrb: loads in MRMLCore with
                      no error or warning, with the values RoboPlan wrote.
+  plan-markups       plans: Slicer writes a markups line and planes (.mrk.json each, and an .mrb);
+                     `roboplan plan show` reads them as trajectories and cut planes with Slicer's
+                     points; what RoboPlan writes (`plan show --out`, `plan trajectory/screw/plane
+                     --out`, `convert` to .mrb) loads in MRMLCore as vtkMRMLMarkupsLineNode /
+                     vtkMRMLMarkupsPlaneNode with the same points (1e-6 mm) and no error or warning.
   testing-scenes     every .mrml in Slicer's Libs/MRML/Core/Testing: `roboplan convert X.mrml
                      out.mrb` exits 0 or 1 (never a signal or a hang); what it wrote (also with
                      exit 1: a data file Slicer's test data lacks is missing) loads in
@@ -33,6 +38,7 @@ SKIP = 77
 SUPPORTED = {
     "vtkMRMLScalarVolumeNode", "vtkMRMLLabelMapVolumeNode", "vtkMRMLModelNode",
     "vtkMRMLLinearTransformNode", "vtkMRMLSegmentationNode", "vtkMRMLMarkupsFiducialNode",
+    "vtkMRMLMarkupsLineNode", "vtkMRMLMarkupsPlaneNode",
 }
 MATRIX_TOL = 1e-9
 POINT_TOL = 1e-6  # mm
@@ -271,6 +277,8 @@ def compare_node(checks, what, a, b, ids_a, ids_b):
         for p, q in zip(pa, pb):
             checks.close(what + " " + p["label"], "markup point", q["position"], p["position"], POINT_TOL)
             checks.close(what + " " + p["label"], "markup point", q["world"], p["world"], POINT_TOL)
+    if "plane" in a:
+        compare_plane(checks, what, a["plane"], b.get("plane"))
     if "segments" in a:
         sa, sb = a["segments"], b.get("segments", [])
         checks.equal(what, "segment names", [s["name"] for s in sb], [s["name"] for s in sa])
@@ -394,6 +402,9 @@ RP_TO_MRML = {
     "vtkRPModelNode": ("vtkMRMLModelNode",),
     "vtkRPSegmentationNode": ("vtkMRMLSegmentationNode",),
     "vtkRPFiducialListNode": ("vtkMRMLMarkupsFiducialNode",),
+    "vtkRPTrajectoryNode": ("vtkMRMLMarkupsLineNode",),
+    "vtkRPScrewNode": ("vtkMRMLMarkupsLineNode",),
+    "vtkRPCutPlaneNode": ("vtkMRMLMarkupsPlaneNode",),
     "vtkRPSliceNode": ("vtkMRMLSliceNode",),
     "vtkRPLayoutNode": ("vtkMRMLLayoutNode",),
 }
@@ -468,13 +479,171 @@ def check_roboplan_node(checks, what, n, m, folder, rp_names, mrml_names):
     for key in ("orientation", "layoutName"):  # slice views
         if key in props:
             checks.equal(what, key, m.get(key), props[key])
-    if n["class"] == "vtkRPFiducialListNode" and n.get("dataFile"):
+    if n["class"] in ("vtkRPFiducialListNode", "vtkRPTrajectoryNode", "vtkRPScrewNode", "vtkRPCutPlaneNode") and n.get("dataFile"):
         want = control_points_of(os.path.join(folder, n["dataFile"]))
         got = m.get("controlPoints", [])
         checks.equal(what, "control point labels", [p["label"] for p in got], [p[0] for p in want])
         for (lab, p), q in zip(want, got):
             checks.close(what + " " + lab, "markup point", q["position"], p, POINT_TOL)
 
+
+# ------------------------------------------------------------------ case: plans (markups lines and planes)
+def compare_plane(checks, what, want, got):
+    """A plane's geometry: origin (mm) and unit normal and x axis, world too; size."""
+    if not checks.expect(got is not None, "%s: no plane geometry" % what):
+        return
+    for key in ("origin", "originWorld"):
+        checks.close(what, "markup point", got[key], want[key], POINT_TOL)
+    for key in ("normal", "normalWorld", "xAxis"):
+        checks.close(what, "plane axis", got[key], want[key], 1e-9)
+    checks.close(what, "plane size", got["size"], want["size"], 1e-9)
+
+
+def roboplan_json(runner, argv, what, checks):
+    rc, out, err, _ = runner.run([runner.args.roboplan] + argv)
+    print("  roboplan %s: exit %s" % (" ".join(os.path.basename(a) for a in argv[:3]), rc))
+    if not checks.expect(rc == 0, "%s: roboplan %s exited %s: %s" % (what, " ".join(argv), rc, (out + err).strip()[-1500:])):
+        return None
+    try:
+        return json.loads(out)
+    except ValueError:
+        checks.expect(False, "%s: no JSON from roboplan: %s" % (what, out[-500:]))
+        return None
+
+
+def check_show(checks, shown, slicer_node, what):
+    """`roboplan plan show --json` of a Slicer file against what MRMLCore wrote."""
+    plans = shown["plans"] if shown else []
+    if not checks.expect(len(plans) == 1, "%s: %d plans read" % (what, len(plans))):
+        return
+    p = plans[0]
+    want_class = "vtkRPCutPlaneNode" if "plane" in slicer_node else "vtkRPTrajectoryNode"
+    checks.equal(what, "RoboPlan class", p["class"], want_class)
+    if "plane" in slicer_node:
+        g = slicer_node["plane"]
+        checks.close(what, "markup point", p["origin"], g["origin"], POINT_TOL)
+        checks.close(what, "plane axis", p["normal"], g["normal"], 1e-9)
+        checks.close(what, "plane axis", p["xAxis"], g["xAxis"], 1e-9)
+        checks.close(what, "plane size", p["sizeMm"], g["size"], 1e-9)
+    else:
+        pts = slicer_node["controlPoints"]
+        checks.close(what, "markup point", p["entry"], pts[0]["position"], POINT_TOL)
+        checks.close(what, "markup point", p["target"], pts[1]["position"], POINT_TOL)
+
+
+def check_loaded_markups(checks, loaded, want_class, what, points=None, plane=None):
+    """MRMLCore's load-markups of a file RoboPlan wrote."""
+    no_messages(checks, loaded, what)
+    nodes = loaded.get("nodes", [])
+    if not checks.expect(len(nodes) == 1, "%s: MRMLCore loaded %d nodes" % (what, len(nodes))):
+        return
+    n = nodes[0]
+    checks.equal(what, "MRML class", n["class"], want_class)
+    if points is not None:
+        got = [p["position"] for p in n.get("controlPoints", [])]
+        checks.equal(what, "control point count", len(got), len(points))
+        for g, w in zip(got, points):
+            checks.close(what, "markup point", g, w, POINT_TOL)
+    if plane is not None:
+        compare_plane(checks, what, plane, n.get("plane"))
+
+
+def case_plan_markups(runner, checks):
+    work = runner.args.work
+    folder = os.path.join(work, "slicer-plan")
+    rc, written = runner.oracle("write-plan", folder)
+    if not checks.expect(rc == 0, "Slicer could not write its plan: %s" % written["messages"]):
+        return
+    no_messages(checks, written, "Slicer writing its plan")
+    by = {n["name"]: n for n in written["nodes"]}
+    # 1. Slicer's files read as our plan nodes, with Slicer's points.
+    for name, fname in (("Tunnel", "slicer-line.mrk.json"), ("Resection", "slicer-plane.mrk.json"),
+                        ("ThreePoint", "slicer-plane-3points.mrk.json")):
+        path = os.path.join(folder, fname)
+        shown = roboplan_json(runner, ["plan", "show", path, "--json"], fname, checks)
+        # A standalone file has no parent transform: compare the node's own (local) points.
+        local = dict(by[name])
+        if "plane" in local:
+            local["plane"] = dict(local["plane"], originWorld=local["plane"]["origin"], normalWorld=local["plane"]["normal"])
+        check_show(checks, shown, local, "Slicer's " + fname)
+        # 2. ... and written back by RoboPlan, they load in MRMLCore as Slicer's own classes.
+        back = os.path.join(work, "rp-" + fname)
+        if roboplan_json(runner, ["plan", "show", path, "--out", back, "--json"], "rewrite " + fname, checks) is None:
+            continue
+        rc, loaded = runner.oracle("load-markups", back)
+        checks.expect(rc == 0, "MRMLCore could not load RoboPlan's %s" % back)
+        if "plane" in by[name]:
+            want = dict(by[name]["plane"], originWorld=by[name]["plane"]["origin"], normalWorld=by[name]["plane"]["normal"])
+            if name == "ThreePoint":  # ours is point-normal: origin, normal, x axis and size kept
+                want["planeType"] = "pointNormal"
+            check_loaded_markups(checks, loaded, "vtkMRMLMarkupsPlaneNode", "RoboPlan's " + fname, plane=want)
+        else:
+            check_loaded_markups(checks, loaded, "vtkMRMLMarkupsLineNode", "RoboPlan's " + fname,
+                                 points=[p["position"] for p in by[name]["controlPoints"]])
+    # 3. Slicer's bundle through `roboplan convert` to .mrb: MRMLCore reads the same plans.
+    bundle = os.path.join(folder, "slicer-plan.mrb")
+    _, original = runner.oracle("dump", bundle)
+    no_messages(checks, original, "Slicer's plan bundle read by MRMLCore")
+    rewrite = os.path.join(work, "rp-plan.mrb")
+    rc, out, err = runner.convert(bundle, rewrite)
+    if checks.expect(rc == 0, "roboplan convert of Slicer's plan bundle exited %s: %s" % (rc, (out + err)[-1500:])):
+        rc, dump = runner.oracle("dump", rewrite)
+        checks.expect(rc == 0, "MRMLCore could not read RoboPlan's plan bundle")
+        no_messages(checks, dump, "RoboPlan's plan bundle read by MRMLCore")
+        compared = compare_dumps(checks, original, dump, "plan bundle")
+        checks.expect(compared >= 3, "plan bundle: only %d nodes compared (the transform, the line, the plane)" % compared)
+    # 4. Plans RoboPlan makes, written as .mrk.json, load in MRMLCore with their points.
+    ct = write_small_ct(os.path.join(work, "ct.nrrd"))
+    made = [("trajectory", ["plan", "trajectory", "--entry", "10.5,-20.25,30.125", "--target", "-5,12.5,-8.75",
+                            "--diameter", "4.5"], "vtkMRMLMarkupsLineNode"),
+            ("screw", ["plan", "screw", "--entry", "1,2,3", "--target", "4,-5,36", "--diameter", "3.2",
+                       "--screw-length", "30"], "vtkMRMLMarkupsLineNode"),
+            ("plane", ["plan", "plane", "--origin", "3,-4,25", "--normal", "0.2,-0.3,0.9", "--size", "80,60"],
+             "vtkMRMLMarkupsPlaneNode")]
+    for what, argv, mrml_class in made:
+        path = os.path.join(work, "made-%s.mrk.json" % what)
+        if roboplan_json(runner, argv + ["--volume", ct, "--out", path, "--json"], "plan " + what, checks) is None:
+            continue
+        shown = roboplan_json(runner, ["plan", "show", path, "--json"], "show " + what, checks)
+        if not shown or not checks.expect(len(shown["plans"]) == 1, "%s: %s holds no plan" % (what, path)):
+            continue
+        ours = shown["plans"][0]
+        rc, loaded = runner.oracle("load-markups", path)
+        checks.expect(rc == 0, "MRMLCore could not load RoboPlan's %s" % path)
+        if what == "plane":
+            want = {"origin": ours["origin"], "originWorld": ours["origin"], "normal": ours["normal"],
+                    "normalWorld": ours["normal"], "xAxis": ours["xAxis"], "size": ours["sizeMm"]}
+            check_loaded_markups(checks, loaded, mrml_class, "RoboPlan's " + what, plane=want)
+        else:
+            check_loaded_markups(checks, loaded, mrml_class, "RoboPlan's " + what, points=[ours["entry"], ours["target"]])
+    # 5. A scene of RoboPlan's plans to .mrb: every plan node is there with its points and fields.
+    scene = os.path.join(work, "made-scene", "plan.rpscene")
+    os.makedirs(os.path.dirname(scene), exist_ok=True)
+    if roboplan_json(runner, ["plan", "screw", "--entry", "1,2,3", "--target", "4,-5,36", "--diameter", "3.2",
+                              "--volume", ct, "--out", scene, "--json"], "screw into a scene", checks) is not None:
+        bundle = os.path.join(work, "made-scene.mrb")
+        rc, out, err = runner.convert(scene, bundle)
+        if checks.expect(rc == 0, "convert of the plan scene exited %s: %s" % (rc, (out + err)[-1500:])):
+            rc, dump = runner.oracle("dump", bundle)
+            checks.expect(rc == 0, "MRMLCore could not read RoboPlan's plan scene")
+            no_messages(checks, dump, "RoboPlan's plan scene")
+            check_roboplan_scene(checks, dump, scene, "RoboPlan's plan scene")
+
+
+def write_small_ct(path):
+    """A 41^3 CT of 2 mm voxels covering RAS -40..40 mm (NRRD, LPS header): a block of bone
+    (700 HU) over RAS -36..36 mm in air (-1000 HU), so a screw fits and a plane cuts bone."""
+    header = ("NRRD0004\ntype: short\ndimension: 3\nspace: left-posterior-superior\nsizes: 41 41 41\n"
+              "space directions: (-2,0,0) (0,-2,0) (0,0,2)\nkinds: domain domain domain\nendian: little\n"
+              "encoding: raw\nspace origin: (40,40,-40)\n\n")
+    with open(path, "wb") as f:
+        f.write(header.encode("ascii"))
+        air, bone = (-1000).to_bytes(2, "little", signed=True), (700).to_bytes(2, "little", signed=True)
+        for k in range(41):
+            for j in range(41):
+                inner = 2 <= k <= 38 and 2 <= j <= 38
+                f.write(air * 2 + (bone if inner else air) * 37 + air * 2)
+    return path
 
 # ------------------------------------------------------------------ case: Slicer's Testing scenes
 def case_testing_scenes(runner, checks):
@@ -504,7 +673,8 @@ def case_testing_scenes(runner, checks):
 
 # ------------------------------------------------------------------ main
 CASES = {"oracle": case_oracle, "slicer-roundtrip": case_slicer_roundtrip,
-         "roboplan-to-slicer": case_roboplan_to_slicer, "testing-scenes": case_testing_scenes}
+         "roboplan-to-slicer": case_roboplan_to_slicer, "testing-scenes": case_testing_scenes,
+         "plan-markups": case_plan_markups}
 
 
 def main():
