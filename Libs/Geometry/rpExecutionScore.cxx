@@ -155,10 +155,10 @@ void ScoreDeviation(const ExecutionInput& input, ExecutionScore& score) {
 
 }  // namespace
 
-int GertzbeinRobbinsGrade(double breachMm) {
+int GertzbeinRobbinsGrade(double breachMm) noexcept {
   if (!(breachMm > 0)) return 0;
   if (breachMm < 2) return 1;
-  if (breachMm <= 4) return 2;
+  if (breachMm < 4) return 2;
   if (breachMm <= 6) return 3;
   return 4;
 }

@@ -29,8 +29,10 @@
 namespace rp {
 
 /// Gertzbein–Robbins grade of a breach depth (mm beyond the cortex): 0 none, 1 under 2 mm, 2
-/// 2–4 mm, 3 4–6 mm, 4 over 6 mm (the grade spine surgeons give screws).
-int GertzbeinRobbinsGrade(double breachMm);
+/// 2–4 mm, 3 4–6 mm, 4 over 6 mm (the grade spine surgeons give screws; exactly 2 mm is grade 2,
+/// exactly 4 mm grade 3, exactly 6 mm grade 3). The one definition: planning's figures and the
+/// execution score both grade with it.
+int GertzbeinRobbinsGrade(double breachMm) noexcept;
 
 /// A structure at risk the execution is measured against.
 struct ScoredStructure {

@@ -134,7 +134,8 @@ TEST(ExecutionScore, BreachGradeOfAToolComingOutOfTheBone) {
   EXPECT_EQ(rp::GertzbeinRobbinsGrade(0), 0);
   EXPECT_EQ(rp::GertzbeinRobbinsGrade(1.99), 1);
   EXPECT_EQ(rp::GertzbeinRobbinsGrade(2.0), 2);
-  EXPECT_EQ(rp::GertzbeinRobbinsGrade(4.0), 2);
+  EXPECT_EQ(rp::GertzbeinRobbinsGrade(3.99), 2);
+  EXPECT_EQ(rp::GertzbeinRobbinsGrade(4.0), 3);
   EXPECT_EQ(rp::GertzbeinRobbinsGrade(6.0), 3);
   EXPECT_EQ(rp::GertzbeinRobbinsGrade(6.01), 4);
 }

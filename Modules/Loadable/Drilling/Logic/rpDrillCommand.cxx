@@ -95,34 +95,6 @@ namespace {
 Vec3 ToVec3(const std::vector<double>& v) { return {v[0], v[1], v[2]}; }
 nlohmann::json Json(const Vec3& v) { return nlohmann::json::array({v.x, v.y, v.z}); }
 
-// Reads a .seg.nrrd, or any labelmap volume (segments are then label values).
-bool ReadLabels(const std::string& path, vtkRPSegmentationNode* segmentation, std::string& error) {
-  std::string segError;
-  if (ReadSegmentationFile(path, segmentation, segError) && segmentation->GetNumberOfSegments() > 0) return true;
-  if (!ReadVolumeFile(path, segmentation, error)) {
-    error = "cannot read the segmentation '" + path + "': " + (segError.empty() ? error : segError);
-    return false;
-  }
-  // A plain labelmap: one segment per label value found.
-  vtkImageData* image = segmentation->GetImageData();
-  std::vector<long long> values;
-  for (vtkIdType i = 0; i < image->GetNumberOfPoints(); ++i) {
-    const long long v = static_cast<long long>(image->GetPointData()->GetScalars()->GetTuple1(i));
-    if (v != 0 && std::find(values.begin(), values.end(), v) == values.end()) {
-      values.push_back(v);
-      if (values.size() > 255) break;
-    }
-  }
-  for (long long v : values) {
-    vtkRPSegmentationNode::Segment s;
-    s.ID = std::to_string(v);
-    s.Name = "Label " + s.ID;
-    s.LabelValue = static_cast<int>(v);
-    segmentation->SetSegment(s);
-  }
-  return true;
-}
-
 // The servo's timing with its conditions: how ticks were timed, on what, and what the machine
 // did to the servo thread meanwhile (steal, preemption, faults), so a figure says where it came from.
 nlohmann::json ServoJson(const DrillRunResult& result, const DrillRunOptions& run) {
@@ -373,7 +345,7 @@ bool FlagStructuresAtRisk(const DrillRequest& q, vtkRPSegmentationNode* segmenta
 int BuildSegmentedBone(const DrillRequest& q, DrillWork& s, TerminalProgress& progress, std::ostream& err) {
   std::string error;
   vtkNew<vtkRPSegmentationNode> segmentation;
-  if (!ReadLabels(q.Segmentation, segmentation, error)) return Fail(err, error);
+  if (!ReadSegmentationOrLabelmap(q.Segmentation, segmentation, error)) return Fail(err, error);
   DrillBoneSource source;
   source.Labels = FromNode(segmentation);
   DrillSegments bone, guarded;

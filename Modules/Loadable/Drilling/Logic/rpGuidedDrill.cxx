@@ -8,9 +8,7 @@
 #include "rpDataLoader.h"
 #include "rpFixtureConstraint.h"
 #include "rpSimulatedDevice.h"
-#ifdef ROBOPLAN_HAVE_PLANNING
 #include "vtkRPPlanningLogic.h"
-#endif
 
 namespace rp {
 
@@ -47,15 +45,9 @@ void ScoreRun(const GuidedDrillOptions& o, vtkRPDrillingLogic* logic, GuidedDril
 }  // namespace
 
 std::shared_ptr<const PlanSnapshot> SnapshotPlan(vtkRPScene* scene, std::string& error) {
-#ifdef ROBOPLAN_HAVE_PLANNING
   vtkNew<vtkRPPlanningLogic> planning;
   planning->SetScene(scene);
   return planning->MakePlanSnapshot(error);
-#else
-  (void)scene;
-  error = "this build has no Planning module";
-  return nullptr;
-#endif
 }
 
 std::shared_ptr<const PlanSnapshot> LoadPlan(vtkRPScene* scene, const std::string& file, std::string& error) {
