@@ -524,8 +524,9 @@ TEST(DrillCommand, APlanDrilledWithItsFixturesIsScoredAgainstIt) {
     EXPECT_TRUE(storage && storage->Write(trajectory, path, error)) << error;
     return path;
   };
+  // A fast burr (--feed 20), so the hand sets the pace (the default feed cuts 2 mm/s at full force).
   const std::vector<std::string> hand = {"--tremor", "0.2", "--drift", "1", "--seed", "3", "--voxel", "0.4", "--speed", "5",
-                                         "--json"};
+                                         "--feed", "20", "--json"};
   auto drill = [&](const std::string& plan, const std::string& fixtures) {
     std::vector<std::string> args = {(dir / "labels.nrrd").string(), "--segment", "1", "--protect", "2:1", "--plan", plan,
                                      "--fixtures", fixtures};
@@ -543,7 +544,6 @@ TEST(DrillCommand, APlanDrilledWithItsFixturesIsScoredAgainstIt) {
   EXPECT_LE(doc["depthErrorMm"].get<double>(), 0.1);
   EXPECT_GT(doc["depthErrorMm"].get<double>(), -0.5);
   EXPECT_FALSE(doc["enteredForbidden"].get<bool>());
-  EXPECT_EQ(doc["plan"]["trajectory"], "tunnel");
   EXPECT_EQ(doc["fixtures"].size(), 2u);
   EXPECT_EQ(doc["hand"]["seed"], 3);
 

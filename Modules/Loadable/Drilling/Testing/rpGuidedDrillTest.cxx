@@ -173,7 +173,7 @@ TEST(GuidedDrill, OnTheRealTimeServoThreadTheDepthStopStillHolds) {
   o.Noise.Seed = 7;
   o.Fixtures = Fixtures(plan, true, true);
   o.Realtime = true;
-  o.SettleSeconds = 0.3;
+  o.SettleSeconds = 1.0;  // on the wall clock a late tick is not replayed: time for the burr to arrive
   rp::GuidedDrillResult r;
   std::string error;
   ASSERT_TRUE(rp::RunGuidedDrill(block.Logic, o, r, error)) << error;

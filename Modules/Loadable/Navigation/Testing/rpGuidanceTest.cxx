@@ -280,7 +280,6 @@ TEST(ScoreCommand, ACsvPathOffsetAndTiltedGivesTheClosedFormsInJson) {
   EXPECT_NEAR(doc["angleDeg"].get<double>(), 2, 1e-6);
   EXPECT_NEAR(doc["depthErrorMm"].get<double>(), run * std::cos(theta) - length, 1e-6);
   EXPECT_NEAR(doc["maxDeviationMm"].get<double>(), 1 + run * std::sin(theta), 1e-6);
-  EXPECT_EQ(doc["plan"]["trajectory"], "tunnel");
   EXPECT_EQ(doc["path"]["kind"], "csv");
   EXPECT_TRUE(doc["outsideVolumeMm3"].is_null());  // a tip (no radius): no swept volume
   EXPECT_TRUE(std::filesystem::exists(table));
