@@ -5,6 +5,8 @@
 #include <limits>
 #include <utility>
 
+#include "rpMortonCode.h"
+
 namespace rp {
 
 namespace {
@@ -74,17 +76,6 @@ Vec3 BVH::ClosestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, co
 }
 
 namespace {
-// 21 bits per axis interleaved into a 63-bit Morton code.
-inline uint64_t SpreadBits(uint64_t v) noexcept {
-  v &= 0x1fffff;
-  v = (v | v << 32) & 0x1f00000000ffffULL;
-  v = (v | v << 16) & 0x1f0000ff0000ffULL;
-  v = (v | v << 8) & 0x100f00f00f00f00fULL;
-  v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
-  v = (v | v << 2) & 0x1249249249249249ULL;
-  return v;
-}
-
 // Sorts (code, index) pairs by code, keeping the order of equal codes: least significant digit
 // first, 11 bits a pass, skipping digits every key shares. Several times faster than std::sort
 // for the hundreds of thousands of triangles of a display mesh; the same order (the input comes
@@ -139,9 +130,9 @@ void BVH::Build(const TriangleMesh& mesh, int leafSize) {
     Vec3 a, b, c;
     corners(key.second, a, b, c);
     const Vec3 centroid = (a + b + c) / 3.0 - lo;
-    key.first = SpreadBits(static_cast<uint64_t>(centroid.x * scale.x)) |
-                SpreadBits(static_cast<uint64_t>(centroid.y * scale.y)) << 1 |
-                SpreadBits(static_cast<uint64_t>(centroid.z * scale.z)) << 2;
+    key.first = SpreadMortonBits(static_cast<uint64_t>(centroid.x * scale.x)) |
+                SpreadMortonBits(static_cast<uint64_t>(centroid.y * scale.y)) << 1 |
+                SpreadMortonBits(static_cast<uint64_t>(centroid.z * scale.z)) << 2;
   }
   RadixSortByCode(keys);
   this->Tris.reserve(keys.size());

@@ -73,6 +73,8 @@ const std::map<std::string, Expectation>& Expectations() {
        {"BM_RoboPlanSolve/4$",
         {"landmark_registration_benchmark.json", "landmark_registration_speed.csv", "landmark_registration_speed.png",
          "landmark_registration_tre.csv", "landmark_registration_tre.png"}, ""}},
+      {"rpPlanningBenchmark",
+       {"BM_Propose_BVH/2/", {"planning_benchmark.json", "planning_proposal.csv", "planning_proposal.png"}, ""}},
       {"rpSegmentationToMeshBenchmark",
        {"BM_BoneMesh/gaussian_s1.0_grid0.90/",
         {"segmentation_to_mesh.json", "segmentation_to_mesh.csv", "segmentation_to_mesh_time_vs_error.png"}, ""}},

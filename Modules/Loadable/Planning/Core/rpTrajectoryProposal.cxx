@@ -6,20 +6,11 @@
 #include <thread>
 #include <unordered_map>
 
+#include "rpMortonCode.h"
 #include "rpTrajectoryFigures.h"
 
 namespace rp {
 namespace {
-
-uint64_t Spread(uint64_t v) {
-  v &= 0x1fffff;
-  v = (v | v << 32) & 0x1f00000000ffffULL;
-  v = (v | v << 16) & 0x1f0000ff0000ffULL;
-  v = (v | v << 8) & 0x100f00f00f00f00fULL;
-  v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
-  v = (v | v << 2) & 0x1249249249249249ULL;
-  return v;
-}
 
 // Whether the tool stays in bone once in it: the axis and four lines of its surface, each from
 // where it first enters bone to the target, every `step` (each line has its own entry, so an
@@ -135,7 +126,7 @@ std::vector<uint32_t> SpatialOrder(const std::vector<Vec3>& points) {
     uint64_t code = 0;
     for (int a = 0; a < 3; ++a) {
       const double extent = hi[a] - lo[a];
-      code |= Spread(static_cast<uint64_t>(extent > 0 ? (points[i][a] - lo[a]) / extent * cells : 0)) << a;
+      code |= SpreadMortonBits(static_cast<uint64_t>(extent > 0 ? (points[i][a] - lo[a]) / extent * cells : 0)) << a;
     }
     keys[i] = {code, static_cast<uint32_t>(i)};
   }
