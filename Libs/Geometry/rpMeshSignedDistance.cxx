@@ -53,6 +53,11 @@ bool MeshSignedDistance::Build(const TriangleMesh& mesh, std::string& error) {
 }
 
 bool MeshSignedDistance::SignedDistance(const Vec3& p, double maxDistance, double& distance) const noexcept {
+  Vec3 closest;
+  return this->SignedDistance(p, maxDistance, distance, closest);
+}
+
+bool MeshSignedDistance::SignedDistance(const Vec3& p, double maxDistance, double& distance, Vec3& closest) const noexcept {
   ClosestPointHit hit;
   if (!this->Tree.ClosestPoint(p, maxDistance, hit)) return false;
   const auto& corners = this->Surface.Triangles[hit.Triangle];
@@ -69,6 +74,7 @@ bool MeshSignedDistance::SignedDistance(const Vec3& p, double maxDistance, doubl
   else normal = this->Surface.FaceNormals[hit.Triangle];
   const double d = std::sqrt(hit.Distance2);
   distance = Dot(p - hit.Point, normal) < 0 ? -d : d;
+  closest = hit.Point;
   return true;
 }
 

@@ -21,6 +21,8 @@ class MeshSignedDistance {
   /// Signed distance when the surface is within `maxDistance` of `p`; false (and `distance`
   /// untouched) when it is farther: then only a flood fill or an unbounded query knows the sign.
   bool SignedDistance(const Vec3& p, double maxDistance, double& distance) const noexcept;
+  /// The same, with the closest surface point.
+  bool SignedDistance(const Vec3& p, double maxDistance, double& distance, Vec3& closest) const noexcept;
   /// Unbounded signed distance.
   double SignedDistance(const Vec3& p) const noexcept;
   /// Bounding box of the surface.

@@ -24,6 +24,10 @@ DeviceProfile Make(const char* key, const char* name, double maxForce, double ma
   // The mechanism's own damping (Colgate-Schenkel's b) is not published and the HD API does
   // not report it: the simulated mechanism's value (45 g, 3 N·s/m), as the benchmark models it.
   p.Info.PhysicalDamping = 0.003;
+  // Events (a fixture switched, captured, released) change the force no faster than the stiffest
+  // spring this device renders does under a hand moving at 0.5 m/s.
+  p.Info.MaxForceRate = maxStiffness * 500.0;
+  p.Info.MaxTorque = 0;  // 3-DoF force output
   p.Notes = notes;
   return p;
 }

@@ -39,6 +39,13 @@ struct DeviceInfo {
   double NominalMaxStiffness = 2.5;     // N/mm
   double NominalMaxDamping = 0.002;     // N·s/mm
   double PhysicalDamping = 0.003;       // N·s/mm, the device's own (Colgate-Schenkel "b"); 0: unknown
+  /// How fast the force may change on an event rather than a motion (a virtual fixture switched on
+  /// or off, captured or released, a new plan): N/s, so one tick's step is MaxForceRate × period.
+  /// The default is what the stiffest spring the device renders does when the hand moves at
+  /// 0.5 m/s (NominalMaxStiffness × 500 mm/s): an event never jolts harder than touching does.
+  double MaxForceRate = 2.5 * 500;
+  /// Largest torque (N·mm) the device renders; 0 for 3-DoF force output (Omni, Touch).
+  double MaxTorque = 0;
 };
 
 class HapticDevice {
@@ -52,6 +59,9 @@ class HapticDevice {
   virtual bool Read(double time, DeviceState& state) noexcept = 0;
   /// Servo thread. Force in N, device frame.
   virtual void WriteForce(const Vec3& force) noexcept = 0;
+  /// Servo thread. Torque in N·mm, device frame; only devices with DeviceInfo::MaxTorque > 0 are
+  /// sent one (the default drops it).
+  virtual void WriteTorque(const Vec3& torque) noexcept { (void)torque; }
 };
 
 }  // namespace rp

@@ -35,8 +35,8 @@ void HapticRenderer::Reset(const Pose& pose) noexcept {
   this->Out.NumberOfPoints = this->PointCount;
 }
 
-const RenderOutput& HapticRenderer::Update(const Pose& pose, double elapsed, ToolConstraints* constraints) noexcept {
-  if (!this->Initialized) this->Reset(pose);
+const RenderOutput& HapticRenderer::Update(const Pose& device, double elapsed, ToolConstraints* constraints) noexcept {
+  if (!this->Initialized) this->Reset(device);
   RenderOutput& out = this->Out;
   out.NumberOfPoints = this->PointCount;
   out.Contacts = 0;
@@ -45,6 +45,16 @@ const RenderOutput& HapticRenderer::Update(const Pose& pose, double elapsed, Too
   const double dt = elapsed > 0 ? elapsed : period;
   const bool stalled = dt > 1.5 * period;
   const Vec3 previousForce = out.Force;
+
+  // Step 0: the constraints' walls decide where the tool may be; the tissue touches it there.
+  ConstraintContext tool = this->ToolContext(device, dt, period);
+  out.Tip = tool.Tip;
+  ConstraintGoal goal;
+  goal.Goal = tool.Tip;
+  if (constraints != nullptr) goal = constraints->Constrain(tool);
+  out.Goal = goal.Goal;
+  Pose pose = device;
+  pose.T += goal.Goal - tool.Tip;
 
   // Pass 1: proxies, and the summed gains of the points in contact (eq. 4–5 act in parallel).
   double kSum = 0, bSum = 0, deepest = -1;
@@ -78,8 +88,9 @@ const RenderOutput& HapticRenderer::Update(const Pose& pose, double elapsed, Too
     }
   }
   out.Gains = GainLimits{};
-  if (this->Options.LimitGains && out.Contacts > 0)
-    out.Gains = LimitGains(kSum, bSum, this->Device, period, this->Options.WorkspaceScale);
+  if (this->Options.LimitGains && out.Contacts > 0)  // within what the constraints left of the budget
+    out.Gains = LimitGains(kSum, bSum, RemainingBudget(this->Device, goal.Stiffness, goal.Damping, period), period,
+                           this->Options.WorkspaceScale);
 
   // Pass 2: spring-damper per contact with the limited gains, summed (eq. 4).
   Vec3 total{};
@@ -107,11 +118,11 @@ const RenderOutput& HapticRenderer::Update(const Pose& pose, double elapsed, Too
     total += c.Force;
   }
 
-  // Virtual fixtures on the tip, beside the contacts (rpToolConstraint.h).
-  const Vec3 tip = out.Points[0].Hip;
+  // Virtual fixtures on the device's tip, beside the contacts (rpToolConstraint.h).
+  const Vec3 tip = out.Tip;
   out.Constraint = ConstraintForce{};
   if (constraints != nullptr) {
-    out.Constraint = this->EvaluateConstraints(*constraints, pose, dt, period);
+    out.Constraint = this->EvaluateConstraints(*constraints, tool);
     total += out.Constraint.Force;
     stored += out.Constraint.StoredEnergy;
     renderedStiffness += out.Constraint.Stiffness;
@@ -148,21 +159,24 @@ const RenderOutput& HapticRenderer::Update(const Pose& pose, double elapsed, Too
   return out;
 }
 
-ConstraintForce HapticRenderer::EvaluateConstraints(ToolConstraints& constraints, const Pose& pose, double dt,
-                                                   double period) noexcept {
-  const RenderOutput& out = this->Out;
+ConstraintContext HapticRenderer::ToolContext(const Pose& device, double dt, double period) const noexcept {
   ConstraintContext tool;
   tool.Dt = dt;
   tool.Period = period;
-  tool.Stylus = pose;
-  tool.Tip = out.Points[0].Hip;
+  tool.Stylus = device;
+  tool.Tip = device.Apply(this->ToolPoints[0]);
   tool.TipVelocity = (tool.Tip - this->LastTip) / dt;
+  tool.Device = &this->Device;
+  tool.WorkspaceScale = this->Options.WorkspaceScale;
+  return tool;
+}
+
+ConstraintForce HapticRenderer::EvaluateConstraints(ToolConstraints& constraints, ConstraintContext& tool) noexcept {
+  const RenderOutput& out = this->Out;
   tool.Proxy = out.Points[0].Proxy;
   tool.InContact = out.Contacts > 0;
   tool.ContactStiffness = out.Contacts > 0 ? out.Gains.Stiffness : 0.0;
   tool.ContactDamping = out.Contacts > 0 ? out.Gains.Damping : 0.0;
-  tool.Device = &this->Device;
-  tool.WorkspaceScale = this->Options.WorkspaceScale;
   return constraints.Evaluate(tool);
 }
 

@@ -6,8 +6,10 @@
 // observer, and the clamp of eq. 6 that keeps the direction: |F| > Fmax → F·Fmax/|F|.
 // (The damping term opposes the HIP's motion relative to the proxy: the seed's eq. 2 writes
 // −b·Δv with Δv = v_proxy − v_probe, which would inject energy; we use the dissipative sign.)
-// Virtual fixtures (rpToolConstraint.h) add their force to the contacts' before the passivity
-// observer and the clamp. Not thread-aware: the servo task owns one. Update() never allocates.
+// Virtual fixtures (rpToolConstraint.h): their walls first hold the tool back (the tissue proxies
+// see the tool where the walls let it go, and get the device's passive budget the fixtures left),
+// then their force joins the contacts' before the passivity observer and the clamp.
+// Not thread-aware: the servo task owns one. Update() never allocates.
 #include "rpGodObjectProxy.h"
 #include "rpHapticDevice.h"
 #include "rpPassivityObserver.h"
@@ -17,6 +19,9 @@
 namespace rp {
 
 constexpr int MaxToolPoints = 8;
+/// The way the tool points in the stylus frame: its shaft runs from the tip along +z (the tool
+/// points of a multi-point tool), so the tip leads along −z.
+constexpr Vec3 ToolForward{0, 0, -1};
 
 struct RendererOptions {
   bool Friction = true;
@@ -36,6 +41,8 @@ struct PointContact {
 };
 
 struct RenderOutput {
+  Vec3 Tip;             // the device's tool tip (scene frame)
+  Vec3 Goal;            // where the constraints' walls let it go (Points[0].Hip: the tool as the tissue sees it)
   Vec3 Force;           // after gain limits, passivity control and the clamp (N, scene frame)
   Vec3 UnclampedForce;  // eq. 4 result before the clamp
   bool Clamped = false;
@@ -71,8 +78,10 @@ class HapticRenderer {
   const RenderOutput& Output() const { return this->Out; }
 
  private:
+  /// The tool as the virtual fixtures see it this tick (before the contacts).
+  ConstraintContext ToolContext(const Pose& device, double dt, double period) const noexcept;
   /// The virtual fixtures' force this tick (after the contacts' pass 2).
-  ConstraintForce EvaluateConstraints(ToolConstraints& constraints, const Pose& pose, double dt, double period) noexcept;
+  ConstraintForce EvaluateConstraints(ToolConstraints& constraints, ConstraintContext& tool) noexcept;
 
   RendererOptions Options;
   DeviceInfo Device;

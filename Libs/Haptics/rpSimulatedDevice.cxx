@@ -115,6 +115,11 @@ bool SimulatedDevice::Read(double time, DeviceState& state) noexcept {
   state.Buttons = this->ButtonState.load(std::memory_order_relaxed);
   if (this->Path) {
     this->Path->Evaluate(time, state.StylusToDevice, state.Velocity);
+    if (this->Hand) {
+      const Pose intent = state.StylusToDevice;
+      const Vec3 intentVelocity = state.Velocity;
+      state.StylusToDevice = this->Hand->Step(time, intent, intentVelocity, this->HeldForce, state.Velocity);
+    }
     return true;
   }
   Pose pose;
@@ -128,7 +133,10 @@ bool SimulatedDevice::Read(double time, DeviceState& state) noexcept {
   return true;
 }
 
-void SimulatedDevice::WriteForce(const Vec3& force) noexcept { this->LastForceValue.Publish(force); }
+void SimulatedDevice::WriteForce(const Vec3& force) noexcept {
+  this->HeldForce = force;
+  this->LastForceValue.Publish(force);
+}
 
 Vec3 SimulatedDevice::LastForce() const {
   Vec3 f;

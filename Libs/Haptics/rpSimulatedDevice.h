@@ -9,6 +9,7 @@
 
 #include "rpHapticDevice.h"
 #include "rpLatestValue.h"
+#include "rpSimulatedHand.h"
 
 namespace rp {
 
@@ -56,6 +57,11 @@ class SimulatedDevice : public HapticDevice {
 
   /// Scripted motion (set while the servo loop is stopped). nullptr: manual mode.
   void SetTrajectory(std::shared_ptr<const Trajectory> trajectory) { this->Path = std::move(trajectory); }
+  /// A hand holding the stylus (set while stopped): the scripted motion is where it means to be,
+  /// with its tremor and drift; the force written pushes it (rpSimulatedHand.h). nullptr: the
+  /// stylus follows the script exactly, whatever the force.
+  void SetHand(std::unique_ptr<SimulatedHand> hand) { this->Hand = std::move(hand); }
+  const SimulatedHand* GetHand() const { return this->Hand.get(); }
   /// Manual mode: the stylus pose, from any one thread (e.g. the viewer's mouse).
   void SetManualPose(const Pose& pose) { this->Manual.Publish(pose); }
   void SetButtons(uint32_t buttons) { this->ButtonState.store(buttons); }
@@ -69,6 +75,8 @@ class SimulatedDevice : public HapticDevice {
   DeviceInfo Description;
   bool IsOpen = false;
   std::shared_ptr<const Trajectory> Path;
+  std::unique_ptr<SimulatedHand> Hand;
+  Vec3 HeldForce;  // servo thread: the force written last, in the device frame
   LatestValue<Pose> Manual;
   LatestValue<Vec3> LastForceValue;
   std::atomic<bool> Fault{false};

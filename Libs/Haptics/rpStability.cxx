@@ -33,6 +33,19 @@ GainLimits LimitGains(double k, double b, const DeviceInfo& device, double perio
   return g;
 }
 
+DeviceInfo RemainingBudget(const DeviceInfo& device, double otherStiffness, double otherDamping, double period) noexcept {
+  DeviceInfo budget;
+  budget.MaxForce = device.MaxForce;
+  budget.MaxForceRate = device.MaxForceRate;
+  budget.MaxTorque = device.MaxTorque;
+  budget.NominalMaxStiffness = std::max(0.0, device.NominalMaxStiffness - otherStiffness);
+  budget.NominalMaxDamping = std::max(0.0, device.NominalMaxDamping - otherDamping);
+  budget.PhysicalDamping = device.PhysicalDamping;
+  if (budget.PhysicalDamping > 0)
+    budget.PhysicalDamping = std::max(0.0, budget.PhysicalDamping - (otherStiffness * period / 2 + otherDamping));
+  return budget;
+}
+
 bool MaterialClamp::Clamped() const {
   return this->RenderedStiffness < this->RequestedStiffness * (1 - 1e-9) ||
          this->RenderedDamping < this->RequestedDamping * (1 - 1e-9);

@@ -33,6 +33,12 @@ double PassiveStiffnessLimit(const DeviceInfo& device, double period, double dam
 GainLimits LimitGains(double summedStiffness, double summedDamping, const DeviceInfo& device, double period,
                       double workspaceScale = 1.0);
 
+/// The device's limits left to one contact when others (other contact points, virtual fixtures)
+/// already render `otherStiffness` and `otherDamping` this tick: contacts act in parallel, so they
+/// share the nominal maxima and the physical damping's passive budget. Numbers only (no name:
+/// copying it could allocate on the servo thread).
+DeviceInfo RemainingBudget(const DeviceInfo& device, double otherStiffness, double otherDamping, double period) noexcept;
+
 /// What one tissue asks for and what the device renders of it (a single contact through
 /// LimitGains, so the same numbers the servo loop uses). Stiffness in N/mm and damping in
 /// N·s/mm, both as the scene sees them.

@@ -4,6 +4,13 @@
 
 namespace rp {
 
+ConstraintGoal ToolConstraints::Constrain(const ConstraintContext& tool) noexcept {
+  ConstraintGoal goal;
+  goal.Goal = tool.Tip;
+  for (const auto& constraint : this->Items) constraint->Constrain(tool, goal);
+  return goal;
+}
+
 ConstraintForce ToolConstraints::Evaluate(const ConstraintContext& tool) noexcept {
   ConstraintForce out;
   for (const auto& constraint : this->Items) constraint->Evaluate(tool, out);

@@ -8,7 +8,9 @@
 #include <thread>
 
 #include "rpAllocationCounter.h"
+#include "rpFixtureConstraint.h"
 #include "rpHapticsTestScenes.h"
+#include "rpPlanFixtures.h"
 #include "rpServoLoadReport.h"
 #include "rpSessionLog.h"
 #include "rpSimulatedDevice.h"
@@ -290,6 +292,98 @@ TEST(HapticServo, AFixtureActsBesideTheContactsInsideThePassivityObserverAndTheC
   EXPECT_EQ(evaluated, 700);
   EXPECT_TRUE(s.Clamped);
   EXPECT_NEAR(rp::Norm(s.Force), rp::SimulatedDevice::DefaultInfo().MaxForce, 1e-9);
+}
+
+namespace {
+// A plan as the Planning logic snapshots it: a trajectory down −S from the origin to 30 mm deep, and
+// a vessel (a 4 mm sphere, margin 2 mm) 15 mm anterior of it at 20 mm depth.
+std::shared_ptr<const rp::FixtureSet> PlanFixtures(double entryR = 0) {
+  rp::PlanSnapshot plan;
+  rp::TrajectorySnapshot t;
+  t.NodeID = "vtkRPTrajectoryNode1";
+  t.Name = "tunnel";
+  t.Entry = {entryR, 0, 0};
+  t.Target = {entryR, 0, -30};
+  plan.Trajectories.push_back(t);
+  rp::StructureAtRiskSnapshot vessel;
+  vessel.NodeID = "vtkRPModelNode1";
+  vessel.Name = "vessel";
+  vessel.SafetyMarginMm = 2;
+  auto field = std::make_shared<rp::MeshSignedDistance>();
+  std::string error;
+  EXPECT_TRUE(field->Build(rp::shapes::Sphere({0, 15, -20}, 4, 3), error)) << error;
+  vessel.Signed = field;
+  plan.StructuresAtRisk.push_back(vessel);
+  rp::PlanFixtureChoice choice;
+  EXPECT_TRUE(rp::ParseFixtureKinds("axis,depth,forbidden", choice, error)) << error;
+  auto set = rp::BuildPlanFixtures(plan, choice, error);
+  EXPECT_TRUE(set) << error;
+  return set;
+}
+}  // namespace
+
+// The plan's fixtures in the haptics servo, scripted ticks: a device held 1.5 mm beside the planned
+// axis feels the axis guidance's spring on that distance, across the axis and nothing along it;
+// pushed 1 mm past the target it also feels the depth stop's spring on that 1 mm; nothing allocates.
+TEST(HapticServo, ThePlansFixturesGiveTheirClosedFormForcesAtOneKilohertz) {
+  const auto fixtures = PlanFixtures();
+  ASSERT_TRUE(fixtures && fixtures->Count() == 3);
+  const double kAxis = fixtures->Entries[0].Tuning.Stiffness, kStop = fixtures->Entries[1].Tuning.Stiffness;
+  rp::SimulatedDevice device;
+  auto path = std::make_shared<rp::WaypointTrajectory>();
+  std::string error;
+  ASSERT_TRUE(path->Set({0, 1, 2, 2.5}, {{1.5, 0, 5}, {1.5, 0, -10}, {1.5, 0, -10}, {1.5, 0, -31}}, error)) << error;
+  device.SetTrajectory(path);
+  rp::HapticServo servo(device);
+  servo.SetRampSeconds(0);
+  servo.Constraints().Publish(rp::MakeFixtureConstraints(fixtures));
+  servo.ServoStarted();
+  rp::TickInfo tick;
+  rp::HapticState s;
+  auto runTo = [&](double seconds) {
+    for (; tick.Index * 1e-3 < seconds; ++tick.Index) {
+      tick.Time = tick.Index * 1e-3;
+      servo.Tick(tick);
+    }
+    servo.ReadState(s);
+  };
+  runTo(1.9);  // held at 10 mm deep, 1.5 mm off the axis along R
+  EXPECT_NEAR(s.Force.x, -kAxis * 1.5, 1e-6);
+  EXPECT_NEAR(s.Force.y, 0, 1e-6);
+  EXPECT_NEAR(s.Force.z, 0, 1e-6);
+  const uint64_t before = rp::alloc::ThreadAllocations();
+  runTo(3.5);  // down to 1 mm past the target, held
+  EXPECT_EQ(rp::alloc::ThreadAllocations(), before) << "the servo's ticks with the plan's fixtures";
+  EXPECT_NEAR(s.Force.x, -kAxis * 1.5, 1e-6);
+  EXPECT_NEAR(s.Force.z, kStop * 1.0, 1e-6);
+  EXPECT_FALSE(s.Clamped);
+}
+
+// The plan's fixtures in the servo's thread at 1 kHz while the main thread moves the plan (a new
+// snapshot every display frame) and reads the state: the handover without locks (TSan runs this);
+// the force stays within the device's maximum.
+TEST(HapticServo, RunsThePlansFixturesInItsThreadWhileThePlanMoves) {
+  rp::SimulatedDevice device;
+  device.SetTrajectory(rp::WaypointTrajectory::Line({1, 0, 5}, {1, 0, -35}, 60.0));
+  rp::HapticServo servo(device);
+  servo.SetRampSeconds(0);
+  servo.Constraints().Publish(rp::MakeFixtureConstraints(PlanFixtures()));
+  rp::ServoLoop loop;
+  std::string error;
+  ASSERT_TRUE(loop.Start(&servo, rp::ServoLoop::Options{}, error)) << error;
+  rp::HapticState s;
+  double largest = 0;
+  for (int frame = 0; frame < 12; ++frame) {  // ~30 Hz for 0.4 s
+    std::this_thread::sleep_for(std::chrono::milliseconds(33));
+    servo.Constraints().Publish(rp::MakeFixtureConstraints(PlanFixtures(0.1 * frame)));
+    servo.Constraints().Collect();
+    if (servo.ReadState(s)) largest = std::max(largest, rp::Norm(s.Force));
+  }
+  loop.Stop();
+  EXPECT_GT(loop.Stats().Ticks, 200u);
+  EXPECT_GT(largest, 0.1) << "the fixtures pushed";
+  EXPECT_LE(largest, rp::SimulatedDevice::DefaultInfo().MaxForce + 1e-9);
+  EXPECT_EQ(rp::Norm(device.LastForce()), 0.0);
 }
 
 TEST(HapticServo, RunsInItsThreadWhileTheMainThreadSwapsScenesAndReads) {

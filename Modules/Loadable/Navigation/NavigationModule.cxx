@@ -1,8 +1,10 @@
 // Navigation module plugin (seed 3.3): the tip-to-surface distance of a tool to chosen models,
-// with a warning under a threshold. The logic writes Navigation.* attributes onto the tool node.
+// with a warning under a threshold (the logic writes Navigation.* attributes onto the tool node);
+// `roboplan score`, an execution scored against its plan (issue 38).
 #include <vtkSmartPointer.h>
 
 #include "rpModule.h"
+#include "rpScoreCommand.h"
 #include "vtkRPNavigationLogic.h"
 #ifdef ROBOPLAN_BUILD_GUI
 #include "qRPNavigationPanel.h"
@@ -18,6 +20,10 @@ class NavigationModule : public rp::Module {
     this->LogicObject->SetScene(scene);
   }
   vtkObject* Logic() override { return this->LogicObject; }
+  std::vector<rp::Command> Commands() override {
+    return {{"score", "an execution (drilling recording, PLUS sequence or CSV of tip points) scored against its plan",
+             [](rp::CommandContext& context) { return rp::RunScoreCommand(context.Arguments, *context.Out, *context.Err); }}};
+  }
   QWidget* CreatePanel(QWidget* parent) override {
 #ifdef ROBOPLAN_BUILD_GUI
     return new qRPNavigationPanel(this->LogicObject, parent);

@@ -14,13 +14,13 @@ void BurrRenderer::SetDevice(const DeviceInfo& device) {
 
 void BurrRenderer::Reset(const Vec3& hip) noexcept {
   this->God.Reset(hip);
-  this->LastHip = hip;
+  this->LastHip = this->LastHeld = hip;
   this->LastProxy = hip;
   this->Observer.Reset(hip);
   this->WasInContact = false;
   this->Initialized = true;
   this->Out = BurrForce{};
-  this->Out.Hip = this->Out.Proxy = this->Out.Anchor = hip;
+  this->Out.Hip = this->Out.Goal = this->Out.Proxy = this->Out.Anchor = hip;
 }
 
 const BurrForce& BurrRenderer::Update(const DrillVolume& volume, const Vec3& hip, double radius, double otherStiffness,
@@ -30,14 +30,34 @@ const BurrForce& BurrRenderer::Update(const DrillVolume& volume, const Vec3& hip
   BurrForce& out = this->Out;
   const double period = this->Options.Period > 0 ? this->Options.Period : 0.001;
   const double dt = elapsed > 0 ? elapsed : period;
-  out.Contact = this->God.Update(volume, hip, radius);
+  const Vec3 hipVelocity = (hip - this->LastHip) / dt;
+
+  // Step 0: where the constraints' walls let the burr's centre go; the burr meets the bone there.
+  ConstraintContext tool;
+  tool.Dt = dt;
+  tool.Period = period;
+  tool.Stylus = stylus;
+  tool.Tip = hip;
+  tool.TipVelocity = hipVelocity;
+  tool.Radius = radius;
+  tool.Device = &this->DeviceLimits;
+  tool.WorkspaceScale = this->Options.WorkspaceScale;
+  tool.From = this->God.Position();  // the burr lags the hand where it cuts: the walls start from it
+  tool.HasFrom = true;
+  ConstraintGoal goal;
+  goal.Goal = hip;
+  if (constraints != nullptr) goal = constraints->Constrain(tool);
+  const Vec3& held = goal.Goal;
+  out.Goal = held;
+  out.Contact = this->God.Update(volume, held, radius);
   const BurrContact& c = out.Contact;
   out.Hip = hip;
   out.Proxy = this->God.Position();
   out.Anchor = c.Anchor;
-  const Vec3 hipVelocity = (hip - this->LastHip) / dt;
+  const Vec3 heldVelocity = (held - this->LastHeld) / dt;
   const Vec3 proxyVelocity = (out.Proxy - this->LastProxy) / dt;
   this->LastHip = hip;
+  this->LastHeld = held;
   this->LastProxy = out.Proxy;
 
   Vec3 total{};
@@ -50,41 +70,25 @@ const BurrForce& BurrRenderer::Update(const DrillVolume& volume, const Vec3& hip
     double k = m.Stiffness, b = m.Damping;
     if (this->Options.LimitGains) {
       // Share the device's passive budget with the other contacts rendered this tick.
-      DeviceInfo budget;  // the numbers only: copying the name could allocate
-      budget.MaxForce = this->DeviceLimits.MaxForce;
-      budget.PhysicalDamping = this->DeviceLimits.PhysicalDamping;
-      budget.NominalMaxStiffness = this->DeviceLimits.NominalMaxStiffness;
-      budget.NominalMaxDamping = this->DeviceLimits.NominalMaxDamping;
-      budget.NominalMaxStiffness = std::max(0.0, budget.NominalMaxStiffness - otherStiffness);
-      budget.NominalMaxDamping = std::max(0.0, budget.NominalMaxDamping - otherDamping);
-      if (budget.PhysicalDamping > 0)
-        budget.PhysicalDamping = std::max(0.0, budget.PhysicalDamping - (otherStiffness * period / 2 + otherDamping));
+      const DeviceInfo budget =
+          RemainingBudget(this->DeviceLimits, otherStiffness + goal.Stiffness, otherDamping + goal.Damping, period);
       out.Gains = LimitGains(k, b, budget, period, this->Options.WorkspaceScale);
       k *= out.Gains.StiffnessScale;
       b *= out.Gains.DampingScale;
     }
     out.Stiffness = k;
-    const Vec3 stretch = out.Anchor - hip;  // eq. 1: Δd = x_proxy − x_probe
+    const Vec3 stretch = out.Anchor - held;  // eq. 1: Δd = x_proxy − x_probe (the burr as the walls hold it)
     out.Depth = Norm2(c.Normal) > 0 ? std::max(0.0, Dot(stretch, c.Normal)) : Norm(stretch);
-    total = stretch * k + (proxyVelocity - hipVelocity) * b;
+    total = stretch * k + (proxyVelocity - heldVelocity) * b;
   }
 
   // Virtual fixtures on the burr's centre, beside the bone's contact (rpToolConstraint.h).
   out.Constraint = ConstraintForce{};
   if (constraints != nullptr) {
-    ConstraintContext tool;
-    tool.Dt = dt;
-    tool.Period = period;
-    tool.Stylus = stylus;
-    tool.Tip = hip;
-    tool.TipVelocity = hipVelocity;
     tool.Proxy = out.Proxy;
-    tool.Radius = radius;
     tool.InContact = touching;
     tool.ContactStiffness = otherStiffness + (touching ? out.Gains.Stiffness : 0.0);
     tool.ContactDamping = otherDamping + (touching ? out.Gains.Damping : 0.0);
-    tool.Device = &this->DeviceLimits;
-    tool.WorkspaceScale = this->Options.WorkspaceScale;
     out.Constraint = constraints->Evaluate(tool);
     total += out.Constraint.Force;
   }

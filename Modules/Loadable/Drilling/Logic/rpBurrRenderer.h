@@ -25,6 +25,7 @@ struct BurrForceOptions {
 
 struct BurrForce {
   Vec3 Hip, Proxy, Anchor;
+  Vec3 Goal;            // where the constraints' walls let the burr's centre go (= Hip when free): the burr cuts towards it
   Vec3 Force;           // on the hand, after limits, passivity and the clamp (N, scene frame)
   Vec3 UnclampedForce;  // before the clamp
   bool Clamped = false;
@@ -50,7 +51,8 @@ class BurrRenderer {
   /// budget is shared with them.
   /// `elapsed` is the measured time since the previous tick (a servo stall shows there): the
   /// velocities of the damping term use it; 0 means one period.
-  /// `constraints` (virtual fixtures, rpToolConstraint.h) act on the burr's centre beside the
+  /// `constraints` (virtual fixtures, rpToolConstraint.h) first hold the burr's centre back
+  /// (walls: the burr meets the bone, and cuts, where they let it go), then act on it beside the
   /// bone's contact, inside the passivity observer and the clamp; `stylus` is the drill's pose.
   const BurrForce& Update(const DrillVolume& volume, const Vec3& hip, double radius, double otherStiffness = 0,
                           double otherDamping = 0, double elapsed = 0, ToolConstraints* constraints = nullptr,
@@ -63,7 +65,7 @@ class BurrRenderer {
   DeviceInfo DeviceLimits;
   BurrProxy God;
   PassivityObserver Observer;
-  Vec3 LastHip, LastProxy;
+  Vec3 LastHip, LastHeld, LastProxy;
   bool Initialized = false;
   bool WasInContact = false;
   BurrForce Out;

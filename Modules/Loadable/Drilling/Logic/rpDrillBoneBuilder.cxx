@@ -553,9 +553,11 @@ bool BuildSolid(const DrillBoneSource& source, const std::vector<Material>& mate
   const std::vector<uint8_t> labelMaterial = LabelMaterials(source, materials);
 
   // The smooth surface the density follows (or the label mask's).
-  MeshSignedDistance surface;
+  auto smooth = std::make_shared<MeshSignedDistance>();
+  MeshSignedDistance& surface = *smooth;
   report.Surface = "label mask (trilinear)";
   if (source.SmoothSurface && !SmoothSurfaceFor(source, crop, rasToIJK, grid, surface, report, error)) return false;
+  if (!surface.Empty()) report.BoneSurface = smooth;
   if (progress) progress(0.15, "bone surface");
 
   FillSolid({crop, rasToIJK, grid, surface, ct, rasToCT.get(), huRule, labelMaterial}, bone, progress);

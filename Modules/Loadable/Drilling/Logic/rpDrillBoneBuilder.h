@@ -19,11 +19,13 @@
 // cortex) is solid bone the burr feels and never removes, another (a nerve's region) is space the
 // burr may enter but not cut in. Their own surface is built alongside for the distance read-out. Only blocks near bone or protected voxels are stored.
 // MeasureSurfaceFit tells how closely a built bone follows a mesh (the tests, the demo's report).
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "rpDrillVolume.h"
 #include "rpImageVolume.h"
+#include "rpMeshSignedDistance.h"
 #include "rpProgress.h"
 #include "rpTriangleMesh.h"
 
@@ -63,6 +65,9 @@ struct DrillBoneReport {
   bool HasProtected = false;
   std::string Surface;            // what the density follows: "given mesh", "labels meshed here", "label mask"
   size_t SurfaceTriangles = 0;
+  /// That surface (closed, RAS; null for the label mask): the bone an execution's breach is
+  /// measured against (rpExecutionScore.h).
+  std::shared_ptr<const MeshSignedDistance> BoneSurface;
 };
 
 /// Builds `bone` (and, when `protectedSurface` is given and protected labels exist, a volume

@@ -15,7 +15,11 @@
 
 #include "rpArgParser.h"
 #include "rpBlockMesher.h"
+#include "rpDrillProtection.h"
+#include "rpExecutionScoreJson.h"
+#include "rpGuidedDrill.h"
 #include "rpModelIO.h"
+#include "rpPlanFixtures.h"
 #include "rpPolyDataTriangleMesh.h"
 #include "rpSegmentationIO.h"
 #include "rpServoLoadReport.h"
@@ -91,34 +95,6 @@ namespace {
 Vec3 ToVec3(const std::vector<double>& v) { return {v[0], v[1], v[2]}; }
 nlohmann::json Json(const Vec3& v) { return nlohmann::json::array({v.x, v.y, v.z}); }
 
-// Reads a .seg.nrrd, or any labelmap volume (segments are then label values).
-bool ReadLabels(const std::string& path, vtkRPSegmentationNode* segmentation, std::string& error) {
-  std::string segError;
-  if (ReadSegmentationFile(path, segmentation, segError) && segmentation->GetNumberOfSegments() > 0) return true;
-  if (!ReadVolumeFile(path, segmentation, error)) {
-    error = "cannot read the segmentation '" + path + "': " + (segError.empty() ? error : segError);
-    return false;
-  }
-  // A plain labelmap: one segment per label value found.
-  vtkImageData* image = segmentation->GetImageData();
-  std::vector<long long> values;
-  for (vtkIdType i = 0; i < image->GetNumberOfPoints(); ++i) {
-    const long long v = static_cast<long long>(image->GetPointData()->GetScalars()->GetTuple1(i));
-    if (v != 0 && std::find(values.begin(), values.end(), v) == values.end()) {
-      values.push_back(v);
-      if (values.size() > 255) break;
-    }
-  }
-  for (long long v : values) {
-    vtkRPSegmentationNode::Segment s;
-    s.ID = std::to_string(v);
-    s.Name = "Label " + s.ID;
-    s.LabelValue = static_cast<int>(v);
-    segmentation->SetSegment(s);
-  }
-  return true;
-}
-
 // The servo's timing with its conditions: how ticks were timed, on what, and what the machine
 // did to the servo thread meanwhile (steal, preemption, faults), so a figure says where it came from.
 nlohmann::json ServoJson(const DrillRunResult& result, const DrillRunOptions& run) {
@@ -161,6 +137,11 @@ struct DrillRequest {
   Vec3 From, To, BlockLo{-20, -20, -20}, BlockHi{20, 20, 20};
   std::string Segmentation, CT, Materials, Record, ReplayPath, Model, Picture;
   std::vector<std::string> Segments, Protect;
+  // --plan: the plan's trajectory drilled by the simulated hand with its fixtures, then scored.
+  bool HasPlan = false;
+  std::string Plan, Trajectory, Fixtures = "none";
+  double Tremor = 0, Drift = 0;
+  uint64_t Seed = 1;
 };
 
 ArgParser DrillParser() {
@@ -170,7 +151,8 @@ ArgParser DrillParser() {
   parser.Positional("segmentation", "bone segmentation (.seg.nrrd, or a labelmap volume)", false)
       .Flag("block", "drill an analytic block of bone instead (known volume of the stroke)")
       .Option("segment", "ID", "bone segment to drill: ID, name or label value (repeatable)")
-      .Option("protect", "ID", "protected segment: the burr stops when it reaches it (repeatable)")
+      .Option("protect", "ID[:MM]", "protected segment (a structure at risk, with its safety margin in mm): the burr "
+                                    "stops when it reaches it (repeatable)")
       .Option("ct", "FILE", "CT volume or DICOM folder: cortical / trabecular bone by HU (materials.json ctMinHU)")
       .Option("burr-radius", "MM", "burr radius (1-3 mm for the usual burrs)")
       .Option("from", "R,A,S", "where the stroke starts (the burr starts there, cutting), RAS mm")
@@ -188,6 +170,14 @@ ArgParser DrillParser() {
       .Option("replay", "FILE", "drive the burr along a recorded drill path instead of --from/--to")
       .Option("model", "FILE", "write the drilled bone's surface (" + ModelFileExtensionsText() + ")")
       .Option("picture", "FILE.png", "render a picture of the tunnel (needs a display or Xvfb)")
+      .Option("plan", "FILE", "drill this plan's trajectory (a .mrk.json line, or a scene with its plan and structures at "
+                               "risk) with the simulated hand, and score the execution against it")
+      .Option("trajectory", "NAME", "--plan: which trajectory (node ID or name; default the first)")
+      .Option("fixtures", "LIST", "--plan: the virtual fixtures on: axis, depth, forbidden, surface (comma-separated) or none",
+              "none")
+      .Option("tremor", "MM", "--plan: the hand's physiological tremor, RMS (8-12 Hz)", "0")
+      .Option("drift", "MM/S", "--plan: the hand's slow drift speed", "0")
+      .Option("seed", "N", "--plan: the seed of the hand's tremor and drift (the same seed, the same hand)", "1")
       .Option("cpu", "N", "--realtime: pin the servo thread to CPU N and move the other threads off it (-1: not pinned)", "-1")
       .Flag("shield", "with --cpu: also keep every other process's threads off that CPU while the servo runs")
       .Flag("realtime", "run the 1 kHz servo thread and the 30 Hz display thread on the wall clock (default: the same "
@@ -210,7 +200,13 @@ bool ReadDrillNumbers(const ArgParser& parser, DrillRequest& q, std::ostream& er
     const auto bounds = parser.GetDoubles("block-bounds", 6);
     q.BlockLo = {bounds[0], bounds[1], bounds[2]};
     q.BlockHi = {bounds[3], bounds[4], bounds[5]};
-    if (!q.Replay) {
+    q.Tremor = parser.GetDouble("tremor");
+    q.Drift = parser.GetDouble("drift");
+    q.Seed = static_cast<uint64_t>(parser.GetDouble("seed"));
+    if (q.HasPlan) {  // the stroke and the burr come from the plan unless given
+      if (parser.Has("burr-radius")) q.Radius = parser.GetDouble("burr-radius");
+      q.Speed = parser.Has("speed") ? parser.GetDouble("speed") : 2.5;
+    } else if (!q.Replay) {
       for (const char* required : {"burr-radius", "from", "to", "speed"})
         if (!parser.Has(required)) throw std::invalid_argument(std::string("--") + required + " is required (or --replay)");
       q.Radius = parser.GetDouble("burr-radius");
@@ -230,7 +226,10 @@ std::string DrillRequestProblem(const DrillRequest& q, bool hasSegmentation, boo
   if (q.Block == hasSegmentation) return "give either --block or a segmentation file (with --segment)";
   if (!q.Block && !hasSegment) return "--segment ID is required with a segmentation";
   if (!(q.Voxel >= 0.05 && q.Voxel <= 5)) return "--voxel must be in [0.05, 5] mm";
-  if (!q.Replay && !(q.Radius >= 0.25 && q.Radius <= 10)) return "--burr-radius must be in [0.25, 10] mm";
+  if (q.HasPlan && q.Replay) return "give --plan or --replay, not both";
+  if (!(q.Tremor >= 0 && q.Tremor <= 5) || !(q.Drift >= 0 && q.Drift <= 20))
+    return "--tremor must be in [0, 5] mm and --drift in [0, 20] mm/s";
+  if (!q.Replay && !q.HasPlan && !(q.Radius >= 0.25 && q.Radius <= 10)) return "--burr-radius must be in [0.25, 10] mm";
   if (!q.Replay && !(q.Speed > 0 && q.Speed <= 2000)) return "--speed must be in (0, 2000] mm/s";
   if (!(q.Rpm >= 0 && q.Rpm <= 200000) || !(q.Feed > 0 && q.Feed <= 1000) || q.Shell < 0 || q.Margin < 0)
     return "--rpm must be in [0, 200000], --feed positive, --shell and --margin not negative";
@@ -246,6 +245,10 @@ std::optional<int> ParseDrillRequest(const std::vector<std::string>& args, std::
   if (const auto exitCode = parser.ParseCommand(args, out, err)) return *exitCode;
   q.Json = parser.Json();
   q.Replay = parser.Has("replay");
+  q.HasPlan = parser.Has("plan");
+  q.Plan = parser.Get("plan");
+  q.Trajectory = parser.Get("trajectory");
+  q.Fixtures = parser.Get("fixtures");
   if (!ReadDrillNumbers(parser, q, err)) return 2;
   q.Block = parser.Has("block");
   const std::string problem = DrillRequestProblem(q, parser.Has("segmentation"), parser.Has("segment"));
@@ -274,6 +277,10 @@ std::optional<int> ParseDrillRequest(const std::vector<std::string>& args, std::
 // What a drill run made: the logic (bone, session, drilled mesh), the replayed recording, the run.
 struct DrillWork {
   vtkSmartPointer<vtkRPDrillingLogic> Logic = vtkSmartPointer<vtkRPDrillingLogic>::New();
+  std::shared_ptr<const PlanSnapshot> Plan;  // --plan
+  TrajectorySnapshot Trajectory;
+  std::shared_ptr<const FixtureSet> Fixtures;
+  GuidedDrillResult Guided;
   DrillRecording Recording;
   std::vector<std::string> Segments;  // the drilled segments' IDs ("block" for --block)
   DrillRunOptions Run;
@@ -297,16 +304,56 @@ int ReadReplay(DrillRequest& q, DrillWork& s, std::ostream& err) {
   return 0;
 }
 
+// --plan: the plan file into the scene, its trajectory as the stroke (and the burr, unless given).
+bool LoadDrillPlan(DrillRequest& q, DrillWork& s, vtkRPScene* scene, std::ostream& err) {
+  std::string error;
+  s.Plan = LoadPlan(scene, q.Plan, error);
+  const TrajectorySnapshot* t = s.Plan ? ChooseTrajectory(*s.Plan, q.Trajectory, error) : nullptr;
+  if (!t) return Fail(err, "--plan " + q.Plan + ": " + error) == 0;
+  s.Trajectory = *t;
+  q.From = t->Entry;
+  q.To = t->Target;
+  if (!(q.Radius > 0)) q.Radius = 0.5 * t->ToolDiameterMm;
+  if (!(q.Radius >= 0.25 && q.Radius <= 10)) return Fail(err, "the plan's tool diameter gives a burr radius outside [0.25, 10] mm") == 0;
+  return true;
+}
+
+// --plan: the --protect segments become structures at risk (their margins), one notion with the
+// plan's; with the segmentation in the scene, the plan's snapshot takes them with its own.
+bool FlagStructuresAtRisk(const DrillRequest& q, vtkRPSegmentationNode* segmentation, const DrillSegments& guarded,
+                          DrillWork& s, std::ostream& err) {
+  for (size_t i = 0; i < guarded.IDs.size() && i < q.Protect.size(); ++i) {
+    const size_t colon = q.Protect[i].rfind(':');
+    Segment segment = *segmentation->FindSegment(guarded.IDs[i]);
+    segment.Protection.Protected = true;
+    try {
+      if (colon != std::string::npos) segment.Protection.SafetyMarginMm = std::stod(q.Protect[i].substr(colon + 1));
+    } catch (const std::exception&) {
+      Fail(err, "--protect " + q.Protect[i] + ": the margin after ':' is not a number of mm");
+      return false;
+    }
+    segmentation->SetSegment(segment);
+  }
+  s.Logic->GetScene()->AddNode(segmentation);
+  std::string error;
+  s.Plan = SnapshotPlan(s.Logic->GetScene(), error);
+  if (!s.Plan) Fail(err, error);
+  return static_cast<bool>(s.Plan);
+}
+
 // The voxel bone (and protected surface) from the segmentation file's segments, in the logic.
 int BuildSegmentedBone(const DrillRequest& q, DrillWork& s, TerminalProgress& progress, std::ostream& err) {
   std::string error;
   vtkNew<vtkRPSegmentationNode> segmentation;
-  if (!ReadLabels(q.Segmentation, segmentation, error)) return Fail(err, error);
+  if (!ReadSegmentationOrLabelmap(q.Segmentation, segmentation, error)) return Fail(err, error);
   DrillBoneSource source;
   source.Labels = FromNode(segmentation);
   DrillSegments bone, guarded;
-  if (!FindDrillSegments(segmentation, q.Segments, bone, error) || !FindDrillSegments(segmentation, q.Protect, guarded, error))
+  std::vector<std::string> protect;  // the segments; their margins (":MM") flag them as structures at risk
+  for (const std::string& ref : q.Protect) protect.push_back(ref.substr(0, ref.rfind(':') == std::string::npos ? ref.size() : ref.rfind(':')));
+  if (!FindDrillSegments(segmentation, q.Segments, bone, error) || !FindDrillSegments(segmentation, protect, guarded, error))
     return Fail(err, error);
+  if (q.HasPlan && !FlagStructuresAtRisk(q, segmentation, guarded, s, err)) return 1;
   source.BoneLabels = bone.Labels;
   source.BoneTissues = bone.Tissues;
   source.ProtectedLabels = guarded.Labels;
@@ -323,6 +370,39 @@ int BuildSegmentedBone(const DrillRequest& q, DrillWork& s, TerminalProgress& pr
   if (!s.Logic->BuildBone(source, bone.Names, error,
                           [&](double f, const std::string& m) { progress.Report(0.3 * f, "voxel bone: " + m); }))
     return Fail(err, error);
+  return 0;
+}
+
+// Runs the plan's trajectory with the simulated hand and the fixtures asked for, and scores it.
+int DrivePlannedDrill(const DrillRequest& q, DrillWork& s, TerminalProgress& progress, std::ostream& err) {
+  std::string error;
+  s.Logic->SetTouchOtherModels(false);
+  ProtectRegions(*s.Logic->GetBone(), ProtectedRegionsOf(*s.Plan));
+  PlanFixtureChoice choice;
+  choice.Trajectory = s.Trajectory.NodeID;
+  if (!ParseFixtureKinds(q.Fixtures, choice, error) || !(s.Fixtures = BuildPlanFixtures(*s.Plan, choice, error)))
+    return Fail(err, "--fixtures " + q.Fixtures + ": " + error);
+  GuidedDrillOptions o;
+  if (!TrajectoryAxis::Make(s.Trajectory.Entry, s.Trajectory.Target, o.Plan, error)) return Fail(err, error);
+  o.PlanDiameterMm = s.Trajectory.ToolDiameterMm;
+  o.BurrRadiusMm = q.Radius;
+  o.Rpm = q.Rpm;
+  o.FeedRate = q.Feed;
+  o.SpeedMmPerS = q.Speed;
+  o.Noise.TremorMm = q.Tremor;
+  o.Noise.DriftMmPerS = q.Drift;
+  o.Noise.Seed = q.Seed;
+  o.Fixtures = s.Fixtures->Count() > 0 ? s.Fixtures : nullptr;
+  o.Structures = ScoredStructuresOf(*s.Plan);
+  o.Realtime = q.Realtime;
+  o.Loop.RequestRealTimePriority = q.Realtime;
+  o.Loop.CpuAffinity = q.Cpu;
+  o.Loop.ShieldCpu = q.Shield;
+  o.RecordPath = q.Record;
+  progress.Report(0.3, "drilling the plan");
+  if (!RunGuidedDrill(s.Logic, o, s.Guided, error)) return Fail(err, error);
+  s.Result = s.Guided.Run;
+  s.Run.Realtime = q.Realtime;
   return 0;
 }
 
@@ -401,13 +481,14 @@ int RunDrillSession(DrillRequest& q, DrillWork& s, vtkRPScene* scene, TerminalPr
     if (const int code = ReadReplay(q, s, err)) return code;
   s.Logic->SetScene(scene);
   s.Logic->SetMaterialsPath(q.Materials);
+  if (q.HasPlan && !LoadDrillPlan(q, s, scene, err)) return 1;
   if (q.Block) {
     s.Segments = {"block"};
     if (!s.Logic->BuildBlockBone(q.BlockLo, q.BlockHi, q.Shell, q.Voxel, error)) return Fail(err, error);
   } else if (const int code = BuildSegmentedBone(q, s, progress, err)) {
     return code;
   }
-  if (const int code = DriveDrill(q, s, progress, err)) return code;
+  if (const int code = q.HasPlan ? DrivePlannedDrill(q, s, progress, err) : DriveDrill(q, s, progress, err)) return code;
   progress.Report(0.97, "measuring");
   return 0;
 }
@@ -505,6 +586,21 @@ nlohmann::json DrillJson(const DrillRequest& q, const DrillWork& session, const 
         {"stopped", s.Stopped},
         {"closestApproachMm", std::isfinite(s.ClosestApproach) ? nlohmann::json(s.ClosestApproach) : nlohmann::json(nullptr)}}}};
   doc["servo"] = ServoJson(result, session.Run);
+  if (q.HasPlan) {  // the score keys at the top, as `roboplan score` prints them
+    doc.update(ExecutionScoreJson(session.Guided.Score));
+    doc["enteredForbidden"] = session.Guided.EnteredForbidden;
+    doc["drillSeconds"] = session.Guided.DrillSeconds;
+    const TrajectorySnapshot& t = session.Trajectory;
+    doc["plan"] = {{"file", q.Plan}, {"trajectory", t.Name}, {"entry", Json(t.Entry)}, {"target", Json(t.Target)},
+                   {"toolDiameterMm", t.ToolDiameterMm}};
+    nlohmann::json fixtures = nlohmann::json::array();
+    for (const FixtureEntry& e : session.Fixtures->Entries)
+      fixtures.push_back({{"kind", FixtureKindName(e.Fixture->Kind())}, {"name", e.Fixture->Name()},
+                          {"stiffnessNPerMm", e.Tuning.Stiffness}, {"dampingNsPerMm", e.Tuning.Damping},
+                          {"captureMm", e.Tuning.Capture}});
+    doc["fixtures"] = fixtures;
+    doc["hand"] = {{"tremorMm", q.Tremor}, {"driftMmPerS", q.Drift}, {"seed", q.Seed}};
+  }
   if (q.Block) {
     bool exact = false;
     const double expected = CapsuleVolumeInBox(q.From, g.Reached ? q.To : s.Proxy, q.Radius, q.BlockLo, q.BlockHi, exact);
@@ -581,6 +677,15 @@ void ReportDrillText(const DrillRequest& q, const DrillWork& session, const Dril
   if (built.HasProtected) {
     std::snprintf(line, sizeof line, "protected: closest approach %.2f mm, %s\n", s.ClosestApproach,
                   s.Stopped ? "the burr was stopped there" : "not reached");
+    out << line;
+  }
+  if (q.HasPlan) {
+    const ExecutionScore& score = session.Guided.Score;
+    std::snprintf(line, sizeof line,
+                  "against the plan: entry %.2f mm, tip %.2f mm, angle %.2f deg, depth error %+.2f mm, largest deviation "
+                  "%.2f mm; %s a forbidden region\n",
+                  score.EntryOffsetMm, score.TipOffsetMm, score.AngleDeg, score.DepthErrorMm, score.MaxDeviationMm,
+                  session.Guided.EnteredForbidden ? "ENTERED" : "never entered");
     out << line;
   }
 }

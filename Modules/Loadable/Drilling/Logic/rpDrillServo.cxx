@@ -257,7 +257,7 @@ void DrillServo::Tick(const TickInfo& tick) noexcept {
     s.FeedMmPerS = this->CutFeed;
   } else if (on && contact.InContact && !contact.Embedded && contact.CutMaterial > 0 && !this->Cut.Restoring() &&
              !burr.Constraint.ForbidCut) {
-    refused = this->CutAhead(burr, hip, radius, control.Rpm, dt);
+    refused = this->CutAhead(burr, burr.Goal, radius, control.Rpm, dt);  // towards where the walls let the burr go
   }
   if (!s.Cutting && !on) this->HasCutCenter = false;
   if (refused) {

@@ -85,6 +85,14 @@ void DrillVolume::Finish() {
   this->Finished = true;
 }
 
+void DrillVolume::Protect(int i, int j, int k) {
+  if (!this->Contains(i, j, k)) return;
+  const int32_t s = this->Slot(i >> BlockShift, j >> BlockShift, k >> BlockShift);
+  if (s < 0) return;
+  this->MaterialCodes[size_t(s) * BlockVoxels + Local(i, j, k)] |= ProtectedBit;
+  this->ProtectedBlocks[size_t(s)] = 1;
+}
+
 uint8_t DrillVolume::OriginalDensity(int i, int j, int k) const noexcept {
   if (!this->Contains(i, j, k)) return 0;
   const int32_t s = this->Slot(i >> BlockShift, j >> BlockShift, k >> BlockShift);

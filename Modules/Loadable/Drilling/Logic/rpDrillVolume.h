@@ -77,6 +77,9 @@ class DrillVolume {
   /// Allocates the blocks needed to contour across block faces, freezes the layout, keeps the
   /// original densities (Reset) and counts the bone per material.
   void Finish();
+  /// Marks a stored voxel protected (after Finish too, but before any servo or display thread
+  /// uses the volume): structures at risk added from a plan (rpDrillProtection.h).
+  void Protect(int i, int j, int k);
 
   // ---- reading (any thread)
   const DrillGrid& Grid() const { return this->Geometry; }
@@ -120,6 +123,10 @@ class DrillVolume {
   /// Bone volume (mm³) per material index (0-based) as built, and now.
   const std::vector<double>& OriginalVolumes() const { return this->InitialVolumes; }
   std::vector<double> CurrentVolumes() const;  // scans every block (not for the servo thread)
+  /// Every voxel the burr took material from: its centre and the volume taken (mm³), for scoring
+  /// the execution against its plan. Scans every block (not for the servo thread).
+  template <typename F>
+  void ForEachRemoved(F&& f) const;
   /// RAS bounds of the stored bone (voxel centres with density > 0).
   void BoneBounds(Vec3& lo, Vec3& hi) const;
 
@@ -195,6 +202,23 @@ class DrillVolume {
   std::vector<double> InitialVolumes;
   bool Finished = false;
 };
+
+template <typename F>
+void DrillVolume::ForEachRemoved(F&& f) const {
+  if (!this->Densities) return;
+  const double unit = this->VoxelVolume() / 255.0;
+  for (size_t s = 0; s < this->BlockCoordinates.size(); ++s) {
+    const auto& c = this->BlockCoordinates[s];
+    for (int v = 0; v < BlockVoxels; ++v) {
+      const size_t index = s * BlockVoxels + size_t(v);
+      const int now = this->Densities[index].load(std::memory_order_relaxed), before = this->Originals[index];
+      if (now >= before) continue;
+      f(this->Geometry.Center(c[0] * BlockEdge + (v & (BlockEdge - 1)), c[1] * BlockEdge + ((v >> BlockShift) & (BlockEdge - 1)),
+                              c[2] * BlockEdge + (v >> (2 * BlockShift))),
+        (before - now) * unit);
+    }
+  }
+}
 
 namespace drill_detail {
 /// Trilinear interpolation of 8 corner densities (x fastest), scaled to 0–1.

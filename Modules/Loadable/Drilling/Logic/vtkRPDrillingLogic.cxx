@@ -135,6 +135,8 @@ bool vtkRPDrillingLogic::BuildBlockBone(const rp::Vec3& lo, const rp::Vec3& hi, 
   report.MemoryMB = this->Bone->MemoryBytes() / 1e6;
   report.VolumeMm3 = this->Bone->OriginalVolumes();
   report.Seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  auto box = std::make_shared<rp::MeshSignedDistance>();  // the block's surface (breach of an execution)
+  if (box->Build(rp::shapes::Box(lo, hi), error)) report.BoneSurface = box;
   this->Report = report;
   this->ProtectedSurface = rp::TriangleMesh{};
   return this->ShowBone({"block"});
@@ -168,6 +170,12 @@ bool vtkRPDrillingLogic::ShowBone(const std::vector<std::string>& boneNames) {
 
 void vtkRPDrillingLogic::SetSimulatedTrajectory(std::shared_ptr<const rp::Trajectory> path) {
   this->Device->SetTrajectory(std::move(path));
+}
+
+void vtkRPDrillingLogic::SetSimulatedHand(const rp::HandNoise& noise, const rp::HandImpedance& impedance) {
+  this->HasHand = true;
+  this->HandTremor = noise;
+  this->HandGrip = impedance;
 }
 
 void vtkRPDrillingLogic::PlaceBurr(const rp::Vec3& center, const rp::DrillControl& control) {
@@ -221,6 +229,9 @@ bool vtkRPDrillingLogic::PrepareSession(bool keepRecords, std::string& error) {
   options.KeepRecords = keepRecords;
   options.MakeConstraints = this->MakeConstraints;
   this->Session.reset();
+  this->Device->SetHand(this->HasHand ? std::make_unique<rp::SimulatedHand>(this->HandTremor, this->HandGrip,
+                                                                            this->Device->Info().PhysicalDamping)
+                                      : nullptr);
   this->Session = std::make_unique<rp::DrillSession>(*this->Device, *this->Bone, *this->Display);
   if (!this->Session->Prepare(options, this->ProtectedSurface, std::move(others), error)) {
     this->Session.reset();

@@ -20,6 +20,7 @@
 
 #include "rpDrillBoneBuilder.h"
 #include "rpDrillSession.h"
+#include "rpSimulatedHand.h"
 
 class vtkPolyData;
 class vtkRPScene;
@@ -77,6 +78,11 @@ class vtkRPDrillingLogic : public vtkObject {
   void SetLoopOptions(const rp::ServoLoop::Options& options) { this->LoopSettings = options; }
   /// Scripted motion of the simulated burr, in RAS (nullptr: the panel or a followed tool moves it).
   void SetSimulatedTrajectory(std::shared_ptr<const rp::Trajectory> path);
+  /// A hand holding the drill on that script: it means to follow the trajectory, with tremor and
+  /// drift, and the force pushes it (rpSimulatedHand.h; a fresh one for every session, so runs
+  /// with the same seed are the same hand). ClearSimulatedHand: the burr follows the script exactly.
+  void SetSimulatedHand(const rp::HandNoise& noise, const rp::HandImpedance& impedance);
+  void ClearSimulatedHand() { this->HasHand = false; }
   /// Whether the scene's other haptic models are touched in the same tick (default on: in the
   /// viewer the burr meets the soft tissue on its way; a planned stroke through it turns this off).
   void SetTouchOtherModels(bool touch) { this->TouchOthers = touch; }
@@ -149,6 +155,9 @@ class vtkRPDrillingLogic : public vtkObject {
   rp::ServoLoop::Options LoopSettings;
   std::function<std::unique_ptr<rp::ToolConstraints>()> MakeConstraints;
   bool TouchOthers = true;
+  bool HasHand = false;
+  rp::HandNoise HandTremor;
+  rp::HandImpedance HandGrip;
   bool Placed = false;
   rp::Vec3 PlacedAt;
   rp::DrillControl PlacedControl;

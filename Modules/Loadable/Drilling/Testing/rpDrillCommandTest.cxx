@@ -2,7 +2,8 @@
 // loaded module, a recorded path replayed to the same removal, a labelmap with a protected
 // segment (the burr stops there, nothing protected removed) and a CT giving cortical and
 // trabecular bone, bad arguments (exit 2) and bad files (exit 1), the real knee CT's tibia
-// when ../shared/data is present, and a tracked drill driving the burr through the logic in RAS.
+// when ../shared/data is present, a tracked drill driving the burr through the logic in RAS, and
+// a plan drilled by the simulated hand with its fixtures and scored (`--plan`).
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -31,11 +32,13 @@
 #include "rpSharedData.h"
 #include "rpSimulatedDevice.h"
 #include "rpHapticSceneBridge.h"
+#include "rpNodeStorage.h"
 #include "rpVolumeIO.h"
 #include "vtkRPDrillingLogic.h"
 #include "vtkRPLinearTransformNode.h"
 #include "vtkRPScene.h"
 #include "vtkRPTrackedToolNode.h"
+#include "vtkRPTrajectoryNode.h"
 
 namespace fs = std::filesystem;
 
@@ -499,4 +502,64 @@ TEST(DrillingLogic, EverySessionItRunsGetsTheFixtures) {
   };
   EXPECT_GT(stroke(false), 1.0);
   EXPECT_EQ(stroke(true), 0.0);
+}
+
+// `roboplan drill --plan` (issue 38): the plan's trajectory drilled by the simulated hand (0.2 mm
+// tremor, 1 mm/s drift) with its fixtures, scored. Down the plan into the bone with axis guidance
+// and the depth stop: on the plan (0.5 mm, 1°), no deeper than the target by 0.1 mm. A plan whose
+// target lies in the protected slab (a structure at risk, margin 1 mm) drilled with the forbidden
+// region: the burr's surface never comes within the margin, and the depth stop is never reached.
+TEST(DrillCommand, APlanDrilledWithItsFixturesIsScoredAgainstIt) {
+  const fs::path dir = TestDir("plan");
+  WriteBoneFiles(dir / "labels.nrrd", dir / "ct.nrrd");
+  auto writePlan = [&](const std::string& name, double targetS) {
+    vtkNew<vtkRPTrajectoryNode> trajectory;
+    const double entry[3] = {0, 0, 12}, target[3] = {0, 0, targetS};
+    trajectory->SetEntryAndTarget(entry, target);
+    trajectory->SetToolDiameterMm(3);
+    trajectory->SetName(name);
+    const std::string path = (dir / (name + ".mrk.json")).string();
+    std::string error;
+    const rp::NodeStorage* storage = rp::FindNodeStorageForFile(path);
+    EXPECT_TRUE(storage && storage->Write(trajectory, path, error)) << error;
+    return path;
+  };
+  // A fast burr (--feed 20), so the hand sets the pace (the default feed cuts 2 mm/s at full force).
+  const std::vector<std::string> hand = {"--tremor", "0.2", "--drift", "1", "--seed", "3", "--voxel", "0.4", "--speed", "5",
+                                         "--feed", "20", "--json"};
+  auto drill = [&](const std::string& plan, const std::string& fixtures) {
+    std::vector<std::string> args = {(dir / "labels.nrrd").string(), "--segment", "1", "--protect", "2:1", "--plan", plan,
+                                     "--fixtures", fixtures};
+    args.insert(args.end(), hand.begin(), hand.end());
+    return Drill(args);
+  };
+  const DrillRun guided = drill(writePlan("tunnel", 0), "axis,depth");
+  ASSERT_EQ(guided.Code, 0) << guided.Err;
+  auto doc = guided.Json();
+  for (const char* key : {"entryOffsetMm", "tipOffsetMm", "angleDeg", "depthErrorMm", "maxDeviationMm", "servoTickP99Us"})
+    ASSERT_TRUE(doc.contains(key)) << key;
+  EXPECT_LT(doc["entryOffsetMm"].get<double>(), 0.5);
+  EXPECT_LT(doc["tipOffsetMm"].get<double>(), 0.5);
+  // A 12 mm tunnel at 0.4 mm voxels: entry and tip within 0.5 mm bound the angle by atan(1/12) =
+  // 4.8°; 1.6° measured (d02226d + main). The issue's 1° is checked on rpGuidedDrillTest's 25 mm tunnel.
+  EXPECT_LT(doc["angleDeg"].get<double>(), 2.0);
+  EXPECT_LE(doc["depthErrorMm"].get<double>(), 0.1);
+  EXPECT_GT(doc["depthErrorMm"].get<double>(), -0.5);
+  EXPECT_FALSE(doc["enteredForbidden"].get<bool>());
+  EXPECT_EQ(doc["fixtures"].size(), 2u);
+  EXPECT_EQ(doc["hand"]["seed"], 3);
+
+  const DrillRun protectedRun = drill(writePlan("into-the-slab", -11), "axis,depth,forbidden");
+  ASSERT_EQ(protectedRun.Code, 0) << protectedRun.Err;
+  doc = protectedRun.Json();
+  EXPECT_FALSE(doc["enteredForbidden"].get<bool>());
+  ASSERT_EQ(doc["clearance"].size(), 1u);
+  EXPECT_GE(doc["clearance"][0]["closestMm"].get<double>(), 1.0 - 1e-6);
+  EXPECT_LT(doc["depthErrorMm"].get<double>(), -1.0);  // held above the slab, short of its target
+
+  // Bad input names the problem: no such file, a plan without a trajectory, an unknown fixture.
+  EXPECT_EQ(drill((dir / "none.mrk.json").string(), "axis").Code, 1);
+  const DrillRun unknown = drill(writePlan("tunnel", 0), "axis,laser");
+  EXPECT_EQ(unknown.Code, 1);
+  EXPECT_NE(unknown.Err.find("laser"), std::string::npos) << unknown.Err;
 }

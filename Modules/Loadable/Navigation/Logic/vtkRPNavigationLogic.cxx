@@ -14,6 +14,7 @@
 
 #include "vtkRPModelNode.h"
 #include "vtkRPScene.h"
+#include "vtkRPTrajectoryNode.h"
 #include "vtkRPTransformableNode.h"
 
 vtkStandardNewMacro(vtkRPNavigationLogic);
@@ -47,6 +48,30 @@ void vtkRPNavigationLogic::SetToolNodeID(const std::string& id) {
 void vtkRPNavigationLogic::SetTargetModelNodeIDs(const std::vector<std::string>& ids) {
   this->TargetModelNodeIDs = ids;
   this->Modified();
+}
+
+void vtkRPNavigationLogic::SetTrajectoryNodeID(const std::string& id) {
+  this->TrajectoryNodeID = id;
+  this->Modified();
+}
+
+void vtkRPNavigationLogic::UpdateReadout(vtkRPTransformableNode* tool) {
+  this->LastReadout = rp::GuidanceReadout{};
+  auto* trajectory = vtkRPTrajectoryNode::SafeDownCast(this->Scene->GetNodeByID(this->TrajectoryNodeID));
+  double entry[3], target[3];
+  rp::TrajectoryAxis plan;
+  std::string error;
+  if (!tool || !trajectory || !trajectory->GetEntryWorld(entry) || !trajectory->GetTargetWorld(target) ||
+      !rp::TrajectoryAxis::Make({entry[0], entry[1], entry[2]}, {target[0], target[1], target[2]}, plan, error)) {
+    if (tool) tool->RemoveAttribute("Navigation.Guidance");
+    return;
+  }
+  vtkNew<vtkMatrix4x4> toWorld;
+  tool->GetMatrixTransformToWorld(toWorld);
+  double tipToRAS[16];
+  vtkMatrix4x4::DeepCopy(tipToRAS, toWorld);  // row-major, as ComputeReadout takes it
+  this->LastReadout = rp::ComputeReadout(plan, tipToRAS, {});
+  tool->SetAttribute("Navigation.Guidance", rp::ReadoutString(this->LastReadout));
 }
 
 void vtkRPNavigationLogic::ObserveTool() {
@@ -86,9 +111,15 @@ vtkRPNavigationLogic::Result vtkRPNavigationLogic::Update() {
   auto* tool = vtkRPTransformableNode::SafeDownCast(this->Scene->GetNodeByID(this->ToolNodeID));
   if (!tool) {
     this->Last = result;
+    this->LastReadout = rp::GuidanceReadout{};
     return result;
   }
   this->Updating = true;
+  {
+    const int previous = tool->StartModify();
+    this->UpdateReadout(tool);
+    tool->EndModify(previous);
+  }
   GetTipRAS(tool, result.TipRAS);
   double best = VTK_DOUBLE_MAX;
   for (const auto& id : this->TargetModelNodeIDs) {

@@ -5,13 +5,18 @@
 // measures the distance from the tip to the nearest surface of chosen models, and flags it when
 // it falls under a warning distance. Results go onto the tool node as attributes
 // (Navigation.DistanceMM, Navigation.ClosestModel, Navigation.ClosestPointRAS,
-// Navigation.Warning) so the viewer shows them without knowing this module. Main thread only.
+// Navigation.Warning) so the viewer shows them without knowing this module. With a planned
+// trajectory chosen (SetTrajectoryNodeID, issue 38) it also gives the tool's read-out against the
+// plan (rpGuidanceReadout.h: entry error, angle, depth to target, lateral distance) as
+// Navigation.Guidance ("entryErrorMm=…;angleDeg=…;…") and GetLastReadout(). Main thread only.
 #include <map>
 #include <string>
 #include <vector>
 
 #include <vtkObject.h>
 #include <vtkSmartPointer.h>
+
+#include "rpGuidanceReadout.h"
 
 class vtkRPScene;
 class vtkRPModelNode;
@@ -33,6 +38,12 @@ class vtkRPNavigationLogic : public vtkObject {
   const std::string& GetToolNodeID() const { return this->ToolNodeID; }
   /// Models the distance is measured to (e.g. bone, a ligament).
   void SetTargetModelNodeIDs(const std::vector<std::string>& ids);
+  /// The planned trajectory (a vtkRPTrajectoryNode) the tool is read out against ("" none). The
+  /// tool points along its −z (the stylus's and the haptic proxy's convention).
+  void SetTrajectoryNodeID(const std::string& id);
+  const std::string& GetTrajectoryNodeID() const { return this->TrajectoryNodeID; }
+  /// The last read-out against the trajectory (Valid false without a tool or a complete trajectory).
+  const rp::GuidanceReadout& GetLastReadout() const { return this->LastReadout; }
   vtkSetMacro(WarningDistance, double);
   vtkGetMacro(WarningDistance, double);
 
@@ -61,10 +72,13 @@ class vtkRPNavigationLogic : public vtkObject {
   static void OnToolMoved(vtkObject*, unsigned long, void* clientData, void*);
   void ObserveTool();
   vtkStaticCellLocator* LocatorFor(vtkRPModelNode* model);
+  void UpdateReadout(vtkRPTransformableNode* tool);
 
   vtkRPScene* Scene = nullptr;  // not owned
   std::string ToolNodeID;
   std::vector<std::string> TargetModelNodeIDs;
+  std::string TrajectoryNodeID;
+  rp::GuidanceReadout LastReadout;
   double WarningDistance = 3.0;
   Result Last;
   vtkSmartPointer<vtkCallbackCommand> ToolCallback;

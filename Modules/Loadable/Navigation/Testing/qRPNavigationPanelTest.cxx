@@ -1,7 +1,8 @@
 // The Navigation panel on an analytic scene: a sphere of radius 20 mm at the origin and a tool
 // transform on its +S axis. Known answers: at 35 mm from the centre the tip is 15.0 mm from the
 // surface (green, over the 3 mm warning); at 21 mm it is 1.0 mm (red). The sphere's poles are
-// mesh vertices, so on the S axis the tessellated surface is exactly at radius 20.
+// mesh vertices, so on the S axis the tessellated surface is exactly at radius 20. The tool read
+// out against a planned trajectory (closed form).
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -23,6 +24,7 @@
 #include "vtkRPScene.h"
 #include "vtkRPSliceNode.h"
 #include "vtkRPTrackedToolNode.h"
+#include "vtkRPTrajectoryNode.h"
 
 TEST(NavigationPanel, DistanceToSphereGreenThenRedUnderWarning) {
   int argc = 1;
@@ -100,6 +102,23 @@ TEST(NavigationPanel, DistanceToSphereGreenThenRedUnderWarning) {
   EXPECT_EQ(panel.ModelList()->item(0)->checkState(), Qt::Checked);
   EXPECT_EQ(panel.ModelList()->item(2)->checkState(), Qt::Unchecked);
   EXPECT_EQ(panel.DistanceText(), "1.0 mm");
+
+  // A planned trajectory (issue 38) added and chosen: the tool, on the S axis 21 mm up and pointing
+  // down it, is read out against a plan from (3, 4, 30) down to (3, 4, 0): 5 mm off at the entry
+  // and laterally, 0°, 21 mm from the target.
+  EXPECT_EQ(panel.ReadoutText(), "-");
+  vtkNew<vtkRPTrajectoryNode> plan;
+  plan->SetName("Tunnel");
+  const double entry[3] = {3, 4, 30}, target[3] = {3, 4, 0};
+  plan->SetEntryAndTarget(entry, target);
+  scene->AddNode(plan);
+  const auto listed = std::chrono::steady_clock::now() + std::chrono::milliseconds(2000);
+  while (std::chrono::steady_clock::now() < listed && panel.TrajectoryComboBox()->count() < 2)
+    app.processEvents(QEventLoop::AllEvents, 20);
+  ASSERT_EQ(panel.TrajectoryComboBox()->count(), 2);
+  panel.TrajectoryComboBox()->setCurrentIndex(1);
+  EXPECT_EQ(panel.ReadoutText(), QString::fromUtf8("entry 5.0 mm · angle 0.0° · depth to target 21.0 mm · lateral 5.0 mm"));
+  EXPECT_EQ(logic->GetTrajectoryNodeID(), plan->GetID());
 }
 
 // "Slices follow the tool": the scene's slice nodes follow the tracked stylus tip (StylusTip

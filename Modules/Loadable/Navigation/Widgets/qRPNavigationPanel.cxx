@@ -1,5 +1,6 @@
 #include "qRPNavigationPanel.h"
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -30,7 +31,10 @@ qRPNavigationPanel::qRPNavigationPanel(vtkRPNavigationLogic* logic, QWidget* par
   this->Warning->setSuffix(" mm");
   this->Warning->setValue(logic ? logic->GetWarningDistance() : 3.0);
   auto* refresh = new QPushButton("Refresh node lists");
+  this->Trajectory = new QComboBox;
+  this->Trajectory->setToolTip("A planned trajectory: the tool is read out against it (the tool points along its -z)");
   form->addRow("Tool (tip at origin)", this->Tool);
+  form->addRow("Planned trajectory", this->Trajectory);
   form->addRow("Warning distance", this->Warning);
   this->FollowTool = new qRPSliceFollowCheckBox("Slices follow the tool");
   this->FollowTool->SetScene(logic ? logic->GetScene() : nullptr);
@@ -44,6 +48,8 @@ qRPNavigationPanel::qRPNavigationPanel(vtkRPNavigationLogic* logic, QWidget* par
   this->Distance->setAlignment(Qt::AlignCenter);
   this->Closest = new QLabel("-");
   this->Closest->setAlignment(Qt::AlignCenter);
+  this->Readout = new QLabel("-");
+  this->Readout->setAlignment(Qt::AlignCenter);
   auto* layout = new QVBoxLayout(this);
   layout->addLayout(form);
   layout->addWidget(new QLabel("Measure to the models:"));
@@ -51,11 +57,15 @@ qRPNavigationPanel::qRPNavigationPanel(vtkRPNavigationLogic* logic, QWidget* par
   layout->addWidget(refresh);
   layout->addWidget(this->Distance);
   layout->addWidget(this->Closest);
+  layout->addWidget(this->Readout);
   this->Timer = new QTimer(this);
   this->Timer->setInterval(33);  // 30 Hz display rate
   connect(this->Timer, &QTimer::timeout, this, &qRPNavigationPanel::OnTimer);
   connect(refresh, &QPushButton::clicked, this, &qRPNavigationPanel::RefreshNodeLists);
   connect(this->Tool, QOverload<int>::of(&QComboBox::currentIndexChanged), this, [this](int) {
+    if (!this->Refreshing) this->Update();
+  });
+  connect(this->Trajectory, QOverload<int>::of(&QComboBox::currentIndexChanged), this, [this](int) {
     if (!this->Refreshing) this->Update();
   });
   connect(this->Models, &QListWidget::itemChanged, this, [this](QListWidgetItem*) {
@@ -100,6 +110,7 @@ qRPNavigationPanel::~qRPNavigationPanel() {
 
 QString qRPNavigationPanel::DistanceText() const { return this->Distance->text(); }
 QString qRPNavigationPanel::ClosestModelText() const { return this->Closest->text(); }
+QString qRPNavigationPanel::ReadoutText() const { return this->Readout->text(); }
 
 void qRPNavigationPanel::showEvent(QShowEvent* event) {
   this->RefreshNodeLists();
@@ -119,6 +130,12 @@ void qRPNavigationPanel::RefreshNodeLists() {
   if (index < 0) index = this->Tool->findText("StylusTipToStylus");
   if (index < 0) index = this->Tool->findText("HapticProxy");
   this->Tool->setCurrentIndex(index >= 0 ? index : 0);
+  const QString trajectory = this->Trajectory->currentData().toString();
+  this->Trajectory->clear();
+  this->Trajectory->addItem("(none)", QString());
+  for (vtkRPNode* node : scene->GetNodesByClass("vtkRPTrajectoryNode"))
+    this->Trajectory->addItem(QString::fromStdString(node->GetName()), QString::fromStdString(node->GetID()));
+  this->Trajectory->setCurrentIndex(std::max(0, this->Trajectory->findData(trajectory)));
 
   QStringList checked;
   for (int i = 0; i < this->Models->count(); ++i)
@@ -139,6 +156,8 @@ void qRPNavigationPanel::ApplySettings() {
   const std::string tool = this->Tool->currentData().toString().toStdString();
   if (tool != this->Logic->GetToolNodeID()) this->Logic->SetToolNodeID(tool);
   this->FollowTool->SetFollowNodeID(tool);
+  const std::string trajectory = this->Trajectory->currentData().toString().toStdString();
+  if (trajectory != this->Logic->GetTrajectoryNodeID()) this->Logic->SetTrajectoryNodeID(trajectory);
   std::vector<std::string> models;
   for (int i = 0; i < this->Models->count(); ++i)
     if (this->Models->item(i)->checkState() == Qt::Checked)
@@ -147,10 +166,24 @@ void qRPNavigationPanel::ApplySettings() {
   if (this->Warning->value() != this->Logic->GetWarningDistance()) this->Logic->SetWarningDistance(this->Warning->value());
 }
 
+void qRPNavigationPanel::ShowReadout() {
+  const rp::GuidanceReadout& g = this->Logic->GetLastReadout();
+  if (!g.Valid) {
+    this->Readout->setText("-");
+    return;
+  }
+  this->Readout->setText(QString::fromUtf8("entry %1 mm · angle %2° · depth to target %3 mm · lateral %4 mm")
+                             .arg(g.EntryErrorMm, 0, 'f', 1)
+                             .arg(g.AngleDeg, 0, 'f', 1)
+                             .arg(g.DepthToTargetMm, 0, 'f', 1)
+                             .arg(g.LateralMm, 0, 'f', 1));
+}
+
 void qRPNavigationPanel::Update() {
   if (this->Logic == nullptr || this->Logic->GetScene() == nullptr) return;
   this->ApplySettings();
   const vtkRPNavigationLogic::Result r = this->Logic->Update();
+  this->ShowReadout();
   if (!r.Valid) {
     this->Distance->setText("-");
     this->Distance->setStyleSheet("");

@@ -3,8 +3,10 @@
 // The Navigation module's Qt panel: pick the tool (a transform node whose origin is the tip,
 // e.g. StylusTipToStylus or HapticProxy), tick the models to measure to and a warning distance;
 // shows the tip-to-surface distance big, red under the warning distance, green otherwise, with
-// the closest model's name; the slices can follow the tool (through the scene's slice nodes). vtkRPNavigationLogic does the work (and writes Navigation.*
-// attributes onto the tool node for the viewer); a 30 Hz timer refreshes the read-out.
+// the closest model's name; the slices can follow the tool (through the scene's slice nodes);
+// with a planned trajectory chosen, the tool's read-out against it (entry error, angle, depth to
+// target, lateral distance; issue 38). vtkRPNavigationLogic does the work (and writes Navigation.*
+// attributes onto the tool node for the viewer); a 30 Hz timer refreshes the read-outs.
 #include <QWidget>
 
 #include <vector>
@@ -33,6 +35,10 @@ class qRPNavigationPanel : public QWidget {
   QComboBox* ToolComboBox() const { return this->Tool; }
   QListWidget* ModelList() const { return this->Models; }
   QDoubleSpinBox* WarningSpinBox() const { return this->Warning; }
+  /// The planned trajectory the tool is read out against ("(none)" first).
+  QComboBox* TrajectoryComboBox() const { return this->Trajectory; }
+  /// "entry 1.2 mm · angle 2.5° · depth to target 10.2 mm · lateral 0.8 mm", or "-".
+  QString ReadoutText() const;
   /// "Slices follow the tool": the scene's slice nodes follow the chosen tool's tip (the views
   /// re-slice at the tracked stylus; the panel never touches a view).
   qRPSliceFollowCheckBox* FollowToolCheckBox() const { return this->FollowTool; }
@@ -46,11 +52,14 @@ class qRPNavigationPanel : public QWidget {
 
  private:
   void ApplySettings();
+  void ShowReadout();
   void OnTimer();
   static void OnSceneNodesChanged(vtkObject*, unsigned long, void* clientData, void*);
 
   vtkRPNavigationLogic* Logic;
   QComboBox* Tool;
+  QComboBox* Trajectory;
+  QLabel* Readout;
   QListWidget* Models;
   QDoubleSpinBox* Warning;
   qRPSliceFollowCheckBox* FollowTool;

@@ -224,14 +224,6 @@ BreachFigure Breach(const Frame& f, const std::vector<DepthInterval>& bone, doub
 
 }  // namespace
 
-int GertzbeinRobbinsGrade(double mm) noexcept {
-  if (!(mm > 0)) return 0;
-  if (mm < 2) return 1;
-  if (mm < 4) return 2;
-  if (mm <= 6) return 3;
-  return 4;
-}
-
 ToolSpan ToolSpanOf(const TrajectorySnapshot& plan) {
   ToolSpan tool;
   tool.End = plan.Target;

@@ -11,14 +11,11 @@
 #include <string>
 #include <vector>
 
+#include "rpExecutionScore.h"  // GertzbeinRobbinsGrade
 #include "rpPlanSnapshot.h"
 #include "rpTissueModel.h"
 
 namespace rp {
-
-/// Gertzbein-Robbins grade of a breach of `mm` beyond the cortex: 0 none, 1 < 2 mm, 2 2-4 mm,
-/// 3 4-6 mm, 4 > 6 mm (a breach of exactly 2 mm is grade 2).
-int GertzbeinRobbinsGrade(double mm) noexcept;
 
 struct ToolSpan {
   Vec3 Start, End;  // the tool's extent on the axis (End: the target)

@@ -93,15 +93,7 @@ double Flatness(const rp::TriangleMesh& mesh, const rp::Vec3& center, double rad
 
 }  // namespace
 
-TEST(PlanningCore, GertzbeinRobbinsGrades) {
-  EXPECT_EQ(rp::GertzbeinRobbinsGrade(0), 0);
-  EXPECT_EQ(rp::GertzbeinRobbinsGrade(1.99), 1);
-  EXPECT_EQ(rp::GertzbeinRobbinsGrade(2.0), 2);
-  EXPECT_EQ(rp::GertzbeinRobbinsGrade(3.99), 2);
-  EXPECT_EQ(rp::GertzbeinRobbinsGrade(4.0), 3);
-  EXPECT_EQ(rp::GertzbeinRobbinsGrade(6.0), 3);
-  EXPECT_EQ(rp::GertzbeinRobbinsGrade(6.01), 4);
-}
+// The Gertzbein-Robbins grade is rpExecutionScore.h's (tested in rpExecutionScoreTest).
 
 TEST(PlanningCore, ATunnelAcrossATubeHasTheWallsLengthInBoneAndNoBreach) {
   const AnalyticVolume ct({-14, -14, -3}, {14, 14, 3}, 0.5, TubeHU);
