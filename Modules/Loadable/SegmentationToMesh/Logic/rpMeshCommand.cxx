@@ -725,7 +725,7 @@ int RunMeshCommand(const std::vector<std::string>& arguments, vtkRPScene* contex
   if (const auto exitCode = parser.ParseCommand(arguments, out, err)) return *exitCode;
   const auto t0 = std::chrono::steady_clock::now();
   const bool quiet = parser.Json();
-  TerminalProgress progress("mesh", quiet);
+  TerminalProgress progress("mesh", quiet, err);
   MeshRequest request;
   if (!ParseRequest(parser, request, err)) return 2;
 
