@@ -2,7 +2,8 @@
 # RoboPlan set-up: installs what is missing from Debian's packages, then configures and builds
 # with Ninja, ccache and a fast linker (lld). Idempotent: a second run installs nothing and builds
 # incrementally. Each action builds only what it runs: --demo the application and its modules,
-# --test everything but the benchmarks, no action everything with the benchmarks. ccache's paths
+# --test everything (the benchmarks too: their smoke test runs them; not with --no-benchmarks), no
+# action everything with the benchmarks. ccache's paths
 # are relative to the source folder, so a fresh clone elsewhere reuses an earlier clone's cache.
 #
 #   SuperBuild/setup.sh [--build-dir DIR] [--type Release|Debug|RelWithDebInfo]
@@ -54,7 +55,7 @@ if [ ! -f "$build_dir/build.ninja" ] || [ "$src_dir/CMakeLists.txt" -nt "$build_
 fi
 case "$action" in
   demo) targets=(--target roboplan) ;;  # the application and the modules it loads
-  test) targets=() ;;                   # the default target: everything but the benchmarks
+  test) targets=() ;;                   # the default target: with tests on, the benchmarks too
   *) targets=(--target all); if [ "$benchmarks" = ON ]; then targets+=(benchmarks); fi ;;
 esac
 echo "== build (-j$jobs${targets[*]:+ ${targets[*]}})"

@@ -4,8 +4,13 @@
 #include <array>
 #include <cmath>
 #include <cstdlib>
+#include <exception>
 #include <filesystem>
-#include <fstream>
+#include <functional>
+#include <iostream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
 
 #include <vtkAxis.h>
 #include <vtkChartLegend.h>
@@ -25,6 +30,7 @@
 #include <vtkTextProperty.h>
 #include <vtkWindowToImageFilter.h>
 
+#include "rpAtomicFile.h"
 #include "rpBenchmarkConditions.h"
 #include "rpXDisplay.h"
 
@@ -41,6 +47,31 @@ bool Render(vtkContextView* view, const std::string& path, const ChartOptions& o
   return WriteWindowPNG(view->GetRenderWindow(), path, error);
 }
 
+// Every figure file is written through here (the writer boundary): what the writer throws (VTK's
+// allocations, the JSON library, the file system) or returns false for becomes `false` and an
+// `error` that names the file; never an abort. In a benchmark each file is named on stderr,
+// written or not.
+bool Guarded(const std::string& path, std::string& error, const std::function<bool(std::string&)>& write) {
+  std::string why;
+  bool written = false;
+  try {
+    written = write(why);
+  } catch (const std::exception& e) {
+    why = e.what();
+  } catch (...) {
+    why = "unknown exception";
+  }
+  const bool benchmark = Conditions::Process().Started();
+  if (written) {
+    if (benchmark) std::cerr << "[figures] wrote " << path << "\n";
+    return true;
+  }
+  if (why.empty()) why = "the writer gave no reason";
+  error = why.find(path) == std::string::npos ? "figure '" + path + "' not written: " + why : why;
+  if (benchmark) std::cerr << "[figures] warning: " << error << "\n";
+  return false;
+}
+
 void StyleChart(vtkChartXY* chart, const ChartOptions& options) {
   chart->SetTitle(options.Title);
   chart->GetTitleProperties()->SetFontSize(18);
@@ -53,15 +84,12 @@ void StyleChart(vtkChartXY* chart, const ChartOptions& options) {
   chart->GetLegend()->SetVerticalAlignment(vtkChartLegend::TOP);
 }
 
-}  // namespace
-
-std::array<unsigned char, 3> SeriesColor(size_t index) {
-  const unsigned char* c = Palette[index % 8];
-  return {c[0], c[1], c[2]};
-}
-
-bool WriteChartPNG(const std::string& path, const std::vector<Series>& series, const ChartOptions& options,
-                   std::string& error) {
+bool DrawChart(const std::string& path, const std::vector<Series>& series, const ChartOptions& options,
+               std::string& error) {
+  if (series.empty()) {
+    error = "no series to draw";
+    return false;
+  }
   vtkNew<vtkContextView> view;
   vtkNew<vtkChartXY> chart;
   view->GetScene()->AddItem(chart);
@@ -117,8 +145,8 @@ bool WriteChartPNG(const std::string& path, const std::vector<Series>& series, c
   return Render(view, path, options, error);
 }
 
-bool WriteHistogramPNG(const std::string& path, const std::vector<double>& binCenters,
-                       const std::vector<double>& counts, const ChartOptions& options, std::string& error) {
+bool DrawHistogram(const std::string& path, const std::vector<double>& binCenters, const std::vector<double>& counts,
+                   const ChartOptions& options, std::string& error) {
   if (binCenters.size() != counts.size() || binCenters.empty()) {
     error = "histogram has no bins or unequal lengths";
     return false;
@@ -145,10 +173,10 @@ bool WriteHistogramPNG(const std::string& path, const std::vector<double>& binCe
   return Render(view, path, options, error);
 }
 
-bool WriteBarChartPNG(const std::string& path, const std::vector<std::string>& categories,
-                      const std::vector<Series>& series, const ChartOptions& options, std::string& error) {
+bool DrawBars(const std::string& path, const std::vector<std::string>& categories, const std::vector<Series>& series,
+              const ChartOptions& options, std::string& error) {
   if (categories.empty() || series.empty()) {
-    error = "bar chart '" + path + "' has no categories or no series";
+    error = "the bar chart has no categories or no series";
     return false;
   }
   for (const Series& s : series) {
@@ -207,6 +235,51 @@ bool WriteBarChartPNG(const std::string& path, const std::vector<std::string>& c
   return Render(view, path, options, error);
 }
 
+// The CSV's text: the conditions as '#' lines in a benchmark, the header, the rows.
+bool FormatCSV(const std::vector<std::string>& header, const std::vector<std::vector<double>>& rows, std::string& text,
+               std::string& error) {
+  std::ostringstream out;
+  // A benchmark's CSV names its conditions (rpBenchmarkConditions.h) in comment lines.
+  if (Conditions::Process().Started()) {
+    for (const auto& [name, value] : Conditions::Process().Fields()) out << "# " << name << ": " << value << "\n";
+  }
+  for (size_t i = 0; i < header.size(); ++i) out << (i ? "," : "") << header[i];
+  out << "\n";
+  out.precision(10);
+  for (const auto& row : rows) {
+    if (row.size() != header.size()) {
+      error = "a row with " + std::to_string(row.size()) + " values, the header has " + std::to_string(header.size());
+      return false;
+    }
+    for (size_t i = 0; i < row.size(); ++i) out << (i ? "," : "") << row[i];
+    out << "\n";
+  }
+  text = out.str();
+  return true;
+}
+
+}  // namespace
+
+std::array<unsigned char, 3> SeriesColor(size_t index) {
+  const unsigned char* c = Palette[index % 8];
+  return {c[0], c[1], c[2]};
+}
+
+bool WriteChartPNG(const std::string& path, const std::vector<Series>& series, const ChartOptions& options,
+                   std::string& error) {
+  return Guarded(path, error, [&](std::string& why) { return DrawChart(path, series, options, why); });
+}
+
+bool WriteHistogramPNG(const std::string& path, const std::vector<double>& binCenters,
+                       const std::vector<double>& counts, const ChartOptions& options, std::string& error) {
+  return Guarded(path, error, [&](std::string& why) { return DrawHistogram(path, binCenters, counts, options, why); });
+}
+
+bool WriteBarChartPNG(const std::string& path, const std::vector<std::string>& categories,
+                      const std::vector<Series>& series, const ChartOptions& options, std::string& error) {
+  return Guarded(path, error, [&](std::string& why) { return DrawBars(path, categories, series, options, why); });
+}
+
 bool WriteWindowPNG(vtkRenderWindow* window, const std::string& path, std::string& error) {
   std::string why;
   if (!rp::PrepareOffscreenWindow(window, why)) {  // never VTK's own X connection (rpXDisplay.h)
@@ -231,33 +304,36 @@ bool WriteWindowPNG(vtkRenderWindow* window, const std::string& path, std::strin
 
 bool WriteCSV(const std::string& path, const std::vector<std::string>& header,
               const std::vector<std::vector<double>>& rows, std::string& error) {
-  std::ofstream out(path);
-  if (!out) {
-    error = "cannot write '" + path + "'";
-    return false;
-  }
-  // A benchmark's CSV names its conditions (rpBenchmarkConditions.h) in comment lines.
-  if (Conditions::Process().Started()) {
-    for (const auto& [name, value] : Conditions::Process().Fields()) out << "# " << name << ": " << value << "\n";
-  }
-  for (size_t i = 0; i < header.size(); ++i) out << (i ? "," : "") << header[i];
-  out << "\n";
-  out.precision(10);
-  for (const auto& row : rows) {
-    if (row.size() != header.size()) {
-      error = "CSV row with " + std::to_string(row.size()) + " values, header has " + std::to_string(header.size());
-      return false;
-    }
-    for (size_t i = 0; i < row.size(); ++i) out << (i ? "," : "") << row[i];
-    out << "\n";
-  }
-  return out.good();
+  return Guarded(path, error, [&](std::string& why) {
+    std::string text;
+    return FormatCSV(header, rows, text, why) && WriteFileAtomically(path, text, why);
+  });
+}
+
+bool WriteFiguresJSON(const std::string& path, const nlohmann::json& figures, std::string& error) {
+  return Guarded(path, error, [&](std::string& why) {
+    nlohmann::json document = figures.is_object() ? figures : nlohmann::json::object();
+    if (!figures.is_object() && !figures.is_null()) document["results"] = figures;
+    document["conditions"] = nlohmann::json::parse(ConditionsJson());
+    // Text that is not UTF-8 (a device's name, a path) is replaced, not thrown.
+    return WriteFileAtomically(path, document.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n", why);
+  });
+}
+
+bool WriteFigureFile(const std::string& path, const std::string& text, std::string& error) {
+  return Guarded(path, error, [&](std::string& why) { return WriteFileAtomically(path, text, why); });
 }
 
 std::string OutputDirectory() {
   const char* env = std::getenv("ROBOPLAN_BENCHMARK_OUTPUT");
   const std::string dir = env && *env ? env : "benchmark-output";
-  std::filesystem::create_directories(dir);
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec && !std::filesystem::is_directory(dir)) {
+    static bool warned = false;  // once: every figure then names itself
+    if (!warned) std::cerr << "[figures] warning: cannot make the output folder '" << dir << "': " << ec.message() << "\n";
+    warned = true;
+  }
   return dir;
 }
 

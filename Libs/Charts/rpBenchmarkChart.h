@@ -1,12 +1,19 @@
 #pragma once
-// Figures and charts for benchmarks and reports: CSV tables and PNG line/scatter charts drawn
-// with VTK's chart classes in an offscreen window. Debian's VTK draws through GLX: without
-// $DISPLAY a private Xvfb is started for the process (rpXDisplay.h); where none can be, a picture
-// is not drawn and the Write*PNG call returns false with the reason (never a crash).
+// Figures and charts for benchmarks and reports: CSV tables, JSON figures and PNG line/scatter
+// charts drawn with VTK's chart classes in an offscreen window. Debian's VTK draws through GLX:
+// without $DISPLAY a private Xvfb is started for the process (rpXDisplay.h); where none can be, a
+// picture is not drawn and the Write*PNG call returns false with the reason.
+// A figure that cannot be written is never an abort: every Write* call catches what its writers
+// throw and returns false with `error` naming the file and why. In a benchmark (its conditions
+// started, rpBenchmarkConditions.h) each call also prints "[figures] wrote <path>" or "[figures]
+// warning: <error>" on stderr, so that a figure lost is named even where the caller ignores the
+// result. CSV and JSON files are written atomically (no half file is left).
 #include <array>
 #include <cstddef>
 #include <string>
 #include <vector>
+
+#include <nlohmann/json_fwd.hpp>
 
 class vtkRenderWindow;
 
@@ -50,7 +57,16 @@ bool WriteWindowPNG(vtkRenderWindow* window, const std::string& path, std::strin
 bool WriteCSV(const std::string& path, const std::vector<std::string>& header,
               const std::vector<std::vector<double>>& rows, std::string& error);
 
-/// $ROBOPLAN_BENCHMARK_OUTPUT or ./benchmark-output (created).
+/// Writes a benchmark's figures as one JSON object: the keys of `figures` (a list or a single value
+/// goes under "results") and "conditions", the run's conditions (rpBenchmarkConditions.h; call
+/// FinishConditions first for the "after" fields).
+bool WriteFiguresJSON(const std::string& path, const nlohmann::json& figures, std::string& error);
+
+/// Writes a figure file of another kind (its whole text), the same way.
+bool WriteFigureFile(const std::string& path, const std::string& text, std::string& error);
+
+/// $ROBOPLAN_BENCHMARK_OUTPUT or ./benchmark-output, created (where it cannot be, a warning names
+/// it and every figure written there is then a named warning).
 std::string OutputDirectory();
 
 }  // namespace rp::bench

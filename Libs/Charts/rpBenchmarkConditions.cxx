@@ -19,6 +19,7 @@
 #include <vtkRenderer.h>
 #include <vtkSMPTools.h>
 
+#include "rpBenchmarkChart.h"
 #include "rpXDisplay.h"
 
 namespace rp::bench {
@@ -184,6 +185,9 @@ std::vector<std::pair<std::string, std::string>> Conditions::Fields() const {
       {"cpu model", this->CpuModel},
       {"threads", Threads()},
       {"load average before", Loads(this->LoadBefore)}};
+  if (QuickRun())
+    fields.emplace_back("run", "quick (ROBOPLAN_BENCHMARK_QUICK): smallest sizes and shortest times, a check that "
+                               "every figure is written; not figures to quote");
   const XDisplayInfo display = rp::CurrentXDisplay();
   fields.emplace_back("screen", display.Name.empty() ? "none opened"
                                                       : display.Name + " " + std::to_string(display.Width) + "x" +
@@ -215,6 +219,11 @@ std::string Conditions::Text() const {
   return text;
 }
 
+bool QuickRun() {
+  const char* quick = std::getenv("ROBOPLAN_BENCHMARK_QUICK");
+  return quick && *quick && std::string(quick) != "0";
+}
+
 void StartConditions() {
   Conditions& conditions = Conditions::Process();
   conditions.Start();
@@ -225,7 +234,7 @@ void StartConditions() {
 std::string ConditionsJson() {
   nlohmann::json doc = nlohmann::json::object();
   for (const auto& [name, value] : Conditions::Process().Fields()) doc[name] = value;
-  return doc.dump(2);
+  return doc.dump(2, ' ', false, nlohmann::json::error_handler_t::replace);  // a CPU or GL name need not be UTF-8
 }
 
 void FinishConditions(const std::string& directory, const std::string& program) {
@@ -234,7 +243,8 @@ void FinishConditions(const std::string& directory, const std::string& program) 
   conditions.Finish();
   std::istringstream lines(conditions.Text());
   for (std::string line; std::getline(lines, line);) std::cerr << "[conditions] " << line << "\n";
-  std::ofstream(directory + "/" + program + "-conditions.json") << ConditionsJson() << "\n";
+  std::string error;
+  WriteFigureFile(directory + "/" + program + "-conditions.json", ConditionsJson() + "\n", error);  // warns itself
 }
 
 }  // namespace rp::bench

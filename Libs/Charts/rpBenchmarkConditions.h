@@ -54,6 +54,11 @@ class Conditions {
   std::string GLRenderer, GLVersion;
 };
 
+/// A quick run ($ROBOPLAN_BENCHMARK_QUICK set, not "0"): every part of a benchmark runs at its
+/// smallest size and shortest time, to check that it runs to its end and writes every figure
+/// (the benchmarks' smoke test). Its figures are not results: the conditions say so ("run").
+bool QuickRun();
+
 /// Starts the process's record and prints it (stderr, "[conditions] " lines).
 void StartConditions();
 /// Finishes it, prints it and writes <directory>/<program>-conditions.json (a JSON object).

@@ -16,14 +16,6 @@ namespace rp {
 namespace {
 constexpr const char* TempPrefix = ".tmp-";
 
-std::string TempPathFor(const std::string& path) {
-  // Keep the extension last so writers that pick a format by extension still recognise it.
-  const auto slash = path.find_last_of('/');
-  const std::string dir = slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
-  const std::string base = slash == std::string::npos ? path : path.substr(slash + 1);
-  return dir + TempPrefix + std::to_string(::getpid()) + "-" + base;
-}
-
 void SyncFile(const std::string& path, int flags = O_RDONLY) {
   const int fd = ::open(path.c_str(), flags);
   if (fd >= 0) {
@@ -40,10 +32,17 @@ void SyncFolderOf(const std::string& path) {
 }
 }  // namespace
 
+std::string TemporaryPathFor(const std::string& path) {
+  const auto slash = path.find_last_of('/');
+  const std::string dir = slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
+  const std::string base = slash == std::string::npos ? path : path.substr(slash + 1);
+  return dir + TempPrefix + std::to_string(::getpid()) + "-" + base;
+}
+
 bool WriteAtomicallyWith(const std::string& path,
                          const std::function<bool(const std::string&, std::string&)>& writer,
                          std::string& error) {
-  const std::string temp = TempPathFor(path);
+  const std::string temp = TemporaryPathFor(path);
   std::string writerError;
   if (!writer(temp, writerError)) {
     std::remove(temp.c_str());
@@ -60,12 +59,26 @@ bool WriteAtomicallyWith(const std::string& path,
   return true;
 }
 
-int RemoveStaleTemporaryFiles(const std::string& folder) {
+bool ReplaceWithLinkTo(const std::string& path, const std::string& source, std::string& error) {
+  return WriteAtomicallyWith(
+      path,
+      [&source](const std::string& temp, std::string& err) {
+        std::error_code ec;
+        std::filesystem::create_hard_link(source, temp, ec);
+        if (!ec) return true;
+        std::filesystem::copy_file(source, temp, std::filesystem::copy_options::overwrite_existing, ec);
+        if (ec) err = "cannot link or copy '" + source + "': " + ec.message();
+        return !ec;
+      },
+      error);
+}
+
+int RemoveStaleTemporaryFiles(const std::string& folder, const std::set<std::string>& keep) {
   int removed = 0;
   std::error_code ec;
   for (const auto& entry : std::filesystem::directory_iterator(folder, ec)) {
     const std::string name = entry.path().filename().string();
-    if (name.rfind(TempPrefix, 0) != 0) continue;
+    if (name.rfind(TempPrefix, 0) != 0 || keep.count(name)) continue;
     const size_t dash = name.find('-', std::strlen(TempPrefix));
     if (dash == std::string::npos) continue;
     char* end = nullptr;

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <fstream>
 #include <limits>
@@ -10,7 +11,8 @@
 
 namespace rp {
 
-uint64_t AvailableMemoryBytes() {
+namespace {
+uint64_t MemoryFromTheSystem() {
   std::ifstream meminfo("/proc/meminfo");
   std::string key;
   uint64_t kilobytes = 0;
@@ -20,6 +22,17 @@ uint64_t AvailableMemoryBytes() {
   }
   const long pages = sysconf(_SC_PHYS_PAGES), pageSize = sysconf(_SC_PAGE_SIZE);
   return pages > 0 && pageSize > 0 ? uint64_t(pages) * uint64_t(pageSize) : 0;
+}
+}  // namespace
+
+uint64_t AvailableMemoryBytes() {
+  const uint64_t system = MemoryFromTheSystem();
+  // A cap for runs that must stay small (the fuzzers, whose 2 GB limit counts any larger
+  // allocation as a failure; a shared machine).
+  const char* cap = std::getenv("ROBOPLAN_MEMORY_LIMIT_MB");
+  const double megabytes = cap ? std::atof(cap) : 0.0;
+  if (megabytes > 0 && (system == 0 || megabytes * 1048576.0 < double(system))) return uint64_t(megabytes * 1048576.0);
+  return system;
 }
 
 std::string FormatBytes(double bytes) {

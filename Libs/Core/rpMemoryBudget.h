@@ -9,7 +9,8 @@
 namespace rp {
 
 /// Bytes of memory this process could still get: MemAvailable from /proc/meminfo (Linux),
-/// else the physical memory; 0 when unknown.
+/// else the physical memory; 0 when unknown. ROBOPLAN_MEMORY_LIMIT_MB (environment), when set,
+/// caps it (the fuzzers run with 1024).
 uint64_t AvailableMemoryBytes();
 
 /// "1.5 GB", "2e+06 GB", "340 MB": a byte count for messages.

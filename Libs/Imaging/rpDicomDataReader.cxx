@@ -1,17 +1,20 @@
 // DICOM as a DataReader (rpDataLoader.h): a folder (searched recursively), a DICOMDIR or one
-// DICOM file becomes one scalar volume node, the series chosen by ReadOptions::Series when there
-// are several (`--series`, as `roboplan dicom` lists them). So every caller of rp::LoadPath
-// (`mesh`, the viewer, `roboplan <folder>`) reads DICOM the way `convert` does.
+// DICOM file is read whole (rpDicomStudy.h): each image series a scalar volume node, each SEG
+// and RTSTRUCT a segmentation node that references (vtkRPSegmentationNode::
+// ReferenceImageGeometryRole) the volume it lies on, so the views show that volume under it.
+// ReadOptions::Series (`--series`, as `roboplan dicom` lists the IDs) reads one object only. So
+// every caller of rp::LoadPath (`mesh`, the viewer, `roboplan <folder>`) reads DICOM one way.
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
 #include <fstream>
 
 #include "rpDataLoader.h"
-#include "rpDicomSeries.h"
+#include "rpDicomStudy.h"
 #include "rpImageVolume.h"
 #include "rpImagingReaders.h"
 #include "vtkRPScalarVolumeNode.h"
+#include "vtkRPSegmentationNode.h"
 
 namespace rp {
 namespace {
@@ -22,6 +25,45 @@ bool HasDicomMagic(const std::string& path) {
   char header[132] = {};
   if (!file.read(header, sizeof header)) return false;
   return std::equal(header + 128, header + 132, "DICM");
+}
+
+// The study's objects as nodes (not yet in a scene). Several nodes get IDs as the scene would
+// give them (class name and number), so that a segmentation can reference its volume; LoadPath
+// imports them together (an ID the scene has already is remapped, references following).
+void AddStudyNodes(const std::string& path, DicomStudy& study, LoadResult& result) {
+  const bool several = study.Volumes.size() + study.Segmentations.size() > 1;
+  nlohmann::json objects = nlohmann::json::array();
+  std::vector<vtkRPScalarVolumeNode*> volumes;
+  for (DicomStudyVolume& read : study.Volumes) {
+    auto node = vtkSmartPointer<vtkRPScalarVolumeNode>::New();
+    const ImageVolume& volume = read.Volume;
+    node->SetName(volume.Description.empty() ? std::filesystem::path(path).filename().string() : volume.Description);
+    CopyToNode(volume, node);  // window/level from the series, else from the scalar range
+    if (several) node->SetIDInternal(node->GetClassName() + std::to_string(volumes.size() + 1));
+    volumes.push_back(node);
+    result.Nodes.push_back(node);
+    objects.push_back({{"kind", "volume"}, {"id", read.Series.StackID}, {"modality", volume.Modality},
+                       {"description", volume.Description}});
+  }
+  for (DicomStudySegmentation& read : study.Segmentations) {
+    vtkRPSegmentationNode* node = read.Node;
+    nlohmann::json object = {{"kind", read.Object.Kind}, {"id", read.Object.SeriesInstanceUID},
+                             {"description", node->GetName()}, {"segments", node->GetNumberOfSegments()}};
+    if (several) node->SetIDInternal(node->GetClassName() + std::to_string(objects.size() - volumes.size() + 1));
+    if (read.ReferencedVolume >= 0) {
+      const DicomStudyVolume& on = study.Volumes[static_cast<size_t>(read.ReferencedVolume)];
+      node->SetNodeReferenceID(vtkRPSegmentationNode::ReferenceImageGeometryRole(),
+                               volumes[static_cast<size_t>(read.ReferencedVolume)]->GetID());
+      object["on"] = on.Series.StackID;
+    }
+    result.Nodes.push_back(read.Node);
+    objects.push_back(object);
+  }
+  result.Details["objects"] = objects;
+  if (!study.Volumes.empty()) {  // the first volume's, as for a single series
+    result.Details["modality"] = study.Volumes.front().Volume.Modality;
+    result.Details["description"] = study.Volumes.front().Volume.Description;
+  }
 }
 
 class DicomReader : public DataReader {
@@ -37,17 +79,13 @@ class DicomReader : public DataReader {
     return name == "DICOMDIR" || HasExtension(path, ".dcm") || HasDicomMagic(path);
   }
   bool Read(const std::string& path, const ReadOptions& options, vtkRPScene*, LoadResult& result) const override {
-    ImageVolume volume;
-    DicomReadOptions dicom;
-    dicom.ResampleIrregularSpacing = options.ResampleIrregularSpacing;
-    if (!ReadDicomVolume(path, volume, result.Error, options.Series, dicom, &result.Warnings, options.Progress))
-      return false;
-    auto node = vtkSmartPointer<vtkRPScalarVolumeNode>::New();
-    node->SetName(volume.Description.empty() ? std::filesystem::path(path).filename().string() : volume.Description);
-    CopyToNode(volume, node);  // window/level from the series, else from the scalar range
-    result.Details["modality"] = volume.Modality;
-    result.Details["description"] = volume.Description;
-    result.Nodes.push_back(node);
+    DicomStudyOptions study;
+    study.Series = options.Series;
+    study.Dicom.ResampleIrregularSpacing = options.ResampleIrregularSpacing;
+    DicomStudy read;
+    if (!ReadDicomStudy(path, read, result.Error, study, options.Progress)) return false;
+    result.Warnings.insert(result.Warnings.end(), read.Warnings.begin(), read.Warnings.end());
+    AddStudyNodes(path, read, result);
     return true;
   }
 };

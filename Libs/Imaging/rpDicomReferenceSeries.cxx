@@ -85,6 +85,16 @@ int DicomSegmentationObjectKind(const std::string& path, std::string* object, st
   return found;
 }
 
+DicomReferenceSeries DicomReferenceFromVolume(const DicomSeriesInfo& series, const ImageVolume& volume) {
+  DicomReferenceSeries reference;
+  reference.Volume = volume;
+  reference.SeriesInstanceUID = series.SeriesInstanceUID;
+  reference.StudyInstanceUID = series.StudyInstanceUID;
+  reference.FrameOfReferenceUID = series.FrameOfReferenceUID;
+  reference.FirstFile = series.Files.empty() ? std::string() : series.Files.front();
+  return reference;
+}
+
 bool ReadDicomReferenceSeries(const std::string& path, DicomReferenceSeries& reference, std::string& error,
                               const std::string& seriesUID) {
   InitializeDcmtk();
@@ -100,11 +110,9 @@ bool ReadDicomReferenceSeries(const std::string& path, DicomReferenceSeries& ref
     return false;
   }
   const DicomSeriesInfo& series = *matches.front();
-  DicomReferenceSeries result;
-  if (!ReadDicomSeries(series, result.Volume, error)) return false;
-  result.SeriesInstanceUID = series.SeriesInstanceUID;
-  result.StudyInstanceUID = series.StudyInstanceUID;
-  result.FirstFile = series.Files.front();
+  ImageVolume volume;
+  if (!ReadDicomSeries(series, volume, error)) return false;
+  DicomReferenceSeries result = DicomReferenceFromVolume(series, volume);
   int dims[3];
   result.Volume.Image->GetDimensions(dims);
   result.SOPClassUIDs.assign(dims[2], "");
@@ -118,7 +126,6 @@ bool ReadDicomReferenceSeries(const std::string& path, DicomReferenceSeries& ref
             .bad())
       continue;
     DcmDataset* ds = format.getDataset();
-    if (result.FrameOfReferenceUID.empty()) result.FrameOfReferenceUID = Text(ds, DCM_FrameOfReferenceUID);
     Float64 lps[3];
     bool ok = !ds->tagExists(DCM_NumberOfFrames) || Text(ds, DCM_NumberOfFrames) == "1";
     for (unsigned long a = 0; a < 3 && ok; ++a) ok = ds->findAndGetFloat64(DCM_ImagePositionPatient, lps[a], a).good();

@@ -10,6 +10,8 @@
 
 namespace rp {
 
+struct DicomSeriesInfo;
+
 struct DicomReferenceSeries {
   ImageVolume Volume;  // voxels and IJK-to-RAS of the series
   std::string SeriesInstanceUID, StudyInstanceUID, FrameOfReferenceUID;
@@ -23,6 +25,11 @@ struct DicomReferenceSeries {
 /// `seriesUID` names when several are there. Segmentation objects in the folder are skipped.
 bool ReadDicomReferenceSeries(const std::string& path, DicomReferenceSeries& reference, std::string& error,
                               const std::string& seriesUID = "");
+
+/// A series already read (its scan entry and volume) as the reference of a SEG or RTSTRUCT:
+/// grid and UIDs, without the per-slice SOP UIDs (only writing a SEG needs them). A study read
+/// whole reads each series once for its volume and for the segmentations on it.
+DicomReferenceSeries DicomReferenceFromVolume(const DicomSeriesInfo& series, const ImageVolume& volume);
 
 /// 1 when `path` is a DICOM SEG, 2 an RTSTRUCT, 0 otherwise; `object` receives the file. A
 /// folder is searched for such a file; -1 when it holds several (`error` names them).

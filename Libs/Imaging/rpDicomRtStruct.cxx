@@ -181,8 +181,11 @@ std::string FindRtStruct(const std::string& path, std::string& error) {
 
 }  // namespace
 
+// `given`: the series the contours were drawn on, already read; else it is read from
+// `referencePath`, or found in the RTSTRUCT's folder.
 static bool ReadRtStruct(const std::string& path, vtkRPSegmentationNode* node, std::string& error,
-                       const std::string& referencePath, std::vector<std::string>* warnings) {
+                         const std::string& referencePath, const DicomReferenceSeries* given,
+                         std::vector<std::string>* warnings) {
   InitializeDcmtk();
   const std::string file = FindRtStruct(path, error);
   if (file.empty()) return false;
@@ -199,13 +202,14 @@ static bool ReadRtStruct(const std::string& path, vtkRPSegmentationNode* node, s
   const std::string folder = !referencePath.empty() ? referencePath
                              : fs::is_directory(path)  ? path
                                                        : fs::path(file).parent_path().string();
-  DicomReferenceSeries reference;
-  if (!ReadDicomReferenceSeries(folder, reference, error, referencePath.empty() ? seriesUID : "") &&
-      !ReadDicomReferenceSeries(folder, reference, error)) {
+  DicomReferenceSeries read;
+  if (!given && !ReadDicomReferenceSeries(folder, read, error, referencePath.empty() ? seriesUID : "") &&
+      !ReadDicomReferenceSeries(folder, read, error)) {
     error = what + "the image series its contours were drawn on (" + (seriesUID.empty() ? "not named" : seriesUID) +
             "): " + error + " (give it as the reference series)";
     return false;
   }
+  const DicomReferenceSeries& reference = given ? *given : read;
   int dims[3];
   reference.Volume.Image->GetDimensions(dims);
   vtkNew<vtkMatrix4x4> rasToIJK;
@@ -270,14 +274,14 @@ static bool ReadRtStruct(const std::string& path, vtkRPSegmentationNode* node, s
 
 bool ReadDicomRtStruct(const std::string& path, vtkRPSegmentationNode* node, std::string& error,
                        const std::string& referencePath, std::vector<std::string>* warnings) {
-  try {
-    return ReadRtStruct(path, node, error, referencePath, warnings);
-  } catch (const std::bad_alloc&) {
-    error = "out of memory reading " + path;
-  } catch (const std::exception& e) {
-    error = path + ": " + e.what();
-  }
-  return false;
+  return Guarded("reading", path, error,
+                 [&] { return ReadRtStruct(path, node, error, referencePath, nullptr, warnings); });
+}
+
+bool ReadDicomRtStruct(const std::string& file, vtkRPSegmentationNode* node, std::string& error,
+                       const DicomReferenceSeries& reference, std::vector<std::string>* warnings) {
+  return Guarded("reading", file, error,
+                 [&] { return ReadRtStruct(file, node, error, "", &reference, warnings); });
 }
 
 }  // namespace rp

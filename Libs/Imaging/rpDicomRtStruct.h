@@ -15,10 +15,16 @@ class vtkRPSegmentationNode;
 
 namespace rp {
 
+struct DicomReferenceSeries;
+
 /// Reads the RTSTRUCT file `path` (or the only one in folder `path`). `referencePath`: the image
 /// series its contours were drawn on (folder); "" = the RTSTRUCT's own folder, choosing the
 /// series the structure set names when several are there.
 bool ReadDicomRtStruct(const std::string& path, vtkRPSegmentationNode* node, std::string& error,
                        const std::string& referencePath = "", std::vector<std::string>* warnings = nullptr);
+
+/// The same with the series the contours were drawn on already read (rpDicomReferenceSeries.h).
+bool ReadDicomRtStruct(const std::string& file, vtkRPSegmentationNode* node, std::string& error,
+                       const DicomReferenceSeries& reference, std::vector<std::string>* warnings = nullptr);
 
 }  // namespace rp

@@ -39,7 +39,8 @@ namespace rp {
 namespace {
 
 // Segment codes (SNOMED CT, "SCT"), as dcmqi and 3D Slicer's terminology write them: the knee's
-// bones by name, other bone by tissue class, anything else as generic Tissue.
+// bones by name (a whole word of the segment's ID or name), other bone by tissue class, anything
+// else as generic Tissue.
 struct SegmentCode {
   const char* Key;  // matched against the segment's ID and name (lower case); "" = generic
   const char* CategoryValue;
@@ -62,16 +63,38 @@ std::string Lower(std::string s) {
   return s;
 }
 
+// Whether `key` is a whole word of `text` ("tibia" in "Left Tibia" and "tibia_2", not in
+// "tibial cartilage" or "patellar tendon").
+bool HasWord(const std::string& text, const std::string& key) {
+  for (size_t at = text.find(key); at != std::string::npos; at = text.find(key, at + 1)) {
+    const bool before = at == 0 || !std::isalpha(static_cast<unsigned char>(text[at - 1]));
+    const size_t end = at + key.size();
+    const bool after = end == text.size() || !std::isalpha(static_cast<unsigned char>(text[end]));
+    if (before && after) return true;
+  }
+  return false;
+}
+
 const SegmentCode& CodeFor(const Segment& segment) {
   const std::string id = Lower(segment.ID), name = Lower(segment.Name);
   for (const SegmentCode& code : SegmentCodes) {
     const std::string key = code.Key;
     if (key.empty()) return code;
-    if (id.find(key) != std::string::npos || name.find(key) != std::string::npos) return code;
+    if (HasWord(id, key) || HasWord(name, key)) return code;
     if (key == "bone" && segment.TissueClass == "bone") return code;
   }
   return SegmentCodes[sizeof(SegmentCodes) / sizeof(SegmentCodes[0]) - 1];
 }
+
+}  // namespace
+
+std::string KnownTissueClass(const std::string& segmentName) {
+  Segment segment;
+  segment.Name = segmentName;
+  return CodeFor(segment).TissueClass;
+}
+
+namespace {
 
 std::string TissueClassOf(DcmSegment* segment) {
   OFString value;
@@ -277,8 +300,10 @@ void ReadSegments(DcmSegmentation& seg, vtkRPSegmentationNode* node) {
 
 }  // namespace
 
+// `given`: the referenced series already read; else `referencePath` (when not empty) is read.
 static bool ReadSegmentation(const std::string& path, vtkRPSegmentationNode* node, std::string& error,
-                           const std::string& referencePath, std::vector<std::string>* warnings) {
+                             const std::string& referencePath, const DicomReferenceSeries* given,
+                             std::vector<std::string>* warnings) {
   InitializeDcmtk();
   std::string file;
   const int kind = DicomSegmentationObjectKind(path, &file, &error);
@@ -311,12 +336,13 @@ static bool ReadSegmentation(const std::string& path, vtkRPSegmentationNode* nod
   vtkNew<vtkMatrix4x4> ijkToRAS;
   int dims[3];
   std::string grid = "the grid its frames span";
-  if (!referencePath.empty()) {
-    DicomReferenceSeries reference;
-    if (!ReadDicomReferenceSeries(referencePath, reference, error)) {
+  if (given || !referencePath.empty()) {
+    DicomReferenceSeries read;
+    if (!given && !ReadDicomReferenceSeries(referencePath, read, error)) {
       error = what + "referenced series: " + error;
       return false;
     }
+    const DicomReferenceSeries& reference = given ? *given : read;
     OFString frameOfReference;
     ds->findAndGetOFString(DCM_FrameOfReferenceUID, frameOfReference);
     if (!frameOfReference.empty() && !reference.FrameOfReferenceUID.empty() &&
@@ -594,26 +620,20 @@ static bool WriteSegmentation(vtkRPSegmentationNode* node, const std::string& re
 
 bool ReadDicomSegmentation(const std::string& path, vtkRPSegmentationNode* node, std::string& error,
                            const std::string& referencePath, std::vector<std::string>* warnings) {
-  try {
-    return ReadSegmentation(path, node, error, referencePath, warnings);
-  } catch (const std::bad_alloc&) {
-    error = "out of memory reading " + path;
-  } catch (const std::exception& e) {
-    error = path + ": " + e.what();
-  }
-  return false;
+  return Guarded("reading", path, error,
+                 [&] { return ReadSegmentation(path, node, error, referencePath, nullptr, warnings); });
+}
+
+bool ReadDicomSegmentation(const std::string& file, vtkRPSegmentationNode* node, std::string& error,
+                           const DicomReferenceSeries& reference, std::vector<std::string>* warnings) {
+  return Guarded("reading", file, error,
+                 [&] { return ReadSegmentation(file, node, error, "", &reference, warnings); });
 }
 
 bool WriteDicomSegmentation(vtkRPSegmentationNode* node, const std::string& referencePath, const std::string& outputFile,
                             std::string& error, const DicomSegmentationWriteOptions& options) {
-  try {
-    return WriteSegmentation(node, referencePath, outputFile, error, options);
-  } catch (const std::bad_alloc&) {
-    error = "out of memory writing " + outputFile;
-  } catch (const std::exception& e) {
-    error = outputFile + ": " + e.what();
-  }
-  return false;
+  return Guarded("writing", outputFile, error,
+                 [&] { return WriteSegmentation(node, referencePath, outputFile, error, options); });
 }
 
 }  // namespace rp

@@ -23,10 +23,21 @@ class vtkRPSegmentationNode;
 
 namespace rp {
 
+struct DicomReferenceSeries;
+
 /// Reads the SEG file `path` (or the only SEG in folder `path`) into `node`. `referencePath`
 /// (optional): the referenced image series (folder), whose grid the labelmap takes.
 bool ReadDicomSegmentation(const std::string& path, vtkRPSegmentationNode* node, std::string& error,
                            const std::string& referencePath = "", std::vector<std::string>* warnings = nullptr);
+
+/// The same with the referenced series already read (rpDicomReferenceSeries.h): a study read
+/// whole reads each series once, for its volume and the segmentations on it.
+bool ReadDicomSegmentation(const std::string& file, vtkRPSegmentationNode* node, std::string& error,
+                           const DicomReferenceSeries& reference, std::vector<std::string>* warnings = nullptr);
+
+/// The tissue class a segment name gives where it names what the SEG writer codes (the knee's
+/// bones, "bone": "Left Tibia" → "bone"); "" otherwise.
+std::string KnownTissueClass(const std::string& segmentName);
 
 struct DicomSegmentationWriteOptions {
   std::string SeriesDescription = "RoboPlan segmentation";

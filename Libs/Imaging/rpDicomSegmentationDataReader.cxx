@@ -1,8 +1,9 @@
-// DICOM SEG and RTSTRUCT as a DataReader (rpDataLoader.h): a SEG or RTSTRUCT file, or a folder
-// holding one (beside its image series), becomes one segmentation node, so every caller of
-// rp::LoadPath (`mesh`, the viewer, `roboplan <path>`) takes them wherever it takes a .seg.nrrd.
-// It outranks the DICOM image reader for such paths (Priority 1). The SEG keeps the grid its
-// frames span; an RTSTRUCT is rasterized on the image series in its folder (rpDicomRtStruct.h).
+// DICOM SEG and RTSTRUCT files as a DataReader (rpDataLoader.h): such a file alone becomes one
+// segmentation node, so every caller of rp::LoadPath (`mesh`, the viewer, `roboplan <path>`)
+// takes them wherever it takes a .seg.nrrd. It outranks the DICOM reader for such files
+// (Priority 1); a folder holding them is the DICOM reader's (rpDicomDataReader.cxx: the study
+// whole). The SEG keeps the grid its frames span; an RTSTRUCT is rasterized on the image series
+// in its folder (rpDicomRtStruct.h).
 #include <filesystem>
 
 #include "rpDataLoader.h"
@@ -18,7 +19,10 @@ namespace {
 class DicomSegmentationReader : public DataReader {
  public:
   std::string Description() const override { return "DICOM SEG / RTSTRUCT"; }
-  bool CanRead(const std::string& path) const override { return DicomSegmentationObjectKind(path) != 0; }
+  bool CanRead(const std::string& path) const override {
+    std::error_code ec;
+    return std::filesystem::is_regular_file(path, ec) && DicomSegmentationObjectKind(path) > 0;
+  }
   int Priority() const override { return 1; }
   bool Read(const std::string& path, const ReadOptions&, vtkRPScene*, LoadResult& result) const override {
     std::string file;

@@ -45,6 +45,7 @@ struct DicomSeriesInfo {
   int StackCount = 1;  // stacks under this SeriesInstanceUID
   std::string SeriesInstanceUID;
   std::string StudyInstanceUID;
+  std::string FrameOfReferenceUID;
   std::string Modality;
   std::string SeriesDescription;
   std::string PatientName;
@@ -67,16 +68,32 @@ struct DicomSeriesInfo {
   std::vector<std::string> Warnings;
 };
 
+/// A DICOM Segmentation (SEG) or RT Structure Set (RTSTRUCT) object found by a scan: what it
+/// is and the image series it segments (its Referenced Series Sequence, or an RTSTRUCT's
+/// Referenced Frame of Reference > RT Referenced Study > RT Referenced Series).
+struct DicomSegmentationObjectInfo {
+  std::string File;
+  std::string Kind;  // "SEG" or "RTSTRUCT"
+  std::string SeriesInstanceUID, StudyInstanceUID, FrameOfReferenceUID;
+  std::string SeriesDescription;  // an RTSTRUCT's Structure Set Label when it has no description
+  std::string SeriesNumber;
+  std::string TransferSyntaxUID;
+  std::string ReferencedSeriesUID;    // "" when the object names none
+  std::vector<std::string> Segments;  // segment labels (SEG) or ROI names (RTSTRUCT), in order
+};
+
 struct DicomScanResult {
   std::vector<DicomSeriesInfo> Series;
+  std::vector<DicomSegmentationObjectInfo> Segmentations;  // SEG and RTSTRUCT objects
   int FilesExamined = 0;
   int NonDicomFiles = 0;       // skipped: not DICOM at all
-  int NonImageDicomFiles = 0;  // skipped: DICOM without pixel data (DICOMDIR, SR, ...)
+  int NonImageDicomFiles = 0;  // skipped: DICOM without pixel data (DICOMDIR, SR, ...), SEG and RTSTRUCT aside
   std::vector<std::string> CorruptFiles;  // "path: reason" for DICOM files that failed to parse
 };
 
-/// Scans a folder recursively, or a DICOMDIR file (its referenced images). Returns false only
-/// when `path` cannot be read at all; skipped files are counted in the result.
+/// Scans a folder recursively, or a DICOMDIR file (its referenced images): image series stack by
+/// stack, and SEG and RTSTRUCT objects. Returns false only when `path` cannot be read at all;
+/// skipped files are counted in the result.
 bool ScanDicom(const std::string& path, DicomScanResult& result, std::string& error,
                const ProgressCallback& progress = nullptr);
 
@@ -95,6 +112,12 @@ std::string OrientationName(const double imageOrientationPatient[6]);
 bool ReadDicomSeries(const DicomSeriesInfo& series, ImageVolume& volume, std::string& error,
                      const DicomReadOptions& options = {}, std::vector<std::string>* warnings = nullptr,
                      const ProgressCallback& progress = nullptr);
+
+/// The stack of `scan` that `seriesID` names (a StackID, or a SeriesInstanceUID that holds one
+/// stack), or its only stack when `seriesID` is empty; nullptr, with `error` naming the choices
+/// (or that there is none), otherwise. `path` is the scanned path, for messages.
+const DicomSeriesInfo* ChooseDicomStack(const DicomScanResult& scan, const std::string& path,
+                                        const std::string& seriesID, std::string& error);
 
 /// Convenience: scans `path` and reads the only stack, or the one `seriesID` names (a StackID,
 /// or a SeriesInstanceUID that holds one stack).

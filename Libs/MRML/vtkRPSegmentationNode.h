@@ -32,6 +32,9 @@ class vtkRPSegmentationNode : public vtkRPImageNode {
   int GetUnusedLabelValue() const;
   /// Whether a labelmap may hold voxels of this VTK scalar type: integer labels only.
   static bool IsLabelScalarType(int vtkType);
+  /// Reference role to the volume the segmentation was drawn on (Slicer's name for it): a DICOM
+  /// SEG's or RTSTRUCT's referenced series. The views show that volume under the segmentation.
+  static const char* ReferenceImageGeometryRole() { return "referenceImageGeometryRef"; }
 
   void WriteProperties(PropertyMap& properties) const override;
   void ReadProperties(const PropertyMap& properties) override;

@@ -27,7 +27,7 @@
 #include "vtkRPModelDisplayableManager.h"
 #include "vtkRPModelNode.h"
 #include "vtkRPModelSliceDisplayableManager.h"
-#include "vtkRPScalarVolumeNode.h"
+#include "vtkRPImageNode.h"
 #include "vtkRPScene.h"
 #include "vtkRPSliceLogic.h"
 #include "vtkRPSliceNode.h"
@@ -55,10 +55,15 @@ void NodeColor(vtkRPSliceNode* node, double rgb[3]) {
   GetViewColor(kind, rgb);
 }
 
-vtkRPScalarVolumeNode* BackgroundOf(vtkRPScene* scene, vtkRPSliceNode* node) {
+// The image a slice view is fitted to and steps through: its background volume, else its
+// segmentation (shown alone, as Slicer shows a segmentation without a volume).
+vtkRPImageNode* ShownImageOf(vtkRPScene* scene, vtkRPSliceNode* node) {
   if (!scene || !node) return nullptr;
-  auto* volume = vtkRPScalarVolumeNode::SafeDownCast(scene->GetNodeByID(node->GetBackgroundVolumeID()));
-  return volume && volume->GetImageData() && volume->GetImageData()->GetNumberOfPoints() > 0 ? volume : nullptr;
+  for (const std::string& id : {node->GetBackgroundVolumeID(), node->GetLabelNodeID()}) {
+    auto* image = vtkRPImageNode::SafeDownCast(scene->GetNodeByID(id));
+    if (image && image->GetImageData() && image->GetImageData()->GetNumberOfPoints() > 0) return image;
+  }
+  return nullptr;
 }
 }  // namespace
 
@@ -258,7 +263,7 @@ double View::GetViewportAspect() const {
 }
 
 double View::GetSliceStep() const {
-  vtkRPScalarVolumeNode* volume = BackgroundOf(this->Scene, this->GetSliceNode());
+  vtkRPImageNode* volume = ShownImageOf(this->Scene, this->GetSliceNode());
   if (!volume) return 1.0;
   double spacing[3];
   volume->GetSpacing(spacing);
@@ -395,9 +400,9 @@ bool View::ComputeFramingBounds(double bounds[6]) const {
   }
   if (found) return true;
   for (vtkRPSliceNode* node : this->Slices.Nodes) {
-    if (vtkRPScalarVolumeNode* volume = BackgroundOf(this->Scene, node)) {
+    if (vtkRPImageNode* volume = ShownImageOf(this->Scene, node)) {
       double b[6];
-      volume->GetRASBounds(b);
+      vtkRPSliceLogic::ComputeShownRASBounds(volume, b);
       add(b);
     }
   }
@@ -408,15 +413,17 @@ void View::ResetCamera() {
   if (this->IsSlice()) {
     vtkRPSliceNode* node = this->GetSliceNode();
     if (!node) return;
-    vtkRPScalarVolumeNode* volume = BackgroundOf(this->Scene, node);
+    vtkRPImageNode* volume = ShownImageOf(this->Scene, node);
     if (!volume) {
       node->SetFieldOfView(DefaultFieldOfView, DefaultFieldOfView);
       node->SetXYOrigin(0, 0);
       return;
     }
-    // Fit the volume's extent in the plane, centred on it.
+    // Fit the image's extent (a segmentation's labelled voxels) in the plane, centred on it.
     double b[4];
-    vtkRPSliceLogic::ComputePlaneBounds(volume, node->GetSliceToRAS(), b);
+    int extent[6];
+    vtkRPSliceLogic::ComputeShownExtent(volume, extent);
+    vtkRPSliceLogic::ComputePlaneBounds(volume, node->GetSliceToRAS(), b, extent);
     const double xmin = b[0], xmax = b[1], ymin = b[2], ymax = b[3];
     const int previous = node->StartModify();
     node->SetFieldOfView(std::max(1.0, FitMargin * (xmax - xmin)), std::max(1.0, FitMargin * (ymax - ymin)));

@@ -151,11 +151,18 @@ bool ViewController::AssignDefaultLayers() {
   for (vtkRPSliceNode* node : this->SliceNodes) {
     if (!node) continue;
     const int previous = node->StartModify();
+    const bool labelGiven = node->GetLabelNodeID().empty() && !segmentations.empty();
+    if (labelGiven) node->SetLabelNodeID(segmentations[0]->GetID());
     auto* background = vtkRPScalarVolumeNode::SafeDownCast(this->Scene->GetNodeByID(node->GetBackgroundVolumeID()));
-    if (!HasVoxels(background) && !volumes.empty()) {
-      node->SetBackgroundVolumeID(volumes[0]->GetID());
-      background = volumes[0];
-      backgroundGiven = true;
+    if (!HasVoxels(background)) {
+      // The volume the segmentation was drawn on (a DICOM SEG's series), else the first volume.
+      auto* label = this->Scene->GetNodeByID(node->GetLabelNodeID());
+      auto* drawnOn = vtkRPScalarVolumeNode::SafeDownCast(
+          label ? label->GetNodeReference(vtkRPSegmentationNode::ReferenceImageGeometryRole()) : nullptr);
+      background = HasVoxels(drawnOn) ? drawnOn : volumes.empty() ? nullptr : volumes[0];
+      if (background) node->SetBackgroundVolumeID(background->GetID());
+      // Something new to frame: a background, or a segmentation shown alone.
+      backgroundGiven = backgroundGiven || background || labelGiven;
     }
     // A second volume (e.g. a registered MR) shows over the CT at once.
     if (node->GetForegroundVolumeID().empty() || !this->Scene->GetNodeByID(node->GetForegroundVolumeID())) {
@@ -166,7 +173,6 @@ bool ViewController::AssignDefaultLayers() {
         }
       }
     }
-    if (node->GetLabelNodeID().empty() && !segmentations.empty()) node->SetLabelNodeID(segmentations[0]->GetID());
     node->EndModify(previous);
   }
   return backgroundGiven;
@@ -421,10 +427,14 @@ bool ViewController::ApplyWindowLevelPreset(WindowLevelPreset preset) {
 }
 
 void ViewController::ResetViews() {
-  vtkRPScalarVolumeNode* volume = this->GetBackgroundVolume();
-  if (HasVoxels(volume)) {
+  // The slices through the middle of the background, else of the segmentation shown alone (its
+  // labelled voxels).
+  vtkRPImageNode* image = this->GetBackgroundVolume();
+  if (!HasVoxels(vtkRPScalarVolumeNode::SafeDownCast(image)) && this->Scene && this->SliceNodes[0])
+    image = vtkRPSegmentationNode::SafeDownCast(this->Scene->GetNodeByID(this->SliceNodes[0]->GetLabelNodeID()));
+  if (image && image->GetImageData() && image->GetImageData()->GetNumberOfPoints() > 0) {
     double bounds[6];
-    volume->GetRASBounds(bounds);
+    vtkRPSliceLogic::ComputeShownRASBounds(image, bounds);
     const double center[3] = {0.5 * (bounds[0] + bounds[1]), 0.5 * (bounds[2] + bounds[3]), 0.5 * (bounds[4] + bounds[5])};
     this->SetSlicePointRAS(center);
   }

@@ -105,8 +105,10 @@ class ViewController {
   void OnNodeAboutToBeRemoved(vtkObject* node);
   void OnNodeRemoved(vtkObject* node);
   void OnEndImport();
-  /// Gives slice nodes without a (valid) background the first volume, a foreground the second
-  /// and a label layer the first segmentation. True when a background was given.
+  /// Gives slice nodes without a label layer the first segmentation, without a (valid)
+  /// background the volume that segmentation was drawn on (else the first volume), and a
+  /// foreground the next volume. True when a background was given, or a segmentation to show
+  /// alone (the views are to be fitted to it).
   bool AssignDefaultLayers();
   bool HasFramingContent() const;
 

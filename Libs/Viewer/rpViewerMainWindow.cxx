@@ -449,8 +449,7 @@ bool ViewerMainWindow::LoadFile(const QString& path, QString* error) {
     ok = result.Ok;
     message = result.Error;
     warnings = result.Warnings;
-    if (ok)
-      for (const auto& node : result.Nodes) this->Scene->AddNode(node);
+    if (ok) AddReadNodes(this->Scene, result.Nodes);  // several (a DICOM study) in one import
   }
   if (!ok) {
     if (error) *error = QString::fromStdString(message);

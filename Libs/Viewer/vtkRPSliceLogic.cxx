@@ -198,7 +198,7 @@ void VolumeIJKToWorld(vtkRPImageNode* volume, vtkMatrix4x4* ijkToWorld) {
   vtkMatrix4x4::Multiply4x4(toWorld, volume->GetIJKToRASMatrix(), ijkToWorld);
 }
 
-double MinSpacing(vtkRPScalarVolumeNode* volume) {
+double MinSpacing(vtkRPImageNode* volume) {
   double spacing[3];
   volume->GetSpacing(spacing);
   return std::max(1e-3, std::min({spacing[0], spacing[1], spacing[2]}));
@@ -290,7 +290,8 @@ void vtkRPSliceLogic::ObserveLayers(vtkRPScalarVolumeNode* background, vtkRPScal
   }
 }
 
-void vtkRPSliceLogic::ComputePlaneBounds(vtkRPImageNode* image, const vtkMatrix4x4* planeToRAS, double bounds[4]) {
+void vtkRPSliceLogic::ComputePlaneBounds(vtkRPImageNode* image, const vtkMatrix4x4* planeToRAS, double bounds[4],
+                                         const int* part) {
   double x[3], y[3], origin[3];
   for (int r = 0; r < 3; ++r) {
     x[r] = planeToRAS->GetElement(r, 0);
@@ -301,6 +302,7 @@ void vtkRPSliceLogic::ComputePlaneBounds(vtkRPImageNode* image, const vtkMatrix4
   VolumeIJKToWorld(image, ijkToWorld);
   int extent[6];
   image->GetImageData()->GetExtent(extent);
+  if (part) std::copy(part, part + 6, extent);
   bounds[0] = bounds[2] = VTK_DOUBLE_MAX;
   bounds[1] = bounds[3] = -VTK_DOUBLE_MAX;
   for (int c = 0; c < 8; ++c) {
@@ -312,6 +314,70 @@ void vtkRPSliceLogic::ComputePlaneBounds(vtkRPImageNode* image, const vtkMatrix4
     bounds[1] = std::max(bounds[1], vtkMath::Dot(d, x));
     bounds[2] = std::min(bounds[2], vtkMath::Dot(d, y));
     bounds[3] = std::max(bounds[3], vtkMath::Dot(d, y));
+  }
+}
+
+namespace {
+// The IJK box of the non-zero voxels (false when there are none).
+template <typename T>
+bool NonZeroExtent(const T* voxels, const int dims[3], int extent[6]) {
+  extent[0] = extent[2] = extent[4] = VTK_INT_MAX;
+  extent[1] = extent[3] = extent[5] = VTK_INT_MIN;
+  for (int k = 0; k < dims[2]; ++k)
+    for (int j = 0; j < dims[1]; ++j) {
+      const T* row = voxels + (static_cast<size_t>(k) * dims[1] + j) * dims[0];
+      int first = 0;
+      while (first < dims[0] && row[first] == 0) ++first;
+      if (first == dims[0]) continue;
+      int last = dims[0] - 1;
+      while (row[last] == 0) --last;
+      const int box[6] = {first, last, j, j, k, k};
+      for (int a = 0; a < 6; a += 2) {
+        extent[a] = std::min(extent[a], box[a]);
+        extent[a + 1] = std::max(extent[a + 1], box[a + 1]);
+      }
+    }
+  return extent[0] <= extent[1];
+}
+}  // namespace
+
+void vtkRPSliceLogic::ComputeShownExtent(vtkRPImageNode* image, int extent[6]) {
+  vtkImageData* data = image->GetImageData();
+  data->GetExtent(extent);
+  if (!vtkRPSegmentationNode::SafeDownCast(image) || !data->GetPointData()->GetScalars() ||
+      data->GetNumberOfScalarComponents() != 1)
+    return;
+  static vtkWeakPointer<vtkImageData> cachedImage;  // main thread, as the views
+  static vtkMTimeType cachedTime = 0;
+  static int cached[6];
+  if (cachedImage != data || cachedTime != data->GetMTime()) {
+    int dims[3], box[6];
+    data->GetDimensions(dims);
+    bool any = false;
+    switch (data->GetScalarType()) {
+      vtkTemplateMacro(any = NonZeroExtent(static_cast<const VTK_TT*>(data->GetScalarPointer()), dims, box));
+    }
+    for (int a = 0; a < 6; ++a) cached[a] = any ? extent[a - a % 2] + box[a] : extent[a];
+    cachedImage = data;
+    cachedTime = data->GetMTime();
+  }
+  std::copy(cached, cached + 6, extent);
+}
+
+void vtkRPSliceLogic::ComputeShownRASBounds(vtkRPImageNode* image, double bounds[6]) {
+  int extent[6];
+  ComputeShownExtent(image, extent);
+  bounds[0] = bounds[2] = bounds[4] = VTK_DOUBLE_MAX;
+  bounds[1] = bounds[3] = bounds[5] = -VTK_DOUBLE_MAX;
+  for (int c = 0; c < 8; ++c) {
+    const double ijk[4] = {double(extent[(c & 1) ? 1 : 0]), double(extent[(c & 2) ? 3 : 2]),
+                           double(extent[(c & 4) ? 5 : 4]), 1.0};
+    double ras[4];
+    image->GetIJKToRASMatrix()->MultiplyPoint(ijk, ras);
+    for (int a = 0; a < 3; ++a) {
+      bounds[2 * a] = std::min(bounds[2 * a], ras[a]);
+      bounds[2 * a + 1] = std::max(bounds[2 * a + 1], ras[a]);
+    }
   }
 }
 
@@ -448,8 +514,10 @@ void vtkRPSliceLogic::Refresh() {
   }
   this->ObserveLayers(background, foreground, label);
 
-  bool changed = (background != nullptr) != this->Visible;
-  this->Visible = background != nullptr;
+  // A segmentation alone is drawn too (its labels over nothing), on its own grid.
+  vtkRPImageNode* grid = background ? static_cast<vtkRPImageNode*>(background) : label;
+  bool changed = (grid != nullptr) != this->Visible;
+  this->Visible = grid != nullptr;
   if (node && node->GetSliceVisible() != this->SliceVisible) {
     this->SliceVisible = node->GetSliceVisible();
     changed = true;
@@ -459,14 +527,14 @@ void vtkRPSliceLogic::Refresh() {
     return;
   }
 
-  // The plane is the node's; the grid covers both volumes projected on it, at the background's
-  // finest spacing (at most MaxPixelsPerSide pixels a side).
+  // The plane is the node's; the grid covers both volumes (or the segmentation alone) projected
+  // on it, at the background's finest spacing (at most MaxPixelsPerSide pixels a side).
   if (AssignIfDifferent(this->PlaneToRAS, node->GetSliceToRAS())) {
     this->PlaneToRAS->Modified();
     changed = true;
   }
   double xmin = VTK_DOUBLE_MAX, xmax = -VTK_DOUBLE_MAX, ymin = VTK_DOUBLE_MAX, ymax = -VTK_DOUBLE_MAX;
-  for (vtkRPScalarVolumeNode* volume : {background, foreground}) {
+  for (vtkRPImageNode* volume : {grid, static_cast<vtkRPImageNode*>(foreground)}) {
     if (!volume) continue;
     double b[4];
     ComputePlaneBounds(volume, this->PlaneToRAS, b);
@@ -475,7 +543,7 @@ void vtkRPSliceLogic::Refresh() {
     ymin = std::min(ymin, b[2]);
     ymax = std::max(ymax, b[3]);
   }
-  const double spacing = std::max(MinSpacing(background), std::max(xmax - xmin, ymax - ymin) / (MaxPixelsPerSide - 1));
+  const double spacing = std::max(MinSpacing(grid), std::max(xmax - xmin, ymax - ymin) / (MaxPixelsPerSide - 1));
   const int nx = static_cast<int>(std::ceil((xmax - xmin) / spacing)) + 1;
   const int ny = static_cast<int>(std::ceil((ymax - ymin) / spacing)) + 1;
   const double bounds[4] = {xmin, xmin + (nx - 1) * spacing, ymin, ymin + (ny - 1) * spacing};
@@ -485,14 +553,15 @@ void vtkRPSliceLogic::Refresh() {
     changed = true;
   }
 
-  Layer* used[3] = {this->Layers[0], foreground ? this->Layers[1] : nullptr, label ? this->Layers[2] : nullptr};
+  Layer* used[3] = {background ? this->Layers[0] : nullptr, foreground ? this->Layers[1] : nullptr,
+                    label ? this->Layers[2] : nullptr};
   vtkRPScalarVolumeNode* volumes[2] = {background, foreground};
   for (int i = 0; i < 3; ++i) {
     if (!used[i]) continue;
     if (i < 2 ? this->UpdateLayer(*used[i], volumes[i], i == 0) : this->UpdateLabelLayer(*used[i], label)) changed = true;
   }
   // The background, the foreground over it, the labels over both, each with the node's opacity
-  // (the picture keeps the background's alpha: the patient mask).
+  // (the picture keeps the first layer's alpha: the patient mask, or the labels when alone).
   std::vector<vtkRPSlicePicture::Layer> layers;
   for (int i = 0; i < 3; ++i) {
     if (!used[i]) continue;

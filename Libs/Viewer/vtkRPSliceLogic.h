@@ -11,7 +11,8 @@
 //
 // The output is RGBA. Its alpha marks where there is patient: the background's voxels above the
 // volume's air threshold (outside the volume is transparent too), so the 3D view lets the models
-// through the air; slice views draw only the colours, on black.
+// through the air; slice views draw only the colours, on black. A segmentation without a
+// background is drawn alone, on its own grid: its labelled voxels opaque, the rest transparent.
 //
 // It observes its slice node and the layer volumes (window/level, data, transforms) and fires
 // ModifiedEvent when the picture changes. Work is in proportion to what changed: the plane,
@@ -41,7 +42,7 @@ class vtkRPSliceLogic : public vtkObject {
   void SetSliceNode(vtkRPScene* scene, vtkRPSliceNode* sliceNode);
   vtkRPSliceNode* GetSliceNode() const { return this->SliceNode; }
 
-  /// True when there is a background volume with voxels to show.
+  /// True when there is a background volume, or a segmentation, with voxels to show.
   bool HasImage() const { return this->Visible; }
   /// The RGBA picture (alpha: patient mask). Its pixel (i, j) is at
   /// GridToRAS · (i, j, 0), i.e. origin and spacing are in plane coordinates.
@@ -69,8 +70,16 @@ class vtkRPSliceLogic : public vtkObject {
   static double ComputeAirThreshold(vtkRPScalarVolumeNode* volume);
 
   /// The rectangle (xmin, xmax, ymin, ymax, in plane coordinates of `planeToRAS`) that an
-  /// image's voxel centres cover when projected on the plane, with the image's parent transforms.
-  static void ComputePlaneBounds(vtkRPImageNode* image, const vtkMatrix4x4* planeToRAS, double bounds[4]);
+  /// image's voxel centres cover when projected on the plane, with the image's parent transforms;
+  /// only those of `extent` when given.
+  static void ComputePlaneBounds(vtkRPImageNode* image, const vtkMatrix4x4* planeToRAS, double bounds[4],
+                                 const int* extent = nullptr);
+  /// What views fit to and centre on when they show an image: a volume's whole extent; a
+  /// segmentation's labelled voxels (a small segment on a CT's grid is not lost in the middle of
+  /// the field of view), its whole extent when none is labelled. Cached for the last image asked.
+  static void ComputeShownExtent(vtkRPImageNode* image, int extent[6]);
+  /// RAS bounds of the voxel centres of ComputeShownExtent (as vtkRPImageNode::GetRASBounds).
+  static void ComputeShownRASBounds(vtkRPImageNode* image, double bounds[6]);
 
   /// Re-reads the node and volumes now (the observers call it; tests may too).
   void Refresh();

@@ -169,6 +169,23 @@ function(roboplan_add_test name)
     return()
   endif()
   cmake_parse_arguments(A "OWN_MAIN" "TIMEOUT" "SOURCES;LIBS;LABELS;ARGS;ENVIRONMENT" ${ARGN})
+  set(own_main)
+  if(A_OWN_MAIN)
+    set(own_main OWN_MAIN)
+  endif()
+  roboplan_add_test_executable(${name} SOURCES ${A_SOURCES} LIBS ${A_LIBS} ${own_main})
+  set(xvfb)
+  if("gui" IN_LIST A_LABELS)
+    set(xvfb XVFB)
+  endif()
+  roboplan_register_test(${name} ${name} LABELS ${A_LABELS} TIMEOUT ${A_TIMEOUT} ARGS ${A_ARGS}
+    ENVIRONMENT ${A_ENVIRONMENT} ${xvfb})
+endfunction()
+
+# roboplan_add_test_executable(<name> SOURCES ... LIBS ... [OWN_MAIN]): a test program, not yet a
+# ctest test (roboplan_register_test registers it, once or with several argument lists).
+function(roboplan_add_test_executable name)
+  cmake_parse_arguments(A "OWN_MAIN" "" "SOURCES;LIBS" ${ARGN})
   add_executable(${name} ${A_SOURCES})
   # Testing/Support: helpers every test may use (rpSharedData.h: skip without ../shared/data).
   target_include_directories(${name} PRIVATE ${PROJECT_SOURCE_DIR}/Testing/Support)
@@ -182,24 +199,32 @@ function(roboplan_add_test name)
     ROBOPLAN_RESOURCES_DIR="${ROBOPLAN_RESOURCES_DIR}"
     ROBOPLAN_BINARY_DIR="${CMAKE_BINARY_DIR}"
     ROBOPLAN_TEST_OUTPUT_DIR="${CMAKE_BINARY_DIR}/Testing/Temporary/${name}")
+endfunction()
+
+# roboplan_register_test(<test> <executable> LABELS ... [TIMEOUT s] [ARGS ...] [ENVIRONMENT ...]
+#                        [XVFB]): runs the test program as the ctest test <test> (default label
+# unit, timeout 300 s); XVFB: on a virtual X server of its own (Testing/Support/run-with-xvfb.sh).
+function(roboplan_register_test test executable)
+  cmake_parse_arguments(A "XVFB" "TIMEOUT" "LABELS;ARGS;ENVIRONMENT" ${ARGN})
   if(NOT A_LABELS)
     set(A_LABELS unit)
   endif()
-  set(cmd $<TARGET_FILE:${name}> ${A_ARGS})
-  if("gui" IN_LIST A_LABELS)
+  set(cmd $<TARGET_FILE:${executable}> ${A_ARGS})
+  if(A_XVFB)
     set(cmd ${PROJECT_SOURCE_DIR}/Testing/Support/run-with-xvfb.sh ${cmd})
   endif()
-  add_test(NAME ${name} COMMAND ${cmd})
+  add_test(NAME ${test} COMMAND ${cmd})
   if(NOT A_TIMEOUT)
     set(A_TIMEOUT 300)
   endif()
-  set_tests_properties(${name} PROPERTIES LABELS "${A_LABELS}")
-  roboplan_set_test_run(${name} ${A_TIMEOUT} ${A_ENVIRONMENT})
+  set_tests_properties(${test} PROPERTIES LABELS "${A_LABELS}")
+  roboplan_set_test_run(${test} ${A_TIMEOUT} ${A_ENVIRONMENT})
 endfunction()
 
 # roboplan_add_benchmark(<name> SOURCES ... LIBS ...)
-# Google Benchmark executable in bin/. Run by hand (see README); not part of ctest, nor of the
-# default build target: `--target benchmarks` builds them (plain SuperBuild/setup.sh does).
+# Google Benchmark executable in bin/. Run by hand (see README) for figures; ctest runs each only
+# quick, as its smoke test (Testing/Benchmarks/CMakeLists.txt), which puts them in the default
+# build when tests are on; `--target benchmarks` builds them alone.
 function(roboplan_add_benchmark name)
   if(NOT ROBOPLAN_BUILD_BENCHMARKS)
     return()

@@ -2,8 +2,8 @@
 // with the conventions 3D Slicer documents (LPS in files, RAS in the scene, "from parent" ITK
 // transforms), its bones scored against the real knee's surfaces and its pictures looked at
 // (each bone in its colour from the front and the side; every charted series drawn), a real
-// knee CT scored against its labels, and the failure path (a bad --data folder: clear error,
-// non-zero exit, what was done kept).
+// knee CT scored against its labels, the failure path (a bad --data folder: clear error,
+// non-zero exit, what was done kept), and a second run into the same folder (the same files).
 #include <gtest/gtest.h>
 
 #include <array>
@@ -14,6 +14,8 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <set>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -151,6 +153,25 @@ int RunRoboplan(const std::string& arguments, std::string& output) {
   while (fgets(buffer, sizeof(buffer), pipe)) output += buffer;
   const int status = pclose(pipe);
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// Every file under `folder`, relative to it.
+std::set<std::string> FilesUnder(const fs::path& folder) {
+  std::set<std::string> names;
+  for (const auto& entry : fs::recursive_directory_iterator(folder))
+    if (entry.is_regular_file()) names.insert(fs::relative(entry.path(), folder).generic_string());
+  return names;
+}
+
+// The data files a scene file names, in its order.
+std::vector<std::string> SceneDataFiles(const fs::path& sceneFile) {
+  std::string text, error;
+  std::vector<std::string> files;
+  if (!rp::ReadFile(sceneFile.string(), text, error)) return files;
+  const nlohmann::json scene = nlohmann::json::parse(text);
+  for (const auto& node : scene["nodes"])
+    if (node.contains("dataFile")) files.push_back(node["dataFile"].get<std::string>());
+  return files;
 }
 }  // namespace
 
@@ -297,6 +318,25 @@ TEST(Demo, SmallPhantomEndToEndAndSlicerConventions) {
   EXPECT_TRUE(fs::exists(out / "tracking-navigation.txt"));
   EXPECT_TRUE(fs::exists(out / "registration-log.txt"));
   EXPECT_TRUE(fs::exists(out / "dicom" / "CT"));
+
+  // The same command again into the same folder (issue 45: 22 of the scene's files came back as
+  // *_2): the same files, the scene's data files rewritten by the second run, nothing stale. The
+  // second run is the cheapest that still writes the whole scene (no pictures, 0.5 s of haptics).
+  const std::set<std::string> firstRun = FilesUnder(out);
+  const std::vector<std::string> firstScene = SceneDataFiles(out / "scene.rpscene");
+  ASSERT_GE(firstScene.size(), 10u);
+  const auto secondStart = fs::file_time_type::clock::now();
+  ASSERT_EQ(RunRoboplan("demo --size small --haptic-seconds 0.5 --no-screenshots --out " + out.string(), output), 0)
+      << output;
+  EXPECT_EQ(SceneDataFiles(out / "scene.rpscene"), firstScene);
+  const std::set<std::string> secondRun = FilesUnder(out);
+  std::vector<std::string> added, gone;
+  std::set_difference(secondRun.begin(), secondRun.end(), firstRun.begin(), firstRun.end(), std::back_inserter(added));
+  std::set_difference(firstRun.begin(), firstRun.end(), secondRun.begin(), secondRun.end(), std::back_inserter(gone));
+  EXPECT_TRUE(added.empty()) << added.size() << " files the first run did not write, e.g. " << added.front();
+  EXPECT_TRUE(gone.empty()) << gone.size() << " files of the first run gone, e.g. " << gone.front();
+  for (const std::string& file : firstScene)
+    EXPECT_GE(fs::last_write_time(out / file), secondStart) << file << " was not rewritten by the second run";
 }
 
 TEST(Demo, ARealKneeCTIsScoredPerBoneAgainstItsLabels) {

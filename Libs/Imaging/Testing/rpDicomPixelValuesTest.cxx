@@ -1,5 +1,6 @@
 // DICOM pixel values that must never come back silently wrong: Modality LUT Sequence, 32-bit
 // greyscale (OB/OW, implicit/explicit/big-endian VR, RLE), Float and Double Float Pixel Data,
+// every sample of a Big Endian file (checked by pydicom, an independent reader),
 // invalid PixelSpacing, palette and other colour images, legacy multi-frame files (MR with
 // Spacing Between Slices, RT Dose with its Grid Frame Offset Vector). Every file is written here
 // with DCMTK's API, some re-encoded with DCMTK's command-line tools; the expected voxels are
@@ -20,6 +21,9 @@
 #include <vtkImageData.h>
 #include <vtkPointData.h>
 
+#include <nlohmann/json.hpp>
+
+#include "rpDicomPython.h"
 #include "rpDicomSeries.h"
 #include "rpDicomTestTools.h"
 
@@ -113,7 +117,7 @@ TEST(DicomPixelValues, ModalityLutSequenceMapsEveryStoredValue) {
 TEST(DicomPixelValues, ThirtyTwoBitGreyscaleReadsInEveryEncoding) {
   const fs::path dir = rp::testing::Scratch("thirty-two-bit");
   const std::string log = (dir / "tools.log").string();
-  const std::string dcmconv = rp::testing::FindTool("dcmconv"), dcmcrle = rp::testing::FindTool("dcmcrle");
+  const std::string dcmcrle = rp::testing::FindTool("dcmcrle");
   for (const bool isSigned : {false, true}) {
     // Values beyond 16 bits (and beyond 2^31 unsigned), rescaled by 3 and -7.
     std::vector<Uint32> raw(Columns * Rows);
@@ -140,10 +144,8 @@ TEST(DicomPixelValues, ThirtyTwoBitGreyscaleReadsInEveryEncoding) {
       const fs::path implicitFile = dir / (stem + "-implicit.dcm");
       Save(file, implicitFile, EXS_LittleEndianImplicit);
       variants.push_back(implicitFile);
-      if (!dcmconv.empty()) {
-        variants.push_back(dir / (stem + "-big.dcm"));
-        ASSERT_EQ(rp::testing::RunTool(dcmconv, {"+tb", explicitFile.string(), variants.back().string()}, log), 0);
-      }
+      // (Big endian: BigEndianSamplesReadWhole below. dcmconv +tb writes a 32-bit sample's two
+      // 16-bit words low word first, not the sample most significant byte first.)
       if (!dcmcrle.empty()) {
         variants.push_back(dir / (stem + "-rle.dcm"));
         ASSERT_EQ(rp::testing::RunTool(dcmcrle, {explicitFile.string(), variants.back().string()}, log), 0);
@@ -361,5 +363,122 @@ TEST(DicomPixelValues, RtDoseReadsByItsGridFrameOffsetVectorAndDoseGridScaling) 
     std::string error;
     EXPECT_FALSE(Read(path, v, error));
     EXPECT_NE(error.find("GridFrameOffsetVector has fewer than 4 values"), std::string::npos) << error;
+  }
+}
+
+namespace {
+
+// pydicom's view of a file: its transfer syntax and every pixel value (it reads a Big Endian
+// sample most significant byte first, whatever the VR).
+const char* const PixelValuesScript = R"PY(
+import json, sys
+import pydicom
+ds = pydicom.dcmread(sys.argv[1])
+print(json.dumps({"syntax": str(ds.file_meta.TransferSyntaxUID),
+                  "values": [float(v) for v in ds.pixel_array.ravel()]}))
+)PY";
+
+// A Big Endian file of `frames` frames: `stored` as the file must hold them, sample by sample,
+// most significant byte first. DCMTK swaps OW 16 bits at a time when it writes (each 32-bit
+// sample is given high word first so the file gets its bytes in order), writes OB as given,
+// and swaps Float (OF) and Double Float (OD) Pixel Data per sample itself.
+void WriteBigEndian(const fs::path& path, const std::string& encoding, const std::string& modality, int frames,
+                    const std::vector<double>& stored, const std::function<void(DcmDataset*)>& extra) {
+  const int bits = encoding == "OB16" ? 16 : encoding == "F64" ? 64 : 32;
+  const bool isSigned = std::any_of(stored.begin(), stored.end(), [](double v) { return v < 0; });
+  DcmFileFormat file;
+  DcmDataset* ds = file.getDataset();
+  Header(ds, modality, frames, bits, isSigned, 0, "1.2.826.0.1.3680043.10.1234.20");
+  extra(ds);
+  if (encoding == "F32" || encoding == "F64") {
+    for (const DcmTagKey& tag : {DCM_BitsStored, DCM_HighBit, DCM_PixelRepresentation}) delete ds->remove(tag);
+    std::vector<Float32> f(stored.begin(), stored.end());
+    if (encoding == "F64")
+      ASSERT_TRUE(ds->putAndInsertFloat64Array(DCM_DoubleFloatPixelData, stored.data(), stored.size()).good());
+    else
+      ASSERT_TRUE(ds->putAndInsertFloat32Array(DCM_FloatPixelData, f.data(), f.size()).good());
+  } else if (encoding == "OW32") {
+    std::vector<Uint16> words;
+    for (double v : stored) {
+      const auto u = static_cast<Uint32>(static_cast<int64_t>(v));
+      words.insert(words.end(), {static_cast<Uint16>(u >> 16), static_cast<Uint16>(u & 0xffff)});
+    }
+    ASSERT_TRUE(ds->putAndInsertUint16Array(DCM_PixelData, words.data(), words.size()).good());
+  } else {  // OB: the bytes as they lie in the file
+    std::vector<Uint8> bytes;
+    for (double v : stored) {
+      const auto u = static_cast<Uint32>(static_cast<int64_t>(v));
+      for (int b = bits / 8 - 1; b >= 0; --b) bytes.push_back(static_cast<Uint8>(u >> (8 * b)));
+    }
+    ASSERT_TRUE(ds->putAndInsertUint8Array(DCM_PixelData, bytes.data(), bytes.size()).good());
+  }
+  Save(file, path, EXS_BigEndianExplicit);
+}
+
+}  // namespace
+
+// The case of issue 39: a 32-bit RT Dose in Explicit VR Big Endian read with its 16-bit halves
+// swapped (a voxel of 1.254 Gy read 577.765). Every sample of a Big Endian file is one number,
+// most significant byte first: RT Dose (multi-frame, Dose Grid Scaling, OW), signed and unsigned
+// 32-bit in OW and OB, 16-bit OB, Float and Double Float Pixel Data. Each file is checked by
+// pydicom (when installed) to hold the values it was written with, then read here exact.
+TEST(DicomPixelValues, BigEndianSamplesReadWhole) {
+  const fs::path dir = rp::testing::Scratch("big-endian");
+  const bool pydicom = rp::testing::HavePydicom();
+  constexpr int frames = 3;
+  const size_t count = size_t(Columns) * Rows * frames;
+  struct Case {
+    std::string Name, Encoding, Modality;
+    std::function<double(size_t)> Stored;
+    double Scale;  // modality value = stored × Scale
+  };
+  const std::vector<Case> cases = {
+      {"rtdose", "OW32", "RTDOSE", [](size_t i) { return double(i == 7 ? 125400 : i * 1000003 % 4000000000u); }, 1e-5},
+      {"unsigned-OW", "OW32", "OT", [](size_t i) { return double(i * 150000000 % 4294967295u); }, 1},
+      {"signed-OW", "OW32", "OT", [](size_t i) { return (double(i) - 30) * 123457; }, 1},
+      {"signed-OB", "OB32", "OT", [](size_t i) { return (double(i) - 40) * 98765; }, 1},
+      {"sixteen-OB", "OB16", "OT", [](size_t i) { return double(i * 911 % 65536); }, 1},
+      {"float", "F32", "MR", [](size_t i) { return double(static_cast<float>(0.25 * double(i) - 3.1)); }, 1},
+      {"double", "F64", "MR", [](size_t i) { return 1e-7 * double(i) + 1.0 / 3.0 - 1e5 * double(i % 3); }, 1},
+  };
+  for (const Case& c : cases) {
+    std::vector<double> stored(count);
+    for (size_t i = 0; i < count; ++i) stored[i] = c.Stored(i);
+    const fs::path folder = dir / c.Name;
+    fs::create_directories(folder);
+    const fs::path path = folder / "image.dcm";
+    ASSERT_NO_FATAL_FAILURE(WriteBigEndian(path, c.Encoding, c.Modality, frames, stored, [&](DcmDataset* ds) {
+      ds->putAndInsertString(DCM_SpacingBetweenSlices, "2");
+      if (c.Modality == "RTDOSE") {
+        ds->putAndInsertString(DCM_DoseGridScaling, "1e-5");
+        ds->putAndInsertString(DCM_DoseUnits, "GY");
+        ds->putAndInsertString(DCM_FrameIncrementPointer, "(3004,000c)");
+        ds->putAndInsertString(DCM_GridFrameOffsetVector, "0\\2\\4");
+      }
+    }));
+    if (pydicom) {  // the independent reader sees the values the file was written with
+      ASSERT_EQ(rp::testing::RunPython(PixelValuesScript, folder, {path.string()}), 0)
+          << rp::testing::Slurp(folder / "python.log");
+      const nlohmann::json seen = nlohmann::json::parse(rp::testing::Slurp(folder / "python.out"));
+      EXPECT_EQ(seen["syntax"], "1.2.840.10008.1.2.2") << c.Name;
+      ASSERT_EQ(seen["values"].size(), count) << c.Name;
+      for (size_t i = 0; i < count; ++i) ASSERT_EQ(seen["values"][i].get<double>(), stored[i]) << c.Name << " " << i;
+    }
+    rp::ImageVolume v;
+    std::string error;
+    ASSERT_TRUE(Read(folder, v, error)) << c.Name << ": " << error;
+    int dims[3];
+    v.Image->GetDimensions(dims);
+    ASSERT_EQ(dims[2], frames) << c.Name;
+    for (size_t i = 0; i < count; ++i) {
+      const double expected = stored[i] * c.Scale;
+      const int x = int(i % Columns), y = int(i / Columns % Rows), k = int(i / (size_t(Columns) * Rows));
+      // Scaled doses are float voxels (7 digits); the rest exact.
+      const double tolerance = (c.Scale == 1 ? 1e-9 : 1e-6) * (1 + std::abs(expected));
+      ASSERT_NEAR(Voxel(v, x, y, k), expected, tolerance) << c.Name << " pixel " << i;
+    }
+    if (c.Modality == "RTDOSE") {
+      EXPECT_NEAR(Voxel(v, 1, 1, 0), 1.254, 1e-6);  // stored 125400 × 1e-5 Gy
+    }
   }
 }

@@ -28,6 +28,7 @@
 #include "rpDicomRtStruct.h"
 #include "rpDicomSegmentation.h"
 #include "rpDicomSeries.h"
+#include "rpDicomPython.h"
 #include "rpDicomTestTools.h"
 #include "rpSharedData.h"
 #include "rpImagingReaders.h"
@@ -39,117 +40,14 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const char* const Python = "/usr/bin/python3";
-
-bool HavePydicom() { return std::system("/usr/bin/python3 -c 'import pydicom, numpy' >/dev/null 2>&1") == 0; }
-
-int RunPython(const std::string& script, const fs::path& scratch, const std::vector<std::string>& arguments) {
-  const fs::path file = scratch / "script.py";
-  std::ofstream(file) << script;
-  std::string command = std::string(Python) + " '" + file.string() + "'";
-  for (const auto& a : arguments) command += " '" + a + "'";
-  command += " >'" + (scratch / "python.out").string() + "' 2>'" + (scratch / "python.log").string() + "'";
-  return std::system(command.c_str());
-}
-
-std::string Slurp(const fs::path& path) {
-  std::ifstream in(path);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
-// pydicom as an independent reader of our SEG: prints what a PACS or viewer would see.
-const char* const CheckSegScript = R"PY(
-import json, sys
-import numpy as np
-import pydicom
-ds = pydicom.dcmread(sys.argv[1])
-frames = ds.pixel_array.reshape(int(ds.NumberOfFrames), ds.Rows, ds.Columns)
-out = {"sopClass": ds.SOPClassUID, "modality": ds.Modality, "type": ds.SegmentationType,
-       "bitsAllocated": ds.BitsAllocated, "frames": int(ds.NumberOfFrames),
-       "referencedSeries": ds.ReferencedSeriesSequence[0].SeriesInstanceUID,
-       "referencedInstances": len(ds.ReferencedSeriesSequence[0].ReferencedInstanceSequence),
-       "frameOfReference": ds.FrameOfReferenceUID, "studyUID": ds.StudyInstanceUID,
-       "segments": [{"number": s.SegmentNumber, "label": s.SegmentLabel,
-                     "type": s.SegmentedPropertyTypeCodeSequence[0].CodeMeaning,
-                     "lab": [int(v) for v in s.RecommendedDisplayCIELabValue]} for s in ds.SegmentSequence],
-       "voxels": {}, "z": {}, "derivedFrom": 0}
-for f, item in enumerate(ds.PerFrameFunctionalGroupsSequence):
-    n = str(item.SegmentIdentificationSequence[0].ReferencedSegmentNumber)
-    out["voxels"][n] = out["voxels"].get(n, 0) + int(frames[f].sum())
-    out["z"].setdefault(n, []).append(float(item.PlanePositionSequence[0].ImagePositionPatient[2]))
-    if "DerivationImageSequence" in item:
-        out["derivedFrom"] += 1
-print(json.dumps(out))
-)PY";
-
-// pydicom rewrites our binary SEG as a fractional (8-bit, probability) one: inside 200 of 255,
-// plus a faint 100 halo one row above each inside pixel (below the 128 threshold).
-const char* const FractionalScript = R"PY(
-import sys
-import numpy as np
-import pydicom
-ds = pydicom.dcmread(sys.argv[1])
-frames = ds.pixel_array.reshape(int(ds.NumberOfFrames), ds.Rows, ds.Columns).astype(np.uint8)
-halo = np.zeros_like(frames)
-halo[:, :-1, :] = frames[:, 1:, :]
-out = np.where(frames > 0, 200, np.where(halo > 0, 100, 0)).astype(np.uint8)
-ds.SegmentationType = "FRACTIONAL"
-ds.SegmentationFractionalType = "PROBABILITY"
-ds.MaximumFractionalValue = 255
-ds.BitsAllocated = 8
-ds.BitsStored = 8
-ds.HighBit = 7
-ds.PixelData = out.tobytes()
-ds.save_as(sys.argv[2])
-)PY";
-
-// pydicom writes an RTSTRUCT from contours (JSON: ROIs with names, colours, LPS points) that
-// reference the CT's images.
-const char* const RtStructScript = R"PY(
-import json, sys, glob
-import pydicom
-from pydicom.dataset import Dataset, FileDataset, FileMetaDataset
-from pydicom.sequence import Sequence
-from pydicom.uid import generate_uid, ExplicitVRLittleEndian
-spec = json.load(open(sys.argv[1]))
-ct = [pydicom.dcmread(f, stop_before_pixels=True) for f in sorted(glob.glob(sys.argv[2] + "/*.dcm"))]
-meta = FileMetaDataset()
-meta.MediaStorageSOPClassUID = "1.2.840.10008.5.1.4.1.1.481.3"
-meta.MediaStorageSOPInstanceUID = generate_uid()
-meta.TransferSyntaxUID = ExplicitVRLittleEndian
-ds = FileDataset(sys.argv[3], {}, file_meta=meta, preamble=b"\0" * 128)
-ds.SOPClassUID = meta.MediaStorageSOPClassUID
-ds.SOPInstanceUID = meta.MediaStorageSOPInstanceUID
-ds.Modality = "RTSTRUCT"
-for key in ("PatientName", "PatientID", "StudyInstanceUID", "StudyDate", "StudyID"):
-    if key in ct[0]:
-        setattr(ds, key, getattr(ct[0], key))
-ds.SeriesInstanceUID = generate_uid()
-ds.StructureSetLabel = "knee bones"
-series = Dataset(); series.SeriesInstanceUID = ct[0].SeriesInstanceUID
-series.ContourImageSequence = Sequence([Dataset() for _ in ct])
-for item, image in zip(series.ContourImageSequence, ct):
-    item.ReferencedSOPClassUID = image.SOPClassUID; item.ReferencedSOPInstanceUID = image.SOPInstanceUID
-study = Dataset(); study.ReferencedSOPClassUID = "1.2.840.10008.3.1.2.3.1"
-study.ReferencedSOPInstanceUID = ct[0].StudyInstanceUID; study.RTReferencedSeriesSequence = Sequence([series])
-frame = Dataset(); frame.FrameOfReferenceUID = ct[0].get("FrameOfReferenceUID", generate_uid())
-frame.RTReferencedStudySequence = Sequence([study])
-ds.ReferencedFrameOfReferenceSequence = Sequence([frame])
-ds.StructureSetROISequence = Sequence(); ds.ROIContourSequence = Sequence()
-for number, roi in enumerate(spec["rois"], start=1):
-    s = Dataset(); s.ROINumber = number; s.ROIName = roi["name"]
-    s.ReferencedFrameOfReferenceUID = frame.FrameOfReferenceUID; s.ROIGenerationAlgorithm = "AUTOMATIC"
-    ds.StructureSetROISequence.append(s)
-    c = Dataset(); c.ReferencedROINumber = number; c.ROIDisplayColor = roi["color"]; c.ContourSequence = Sequence()
-    for points in roi["contours"]:
-        item = Dataset(); item.ContourGeometricType = "CLOSED_PLANAR"
-        item.NumberOfContourPoints = len(points) // 3
-        item.ContourData = ["%.4f" % v for v in points]
-        c.ContourSequence.append(item)
-    ds.ROIContourSequence.append(c)
-ds.is_little_endian = True; ds.is_implicit_VR = False
-ds.save_as(sys.argv[3], write_like_original=False)
-)PY";
+using rp::testing::CheckSegScript;
+using rp::testing::DeflateScript;
+using rp::testing::FractionalScript;
+using rp::testing::HavePydicom;
+using rp::testing::RtStructScript;
+using rp::testing::RunPython;
+using rp::testing::SliceContours;
+using rp::testing::Slurp;
 
 struct Knee {
   std::string Dicom;
@@ -357,51 +255,6 @@ TEST(DicomSegmentation, SegOnAnotherSeriesIsRefusedNamingTheFrame) {
 
 namespace {
 
-// Closed contours (LPS mm) of one label on one slice, at the 0.5 iso-line between voxel
-// centres (vtkMarchingSquares on the slice padded by one background voxel).
-std::vector<std::vector<double>> SliceContours(vtkImageData* labels, vtkMatrix4x4* ijkToRAS, int label, int k) {
-  int dims[3];
-  labels->GetDimensions(dims);
-  vtkNew<vtkImageData> slice;
-  slice->SetDimensions(dims[0] + 2, dims[1] + 2, 1);
-  slice->SetOrigin(-1, -1, k);
-  slice->AllocateScalars(VTK_FLOAT, 1);
-  float* out = static_cast<float*>(slice->GetScalarPointer());
-  bool any = false;
-  for (int j = -1; j <= dims[1]; ++j)
-    for (int i = -1; i <= dims[0]; ++i) {
-      const bool inside = i >= 0 && j >= 0 && i < dims[0] && j < dims[1] &&
-                          labels->GetScalarComponentAsDouble(i, j, k, 0) == label;
-      out[(j + 1) * (dims[0] + 2) + (i + 1)] = inside ? 1.0f : 0.0f;
-      any = any || inside;
-    }
-  std::vector<std::vector<double>> contours;
-  if (!any) return contours;
-  vtkNew<vtkMarchingSquares> squares;
-  squares->SetInputData(slice);
-  squares->SetValue(0, 0.5);
-  vtkNew<vtkStripper> stripper;
-  stripper->SetInputConnection(squares->GetOutputPort());
-  stripper->JoinContiguousSegmentsOn();
-  stripper->Update();
-  vtkPolyData* lines = stripper->GetOutput();
-  vtkNew<vtkIdList> ids;
-  for (lines->GetLines()->InitTraversal(); lines->GetLines()->GetNextCell(ids);) {
-    std::vector<double> points;
-    vtkIdType n = ids->GetNumberOfIds();
-    if (n > 1 && ids->GetId(0) == ids->GetId(n - 1)) --n;  // closed: the first point repeated
-    for (vtkIdType p = 0; p < n; ++p) {
-      double ijk[4] = {0, 0, 0, 1}, ras[4];
-      lines->GetPoint(ids->GetId(p), ijk);
-      ijk[3] = 1;
-      ijkToRAS->MultiplyPoint(ijk, ras);
-      points.insert(points.end(), {-ras[0], -ras[1], ras[2]});
-    }
-    if (points.size() >= 9) contours.push_back(points);
-  }
-  return contours;
-}
-
 double DistanceToSegment(const double p[2], const double a[2], const double b[2]) {
   const double d[2] = {b[0] - a[0], b[1] - a[1]};
   const double length2 = d[0] * d[0] + d[1] * d[1];
@@ -462,7 +315,8 @@ TEST(DicomSegmentation, KneeRtStructFromPydicomRasterizesWithinHalfAVoxel) {
   EXPECT_EQ(back->GetNthSegment(0).Name, "Tibia");
   EXPECT_NEAR(back->GetNthSegment(1).Color[2], int(0.9 * 255) / 255.0, 1e-9);
   EXPECT_EQ(back->GetName(), std::string("knee bones"));
-  {  // The loader, given a folder holding the CT and the RTSTRUCT: the RTSTRUCT on the CT's grid.
+  {  // The loader, given a folder holding the CT and the RTSTRUCT: both, the RTSTRUCT on the CT's
+     // grid and referencing it.
     ASSERT_TRUE(rp::RegisterImagingReaders());
     const fs::path folder = dir / "ct-and-rtstruct";
     fs::copy(knee.Dicom, folder, fs::copy_options::recursive);
@@ -470,11 +324,12 @@ TEST(DicomSegmentation, KneeRtStructFromPydicomRasterizesWithinHalfAVoxel) {
     vtkNew<vtkRPScene> scene;
     rp::LoadResult load = rp::LoadPath(scene, folder.string());
     ASSERT_TRUE(load.Ok) << load.Error;
-    EXPECT_EQ(load.Reader, "DICOM SEG / RTSTRUCT");
-    ASSERT_EQ(load.Nodes.size(), 1u);
-    auto* loaded = vtkRPSegmentationNode::SafeDownCast(load.Nodes[0]);
+    EXPECT_EQ(load.Reader, "DICOM");
+    ASSERT_EQ(load.Nodes.size(), 2u);
+    auto* loaded = vtkRPSegmentationNode::SafeDownCast(load.Nodes[1]);
     ASSERT_NE(loaded, nullptr);
     EXPECT_EQ(DifferingVoxels(loaded->GetImageData(), back->GetImageData()), 0u);
+    EXPECT_EQ(loaded->GetNodeReference(vtkRPSegmentationNode::ReferenceImageGeometryRole()), load.Nodes[0].GetPointer());
   }
   // Dice per bone, and every differing voxel's centre within half a voxel of the contour.
   for (int l = 1; l <= 3; ++l) {
@@ -504,5 +359,95 @@ TEST(DicomSegmentation, KneeRtStructFromPydicomRasterizesWithinHalfAVoxel) {
               << " differing voxel(s), farthest " << worst << " voxel from the contour\n";
     EXPECT_GT(dice, 0.995) << l;
     EXPECT_LE(worst, 0.5 + 1e-6) << l;
+  }
+}
+
+// SEG and RTSTRUCT in Deflated Explicit VR Little Endian read as their images do (issue 39): the
+// knee's SEG (ours) and RTSTRUCT (pydicom's) deflated by DCMTK (dcmconv +td), GDCM (gdcmconv
+// --deflated) and pydicom, each checked by pydicom to be deflated and to hold the same segments,
+// read back voxel-identical to the same object in Explicit VR Little Endian, alone and in a
+// folder whose CT is deflated too.
+TEST(DicomSegmentation, DeflatedSegAndRtStructReadAsTheirImagesDo) {
+  RP_REQUIRE_SHARED_DATA("knee-ct-vhf/dicom");
+  if (!HavePydicom()) GTEST_SKIP() << "pydicom (python3-pydicom) not installed";
+  Knee knee;
+  ASSERT_NO_FATAL_FAILURE(LoadKnee(knee));
+  const fs::path dir = rp::testing::Scratch("deflated");
+  std::string error;
+  const fs::path seg = dir / "seg.dcm", rtstruct = dir / "rtstruct.dcm";
+  ASSERT_TRUE(rp::WriteDicomSegmentation(knee.Node, knee.Dicom, seg.string(), error)) << error;
+  nlohmann::json spec = {{"rois", nlohmann::json::array()}};
+  int dims[3];
+  knee.Labels.Image->GetDimensions(dims);
+  for (int l = 1; l <= 3; ++l) {
+    nlohmann::json roi = {{"name", knee.Node->GetNthSegment(l - 1).Name}, {"color", {200, 100, 50}},
+                          {"contours", nlohmann::json::array()}};
+    for (int k = 0; k < dims[2]; ++k)
+      for (const auto& contour : SliceContours(knee.Labels.Image, knee.Labels.IJKToRAS, l, k)) roi["contours"].push_back(contour);
+    spec["rois"].push_back(roi);
+  }
+  std::ofstream(dir / "contours.json") << spec.dump();
+  ASSERT_EQ(RunPython(RtStructScript, dir, {(dir / "contours.json").string(), knee.Dicom, rtstruct.string()}), 0)
+      << Slurp(dir / "python.log");
+  vtkNew<vtkRPSegmentationNode> plainRt;
+  ASSERT_TRUE(rp::ReadDicomRtStruct(rtstruct.string(), plainRt, error, knee.Dicom)) << error;
+
+  // Every writer's deflated copy of each.
+  std::vector<std::pair<std::string, std::string>> encoders;  // name, command prefix ("" = pydicom)
+  for (const auto& [tool, arguments] : {std::make_pair("dcmconv", "+td"), std::make_pair("gdcmconv", "--deflated")}) {
+    const std::string path = rp::testing::FindTool(tool);
+    if (!path.empty()) encoders.emplace_back(tool, path + " " + arguments);
+  }
+  encoders.emplace_back("pydicom", "");
+  for (const auto& [name, command] : encoders) {
+    for (const fs::path& source : {seg, rtstruct}) {
+      const fs::path deflated = dir / (name + "-" + source.filename().string());
+      if (command.empty()) {
+        ASSERT_EQ(RunPython(DeflateScript, dir, {source.string(), deflated.string()}), 0) << Slurp(dir / "python.log");
+      } else {
+        ASSERT_EQ(std::system((command + " '" + source.string() + "' '" + deflated.string() + "'").c_str()), 0) << name;
+      }
+      ASSERT_EQ(RunPython(DeflateScript, dir, {deflated.string(), (dir / "check.dcm").string()}), 0)
+          << Slurp(dir / "python.log");  // pydicom reads it (and deflates it again)
+      vtkNew<vtkRPSegmentationNode> back;
+      std::vector<std::string> warnings;
+      if (source == seg) {
+        ASSERT_TRUE(rp::ReadDicomSegmentation(deflated.string(), back, error, knee.Dicom, &warnings)) << name << ": " << error;
+        EXPECT_EQ(DifferingVoxels(back->GetImageData(), knee.Labels.Image), 0u) << name;
+        ASSERT_EQ(RunPython(CheckSegScript, dir, {deflated.string()}), 0) << Slurp(dir / "python.log");
+        const nlohmann::json seen = nlohmann::json::parse(Slurp(dir / "python.out"));
+        EXPECT_EQ(seen["segments"].size(), 3u) << name;
+      } else {
+        ASSERT_TRUE(rp::ReadDicomRtStruct(deflated.string(), back, error, knee.Dicom, &warnings)) << name << ": " << error;
+        EXPECT_EQ(DifferingVoxels(back->GetImageData(), plainRt->GetImageData()), 0u) << name;
+      }
+      EXPECT_EQ(back->GetNumberOfSegments(), 3) << name;
+      std::ifstream in(deflated, std::ios::binary);
+      const std::string head((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+      EXPECT_NE(head.find("1.2.840.10008.1.2.1.99"), std::string::npos) << name << " did not deflate";
+    }
+  }
+  // A deflated study: the CT, the SEG and the RTSTRUCT deflated by DCMTK, opened whole.
+  const std::string dcmconv = rp::testing::FindTool("dcmconv");
+  if (dcmconv.empty()) return;
+  const fs::path folder = dir / "study";
+  fs::create_directories(folder);
+  for (const auto& entry : fs::directory_iterator(knee.Dicom))
+    ASSERT_EQ(std::system((dcmconv + " +td '" + entry.path().string() + "' '" + (folder / entry.path().filename()).string() + "'").c_str()), 0);
+  fs::copy_file(dir / "dcmconv-seg.dcm", folder / "seg.dcm");
+  fs::copy_file(dir / "dcmconv-rtstruct.dcm", folder / "rtstruct.dcm");
+  ASSERT_TRUE(rp::RegisterImagingReaders());
+  vtkNew<vtkRPScene> scene;
+  const rp::LoadResult load = rp::LoadPath(scene, folder.string());
+  ASSERT_TRUE(load.Ok) << load.Error;
+  ASSERT_EQ(load.Nodes.size(), 3u);
+  for (size_t n = 1; n < 3; ++n) {
+    auto* segmentation = vtkRPSegmentationNode::SafeDownCast(load.Nodes[n]);
+    ASSERT_NE(segmentation, nullptr);
+    EXPECT_EQ(segmentation->GetNodeReference(vtkRPSegmentationNode::ReferenceImageGeometryRole()), load.Nodes[0].GetPointer());
+    EXPECT_EQ(DifferingVoxels(segmentation->GetImageData(),
+                              segmentation->GetName() == "knee bones" ? plainRt->GetImageData() : knee.Labels.Image.GetPointer()),
+              0u)
+        << segmentation->GetName();
   }
 }

@@ -86,15 +86,46 @@ LoadResult ReadPath(vtkRPScene* scene, const std::string& path, const DataReader
   return result;
 }
 
+void AddReadNodes(vtkRPScene* scene, std::vector<vtkSmartPointer<vtkRPNode>>& nodes) {
+  // A reader that reads into the scene has added its nodes already. Nodes with IDs (those that
+  // may be referenced) go in one import; nodes without one are added one by one, as Import gives
+  // every node without an ID the same new one.
+  std::vector<vtkSmartPointer<vtkRPNode>> withIDs;
+  for (const auto& node : nodes)
+    if (!node->GetScene() && !node->GetID().empty()) withIDs.push_back(node);
+  if (withIDs.size() > 1) scene->Import(withIDs);
+  for (auto& node : nodes)
+    if (!node->GetScene()) node = scene->AddNode(node);
+}
+
 LoadResult LoadPath(vtkRPScene* scene, const std::string& path, const ReadOptions& options) {
   LoadResult result = ReadPath(scene, path, options);
-  if (!result.Ok) return result;
-  for (auto& node : result.Nodes) {
-    // A reader that reads into the scene has added its nodes already.
-    if (!node->GetScene()) node = scene->AddNode(node);
-  }
+  if (result.Ok) AddReadNodes(scene, result.Nodes);
   return result;
 }
+
+namespace {
+
+// "'path' holds 2 objects: CT \"knee\" (1.2.3), SEG \"bones\" (1.2.4); choose one (--series <ID>)"
+// from what the reader listed (Details "objects"), else the nodes' names.
+std::string SeveralNodesError(const std::string& path, const LoadResult& result) {
+  std::string list;
+  const nlohmann::json& objects = result.Details.contains("objects") ? result.Details["objects"] : nlohmann::json();
+  if (objects.is_array() && objects.size() == result.Nodes.size()) {
+    for (const auto& o : objects) {
+      std::string kind = o.value("modality", std::string());  // an image's modality, else the object's kind
+      if (kind.empty()) kind = o.value("kind", std::string());
+      list += (list.empty() ? "" : ", ") + kind + " \"" + o.value("description", std::string()) + "\" (" +
+              o.value("id", std::string()) + ")";
+    }
+    return "'" + path + "' holds " + std::to_string(objects.size()) + " objects: " + list +
+           "; choose one by its ID (--series <ID>)";
+  }
+  for (const auto& node : result.Nodes) list += (list.empty() ? "" : ", ") + node->GetName();
+  return "'" + path + "' holds " + std::to_string(result.Nodes.size()) + " nodes (" + list + "), not one";
+}
+
+}  // namespace
 
 vtkRPNode* LoadSingleNode(vtkRPScene* scene, const std::string& path, LoadResult& result, const ReadOptions& options) {
   const DataReader* reader = FindDataReader(path);
@@ -107,7 +138,7 @@ vtkRPNode* LoadSingleNode(vtkRPScene* scene, const std::string& path, LoadResult
   result = ReadPath(scene, path, options);
   if (result.Ok && result.Nodes.size() != 1) {
     result.Ok = false;
-    result.Error = "'" + path + "' holds " + std::to_string(result.Nodes.size()) + " nodes, not one";
+    result.Error = SeveralNodesError(path, result);
   }
   if (!result.Ok) {
     result.Nodes.clear();

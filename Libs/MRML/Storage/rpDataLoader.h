@@ -31,8 +31,9 @@
 // also exports an idempotent Register...() that hosts call at start-up (see rpImagingReaders.h).
 // Readers registered today: "RoboPlan scene" (.rpscene, rpSceneFileReader.cxx), "3D Slicer scene"
 // (.mrml, .mrb: rpMrmlDataReader.cxx), "Node file" (every
-// node storage, rpDataLoader.cxx), "DICOM" (folder, DICOMDIR, a DICOM file: Libs/Imaging/rpDicomDataReader.cxx),
-// "DICOM SEG / RTSTRUCT" (such a file, or a folder holding one: rpDicomSegmentationDataReader.cxx).
+// node storage, rpDataLoader.cxx), "DICOM" (a folder or DICOMDIR read whole: every image series,
+// SEG and RTSTRUCT; a DICOM file: Libs/Imaging/rpDicomDataReader.cxx), "DICOM SEG / RTSTRUCT"
+// (such a file: rpDicomSegmentationDataReader.cxx).
 #include <memory>
 #include <string>
 #include <vector>
@@ -106,9 +107,15 @@ LoadResult ReadPath(vtkRPScene* scene, const std::string& path, const DataReader
                     const ReadOptions& options = {});
 /// Reads `path` and adds the nodes to `scene` (in result.Nodes). On failure the scene is as it was.
 LoadResult LoadPath(vtkRPScene* scene, const std::string& path, const ReadOptions& options = {});
+/// Adds the nodes a read produced (those not in a scene yet): one as vtkRPScene::AddNode does,
+/// several in one vtkRPScene::Import, so references among them (a DICOM segmentation to the
+/// volume it lies on) follow their IDs and observers see them arrive together. LoadPath and
+/// the viewer's background read add nodes this way.
+void AddReadNodes(vtkRPScene* scene, std::vector<vtkSmartPointer<vtkRPNode>>& nodes);
 /// For commands that take one data file or folder: LoadPath, then the one node it added, or
-/// nullptr with result.Error set (also for a scene file, which is then not read, and for a reader
-/// that yields several nodes; the scene is untouched then).
+/// nullptr with result.Error set (also for a scene file, which is then not read, and for a path
+/// that holds several objects, e.g. a DICOM study: the error names them and the IDs `--series`
+/// takes; the scene is untouched then).
 vtkRPNode* LoadSingleNode(vtkRPScene* scene, const std::string& path, LoadResult& result,
                           const ReadOptions& options = {});
 

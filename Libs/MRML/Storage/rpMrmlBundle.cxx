@@ -22,6 +22,18 @@ struct ReadArchive {
   ~ReadArchive() { archive_read_free(this->A); }
 };
 
+// libarchive's message, which it does not always set (a null pointer then: found by rpMrmlBundleFuzzer).
+std::string ArchiveError(archive* a) {
+  const char* text = archive_error_string(a);
+  return text ? text : "libarchive gives no reason";
+}
+
+// The entry's path ("" when the zip gives none: refused as an empty name).
+std::string EntryName(archive_entry* entry) {
+  const char* name = archive_entry_pathname(entry);
+  return name ? name : "";
+}
+
 // Why a zip entry name may not be unpacked ("" when it may): it would land outside the folder.
 std::string UnsafeEntryName(const std::string& name) {
   if (name.empty()) return "an empty name";
@@ -41,7 +53,7 @@ std::string UnsafeEntryName(const std::string& name) {
 bool OpenArchive(ReadArchive& reader, const std::string& zipPath, std::string& error) {
   archive_read_support_format_zip_seekable(reader.A);  // sizes from the central directory
   if (archive_read_open_filename(reader.A, zipPath.c_str(), 1 << 16) != ARCHIVE_OK) {
-    error = "'" + zipPath + "' cannot be opened as a zip bundle: " + archive_error_string(reader.A);
+    error = "'" + zipPath + "' cannot be opened as a zip bundle: " + ArchiveError(reader.A);
     return false;
   }
   return true;
@@ -56,7 +68,7 @@ bool CheckEntries(const std::string& zipPath, uint64_t maxBytes, std::string& er
   int count = 0, status = 0;
   while ((status = archive_read_next_header(reader.A, &entry)) == ARCHIVE_OK) {
     ++count;
-    const std::string name = archive_entry_pathname(entry) ? archive_entry_pathname(entry) : "";
+    const std::string name = EntryName(entry);
     const std::string why = UnsafeEntryName(name);
     if (!why.empty()) {
       error = "'" + zipPath + "': entry '" + name + "' has " + why + "; the bundle is refused";
@@ -77,7 +89,7 @@ bool CheckEntries(const std::string& zipPath, uint64_t maxBytes, std::string& er
   }
   if (status != ARCHIVE_EOF || count == 0) {
     error = "'" + zipPath + "' is not a readable zip bundle" +
-            (status != ARCHIVE_EOF ? std::string(": ") + archive_error_string(reader.A) : std::string(": it is empty"));
+            (status != ARCHIVE_EOF ? ": " + ArchiveError(reader.A) : std::string(": it is empty"));
     return false;
   }
   return true;
@@ -100,7 +112,7 @@ bool CopyEntryData(archive* a, const fs::path& target, uint64_t& written, uint64
     out.write(buffer, size);
   }
   if (size < 0) {
-    error = std::string("corrupt entry data: ") + archive_error_string(a);
+    error = "corrupt entry data: " + ArchiveError(a);
     return false;
   }
   return static_cast<bool>(out);
@@ -117,7 +129,11 @@ bool UnpackBundle(const std::string& zipPath, const std::string& folder, uint64_
   archive_entry* entry = nullptr;
   uint64_t written = 0;
   while (archive_read_next_header(reader.A, &entry) == ARCHIVE_OK) {
-    std::string name = archive_entry_pathname(entry);
+    std::string name = EntryName(entry);
+    if (!UnsafeEntryName(name).empty()) {  // the first pass refused such names: the zip changed under us
+      error = "'" + zipPath + "' changed while it was unpacked; the bundle is refused";
+      return false;
+    }
     std::replace(name.begin(), name.end(), '\\', '/');
     const fs::path target = fs::path(folder) / name;
     std::error_code ec;
@@ -175,9 +191,9 @@ bool PackBundle(const std::string& folder, const std::string& rootName, const st
          archive_write_data(a, data.data(), data.size()) == static_cast<la_ssize_t>(data.size());
     archive_entry_free(entry);
   }
-  if (!ok) error = "cannot write the bundle '" + zipPath + "': " + (archive_error_string(a) ? archive_error_string(a) : "read error");
+  if (!ok) error = "cannot write the bundle '" + zipPath + "': " + ArchiveError(a);
   if (archive_write_close(a) != ARCHIVE_OK && ok) {
-    error = "cannot write the bundle '" + zipPath + "': " + archive_error_string(a);
+    error = "cannot write the bundle '" + zipPath + "': " + ArchiveError(a);
     ok = false;
   }
   archive_write_free(a);

@@ -2,9 +2,11 @@
 // vtkMRMLScene::Commit and vtkMRMLNode::WriteXML write them.
 #include <filesystem>
 #include <set>
+#include <sstream>
 
 #include <vtkMatrix4x4.h>
 #include <vtkNew.h>
+#include <vtkXMLDataElement.h>
 
 #include "rpAtomicFile.h"
 #include "rpMrmlBundle.h"
@@ -12,6 +14,8 @@
 #include "rpMrmlScene.h"
 #include "rpMrmlText.h"
 #include "rpNodeStorage.h"
+#include "rpSceneDataFiles.h"
+#include "rpXmlDocument.h"
 #include "vtkRPFiducialListNode.h"
 #include "vtkRPLayoutNode.h"
 #include "vtkRPLinearTransformNode.h"
@@ -33,6 +37,7 @@ struct XmlNode {
   std::string SingletonTag;
   std::map<std::string, std::string> Attributes;
   MrmlReferences References;
+  std::string DataFile;  // a storage node's file, as claimed (written first, as `fileName`)
   std::vector<std::pair<std::string, std::string>> Fields;  // in the order written
   void Add(const std::string& key, const std::string& value) { this->Fields.emplace_back(key, value); }
 };
@@ -75,12 +80,15 @@ bool IsMrmlField(const std::string& key) {
   return keys.count(key) > 0;
 }
 
+// The root's list of files an interrupted save left to this scene (SceneDataFiles): ours, not
+// Slicer's, which ignores attributes of <MRML> it does not know.
+const char* const OwnedFilesAttribute = "roboplanOwnedFiles";
+
 struct WriteContext {
-  fs::path Folder;  // the .mrml file's folder
+  SceneDataFiles* Files = nullptr;  // where the data files go (under Data/)
   SceneTransferReport* Report = nullptr;
   std::map<std::string, std::string> IDs;  // our ID -> MRML ID
   std::map<std::string, int> Counters;     // MRML class -> last number used
-  std::set<std::string> FileNames;
   std::vector<XmlNode> Out;
   std::string NewID(const std::string& mrmlClass) { return mrmlClass + std::to_string(++this->Counters[mrmlClass]); }
   std::string MrmlID(const std::string& ourID) const {
@@ -111,15 +119,13 @@ XmlNode MainElement(WriteContext& context, vtkRPNode* node, const Mapping& mappi
 // Writes the node's data file under Data/ and adds its storage element. False: reported.
 bool AddStorage(WriteContext& context, vtkRPNode* node, XmlNode& main, const std::string& tag,
                 const std::string& mrmlClass, const std::string& extension) {
-  std::string fileName = "Data/" + DataFileBaseName(node->GetName()) + extension;
-  for (int n = 2; context.FileNames.count(fileName); ++n)
-    fileName = "Data/" + DataFileBaseName(node->GetName()) + "_" + std::to_string(n) + extension;
-  context.FileNames.insert(fileName);
+  const std::string fileName = context.Files->Claim("Data", DataFileBaseName(node->GetName()), extension);
   std::string error;
   const NodeStorage* storage = FindNodeStorageForFile(fileName);
   if (!storage || !storage->CanHandle(node)) error = "no writer for " + extension + " files of this node";
-  else storage->Write(node, (context.Folder / fileName).string(), error);
+  else storage->Write(node, context.Files->StagingPath(fileName), error);
   if (!error.empty()) {
+    context.Files->Drop(fileName);
     context.Report->Skipped.push_back({fileName + " (node '" + node->GetName() + "')", error});
     return false;
   }
@@ -127,7 +133,7 @@ bool AddStorage(WriteContext& context, vtkRPNode* node, XmlNode& main, const std
   XmlNode element;
   element.Tag = tag;
   element.ID = context.NewID(mrmlClass);
-  element.Add("fileName", MrmlUrlEncode(fileName));
+  element.DataFile = fileName;
   element.Add("useCompression", "1");
   if (tag == "ModelStorage") element.Add("coordinateSystem", "LPS");  // the .vtk header says so too
   main.References.push_back({"storage", {element.ID}});
@@ -290,27 +296,52 @@ void AssignIDs(WriteContext& context, vtkRPScene* scene) {
   }
 }
 
-std::string FormatElement(const XmlNode& node) {
+// `fileNames`: how the scene names each claimed data file (SceneDataFiles::Commit).
+std::string FormatElement(const XmlNode& node, const std::map<std::string, std::string>& fileNames) {
   std::string text = " <" + node.Tag + "\n  id=\"" + MrmlXmlEscape(node.ID) + "\" name=\"" + MrmlXmlEscape(node.Name) +
                      "\" hideFromEditors=\"" + (node.Hidden ? "true" : "false") + "\" selectable=\"true\" selected=\"false\"";
   if (!node.SingletonTag.empty()) text += " singletonTag=\"" + MrmlXmlEscape(node.SingletonTag) + "\"";
   if (!node.Attributes.empty()) text += " attributes=\"" + MrmlXmlEscape(FormatMrmlAttributes(node.Attributes)) + "\"";
   const std::string references = FormatMrmlReferences(node.References);
   if (!references.empty()) text += " references=\"" + MrmlXmlEscape(references) + "\"";
+  if (!node.DataFile.empty()) text += " fileName=\"" + MrmlXmlEscape(MrmlUrlEncode(fileNames.at(node.DataFile))) + "\"";
   for (const auto& [key, value] : node.Fields) text += " " + key + "=\"" + MrmlXmlEscape(value) + "\"";
   return text + " ></" + node.Tag + ">\n";
 }
 
-std::string FormatScene(const std::vector<XmlNode>& nodes) {
-  std::string text = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<MRML  version=\"Slicer4.4.0\" userTags=\"\">\n";
-  for (const XmlNode& node : nodes) text += FormatElement(node);
+std::string FormatScene(const std::vector<XmlNode>& nodes, const std::map<std::string, std::string>& fileNames,
+                        const std::vector<std::string>& alsoOwned) {
+  std::string owned;
+  for (const std::string& name : alsoOwned) owned += (owned.empty() ? "" : " ") + MrmlUrlEncode(name);
+  std::string text = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<MRML  version=\"Slicer4.4.0\" userTags=\"\"";
+  if (!owned.empty()) text += std::string(" ") + OwnedFilesAttribute + "=\"" + MrmlXmlEscape(owned) + "\"";
+  text += ">\n";
+  for (const XmlNode& node : nodes) text += FormatElement(node, fileNames);
   return text + "</MRML>\n";
 }
 
+// The files a .mrml owns: every storage node's file inside its folder and those its root lists
+// (empty when there is none or it cannot be read).
+std::set<std::string> OwnedFilesOf(const std::string& path) {
+  std::set<std::string> files;
+  std::error_code ec;
+  std::string error;
+  if (!fs::exists(path, ec)) return files;
+  vtkSmartPointer<vtkXMLDataElement> root = ReadXmlFile(path, error);
+  if (!root) return files;
+  if (const char* owned = root->GetAttribute(OwnedFilesAttribute)) {
+    std::istringstream names(owned);
+    for (std::string name; names >> name;) files.insert(MrmlUrlDecode(name));
+  }
+  for (int i = 0; i < root->GetNumberOfNestedElements(); ++i)
+    if (const char* fileName = root->GetNestedElement(i)->GetAttribute("fileName")) files.insert(MrmlUrlDecode(fileName));
+  return files;
+}
+
 // The scene's nodes as MRML elements, with their data files written under Data/.
-std::vector<XmlNode> BuildScene(vtkRPScene* scene, const fs::path& folder, SceneTransferReport& report) {
+std::vector<XmlNode> BuildScene(vtkRPScene* scene, SceneDataFiles& files, SceneTransferReport& report) {
   WriteContext context;
-  context.Folder = folder;
+  context.Files = &files;
   context.Report = &report;
   AssignIDs(context, scene);
   std::map<std::string, int> unmapped;
@@ -345,8 +376,14 @@ bool WriteMrmlScene(vtkRPScene* scene, const std::string& path, SceneTransferRep
     report.Error = "cannot create folder '" + (folder / "Data").string() + "': " + ec.message();
     return false;
   }
-  const std::vector<XmlNode> nodes = BuildScene(scene, folder, report);
-  if (!WriteFileAtomically(path, FormatScene(nodes), report.Error)) report.Ok = false;
+  // Data/ files the previous scene here wrote are replaced; others' are left alone (rpSceneDataFiles.h).
+  SceneDataFiles files(folder, OwnedFilesOf(path));
+  files.RemoveInterruptedSaves("Data");
+  const std::vector<XmlNode> nodes = BuildScene(scene, files, report);
+  const auto text = [&nodes](const std::map<std::string, std::string>& names, const std::vector<std::string>& owned) {
+    return FormatScene(nodes, names, owned);
+  };
+  if (!files.Commit(path, text, report.Error)) report.Ok = false;
   return report.Ok;
 }
 

@@ -97,6 +97,11 @@ bool ParseSceneFile(const std::string& text, const std::string& source, SceneFil
     }
     for (const json& entry : doc["nodes"]) parsed.Nodes.push_back(ParseNode(entry));
   }
+  // Only tells a save what it may replace: what is not a list of names is ignored, not an error.
+  if (const auto owned = doc.find("ownedFiles"); owned != doc.end() && owned->is_array()) {
+    for (const json& name : *owned)
+      if (name.is_string()) parsed.OwnedFiles.push_back(name.get<std::string>());
+  }
   document = std::move(parsed);
   return true;
 }
@@ -122,6 +127,7 @@ std::string FormatSceneFile(const SceneFileDocument& document) {
     nodes.push_back(entry);
   }
   doc["nodes"] = nodes;
+  if (!document.OwnedFiles.empty()) doc["ownedFiles"] = document.OwnedFiles;
   // Invalid UTF-8 in a name is replaced rather than thrown (dump's strict mode would throw).
   return doc.dump(2, ' ', false, json::error_handler_t::replace) + "\n";
 }

@@ -24,6 +24,10 @@ struct SceneFileNode {
 struct SceneFileDocument {
   int Version = SceneFileFormatVersion;
   std::vector<SceneFileNode> Nodes;
+  // Files in the scene's folder it owns besides its nodes' data files: only a save that was
+  // interrupted lists any (those it was replacing); the next save replaces or removes them
+  // (rpSceneDataFiles.h). Written as "ownedFiles" only when not empty.
+  std::vector<std::string> OwnedFiles;
 };
 
 /// Parses a scene file's text. False (and `error`, naming `source`) when it is not a RoboPlan

@@ -2,6 +2,7 @@
 
 #include <cctype>
 #include <filesystem>
+#include <map>
 #include <set>
 #include <vector>
 
@@ -9,6 +10,7 @@
 
 #include "rpAtomicFile.h"
 #include "rpNodeStorage.h"
+#include "rpSceneDataFiles.h"
 #include "vtkRPNode.h"
 #include "vtkRPScene.h"
 
@@ -17,8 +19,9 @@ namespace fs = std::filesystem;
 namespace rp {
 namespace {
 
-// The data files a scene file names (empty when there is none or it cannot be read).
-std::set<std::string> DataFilesOf(const std::string& sceneFile) {
+// The files a scene file owns: the data files it names and those it lists as its own (empty when
+// there is none or it cannot be read).
+std::set<std::string> OwnedFilesOf(const std::string& sceneFile) {
   std::set<std::string> files;
   std::string text, error;
   SceneFileDocument document;
@@ -27,12 +30,8 @@ std::set<std::string> DataFilesOf(const std::string& sceneFile) {
     return files;
   for (const SceneFileNode& node : document.Nodes)
     if (!node.DataFile.empty()) files.insert(node.DataFile);
+  files.insert(document.OwnedFiles.begin(), document.OwnedFiles.end());
   return files;
-}
-
-// A data file name this program may remove: a plain name in the scene's folder.
-bool IsPlainFileName(const std::string& name) {
-  return !name.empty() && name.find('/') == std::string::npos && name != "." && name != "..";
 }
 
 // When the disk is (nearly) full, says so first: the writers' own messages rarely do.
@@ -55,16 +54,8 @@ bool SaveScene(vtkRPScene* scene, const std::string& sceneFile, std::string& err
     error = "cannot create folder '" + folder.string() + "': " + ec.message();
     return false;
   }
-  RemoveStaleTemporaryFiles(folder.string());  // left by a save that was killed
-  // What the scene file being replaced uses is never written over before the commit.
-  const std::set<std::string> previous = DataFilesOf(sceneFile);
-  std::set<std::string> used;
-  std::vector<fs::path> written;
-  auto fail = [&](const std::string& what, const std::string& why) {
-    error = what + DiskFullNote(folder) + why;
-    for (const fs::path& file : written) fs::remove(file, ec);  // not referenced by anything
-    return false;
-  };
+  SceneDataFiles files(folder, OwnedFilesOf(sceneFile));
+  files.RemoveInterruptedSaves("");
   SceneFileDocument document;
   for (vtkRPNode* node : scene->GetNodes()) {
     SceneFileNode entry;
@@ -79,26 +70,26 @@ bool SaveScene(vtkRPScene* scene, const std::string& sceneFile, std::string& err
       entry.References.emplace_back(role, std::move(ids));
     }
     if (const NodeStorage* storage = FindNodeStorage(node)) {
-      const std::string base = DataFileBaseName(node->GetName()), extension = storage->DefaultExtension();
-      std::string fileName = base + extension;
-      for (int n = 2; used.count(fileName) || previous.count(fileName); ++n)
-        fileName = base + "_" + std::to_string(n) + extension;
-      used.insert(fileName);
+      entry.DataFile = files.Claim("", DataFileBaseName(node->GetName()), storage->DefaultExtension());
       std::string writeError;
-      if (!storage->Write(node, (folder / fileName).string(), writeError))
-        return fail("saving node '" + node->GetName() + "' failed: ", writeError);
-      written.push_back(folder / fileName);
-      entry.DataFile = fileName;
+      if (!storage->Write(node, files.StagingPath(entry.DataFile), writeError)) {
+        error = "saving node '" + node->GetName() + "' failed: " + DiskFullNote(folder) + writeError;
+        return false;  // `files` removes what was written: nothing names it
+      }
     }
     document.Nodes.push_back(std::move(entry));
   }
-  std::string writeError;
-  if (!WriteFileAtomically(sceneFile, FormatSceneFile(document), writeError)) return fail("", writeError);
-  // Committed: the previous version's data files that this one does not name are not used by it.
-  for (const std::string& file : previous) {
-    if (!used.count(file) && IsPlainFileName(file)) fs::remove(folder / file, ec);
-  }
-  return true;
+  const auto text = [&document](const std::map<std::string, std::string>& names, const std::vector<std::string>& owned) {
+    SceneFileDocument version = document;
+    for (SceneFileNode& node : version.Nodes)
+      if (!node.DataFile.empty()) node.DataFile = names.at(node.DataFile);
+    version.OwnedFiles = owned;
+    return FormatSceneFile(version);
+  };
+  std::string commitError;
+  if (files.Commit(sceneFile, text, commitError)) return true;
+  error = (files.Committed() ? "" : DiskFullNote(folder)) + commitError;
+  return false;
 }
 
 SceneLoadReport LoadScene(vtkRPScene* scene, const std::string& sceneFile) {

@@ -3,13 +3,12 @@
 // nodes with their fields, attributes and references, and names one data file per node in a
 // standard format (NRRD, .seg.nrrd, VTP, .mrk.json, ITK .tfm) in the same folder.
 //
-// Saving never touches what the previous version of the scene file uses: data files go to names
-// the previous scene does not reference (CT.nrrd, then CT_2.nrrd, then CT.nrrd again...), the
-// scene file is replaced last by an atomic rename (the commit), and only then are the previous
-// version's data files that the new one no longer names removed. A save killed at any point, or
-// one that fails (a full disk), leaves the previous scene loading intact. Loading a scene whose
-// data file is missing or corrupt loads everything else and reports each problem by file and
-// node name.
+// Saving over a scene file keeps its data files' names and replaces their content; a file of the
+// folder the previous scene did not write is never touched (the node takes another name), and
+// the previous scene's files the new one no longer names are removed (rpSceneDataFiles.h). A save
+// killed at any point, or one that fails (a full disk), leaves a scene file that loads whole: the
+// previous scene, or the new one. Loading a scene whose data file is missing or corrupt loads
+// everything else and reports each problem by file and node name.
 #include <string>
 #include <vector>
 

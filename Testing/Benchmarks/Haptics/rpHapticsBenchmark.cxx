@@ -9,7 +9,8 @@
 //  * Stiffness against penetration error and stability: a device (mass, own damping) pushed
 //    with 2 N onto a sampled virtual wall, simulated in continuous time; Colgate margin.
 // Figures (JSON, CSV) and charts (PNG; without a display on a private Xvfb, rpXDisplay.h) go to
-// $ROBOPLAN_BENCHMARK_OUTPUT or ./benchmark-output.
+// $ROBOPLAN_BENCHMARK_OUTPUT or ./benchmark-output. A quick run (ROBOPLAN_BENCHMARK_QUICK): a
+// 5,120-triangle sphere, 0.3 s jitter runs, three stiffnesses.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -40,7 +41,8 @@ using rp::Vec3;
 namespace {
 
 constexpr double kRadius = 50;
-constexpr int kLevel = 8;  // 20 * 4^8 = 1,310,720 triangles
+// 20 * 4^8 = 1,310,720 triangles (a quick run, rpBenchmarkConditions.h: 20 * 4^4 = 5,120).
+int Level() { return rp::bench::QuickRun() ? 4 : 8; }
 
 struct World {
   std::unique_ptr<rp::HapticScene> Scene;
@@ -67,8 +69,8 @@ Vec3 PathPoint(double t) {
 World& TheWorld() {
   static World* world = [] {
     auto* w = new World;
-    std::cerr << "[haptics-bench] building the 1.3M-triangle sphere...\n";
-    const rp::TriangleMesh mesh = rp::shapes::Sphere({0, 0, 0}, kRadius, kLevel);
+    const rp::TriangleMesh mesh = rp::shapes::Sphere({0, 0, 0}, kRadius, Level());
+    std::cerr << "[haptics-bench] building the " << mesh.Triangles.size() << "-triangle sphere...\n";
     std::vector<std::string> warnings;
     std::string error;
     auto t0 = std::chrono::steady_clock::now();
@@ -79,7 +81,8 @@ World& TheWorld() {
     w->Locator->SetDataSet(w->Poly);
     w->Locator->BuildLocator();
     w->LocatorBuildS = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    for (int i = 0; i < 20000; ++i) w->Queries.push_back(PathPoint(i * 1e-3));
+    const int queries = rp::bench::QuickRun() ? 2000 : 20000;
+    for (int i = 0; i < queries; ++i) w->Queries.push_back(PathPoint(i * 1e-3));
     return w;
   }();
   return *world;
@@ -212,7 +215,7 @@ nlohmann::json PerTickDistributions(const std::string& out) {
     w.Locator->FindClosestPoint(x, closest, cell, cellId, subId, d2);
   }, true);
   double sink = 0;
-  const auto brute = TimeEach(30, [&](size_t i) { sink += BruteForceClosest(w.Scene->Mesh, w.Queries[i * 600]); });
+  const auto brute = TimeEach(30, [&](size_t i) { sink += BruteForceClosest(w.Scene->Mesh, w.Queries[i * std::min<size_t>(600, n / 30)]); });
   benchmark::DoNotOptimize(sink);
   nlohmann::json ticks;
   std::vector<double> tick1;
@@ -239,7 +242,7 @@ nlohmann::json PerTickDistributions(const std::string& out) {
   }
   // Accuracy of the closest-point answers (same query set): BVH vs the locator.
   double maxDiff = 0;
-  for (size_t i = 0; i < 2000; ++i) {
+  for (size_t i = 0; i < std::min<size_t>(n, 2000); ++i) {
     w.Scene->Tree.ClosestPoint(w.Queries[i], HUGE_VAL, hit);
     const double x[3] = {w.Queries[i].x, w.Queries[i].y, w.Queries[i].z};
     w.Locator->FindClosestPoint(x, closest, cell, cellId, subId, d2);
@@ -267,12 +270,11 @@ nlohmann::json PerTickDistributions(const std::string& out) {
   }
   for (double u : tick1) counts[std::min<size_t>(59, static_cast<size_t>(u / 0.5))] += 1;
   rp::bench::ChartOptions o;
-  o.Title = "Haptic tick compute, 1.3M triangles (1 point)";
+  o.Title = "Haptic tick compute, " + std::to_string(w.Scene->Tree.NumberOfTriangles()) + " triangles (1 point)";
   o.XLabel = "compute time (us)";
   o.YLabel = "ticks";
   o.LogY = true;
-  if (!rp::bench::WriteHistogramPNG(out + "/haptics_tick_histogram.png", centers, counts, o, error))
-    std::cerr << "[haptics-bench] chart: " << error << "\n";
+  rp::bench::WriteHistogramPNG(out + "/haptics_tick_histogram.png", centers, counts, o, error);
   return doc;
 }
 
@@ -290,7 +292,7 @@ nlohmann::json Jitter(const std::string& out, double seconds, double spinUs) {
   device.SetTrajectory(path);
   rp::HapticServo servo(device);
   std::vector<std::string> warnings;
-  servo.Scenes().Publish(rp::HapticScene::Build({{"sphere", "bone", rp::shapes::Sphere({0, 0, 0}, kRadius, kLevel)}},
+  servo.Scenes().Publish(rp::HapticScene::Build({{"sphere", "bone", rp::shapes::Sphere({0, 0, 0}, kRadius, Level())}},
                                                 rp::MaterialTable::Defaults(), warnings, error));
   // The other core is busy.
   std::atomic<bool> stop{false};
@@ -351,8 +353,7 @@ nlohmann::json Jitter(const std::string& out, double seconds, double spinUs) {
   o.LogY = true;
   o.Title += spinUs > 0 ? " (sleep + " + std::to_string(static_cast<int>(spinUs)) + " us spin)" : " (sleep only)";
   const std::string png = out + "/haptics_period_histogram" + (spinUs > 0 ? "_spin" : "") + ".png";
-  if (!rp::bench::WriteHistogramPNG(png, centers, counts, o, error))
-    std::cerr << "[haptics-bench] chart: " << error << "\n";
+  rp::bench::WriteHistogramPNG(png, centers, counts, o, error);
   auto stats = [](const rp::TimingStats& t) {
     return nlohmann::json{{"p50Us", t.P50Us}, {"p99Us", t.P99Us}, {"p999Us", t.P999Us}, {"maxUs", t.MaxUs}, {"meanUs", t.MeanUs}};
   };
@@ -431,7 +432,10 @@ nlohmann::json StiffnessSweep(const std::string& out) {
   rp::bench::Series oscillationLimited{"oscillation p-p, gain limit on (mm)", {}, {}, true};
   nlohmann::json rows = nlohmann::json::array();
   std::vector<std::vector<double>> csv;
-  for (double k : {0.1, 0.2, 0.35, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 10.0, 12.0}) {
+  const std::vector<double> stiffnesses = rp::bench::QuickRun() ? std::vector<double>{0.5, 2.0, 8.0}
+                                                                 : std::vector<double>{0.1, 0.2, 0.35, 0.5, 0.75, 1.0, 1.5, 2.0,
+                                                                                       3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 10.0, 12.0};
+  for (double k : stiffnesses) {
     const WallRun free = SimulateWall(k, false, handForce);
     const WallRun safe = SimulateWall(k, true, handForce);
     const double colgate = (bDevice - k * period / 2) * 1000;  // N·s/m for readability
@@ -465,13 +469,11 @@ nlohmann::json StiffnessSweep(const std::string& out) {
   o.YLabel = "penetration (mm)";
   o.LogX = true;
   o.LogY = true;
-  if (!rp::bench::WriteChartPNG(out + "/haptics_stiffness_penetration.png", {analytic, measured, limited}, o, error))
-    std::cerr << "[haptics-bench] chart: " << error << "\n";
+  rp::bench::WriteChartPNG(out + "/haptics_stiffness_penetration.png", {analytic, measured, limited}, o, error);
   o.Title = "Stiffness vs stability (device b = 3 N s/m, T = 1 ms)";
   o.YLabel = "margin (N s/m) / oscillation (mm)";
   o.LogY = false;
-  if (!rp::bench::WriteChartPNG(out + "/haptics_stiffness_stability.png", {margin, oscillation, oscillationLimited}, o, error))
-    std::cerr << "[haptics-bench] chart: " << error << "\n";
+  rp::bench::WriteChartPNG(out + "/haptics_stiffness_stability.png", {margin, oscillation, oscillationLimited}, o, error);
   return {{"handForceN", handForce}, {"deviceDampingNsPerMm", bDevice}, {"periodS", period},
           {"colgateLimitNPerMm", 2 * bDevice / period}, {"rows", rows}};
 }
@@ -485,7 +487,7 @@ int main(int argc, char** argv) {
   benchmark::RunSpecifiedBenchmarks();
   const std::string out = rp::bench::OutputDirectory();
   const char* env = std::getenv("ROBOPLAN_HAPTICS_JITTER_SECONDS");
-  const double seconds = env ? std::atof(env) : 60.0;
+  const double seconds = env ? std::atof(env) : rp::bench::QuickRun() ? 0.3 : 60.0;
   nlohmann::json doc;
   doc["perTick"] = PerTickDistributions(out);
   doc["stiffnessSweep"] = StiffnessSweep(out);
@@ -494,8 +496,8 @@ int main(int argc, char** argv) {
     doc["jitterSpin"] = Jitter(out, seconds, 100);
   }
   rp::bench::FinishConditions(rp::bench::OutputDirectory(), "rpHapticsBenchmark");  // the load after, the steal over the run
-  doc["conditions"] = nlohmann::json::parse(rp::bench::ConditionsJson());
-  std::ofstream(out + "/haptics_benchmark.json") << doc.dump(2) << "\n";
+  std::string error;
+  rp::bench::WriteFiguresJSON(out + "/haptics_benchmark.json", doc, error);
   std::cout << doc.dump(2) << "\n";
   benchmark::Shutdown();
   return 0;

@@ -263,33 +263,31 @@ int main(int argc, char** argv) {
     vtkLine.X.push_back(r.N);
     vtkLine.Y.push_back(r.VtkNs / 1000);
   }
-  if (!bench::WriteCSV(dir + "/landmark_registration_speed.csv",
-                       {"n", "ours_ns", "ours_with_checks_ns", "vtk_landmark_transform_ns", "speedup",
-                        "rotation_difference_deg", "translation_difference_mm"},
-                       rows, error))
-    std::cerr << error << "\n";
+  bench::WriteCSV(dir + "/landmark_registration_speed.csv",
+                  {"n", "ours_ns", "ours_with_checks_ns", "vtk_landmark_transform_ns", "speedup", "rotation_difference_deg",
+                   "translation_difference_mm"},
+                  rows, error);
   bench::ChartOptions speedChart;
   speedChart.Title = "Rigid paired-point solve: time per solve (same data, same run)";
   speedChart.XLabel = "number of fiducial pairs N";
   speedChart.YLabel = "time per solve (microseconds)";
   speedChart.LogY = true;
-  if (!bench::WriteChartPNG(dir + "/landmark_registration_speed.png", {oursLine, checkedLine, vtkLine}, speedChart,
-                            error))
-    std::cerr << "warning: chart skipped: " << error << "\n";
+  bench::WriteChartPNG(dir + "/landmark_registration_speed.png", {oursLine, checkedLine, vtkLine}, speedChart, error);
 
   // Accuracy: RMS TRE at a target 80 mm deep against N and spread.
   const std::vector<int> counts = {3, 4, 5, 6, 8, 10, 15, 20};
   const std::vector<double> spreads = {25, 50, 100};
   std::vector<bench::Series> treSeries;
   rows.clear();
-  std::cout << "\nRMS TRE at a target 80 mm below the fiducials' centroid, FLE " << kFLE << " mm (3000 trials)\n"
+  const int trials = bench::QuickRun() ? 200 : 3000;  // a quick run checks the figures are written
+  std::cout << "\nRMS TRE at a target 80 mm below the fiducials' centroid, FLE " << kFLE << " mm (" << trials << " trials)\n"
             << "  N  spread(mm)  measured TRE  predicted TRE  ratio   mean FRE  expected FRE  solve+checks (ns)\n";
   for (double spread : spreads) {
     bench::Series measured{"measured, spread " + std::to_string(static_cast<int>(spread)) + " mm", {}, {}, true};
     bench::Series predicted{"predicted (FWM), spread " + std::to_string(static_cast<int>(spread)) + " mm", {}, {},
                             false};
     for (int n : counts) {
-      const AccuracyRow a = MeasureAccuracy(n, spread, 3000);
+      const AccuracyRow a = MeasureAccuracy(n, spread, trials);
       std::printf("%3d %10.0f %13.3f %14.3f %6.3f %10.3f %13.3f %18.0f\n", a.N, a.Spread, a.MeasuredTRE,
                   a.PredictedTRE, a.MeasuredTRE / a.PredictedTRE, a.MeanFRE, a.ExpectedFRE, a.SolveNs);
       doc["accuracy"].push_back({{"n", a.N},
@@ -320,14 +318,9 @@ int main(int argc, char** argv) {
   treChart.XLabel = "number of fiducials N";
   treChart.YLabel = "RMS TRE at the target (mm)";
   treChart.LogY = true;
-  if (!bench::WriteChartPNG(dir + "/landmark_registration_tre.png", treSeries, treChart, error))
-    std::cerr << "warning: chart skipped: " << error << "\n";
-  {
-    std::ofstream f(dir + "/landmark_registration_benchmark.json");
-    rp::bench::FinishConditions(rp::bench::OutputDirectory(), "rpLandmarkRegistrationBenchmark");  // the load after, the steal over the run
-    doc["conditions"] = nlohmann::json::parse(rp::bench::ConditionsJson());
-    f << doc.dump(2) << "\n";
-  }
+  bench::WriteChartPNG(dir + "/landmark_registration_tre.png", treSeries, treChart, error);
+  rp::bench::FinishConditions(dir, "rpLandmarkRegistrationBenchmark");  // the load after, the steal over the run
+  bench::WriteFiguresJSON(dir + "/landmark_registration_benchmark.json", doc, error);
   std::cout << "figures in " << dir << "\n";
   return 0;
 }

@@ -398,15 +398,12 @@ int main(int argc, char** argv) {
   std::string error;
   rp::bench::WriteCSV(out + "/whole_process.csv", {"config_index", "seconds", "times_baseline"}, rows, error);
   rp::bench::FinishConditions(rp::bench::OutputDirectory(), "rpMeshWholeProcessBenchmark");  // the load after, the steal over the run
-  doc["conditions"] = nlohmann::json::parse(rp::bench::ConditionsJson());
-  std::ofstream(out + "/whole_process.json") << doc.dump(2) << "\n";
+  rp::bench::WriteFiguresJSON(out + "/whole_process.json", doc, error);
   rp::bench::ChartOptions chart;
   chart.Title = "roboplan mesh, 512x512x300 two-label .nrrd (gzip): whole process vs Slicer's pipeline";
   chart.YLabel = "seconds (2 cores, fastest of 3)";
   chart.Width = 1200;
-  if (!rp::bench::WriteBarChartPNG(out + "/whole_process_seconds.png", categories, {bars}, chart, error))
-    std::fprintf(stderr, "chart: %s\n", error.c_str());
-  std::printf("wrote %s/whole_process.{csv,json} and whole_process_seconds.png\n", out.c_str());
+  rp::bench::WriteBarChartPNG(out + "/whole_process_seconds.png", categories, {bars}, chart, error);  // names what it wrote
   benchmark::Shutdown();
   return 0;
 }

@@ -53,7 +53,7 @@ Data& GetData() {
     auto d = std::make_unique<Data>();
     KneePhantomOptions options;
     options.Anatomy = KneeAnatomy::Analytic;  // closed-form distances to score against
-    options.Size = KneePhantomSize::Full;
+    options.Size = rp::bench::QuickRun() ? KneePhantomSize::Small : KneePhantomSize::Full;  // quick: a check
     options.GenerateMR = false;
     std::string error;
     const auto t0 = std::chrono::steady_clock::now();
@@ -303,8 +303,7 @@ int main(int argc, char** argv) {
                        "volume_error_pct", "triangles", "watertight", "sigma", "grid_mm", "decimation", "from_ct"},
                       rows, error);
   rp::bench::FinishConditions(rp::bench::OutputDirectory(), "rpSegmentationToMeshBenchmark");  // the load after, the steal over the run
-  doc["conditions"] = nlohmann::json::parse(rp::bench::ConditionsJson());
-  std::ofstream(out + "/segmentation_to_mesh.json") << doc.dump(2) << "\n";
+  rp::bench::WriteFiguresJSON(out + "/segmentation_to_mesh.json", doc, error);
   std::vector<rp::bench::Series> list;
   for (auto& [name, s] : series) {
     // Lines run from fast to slow.
@@ -319,9 +318,7 @@ int main(int argc, char** argv) {
   o.Title = "Knee phantom bone (512x512x300): time vs mean surface error";
   o.XLabel = "time (s, 2 cores)";
   o.YLabel = "mean distance to the analytic bone surface (mm)";
-  if (!rp::bench::WriteChartPNG(out + "/segmentation_to_mesh_time_vs_error.png", list, o, error))
-    std::fprintf(stderr, "chart: %s\n", error.c_str());
-  std::printf("wrote %s/segmentation_to_mesh.{csv,json} and segmentation_to_mesh_time_vs_error.png\n", out.c_str());
+  rp::bench::WriteChartPNG(out + "/segmentation_to_mesh_time_vs_error.png", list, o, error);  // names what it wrote
   benchmark::Shutdown();
   return 0;
 }

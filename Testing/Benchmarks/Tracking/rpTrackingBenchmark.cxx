@@ -13,7 +13,8 @@
 //    MessageHeader + Unpack with CRC) in the same run.
 //  * Serial polling at 60 Hz against the simulator: CPU of the driver thread, BX vs TX.
 // Figures (JSON, CSV) and charts (PNG; without a display on a private Xvfb, rpXDisplay.h) go to
-// $ROBOPLAN_BENCHMARK_OUTPUT or ./benchmark-output.
+// $ROBOPLAN_BENCHMARK_OUTPUT or ./benchmark-output. A quick run (ROBOPLAN_BENCHMARK_QUICK) floods
+// and paces for 0.2 s, follows the scene for 0.7 s a way and polls the serial port for 0.3 s.
 #include <benchmark/benchmark.h>
 
 #include <arpa/inet.h>
@@ -202,7 +203,7 @@ struct Sender {
   std::atomic<int> Phase{0};  // 0 wait, 1 flood, 2 paced, 3 done
   std::atomic<uint64_t> Sent{0};
   double Rate = 20000;
-  double FloodSeconds = 2, PacedSeconds = 2;
+  double FloodSeconds = rp::bench::QuickRun() ? 0.2 : 2, PacedSeconds = FloodSeconds;
   int Port = test::FreePort();
   std::thread Thread;
   ::igtl::ServerSocket::Pointer Server = ::igtl::ServerSocket::New();
@@ -707,7 +708,7 @@ int main(int argc, char** argv) {
   // Sender to scene: 10 tools at 60 Hz for 20 s, each way.
   std::vector<SceneLatency> scene;
   for (SceneMode mode : {SceneMode::WokenByData, SceneMode::Timer60Hz, SceneMode::LibraryTimer})
-    scene.push_back(RunSenderToScene(mode, 20));
+    scene.push_back(RunSenderToScene(mode, bench::QuickRun() ? 0.7 : 20));
   std::vector<bench::Series> sceneCdf;
   for (const auto& r : scene) {
     doc["senderToScene"].push_back({{"mode", r.Mode}, {"tools", kTools}, {"rateHz", 60}, {"sent", r.Sent},
@@ -719,7 +720,8 @@ int main(int argc, char** argv) {
     sceneCdf.push_back(Cdf(r.Mode, r.Histogram));
   }
   doc["library"] = ROBOPLAN_IGTL_LIBRARY_NAME;
-  std::vector<SerialResult> serial = {RunSerial(true, 5), RunSerial(false, 5)};
+  const double serialSeconds = bench::QuickRun() ? 0.3 : 5;
+  std::vector<SerialResult> serial = {RunSerial(true, serialSeconds), RunSerial(false, serialSeconds)};
   for (const auto& s : serial) {
     doc["serial"].push_back({{"mode", s.Mode}, {"seconds", s.Seconds}, {"threadCpuSeconds", s.CpuSeconds},
                              {"corePercent", s.CorePercent}, {"framesPerSecond", s.FramesPerSecond},
@@ -727,19 +729,14 @@ int main(int argc, char** argv) {
     std::cout << "serial " << s.Mode << " at 60 Hz: " << s.CorePercent << " % of a core, " << s.FramesPerSecond
               << " replies/s, gaps " << s.Gaps << "\n";
   }
-  {
-    std::ofstream f(dir + "/tracking_benchmark.json");
-    rp::bench::FinishConditions(rp::bench::OutputDirectory(), "rpTrackingBenchmark");  // the load after, the steal over the run
-    doc["conditions"] = nlohmann::json::parse(rp::bench::ConditionsJson());
-    f << doc.dump(2) << "\n";
-  }
   std::string error;
+  rp::bench::FinishConditions(dir, "rpTrackingBenchmark");  // the load after, the steal over the run
+  bench::WriteFiguresJSON(dir + "/tracking_benchmark.json", doc, error);
   std::vector<std::vector<double>> rows;
   for (size_t i = 0; i < ours.Histogram.size(); ++i)
     if (ours.Histogram[i] || library.Histogram[i])
       rows.push_back({static_cast<double>(i + 1), static_cast<double>(ours.Histogram[i]), static_cast<double>(library.Histogram[i])});
-  if (!bench::WriteCSV(dir + "/tracking_latency_histogram.csv", {"latency_us", "roboplan_count", "library_count"}, rows, error))
-    std::cerr << error << "\n";
+  bench::WriteCSV(dir + "/tracking_latency_histogram.csv", {"latency_us", "roboplan_count", "library_count"}, rows, error);
   rows.clear();
   for (const auto& r : {ours, library})
     rows.push_back({r.ThroughputPerSecond, r.P50 * 1e3, r.P99 * 1e3, r.P999 * 1e3});
@@ -767,8 +764,7 @@ int main(int argc, char** argv) {
     sceneChart.XLabel = "sender time stamp to tool node modified (ms)";
     sceneChart.YLabel = "node updates at or below (%)";
     sceneChart.LogX = true;
-    if (!bench::WriteChartPNG(dir + "/tracking_sender_to_scene_cdf.png", sceneCdf, sceneChart, error))
-      std::cerr << "warning: chart skipped: " << error << "\n";
+    bench::WriteChartPNG(dir + "/tracking_sender_to_scene_cdf.png", sceneCdf, sceneChart, error);
     std::vector<std::vector<double>> sceneRows;
     for (size_t i = 0; i < scene[0].Histogram.size(); ++i)
       if (scene[0].Histogram[i] || scene[1].Histogram[i] || scene[2].Histogram[i])
@@ -781,8 +777,7 @@ int main(int argc, char** argv) {
   chart.XLabel = "latency (ms)";
   chart.YLabel = "messages at or below (%)";
   chart.LogX = true;
-  if (!bench::WriteChartPNG(dir + "/tracking_latency_cdf.png", cdf, chart, error))
-    std::cerr << "warning: chart skipped: " << error << "\n";
+  bench::WriteChartPNG(dir + "/tracking_latency_cdf.png", cdf, chart, error);
   std::cout << "figures in " << dir << "\n";
   return 0;
 }

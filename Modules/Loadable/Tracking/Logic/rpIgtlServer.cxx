@@ -21,35 +21,11 @@ namespace rp {
 IgtlServer::IgtlServer(const ToolPoseTable& source, Options options) : Source(source), Opts(std::move(options)) {}
 IgtlServer::~IgtlServer() { this->Stop(); }
 
-bool IgtlServer::StartRecording(const std::string& file, std::string& error) {
-  if (this->Recorder) {
-    error = "already recording to " + this->RecordingFile;
-    return false;
-  }
-  if (!IsPlusSequenceFileName(file)) {
-    error = "OutputFilename " + file + " is not a PLUS sequence file (.igs.mha or .igs.nrrd)";
-    return false;
-  }
-  this->Recorder = std::make_unique<PlusSequence>();
-  this->RecordingFile = file;
-  return true;
+bool IgtlServer::StartRecording(const std::string& requested, std::string& message) {
+  return this->Recorder.Start(this->Recordings, requested, message);
 }
 
-bool IgtlServer::StopRecording(std::string& file, std::string& error) {
-  if (!this->Recorder) {
-    error = "not recording";
-    return false;
-  }
-  std::unique_ptr<PlusSequence> recording = std::move(this->Recorder);
-  file = this->RecordingFile;
-  try {
-    WritePlusSequence(*recording, file);
-  } catch (const std::exception& e) {
-    error = e.what();
-    return false;
-  }
-  return true;
-}
+bool IgtlServer::StopRecording(std::string& message) { return this->Recorder.Stop(message); }
 
 bool IgtlServer::GetTransform(const std::string& name, double m[16], ToolState& state, std::string& error) {
   const auto fixed = this->FixedTransforms.find(name);
@@ -90,7 +66,9 @@ void IgtlServer::HandleCommand(Client& c, const igtl::Header& h, const igtl::Bod
     const char* text = nullptr;
     size_t length = 0;
     if (igtl::DecodeCommand(body.Content, body.ContentSize, id, name, text, length) != igtl::Status::Ok) return;
-    const IgtlCommandReply reply = RunIgtlCommand(std::string(text, length), *this);
+    IgtlCommandRequest request;
+    const IgtlCommandReply reply = RunIgtlCommand(std::string(text, length), *this, c.Caller, &request);
+    this->Note(CommandLogLine(c.Caller, request, reply));
     const std::string xml = CommandReplyXml(reply);
     igtl::EncodeCommand(id, name, xml.data(), xml.size(),
                         this->Writer.Begin(std::max<uint16_t>(c.Version, 2), "RTS_COMMAND", h.DeviceName, wall,
@@ -105,7 +83,10 @@ void IgtlServer::HandleCommand(Client& c, const igtl::Header& h, const igtl::Bod
   const char* text = nullptr;
   size_t length = 0;
   if (igtl::DecodeString(body.Content, body.ContentSize, encoding, text, length) != igtl::Status::Ok) return;
-  const std::string xml = CommandReplyXml(RunIgtlCommand(std::string(text, length), *this));
+  IgtlCommandRequest request;
+  const IgtlCommandReply reply = RunIgtlCommand(std::string(text, length), *this, c.Caller, &request);
+  this->Note(CommandLogLine(c.Caller, request, reply));
+  const std::string xml = CommandReplyXml(reply);
   const std::string device = "ACK_" + std::string(h.DeviceName + 4);
   const size_t size = std::min<size_t>(xml.size(), 65535);
   igtl::EncodeString(xml.data(), size, this->Writer.Begin(c.Version, "STRING", device.c_str(), wall, igtl::StringHeaderSize + size));
@@ -158,22 +139,8 @@ void IgtlServer::SendExtras(Client& c, double wall) {
   }
 }
 
-void IgtlServer::RecordFrame(double wall) {
-  PlusSequence& r = *this->Recorder;
-  PlusSequence::Frame frame;
-  frame.Timestamp = wall;
-  for (int slot = 0; slot < this->Source.Count(); ++slot) {
-    const ToolPoseReader::Sample& s = this->Reader.Last(slot);
-    if (!s.Valid) continue;
-    const size_t index = static_cast<size_t>(r.AddTransform(this->Source.Name(slot)));
-    if (frame.Transforms.size() <= index) frame.Transforms.resize(index + 1);
-    s.Pose.ToMatrix(frame.Transforms[index].Matrix);
-    frame.Transforms[index].State = s.Pose.State;
-    frame.Transforms[index].Present = true;
-  }
-  for (PlusSequence::Frame& f : r.Frames) f.Transforms.resize(r.TransformNames.size());
-  frame.Transforms.resize(r.TransformNames.size());
-  r.Frames.push_back(std::move(frame));
+void IgtlServer::Note(const std::string& line) const {
+  if (this->Opts.Log) this->Opts.Log(line);
 }
 
 bool IgtlServer::Start(std::string& error) {
@@ -184,12 +151,13 @@ bool IgtlServer::Start(std::string& error) {
   sockaddr_in addr{};
   addr.sin_family = AF_INET;
   addr.sin_port = htons(static_cast<uint16_t>(this->Opts.Port));
-  if (inet_pton(AF_INET, this->Opts.BindAddress.c_str(), &addr.sin_addr) != 1) {
-    error = "bad bind address " + this->Opts.BindAddress;
+  Ipv4 bind = 0;
+  if (!ParseBindAddress(this->Opts.BindAddress, bind, error) || !this->Recordings.Open(this->Opts.RecordFolder, error)) {
     ::close(this->ListenFd);
     this->ListenFd = -1;
     return false;
   }
+  addr.sin_addr.s_addr = htonl(bind);
   if (::bind(this->ListenFd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0 || ::listen(this->ListenFd, 64) != 0) {
     error = "cannot listen on " + this->Opts.BindAddress + ":" + std::to_string(this->Opts.Port) + ": " + std::strerror(errno);
     ::close(this->ListenFd);
@@ -199,12 +167,20 @@ bool IgtlServer::Start(std::string& error) {
   socklen_t len = sizeof addr;
   getsockname(this->ListenFd, reinterpret_cast<sockaddr*>(&addr), &len);
   this->BoundPort = ntohs(addr.sin_port);
+  this->Note("serving OpenIGTLink on " + FormatIpv4(bind) + ":" + std::to_string(this->BoundPort.load()) +
+             (bind == 0 ? " (every interface)" : "") + "; commands that change state or write files from " +
+             this->Opts.CommandClients.ToString() + "; recordings in " + this->Recordings.Path());
   this->Worker.Start([this] { this->Run(); });
   return true;
 }
 
 void IgtlServer::Stop() {
   this->Worker.Stop();
+  if (this->Recorder.Active()) {  // a recording nobody stopped is closed, readable, not lost
+    std::string message;
+    this->Recorder.Stop(message);
+    this->Note("server stopped while recording: " + message);
+  }
   for (Client& c : this->Connections)
     if (c.Fd >= 0) ::close(c.Fd);
   this->Connections.clear();
@@ -227,11 +203,12 @@ IgtlServer::Statistics IgtlServer::GetStatistics() const {
   return s;
 }
 
-void IgtlServer::Drop(Client& c, std::atomic<uint64_t>& reason) {
+void IgtlServer::Drop(Client& c, std::atomic<uint64_t>& reason, const char* why) {
   if (c.Fd < 0) return;
   ::close(c.Fd);
   c.Fd = -1;
   ++reason;
+  this->Note("client " + c.Caller.Address + " " + why);
 }
 
 bool IgtlServer::Send(Client& c) {
@@ -242,7 +219,7 @@ bool IgtlServer::Send(Client& c) {
   if (c.Queued.size() == c.QueuedSent) {  // nothing waiting: straight to the socket
     const ssize_t n = ::send(c.Fd, data, size, MSG_NOSIGNAL | MSG_DONTWAIT);
     if (n < 0 && errno != EAGAIN && errno != EINTR) {
-      this->Drop(c, this->Closed);  // gone
+      this->Drop(c, this->Closed, "gone (send failed)");
       return false;
     }
     done = n > 0 ? static_cast<size_t>(n) : 0;
@@ -270,7 +247,7 @@ void IgtlServer::Flush(Client& c, double now) {
   if (c.Fd < 0 || c.Queued.size() == c.QueuedSent) return;
   const ssize_t n = ::send(c.Fd, c.Queued.data() + c.QueuedSent, c.Queued.size() - c.QueuedSent, MSG_NOSIGNAL | MSG_DONTWAIT);
   if (n < 0 && errno != EAGAIN && errno != EINTR) {
-    this->Drop(c, this->Closed);
+    this->Drop(c, this->Closed, "gone (send failed)");
     return;
   }
   if (n > 0) {
@@ -282,7 +259,7 @@ void IgtlServer::Flush(Client& c, double now) {
     c.QueuedSent = 0;
     c.StalledSince = 0;
   } else if (now - c.StalledSince > this->Opts.StallSeconds) {
-    this->Drop(c, this->Stalled);  // reads nothing: it would hold output forever
+    this->Drop(c, this->Stalled, "dropped: it read nothing for too long");  // it would hold output forever
   }
 }
 
@@ -304,7 +281,7 @@ void IgtlServer::Receive(Client& c, uint8_t* scratch, size_t scratchSize) {
   const size_t room = c.Skip ? std::min<uint64_t>(scratchSize, c.Skip) : c.Input.size() - c.InputUsed;
   const ssize_t n = ::recv(c.Fd, into, room, MSG_DONTWAIT);
   if (n == 0 || (n < 0 && errno != EAGAIN && errno != EINTR)) {
-    this->Drop(c, this->Closed);
+    this->Drop(c, this->Closed, "disconnected");
     return;
   }
   if (n < 0) return;
@@ -324,7 +301,7 @@ void IgtlServer::HandleInput(Client& c) {
     igtl::Header h;
     const igtl::Status status = igtl::ParseHeader(c.Input.data() + at, h, UINT64_MAX);
     if (status != igtl::Status::Ok) {
-      this->Drop(c, this->Malformed);  // cannot find the next message in this stream
+      this->Drop(c, this->Malformed, "dropped: its stream lost the message boundary");
       return;
     }
     const uint64_t total = igtl::HeaderSize + h.BodySize;
@@ -381,7 +358,11 @@ void IgtlServer::SendPoses(double now) {
     if (s.Valid && (s.Pose.State == ToolState::OK || s.Pose.State == ToolState::OutOfVolume)) this->Valid.push_back(i);
     if (s.Fresh) this->Fresh.push_back(i);
   }
-  if (this->Recorder && !this->Fresh.empty()) this->RecordFrame(wall);
+  if (this->Recorder.Active() && !this->Fresh.empty()) {
+    bool stoppedNow = false;
+    this->Recorder.Record(wall, this->Source, this->Reader, &stoppedNow);
+    if (stoppedNow) this->Note("recording stopped: " + this->Recorder.Problem());
+  }
   for (Client& c : this->Connections) {
     if (c.Fd < 0) continue;
     if (c.Queued.size() != c.QueuedSent) {  // behind: it gets the newest poses once it catches up
@@ -429,11 +410,16 @@ void IgtlServer::SendPoses(double now) {
 
 void IgtlServer::Accept() {
   for (;;) {
-    const int fd = ::accept4(this->ListenFd, nullptr, nullptr, SOCK_CLOEXEC | SOCK_NONBLOCK);
+    sockaddr_in peer{};
+    socklen_t length = sizeof peer;
+    const int fd = ::accept4(this->ListenFd, reinterpret_cast<sockaddr*>(&peer), &length, SOCK_CLOEXEC | SOCK_NONBLOCK);
     if (fd < 0) return;
+    const Ipv4 address = ntohl(peer.sin_addr.s_addr);
+    const std::string name = FormatIpv4(address) + ":" + std::to_string(ntohs(peer.sin_port));
     if (static_cast<int>(this->Connections.size()) >= this->Opts.MaxClients) {
       ::close(fd);  // full: the clients we serve keep their share
       ++this->Refused;
+      this->Note("client " + name + " refused: " + std::to_string(this->Opts.MaxClients) + " clients are connected already");
       continue;
     }
     const int one = 1;
@@ -442,8 +428,11 @@ void IgtlServer::Accept() {
       setsockopt(fd, SOL_SOCKET, SO_SNDBUF, &this->Opts.SocketSendBuffer, sizeof this->Opts.SocketSendBuffer);
     Client c;
     c.Fd = fd;
+    c.Caller = {name, this->Opts.CommandClients.Contains(address), this->Opts.CommandClients.ToString()};
     c.LastSend = SteadySeconds();
     c.Input.resize(this->Opts.InputWindow);
+    this->Note("client " + name + " connected" +
+               (c.Caller.MayChangeState ? " (may change state)" : " (stream and read-only commands)"));
     this->Connections.push_back(std::move(c));
     ++this->Accepted;
   }
@@ -468,7 +457,7 @@ void IgtlServer::Run() {
       if (fds[i].revents & POLLOUT) this->Flush(c, now);
       if (c.Fd >= 0 && (fds[i].revents & (POLLIN | POLLHUP | POLLERR))) this->Receive(c, scratch.data(), scratch.size());
       if (c.Fd >= 0 && c.Queued.size() != c.QueuedSent && now - c.StalledSince > this->Opts.StallSeconds)
-        this->Drop(c, this->Stalled);
+        this->Drop(c, this->Stalled, "dropped: it read nothing for too long");
     }
     if (now >= nextSend) {
       nextSend = std::max(nextSend + period, now);

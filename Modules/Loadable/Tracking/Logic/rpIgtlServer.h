@@ -4,7 +4,8 @@
 // (PLUS naming, e.g. StylusToTracker), and as TDATA/QTDATA to clients that ask with
 // STT_TDATA/STT_QTDATA (answered RTS_*). Sends STATUS keep-alives when idle and answers
 // GET_STATUS. Talks header v1 until a client sends a v2 header, then v3 framing with PLUS's
-// TransformStatus and IGTL_DEVICE_NAME metadata. Binds 127.0.0.1 unless told otherwise.
+// TransformStatus and IGTL_DEVICE_NAME metadata. Binds 127.0.0.1 unless told otherwise
+// (`BindAddress`: one interface's address, or 0.0.0.0 for all).
 //
 // A peer cannot take the others down: each client gets at most one read per loop turn, input
 // is parsed in a fixed window (bodies we do not need are skipped as they stream by), a stream
@@ -14,11 +15,19 @@
 //
 // PlusServer's remote commands (rpIgtlCommands.h: COMMAND → RTS_COMMAND with Status/Message
 // metadata, STRING CMD_<uid> → ACK_<uid>) act on this server: channel and device ids,
-// StartRecording/StopRecording (a PLUS .igs.mha of every pose the server sends), and
+// StartRecording/StopRecording (a PLUS .igs.mha of every pose the server sends, streamed into
+// the recording folder: rpPlusRecorder.h, rpRecordingFolder.h), and
 // GetTransform/UpdateTransform through the TransformProvider (e.g. a transform repository that
 // chains StylusTipToReference) and the fixed transforms clients set. A client's CLIENTINFO (PLUS's
 // <ClientInfo> XML) replaces, for that client only, which message types and transform names it
 // gets; names the server does not stream come from the TransformProvider.
+//
+// Who may do what: every client gets the stream and the read-only commands; the commands that
+// change state or write files (UpdateTransform, StartRecording, StopRecording) run only for a
+// client whose address is in `CommandClients` (loopback by default), any other gets a FAIL reply
+// naming why. Each connection, refusal, command (client address, command, result) and recording
+// problem is one line through `Log` (called on the server thread: the sink must be thread-safe).
+// OpenIGTLink itself has no encryption and no authentication: an address is all we can check.
 #include <atomic>
 #include <functional>
 #include <map>
@@ -29,12 +38,13 @@
 
 #include "rpIgtlCommands.h"
 #include "rpIgtlProtocol.h"
+#include "rpNetworkAddress.h"
+#include "rpPlusRecorder.h"
+#include "rpRecordingFolder.h"
 #include "rpToolPose.h"
 #include "rpWorkerThread.h"
 
 namespace rp {
-
-struct PlusSequence;
 
 /// A source of transforms between named frames (a transform repository): row-major From→To and
 /// its status; false when it cannot compute it.
@@ -46,7 +56,10 @@ using TransformUpdater = std::function<bool(const std::string& from, const std::
 class IgtlServer : public IgtlCommandTarget {
  public:
   struct Options {
-    std::string BindAddress = "127.0.0.1";
+    std::string BindAddress = "127.0.0.1";  // an address of this machine; "0.0.0.0" (or "all"): every interface
+    AddressAllowList CommandClients = AddressAllowList::Loopback();  // may change state or write files
+    std::string RecordFolder = ".";         // StartRecording writes here (PLUS's OutputDirectory)
+    std::function<void(const std::string&)> Log;  // session log lines (server thread)
     int Port = 18944;                   // 0: an ephemeral port (see Port())
     double SendHz = 60.0;               // TRANSFORM rate per tool (only fresh poses are sent)
     double KeepAliveSeconds = 0.25;     // STATUS(OK) after this much idle time
@@ -80,14 +93,15 @@ class IgtlServer : public IgtlCommandTarget {
   // IgtlCommandTarget (called on the server thread while it handles a command)
   std::vector<std::string> ChannelIds() const override { return {this->Opts.ChannelId}; }
   std::vector<std::string> DeviceIds() const override { return this->Opts.DeviceIds; }
-  bool StartRecording(const std::string& file, std::string& error) override;
-  bool StopRecording(std::string& file, std::string& error) override;
+  bool StartRecording(const std::string& requested, std::string& message) override;
+  bool StopRecording(std::string& message) override;
   bool GetTransform(const std::string& name, double m[16], ToolState& state, std::string& error) override;
   bool UpdateTransform(const std::string& name, const double m[16], std::string& error) override;
 
  private:
   struct Client {
     int Fd = -1;
+    IgtlCommandCaller Caller;  // its address and whether it may change state
     uint16_t Version = 1;
     bool TData = false, QtData = false;
     double TDataInterval = 0, NextTData = 0, LastSend = 0, StalledSince = 0;
@@ -110,7 +124,8 @@ class IgtlServer : public IgtlCommandTarget {
   void Receive(Client& c, uint8_t* scratch, size_t scratchSize);
   void HandleInput(Client& c);
   void Flush(Client& c, double now);
-  void Drop(Client& c, std::atomic<uint64_t>& reason);
+  void Drop(Client& c, std::atomic<uint64_t>& reason, const char* why);
+  void Note(const std::string& line) const;  // a line of the session log, when there is one
   bool Send(Client& c);  // the message in Writer
   void SendRts(Client& c, const char* type, double wall);
   void SendStatus(Client& c, double wall);
@@ -119,7 +134,6 @@ class IgtlServer : public IgtlCommandTarget {
   void HandleClientInfo(Client& c, const igtl::Body& body);
   void SendTransform(Client& c, const char* name, const double m[16], ToolState state, double wall);
   void SendExtras(Client& c, double wall);
-  void RecordFrame(double wall);
 
   const ToolPoseTable& Source;
   Options Opts;
@@ -133,8 +147,8 @@ class IgtlServer : public IgtlCommandTarget {
   ToolPoseReader Reader;
   igtl::MessageWriter Writer;
   std::vector<int> Fresh, Valid;  // slots
-  std::unique_ptr<PlusSequence> Recorder;  // while StartRecording is on
-  std::string RecordingFile;
+  RecordingFolder Recordings;  // opened by Start
+  PlusRecorder Recorder;       // while StartRecording is on
   std::map<std::string, std::vector<double>> FixedTransforms;  // UpdateTransform
 };
 

@@ -13,6 +13,7 @@
 
 #include "rpNdiProtocol.h"
 #include "rpNdiRom.h"
+#include "rpNetworkAddress.h"
 #include "rpXmlDocument.h"
 
 namespace rp {
@@ -282,6 +283,12 @@ void ReadServer(vtkXMLDataElement* e, Configuration& c, const std::map<std::stri
   if (ParseInt(Attr(e, "ListeningPort"), 0, 65535, number)) s.ListeningPort = static_cast<int>(number);
   else c.Refused.push_back({"PlusOpenIGTLinkServer ListeningPort=\"" + Attr(e, "ListeningPort") + "\"",
                             "not a port (PLUS requires one): give --serve PORT"});
+  if (Has(e, "ListeningAddress")) {  // ours: PlusServer listens on every interface, RoboPlan on 127.0.0.1 unless told
+    Ipv4 address = 0;
+    std::string error;
+    if (ParseBindAddress(Attr(e, "ListeningAddress"), address, error)) s.ListeningAddress = Attr(e, "ListeningAddress");
+    else c.Refused.push_back({"PlusOpenIGTLinkServer ListeningAddress=\"" + Attr(e, "ListeningAddress") + "\"", error + "; 127.0.0.1 is used"});
+  }
   s.OutputChannelId = Attr(e, "OutputChannelId");
   const auto owner = channelOwner.find(s.OutputChannelId);
   if (owner == channelOwner.end())
@@ -443,7 +450,8 @@ nlohmann::json ToJson(const Configuration& c) {
   if (s.Present) {
     nlohmann::json names = nlohmann::json::array();
     for (const TransformName& n : s.TransformNames) names.push_back(n.Name);
-    doc["server"] = {{"listeningPort", s.ListeningPort}, {"outputChannelId", s.OutputChannelId},
+    doc["server"] = {{"listeningPort", s.ListeningPort}, {"listeningAddress", s.ListeningAddress.empty() ? "127.0.0.1" : s.ListeningAddress},
+                     {"outputChannelId", s.OutputChannelId},
                      {"sendValidTransformsOnly", s.SendValidTransformsOnly}, {"keepAliveIntervalSec", s.KeepAliveIntervalSec},
                      {"messageTypes", s.MessageTypes}, {"transformNames", names}};
   }

@@ -71,6 +71,7 @@ struct ImageName {
 struct Server {
   bool Present = false;
   int ListeningPort = -1;
+  std::string ListeningAddress;                // RoboPlan's attribute (PLUS listens on every interface): "" = 127.0.0.1
   std::string OutputChannelId;
   bool SendValidTransformsOnly = true;         // PLUS's default
   double KeepAliveIntervalSec = 0.25;          // PLUS's default (half its 0.5 s socket timeout)

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "rpAtomicFile.h"
+#include "rpPlusSequenceWriter.h"
 #include "rpTrackingRecording.h"
 #include "rpTransformNames.h"
 
@@ -265,69 +266,6 @@ PlusSequence ParseNrrd(const std::string& path, const std::string& data, bool ke
   return s;
 }
 
-std::string FormatNumber(double v) {
-  char buffer[40];
-  std::snprintf(buffer, sizeof buffer, "%.17g", v);
-  return buffer;
-}
-
-std::string FrameKey(size_t index, const std::string& field) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "Seq_Frame%04zu_", index);
-  return buffer + field;
-}
-
-/// The per-frame and global fields, each as (key, value), in PLUS's order.
-std::vector<std::pair<std::string, std::string>> SequenceFields(const PlusSequence& s) {
-  std::vector<std::pair<std::string, std::string>> out = s.Global;
-  for (size_t f = 0; f < s.Frames.size(); ++f) {
-    const PlusSequence::Frame& frame = s.Frames[f];
-    for (size_t t = 0; t < s.TransformNames.size() && t < frame.Transforms.size(); ++t) {
-      const PlusSequence::Transform& tr = frame.Transforms[t];
-      if (!tr.Present) continue;
-      std::string m;
-      for (double v : tr.Matrix) m += FormatNumber(v) + " ";
-      out.emplace_back(FrameKey(f, s.TransformNames[t] + TransformSuffix), m);
-      out.emplace_back(FrameKey(f, s.TransformNames[t] + StatusSuffix), PlusToolStatusName(tr.State));
-    }
-    for (const auto& field : frame.Fields) out.emplace_back(FrameKey(f, field.first), field.second);
-    out.emplace_back(FrameKey(f, "Timestamp"), FormatNumber(frame.Timestamp));
-  }
-  return out;
-}
-
-std::string Sizes(const PlusSequence& s) {
-  std::string sizes;
-  for (int v : s.FrameSize) sizes += std::to_string(v) + " ";
-  return sizes + std::to_string(s.Frames.size());
-}
-
-std::string MetaImageText(const PlusSequence& s) {
-  std::ostringstream h;
-  h << "ObjectType = Image\nNDims = " << s.FrameSize.size() + 1 << "\nBinaryData = True\nBinaryDataByteOrderMSB = False\n"
-    << "CompressedData = False\nDimSize = " << Sizes(s) << "\n";
-  if (s.Channels != 1) h << "ElementNumberOfChannels = " << s.Channels << "\n";
-  h << "ElementType = " << s.ElementType << "\n";
-  for (const auto& [key, value] : SequenceFields(s)) h << key << " = " << value << "\n";
-  h << "ElementDataFile = LOCAL\n";
-  return h.str();
-}
-
-std::string NrrdText(const PlusSequence& s) {
-  const ElementTypeInfo* type = FindElementType(s.ElementType);
-  std::ostringstream h;
-  h << "NRRD0004\n# Complete NRRD file format specification at:\n# http://teem.sourceforge.net/nrrd/format.html\n"
-    << "type: " << (type && type->Nrrd[0] ? type->Nrrd : "unsigned char") << "\n";
-  const bool vector = s.Channels != 1;
-  h << "dimension: " << s.FrameSize.size() + 1 + (vector ? 1 : 0) << "\nsizes: " << (vector ? std::to_string(s.Channels) + " " : "")
-    << Sizes(s) << "\nkinds: " << (vector ? "vector " : "");
-  for (size_t i = 0; i < s.FrameSize.size(); ++i) h << "domain ";
-  h << "list\nendian: little\nencoding: raw\n";
-  for (const auto& [key, value] : SequenceFields(s)) h << key << ":=" << value << "\n";
-  h << "\n";
-  return h.str();
-}
-
 }  // namespace
 
 const char* PlusToolStatusName(ToolState state) {
@@ -405,6 +343,11 @@ PlusSequence PlusSequence::FromRecording(const Recording& recording) {
   return s;
 }
 
+std::string NrrdTypeOfElementType(const std::string& elementType) {
+  const ElementTypeInfo* type = FindElementType(elementType);
+  return type && type->Nrrd[0] ? type->Nrrd : "unsigned char";
+}
+
 bool IsPlusSequenceFileName(const std::string& path) {
   const std::string p = Lower(path);
   return EndsWith(p, ".mha") || EndsWith(p, ".mhd") || EndsWith(p, ".nrrd");
@@ -419,20 +362,36 @@ PlusSequence ReadPlusSequence(const std::string& path, bool keepPixels) {
 
 void WritePlusSequence(const PlusSequence& s, const std::string& path) {
   const std::string p = Lower(path);
-  const bool nrrd = EndsWith(p, ".nrrd");
-  if (!nrrd && !EndsWith(p, ".mha"))
+  if (!EndsWith(p, ".nrrd") && !EndsWith(p, ".mha"))
     throw std::runtime_error("cannot write " + path + ": a PLUS sequence is written as .igs.mha or .igs.nrrd");
-  std::string text = nrrd ? NrrdText(s) : MetaImageText(s);
   const uint64_t bytes = s.FrameBytes() * s.Frames.size();
   if (!s.Pixels.empty() && s.Pixels.size() != bytes)
     throw std::runtime_error("cannot write " + path + ": " + std::to_string(s.Pixels.size()) + " bytes of pixels for " +
                              std::to_string(bytes) + " expected");
-  if (s.Pixels.empty())
-    text.append(static_cast<size_t>(bytes), '\0');
-  else
-    text.append(s.Pixels.begin(), s.Pixels.end());
+  PlusSequenceLayout layout;
+  layout.Global = s.Global;
+  layout.FrameSize = s.FrameSize;
+  layout.ElementType = s.ElementType;
+  layout.Channels = s.Channels;
+  const std::vector<uint8_t> zeros(s.Pixels.empty() ? static_cast<size_t>(bytes) : 0, 0);
   std::string error;
-  if (!WriteFileAtomically(path, text, error)) throw std::runtime_error("cannot write " + path + ": " + error);
+  const bool written = WriteAtomicallyWith(
+      path,
+      [&](const std::string& temporary, std::string& e) {
+        PlusSequenceWriter writer;
+        if (!writer.Create(temporary, e, layout)) return false;
+        for (const PlusSequence::Frame& frame : s.Frames) {
+          writer.BeginFrame(frame.Timestamp);
+          for (size_t t = 0; t < s.TransformNames.size() && t < frame.Transforms.size(); ++t)
+            if (frame.Transforms[t].Present)
+              writer.AddTransform(s.TransformNames[t].c_str(), frame.Transforms[t].Matrix, frame.Transforms[t].State);
+          for (const auto& field : frame.Fields) writer.AddField(field.first, field.second);
+          writer.EndFrame();
+        }
+        return writer.Close(&e, s.Pixels.empty() ? &zeros : &s.Pixels);
+      },
+      error);
+  if (!written) throw std::runtime_error("cannot write " + path + ": " + error);
 }
 
 }  // namespace rp

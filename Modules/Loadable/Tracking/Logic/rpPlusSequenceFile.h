@@ -63,8 +63,11 @@ struct PlusSequence {
 /// Reads `.mha`/`.mhd`/`.nrrd`. `keepPixels`: read the image data into Pixels (else skipped).
 /// Throws std::runtime_error naming the file (and line) on anything it cannot read.
 PlusSequence ReadPlusSequence(const std::string& path, bool keepPixels = false);
-/// Writes atomically, as a MetaImage (`.mha`, pixels inline) or NRRD (`.nrrd`) by the extension.
+/// Writes atomically, as a MetaImage (`.mha`, pixels inline) or NRRD (`.nrrd`) by the extension,
+/// through PlusSequenceWriter (rpPlusSequenceWriter.h: the one place the layout is written).
 void WritePlusSequence(const PlusSequence& sequence, const std::string& path);
+/// The NRRD spelling of a MetaImage element type ("MET_SHORT" -> "short").
+std::string NrrdTypeOfElementType(const std::string& elementType);
 /// True for the file names read as PLUS sequences (.mha, .mhd, .nrrd, also .igs.*).
 bool IsPlusSequenceFileName(const std::string& path);
 

@@ -16,12 +16,14 @@
 #include "rpArgParser.h"
 #include "rpDeviceCommands.h"
 #include "rpIgtlServer.h"
+#include "rpNetworkAddress.h"
 #include "rpNdiProtocol.h"
 #include "rpPivotCalibration.h"
 #include "rpPolarisSimulator.h"
 #include "rpPoseSource.h"
 #include "rpProgress.h"
 #include "rpToolDefinition.h"
+#include "rpTrackingLog.h"
 #include "rpTrackingRecording.h"
 #include "rpTransformNames.h"
 #include "vtkRPScene.h"
@@ -122,7 +124,18 @@ void DeclareTrackOptions(ArgParser& parser) {
       .Option("reference", "NAME", "reference tool: also report <Tool>ToReference")
       .Option("rate", "HZ", "serial/simulate: camera frame rate via IRATE (20, 30 or 60) and poll rate")
       .Option("speed", "X", "replay speed factor")
-      .Option("serve", "PORT", "also stream the poses as OpenIGTLink TRANSFORMs (PLUS style) on 127.0.0.1:PORT")
+      .Option("serve", "PORT", "also stream the poses as OpenIGTLink TRANSFORMs (PLUS style) on PORT of --bind's address")
+      .Option("bind", "ADDRESS", "with --serve: the address to listen on, one of this machine's, or 'all' (every interface; "
+                                 "OpenIGTLink has no encryption nor authentication: the lab's network only)",
+              std::string("127.0.0.1"))
+      .Option("command-clients", "LIST", "with --serve: the addresses or networks (192.168.10.7, 192.168.10.0/24, comma "
+                                         "separated; 'none') whose commands may change state or write files (UpdateTransform, "
+                                         "StartRecording, StopRecording); others get the stream and read-only commands "
+                                         "(default: 127.0.0.0/8, this machine)")
+          .Repeatable()
+      .Option("record-dir", "DIR", "with --serve: the folder StartRecording writes into (PLUS's OutputDirectory); a client's "
+                                   "OutputFilename is a file name in it", std::string("."))
+      .Option("log", "FILE", "append the session log (connections, every command with its client and result) to FILE")
       .Option("request", "KIND", "igtl: ask the server to stream 'tdata' or 'qtdata' (STT_)")
       .Option("header-version", "V", "igtl: header version we send: 1, or 2 (v3 framing; PLUS then sends status metadata)")
       .Flag("text", "serial: poll TX (text) instead of BX (binary)");
@@ -134,11 +147,31 @@ struct TrackRequest {
   PlusTrack Plus;  // --plus-config: the configuration's tracker, transforms and server
   double Seconds = 0, Stale = 0;
   long ServePort = -1;
+  std::string Bind;                  // --bind, else the configuration's ListeningAddress, else 127.0.0.1
+  AddressAllowList CommandClients = AddressAllowList::Loopback();
+  std::string RecordFolder;
+  std::shared_ptr<TrackingLog> Log = std::make_shared<TrackingLog>();
   PoseSourceConfig Config;
   std::unique_ptr<PoseSource> Source;
   bool Json = false;
   std::optional<std::string> Reference, RecordPath;  // unset: not given
 };
+
+// --bind, --command-clients, --record-dir, --log (the served port's network and its session log).
+// Throws std::invalid_argument naming the bad value.
+void ReadServeOptions(const ArgParser& parser, TrackRequest& request) {
+  request.Bind = parser.Has("bind") || request.Plus.ListeningAddress.empty() ? parser.Get("bind") : request.Plus.ListeningAddress;
+  Ipv4 address = 0;
+  std::string error;
+  if (!ParseBindAddress(request.Bind, address, error)) throw std::invalid_argument("--bind: " + error);
+  if (parser.Has("command-clients")) {
+    request.CommandClients = AddressAllowList();
+    for (const std::string& list : parser.GetAll("command-clients"))
+      if (!request.CommandClients.Add(list, error)) throw std::invalid_argument("--command-clients: " + error);
+  }
+  request.RecordFolder = parser.Get("record-dir");
+  if (parser.Has("log") && !request.Log->Open(parser.Get("log"), error)) throw std::runtime_error(error);
+}
 
 // Options -> request; -1 to go on tracking, otherwise the exit code (--check done, or an error printed).
 int ReadTrackRequest(const ArgParser& parser, TrackRequest& request, std::ostream& out, std::ostream& err) {
@@ -156,6 +189,7 @@ int ReadTrackRequest(const ArgParser& parser, TrackRequest& request, std::ostrea
       request.Config = SourceConfig(parser);
       request.Source = PoseSourceRegistry::Create(request.Config);
     }
+    ReadServeOptions(parser, request);
   } catch (const std::invalid_argument& e) {
     err << "roboplan track: " << e.what() << "\n" << parser.Usage();
     return 2;
@@ -174,6 +208,11 @@ std::unique_ptr<IgtlServer> StartTrackServer(const TrackRequest& request, const 
   const PlusTrack& plus = request.Plus;
   IgtlServer::Options so;
   so.Port = static_cast<int>(request.ServePort);
+  so.BindAddress = request.Bind;
+  so.CommandClients = request.CommandClients;
+  so.RecordFolder = request.RecordFolder;
+  std::shared_ptr<TrackingLog> log = request.Log;
+  so.Log = [log](const std::string& line) { log->Add(line); };
   if (plus.Relay) {  // PLUS's served names (chains through its transforms), its send and keep-alive settings
     so.SendInvalid = plus.SendInvalid;
     so.KeepAliveSeconds = plus.KeepAliveSeconds;
@@ -193,7 +232,8 @@ std::unique_ptr<IgtlServer> StartTrackServer(const TrackRequest& request, const 
 
 // Tracks until the request's seconds pass, the source finishes (a replay) or SIGINT; nodes follow the
 // source, poses go to `recorder` when it is open. Returns the seconds tracked.
-double TrackUntilDone(vtkRPTrackingLogic* logic, PoseSource* tracker, const TrackRequest& request, RecordingWriter* recorder) {
+double TrackUntilDone(vtkRPTrackingLogic* logic, PoseSource* tracker, const TrackRequest& request, RecordingWriter* recorder,
+                      std::ostream& err) {
   const ToolPoseTable& table = tracker->Poses();
   ToolPoseReader recordReader;
   PlusTransformRelay* relay = request.Plus.Relay.get();
@@ -218,6 +258,7 @@ double TrackUntilDone(vtkRPTrackingLogic* logic, PoseSource* tracker, const Trac
     }
     if (relay) relay->Update();
     logic->UpdateNodes(SteadySeconds());
+    request.Log->Echo(err);  // the server's connections and commands, as they happen
     if (SteadySeconds() >= nextReport) {
       nextReport += 0.25;
       std::string status = tracker->StatusText();
@@ -331,7 +372,12 @@ int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std
       err << "roboplan track: " << error << "\n";
       return 1;
     }
-    err << "track: serving OpenIGTLink on 127.0.0.1:" << server->Port() << "\n";
+    request.Log->Echo(err);  // "serving OpenIGTLink on ..."
+    Ipv4 bound = 0;
+    std::string ignored;
+    if (ParseBindAddress(request.Bind, bound, ignored) && !IsLoopback(bound))
+      err << "track: warning: other machines can reach this port; OpenIGTLink has no encryption nor authentication: keep it "
+             "on the lab's network (commands that change state or write files: " << request.CommandClients.ToString() << " only)\n";
   }
   RecordingWriter recorder;
   const bool record = request.RecordPath.has_value();
@@ -339,7 +385,7 @@ int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std
     err << "roboplan track: " << error << "\n";
     return 1;
   }
-  const double elapsed = TrackUntilDone(logic, tracker, request, record ? &recorder : nullptr);
+  const double elapsed = TrackUntilDone(logic, tracker, request, record ? &recorder : nullptr, err);
   if (!recorder.Close(&error)) {
     err << "roboplan track: " << error << "\n";
     return 1;
@@ -349,6 +395,7 @@ int RunTrackCommand(const std::vector<std::string>& args, vtkRPScene* scene, std
   nlohmann::json doc = TrackResults(logic, tracker, request, server.get(), elapsed, withPose, images);
   if (record) doc["recorded"] = recorder.Count();
   if (server) server->Stop();
+  request.Log->Echo(err);
   logic->RemoveSource(sourceId);  // stops the device (TSTOP, PHF, COMM 9600 ...)
   if (request.Json)
     out << doc.dump(2) << "\n";

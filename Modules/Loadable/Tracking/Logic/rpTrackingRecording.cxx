@@ -92,30 +92,31 @@ RecordingWriter::~RecordingWriter() { this->Close(); }
 
 bool RecordingWriter::Open(const std::string& path, std::string& error) {
   this->Close();
-  this->File = std::fopen(path.c_str(), "w");  // a PLUS file too: the path is known writable now
+  this->Written = 0;
+  if (IsPlusSequenceFileName(path)) {
+    this->Plus = std::make_unique<PlusSequenceWriter>();
+    this->FrameOpen = false;
+    return this->Plus->Create(path, error);
+  }
+  this->File = std::fopen(path.c_str(), "w");
   if (!this->File) {
     error = "cannot write recording " + path + ": " + std::strerror(errno);
     return false;
-  }
-  if (IsPlusSequenceFileName(path)) {
-    std::fclose(this->File);
-    this->File = nullptr;
-    this->Plus = std::make_unique<Recording>();
-    this->PlusPath = path;
-    return true;
   }
   std::fprintf(this->File, "%s\n", kMagic);
   return true;
 }
 
 void RecordingWriter::Add(const char* tool, double time, const ToolPose& pose) {
-  if (this->Plus) {
-    int index = this->Plus->ToolIndex(tool);
-    if (index < 0) {
-      index = static_cast<int>(this->Plus->Tools.size());
-      this->Plus->Tools.emplace_back(tool);
-    }
-    this->Plus->Samples.push_back({time, index, pose});
+  if (this->Plus) {  // one frame per time stamp (the tools a tracker reports together share it)
+    if (this->FrameOpen && time != this->FrameTime) this->Plus->EndFrame();
+    if (!this->FrameOpen || time != this->FrameTime) this->Plus->BeginFrame(time);
+    this->FrameOpen = true;
+    this->FrameTime = time;
+    this->Name = ToolToTrackerName(tool);
+    double m[16];
+    pose.ToMatrix(m);
+    this->Plus->AddTransform(this->Name.c_str(), m, pose.State);
     ++this->Written;
     return;
   }
@@ -130,14 +131,11 @@ bool RecordingWriter::Close(std::string* error) {
   if (this->File) std::fclose(this->File);
   this->File = nullptr;
   if (!this->Plus) return true;
-  std::unique_ptr<Recording> recording = std::move(this->Plus);
-  try {
-    recording->Write(this->PlusPath);
-  } catch (const std::exception& e) {
-    if (error) *error = e.what();
-    return false;
-  }
-  return true;
+  if (this->FrameOpen) this->Plus->EndFrame();
+  this->FrameOpen = false;
+  const bool ok = this->Plus->Close(error);
+  this->Plus.reset();
+  return ok;
 }
 
 RecordingPlayer::RecordingPlayer(Recording recording, double speed, bool loop)

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "rpPlusSequenceWriter.h"
 #include "rpPoseSource.h"
 #include "rpToolPose.h"
 #include "rpWorkerThread.h"
@@ -36,22 +37,24 @@ struct Recording {
 };
 
 /// Appends poses as they come (main thread), flushing on Close. The extension chooses the format
-/// as Recording::Write does: RoboPlan's text lines are streamed to the file; a PLUS sequence
-/// (.igs.mha/.igs.nrrd) has a header that counts the frames, so it is kept in memory and written
-/// on Close.
+/// as Recording::Write does: RoboPlan's text lines, or a PLUS sequence (.igs.mha/.igs.nrrd)
+/// streamed by PlusSequenceWriter (one frame per time stamp, the header's count written as it
+/// goes). Either way memory stays flat however long it runs.
 class RecordingWriter {
  public:
   ~RecordingWriter();
   bool Open(const std::string& path, std::string& error);
   void Add(const char* tool, double time, const ToolPose& pose);
-  /// False with `error` when the PLUS file cannot be written.
+  /// False with `error` when the file could not be written completely.
   bool Close(std::string* error = nullptr);
   size_t Count() const { return this->Written; }
 
  private:
   std::FILE* File = nullptr;
-  std::unique_ptr<Recording> Plus;  // a PLUS sequence, written on Close
-  std::string PlusPath;
+  std::unique_ptr<PlusSequenceWriter> Plus;  // a PLUS sequence
+  double FrameTime = 0;
+  bool FrameOpen = false;
+  std::string Name;  // scratch: <Tool>ToTracker
   size_t Written = 0;
 };
 

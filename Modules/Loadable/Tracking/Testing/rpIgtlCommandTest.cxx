@@ -3,14 +3,12 @@
 // v3 framing), COMMAND with MRMLNodeName metadata (→ RTS_COMMAND with Status/Message metadata)
 // and the older STRING CMD_<uid> (→ STRING ACK_<uid> with <CommandReply .../>); StartRecording /
 // StopRecording write a PLUS sequence file read back by rpPlusSequenceFile.
-#include <arpa/inet.h>
-#include <netinet/in.h>
-#include <poll.h>
-#include <sys/socket.h>
 #include <unistd.h>
 
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 
 #include <gtest/gtest.h>
 
@@ -39,46 +37,19 @@ struct Reply {
   }
 };
 
+// Slicer's OpenIGTLinkIF as a raw client (rpTrackingTestHelpers), with the messages kept whole.
 class SlicerLikeClient {
  public:
-  explicit SlicerLikeClient(int port) {
-    this->Fd = ::socket(AF_INET, SOCK_STREAM, 0);
-    sockaddr_in a{};
-    a.sin_family = AF_INET;
-    a.sin_port = htons(static_cast<uint16_t>(port));
-    inet_pton(AF_INET, "127.0.0.1", &a.sin_addr);
-    this->Connected = ::connect(this->Fd, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0;
-  }
-  ~SlicerLikeClient() { ::close(this->Fd); }
-  void Send(const std::vector<uint8_t>& m) { ASSERT_EQ(::send(this->Fd, m.data(), m.size(), MSG_NOSIGNAL), static_cast<ssize_t>(m.size())); }
+  explicit SlicerLikeClient(int port) : Client(port), Connected(Client.Connected()) {}
+  void Send(const std::vector<uint8_t>& m) { ASSERT_TRUE(this->Client.Send(m)); }
   /// The next message of `type` (keep-alives and poses are passed over), within 5 s.
-  bool Next(const char* type, Reply& out) {
-    const double deadline = rp::SteadySeconds() + 5;
-    while (rp::SteadySeconds() < deadline) {
-      uint8_t header[rp::igtl::HeaderSize];
-      if (!this->ReadExactly(header, sizeof header, deadline)) return false;
-      if (rp::igtl::ParseHeader(header, out.Header, 1u << 20) != rp::igtl::Status::Ok) return false;
-      out.Body.resize(out.Header.BodySize);
-      if (!this->ReadExactly(out.Body.data(), out.Body.size(), deadline)) return false;
-      if (out.Header.Is(type)) return true;
-    }
-    return false;
-  }
-  bool Connected = false;
+  bool Next(const char* type, Reply& out) { return this->Client.Next(type, out.Header, out.Body); }
 
  private:
-  bool ReadExactly(uint8_t* p, size_t n, double deadline) {
-    while (n > 0) {
-      pollfd f{this->Fd, POLLIN, 0};
-      if (::poll(&f, 1, static_cast<int>(std::max(0.0, deadline - rp::SteadySeconds()) * 1000)) <= 0) return false;
-      const ssize_t got = ::recv(this->Fd, p, n, 0);
-      if (got <= 0) return false;
-      p += got;
-      n -= static_cast<size_t>(got);
-    }
-    return true;
-  }
-  int Fd = -1;
+  rp::test::IgtlTestClient Client;
+
+ public:
+  const bool Connected;
 };
 
 std::vector<uint8_t> Command(uint32_t id, const std::string& name, const std::string& xml) {
@@ -109,6 +80,8 @@ class IgtlCommands : public ::testing::Test {
     rp::IgtlServer::Options o;
     o.Port = 0;
     o.KeepAliveSeconds = 0.05;
+    std::filesystem::create_directories(ROBOPLAN_TEST_OUTPUT_DIR);
+    o.RecordFolder = ROBOPLAN_TEST_OUTPUT_DIR;  // StartRecording's OutputFilename is a name in it
     o.Transforms = [](const std::string& from, const std::string& to, double m[16], rp::ToolState& state) {
       if (from != "StylusTip" || to != "Reference") return false;
       for (int i = 0; i < 16; ++i) m[i] = i % 5 == 0 ? 1 : 0;
@@ -168,9 +141,8 @@ TEST_F(IgtlCommands, StringCmdIsAnsweredWithAckAndRecordingWritesAPlusSequence) 
   SlicerLikeClient client(this->Server->Port());
   ASSERT_TRUE(client.Connected);
   const std::string file = std::string(ROBOPLAN_TEST_OUTPUT_DIR) + "/server-recording.igs.mha";
-  std::filesystem::create_directories(ROBOPLAN_TEST_OUTPUT_DIR);
   std::filesystem::remove(file);
-  client.Send(StringCommand("1", "<Command Name=\"StartRecording\" OutputFilename=\"" + file + "\" />"));
+  client.Send(StringCommand("1", "<Command Name=\"StartRecording\" OutputFilename=\"server-recording.igs.mha\" />"));
   Reply r;
   ASSERT_TRUE(client.Next("STRING", r));
   EXPECT_STREQ(r.Header.DeviceName, "ACK_1");
@@ -185,7 +157,7 @@ TEST_F(IgtlCommands, StringCmdIsAnsweredWithAckAndRecordingWritesAPlusSequence) 
   client.Send(StringCommand("2", "<Command Name=\"StopRecording\" />"));
   ASSERT_TRUE(client.Next("STRING", r));
   EXPECT_STREQ(r.Header.DeviceName, "ACK_2");
-  EXPECT_NE(StringText(r).find(file), std::string::npos) << StringText(r);
+  EXPECT_NE(StringText(r).find("frames successful to file " + file), std::string::npos) << StringText(r);
   const rp::PlusSequence s = rp::ReadPlusSequence(file);
   ASSERT_EQ(s.TransformNames, std::vector<std::string>{"StylusToTracker"});
   ASSERT_GE(s.Frames.size(), 4u);
@@ -198,8 +170,93 @@ TEST_F(IgtlCommands, StringCmdIsAnsweredWithAckAndRecordingWritesAPlusSequence) 
   EXPECT_EQ(StringText(r), "<CommandReply Status=\"FAIL\" Message=\"not recording\" />");
 }
 
+// Every hostile OutputFilename over the wire (STRING CMD_, as PLUS's own clients send it): each
+// refused with a reply naming why, or (a name that exists) recorded under a new name; no file
+// outside the recording folder is created or changed, an existing recording is never opened.
+// (OutputFilename="" is PLUS's "no name": Recording.igs.mha, as a missing attribute.)
+TEST_F(IgtlCommands, HostileOutputFilenamesAreRefusedOrMadeUniqueNeverOverwritten) {
+  namespace fs = std::filesystem;
+  const fs::path folder = ROBOPLAN_TEST_OUTPUT_DIR, outside = folder / "outside";
+  fs::remove_all(outside);
+  fs::create_directories(outside);
+  for (const char* name : {"existing.igs.mha", "link.igs.mha", "dangling.igs.mha"}) fs::remove(folder / name);
+  for (const auto& entry : fs::directory_iterator(folder))
+    if (entry.path().filename().string().rfind("existing_", 0) == 0) fs::remove(entry.path());
+  { std::ofstream(outside / "victim.igs.mha") << "victim"; }
+  { std::ofstream(folder / "existing.igs.mha") << "an earlier recording"; }
+  fs::create_symlink(outside / "victim.igs.mha", folder / "link.igs.mha");
+  fs::create_symlink(outside / "created-through-a-link.igs.mha", folder / "dangling.igs.mha");
+  SlicerLikeClient client(this->Server->Port());
+  ASSERT_TRUE(client.Connected);
+  const std::pair<std::string, std::string> hostile[] = {
+      {(outside / "victim.igs.mha").string(), "is an absolute path"},
+      {"../outside/victim.igs.mha", "has a '..' part"},
+      {"recordings/../../outside/victim.igs.mha", "has a '..' part"},
+      {"outside/x.igs.mha", "names a folder"},
+      {"link.igs.mha", "is a symbolic link"},
+      {"dangling.igs.mha", "is a symbolic link"},
+      {"C:\\PlusApp\\Output\\x.igs.mha", "is a Windows path"},
+      {"x.txt", "is not a PLUS sequence file"},
+      {"x&#10;y.igs.mha", "control character"},
+      {".x.igs.mha", "is hidden"},
+  };
+  int uid = 100;
+  Reply r;
+  for (const auto& [name, why] : hostile) {
+    client.Send(StringCommand(std::to_string(++uid), "<Command Name=\"StartRecording\" OutputFilename=\"" + name + "\" />"));
+    ASSERT_TRUE(client.Next("STRING", r)) << name;
+    EXPECT_EQ(StringText(r).rfind("<CommandReply Status=\"FAIL\"", 0), 0u) << name << ": " << StringText(r);
+    EXPECT_NE(StringText(r).find(why), std::string::npos) << name << ": " << StringText(r);
+  }
+  // A name that exists: recorded beside it under PLUS's date-and-time name, said in the reply.
+  client.Send(StringCommand(std::to_string(++uid), "<Command Name=\"StartRecording\" OutputFilename=\"existing.igs.mha\" />"));
+  ASSERT_TRUE(client.Next("STRING", r));
+  EXPECT_EQ(StringText(r).rfind("<CommandReply Status=\"SUCCESS\" Message=\"Recording to " + (folder / "existing_").string(), 0), 0u)
+      << StringText(r);
+  EXPECT_NE(StringText(r).find("existing.igs.mha exists in the recording folder: kept, not overwritten"), std::string::npos)
+      << StringText(r);
+  client.Send(StringCommand(std::to_string(++uid), "<Command Name=\"StartRecording\" OutputFilename=\"other.igs.mha\" />"));
+  ASSERT_TRUE(client.Next("STRING", r));
+  EXPECT_NE(StringText(r).find("FAIL\" Message=\"already recording to " + (folder / "existing_").string()), std::string::npos)
+      << StringText(r);
+  rp::ToolPose p;
+  p.State = rp::ToolState::OK;
+  for (int i = 0; i < 5; ++i) {
+    p.Translation[1] = i;
+    this->Table.Publish(this->Slot, p);
+    usleep(40000);
+  }
+  client.Send(StringCommand(std::to_string(++uid), "<Command Name=\"StopRecording\" />"));
+  ASSERT_TRUE(client.Next("STRING", r));
+  const std::string stopped = StringText(r);
+  const size_t at = stopped.find("successful to file ");
+  ASSERT_NE(at, std::string::npos) << stopped;
+  const std::string written = stopped.substr(at + 19, stopped.find('"', at) - at - 19);
+  EXPECT_EQ(fs::path(written).parent_path(), folder);
+  EXPECT_GE(rp::ReadPlusSequence(written).Frames.size(), 3u);
+  // Nothing outside changed, nothing was created through a link, the earlier recording is intact.
+  std::ifstream victim(outside / "victim.igs.mha"), existing(folder / "existing.igs.mha");
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(victim), {}), "victim");
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(existing), {}), "an earlier recording");
+  int files = 0;
+  for (const auto& entry : fs::directory_iterator(outside)) files += entry.is_regular_file() ? 1 : 0;
+  EXPECT_EQ(files, 1);
+}
+
 TEST(IgtlCommandRegistry, HasPlusServerCommandsEachRegisteredOnce) {
   const std::vector<std::string> names = rp::IgtlCommandNames();
   for (const char* n : {"RequestChannelIds", "RequestDeviceIds", "StartRecording", "StopRecording", "GetTransform", "UpdateTransform"})
     EXPECT_NE(std::find(names.begin(), names.end(), n), names.end()) << n;
+  // What each may do: the ones that change what clients see or write files are only for the
+  // server's command clients.
+  for (const auto& [name, changes] : std::vector<std::pair<std::string, bool>>{{"RequestChannelIds", false},
+                                                                               {"RequestDeviceIds", false},
+                                                                               {"GetTransform", false},
+                                                                               {"StartRecording", true},
+                                                                               {"StopRecording", true},
+                                                                               {"UpdateTransform", true}}) {
+    rp::IgtlCommandAccess access = rp::IgtlCommandAccess::ReadOnly;
+    ASSERT_TRUE(rp::IgtlCommandAccessOf(name, access)) << name;
+    EXPECT_EQ(access == rp::IgtlCommandAccess::ChangesState, changes) << name;
+  }
 }

@@ -249,17 +249,26 @@ TEST(TransformRepository, NamesSplitAtTheOneToBeforeACapital) {
 
 TEST(PlusConfiguration, CheckPrintsEveryRealConfigurationWithoutOpeningADevice) {
   RP_REQUIRE_SHARED_DATA(kConfigs);
-  int files = 0;
+  int files = 0, runnable = 0;
   for (const auto& entry : std::filesystem::recursive_directory_iterator(kConfigs)) {
     if (entry.path().extension() != ".xml") continue;
     ++files;
     std::ostringstream out, err;
-    ASSERT_EQ(RunTrackCommand({"--plus-config", entry.path().string(), "--check", "--json"}, nullptr, out, err), 0)
-        << entry.path() << "\n" << err.str();
+    const int code = RunTrackCommand({"--plus-config", entry.path().string(), "--check", "--json"}, nullptr, out, err);
     const auto doc = nlohmann::json::parse(out.str());
     EXPECT_TRUE(doc.contains("trackers") && doc.contains("refused") && doc.contains("served")) << entry.path();
+    // Scripts rely on the exit code: 0 when a tracker of the file runs, 1 when none can.
+    EXPECT_EQ(code, doc["runs"].is_null() ? 1 : 0) << entry.path() << "\n" << err.str();
+    runnable += doc["runs"].is_null() ? 0 : 1;
   }
   EXPECT_EQ(files, 10);
+  EXPECT_EQ(runnable, 8);  // all but fCal's two simulated ones (no NDI tracker in them)
+  std::ostringstream none, noneErr;
+  EXPECT_EQ(RunTrackCommand({"--plus-config", kConfigs + "PlusDeviceSet_fCal_Sim_RecordPhantomLandmarks.xml", "--check"},
+                            nullptr, none, noneErr),
+            1);
+  EXPECT_NE(none.str().find("no NDI tracker RoboPlan can run"), std::string::npos) << none.str();
+  EXPECT_NE(noneErr.str().find("no NDI tracker RoboPlan can run"), std::string::npos) << noneErr.str();
   std::ostringstream out, err;
   ASSERT_EQ(RunTrackCommand({"--plus-config", kConfigs + "PlusDeviceSet_Server_NDIPolaris.xml", "--check"}, nullptr, out, err), 0);
   EXPECT_NE(out.str().find("StylusTipToReference = ReferenceToTracker^-1 * StylusToTracker * StylusTipToStylus"), std::string::npos)

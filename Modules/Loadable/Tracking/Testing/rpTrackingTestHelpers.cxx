@@ -3,12 +3,14 @@
 #include <arpa/inet.h>
 #include <fcntl.h>
 #include <netinet/in.h>
+#include <poll.h>
 #include <signal.h>
 #include <spawn.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -92,6 +94,63 @@ bool PortListening(int port) {
     }
   }
   return false;
+}
+
+IgtlTestClient::IgtlTestClient(int port, const char* from, const char* to) {
+  this->Fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  sockaddr_in local{}, remote{};
+  local.sin_family = remote.sin_family = AF_INET;
+  remote.sin_port = htons(static_cast<uint16_t>(port));
+  inet_pton(AF_INET, to, &remote.sin_addr);
+  bool bound = true;
+  if (from) bound = inet_pton(AF_INET, from, &local.sin_addr) == 1 && ::bind(this->Fd, reinterpret_cast<sockaddr*>(&local), sizeof local) == 0;
+  this->IsConnected = bound && ::connect(this->Fd, reinterpret_cast<sockaddr*>(&remote), sizeof remote) == 0;
+}
+
+IgtlTestClient::~IgtlTestClient() { ::close(this->Fd); }
+
+bool IgtlTestClient::Send(const std::vector<uint8_t>& m) {
+  return ::send(this->Fd, m.data(), m.size(), MSG_NOSIGNAL) == static_cast<ssize_t>(m.size());
+}
+
+bool IgtlTestClient::ReadExactly(uint8_t* p, size_t n, double deadline) {
+  while (n > 0) {
+    pollfd f{this->Fd, POLLIN, 0};
+    if (::poll(&f, 1, static_cast<int>(std::max(0.0, deadline - SteadySeconds()) * 1000)) <= 0) return false;
+    const ssize_t got = ::recv(this->Fd, p, n, 0);
+    if (got <= 0) return false;
+    p += got;
+    n -= static_cast<size_t>(got);
+  }
+  return true;
+}
+
+bool IgtlTestClient::Next(const char* type, igtl::Header& h, std::vector<uint8_t>& body, double seconds) {
+  const double deadline = SteadySeconds() + seconds;
+  while (SteadySeconds() < deadline) {
+    uint8_t header[igtl::HeaderSize];
+    if (!this->ReadExactly(header, sizeof header, deadline) || igtl::ParseHeader(header, h, 1u << 20) != igtl::Status::Ok) return false;
+    body.resize(h.BodySize);
+    if (!this->ReadExactly(body.data(), body.size(), deadline)) return false;
+    if (h.Is(type)) return true;
+  }
+  return false;
+}
+
+bool IgtlTestClient::Command(const std::string& xml, std::string& status, std::string& message) {
+  std::vector<uint8_t> content(igtl::CommandHeaderSize + xml.size());
+  igtl::EncodeCommand(++this->Id, "Command", xml.data(), xml.size(), content.data());
+  if (!this->Send(igtl::BuildMessage(2, "COMMAND", "CMD", WallSeconds(), content.data(), content.size(), {}, this->Id))) return false;
+  igtl::Header h;
+  std::vector<uint8_t> body;
+  igtl::Body split;
+  if (!this->Next("RTS_COMMAND", h, body) || igtl::SplitBody(h, body.data(), split) != igtl::Status::Ok) return false;
+  uint32_t size = 0;
+  const char* s = split.Find("Status", size);
+  status = s ? std::string(s, size) : "";
+  const char* m = split.Find("Message", size);
+  message = m ? std::string(m, size) : "";
+  return true;
 }
 
 ChildProcess::~ChildProcess() { this->Kill(); }

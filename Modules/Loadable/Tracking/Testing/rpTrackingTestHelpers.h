@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "rpIgtlClient.h"
+#include "rpIgtlProtocol.h"
 #include "rpToolPose.h"
 
 namespace rp {
@@ -28,6 +29,28 @@ void TestMatrix(double m[16], double shift = 0);
 /// True when a socket listens on TCP `port` (read from /proc/net: no connection is made, since
 /// upstream's example servers serve one connection at a time).
 bool PortListening(int port);
+
+/// A raw OpenIGTLink client for tests on loopback: its socket bound to `from` first when given
+/// (127.0.0.2 stands for another machine), whole messages read with a deadline.
+class IgtlTestClient {
+ public:
+  explicit IgtlTestClient(int port, const char* from = nullptr, const char* to = "127.0.0.1");
+  ~IgtlTestClient();
+  IgtlTestClient(const IgtlTestClient&) = delete;
+  IgtlTestClient& operator=(const IgtlTestClient&) = delete;
+  bool Connected() const { return this->IsConnected; }
+  bool Send(const std::vector<uint8_t>& message);
+  /// The next message of `type` within `seconds` (keep-alives, poses and others passed over).
+  bool Next(const char* type, igtl::Header& header, std::vector<uint8_t>& body, double seconds = 5);
+  /// A COMMAND (header v2, as Slicer sends it) and its RTS_COMMAND's Status and Message metadata.
+  bool Command(const std::string& xml, std::string& status, std::string& message);
+
+ private:
+  bool ReadExactly(uint8_t* data, size_t size, double deadline);
+  int Fd = -1;
+  bool IsConnected = false;
+  uint32_t Id = 0;
+};
 
 /// One upstream example program run as a child process; stdout and stderr go to one file.
 class ChildProcess {

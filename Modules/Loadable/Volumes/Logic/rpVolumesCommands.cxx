@@ -1,5 +1,6 @@
 #include "rpVolumesCommands.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -13,19 +14,15 @@
 #include <vtkNew.h>
 #include <vtkPolyData.h>
 
-#include "vtkRPSegmentationNode.h"
 
 #include "rpArgParser.h"
-#include "rpDicomReferenceSeries.h"
-#include "rpDicomRtStruct.h"
-#include "rpDicomSegmentation.h"
 #include "rpDicomTransferSyntax.h"
 #include "rpNodeStorage.h"
 #include "rpKneePhantom.h"
 #include "rpModelIO.h"
 #include "rpProgress.h"
 #include "rpSceneFormats.h"
-#include "rpSegmentationIO.h"
+#include "rpSegmentationConversion.h"
 #include "rpTransformIO.h"
 #include "rpVolumeFiles.h"
 #include "rpVolumeIO.h"
@@ -86,14 +83,107 @@ ProgressCallback Quieter(TerminalProgress& progress) {
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
+namespace {
+
+// The image stack a segmentation object lies on, as `roboplan dicom` names it: "<ID> (CT
+// "description")", or why there is none.
+std::string ReferenceText(const DicomScanResult& scan, const DicomSegmentationObjectInfo& object) {
+  if (object.ReferencedSeriesUID.empty()) return "names no image series";
+  for (const auto& s : scan.Series)
+    if (s.SeriesInstanceUID == object.ReferencedSeriesUID)
+      return "on " + s.StackID + " (" + (s.Modality.empty() ? "??" : s.Modality) + " \"" + s.SeriesDescription + "\")";
+  return "on " + object.ReferencedSeriesUID + " (not in this folder)";
+}
+
+nlohmann::json ScanJson(const DicomScanResult& scan) {
+  nlohmann::json doc;
+  doc["ok"] = !scan.Series.empty() || !scan.Segmentations.empty();
+  doc["filesExamined"] = scan.FilesExamined;
+  doc["nonDicomFiles"] = scan.NonDicomFiles;
+  doc["nonImageDicomFiles"] = scan.NonImageDicomFiles;
+  doc["corruptFiles"] = scan.CorruptFiles;
+  doc["series"] = nlohmann::json::array();
+  for (const auto& s : scan.Series) {
+    doc["series"].push_back({{"id", s.StackID},
+                             {"seriesInstanceUID", s.SeriesInstanceUID},
+                             {"stack", s.StackIndex},
+                             {"stacks", s.StackCount},
+                             {"orientation", s.OrientationName},
+                             {"imageOrientationPatient", std::vector<double>(s.Orientation, s.Orientation + 6)},
+                             {"studyInstanceUID", s.StudyInstanceUID},
+                             {"modality", s.Modality},
+                             {"description", s.SeriesDescription},
+                             {"seriesNumber", s.SeriesNumber},
+                             {"patientName", s.PatientName},
+                             {"size", {s.Columns, s.Rows, s.Slices}},
+                             {"spacing", {s.PixelSpacing[1], s.PixelSpacing[0], s.SliceSpacing}},
+                             {"transferSyntaxUID", s.TransferSyntaxUID},
+                             {"transferSyntax", TransferSyntaxLabel(s.TransferSyntaxUID)},
+                             {"files", s.Files.size()},
+                             {"loadable", s.Problem.empty()},
+                             {"problem", s.Problem},
+                             {"warnings", s.Warnings}});
+  }
+  doc["segmentations"] = nlohmann::json::array();
+  for (const auto& o : scan.Segmentations) {
+    const bool present = std::any_of(scan.Series.begin(), scan.Series.end(), [&](const DicomSeriesInfo& s) {
+      return !o.ReferencedSeriesUID.empty() && s.SeriesInstanceUID == o.ReferencedSeriesUID;
+    });
+    doc["segmentations"].push_back({{"id", o.SeriesInstanceUID},
+                                    {"kind", o.Kind},
+                                    {"file", o.File},
+                                    {"description", o.SeriesDescription},
+                                    {"seriesNumber", o.SeriesNumber},
+                                    {"segments", o.Segments},
+                                    {"referencedSeriesInstanceUID", o.ReferencedSeriesUID},
+                                    {"referencedSeriesPresent", present},
+                                    {"frameOfReferenceUID", o.FrameOfReferenceUID},
+                                    {"transferSyntaxUID", o.TransferSyntaxUID},
+                                    {"transferSyntax", TransferSyntaxLabel(o.TransferSyntaxUID)}});
+  }
+  return doc;
+}
+
+void ReportScanText(const DicomScanResult& scan, const std::string& folder, std::ostream& out) {
+  out << scan.Series.size() << " series";
+  if (!scan.Segmentations.empty()) out << " and " << scan.Segmentations.size() << " segmentation object(s)";
+  out << " in " << folder << " (" << scan.FilesExamined << " files examined, " << scan.NonDicomFiles << " not DICOM, "
+      << scan.NonImageDicomFiles << " DICOM without images, " << scan.CorruptFiles.size() << " corrupt)\n";
+  int index = 1;
+  for (const auto& s : scan.Series) {
+    out << "  " << index++ << ". " << (s.Modality.empty() ? "??" : s.Modality) << "  \"" << s.SeriesDescription
+        << "\"  " << s.OrientationName << "  " << s.Columns << "x" << s.Rows << "x" << s.Slices << "  "
+        << Fixed(s.PixelSpacing[1]) << " x " << Fixed(s.PixelSpacing[0]) << " x " << Fixed(s.SliceSpacing) << " mm\n     "
+        << s.StackID
+        << (s.StackCount > 1 ? "  (stack " + std::to_string(s.StackIndex) + " of " + std::to_string(s.StackCount) +
+                                   " in this series)"
+                             : std::string())
+        << "\n     " << TransferSyntaxLabel(s.TransferSyntaxUID) << "\n";
+    if (!s.Problem.empty()) out << "     cannot load as is: " << s.Problem << "\n";
+    for (const auto& w : s.Warnings) out << "     warning: " << w << "\n";
+  }
+  for (const auto& o : scan.Segmentations) {
+    std::string segments;
+    for (const auto& name : o.Segments) segments += (segments.empty() ? "" : ", ") + name;
+    out << "  " << index++ << ". " << o.Kind << "  \"" << o.SeriesDescription << "\"  " << o.Segments.size()
+        << (o.Kind == "SEG" ? " segment(s)" : " ROI(s)") << (segments.empty() ? "" : ": " + segments) << "\n     "
+        << o.SeriesInstanceUID << "  " << ReferenceText(scan, o) << "\n     " << TransferSyntaxLabel(o.TransferSyntaxUID)
+        << "\n";
+  }
+  for (const auto& c : scan.CorruptFiles) out << "  corrupt: " << c << "\n";
+}
+
+}  // namespace
+
 int RunDicomCommand(const std::vector<std::string>& arguments, std::ostream& out, std::ostream& err) {
   ArgParser parser("dicom",
-                   "List the DICOM image series in a folder (searched recursively) or a DICOMDIR: "
-                   "ID, modality, description, orientation, size, spacing, transfer syntax, and why a "
-                   "series cannot be loaded. A series holding several stacks (orientations or image "
+                   "List what a DICOM folder (searched recursively) or DICOMDIR holds: the image series "
+                   "(ID, modality, description, orientation, size, spacing, transfer syntax, and why a "
+                   "series cannot be loaded) and the segmentations (DICOM SEG and RTSTRUCT: segments, and the "
+                   "image series each lies on). A series holding several stacks (orientations or image "
                    "sizes, e.g. a three-plane localizer) is listed stack by stack, each with its own ID "
-                   "(<SeriesInstanceUID>#<n>) for `convert --series`. Non-DICOM files are skipped and "
-                   "counted; corrupt files are named.");
+                   "(<SeriesInstanceUID>#<n>) for `--series`; a segmentation's ID is its SeriesInstanceUID. "
+                   "Non-DICOM files are skipped and counted; corrupt files are named.");
   parser.Positional("folder", "folder, DICOMDIR or single DICOM file");
   if (const auto exitCode = parser.ParseCommand(arguments, out, err)) return *exitCode;
   TerminalProgress progress("dicom", parser.Json(), err);
@@ -103,122 +193,18 @@ int RunDicomCommand(const std::vector<std::string>& arguments, std::ostream& out
     err << "roboplan dicom: " << error << "\n";
     return 1;
   }
-  if (parser.Json()) {
-    nlohmann::json doc;
-    doc["ok"] = !scan.Series.empty();
-    doc["filesExamined"] = scan.FilesExamined;
-    doc["nonDicomFiles"] = scan.NonDicomFiles;
-    doc["nonImageDicomFiles"] = scan.NonImageDicomFiles;
-    doc["corruptFiles"] = scan.CorruptFiles;
-    doc["series"] = nlohmann::json::array();
-    for (const auto& s : scan.Series) {
-      doc["series"].push_back({{"id", s.StackID},
-                               {"seriesInstanceUID", s.SeriesInstanceUID},
-                               {"stack", s.StackIndex},
-                               {"stacks", s.StackCount},
-                               {"orientation", s.OrientationName},
-                               {"imageOrientationPatient", std::vector<double>(s.Orientation, s.Orientation + 6)},
-                               {"studyInstanceUID", s.StudyInstanceUID},
-                               {"modality", s.Modality},
-                               {"description", s.SeriesDescription},
-                               {"seriesNumber", s.SeriesNumber},
-                               {"patientName", s.PatientName},
-                               {"size", {s.Columns, s.Rows, s.Slices}},
-                               {"spacing", {s.PixelSpacing[1], s.PixelSpacing[0], s.SliceSpacing}},
-                               {"transferSyntaxUID", s.TransferSyntaxUID},
-                               {"transferSyntax", TransferSyntaxLabel(s.TransferSyntaxUID)},
-                               {"files", s.Files.size()},
-                               {"loadable", s.Problem.empty()},
-                               {"problem", s.Problem},
-                               {"warnings", s.Warnings}});
-    }
-    out << doc.dump(2) << "\n";
-  } else {
-    out << scan.Series.size() << " series in " << parser.Get("folder") << " (" << scan.FilesExamined
-        << " files examined, " << scan.NonDicomFiles << " not DICOM, " << scan.NonImageDicomFiles
-        << " DICOM without images, " << scan.CorruptFiles.size() << " corrupt)\n";
-    int index = 1;
-    for (const auto& s : scan.Series) {
-      out << "  " << index++ << ". " << (s.Modality.empty() ? "??" : s.Modality) << "  \""
-          << s.SeriesDescription << "\"  " << s.OrientationName << "  " << s.Columns << "x" << s.Rows << "x"
-          << s.Slices << "  " << Fixed(s.PixelSpacing[1]) << " x " << Fixed(s.PixelSpacing[0]) << " x "
-          << Fixed(s.SliceSpacing) << " mm\n     " << s.StackID
-          << (s.StackCount > 1 ? "  (stack " + std::to_string(s.StackIndex) + " of " + std::to_string(s.StackCount) +
-                                     " in this series)"
-                               : std::string())
-          << "\n     " << TransferSyntaxLabel(s.TransferSyntaxUID) << "\n";
-      if (!s.Problem.empty()) out << "     cannot load as is: " << s.Problem << "\n";
-      for (const auto& w : s.Warnings) out << "     warning: " << w << "\n";
-    }
-    for (const auto& c : scan.CorruptFiles) out << "  corrupt: " << c << "\n";
-  }
-  if (scan.Series.empty()) {
-    err << "roboplan dicom: no DICOM image series in " << parser.Get("folder") << "\n";
+  if (parser.Json())
+    out << ScanJson(scan).dump(2) << "\n";
+  else
+    ReportScanText(scan, parser.Get("folder"), out);
+  if (scan.Series.empty() && scan.Segmentations.empty()) {
+    err << "roboplan dicom: no DICOM image series or segmentation in " << parser.Get("folder") << "\n";
     return 1;
   }
   return 0;
 }
 
 // ---------------------------------------------------------------------------------------------
-namespace {
-
-bool EndsWith(const std::string& text, const std::string& suffix) {
-  return text.size() >= suffix.size() && text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
-// DICOM SEG / RTSTRUCT → .seg.nrrd, and .seg.nrrd → DICOM SEG on --reference's grid. Returns
-// nothing when `in` and `out` are not a segmentation conversion (a volume conversion follows).
-std::optional<int> ConvertSegmentation(const ArgParser& parser, std::ostream& out, std::ostream& err) {
-  const std::string in = parser.Get("in"), outPath = parser.Get("out"), reference = parser.Get("reference");
-  std::string error, object;
-  const int kind = EndsWith(in, ".seg.nrrd") ? 0 : DicomSegmentationObjectKind(in, &object, &error);
-  if (kind < 0) {
-    err << "roboplan convert: " << error << "\n";
-    return 1;
-  }
-  const bool toDicom = EndsWith(in, ".seg.nrrd") && !EndsWith(outPath, ".nrrd");
-  if (kind == 0 && !toDicom) return std::nullopt;
-  vtkNew<vtkRPSegmentationNode> node;
-  std::vector<std::string> warnings;
-  bool ok = false;
-  if (toDicom) {
-    if (reference.empty()) {
-      err << "roboplan convert: writing a DICOM SEG needs the image series it segments: --reference <DICOM folder>\n";
-      return 2;
-    }
-    std::string file = outPath;
-    if (!EndsWith(outPath, ".dcm")) {
-      std::error_code ec;
-      std::filesystem::create_directories(outPath, ec);
-      file = (std::filesystem::path(outPath) / "segmentation.dcm").string();
-    }
-    ok = ReadSegmentationFile(in, node, error) && WriteDicomSegmentation(node, reference, file, error);
-  } else {
-    if (!EndsWith(outPath, ".seg.nrrd")) {
-      err << "roboplan convert: a DICOM " << (kind == 1 ? "SEG" : "RTSTRUCT") << " converts to a segmentation file (.seg.nrrd)\n";
-      return 2;
-    }
-    ok = (kind == 1 ? ReadDicomSegmentation(object, node, error, reference, &warnings)
-                    : ReadDicomRtStruct(object, node, error, reference, &warnings)) &&
-         WriteSegmentationFile(outPath, node, error);
-  }
-  if (!ok) {
-    err << "roboplan convert: " << error << "\n";
-    return 1;
-  }
-  for (const auto& w : warnings) err << "roboplan convert: warning: " << w << "\n";
-  if (parser.Json()) {
-    nlohmann::json doc = {{"ok", true}, {"input", in}, {"output", outPath}, {"segments", node->GetNumberOfSegments()},
-                          {"outputFormat", toDicom ? "DICOM SEG" : "segmentation file"}, {"warnings", warnings}};
-    out << doc.dump(2) << "\n";
-  } else {
-    out << "wrote " << outPath << " (" << node->GetNumberOfSegments() << " segments)\n";
-  }
-  return 0;
-}
-
-}  // namespace
-
 int RunConvertCommand(const std::vector<std::string>& arguments, std::ostream& out, std::ostream& err) {
   ArgParser parser("convert",
                    "Convert a volume between DICOM series (folder, DICOMDIR or file), NRRD (.nrrd/.nhdr), "
@@ -226,13 +212,18 @@ int RunConvertCommand(const std::vector<std::string>& arguments, std::ostream& o
                    "extensions is a folder that receives a DICOM series (CT or MR Image Storage). "
                    "Geometry (IJK-to-RAS, direction cosines) and voxel values are kept. "
                    "Scenes convert between RoboPlan's .rpscene and 3D Slicer's .mrml and .mrb the same way. "
-                   "Segmentations: a DICOM SEG or RTSTRUCT (file or folder) converts to a .seg.nrrd, and a .seg.nrrd "
-                   "to a DICOM SEG (a .dcm file, or a folder) with --reference, the image series it segments.");
-  parser.Positional("in", "input volume or DICOM folder, or scene (.rpscene, .mrml, .mrb), or DICOM SEG/RTSTRUCT")
-      .Positional("out", "output volume file, or a folder for a DICOM series, or scene")
+                   "Segmentations: an output named .seg.nrrd receives a segmentation: a DICOM SEG or RTSTRUCT (file, "
+                   "or the one a DICOM folder holds, on the image series it references), or a labelmap volume (one "
+                   "segment per label value, named and coloured by --labels); a .seg.nrrd converts to a DICOM SEG (a "
+                   ".dcm file, or a folder) with --reference, the image series it segments. From a DICOM folder "
+                   "holding a series and its segmentation, a volume output takes the series.");
+  parser.Positional("in", "input volume or DICOM folder, or scene (.rpscene, .mrml, .mrb), or DICOM SEG/RTSTRUCT, or "
+                          "labelmap")
+      .Positional("out", "output volume file, or a folder for a DICOM series, or scene, or segmentation (.seg.nrrd)")
       .Option("series", "id",
               "DICOM input: the series to convert when there are several: its SeriesInstanceUID, or "
-              "<SeriesInstanceUID>#<n> for one stack of a series that holds several (see `roboplan dicom`)")
+              "<SeriesInstanceUID>#<n> for one stack of a series that holds several, or a SEG's or RTSTRUCT's "
+              "SeriesInstanceUID (see `roboplan dicom`)")
       .Option("modality", "CT|MR", "DICOM output: the modality (default: the input's, else CT)")
       .Flag("resample-irregular",
             "DICOM input: load a series with a missing slice or uneven spacing by resampling it onto a "
@@ -240,7 +231,14 @@ int RunConvertCommand(const std::vector<std::string>& arguments, std::ostream& o
       .Option("reference", "folder",
               "segmentations: the DICOM image series a SEG or RTSTRUCT refers to (its grid; needed to write a SEG, "
               "optional to read one: without it a SEG keeps the grid its frames span, an RTSTRUCT looks in its own "
-              "folder)");
+              "folder)")
+      .Option("input-kind", "auto|labelmap|intensity",
+              "into a .seg.nrrd: whether a volume input is a labelmap (auto: whole numbers >= 0 with at most 1000 "
+              "distinct values are labels; an intensity image does not convert)",
+              "auto")
+      .Option("labels", "file",
+              "into a .seg.nrrd from a labelmap: label names and colours: Slicer colour table (.ctbl/.txt), ITK-SNAP "
+              "label file, or a .seg.nrrd (its segments' names, colours and tissue classes)");
   if (const auto exitCode = parser.ParseCommand(arguments, out, err)) return *exitCode;
   if (IsSceneFileName(parser.Get("in")) || IsSceneFileName(parser.Get("out")))
     return ConvertSceneFile(parser.Get("in"), parser.Get("out"), parser.Json(), out, err);

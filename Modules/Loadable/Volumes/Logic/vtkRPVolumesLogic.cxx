@@ -41,9 +41,16 @@ vtkRPScalarVolumeNode* vtkRPVolumesLogic::LoadVolume(const std::string& path, co
     return nullptr;
   }
   rp::LoadResult loaded = rp::ReadPath(this->Scene, path, reader, read);
-  auto* volume = loaded.Ok && loaded.Nodes.size() == 1 ? vtkRPScalarVolumeNode::SafeDownCast(loaded.Nodes.front()) : nullptr;
+  // The one volume read (a DICOM folder may hold a segmentation of it too).
+  std::vector<vtkRPScalarVolumeNode*> volumes;
+  for (const auto& node : loaded.Nodes)
+    if (auto* v = vtkRPScalarVolumeNode::SafeDownCast(node)) volumes.push_back(v);
+  auto* volume = loaded.Ok && volumes.size() == 1 ? volumes.front() : nullptr;
   if (!volume) {
-    error = loaded.Ok ? "'" + path + "' is not a volume" : loaded.Error;
+    error = !loaded.Ok          ? loaded.Error
+            : volumes.empty()   ? "'" + path + "' is not a volume"
+                                : "'" + path + "' holds " + std::to_string(volumes.size()) +
+                                    " image series: choose one by its ID (roboplan dicom lists them)";
     return nullptr;
   }
   // The node is named from the file (extension dropped) or the series, unless `name` is given.

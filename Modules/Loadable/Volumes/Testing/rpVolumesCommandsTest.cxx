@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -16,6 +17,7 @@
 #include <vtkPointData.h>
 
 #include "rpKneePhantom.h"
+#include "rpKneeStudy.h"
 #include "rpSegmentationIO.h"
 #include "rpSharedData.h"
 #include "rpTransformIO.h"
@@ -130,6 +132,130 @@ TEST(VolumesCommands, DicomWarnsOfInvalidSpacingAndConvertConvertsSegmentations)
   EXPECT_TRUE(SameVoxels(labels, rp::FromNode(read))) << "SEG round trip through roboplan convert";
   ASSERT_EQ(read->GetNumberOfSegments(), node->GetNumberOfSegments());
   EXPECT_EQ(read->GetNthSegment(0).Name, "Label 1");
+}
+
+// A labelmap becomes a segmentation and a DICOM SEG in two commands, and comes back: labels.nrrd
+// (knee-ct-vhf, a plain labelmap) with a Slicer colour table → .seg.nrrd → SEG on the CT → .seg.nrrd:
+// identical voxels, names and colours (as 8-bit, the colour table's precision), the tissue class
+// the names give; pydicom (an independent reader) sees the SEG's segments and voxels.
+TEST(VolumesCommands, LabelmapToSegmentationToDicomSegAndBack) {
+  RP_REQUIRE_SHARED_DATA("knee-ct-vhf/dicom");
+  const fs::path dir = Dir() / "labelmap-seg";
+  rp::testing::KneeStudy study;
+  std::string error;
+  if (!rp::testing::HavePydicom()) GTEST_SKIP() << "pydicom (python3-pydicom) not installed";
+  ASSERT_TRUE(rp::testing::MakeKneeStudy(dir, study, error)) << error;  // the two commands, among others
+  rp::ImageVolume labels;
+  ASSERT_TRUE(rp::ReadVolume(study.Labels.string(), labels, error)) << error;
+  auto checkSegments = [](vtkRPSegmentationNode* node, const std::string& what) {
+    ASSERT_EQ(node->GetNumberOfSegments(), 3) << what;
+    for (int s = 0; s < 3; ++s) {
+      const auto& segment = node->GetNthSegment(s);
+      const auto& expected = rp::testing::KneeLabels()[static_cast<size_t>(s)];
+      EXPECT_EQ(segment.Name, expected.Name) << what;
+      EXPECT_EQ(segment.LabelValue, s + 1) << what;
+      EXPECT_EQ(segment.TissueClass, "bone") << what;  // the names are bones
+      for (int c = 0; c < 3; ++c)
+        EXPECT_EQ(std::lround(255 * segment.Color[c]), expected.Color[static_cast<size_t>(c)]) << what << " " << s;
+    }
+  };
+  vtkNew<vtkRPSegmentationNode> first;
+  ASSERT_TRUE(rp::ReadSegmentationFile(study.SegNrrd.string(), first, error)) << error;
+  EXPECT_TRUE(SameVoxels(labels, rp::FromNode(first)));
+  checkSegments(first, "labelmap → .seg.nrrd");
+  // The SEG back to a .seg.nrrd (on the CT's grid: the folder's series), and through pydicom.
+  const fs::path back = dir / "back.seg.nrrd";
+  CommandRun r = Call(rp::RunConvertCommand, {study.Seg.string(), back.string(), "--reference", study.CtFolder.string(), "--json"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  vtkNew<vtkRPSegmentationNode> second;
+  ASSERT_TRUE(rp::ReadSegmentationFile(back.string(), second, error)) << error;
+  EXPECT_TRUE(SameVoxels(labels, rp::FromNode(second))) << "labelmap → .seg.nrrd → SEG → .seg.nrrd";
+  checkSegments(second, "→ SEG → .seg.nrrd");
+  ASSERT_EQ(rp::testing::RunPython(rp::testing::CheckSegScript, dir, {study.Seg.string()}), 0)
+      << rp::testing::Slurp(dir / "python.log");
+  const nlohmann::json seen = nlohmann::json::parse(rp::testing::Slurp(dir / "python.out"));
+  ASSERT_EQ(seen["segments"].size(), 3u);
+  std::map<int, size_t> counts;
+  vtkDataArray* voxels = labels.Image->GetPointData()->GetScalars();
+  for (vtkIdType i = 0; i < voxels->GetNumberOfTuples(); ++i) ++counts[static_cast<int>(voxels->GetComponent(i, 0))];
+  for (int s = 0; s < 3; ++s) {
+    EXPECT_EQ(seen["segments"][s]["label"], rp::testing::KneeLabels()[static_cast<size_t>(s)].Name);
+    EXPECT_EQ(seen["voxels"][std::to_string(s + 1)].get<size_t>(), counts[s + 1]) << s;
+  }
+  // Without a table: "Label N"; an image is not a labelmap; a plain labelmap named *.seg.nrrd
+  // (as earlier versions of convert wrote one) is one.
+  r = Call(rp::RunConvertCommand, {study.Labels.string(), (dir / "plain.seg.nrrd").string(), "--json"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.Json()["segmentNames"], nlohmann::json({"Label 1", "Label 2", "Label 3"}));
+  EXPECT_EQ(r.Json()["inputKind"], "labelmap");
+  r = Call(rp::RunConvertCommand, {study.CtFolder.string(), (dir / "ct.seg.nrrd").string()});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("is an intensity image"), std::string::npos) << r.err;
+  r = Call(rp::RunConvertCommand, {study.Labels.string(), (dir / "x.seg.nrrd").string(), "--input-kind", "intensity"});
+  EXPECT_EQ(r.code, 2);
+  fs::copy_file(study.Labels, dir / "old-plain.seg.nrrd");
+  r = Call(rp::RunConvertCommand, {(dir / "old-plain.seg.nrrd").string(), (dir / "new.seg.nrrd").string(), "--labels",
+                                   study.SegNrrd.string()});
+  ASSERT_EQ(r.code, 0) << r.err;
+  vtkNew<vtkRPSegmentationNode> relabelled;  // names and colours from the other .seg.nrrd
+  ASSERT_TRUE(rp::ReadSegmentationFile((dir / "new.seg.nrrd").string(), relabelled, error)) << error;
+  checkSegments(relabelled, "--labels a .seg.nrrd");
+}
+
+// A study folder (CT + SEG + RTSTRUCT): `dicom` lists the segmentations with the series they lie
+// on; `convert <folder> <volume>` takes the CT; `convert <folder> <x.seg.nrrd>` names the two
+// segmentations and takes the one --series names, on the CT's grid.
+TEST(VolumesCommands, StudyFolderListsAndConvertsEachObject) {
+  RP_REQUIRE_SHARED_DATA("knee-ct-vhf/dicom");
+  if (!rp::testing::HavePydicom()) GTEST_SKIP() << "pydicom (python3-pydicom) not installed";
+  const fs::path dir = Dir() / "study";
+  rp::testing::KneeStudy study;
+  std::string error;
+  ASSERT_TRUE(rp::testing::MakeKneeStudy(dir, study, error)) << error;
+  CommandRun r = Call(rp::RunDicomCommand, {study.Folder.string(), "--json"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json listing = r.Json();
+  ASSERT_EQ(listing["series"].size(), 1u);
+  ASSERT_EQ(listing["segmentations"].size(), 2u);
+  EXPECT_EQ(listing["nonImageDicomFiles"], 0);
+  const std::string ct = listing["series"][0]["seriesInstanceUID"];
+  std::set<std::string> kinds;
+  std::string segID;
+  for (const auto& o : listing["segmentations"]) {
+    kinds.insert(o["kind"].get<std::string>());
+    EXPECT_EQ(o["referencedSeriesInstanceUID"], ct);
+    EXPECT_TRUE(o["referencedSeriesPresent"].get<bool>());
+    EXPECT_EQ(o["segments"], nlohmann::json({"Tibia", "Fibula", "Patella"}));
+    if (o["kind"] == "SEG") segID = o["id"];
+  }
+  EXPECT_EQ(kinds, (std::set<std::string>{"SEG", "RTSTRUCT"}));
+  r = Call(rp::RunDicomCommand, {study.Folder.string()});
+  EXPECT_NE(r.out.find("1 series and 2 segmentation object(s)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("on " + ct + " (CT"), std::string::npos) << r.out;
+
+  r = Call(rp::RunConvertCommand, {study.Folder.string(), (dir / "ct.nrrd").string()});
+  ASSERT_EQ(r.code, 0) << r.err;
+  rp::ImageVolume fromFolder, fromCt;
+  ASSERT_TRUE(rp::ReadVolume((dir / "ct.nrrd").string(), fromFolder, error)) << error;
+  ASSERT_TRUE(rp::ReadVolume(study.CtFolder.string(), fromCt, error)) << error;
+  EXPECT_TRUE(SameVoxels(fromFolder, fromCt));
+
+  r = Call(rp::RunConvertCommand, {study.Folder.string(), (dir / "both.seg.nrrd").string()});
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("holds 2 segmentations"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(segID), std::string::npos) << r.err;
+  r = Call(rp::RunConvertCommand, {study.Folder.string(), (dir / "seg.seg.nrrd").string(), "--series", segID});
+  ASSERT_EQ(r.code, 0) << r.err;
+  vtkNew<vtkRPSegmentationNode> seg;
+  ASSERT_TRUE(rp::ReadSegmentationFile((dir / "seg.seg.nrrd").string(), seg, error)) << error;
+  rp::ImageVolume labels;
+  ASSERT_TRUE(rp::ReadVolume(study.Labels.string(), labels, error)) << error;
+  EXPECT_TRUE(SameVoxels(labels, rp::FromNode(seg))) << "the SEG on the CT's grid, from the folder";
+  // The volumes logic takes the folder's one volume.
+  vtkNew<vtkRPScene> scene;
+  vtkNew<vtkRPVolumesLogic> logic;
+  logic->SetScene(scene);
+  EXPECT_NE(logic->LoadVolume(study.Folder.string(), "", error), nullptr) << error;
 }
 
 TEST(VolumesCommands, PhantomDicomListingAndConversion) {

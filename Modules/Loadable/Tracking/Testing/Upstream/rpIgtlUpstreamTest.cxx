@@ -53,6 +53,8 @@
 #include <igtlStringMessage.h>
 #include <igtlTrackingDataMessage.h>
 #include <igtlTransformMessage.h>
+
+#include "rpUpstreamReceive.h"
 #endif
 
 using namespace rp;
@@ -675,29 +677,7 @@ INSTANTIATE_TEST_SUITE_P(Framings, UpstreamToOurs,
 // ---------------------------------------------------------------- sockets, in process
 
 namespace {
-// Reads one message with upstream's receive path; false on a closed socket or timeout.
-template <class M>
-typename M::Pointer UpstreamReceive(::igtl::Socket* socket, const char* type, int& result, int maxSkipped = 200) {
-  for (int i = 0; i < maxSkipped; ++i) {
-    auto header = ::igtl::MessageHeader::New();
-    header->InitBuffer();
-    bool timeout = false;
-    if (socket->Receive(header->GetBufferPointer(), header->GetBufferSize(), timeout) != header->GetBufferSize()) return nullptr;
-    header->Unpack();
-    if (std::strcmp(header->GetDeviceType(), type) != 0) {
-      socket->Skip(header->GetBodySizeToRead(), 0);
-      continue;
-    }
-    auto message = M::New();
-    message->SetMessageHeader(header);
-    message->AllocateBuffer();
-    if (socket->Receive(message->GetBufferBodyPointer(), message->GetBufferBodySize(), timeout) != message->GetBufferBodySize())
-      return nullptr;
-    result = message->Unpack(1);
-    return message;
-  }
-  return nullptr;
-}
+using rptest::UpstreamReceive;  // rpUpstreamReceive.h
 
 ToolPose Newest(const IgtlClient& client, const char* name, uint64_t* count = nullptr) {
   return test::Newest(client.Poses(), name, count);
