@@ -5,6 +5,7 @@
 #include "rpAtomicFile.h"
 #include "rpMarkupsFormat.h"
 #include "rpNodeStorage.h"
+#include "rpStorageFormats.h"
 #include "vtkRPFiducialListNode.h"
 
 namespace rp {
@@ -79,7 +80,8 @@ class FiducialListStorage : public NodeStorage {
     return HasExtension(path, ".fcsv") ? ReadFcsv(path, list, error) : ReadMarkupsJson(path, list, error);
   }
 };
-const bool registered = RegisterNodeStorage(std::make_shared<FiducialListStorage>());
 }  // namespace
+
+std::shared_ptr<NodeStorage> MakeFiducialListStorage() { return std::make_shared<FiducialListStorage>(); }
 
 }  // namespace rp

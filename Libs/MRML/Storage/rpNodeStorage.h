@@ -35,7 +35,8 @@ class NodeStorage {
   virtual bool Read(vtkRPNode* node, const std::string& path, std::string& error) const = 0;
 };
 
-/// Registers a storage (called from a static initializer in each rp*IO.cxx, or by a module).
+/// Registers a storage beside the library's own (rpStorageFormats.h lists those): a module's or
+/// another library's, at its owner's start-up.
 bool RegisterNodeStorage(std::shared_ptr<NodeStorage> storage);
 /// Best storage for a node (by class), or nullptr.
 const NodeStorage* FindNodeStorage(const vtkRPNode* node);

@@ -22,6 +22,7 @@
 #include "rpLPSRAS.h"
 #include "rpMemoryBudget.h"
 #include "rpNodeStorage.h"
+#include "rpStorageFormats.h"
 #include "rpSegmentationHeader.h"
 #include "rpVolumeIO.h"
 #include "vtkRPSegmentationNode.h"
@@ -341,7 +342,8 @@ class SegmentationStorage : public NodeStorage {
     return ReadSegmentationFile(path, vtkRPSegmentationNode::SafeDownCast(node), error);
   }
 };
-const bool registered = RegisterNodeStorage(std::make_shared<SegmentationStorage>());
 }  // namespace
+
+std::shared_ptr<NodeStorage> MakeSegmentationStorage() { return std::make_shared<SegmentationStorage>(); }
 
 }  // namespace rp

@@ -20,6 +20,7 @@
 #include "rpAtomicFile.h"
 #include "rpLPSRAS.h"
 #include "rpNodeStorage.h"
+#include "rpStorageFormats.h"
 #include "vtkRPLinearTransformNode.h"
 
 // ITK transform files hold the resampling ("from parent") transform in LPS; the node holds
@@ -209,7 +210,8 @@ class LinearTransformStorage : public NodeStorage {
     return true;
   }
 };
-const bool registered = RegisterNodeStorage(std::make_shared<LinearTransformStorage>());
 }  // namespace
+
+std::shared_ptr<NodeStorage> MakeLinearTransformStorage() { return std::make_shared<LinearTransformStorage>(); }
 
 }  // namespace rp
