@@ -1,7 +1,7 @@
 #pragma once
 // File storage for scene nodes (the storage nodes of Slicer, as plain classes). Each format
-// lives in its own rp*IO.cxx and registers a NodeStorage at load time; the scene reader and
-// writer and `roboplan <data files>` find the right one by node class or file extension.
+// lives in its own rp*IO.cxx and is listed in rpStorageFormats.cxx; the scene reader and writer
+// and `roboplan <data files>` find the right one by node class or file extension.
 #include <memory>
 #include <string>
 #include <vector>
