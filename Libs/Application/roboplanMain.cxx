@@ -1,6 +1,8 @@
 // `roboplan`: one executable. With a subcommand it runs headless (subcommands come from the
-// loaded modules, plus `modules`); without one, or with scene/data files or folders (an argument
-// that is an existing path is data, not a command), it opens the viewer.
+// modules, plus `modules`); without one, or with scene/data files or folders (an argument
+// that is an existing path is data, not a command), it opens the viewer. A command loads only
+// the module that owns it (found from the modules' manifests, rpModuleManager.h); the viewer
+// and `modules` load them all.
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -14,25 +16,13 @@
 #include "rpModuleManager.h"
 #include "vtkRPScene.h"
 
-#ifdef ROBOPLAN_HAVE_VIEWER
-#include "rpViewerApplication.h"
-#endif
-#ifdef ROBOPLAN_HAVE_IMAGING
-#include "rpImagingReaders.h"
-#endif
-
 namespace {
 
 void PrintUsage(const rp::ModuleManager& manager) {
   std::cout << "usage: roboplan [<scene or data files>...]     open the viewer\n"
                "       roboplan <command> [arguments] [--json] [--help]\n\ncommands:\n";
   std::printf("  %-18s %s\n", "modules", "list the loaded modules, their commands and load failures");
-#ifdef ROBOPLAN_HAVE_VIEWER
-  for (const auto& command : rp::ViewerCommands()) {
-    std::printf("  %-18s %s  [viewer]\n", command.Name.c_str(), command.Summary.c_str());
-  }
-#endif
-  for (const auto& [module, command] : manager.GetAllCommands()) {
+  for (const auto& [module, command] : manager.ListCommands()) {
     std::printf("  %-18s %s  [%s]\n", command.Name.c_str(), command.Summary.c_str(), module.c_str());
   }
   std::cout << "\nmodules are loaded from <prefix>/lib/roboplan-modules and $ROBOPLAN_MODULE_PATH\n";
@@ -76,19 +66,11 @@ int ListModules(const rp::ModuleManager& manager, const std::vector<std::string>
   return 0;
 }
 
-#ifdef ROBOPLAN_HAVE_VIEWER
-const std::vector<rp::Command>& BuiltInViewerCommands() {
-  static const std::vector<rp::Command> commands = rp::ViewerCommands();  // e.g. `screenshot`
-  return commands;
-}
-#endif
 
 bool NamesCommand(const std::string& name, const rp::ModuleManager& manager) {
-  if (name == "modules" || manager.FindCommand(name)) return true;
-#ifdef ROBOPLAN_HAVE_VIEWER
-  for (const auto& builtIn : BuiltInViewerCommands())
-    if (builtIn.Name == name) return true;
-#endif
+  if (name == "modules") return true;
+  for (const auto& command : manager.ListCommands())
+    if (command.second.Name == name) return true;
   return false;
 }
 
@@ -111,27 +93,25 @@ int main(int argc, char* argv[]) {
   const std::string program = std::filesystem::path(argv[0]).filename().string();
   const bool linkedCommand = program.rfind("roboplan-", 0) == 0;
   if (linkedCommand) args.insert(args.begin(), program.substr(std::string("roboplan-").size()));
-#ifdef ROBOPLAN_HAVE_IMAGING
-  // The start-up list of registrations that nothing else references (see rpImagingReaders.h):
-  // DICOM folders for `roboplan <folder>` and every command's rp::LoadPath.
-  rp::RegisterImagingReaders();
-#endif
   vtkNew<vtkRPScene> scene;
   rp::ModuleManager manager;
-  manager.LoadModules(rp::ModuleManager::DefaultSearchPaths(), scene);
+  manager.DiscoverModules(rp::ModuleManager::DefaultSearchPaths());
 
   const bool wantsViewer = !linkedCommand && (args.empty() || IsDataArgument(args[0], manager));
   if (wantsViewer) {
-#ifdef ROBOPLAN_HAVE_VIEWER
-    ReportFailures(manager);
-    return rp::RunViewer(argc, argv, manager, scene, args);
-#else
+    manager.LoadAll(scene);  // every module's panel, and the viewer (Libs/Application/ViewerModule.cxx)
+    using RunViewerFunction = int (*)(int, char**, rp::ModuleManager*, vtkRPScene*, const std::vector<std::string>*);
+    if (auto run = reinterpret_cast<RunViewerFunction>(manager.FindSymbol("Viewer", "roboplan_run_viewer"))) {
+      ReportFailures(manager);
+      return run(argc, argv, &manager, scene, &args);
+    }
     if (args.empty()) {
+      ReportFailures(manager);
       PrintUsage(manager);
-      std::cerr << "\nroboplan: this build has no viewer (configured with ROBOPLAN_BUILD_GUI=OFF)\n";
+      std::cerr << "\nroboplan: this build has no viewer (configured with ROBOPLAN_BUILD_GUI=OFF, or its module did "
+                   "not load)\n";
       return 2;
     }
-#endif
   }
   const std::string name = args.empty() ? "" : args[0];
   const std::vector<std::string> rest(args.begin() + (args.empty() ? 0 : 1), args.end());
@@ -139,13 +119,18 @@ int main(int argc, char* argv[]) {
     PrintUsage(manager);
     return 0;
   }
-  if (name == "modules") return ListModules(manager, rest);
-  const rp::Command* command = manager.FindCommand(name);
-#ifdef ROBOPLAN_HAVE_VIEWER
-  for (const auto& builtIn : BuiltInViewerCommands()) command = !command && builtIn.Name == name ? &builtIn : command;
-#endif
+  if (name == "modules") {
+    manager.LoadAll(scene);  // what loads and what fails, not what the manifests say
+    return ListModules(manager, rest);
+  }
+  const rp::Command* command = manager.LoadCommand(name, scene);
   if (!command) {
     ReportFailures(manager);
+    for (const auto& [module, offered] : manager.ListCommands())
+      if (offered.Name == name) {
+        std::cerr << "roboplan: command '" << name << "' is in module " << module << ", which did not load\n";
+        return 1;
+      }
     std::cerr << "roboplan: unknown command '" << name << "'\n\n";
     PrintUsage(manager);
     return 2;

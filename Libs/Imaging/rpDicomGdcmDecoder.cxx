@@ -1,14 +1,17 @@
-#include "rpDicomGdcmDecoder.h"
-
+// The JPEG 2000 decoder as a library of its own (libRoboPlanGdcmDecoder.so, beside
+// libRoboPlanImaging.so), loaded when a series first needs it (rpDicomGdcmDecoderLoader.cxx):
+// GDCM's dictionaries take longer to set up when GDCM loads than most commands take to run.
 #include <mutex>
+#include <string>
+#include <vector>
 
 #include <gdcmImage.h>
 #include <gdcmImageReader.h>
 #include <gdcmTrace.h>
 
-namespace rp {
+namespace {
 
-bool DecodePixelsWithGdcm(const std::string& path, std::vector<char>& pixels, std::string& error) {
+bool Decode(const std::string& path, std::vector<char>& pixels, std::string& error) {
   static std::once_flag once;
   std::call_once(once, []() {
     // GDCM prints warnings on stderr; the reader's messages say what went wrong instead.
@@ -38,4 +41,11 @@ bool DecodePixelsWithGdcm(const std::string& path, std::vector<char>& pixels, st
   return true;
 }
 
-}  // namespace rp
+}  // namespace
+
+/// rp::DecodePixelsWithGdcm's work (rpDicomGdcmDecoder.h).
+extern "C" __attribute__((visibility("default"))) bool roboplan_gdcm_decode_pixels(const std::string* path,
+                                                                                   std::vector<char>* pixels,
+                                                                                   std::string* error) {
+  return Decode(*path, *pixels, *error);
+}

@@ -3,7 +3,8 @@
 // decoded by GDCM 3.0 (Debian's libgdcm, the one Debian's ITK links to; OpenJPEG 2.5 underneath).
 //
 // Only the pixels come from GDCM: headers, sorting and geometry stay with DCMTK, so a file
-// reads the same whichever library decodes its pixels.
+// reads the same whichever library decodes its pixels. GDCM is loaded on the first call
+// (libRoboPlanGdcmDecoder.so beside libRoboPlanImaging.so), not with RoboPlanImaging.
 #include <string>
 #include <vector>
 

@@ -1,7 +1,6 @@
 #include "rpDicomSegmentation.h"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -30,6 +29,7 @@
 
 #include "rpDicomCommon.h"
 #include "rpDicomReferenceSeries.h"
+#include "rpDicomSegmentCodes.h"
 #include "rpImageVolume.h"
 #include "rpMemoryBudget.h"
 #include "vtkRPSegmentationNode.h"
@@ -38,70 +38,14 @@ namespace rp {
 
 namespace {
 
-// Segment codes (SNOMED CT, "SCT"), as dcmqi and 3D Slicer's terminology write them: the knee's
-// bones by name (a whole word of the segment's ID or name), other bone by tissue class, anything
-// else as generic Tissue.
-struct SegmentCode {
-  const char* Key;  // matched against the segment's ID and name (lower case); "" = generic
-  const char* CategoryValue;
-  const char* CategoryMeaning;
-  const char* TypeValue;
-  const char* TypeMeaning;
-  const char* TissueClass;
-};
-const SegmentCode SegmentCodes[] = {
-    {"femur", "123037004", "Anatomical Structure", "71341001", "Femur", "bone"},
-    {"tibia", "123037004", "Anatomical Structure", "12611008", "Tibia", "bone"},
-    {"fibula", "123037004", "Anatomical Structure", "87342007", "Fibula", "bone"},
-    {"patella", "123037004", "Anatomical Structure", "64234005", "Patella", "bone"},
-    {"bone", "85756007", "Tissue", "272673000", "Bone", "bone"},
-    {"", "85756007", "Tissue", "85756007", "Tissue", ""},
-};
-
-std::string Lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
-  return s;
+const DicomSegmentCode& CodeFor(const Segment& segment) {
+  return DicomSegmentCodeFor(segment.ID, segment.Name, segment.TissueClass);
 }
-
-// Whether `key` is a whole word of `text` ("tibia" in "Left Tibia" and "tibia_2", not in
-// "tibial cartilage" or "patellar tendon").
-bool HasWord(const std::string& text, const std::string& key) {
-  for (size_t at = text.find(key); at != std::string::npos; at = text.find(key, at + 1)) {
-    const bool before = at == 0 || !std::isalpha(static_cast<unsigned char>(text[at - 1]));
-    const size_t end = at + key.size();
-    const bool after = end == text.size() || !std::isalpha(static_cast<unsigned char>(text[end]));
-    if (before && after) return true;
-  }
-  return false;
-}
-
-const SegmentCode& CodeFor(const Segment& segment) {
-  const std::string id = Lower(segment.ID), name = Lower(segment.Name);
-  for (const SegmentCode& code : SegmentCodes) {
-    const std::string key = code.Key;
-    if (key.empty()) return code;
-    if (HasWord(id, key) || HasWord(name, key)) return code;
-    if (key == "bone" && segment.TissueClass == "bone") return code;
-  }
-  return SegmentCodes[sizeof(SegmentCodes) / sizeof(SegmentCodes[0]) - 1];
-}
-
-}  // namespace
-
-std::string KnownTissueClass(const std::string& segmentName) {
-  Segment segment;
-  segment.Name = segmentName;
-  return CodeFor(segment).TissueClass;
-}
-
-namespace {
 
 std::string TissueClassOf(DcmSegment* segment) {
   OFString value;
   segment->getSegmentedPropertyTypeCode().getCodeValue(value);
-  for (const SegmentCode& code : SegmentCodes)
-    if (value == code.TypeValue) return code.TissueClass;
-  return "";
+  return DicomTissueClassOfType(value.c_str());
 }
 
 std::string Number(double v) {
@@ -401,7 +345,7 @@ namespace {
 bool AddSegments(DcmSegmentation& seg, vtkRPSegmentationNode* node, std::vector<std::pair<Uint16, int>>& numbers,
                  std::string& error) {
   for (const Segment& segment : node->GetSegments()) {
-    const SegmentCode& code = CodeFor(segment);
+    const DicomSegmentCode& code = CodeFor(segment);
     DcmSegment* s = nullptr;
     OFCondition c = DcmSegment::create(s, segment.Name.empty() ? segment.ID.c_str() : segment.Name.c_str(),
                                        CodeSequenceMacro(code.CategoryValue, "SCT", code.CategoryMeaning),

@@ -36,7 +36,7 @@ bool ReadDicomSegmentation(const std::string& file, vtkRPSegmentationNode* node,
                            const DicomReferenceSeries& reference, std::vector<std::string>* warnings = nullptr);
 
 /// The tissue class a segment name gives where it names what the SEG writer codes (the knee's
-/// bones, "bone": "Left Tibia" → "bone"); "" otherwise.
+/// bones, "bone": "Left Tibia" → "bone"); "" otherwise (rpDicomSegmentCodes.cxx: no DCMTK).
 std::string KnownTissueClass(const std::string& segmentName);
 
 struct DicomSegmentationWriteOptions {

@@ -39,6 +39,10 @@ macro(roboplan_setup_linker)
       message(FATAL_ERROR "ROBOPLAN_LINKER=${ROBOPLAN_LINKER}: the compiler cannot link with -fuse-ld=${_linker}")
     endif()
   endforeach()
+  # Only the libraries a binary uses are recorded as needed: targets link VTK, ITK and DCMTK by the
+  # list (every VTK module for the object factories' autoinit, all of ITK), and each library
+  # recorded is mapped and relocated at every start of `roboplan` and of every module it loads.
+  add_link_options(LINKER:--as-needed)
   set(ROBOPLAN_SUBBUILD_CMAKE_ARGS)
   if(ROBOPLAN_LINKER_FLAG)
     add_link_options(${ROBOPLAN_LINKER_FLAG})
@@ -187,6 +191,7 @@ endfunction()
 function(roboplan_add_test_executable name)
   cmake_parse_arguments(A "OWN_MAIN" "" "SOURCES;LIBS" ${ARGN})
   add_executable(${name} ${A_SOURCES})
+  add_dependencies(${name} roboplan-plugins)  # what the libraries under test load on first use
   # Testing/Support: helpers every test may use (rpSharedData.h: skip without ../shared/data).
   target_include_directories(${name} PRIVATE ${PROJECT_SOURCE_DIR}/Testing/Support)
   target_link_libraries(${name} PRIVATE roboplan_warnings ${A_LIBS} GTest::gtest)
@@ -232,6 +237,7 @@ function(roboplan_add_benchmark name)
   cmake_parse_arguments(A "" "" "SOURCES;LIBS" ${ARGN})
   add_executable(${name} EXCLUDE_FROM_ALL ${A_SOURCES})
   add_dependencies(benchmarks ${name})
+  add_dependencies(${name} roboplan-plugins)
   # Testing/Benchmarks/rpBenchmarkMain.h: the run's conditions in every benchmark's output.
   target_include_directories(${name} PRIVATE ${PROJECT_SOURCE_DIR}/Testing/Benchmarks)
   target_link_libraries(${name} PRIVATE roboplan_warnings ${A_LIBS} RoboPlanBenchmarkCommon benchmark::benchmark)
@@ -296,6 +302,13 @@ function(roboplan_add_module name)
   if(ROBOPLAN_BUILD_GUI)
     target_compile_definitions(${target} PRIVATE ROBOPLAN_BUILD_GUI)
   endif()
+  # Its manifest beside it (<library>.json, Libs/ModuleCore/rpModuleManager.h), written from the
+  # module after each link: `roboplan <command>` then loads only the module that owns the command
+  # (a module without a manifest that matches it is loaded at start-up). The tool loads the
+  # module: no leak report from a sanitizer's exit check.
+  add_dependencies(${target} roboplan-module-manifest roboplan-plugins)
+  set(manifest_tool ${CMAKE_COMMAND} -E env ASAN_OPTIONS=detect_leaks=0 $<TARGET_FILE:roboplan-module-manifest>)
+  add_custom_command(TARGET ${target} POST_BUILD COMMAND ${manifest_tool} $<TARGET_FILE:${target}> VERBATIM)
   if(NOT ROBOPLAN_MODULE_NO_INSTALL)  # set by Utilities/CMakeLists.txt for the template's check
     install(TARGETS ${target} LIBRARY DESTINATION ${ROBOPLAN_MODULE_DIR_NAME})
   endif()

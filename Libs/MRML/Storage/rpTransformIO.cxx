@@ -2,17 +2,6 @@
 
 #include <cmath>
 #include <fstream>
-#include <mutex>
-
-#include <itkAffineTransform.h>
-#include <itkHDF5TransformIOFactory.h>
-#include <itkMatlabTransformIOFactory.h>
-#include <itkMatrixOffsetTransformBase.h>
-#include <itkTransform.h>
-#include <itkTransformFileReader.h>
-#include <itkTransformFileWriter.h>
-#include <itkTransformFactory.h>
-#include <itkTxtTransformIOFactory.h>
 
 #include <vtkMatrix4x4.h>
 #include <vtkNew.h>
@@ -20,6 +9,7 @@
 #include "rpAtomicFile.h"
 #include "rpLPSRAS.h"
 #include "rpNodeStorage.h"
+#include "rpSiblingLibrary.h"
 #include "rpStorageFormats.h"
 #include "vtkRPLinearTransformNode.h"
 
@@ -28,20 +18,14 @@
 namespace rp {
 namespace {
 
-using Transform3 = itk::Transform<double, 3, 3>;
-
-// The transform IO factories are registered explicitly: our targets do not use ITK's
-// generated factory register managers. MatrixOffsetTransformBase is not in ITK's default
-// transform factory, but Slicer reads it, so we do too.
-void RegisterTransformIOFactories() {
-  static std::once_flag once;
-  std::call_once(once, [] {
-    itk::TxtTransformIOFactory::RegisterOneFactory();
-    itk::HDF5TransformIOFactory::RegisterOneFactory();
-    itk::MatlabTransformIOFactory::RegisterOneFactory();
-    itk::TransformFactory<itk::MatrixOffsetTransformBase<double, 3, 3>>::RegisterTransform();
-    itk::TransformFactory<itk::MatrixOffsetTransformBase<float, 3, 3>>::RegisterTransform();
-  });
+// ITK's transform IO lives in a library of its own, loaded on first use (rpItkTransformIO.cxx).
+template <typename Function>
+Function ItkTransformIO(const char* symbol, std::string& error) {
+  std::string loadError;
+  const auto function = SiblingLibraryFunction<Function>(reinterpret_cast<const void*>(&ReadTransformFile),
+                                                         "libRoboPlanItkTransformIO.so", symbol, loadError);
+  if (!function) error = "ITK's transform file IO is not available: " + loadError;
+  return function;
 }
 
 bool IsTransformExtension(const std::string& path) {
@@ -64,23 +48,6 @@ bool IsFiniteAffine(const vtkMatrix4x4* m) {
          m->GetElement(3, 3) == 1;
 }
 
-// The 4x4 matrix of any linear ITK transform (Euler, Versor, Similarity, Affine, Translation,
-// Scale, a composite of linear ones...) from the images of the origin and the unit vectors, so
-// fixed parameters (centres) and composition order are ITK's own.
-void MatrixOfLinearTransform(const Transform3* transform, vtkMatrix4x4* out) {
-  Transform3::InputPointType origin;
-  origin.Fill(0.0);
-  const auto t = transform->TransformPoint(origin);
-  out->Identity();
-  for (int j = 0; j < 3; ++j) {
-    Transform3::InputPointType unit = origin;
-    unit[j] = 1.0;
-    const auto image = transform->TransformPoint(unit);
-    for (int i = 0; i < 3; ++i) out->SetElement(i, j, image[i] - t[i]);
-  }
-  for (int i = 0; i < 3; ++i) out->SetElement(i, 3, t[i]);
-}
-
 }  // namespace
 
 bool WriteTransformFile(const std::string& path, const vtkMatrix4x4* toParentRAS, std::string& error) {
@@ -100,28 +67,11 @@ bool WriteTransformFile(const std::string& path, const vtkMatrix4x4* toParentRAS
   }
   vtkMatrix4x4::Invert(toParent, fromParentRAS);
   FlipLPSRAS(fromParentRAS, fromParentLPS);
-  RegisterTransformIOFactories();
-  using Affine = itk::AffineTransform<double, 3>;
-  auto affine = Affine::New();
-  Affine::MatrixType matrix;
-  Affine::OutputVectorType translation;
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) matrix(i, j) = fromParentLPS->GetElement(i, j);
-    translation[i] = fromParentLPS->GetElement(i, 3);
-  }
-  affine->SetMatrix(matrix);
-  affine->SetTranslation(translation);
-  auto writeTo = [&](const std::string& target, std::string& err) -> bool {
-    auto writer = itk::TransformFileWriterTemplate<double>::New();
-    writer->SetFileName(target);
-    writer->SetInput(affine);
-    try {
-      writer->Update();
-    } catch (const itk::ExceptionObject& e) {
-      err = std::string("ITK transform writer failed: ") + e.GetDescription();
-      return false;
-    }
-    return true;
+  using Write = bool (*)(const std::string*, const double*, std::string*);
+  const auto write = ItkTransformIO<Write>("roboplan_itk_write_transform", error);
+  if (!write) return false;
+  auto writeTo = [&](const std::string& target, std::string& err) {
+    return write(&target, &fromParentLPS->Element[0][0], &err);
   };
   return WriteAtomicallyWith(path, writeTo, error);
 }
@@ -135,37 +85,12 @@ bool ReadTransformFile(const std::string& path, vtkMatrix4x4* toParentRAS, std::
     error = "cannot open transform file '" + path + "'";
     return false;
   }
-  RegisterTransformIOFactories();
-  auto reader = itk::TransformFileReaderTemplate<double>::New();
-  reader->SetFileName(path);
-  try {
-    reader->Update();
-  } catch (const itk::ExceptionObject& e) {
-    error = "'" + path + "' is not a readable ITK transform file: " + e.GetDescription();
-    return false;
-  }
-  const auto* list = reader->GetTransformList();
-  if (!list || list->empty()) {
-    error = "'" + path + "' holds no transform";
-    return false;
-  }
-  if (list->size() > 1) {
-    error = "'" + path + "' holds " + std::to_string(list->size()) +
-            " transforms; RoboPlan reads files with one (linear or composite) transform";
-    return false;
-  }
-  const auto* transform = dynamic_cast<const Transform3*>(list->front().GetPointer());
-  if (!transform) {
-    error = "'" + path + "' holds a " + list->front()->GetNameOfClass() + ", not a 3D transform";
-    return false;
-  }
-  if (transform->GetTransformCategory() != Transform3::TransformCategoryEnum::Linear) {
-    error = "'" + path + "' holds a " + transform->GetNameOfClass() +
-            ", which is not linear (RoboPlan reads linear transforms only)";
-    return false;
-  }
+  using Read = bool (*)(const std::string*, double*, std::string*);
+  const auto read = ItkTransformIO<Read>("roboplan_itk_read_transform", error);
+  if (!read) return false;
   vtkNew<vtkMatrix4x4> fromParentLPS, fromParentRAS, result;
-  MatrixOfLinearTransform(transform, fromParentLPS);
+  if (!read(&path, &fromParentLPS->Element[0][0], &error)) return false;
+  fromParentLPS->Modified();
   FlipLPSRAS(fromParentLPS, fromParentRAS);
   if (std::abs(fromParentRAS->Determinant()) < 1e-12) {
     error = "'" + path + "' holds a singular transform (it has no inverse)";

@@ -2,6 +2,8 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <map>
 
 #include <vtkNew.h>
 
@@ -51,4 +53,98 @@ TEST(ModuleManager, NotASharedObjectAndMissingDependencyAreReported) {
   }
   EXPECT_TRUE(sawGarbage);
   EXPECT_TRUE(sawDependency);
+}
+
+namespace {
+// The good and the dependent test modules copied into a fresh folder, with their manifests.
+fs::path ModulesWithManifests(const std::string& name) {
+  const fs::path dir = fs::path(ROBOPLAN_TEST_OUTPUT_DIR) / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  for (const char* file : {"libRoboPlanModuleTestGood.so", "libRoboPlanModuleTestDependent.so"}) {
+    fs::copy_file(fs::path(ROBOPLAN_TEST_MODULE_DIR) / file, dir / file);
+    std::string error;
+    EXPECT_TRUE(rp::ModuleManager::WriteManifest((dir / file).string(), error)) << error;
+    EXPECT_TRUE(fs::exists(rp::ModuleManager::ManifestPath((dir / file).string())));
+  }
+  return dir;
+}
+}  // namespace
+
+TEST(ModuleManager, ManifestsKeepModulesUnloadedUntilTheirCommandRuns) {
+  const fs::path dir = ModulesWithManifests("manifests");
+  vtkNew<vtkRPScene> scene;
+  rp::ModuleManager manager;
+  EXPECT_EQ(manager.DiscoverModules({dir.string()}), 2);
+  EXPECT_EQ(manager.UnloadedModuleCount(), 2);
+  EXPECT_TRUE(manager.GetModules().empty());
+  // The commands and their summaries come from the manifests.
+  std::map<std::string, std::string> commands;
+  for (const auto& [module, command] : manager.ListCommands()) commands[command.Name] = module + ": " + command.Summary;
+  EXPECT_EQ(commands["test-good"], "TestGood: returns 42");
+  EXPECT_EQ(commands["test-dependent"], "TestDependent: returns 45");
+  EXPECT_EQ(manager.LoadCommand("no-such-command", scene), nullptr);
+  EXPECT_EQ(manager.UnloadedModuleCount(), 2);
+  // A command loads its module only.
+  const rp::Command* good = manager.LoadCommand("test-good", scene);
+  ASSERT_NE(good, nullptr);
+  rp::CommandContext context;
+  context.Arguments = {"a"};
+  EXPECT_EQ(good->Run(context), 43);
+  ASSERT_EQ(manager.GetModules().size(), 1u);
+  EXPECT_EQ(manager.GetModules()[0]->Name(), "TestGood");
+  EXPECT_EQ(manager.UnloadedModuleCount(), 1);
+  // A module's dependencies are set up before it.
+  const rp::Command* dependent = manager.LoadCommand("test-dependent", scene);
+  ASSERT_NE(dependent, nullptr);
+  EXPECT_EQ(dependent->Run(context), 45);
+  EXPECT_NE(scene->GetFirstNodeByName("TestDependent after TestGood"), nullptr);
+  EXPECT_EQ(manager.UnloadedModuleCount(), 0);
+  EXPECT_TRUE(manager.GetFailures().empty());
+}
+
+TEST(ModuleManager, DependenciesOfACommandsModuleLoadFirst) {
+  const fs::path dir = ModulesWithManifests("manifests-dependent");
+  vtkNew<vtkRPScene> scene;
+  rp::ModuleManager manager;
+  manager.DiscoverModules({dir.string()});
+  ASSERT_NE(manager.LoadCommand("test-dependent", scene), nullptr);
+  const auto modules = manager.GetModules();
+  ASSERT_EQ(modules.size(), 2u);
+  EXPECT_EQ(modules[0]->Name(), "TestGood");
+  EXPECT_EQ(modules[1]->Name(), "TestDependent");
+  EXPECT_NE(scene->GetFirstNodeByName("TestDependent after TestGood"), nullptr);
+}
+
+TEST(ModuleManager, AStaleManifestIsNotTrusted) {
+  const fs::path dir = ModulesWithManifests("manifests-stale");
+  // The library changes after its manifest was written (a rebuild without the build's step, a
+  // copy over it): the manager asks the module itself.
+  std::ofstream(dir / "libRoboPlanModuleTestGood.so", std::ios::app) << "trailing bytes";
+  // A manifest that lies about the module it describes is not trusted either.
+  const fs::path dependent = dir / "libRoboPlanModuleTestDependent.so";
+  std::string text, error;
+  {
+    std::ifstream in(rp::ModuleManager::ManifestPath(dependent.string()));
+    text.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  const size_t at = text.find("\"TestDependent\"");
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, 15, "\"SomeOtherName\"");
+  std::ofstream(rp::ModuleManager::ManifestPath(dependent.string())) << text;
+  vtkNew<vtkRPScene> scene;
+  rp::ModuleManager manager;
+  manager.DiscoverModules({dir.string()});
+  EXPECT_EQ(manager.UnloadedModuleCount(), 1);  // TestGood was loaded to see what it is
+  // The lying manifest's module is loaded for its command and refused by name.
+  EXPECT_EQ(manager.LoadCommand("test-dependent", scene), nullptr);
+  bool named = false;
+  for (const auto& failure : manager.GetFailures())
+    named |= failure.Reason.find("not module SomeOtherName") != std::string::npos;
+  EXPECT_TRUE(named);
+  // The good module still runs.
+  const rp::Command* good = manager.LoadCommand("test-good", scene);
+  ASSERT_NE(good, nullptr);
+  rp::CommandContext context;
+  EXPECT_EQ(good->Run(context), 42);
 }

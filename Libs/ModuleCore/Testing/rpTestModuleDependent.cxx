@@ -17,6 +17,9 @@ class TestDependentModule : public rp::Module {
     marker->SetName(scene->GetFirstNodeByName("TestGood") ? "TestDependent after TestGood" : "TestDependent first");
     scene->AddNode(marker);
   }
+  std::vector<rp::Command> Commands() override {
+    return {{"test-dependent", "returns 45", [](rp::CommandContext&) { return 45; }}};
+  }
 };
 }  // namespace
 

@@ -15,7 +15,10 @@
 // under it, dense enough to pass the bone threshold as real tables often do):
 //   abdomen_bone     `roboplan mesh abdomen.nrrd --preset bone` as a process (target < 5 s on 2
 //                    cores); fails unless every haptic mesh is within its budget and watertight.
-// Writes whole_process.{csv,json} and whole_process_seconds.png (bars) to $ROBOPLAN_BENCHMARK_OUTPUT.
+// And start-up: `roboplan <command> --help` for every command `roboplan --help` lists (and
+// `roboplan --help`), 10 runs each, start to exit (target <= 30 ms before a command's work begins).
+// Writes whole_process.{csv,json}, whole_process_seconds.png (bars), startup.{csv,json} and
+// startup_ms.png to $ROBOPLAN_BENCHMARK_OUTPUT.
 //
 //   ./bin/rpMeshWholeProcessBenchmark
 #include <benchmark/benchmark.h>
@@ -248,30 +251,39 @@ void BM_VtkItkScript(benchmark::State& state) {
   }
 }
 
+fs::path RoboplanExe() { return fs::read_symlink("/proc/self/exe").parent_path() / "roboplan"; }
+
+// Runs `args` (args[0] the program) with stdout to `stdoutPath` and stderr to /dev/null; true when
+// it exited with 0.
+bool RunChild(const std::vector<std::string>& args, const std::string& stdoutPath) {
+  std::vector<std::string> copy = args;
+  std::vector<char*> argv;
+  for (auto& a : copy) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 1, stdoutPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
+  pid_t pid = 0;
+  int status = 0;
+  const int rc = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  return rc == 0 && waitpid(pid, &status, 0) == pid && WIFEXITED(status) && WEXITSTATUS(status) == 0;
+}
+
 // Runs `roboplan mesh <input>` (stdout to a JSON file) and returns its wall time; the process'
 // own figure (from after argument parsing to the end) goes to `inside`. Fails the benchmark
 // unless every haptic mesh is within its budget and watertight.
 double RunRoboplan(const fs::path& input, const std::vector<std::string>& extra, const std::string& name,
                    double& inside, benchmark::State& state) {
-  const fs::path exe = fs::read_symlink("/proc/self/exe").parent_path() / "roboplan";
+  const fs::path exe = RoboplanExe();
   const fs::path out = WorkDir() / name;
   fs::remove_all(out);
   std::vector<std::string> args = {exe.string(), "mesh", input.string(), "--out", out.string(), "--json"};
   args.insert(args.end(), extra.begin(), extra.end());
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
   const std::string jsonPath = (WorkDir() / (name + ".json")).string();
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, 1, jsonPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
   const auto t0 = std::chrono::steady_clock::now();
-  pid_t pid = 0;
-  int status = 0;
-  const int rc = posix_spawn(&pid, exe.c_str(), &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  if (rc != 0 || waitpid(pid, &status, 0) != pid || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+  if (!RunChild(args, jsonPath)) {
     state.SkipWithError(("roboplan mesh failed (" + exe.string() + ")").c_str());
     return 0;
   }
@@ -331,6 +343,73 @@ void BM_ReadNrrdGzITK(benchmark::State& state) {
   }
 }
 
+// Start-up: `roboplan <command> --help` for every command `roboplan --help` lists, and `roboplan
+// --help` itself, start to exit: the process, its libraries and the command's module loaded and
+// the arguments parsed, before any work begins (target <= 30 ms).
+constexpr double StartupTargetMs = 30;
+std::map<std::string, std::vector<double>> startupSeconds;  // command -> every run's seconds
+
+std::vector<std::string> ListedCommands() {
+  const std::string listing = (WorkDir() / "commands.txt").string();
+  std::vector<std::string> commands;
+  if (!RunChild({RoboplanExe().string(), "--help"}, listing)) return commands;
+  std::ifstream in(listing);
+  bool inList = false;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("commands:", 0) == 0) inList = true;
+    else if (inList && line.empty()) break;
+    else if (inList && line.rfind("  ", 0) == 0) commands.push_back(line.substr(2, line.find(' ', 2) - 2));
+  }
+  return commands;
+}
+
+void BM_Startup(benchmark::State& state, std::string command) {
+  std::vector<std::string> args = {RoboplanExe().string()};
+  if (command != "--help") args.push_back(command);
+  args.push_back("--help");
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    if (!RunChild(args, "/dev/null")) {
+      state.SkipWithError(("roboplan " + command + " --help failed").c_str());
+      return;
+    }
+    startupSeconds[command].push_back(Since(t0));
+  }
+}
+
+// startup.{csv,json} and startup_ms.png: p50, fastest and slowest of each command's runs.
+void ReportStartup(const std::string& out) {
+  nlohmann::json doc = {{"targetMs", StartupTargetMs}, {"commands", nlohmann::json::array()}};
+  std::vector<std::vector<double>> rows;
+  std::vector<std::string> categories;
+  rp::bench::Series p50{"p50 (ms)", {}, {}}, slowest{"slowest (ms)", {}, {}};
+  double worst = 0;
+  std::printf("\nstart-up, `roboplan <command> --help` start to exit (target <= %.0f ms):\n", StartupTargetMs);
+  for (auto& [command, runs] : startupSeconds) {
+    std::sort(runs.begin(), runs.end());
+    const double median = 1e3 * runs[runs.size() / 2], low = 1e3 * runs.front(), high = 1e3 * runs.back();
+    worst = std::max(worst, median);
+    std::printf("  %-22s p50 %6.1f ms  fastest %6.1f  slowest %6.1f  (%zu runs)\n", command.c_str(), median, low, high,
+                runs.size());
+    doc["commands"].push_back({{"command", command}, {"p50Ms", median}, {"fastestMs", low}, {"slowestMs", high},
+                               {"runs", runs.size()}, {"withinTarget", median <= StartupTargetMs}});
+    rows.push_back({double(rows.size()), median, low, high});
+    categories.push_back(command);
+    p50.Y.push_back(median);
+    slowest.Y.push_back(high);
+  }
+  doc["worstP50Ms"] = worst;
+  doc["allWithinTarget"] = !startupSeconds.empty() && worst <= StartupTargetMs;
+  std::string error;
+  rp::bench::WriteCSV(out + "/startup.csv", {"command_index", "p50_ms", "fastest_ms", "slowest_ms"}, rows, error);
+  rp::bench::WriteFiguresJSON(out + "/startup.json", doc, error);
+  rp::bench::ChartOptions chart;
+  chart.Title = "Start-up: roboplan <command> --help, start to exit (target <= 30 ms)";
+  chart.YLabel = "ms";
+  chart.Width = 1400;
+  rp::bench::WriteBarChartPNG(out + "/startup_ms.png", categories, {p50, slowest}, chart, error);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -356,6 +435,11 @@ int main(int argc, char** argv) {
                                    std::vector<std::string>{"--preset", "bone"}, std::string("abdomen_bone")));
   reg(benchmark::RegisterBenchmark("BM_ReadNrrdGz", BM_ReadNrrdGz));
   reg(benchmark::RegisterBenchmark("BM_ReadNrrdGzITK", BM_ReadNrrdGzITK));
+  for (const std::string& command : ListedCommands())
+    benchmark::RegisterBenchmark(("BM_Startup/" + command).c_str(), BM_Startup, command)
+        ->Iterations(10)->Unit(benchmark::kMillisecond)->UseRealTime();
+  benchmark::RegisterBenchmark("BM_Startup/--help", BM_Startup, std::string("--help"))
+      ->Iterations(10)->Unit(benchmark::kMillisecond)->UseRealTime();
   benchmark::RunSpecifiedBenchmarks();
 
   const double baseline = fastest.count("slicer_compute") ? fastest["slicer_compute"] : 0;
@@ -404,6 +488,7 @@ int main(int argc, char** argv) {
   chart.YLabel = "seconds (2 cores, fastest of 3)";
   chart.Width = 1200;
   rp::bench::WriteBarChartPNG(out + "/whole_process_seconds.png", categories, {bars}, chart, error);  // names what it wrote
+  ReportStartup(out);
   benchmark::Shutdown();
   return 0;
 }

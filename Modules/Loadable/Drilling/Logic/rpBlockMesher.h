@@ -5,8 +5,13 @@
 // density gradient (central differences, so neighbouring blocks shade without seams), and each
 // vertex's material (of the edge's bone end). Only dirty blocks are re-contoured; the mesh is
 // kept per block so a frame redoes a handful of blocks, never the whole bone.
-// Used on the display thread (or any one thread): reads densities with relaxed atomics.
+// The whole bone (the first frame, a reset, an undo that touches most blocks) is contoured on
+// VTK's SMP threads (vtkSMPTools, as vtkFlyingEdges3D), after one pass that finds the blocks no
+// surface crosses (all bone or all empty, with the neighbours their cells reach into) and skips them.
+// Reads densities with relaxed atomics, so the servo thread may carve meanwhile; the calls of
+// one BlockMesher come from one thread at a time (the display thread).
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "rpDrillVolume.h"
@@ -25,11 +30,15 @@ struct BlockMesh {
 class BlockMesher {
  public:
   explicit BlockMesher(DrillVolume& volume);  // consumes its dirty marks
-  /// Re-contours the blocks the servo thread marked dirty; returns how many.
+  ~BlockMesher();
+  BlockMesher(const BlockMesher&) = delete;
+  BlockMesher& operator=(const BlockMesher&) = delete;
+  /// Re-contours the blocks the servo thread marked dirty; returns how many. A handful (a
+  /// frame of drilling) on this thread; many (a reset, an undo) as ContourAll does.
   size_t UpdateDirty();
-  /// Contours every block (the first frame, or after a reset of the cache).
+  /// Contours every block (the first frame, or after a reset of the cache), in parallel.
   void ContourAll();
-  /// Contours one block into its cache entry.
+  /// Contours one block into its cache entry, on this thread.
   void Contour(int32_t slot);
   const std::vector<BlockMesh>& Blocks() const { return this->Cache; }
   size_t TriangleCount() const;
@@ -38,11 +47,22 @@ class BlockMesher {
   /// triangles face out of the bone).
   double EnclosedVolume() const;
 
+  /// Dirty blocks from which UpdateDirty goes parallel (below it, threads cost more than they give).
+  static constexpr size_t ParallelBlocks = 64;
+
  private:
+  struct Scratch;  // one block's samples and edge vertices (one per thread)
+  /// Contours these slots on VTK's SMP threads, skipping the blocks no surface crosses.
+  void ContourSlots(const int32_t* slots, size_t count);
+  void ClassifyBlocks();                     // fills Sides
+  bool CrossesNoSurface(int32_t slot) const;  // from Sides
+  void ContourBlock(int32_t slot, Scratch& scratch);
+
   DrillVolume& Volume;
   std::vector<BlockMesh> Cache;
-  std::vector<float> Field;          // (Edge + 3)³ densities around the block being contoured
-  std::vector<int32_t> EdgeVertex;   // vertex of each (corner, axis) in the block, −1 none
+  std::unique_ptr<Scratch> Own;  // the calling thread's scratch
+  std::vector<int32_t> Slots;    // dirty slots of one UpdateDirty (reserved: no allocation)
+  std::vector<uint8_t> Sides;    // per slot: 0 all empty, 1 all bone, 2 both
 };
 
 /// The ½ iso-surface of a whole volume as one triangle mesh (every block contoured): the
