@@ -430,4 +430,17 @@ std::vector<double> ArgParser::GetDoubles(const std::string& name, size_t expect
   return out;
 }
 
+std::vector<std::array<double, 3>> ArgParser::GetPoints(const std::string& name) const {
+  std::vector<std::array<double, 3>> points;
+  for (const std::string& value : this->GetAll(name)) {
+    const auto parts = Split(value, ',');
+    std::array<double, 3> p{};
+    if (parts.size() != 3 || !ParseNumber(parts[0], p[0]) || !ParseNumber(parts[1], p[1]) ||
+        !ParseNumber(parts[2], p[2]))
+      throw std::invalid_argument("--" + name + " '" + value + "': expected x,y,z");
+    points.push_back(p);
+  }
+  return points;
+}
+
 }  // namespace rp

@@ -7,6 +7,7 @@
 // files, ranges, Required()): Parse() then checks it, and the same declarations are written out
 // as a Slicer Execution Model XML descriptor (`--xml`) and a Boutiques descriptor
 // (`--boutiques`), so neither can drift from the options the command accepts.
+#include <array>
 #include <map>
 #include <optional>
 #include <ostream>
@@ -105,6 +106,9 @@ class ArgParser {
   long GetInt(const std::string& name) const;
   /// "x,y,z" → 3 doubles; throws std::invalid_argument naming the option.
   std::vector<double> GetDoubles(const std::string& name, size_t expectedCount = 0) const;
+  /// Every value of a (repeatable) Point() option as x, y, z; throws std::invalid_argument
+  /// naming the option for a value that is not one.
+  std::vector<std::array<double, 3>> GetPoints(const std::string& name) const;
   bool Json() const { return this->Has("json"); }
 
   const std::string& CommandName() const { return this->Command; }

@@ -1,10 +1,11 @@
 #include "rpProgress.h"
 
 #include <algorithm>
+#include <cstdio>
 
 namespace rp {
 
-TerminalProgress::TerminalProgress(std::string stage, bool quiet, std::FILE* out)
+TerminalProgress::TerminalProgress(std::string stage, bool quiet, std::ostream& out)
     : Stage(std::move(stage)), Quiet(quiet), Out(out) {}
 
 void TerminalProgress::Report(double fraction, const std::string& message) {
@@ -13,8 +14,9 @@ void TerminalProgress::Report(double fraction, const std::string& message) {
   if (percent == this->LastPercent && message == this->LastMessage) return;
   this->LastPercent = percent;
   this->LastMessage = message;
-  std::fprintf(this->Out, "[%s] %3d%% %s\n", this->Stage.c_str(), percent, message.c_str());
-  std::fflush(this->Out);
+  char percentText[8];
+  std::snprintf(percentText, sizeof percentText, "%3d%%", percent);
+  this->Out << "[" << this->Stage << "] " << percentText << " " << message << std::endl;
 }
 
 ProgressCallback TerminalProgress::Callback() {

@@ -2,8 +2,8 @@
 // Progress for long work, reported on the terminal as lines a user (or a log) can follow:
 //   [mesh] 40% bone: smoothing
 // Only prints when the integer percentage or the message changes; silent in --json mode.
-#include <cstdio>
 #include <functional>
+#include <ostream>
 #include <string>
 
 namespace rp {
@@ -13,7 +13,8 @@ using ProgressCallback = std::function<void(double fraction, const std::string& 
 
 class TerminalProgress {
  public:
-  explicit TerminalProgress(std::string stage, bool quiet = false, std::FILE* out = stderr);
+  /// Lines on `out`: a command's error stream (rp::CommandContext::Err), where its messages go.
+  TerminalProgress(std::string stage, bool quiet, std::ostream& out);
   void Report(double fraction, const std::string& message);
   ProgressCallback Callback();
 
@@ -21,7 +22,7 @@ class TerminalProgress {
   std::string Stage, LastMessage;
   int LastPercent = -1;
   bool Quiet;
-  std::FILE* Out;
+  std::ostream& Out;
 };
 
 }  // namespace rp

@@ -259,13 +259,20 @@ function(roboplan_add_module_widgets name)
   set(target RoboPlan${name}Widgets)
   set(sources ${A_SOURCES})
   foreach(source ${A_SOURCES})
-    string(REGEX REPLACE "\\.cxx$" ".h" header ${source})
-    if(NOT header STREQUAL source AND EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/${header})
-      list(APPEND sources ${header})
-    endif()
+    foreach(extension h ui)
+      string(REGEX REPLACE "\\.cxx$" ".${extension}" companion ${source})
+      if(NOT companion STREQUAL source AND EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/${companion})
+        list(APPEND sources ${companion})
+      endif()
+    endforeach()
   endforeach()
   add_library(${target} STATIC ${sources})
-  target_include_directories(${target} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/Widgets)
+  # A panel's layout is its Qt Designer file beside it (qRP<Name>Panel.ui, as Slicer keeps its
+  # module panels): uic makes ui_qRP<Name>Panel.h, which the panel's header includes, so the
+  # generated folder is public.
+  set_target_properties(${target} PROPERTIES AUTOUIC ON)
+  target_include_directories(${target} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/Widgets
+    ${CMAKE_CURRENT_BINARY_DIR}/${target}_autogen/include)
   target_link_libraries(${target} PUBLIC ${A_LIBS} Qt5::Widgets PRIVATE roboplan_warnings)
 endfunction()
 

@@ -1,8 +1,10 @@
-// What must be registered: every file format (node storages and data readers) and every tracker
-// kind (pose sources). They register through static initializers in shared libraries; a static
-// build, a linker that drops a library nothing references, or a renamed class would lose one
-// without a word. This test names each one, so a registration that drops out fails here. A new
-// format or tracker adds its line here (README "Extending RoboPlan").
+// What must be registered: every file format (node storages and data readers), every tracker
+// kind (pose sources) and every OpenIGTLink command. Each library or module lists its own in one
+// place (rpStorageFormats.cxx, rpPoseSourceKinds.cxx, rpIgtlCommands.cxx' BuiltInCommands; the
+// imaging readers through RegisterImagingReaders at start-up); a line dropped from a list, or a
+// renamed class, would lose one without a word. This test names each one, so a registration that
+// drops out fails here. A new format, tracker or command adds its line here (README "Extending
+// RoboPlan").
 #include <algorithm>
 #include <string>
 #include <vector>
@@ -11,6 +13,7 @@
 #include <vtkNew.h>
 
 #include "rpDataLoader.h"
+#include "rpIgtlCommands.h"
 #include "rpImagingReaders.h"
 #include "rpNodeStorage.h"
 #include "rpPoseSource.h"
@@ -77,8 +80,34 @@ TEST(Registration, EachKindOfPathFindsItsReader) {
 TEST(Registration, EveryTrackerKindIsRegistered) {
   std::vector<std::string> kinds;
   for (const auto& entry : rp::PoseSourceRegistry::Entries()) kinds.push_back(entry.Kind);
-  for (const char* kind : {"serial", "igtl", "simulator", "replay"})
+  for (const char* kind : {"serial", "tcp", "igtl", "simulator", "replay"})
     EXPECT_TRUE(Contains(kinds, kind)) << kind << " not in " << ::testing::PrintToString(Sorted(kinds));
+}
+
+TEST(Registration, EveryNodeStorageIsRegisteredOnce) {
+  std::vector<std::string> classes;
+  for (const auto& storage : rp::GetNodeStorages()) classes.push_back(storage->NodeClassForFiles());
+  for (const char* nodeClass : {"vtkRPScalarVolumeNode", "vtkRPSegmentationNode", "vtkRPModelNode",
+                                "vtkRPFiducialListNode", "vtkRPLinearTransformNode"})
+    EXPECT_EQ(std::count(classes.begin(), classes.end(), nodeClass), 1) << nodeClass;
+}
+
+TEST(Registration, EveryOpenIGTLinkCommandIsRegisteredWithItsAccess) {
+  const struct {
+    const char* Name;
+    rp::IgtlCommandAccess Access;
+  } expected[] = {{"RequestChannelIds", rp::IgtlCommandAccess::ReadOnly},
+                  {"RequestDeviceIds", rp::IgtlCommandAccess::ReadOnly},
+                  {"StartRecording", rp::IgtlCommandAccess::ChangesState},
+                  {"StopRecording", rp::IgtlCommandAccess::ChangesState},
+                  {"GetTransform", rp::IgtlCommandAccess::ReadOnly},
+                  {"UpdateTransform", rp::IgtlCommandAccess::ChangesState}};
+  for (const auto& command : expected) {
+    rp::IgtlCommandAccess access{};
+    ASSERT_TRUE(rp::IgtlCommandAccessOf(command.Name, access)) << command.Name;
+    EXPECT_EQ(access, command.Access) << command.Name;
+  }
+  EXPECT_EQ(rp::IgtlCommandNames().size(), std::size(expected));
 }
 
 }  // namespace

@@ -3,17 +3,18 @@
 #include <filesystem>
 #include <mutex>
 
+#include "rpStorageFormats.h"
 #include "vtkRPNode.h"
 #include "vtkRPScene.h"
 
 namespace rp {
 namespace {
 
-// Readers register from static initializers of several files (and libraries): a function-local
-// registry avoids the static initialization order problem.
+// The library's own readers (rpStorageFormats.cxx), then what others register (the imaging
+// readers: RegisterImagingReaders at start-up).
 struct Registry {
   std::mutex Mutex;
-  std::vector<std::shared_ptr<DataReader>> Readers;
+  std::vector<std::shared_ptr<DataReader>> Readers = BuiltInDataReaders();
 };
 Registry& GetRegistry() {
   static Registry registry;
@@ -41,9 +42,10 @@ class NodeFileReader : public DataReader {
     return true;
   }
 };
-const bool nodeFileReaderRegistered = RegisterDataReader(std::make_shared<NodeFileReader>());
 
 }  // namespace
+
+std::shared_ptr<DataReader> MakeNodeFileReader() { return std::make_shared<NodeFileReader>(); }
 
 bool RegisterDataReader(std::shared_ptr<DataReader> reader) {
   Registry& registry = GetRegistry();

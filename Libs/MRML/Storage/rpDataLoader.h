@@ -7,7 +7,7 @@
 // registry (rpNodeStorage.h: NRRD, NIfTI, .seg.nrrd, models, markups, transforms) are one reader
 // here, so their extensions stay listed once, in their storages.
 //
-// Register a reader in minutes (a new file beside the format's code, e.g. rpMyFormatReader.cxx):
+// Add a reader in minutes (a new file beside the format's code, e.g. rpMyFormatReader.cxx):
 //
 //   namespace {
 //   class MyFormatReader : public rp::DataReader {
@@ -22,13 +22,13 @@
 //       return true;
 //     }
 //   };
-//   const bool registered = rp::RegisterDataReader(std::make_shared<MyFormatReader>());
 //   }  // namespace
+//   std::shared_ptr<DataReader> MakeMyFormatReader() { return std::make_shared<MyFormatReader>(); }
 //
-// and list its Description in Testing/Registration/rpRegistrationTest.cxx, which fails when a
-// registration drops out (a static build that leaves the file's object out, a renamed reader).
-// A library whose readers nothing else references (a program reaches them only through LoadPath)
-// also exports an idempotent Register...() that hosts call at start-up (see rpImagingReaders.h).
+// then one line in BuiltInDataReaders (rpStorageFormats.cxx, where every reader of this library is
+// listed; no static registrars), and its Description in Testing/Registration/rpRegistrationTest.cxx.
+// A reader of another library registers in that library's Register...() which its hosts call at
+// start-up (see rpImagingReaders.h).
 // Readers registered today: "RoboPlan scene" (.rpscene, rpSceneFileReader.cxx), "3D Slicer scene"
 // (.mrml, .mrb: rpMrmlDataReader.cxx), "Node file" (every
 // node storage, rpDataLoader.cxx), "DICOM" (a folder or DICOMDIR read whole: every image series,
@@ -91,7 +91,8 @@ class DataReader {
                     LoadResult& result) const = 0;
 };
 
-/// Registers a reader (from a static initializer beside the format's code, or by a module).
+/// Registers a reader beside the library's own (rpStorageFormats.h lists those): another library's
+/// or a module's, at its owner's start-up (as RegisterImagingReaders).
 bool RegisterDataReader(std::shared_ptr<DataReader> reader);
 /// Every registered reader, in registration order.
 std::vector<std::shared_ptr<DataReader>> GetDataReaders();

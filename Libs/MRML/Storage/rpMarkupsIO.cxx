@@ -7,6 +7,7 @@
 #include "rpMarkupsFormat.h"
 #include "rpMrmlNames.h"
 #include "rpNodeStorage.h"
+#include "rpStorageFormats.h"
 #include "vtkRPCutPlaneNode.h"
 #include "vtkRPFiducialListNode.h"
 #include "vtkRPMarkupsNode.h"
@@ -168,7 +169,8 @@ class MarkupsStorage : public NodeStorage {
     return list && ReadFcsv(path, list, error);
   }
 };
-const bool registered = RegisterNodeStorage(std::make_shared<MarkupsStorage>());
 }  // namespace
+
+std::shared_ptr<NodeStorage> MakeMarkupsStorage() { return std::make_shared<MarkupsStorage>(); }
 
 }  // namespace rp

@@ -25,6 +25,7 @@
 #include "rpAtomicFile.h"
 #include "rpLPSRAS.h"
 #include "rpNodeStorage.h"
+#include "rpStorageFormats.h"
 #include "vtkRPDeflateDataCompressor.h"
 #include "vtkRPModelNode.h"
 
@@ -247,7 +248,8 @@ class ModelStorage : public NodeStorage {
     return true;
   }
 };
-const bool registered = RegisterNodeStorage(std::make_shared<ModelStorage>());
 }  // namespace
+
+std::shared_ptr<NodeStorage> MakeModelStorage() { return std::make_shared<ModelStorage>(); }
 
 }  // namespace rp

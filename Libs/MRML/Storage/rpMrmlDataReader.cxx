@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "rpDataLoader.h"
+#include "rpStorageFormats.h"
 #include "rpMrmlScene.h"
 
 namespace rp {
@@ -32,7 +33,9 @@ class MrmlSceneReader : public DataReader {
     return true;
   }
 };
-const bool registered = RegisterDataReader(std::make_shared<MrmlSceneReader>());
 
 }  // namespace
+
+std::shared_ptr<DataReader> MakeMrmlSceneReader() { return std::make_shared<MrmlSceneReader>(); }
+
 }  // namespace rp

@@ -5,17 +5,17 @@
 #include <mutex>
 
 #include "rpAtomicFile.h"
+#include "rpStorageFormats.h"
 #include "vtkRPNode.h"
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
 
 namespace rp {
 namespace {
-// Storages register from static initializers of several files: a function-local registry
-// avoids the static initialization order problem.
+// The library's own storages (rpStorageFormats.cxx), then what others register.
 struct Registry {
   std::mutex Mutex;
-  std::vector<std::shared_ptr<NodeStorage>> Storages;
+  std::vector<std::shared_ptr<NodeStorage>> Storages = BuiltInNodeStorages();
 };
 Registry& GetRegistry() {
   static Registry registry;

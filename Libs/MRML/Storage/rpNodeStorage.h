@@ -1,7 +1,7 @@
 #pragma once
 // File storage for scene nodes (the storage nodes of Slicer, as plain classes). Each format
-// lives in its own rp*IO.cxx and registers a NodeStorage at load time; the scene reader and
-// writer and `roboplan <data files>` find the right one by node class or file extension.
+// lives in its own rp*IO.cxx and is listed in rpStorageFormats.cxx; the scene reader and writer
+// and `roboplan <data files>` find the right one by node class or file extension.
 #include <memory>
 #include <string>
 #include <vector>
@@ -42,7 +42,8 @@ class NodeStorage {
   virtual bool Read(vtkRPNode* node, const std::string& path, std::string& error) const = 0;
 };
 
-/// Registers a storage (called from a static initializer in each rp*IO.cxx, or by a module).
+/// Registers a storage beside the library's own (rpStorageFormats.h lists those): a module's or
+/// another library's, at its owner's start-up.
 bool RegisterNodeStorage(std::shared_ptr<NodeStorage> storage);
 /// Best storage for a node (by class), or nullptr.
 const NodeStorage* FindNodeStorage(const vtkRPNode* node);

@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include "rpDataLoader.h"
+#include "rpStorageFormats.h"
 #include "rpSceneFile.h"
 #include "rpSceneIO.h"
 
@@ -29,7 +30,9 @@ class SceneFileReader : public DataReader {
     return true;
   }
 };
-const bool registered = RegisterDataReader(std::make_shared<SceneFileReader>());
 
 }  // namespace
+
+std::shared_ptr<DataReader> MakeSceneFileReader() { return std::make_shared<SceneFileReader>(); }
+
 }  // namespace rp

@@ -22,6 +22,7 @@
 #include "rpLPSRAS.h"
 #include "rpMemoryBudget.h"
 #include "rpNodeStorage.h"
+#include "rpStorageFormats.h"
 #include "rpSegmentationHeader.h"
 #include "rpVolumeIO.h"
 #include "vtkRPSegmentationNode.h"
@@ -344,7 +345,6 @@ class SegmentationStorage : public NodeStorage {
     return ReadSegmentationFile(path, vtkRPSegmentationNode::SafeDownCast(node), error);
   }
 };
-const bool registered = RegisterNodeStorage(std::make_shared<SegmentationStorage>());
 }  // namespace
 
 bool ReadSegmentationOrLabelmap(const std::string& path, vtkRPSegmentationNode* node, std::string& error) {
@@ -374,5 +374,7 @@ bool ReadSegmentationOrLabelmap(const std::string& path, vtkRPSegmentationNode* 
   node->EndModify(previous);
   return true;
 }
+
+std::shared_ptr<NodeStorage> MakeSegmentationStorage() { return std::make_shared<SegmentationStorage>(); }
 
 }  // namespace rp

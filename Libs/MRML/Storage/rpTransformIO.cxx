@@ -10,6 +10,7 @@
 #include "rpLPSRAS.h"
 #include "rpNodeStorage.h"
 #include "rpSiblingLibrary.h"
+#include "rpStorageFormats.h"
 #include "vtkRPLinearTransformNode.h"
 
 // ITK transform files hold the resampling ("from parent") transform in LPS; the node holds
@@ -134,7 +135,8 @@ class LinearTransformStorage : public NodeStorage {
     return true;
   }
 };
-const bool registered = RegisterNodeStorage(std::make_shared<LinearTransformStorage>());
 }  // namespace
+
+std::shared_ptr<NodeStorage> MakeLinearTransformStorage() { return std::make_shared<LinearTransformStorage>(); }
 
 }  // namespace rp

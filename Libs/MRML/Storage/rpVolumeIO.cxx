@@ -17,6 +17,7 @@
 #include "rpLPSRAS.h"
 #include "rpMemoryBudget.h"
 #include "rpNodeStorage.h"
+#include "rpStorageFormats.h"
 #include "rpNrrdGzipVoxels.h"
 #include "vtkRPImageNode.h"
 #include "vtkRPScalarVolumeNode.h"
@@ -265,7 +266,8 @@ class ScalarVolumeStorage : public NodeStorage {
     return ReadVolumeFile(path, vtkRPImageNode::SafeDownCast(node), error);
   }
 };
-const bool registered = RegisterNodeStorage(std::make_shared<ScalarVolumeStorage>());
 }  // namespace
+
+std::shared_ptr<NodeStorage> MakeScalarVolumeStorage() { return std::make_shared<ScalarVolumeStorage>(); }
 
 }  // namespace rp

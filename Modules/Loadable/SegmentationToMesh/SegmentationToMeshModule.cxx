@@ -1,7 +1,12 @@
-// SegmentationToMesh module plugin: the Qt panel and `roboplan mesh` (Logic/rpMeshCommand.cxx).
+// SegmentationToMesh module plugin: logic vtkRPSegmentationToMeshLogic, panel
+// qRPSegmentationToMeshPanel and `roboplan mesh` (Logic/rpMeshCommand.cxx) all segment and mesh
+// through the logic.
+
+#include <vtkNew.h>
 
 #include "rpMeshCommand.h"
 #include "rpModule.h"
+#include "vtkRPSegmentationToMeshLogic.h"
 #ifdef ROBOPLAN_BUILD_GUI
 #include <QScrollArea>
 
@@ -14,15 +19,16 @@ class SegmentationToMeshModule : public rp::Module {
  public:
   std::string Name() const override { return "SegmentationToMesh"; }
   std::string Title() const override { return "Segmentation to Mesh"; }
-  void Setup(vtkRPScene* scene) override { this->Scene = scene; }
+  void Setup(vtkRPScene* scene) override { this->LogicObject->SetScene(scene); }
+  vtkObject* Logic() override { return this->LogicObject; }
   QWidget* CreatePanel(QWidget* parent) override {
 #ifdef ROBOPLAN_BUILD_GUI
-    if (!this->Scene) return nullptr;
+    if (!this->LogicObject->GetScene()) return nullptr;
     // The panel is taller than a module page on a laptop screen: let it scroll.
     auto* scroll = new QScrollArea(parent);
     scroll->setWidgetResizable(true);
     scroll->setFrameShape(QFrame::NoFrame);
-    scroll->setWidget(new qRPSegmentationToMeshPanel(this->Scene));
+    scroll->setWidget(new qRPSegmentationToMeshPanel(this->LogicObject));
     return scroll;
 #else
     (void)parent;
@@ -35,7 +41,7 @@ class SegmentationToMeshModule : public rp::Module {
   }
 
  private:
-  vtkRPScene* Scene = nullptr;  // owned by the host
+  vtkNew<vtkRPSegmentationToMeshLogic> LogicObject;
 };
 
 }  // namespace

@@ -24,8 +24,7 @@
 #include "rpLabelTable.h"
 #include "rpVolumeFiles.h"
 #include "rpReport.h"
-#include "rpSegmentationEditor.h"
-#include "rpSegmentationToModels.h"
+#include "vtkRPSegmentationToMeshLogic.h"
 #include "rpSurfaceError.h"
 #include "vtkRPModelNode.h"
 #include "vtkRPSegmentationNode.h"
@@ -286,21 +285,16 @@ void ScoreSegmentedBones(DemoState& state, const std::vector<SegmentModels>& bui
 void SegmentAndMesh(DemoState& state) {
   const std::string stage = "Segmentation and meshing";
   std::string error;
-  vtkNew<vtkRPSegmentationNode> segmentation;
-  segmentation->SetName("KneeSegmentation");
-  const ThresholdPreset* softPreset = FindThresholdPreset("soft-tissue");
-  const ThresholdPreset* fat = FindThresholdPreset("fat");
-  if (!softPreset || !fat) throw std::runtime_error("threshold presets soft-tissue/fat missing");
+  vtkNew<vtkRPSegmentationToMeshLogic> logic;  // as the SegmentationToMesh panel and `roboplan mesh`
+  logic->SetScene(state.Scene);
   // Bones one by one, the same way for the phantom and a user's CT: threshold and fill, pieces
   // outside the body dropped, touching bones split at narrow contacts, knee bones named from
   // their position and size (no seeds: the phantom gets no help a real case would not get).
-  BoneSplitOptions splitOptions;
   BoneSplitResult split;
-  if (!SplitBones(state.CT, segmentation, splitOptions, split, error, [&state](double f, const std::string& m) {
-        state.Runner->Progress(0.25 * f, "bones: " + m);
-      })) {
-    throw std::runtime_error("bones one by one: " + error);
-  }
+  vtkRPSegmentationNode* segmentation =
+      logic->SplitBones(state.CT, BoneSplitOptions(), "KneeSegmentation", split, error,
+                        [&state](double f, const std::string& m) { state.Runner->Progress(0.25 * f, "bones: " + m); });
+  if (!segmentation) throw std::runtime_error("bones one by one: " + error);
   std::vector<std::string> boneIDs;
   for (const BoneInfo& b : split.Bones) boneIDs.push_back(b.ID);
   state.Report->AddFigure(stage, "bones found", double(split.Bones.size()), "",
@@ -309,21 +303,21 @@ void SegmentAndMesh(DemoState& state) {
                               std::to_string(split.DroppedSpecks) + " speck(s), " +
                               std::to_string(split.DroppedOutsideBody) + " piece(s) outside the body");
   for (const std::string& note : split.Notes) state.Report->AddNote("Bones one by one: " + note);
-  EditResult edit;
   ColourBones(segmentation, boneIDs);
   if (boneIDs.empty()) throw std::runtime_error("no bone could be segmented");
   state.Runner->Progress(0.3, "soft tissue and fat");
-  SegmentTarget softTarget{"soft-tissue", "Soft tissue", softPreset->TissueClass,
-                           {softPreset->Color[0], softPreset->Color[1], softPreset->Color[2]}, false, 0.9};
-  SegmentTarget fatTarget{"fat", "Fat", fat->TissueClass, {fat->Color[0], fat->Color[1], fat->Color[2]}, false, 0.9};
-  if (!SegmentationEditor::Threshold(state.CT, segmentation, softTarget, softPreset->Lower, softPreset->Upper, edit,
-                                     error) ||
-      !SegmentationEditor::KeepLargestComponent(segmentation, "soft-tissue", edit, error) ||
-      !SegmentationEditor::Threshold(state.CT, segmentation, fatTarget, fat->Lower, fat->Upper, edit, error) ||
-      !SegmentationEditor::KeepLargestComponent(segmentation, "fat", edit, error)) {
-    throw std::runtime_error(error);
+  // Soft tissue and fat: each its preset's threshold, then its largest component.
+  for (const auto& [id, name] : {std::pair{"soft-tissue", "Soft tissue"}, std::pair{"fat", "Fat"}}) {
+    const ThresholdPreset* preset = FindThresholdPreset(id);
+    if (!preset) throw std::runtime_error(std::string("threshold preset ") + id + " missing");
+    TissueRecipe recipe;
+    recipe.Target = {id, name, preset->TissueClass, preset->Color, false, 0.9};
+    recipe.Method.Lower = preset->Lower;
+    recipe.Method.Upper = preset->Upper;
+    recipe.Edits = {{SegmentEdit::KeepLargest, 0, {}, 1}};
+    std::vector<TissueStep> steps;
+    if (!logic->SegmentTissue(state.CT, segmentation, recipe, steps, error)) throw std::runtime_error(error);
   }
-  state.Scene->AddNode(segmentation);
   state.Segmentation = segmentation;
 
   state.Runner->Progress(0.4, "meshing");
@@ -340,9 +334,9 @@ void SegmentAndMesh(DemoState& state) {
   softOptions.Display.Sigma = 1.5;
   for (double& step : softOptions.Display.GridStep) step = 2.0;  // large and smooth: a 2-voxel grid
   softOptions.DisplayLOD.TargetTriangles = 0;
-  auto built = BuildSegmentModels(segmentation, boneOptions, state.Scene, StageProgress(state));
+  auto built = logic->CreateModels(segmentation, boneOptions, StageProgress(state));
   state.Runner->Progress(0.7, "meshing soft tissue");
-  const auto soft = BuildSegmentModels(segmentation, softOptions, state.Scene, StageProgress(state));
+  const auto soft = logic->CreateModels(segmentation, softOptions, StageProgress(state));
   built.insert(built.end(), soft.begin(), soft.end());
   double bounds[6];
   state.CT->GetRASBounds(bounds);

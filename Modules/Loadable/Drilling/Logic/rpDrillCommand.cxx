@@ -695,7 +695,7 @@ void ReportDrillText(const DrillRequest& q, const DrillWork& session, const Dril
 int RunDrillCommand(const std::vector<std::string>& args, vtkRPScene* sceneIn, std::ostream& out, std::ostream& err) {
   DrillRequest request;
   if (const auto exitCode = ParseDrillRequest(args, out, err, request)) return *exitCode;
-  TerminalProgress progress("drill", request.Json);
+  TerminalProgress progress("drill", request.Json, err);
   vtkNew<vtkRPScene> ownScene;
   DrillWork session;
   if (const int code = RunDrillSession(request, session, sceneIn ? sceneIn : ownScene.GetPointer(), progress, err)) return code;

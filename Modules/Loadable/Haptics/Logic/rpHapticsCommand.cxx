@@ -261,7 +261,7 @@ int PrepareHapticsRun(vtkRPHapticsLogic* logic, HapticsRequest& request, std::os
 
 // Runs the logic's session for the request's seconds, printing new warnings and progress.
 bool RunHapticsSession(vtkRPHapticsLogic* logic, const HapticsRequest& request, std::ostream& err) {
-  rp::TerminalProgress progress("haptics", request.Json);
+  rp::TerminalProgress progress("haptics", request.Json, err);
   size_t warned = 0;
   auto printWarnings = [&] {
     const rp::HapticSession* session = logic->GetSession();

@@ -28,6 +28,7 @@
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
 #include "vtkRPSegmentationNode.h"
+#include "vtkRPSegmentationToMeshLogic.h"
 
 namespace {
 
@@ -94,7 +95,9 @@ std::vector<vtkRPModelNode*> Models(vtkRPScene* scene) {
 TEST(SegmentationToMeshPanel, SphereCTPresetBoneApplyPreviewCreateModels) {
   App();
   vtkNew<vtkRPScene> scene;
-  qRPSegmentationToMeshPanel panel(scene);
+  vtkNew<vtkRPSegmentationToMeshLogic> logic;
+  logic->SetScene(scene);
+  qRPSegmentationToMeshPanel panel(logic);
   panel.show();
   EXPECT_EQ(panel.VolumeCombo->count(), 0);
 
@@ -245,7 +248,9 @@ TEST(SegmentationToMeshPanel, SphereCTPresetBoneApplyPreviewCreateModels) {
 TEST(SegmentationToMeshPanel, LabelmapVolumeBecomesOneSegmentPerLabel) {
   App();
   vtkNew<vtkRPScene> scene;
-  qRPSegmentationToMeshPanel panel(scene);
+  vtkNew<vtkRPSegmentationToMeshLogic> logic;
+  logic->SetScene(scene);
+  qRPSegmentationToMeshPanel panel(logic);
   // A labelmap volume: the sphere is label 2, a slab is label 5.
   long sphereVoxels = 0;
   auto volume = MakeSphereCT(sphereVoxels);
@@ -299,7 +304,9 @@ TEST(SegmentationToMeshPanel, LabelmapVolumeBecomesOneSegmentPerLabel) {
 TEST(SegmentationToMeshPanel, BonesOneByOneNamedBySeedLabels) {
   App();
   vtkNew<vtkRPScene> scene;
-  qRPSegmentationToMeshPanel panel(scene);
+  vtkNew<vtkRPSegmentationToMeshLogic> logic;
+  logic->SetScene(scene);
+  qRPSegmentationToMeshPanel panel(logic);
   long sphereVoxels = 0;
   auto ct = MakeSphereCT(sphereVoxels);
   scene->AddNode(ct);

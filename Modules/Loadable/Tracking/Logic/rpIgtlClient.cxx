@@ -72,7 +72,6 @@ std::unique_ptr<PoseSource> IgtlClient::Create(const PoseSourceConfig& config) {
   o.TrackingIntervalMs = static_cast<int>(config.Number("interval-ms", o.TrackingIntervalMs));
   return std::make_unique<IgtlClient>(o);
 }
-RP_REGISTER_POSE_SOURCE(igtl, "OpenIGTLink server (PLUS, Slicer, a scanner)", "127.0.0.1:18944", IgtlClient::Create);
 
 bool IgtlClient::Start(std::string&) {
   this->Worker.Start([this] { this->Run(); });

@@ -15,8 +15,9 @@ struct RegisteredCommand {
   IgtlCommandAccess Access;
   IgtlCommandHandler Handler;
 };
+std::map<std::string, RegisteredCommand> BuiltInCommands();
 std::map<std::string, RegisteredCommand>& Registry() {
-  static std::map<std::string, RegisteredCommand> registry;
+  static std::map<std::string, RegisteredCommand> registry = BuiltInCommands();
   return registry;
 }
 
@@ -42,31 +43,27 @@ std::string Escape(const std::string& text) {
 
 IgtlCommandReply Fail(const std::string& message) { return {false, message}; }
 
-// ---- the commands: one function and one registration each
+// ---- the commands: one function each, and one line in BuiltInCommands
 
 IgtlCommandReply RequestChannelIds(const IgtlCommandRequest&, IgtlCommandTarget& target) {
   return {true, Join(target.ChannelIds())};
 }
-RP_REGISTER_IGTL_COMMAND(RequestChannelIds, ReadOnly, RequestChannelIds);
 
 IgtlCommandReply RequestDeviceIds(const IgtlCommandRequest&, IgtlCommandTarget& target) {
   return {true, Join(target.DeviceIds())};
 }
-RP_REGISTER_IGTL_COMMAND(RequestDeviceIds, ReadOnly, RequestDeviceIds);
 
 IgtlCommandReply StartRecording(const IgtlCommandRequest& request, IgtlCommandTarget& target) {
   std::string message;
   const bool started = target.StartRecording(request.Attribute("OutputFilename", "Recording.igs.mha"), message);
   return {started, message};
 }
-RP_REGISTER_IGTL_COMMAND(StartRecording, ChangesState, StartRecording);
 
 IgtlCommandReply StopRecording(const IgtlCommandRequest&, IgtlCommandTarget& target) {
   std::string message;
   const bool stopped = target.StopRecording(message);  // PLUS answers with the frames and the file written
   return {stopped, message};
 }
-RP_REGISTER_IGTL_COMMAND(StopRecording, ChangesState, StopRecording);
 
 IgtlCommandReply GetTransform(const IgtlCommandRequest& request, IgtlCommandTarget& target) {
   const std::string name = request.Attribute("TransformName");
@@ -80,7 +77,6 @@ IgtlCommandReply GetTransform(const IgtlCommandRequest& request, IgtlCommandTarg
   for (int i = 0; i < 16; ++i) text << (i ? " " : "") << m[i];
   return {true, text.str()};
 }
-RP_REGISTER_IGTL_COMMAND(GetTransform, ReadOnly, GetTransform);
 
 IgtlCommandReply UpdateTransform(const IgtlCommandRequest& request, IgtlCommandTarget& target) {
   const std::string name = request.Attribute("TransformName");
@@ -93,7 +89,18 @@ IgtlCommandReply UpdateTransform(const IgtlCommandRequest& request, IgtlCommandT
   if (!target.UpdateTransform(name, m, error)) return Fail(error);
   return {true, "Transform " + name + " updated."};
 }
-RP_REGISTER_IGTL_COMMAND(UpdateTransform, ChangesState, UpdateTransform);
+
+// Every command the server answers, listed in one place, and whether it only reads or changes
+// state / writes files.
+std::map<std::string, RegisteredCommand> BuiltInCommands() {
+  using Access = IgtlCommandAccess;
+  return {{"RequestChannelIds", {Access::ReadOnly, RequestChannelIds}},
+          {"RequestDeviceIds", {Access::ReadOnly, RequestDeviceIds}},
+          {"StartRecording", {Access::ChangesState, StartRecording}},
+          {"StopRecording", {Access::ChangesState, StopRecording}},
+          {"GetTransform", {Access::ReadOnly, GetTransform}},
+          {"UpdateTransform", {Access::ChangesState, UpdateTransform}}};
+}
 
 }  // namespace
 

@@ -5,9 +5,9 @@
 // with `RTS_COMMAND` (same id, `Status`/`Message` metadata) and a CMD_ string with the STRING
 // `ACK_<uid>` holding `<CommandReply Status="SUCCESS|FAIL" Message="..." />`.
 //
-// A command is one function and one registration line (RP_REGISTER_IGTL_COMMAND) that says
-// whether it only reads or changes state / writes files; it acts on the server only through
-// IgtlCommandTarget. A command that changes state runs only for a caller the server allows
+// A command is one function and one line in the list of commands (BuiltInCommands in
+// rpIgtlCommands.cxx) that says whether it only reads or changes state / writes files; it acts
+// on the server only through IgtlCommandTarget. A command that changes state runs only for a caller the server allows
 // (its --command-clients); any other caller gets a FAIL reply naming why. Commands are rare
 // control messages: parsing them allocates (the pose stream does not).
 #include <map>
@@ -57,6 +57,7 @@ class IgtlCommandTarget {
 
 using IgtlCommandHandler = IgtlCommandReply (*)(const IgtlCommandRequest& request, IgtlCommandTarget& target);
 
+/// A command beside the built-in ones (BuiltInCommands), by a host at start-up.
 bool RegisterIgtlCommand(const char* name, IgtlCommandAccess access, IgtlCommandHandler handler);
 /// The registered command names, sorted.
 std::vector<std::string> IgtlCommandNames();
@@ -79,5 +80,3 @@ const char* CommandStatusName(const IgtlCommandReply& reply);
 
 }  // namespace rp
 
-#define RP_REGISTER_IGTL_COMMAND(name, access, handler) \
-  static const bool rpIgtlCommandRegistered_##name = ::rp::RegisterIgtlCommand(#name, ::rp::IgtlCommandAccess::access, handler)

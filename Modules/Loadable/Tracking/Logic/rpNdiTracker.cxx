@@ -86,8 +86,6 @@ std::unique_ptr<NdiTransport> NdiTracker::MakeTransport() const {
   return std::make_unique<TcpTransport>(host, port);
 }
 
-RP_REGISTER_POSE_SOURCE(serial, "NDI Polaris/Aurora on a serial port (Combined API)", "/dev/ttyUSB0", NdiTracker::Create);
-RP_REGISTER_POSE_SOURCE(tcp, "NDI Polaris Vega/Lyra over Ethernet (Combined API, TCP)", "host:8765", NdiTracker::CreateTcp);
 
 bool NdiTracker::Start(std::string&) {
   this->Worker.Start([this] { this->Run(); });

@@ -1,4 +1,5 @@
 #include "rpPoseSource.h"
+#include "rpPoseSourceKinds.h"
 
 #include <algorithm>
 #include <mutex>
@@ -38,9 +39,10 @@ std::pair<std::string, int> PoseSourceConfig::HostAndPort() const {
 }
 
 namespace {
+// The module's own kinds (rpPoseSourceKinds.cxx), then what a host registers.
 struct Registry {
-  std::mutex Mutex;  // registration happens while libraries load; lookups from the main thread
-  std::vector<PoseSourceRegistry::Entry> Entries;
+  std::mutex Mutex;
+  std::vector<PoseSourceRegistry::Entry> Entries = BuiltInPoseSources();
 };
 Registry& TheRegistry() {
   static Registry registry;

@@ -1,8 +1,8 @@
 #pragma once
 // One interface for everything that produces tool poses (a tracker over a serial port, an
 // OpenIGTLink server, a recording, a simulated Polaris), and a registry keyed by the source
-// kind, as PLUS's device factory: a new tracker is one class, one RP_REGISTER_POSE_SOURCE line
-// and its tests. `roboplan track` and the Tracking panel create and use sources only through
+// kind, as PLUS's device factory: a new tracker is one class, one line in the list of kinds
+// (BuiltInPoseSources, rpPoseSourceKinds.cxx) and its tests. `roboplan track` and the Tracking panel create and use sources only through
 // this interface.
 //
 // A source runs its own I/O thread (WorkerThread), publishes into a ToolPoseTable (slot names
@@ -82,16 +82,12 @@ class PoseSourceRegistry {
     std::string Kind, Description, AddressHint;
     PoseSourceFactory Factory;
   };
+  /// A kind beside the module's own (BuiltInPoseSources lists those): a host's or a test's.
+  /// False when the kind is taken.
   static bool Register(Entry entry);
   /// Throws as the factory does, and std::invalid_argument for an unknown kind.
   static std::unique_ptr<PoseSource> Create(const PoseSourceConfig& config);
-  static std::vector<Entry> Entries();  // in registration order
+  static std::vector<Entry> Entries();  // sorted by kind
 };
 
 }  // namespace rp
-
-/// One line per source kind, in the source's .cxx:
-///   RP_REGISTER_POSE_SOURCE(serial, "NDI Polaris/Aurora (serial)", "/dev/ttyUSB0", NdiTracker::Create)
-#define RP_REGISTER_POSE_SOURCE(kind, description, addressHint, factory)                     \
-  static const bool rpPoseSourceRegistered_##kind = ::rp::PoseSourceRegistry::Register( \
-      {#kind, description, addressHint, factory})

@@ -54,8 +54,6 @@ std::unique_ptr<PoseSource> SimulatedPolaris::Create(const PoseSourceConfig& con
   driver.RateCode = rate == 20 ? 0 : rate == 30 ? 1 : 2;
   return std::make_unique<SimulatedPolaris>(so, tools, driver);
 }
-RP_REGISTER_POSE_SOURCE(simulator, "simulated NDI Polaris on a pseudo-terminal (serial path, no hardware)", "",
-                        SimulatedPolaris::Create);
 
 bool SimulatedPolaris::Start(std::string& error) {
   if (!this->Device.Start(error)) return false;

@@ -240,7 +240,7 @@ double TrackUntilDone(vtkRPTrackingLogic* logic, PoseSource* tracker, const Trac
   const double seconds = request.Seconds;
   gInterrupted = false;
   auto previousInt = std::signal(SIGINT, OnSignal);
-  TerminalProgress progress("track", request.Json);
+  TerminalProgress progress("track", request.Json, err);
   const double start = SteadySeconds();
   double nextReport = start;
   std::vector<pollfd> ready;

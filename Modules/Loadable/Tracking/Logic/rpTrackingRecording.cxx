@@ -152,7 +152,6 @@ std::unique_ptr<PoseSource> RecordingPlayer::Create(const PoseSourceConfig& conf
   const std::string loop = config.Option("loop", "0");
   return std::make_unique<RecordingPlayer>(Recording::Read(config.Address), speed, loop == "1" || loop == "true");
 }
-RP_REGISTER_POSE_SOURCE(replay, "a recording (roboplan track --record, or PLUS .igs.mha/.igs.nrrd) played back", "session.txt", RecordingPlayer::Create);
 
 bool RecordingPlayer::Start(std::string&) {
   this->Done = false;

@@ -74,8 +74,10 @@ class ScriptedSource : public PoseSource {
   ToolPoseTable Table;
   WorkerThread Worker;
 };
-// ... and one registration line.
-RP_REGISTER_POSE_SOURCE(scripted, "a scripted test tracker", "", ScriptedSource::Create);
+// ... and one registration, by its owner at start-up (here the test program's; a module's
+// own kinds are one line in rpPoseSourceKinds.cxx).
+const bool scriptedRegistered =
+    rp::PoseSourceRegistry::Register({"scripted", "a scripted test tracker", "", ScriptedSource::Create});
 
 }  // namespace
 

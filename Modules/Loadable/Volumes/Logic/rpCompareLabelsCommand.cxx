@@ -71,7 +71,7 @@ int RunCompareLabelsCommand(const std::vector<std::string>& arguments, std::ostr
       .AtLeast(1)
       .Repeatable();
   if (const auto exitCode = parser.ParseCommand(arguments, out, err)) return *exitCode;
-  TerminalProgress progress("compare-labels", parser.Json());
+  TerminalProgress progress("compare-labels", parser.Json(), err);
   vtkNew<vtkRPScene> scene;
   ImageVolume test, truth;
   std::map<int, LabelName> names, truthNames;

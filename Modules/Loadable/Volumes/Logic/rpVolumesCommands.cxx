@@ -186,7 +186,7 @@ int RunDicomCommand(const std::vector<std::string>& arguments, std::ostream& out
                    "Non-DICOM files are skipped and counted; corrupt files are named.");
   parser.Positional("folder", "folder, DICOMDIR or single DICOM file");
   if (const auto exitCode = parser.ParseCommand(arguments, out, err)) return *exitCode;
-  TerminalProgress progress("dicom", parser.Json());
+  TerminalProgress progress("dicom", parser.Json(), err);
   DicomScanResult scan;
   std::string error;
   if (!ScanDicom(parser.Get("folder"), scan, error, progress.Callback())) {
@@ -248,7 +248,7 @@ int RunConvertCommand(const std::vector<std::string>& arguments, std::ostream& o
     err << "roboplan convert: --modality must be CT or MR\n";
     return 2;
   }
-  TerminalProgress progress("convert", parser.Json());
+  TerminalProgress progress("convert", parser.Json(), err);
   VolumeReadOptions readOptions;
   readOptions.SeriesInstanceUID = parser.Get("series");
   readOptions.Dicom.ResampleIrregularSpacing = parser.Has("resample-irregular");
@@ -328,7 +328,7 @@ int RunPhantomCommand(const std::vector<std::string>& arguments, std::ostream& o
     err << "roboplan phantom: " << e.what() << "\n";
     return 2;
   }
-  TerminalProgress progress("phantom", parser.Json());
+  TerminalProgress progress("phantom", parser.Json(), err);
   const auto start = std::chrono::steady_clock::now();
   KneePhantom phantom;
   std::string error;
@@ -593,7 +593,7 @@ int RunRegisterVolumesCommand(const std::vector<std::string>& arguments, std::os
   DeclareRegisterVolumesOptions(parser);
   if (const auto exitCode = parser.ParseCommand(arguments, out, err)) return *exitCode;
   RegisterVolumesRequest request = ParseRegisterVolumesRequest(parser);
-  TerminalProgress progress("register", parser.Json());
+  TerminalProgress progress("register", parser.Json(), err);
   RegisterVolumesRun run;
   if (!RunRegisterVolumes(request, run, progress, err)) return 1;
   ReportRegisterVolumes(request, run, parser.Json(), out);
