@@ -20,7 +20,7 @@ std::vector<std::shared_ptr<NodeStorage>> BuiltInNodeStorages();
 std::vector<std::shared_ptr<DataReader>> BuiltInDataReaders();
 
 // Each format's maker, beside its code.
-std::shared_ptr<NodeStorage> MakeMarkupsStorage();         // rpMarkupsIO.cxx
+std::shared_ptr<NodeStorage> MakeMarkupsStorage();          // rpMarkupsIO.cxx
 std::shared_ptr<NodeStorage> MakeModelStorage();            // rpModelIO.cxx
 std::shared_ptr<NodeStorage> MakeSegmentationStorage();     // rpSegmentationIO.cxx
 std::shared_ptr<NodeStorage> MakeLinearTransformStorage();  // rpTransformIO.cxx
