@@ -35,18 +35,24 @@
 #include "vtkRPModelNode.h"
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
+#include "vtkRPScrewNode.h"
 #include "vtkRPSegmentationNode.h"
+#include "vtkRPTrajectoryNode.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 std::string Roboplan;
 
-// The figures of a demo run (report.json beside report.html).
-nlohmann::json Figures(const fs::path& out) {
+// A demo run's report.json (beside report.html), and its figures.
+nlohmann::json ReportJson(const fs::path& out) {
   std::string text, error;
-  if (!rp::ReadFile((out / "report.json").string(), text, error)) return nlohmann::json::array();
-  return nlohmann::json::parse(text)["figures"];
+  if (!rp::ReadFile((out / "report.json").string(), text, error)) return nlohmann::json::object();
+  return nlohmann::json::parse(text);
+}
+nlohmann::json Figures(const fs::path& out) {
+  const nlohmann::json report = ReportJson(out);
+  return report.contains("figures") ? report["figures"] : nlohmann::json::array();
 }
 nlohmann::json FindFigure(const nlohmann::json& figures, const std::string& name) {
   for (const auto& f : figures)
@@ -214,6 +220,56 @@ TEST(Demo, SmallPhantomEndToEndAndSlicerConventions) {
     EXPECT_LE(p95["value"].get<double>(), 3.0) << bone;
   }
 
+  // The plan (issue 37): the tunnel and the screw, each with the figures a surgeon checks, every
+  // structure at risk clear beyond its margin and no breach beyond grade 1.
+  for (const std::string plan : {"tibial tunnel", "screw"}) {
+    for (const std::string figure : {": length", ": length in bone", ": share of the tool's surface in cortical bone",
+                                      ": cortical breach", ": clearance from Fibula", ": clearance from PCL",
+                                      ": clearance from Popliteal vessels (stand-in)"}) {
+      const auto f = FindFigure(figures, plan + figure);
+      ASSERT_FALSE(f.is_null()) << plan + figure;
+      if (figure.rfind(": clearance", 0) == 0 || figure == ": cortical breach") {
+        EXPECT_EQ(f["result"], "pass") << plan + figure;
+      }
+    }
+  }
+  EXPECT_GT(FindFigure(figures, "tibial tunnel: length in bone")["value"].get<double>(), 25.0);
+  const nlohmann::json reportJson = ReportJson(out);
+  ASSERT_EQ(reportJson["plans"].size(), 2u);
+  for (const auto& plan : reportJson["plans"]) {
+    EXPECT_GT(plan["figures"]["profile"].size(), 20u) << plan["name"];
+    ASSERT_EQ(plan["figures"]["clearance"].size(), 3u) << plan["name"];
+  }
+  EXPECT_GE(reportJson["plans"][0]["proposal"]["candidates"].get<double>(), 100) << "the tunnel's entry was proposed";
+  // The executions (issue 38): each plan three ways under one hand, scored. The issue's targets:
+  // with axis guidance and a depth stop, entry and tip within 0.5 mm and the angle within 1°; no
+  // execution with the forbidden regions on enters one; no depth overshoot beyond 0.1 mm.
+  const auto& executions = reportJson["executions"];
+  ASSERT_EQ(executions.size(), 6u);
+  for (const auto& e : executions) {
+    for (const char* key : {"name", "fixtures", "entryOffsetMm", "tipOffsetMm", "angleDeg", "depthErrorMm", "maxDeviationMm",
+                            "enteredForbidden", "drillSeconds"})
+      ASSERT_TRUE(e.contains(key)) << key << " in " << e.dump();
+    const std::string fixtures = e["fixtures"];
+    EXPECT_GT(e["drillSeconds"].get<double>(), 1.0) << e["name"];
+    if (fixtures.find("depth") != std::string::npos) {
+      EXPECT_LE(e["depthErrorMm"].get<double>(), 0.1) << e["name"];
+    }
+    if (fixtures == "axis,depth") {
+      EXPECT_LE(e["entryOffsetMm"].get<double>(), 0.5) << e["name"];
+      EXPECT_LE(e["tipOffsetMm"].get<double>(), 0.5) << e["name"];
+      EXPECT_LE(e["angleDeg"].get<double>(), 1.0) << e["name"];
+    }
+    if (fixtures.find("forbidden") != std::string::npos) {
+      EXPECT_FALSE(e["enteredForbidden"].get<bool>()) << e["name"];
+    }
+  }
+  EXPECT_EQ(executions[0]["fixtures"], "none");
+  EXPECT_GT(executions[0]["tipOffsetMm"].get<double>(), executions[1]["tipOffsetMm"].get<double>())
+      << "the free hand is the baseline guidance improves on";
+  EXPECT_EQ(reportJson["executionSweeps"]["stiffness"].size(), 3u);
+  EXPECT_EQ(reportJson["executionSweeps"]["speed"].size(), 3u);
+
 #ifdef ROBOPLAN_DEMO_DRAWS_PICTURES
   // The bones as a surgeon looks at them: from the front (left half) and from the lateral side
   // (right half), each bone in its colour, framed on the bones. From the front the patella lies
@@ -271,12 +327,41 @@ TEST(Demo, SmallPhantomEndToEndAndSlicerConventions) {
   ASSERT_NE(trackerToRAS, nullptr);
   EXPECT_EQ(trackerToRAS->GetAttribute("Registration.Status"), "accepted");
   ASSERT_NE(scene->GetFirstNodeByName("StylusTipToStylus"), nullptr);
+  // The plan came back: the tunnel a trajectory, the screw a screw with its model, their points
+  // those the report gives; the fibula a structure at risk on its segment.
+  auto* tunnel = vtkRPTrajectoryNode::SafeDownCast(scene->GetFirstNodeByName("Tibial tunnel"));
+  auto* screw = vtkRPScrewNode::SafeDownCast(scene->GetFirstNodeByName("Medial plateau screw"));
+  ASSERT_NE(tunnel, nullptr);
+  ASSERT_NE(screw, nullptr);
+  EXPECT_EQ(vtkRPScrewNode::SafeDownCast(tunnel), nullptr);
+  for (const auto& [node, plan] : {std::pair{static_cast<vtkRPTrajectoryNode*>(tunnel), reportJson["plans"][0]["plan"]},
+                                   std::pair{static_cast<vtkRPTrajectoryNode*>(screw), reportJson["plans"][1]["plan"]}}) {
+    double entry[3], target[3];
+    ASSERT_TRUE(node->GetEntry(entry) && node->GetTarget(target)) << node->GetName();
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_NEAR(entry[c], plan["entry"][c].get<double>(), 1e-6) << node->GetName();
+      EXPECT_NEAR(target[c], plan["target"][c].get<double>(), 1e-6) << node->GetName();
+    }
+    EXPECT_NEAR(node->GetToolDiameterMm(), plan["toolDiameterMm"].get<double>(), 1e-9);
+  }
+  EXPECT_EQ(screw->GetScrewDiameterMm(), 6.5);
+  EXPECT_NEAR(screw->GetScrewLengthMm(), reportJson["plans"][1]["plan"]["screw"]["lengthMm"].get<double>(), 1e-9);
+  const auto* vessels = vtkRPModelNode::SafeDownCast(scene->GetFirstNodeByName("Popliteal vessels (stand-in)"));
+  ASSERT_NE(vessels, nullptr);
+  EXPECT_TRUE(vessels->GetProtection().Protected);
+  EXPECT_EQ(vessels->GetProtection().SafetyMarginMm, 3.0);
+  auto* segmentation = vtkRPSegmentationNode::SafeDownCast(scene->GetNodesByClass("vtkRPSegmentationNode").front());
+  ASSERT_NE(segmentation->GetSegmentByID("fibula"), nullptr);
+  EXPECT_TRUE(segmentation->GetSegmentByID("fibula")->Protection.Protected);
+  // Each plan also a Slicer markups line beside the report.
+  std::string text;
+  ASSERT_TRUE(rp::ReadFile((out / "Tibial_tunnel.mrk.json").string(), text, error)) << error;
+  EXPECT_EQ(nlohmann::json::parse(text)["markups"][0]["type"], "Line");
 
   // Fiducials: the .mrk.json holds LPS coordinates of the scene's RAS points (Slicer's default).
   auto* image = vtkRPFiducialListNode::SafeDownCast(scene->GetFirstNodeByName("ImageLandmarks"));
   ASSERT_NE(image, nullptr);
   ASSERT_GE(image->GetNumberOfControlPoints(), 4);
-  std::string text;
   ASSERT_TRUE(rp::ReadFile((out / "ImageLandmarks.mrk.json").string(), text, error));
   const auto markups = nlohmann::json::parse(text);
   EXPECT_EQ(markups["markups"][0]["coordinateSystem"], "LPS");
@@ -370,6 +455,8 @@ TEST(Demo, ARealKneeCTIsScoredPerBoneAgainstItsLabels) {
   EXPECT_GE(FindFigure(figures, "tibia: Dice")["value"].get<double>(), 0.93);
   EXPECT_GE(FindFigure(figures, "fibula: Dice")["value"].get<double>(), 0.82);
   EXPECT_LE(FindFigure(figures, "tibia: mean surface distance to the truth label's surface")["value"].get<double>(), 1.0);
+  // No ligament on a user's CT: the plan (and so its drilling and executions) says why it is not made.
+  EXPECT_EQ(FindFigure(figures, "tibial tunnel and screw plan")["result"], "not scored");
   // --truth without --data is a usage error.
   EXPECT_EQ(RunRoboplan("demo --truth " + data + "/labels.nrrd --out " + (out / "x").string(), output), 2);
   EXPECT_NE(output.find("--truth"), std::string::npos) << output;

@@ -42,6 +42,7 @@
 #include "rpFixtureConstraint.h"
 #include "rpForbiddenRegion.h"
 #include "rpGuidedDrill.h"
+#include "rpGuidedDrillJson.h"
 #include "rpHapticRenderer.h"
 #include "rpPolyDataTriangleMesh.h"
 #include "rpSurfaceConstraint.h"
@@ -288,24 +289,50 @@ void TickFiguresBothServos(Figures& f, bool quick) {
   rp::bench::WriteBarChartPNG(dir + "/guidance_ticks.png", {"haptics", "drilling"}, {without, with}, options, error);
 }
 
-// The three executions of the same plan under the same hand (the demo's): free hand; axis
-// guidance + depth stop; guidance + a forbidden region around a vessel beside the tunnel.
+// The three executions of the same plan under the same hand (the demo's ways, run by the demo's
+// function): free hand; axis guidance + depth stop; guidance + a forbidden region around a vessel
+// beside the tunnel (a structure at risk of the plan, margin 1 mm).
 void ThreeExecutions(Figures& f) {
-  auto vessel = std::make_shared<rp::MeshSignedDistance>();
+  rp::PlanSnapshot plan;
+  rp::TrajectorySnapshot tunnel;
+  tunnel.NodeID = tunnel.Name = "plan";
+  tunnel.Entry = DrillPlan.Entry();
+  tunnel.Target = DrillPlan.Target();
+  tunnel.ToolDiameterMm = 4;
+  plan.Trajectories.push_back(tunnel);
+  rp::StructureAtRiskSnapshot vessel;
+  vessel.NodeID = vessel.Name = "vessel";
+  vessel.SafetyMarginMm = 1.0;
+  vessel.Surface = std::make_shared<const rp::TriangleMesh>(rp::shapes::Sphere({6.5, 0, -15}, 2, 4));
+  auto signedDistance = std::make_shared<rp::MeshSignedDistance>();
   std::string error;
-  vessel->Build(rp::shapes::Sphere({6.5, 0, -15}, 2, 4), error);
-  struct Way {
-    const char* Name;
-    const char* Fixtures;
-    std::shared_ptr<const rp::FixtureSet> Set;
-  };
-  const Way ways[] = {{"free hand", "", DrillFixtures(false, false, false, false, 0, nullptr)},
-                      {"axis guidance and depth stop", "axis,depth", DrillFixtures(true, true, false, false, 0, nullptr)},
-                      {"guidance and a forbidden region", "axis,depth,forbidden", DrillFixtures(true, true, true, false, 0, vessel)}};
-  for (const Way& w : ways) {
-    nlohmann::json e = Json(Drill(0.3, w.Set, 2.5, 3, 0.2, 1.0, vessel));
-    e["name"] = w.Name;
-    e["fixtures"] = w.Fixtures;
+  signedDistance->Build(*vessel.Surface, error);
+  vessel.Signed = signedDistance;
+  plan.StructuresAtRisk.push_back(vessel);
+  for (const rp::ExecutionWay& way : rp::ExecutionWays()) {
+    vtkNew<vtkRPScene> scene;
+    vtkNew<vtkRPDrillingLogic> logic;
+    logic->SetScene(scene);
+    logic->SetTouchOtherModels(false);
+    rp::PlanFixtureChoice choice;
+    rp::GuidedDrillOptions o;
+    o.BurrRadiusMm = 2;
+    o.SpeedMmPerS = 2.5;
+    o.FeedRate = 8;
+    o.Noise.TremorMm = 0.2;
+    o.Noise.DriftMmPerS = 1.0;
+    o.Noise.Seed = 3;
+    rp::GuidedDrillResult r;
+    if (!logic->BuildBlockBone({-15, -15, -40}, {15, 15, 0}, 0, 0.3, error) ||
+        !rp::ParseFixtureKinds(way.Fixtures, choice, error) ||
+        !rp::DrillPlannedTrajectory(logic, plan, tunnel, choice, o, r, error)) {
+      std::cerr << way.Name << ": " << error << "\n";
+      continue;
+    }
+    nlohmann::json e = rp::GuidedDrillJson(r);
+    e["name"] = way.Name;
+    e["fixtures"] = way.Fixtures;
+    e["servo"] = Json(FiguresOf(r.Run.TickCompute, r.Run.Ticks));
     f.Doc["executions"].push_back(e);
   }
 }

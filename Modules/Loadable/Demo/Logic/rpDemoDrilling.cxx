@@ -1,13 +1,14 @@
-// Demo stage: a tibial tunnel for an ACL reconstruction, drilled with the burr at 1 kHz (the
-// Drilling module, issue 15). The tunnel is planned on the phantom's truth: from the
-// anteromedial tibial cortex to the centre of the ACL's tibial footprint; the PCL (just behind
-// the footprint: a tunnel placed too far back damages it) is the protected structure. The
-// segmented tibia (this run's segmentation, cortical/trabecular from the CT's HU; its density
-// follows the tibia's display model, the surface the user sees, not the labels meshed again) is
-// drilled along the axis by the simulated device; the report gives the removed volume against the bone
-// inside the planned tunnel, the closest approach to the PCL, the force along the path (chart),
-// timings, and a picture of the tunnel. The drilled tibia is added to the scene and the drill
-// path is kept (drill-tibial-tunnel.txt, replayable with `roboplan drill --replay`).
+// Demo stage: the planned tibial tunnel of an ACL reconstruction (the Plan stage's trajectory
+// node, rpDemoPlanning.cxx: the one definition of the tunnel) drilled with the burr at 1 kHz (the
+// Drilling module, issue 15). The segmented tibia (this run's segmentation, cortical/trabecular
+// from the CT's HU; its density follows the tibia's display model, the surface the user sees,
+// not the labels meshed again) is drilled along the plan by the simulated device, from a start
+// clear of the bone to the target; the plan's structures at risk (the PCL just behind the
+// footprint, the fibula, the popliteal vessels' stand-in) are protected in the bone within their
+// margins. The report gives the removed volume against the bone inside the planned tunnel, the
+// closest approach to each structure at risk, the force along the path (chart), timings, and a
+// picture of the tunnel. The drilled tibia is added to the scene and the drill path is kept
+// (drill-tibial-tunnel.txt, replayable with `roboplan drill --replay`).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -24,8 +25,10 @@
 #include "rpDrillAnalytic.h"
 #include "rpDrillBoneBuilder.h"
 #include "rpDrillCommand.h"
+#include "rpDrillProtection.h"
+#include "rpGuidedDrill.h"
+#include "rpDemoPlan.h"
 #include "rpPolyDataTriangleMesh.h"
-#include "rpKneePhantom.h"
 #include "rpReport.h"
 #include "rpServoLoadReport.h"
 #include "rpSimulatedDevice.h"
@@ -44,39 +47,6 @@ namespace {
 
 constexpr double BurrRadius = 2.0;  // a 4 mm burr: the pilot of an 8–10 mm reamed tunnel
 constexpr double Voxel = 0.3;
-
-// The ACL's tibial footprint: the centroid of the ACL's surface within 1.5 mm of the tibia.
-bool AclFootprint(const DemoState& state, Vec3& footprint) {
-  const auto& model = *state.Phantom->Model;
-  Vec3 sum{};
-  int n = 0;
-  for (const auto& p : model.SurfacePoints(KneeStructure::ACL, 6000)) {
-    if (model.SignedDistance(KneeStructure::Tibia, p.data()) < 1.5) {
-      sum += Vec3{p[0], p[1], p[2]};
-      ++n;
-    }
-  }
-  if (n < 10) return false;
-  footprint = sum / n;
-  return true;
-}
-
-// The labels to drill: the run's segmentation with the PCL (from the phantom's truth) added as
-// one more label, in a copy (the scene's segmentation is left as it is).
-ImageVolume LabelsWithPCL(const DemoState& state, int boneLabel, int& pclLabel) {
-  ImageVolume labels = FromNode(state.Segmentation);
-  vtkNew<vtkImageData> copy;
-  copy->DeepCopy(labels.Image);
-  labels.Image = copy;
-  pclLabel = state.Segmentation->GetUnusedLabelValue();
-  vtkImageData* truth = state.Phantom->Labels.Image;
-  vtkDataArray* out = copy->GetPointData()->GetScalars();
-  vtkDataArray* in = truth->GetPointData()->GetScalars();
-  if (in->GetNumberOfTuples() != out->GetNumberOfTuples()) throw std::runtime_error("the truth labels are not on the CT grid");
-  for (vtkIdType i = 0; i < out->GetNumberOfTuples(); ++i)
-    if (in->GetTuple1(i) == KneePCL && out->GetTuple1(i) != boneLabel) out->SetTuple1(i, pclLabel);
-  return labels;
-}
 
 // Bone (mm³ per material) inside the planned tunnel: each voxel's density as built times its
 // coverage by the capsule (the same two-voxel ramp the burr carves).
@@ -100,38 +70,17 @@ std::vector<double> PlannedVolume(const DrillVolume& bone, const Vec3& a, const 
   return volume;
 }
 
-// The planned tunnel: from a start clear of the bone at the anteromedial cortex to 1 mm past
-// the ACL footprint, along Axis.
+// The stroke that drills the planned tunnel: from a start clear of the bone on the plan's axis
+// (the burr's whole sphere outside the tibia's model, 1 mm to spare) to the plan's target.
 struct TunnelPlan {
   Vec3 From, To, Axis;
 };
 
-TunnelPlan PlanTunnel(const DemoState& state) {
-  Vec3 footprint;
-  if (!AclFootprint(state, footprint)) throw std::runtime_error("the phantom's ACL does not reach the tibia");
-  const Vec3 axis = Normalized(Vec3{12, -18, 28});  // up, back and lateral, as drill guides aim (right knee)
-  const auto& model = *state.Phantom->Model;
-  double exit = -1;
-  bool inside = false;
-  for (double t = 0.5; t < 90; t += 0.1) {
-    const Vec3 p = footprint - axis * t;
-    const double q[3] = {p.x, p.y, p.z};
-    const double d = model.SignedDistance(KneeStructure::Tibia, q);
-    if (d < 0) inside = true;
-    if (inside && d > 0) {
-      exit = t;
-      break;
-    }
-  }
-  if (exit < 0) throw std::runtime_error("the planned tunnel does not leave the tibia anteromedially");
-  // The burr starts clear of the bone (its whole sphere outside, 1 mm to spare), on the axis.
-  double start = exit;
-  for (; start < exit + 30; start += 0.1) {
-    const Vec3 p = footprint - axis * start;
-    const double q[3] = {p.x, p.y, p.z};
-    if (model.SignedDistance(KneeStructure::Tibia, q) > BurrRadius + 1.0) break;
-  }
-  return {footprint - axis * start, footprint + axis * 1.0, axis};  // 1 mm into the joint
+TunnelPlan StrokeOf(const TrajectorySnapshot& plan, const MeshSignedDistance& tibia) {
+  const Vec3 axis = plan.Direction();
+  double back = 0;
+  while (back < 30 && tibia.SignedDistance(plan.Entry - axis * back) < BurrRadius + 1.0) back += 0.1;
+  return {plan.Entry - axis * back, plan.Target, axis};
 }
 
 // The tibia's display model: the bone model the user sees (and the demo saves as tibia.vtp), in
@@ -149,27 +98,6 @@ bool TibiaModelSurface(const DemoState& state, const Segment& tibia, TriangleMes
     return false;
   }
   return true;
-}
-
-// The voxel tibia around the tunnel (cortical / trabecular from the CT), PCL protected; its
-// density follows the tibia model's surface.
-DrillBoneSource TunnelBone(const DemoState& state, const Segment& tibia, const TriangleMesh& tibiaSurface,
-                           const TunnelPlan& plan) {
-  DrillBoneSource source;
-  source.BoneSurface = tibiaSurface;
-  int pcl = 0;
-  source.Labels = LabelsWithPCL(state, tibia.LabelValue, pcl);
-  source.BoneLabels = {tibia.LabelValue};
-  source.BoneTissues = {tibia.TissueClass};
-  source.ProtectedLabels = {pcl};
-  source.ProtectedTissues = {"ligament"};
-  if (state.CT) source.CT = FromNode(state.CT);
-  source.Spacing = Voxel;
-  source.HasRegion = true;
-  const Vec3 margin{15, 15, 15};
-  source.RegionLo = Min(plan.From, plan.To) - margin;
-  source.RegionHi = Max(plan.From, plan.To) + margin;
-  return source;
 }
 
 // How long the voxel tibia took, and that its surface is the tibia model's (within a fraction of
@@ -212,14 +140,15 @@ DrillRunResult DrillAlongPlan(DemoState& state, const TunnelPlan& plan, vtkRPDri
 // Removed against planned volume, the PCL's closest approach, the burr's path.
 void ReportTunnelVolumes(DemoState& state, const std::string& stage, const TunnelPlan& plan,
                          const std::vector<Material>& materials, const std::vector<double>& planned,
-                         const DrillRunResult& result, const DrillVolume& bone, bool pclProtected, double cutLead) {
+                         const DrillRunResult& result, const DrillVolume& bone, const PlanSnapshot& snapshot,
+                         double cutLead) {
   const DrillState& s = result.Final;
   const Vec3 &from = plan.From, &to = plan.To;
   double plannedTotal = 0;
   for (double v : planned) plannedTotal += v;
   const bool reached = Norm(s.Proxy - to) < 0.05;
-  state.Report->AddFigure(stage, "planned tunnel (4 mm burr) length", Norm(to - from), "mm",
-                          "anteromedial cortex → ACL footprint centre, 1 mm into the joint");
+  state.Report->AddFigure(stage, "drilled stroke (4 mm burr) length", Norm(to - from), "mm",
+                          "the plan's axis from clear of the anteromedial cortex to its target, 1 mm into the joint");
   state.Report->AddFigure(stage, "bone inside the planned tunnel", plannedTotal, "mm³");
   if (reached) {
     state.Report->AddFigureBelow(stage, "removed volume against the planned tunnel's bone",
@@ -227,14 +156,11 @@ void ReportTunnelVolumes(DemoState& state, const std::string& stage, const Tunne
                                  std::to_string(static_cast<int>(s.RemovedTotalMm3 + 0.5)) + " mm³ removed");
   } else {
     state.Report->AddFigureBelow(stage, "burr reached the ACL footprint", 1.0, "", 0.5,
-                                 s.Stopped ? "stopped by the protected PCL" : "ran out of time");
+                                 s.Stopped ? "stopped by a protected structure" : "ran out of time");
   }
   for (size_t m = 0; m < materials.size(); ++m)
     state.Report->AddFigure(stage, "removed " + materials[m].Tissue, s.RemovedMm3[m], "mm³",
                             "planned " + std::to_string(static_cast<int>(planned[m] + 0.5)) + " mm³");
-  if (pclProtected)
-    state.Report->AddFigureAbove(stage, "closest approach of the burr to the PCL", s.ClosestApproach, "mm", 0.0,
-                                 s.RefusedTicks ? "the burr was stopped at it" : "the PCL was not reached");
   std::vector<Vec3> burrPath;
   double deviation = 0;
   for (const DrillRecordLine& l : result.Records) {
@@ -252,6 +178,16 @@ void ReportTunnelVolumes(DemoState& state, const std::string& stage, const Tunne
                                "burr radius + one voxel + the cut's lead (" + std::to_string(static_cast<int>(lead * 1000 + 0.5)) + " µm)");
   state.Report->AddFigure(stage, "largest deviation of the cutting burr from the planned axis", deviation, "mm",
                           "the burr slides where the bone's surface is oblique to the push");
+  // The burr's surface against each structure at risk of the plan, along the whole path.
+  for (const StructureAtRiskSnapshot& structure : snapshot.StructuresAtRisk) {
+    if (!structure.Signed) continue;
+    double closest = HUGE_VAL;
+    for (const Vec3& p : burrPath) closest = std::min(closest, structure.Signed->SignedDistance(p) - BurrRadius);
+    state.Report->AddFigureAbove(stage, "closest approach of the burr to " + structure.Name, closest, "mm",
+                                 structure.SafetyMarginMm,
+                                 "its margin " + std::to_string(structure.SafetyMarginMm).substr(0, 3) + " mm" +
+                                     (s.RefusedTicks ? "; the burr was refused there" : ""));
+  }
 }
 
 // Force, servo timing and machine load, re-contour times.
@@ -305,7 +241,7 @@ void WriteForceChart(DemoState& state, const std::string& stage, const TunnelPla
 
 void WriteTunnelPictureOf(DemoState& state, const std::string& stage, const TunnelPlan& plan,
                           const std::vector<Material>& materials, const DrillRunResult& result, const DrillVolume& bone,
-                          vtkPolyData* mesh, const TriangleMesh& pclSurface) {
+                          vtkPolyData* mesh, const PlanSnapshot& snapshot) {
   TunnelPicture picture;
   picture.Bone = mesh;
   picture.Volume = &bone;
@@ -314,51 +250,81 @@ void WriteTunnelPictureOf(DemoState& state, const std::string& stage, const Tunn
   picture.To = plan.To;
   picture.Radius = BurrRadius;
   for (size_t i = 0; i < result.Records.size(); i += 10) picture.Path.push_back(result.Records[i].Record.Proxy);
-  if (!pclSurface.Triangles.empty()) picture.Protected = TriangleMeshToPolyData(pclSurface);
-  picture.Title = "Tibial tunnel to the ACL footprint, PCL protected";
+  TriangleMesh structures;
+  for (const StructureAtRiskSnapshot& s : snapshot.StructuresAtRisk)
+    if (s.Surface) structures.Append(*s.Surface, 0);
+  if (!structures.Triangles.empty()) picture.Protected = TriangleMeshToPolyData(structures);
+  picture.Title = "Tibial tunnel to the ACL footprint, structures at risk protected";
   std::string error;
   state.Report->AddPictureIf(WriteTunnelPicture((fs::path(state.Output) / "drill-tibial-tunnel.png").string(), picture, error),
                              stage, "drill-tibial-tunnel.png",
                              "The drilled tibia (left) and a section through the tunnel's axis (right): cortical bone "
-                             "ivory, trabecular tan, drilled blue, the PCL red, the planned tunnel green.",
+                             "ivory, trabecular tan, drilled blue, the structures at risk (PCL, fibula, popliteal "
+                             "vessels' stand-in) red, the planned tunnel green.",
                              error);
 }
 
 }  // namespace
 
-void DrillTibialTunnel(DemoState& state) {
-  const std::string stage = "Tibial tunnel (drilling)";
-  if (!state.HasGroundTruth()) {
-    state.Report->AddNotScored(stage, "tibial tunnel", "planned from the phantom's ACL footprint: no phantom with --data");
-    return;
+std::shared_ptr<const PlanSnapshot> DemoPlan(const DemoState& state, std::string& why) {
+  if (state.TunnelPlanID.empty()) {
+    why = "the Plan stage made no tunnel";
+    return nullptr;
   }
+  return SnapshotPlan(state.Scene, why);
+}
+
+bool TibiaDrillSource(const DemoState& state, const Vec3& lo, const Vec3& hi, double voxelMm, DrillBoneSource& source,
+                      std::string& why) {
   const auto* tibia = state.Segmentation ? state.Segmentation->GetSegmentByID("tibia") : nullptr;
   if (tibia == nullptr) {
-    state.Report->AddNotScored(stage, "tibial tunnel", "the tibia was not segmented in this run");
-    return;
+    why = "the tibia was not segmented in this run";
+    return false;
   }
-  TriangleMesh tibiaSurface;
+  if (!TibiaModelSurface(state, *tibia, source.BoneSurface, why)) return false;
+  source.Labels = FromNode(state.Segmentation);
+  source.BoneLabels = {tibia->LabelValue};
+  source.BoneTissues = {tibia->TissueClass};
+  if (state.CT) source.CT = FromNode(state.CT);
+  source.Spacing = voxelMm;
+  source.HasRegion = true;
+  source.RegionLo = lo;
+  source.RegionHi = hi;
+  return true;
+}
+
+void DrillTibialTunnel(DemoState& state) {
+  const std::string stage = "Tibial tunnel (drilling)";
   std::string why;
-  if (!TibiaModelSurface(state, *tibia, tibiaSurface, why)) {
+  const std::shared_ptr<const PlanSnapshot> snapshot = DemoPlan(state, why);
+  const TrajectorySnapshot* planned = snapshot ? ChooseTrajectory(*snapshot, state.TunnelPlanID, why) : nullptr;
+  DrillBoneSource source;
+  MeshSignedDistance tibiaDistance;
+  if (!planned || !TibiaDrillSource(state, planned->Entry, planned->Target, Voxel, source, why) ||
+      !tibiaDistance.Build(source.BoneSurface, why)) {
     state.Report->AddNotScored(stage, "tibial tunnel", why);
     return;
   }
-  const TunnelPlan plan = PlanTunnel(state);
+  const TunnelPlan plan = StrokeOf(*planned, tibiaDistance);
+  const Vec3 margin{15, 15, 15};
+  source.RegionLo = Min(plan.From, plan.To) - margin;
+  source.RegionHi = Max(plan.From, plan.To) + margin;
   state.Runner->Progress(0.05, "voxel tibia");
 
-  // The voxel tibia and the drilled tibia's model node ("Tibia (drilled)") in the Drilling logic.
+  // The voxel tibia and the drilled tibia's model node ("Tibia (drilled)") in the Drilling logic;
+  // the plan's structures at risk protected in it.
   vtkNew<vtkRPDrillingLogic> logic;
   logic->SetScene(state.Scene);
   std::string error;
-  if (!logic->BuildBone(TunnelBone(state, *tibia, tibiaSurface, plan), {"Tibia"}, error)) throw std::runtime_error(error);
+  if (!logic->BuildBone(source, {"Tibia"}, error)) throw std::runtime_error(error);
   DrillVolume& bone = *logic->GetBone();
+  ProtectRegions(bone, ProtectedRegionsOf(*snapshot));
   const std::vector<Material>& materials = logic->GetMaterials();
-  ReportTunnelBone(state, stage, bone, logic->GetBoneReport(), tibiaSurface);
-  const TriangleMesh& pclSurface = logic->GetProtectedSurface();
-  const std::vector<double> planned = PlannedVolume(bone, plan.From, plan.To, BurrRadius);
+  ReportTunnelBone(state, stage, bone, logic->GetBoneReport(), source.BoneSurface);
+  const std::vector<double> plannedVolume = PlannedVolume(bone, plan.From, plan.To, BurrRadius);
 
   const DrillRunResult result = DrillAlongPlan(state, plan, logic);
-  ReportTunnelVolumes(state, stage, plan, materials, planned, result, bone, !pclSurface.Triangles.empty(),
+  ReportTunnelVolumes(state, stage, plan, materials, plannedVolume, result, bone, *snapshot,
                       logic->GetSession()->Servo().MaxCutLead(DrillControl{}.Rpm, 0.001));
   ReportTunnelTimings(state, stage, result, bone, logic->GetBoneReport(), SimulatedDevice::DefaultInfo().MaxForce);
   vtkPolyData* mesh = logic->GetDrilledMesh();
@@ -366,7 +332,7 @@ void DrillTibialTunnel(DemoState& state) {
 
   if (!CanDrawPicturesOrWarn(state, stage, "tibial tunnel pictures")) return;
   WriteForceChart(state, stage, plan, materials, result);
-  WriteTunnelPictureOf(state, stage, plan, materials, result, bone, mesh, pclSurface);
+  WriteTunnelPictureOf(state, stage, plan, materials, result, bone, mesh, *snapshot);
 }
 
 }  // namespace rp

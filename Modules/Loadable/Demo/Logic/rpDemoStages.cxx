@@ -384,7 +384,9 @@ std::vector<DemoStage> DemoStages() {
       {"Patient-to-image registration (digitized landmarks)", RegisterPatient},
       {"Navigation: scripted tool path, re-slicing at the tip", Navigate},
       {"Haptic exploration at 1 kHz (simulated device)", ExploreHaptically},
-      {"Tibial tunnel drilled at 1 kHz (burr on a voxel tibia, PCL protected)", DrillTibialTunnel},
+      {"Plan: tibial tunnel (proposed entry) and a screw, checked against the CT", PlanTunnelAndScrew},
+      {"Tibial tunnel drilled at 1 kHz (the plan, on a voxel tibia, structures at risk protected)", DrillTibialTunnel},
+      {"The plan executed three ways (free hand, guided, guided with forbidden regions)", ExecutePlans},
       {"Speed against accuracy (this patient, against the VTK way)", MeasureSpeedAgainstAccuracy},
   };
 }

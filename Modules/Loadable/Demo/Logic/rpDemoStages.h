@@ -44,6 +44,8 @@ struct DemoState {
   std::array<double, 3> KneeLateral{{1, 0, 0}}, KneeAnterior{{0, 1, 0}};
   bool KneeAxesKnown = false;
   ToolDefinition StylusTruth;         // the simulated stylus (its true tip offset)
+  // The Plan stage's nodes (IDs; "" when it made none): the tibial tunnel and the screw.
+  std::string TunnelPlanID, ScrewPlanID;
   bool HasGroundTruth() const { return static_cast<bool>(this->Phantom); }
 };
 
@@ -58,7 +60,9 @@ void CalibrateStylus(DemoState& state);
 void RegisterPatient(DemoState& state);
 void Navigate(DemoState& state);
 void MeasureSpeedAgainstAccuracy(DemoState& state);
+void PlanTunnelAndScrew(DemoState& state);
 void DrillTibialTunnel(DemoState& state);
+void ExecutePlans(DemoState& state);
 /// Whether pictures can be drawn in this run (screenshots on, a display); else why not.
 bool CanDrawPictures(const DemoState& state, std::string& error);
 /// CanDrawPictures for a group of pictures (`what`, e.g. "haptics charts"): when they cannot be

@@ -151,6 +151,11 @@ std::string Report::ToJson() const {
   doc["picturesMissing"] = nlohmann::json::array();
   for (const Picture& p : this->MissingPictures)
     doc["picturesMissing"].push_back({{"stage", p.Stage}, {"file", p.File}, {"why", p.Caption}});
+  for (const auto& [key, text] : this->Sections) {
+    // A section that is not JSON is kept as its text rather than lost (it is a bug upstream).
+    nlohmann::json section = nlohmann::json::parse(text, nullptr, false);
+    doc[key] = section.is_discarded() ? nlohmann::json(text) : section;
+  }
   return doc.dump(2) + "\n";
 }
 

@@ -2,6 +2,7 @@
 // The main job's report: a self-contained HTML page (report.html) with the run's stages, every
 // figure beside its target (pass/fail/not scored), and the pictures (PNG files in the same
 // folder: screenshots, force plots, timing histograms, speed-against-accuracy charts).
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -51,6 +52,10 @@ class Report {
                     const std::string& why);
   void AddStage(const StageRecord& stage) { this->Stages.push_back(stage); }
   void AddNote(const std::string& text) { this->Notes.push_back(text); }
+  /// A top-level entry of report.json beside the figures, for scripts (e.g. "executions": the
+  /// plan's executions, "plans": each plan's figures as `roboplan plan --json` prints them).
+  /// `json` is JSON text; set again, it replaces the entry.
+  void SetJsonSection(const std::string& key, const std::string& json) { this->Sections[key] = json; }
 
   const std::vector<Figure>& GetFigures() const { return this->Figures; }
   const std::vector<StageRecord>& GetStages() const { return this->Stages; }
@@ -60,7 +65,7 @@ class Report {
   /// The stages and figures as JSON (for scripts and tests): {"title", "stages": [...],
   /// "figures": [{"stage", "name", "value" (null when not measured), "unit", "target", "result"
   /// ("pass" | "fail" | "not scored"), "note"}], "pictures": [{"stage", "file"}],
-  /// "picturesMissing": [{"stage", "file", "why"}]}.
+  /// "picturesMissing": [{"stage", "file", "why"}], and each SetJsonSection entry}.
   std::string ToJson() const;
   /// Writes the HTML report atomically, and the JSON beside it (same name, .json). Returns false
   /// with `error`.
@@ -73,6 +78,7 @@ class Report {
   std::vector<Picture> MissingPictures;  // Caption holds why
   std::vector<StageRecord> Stages;
   std::vector<std::string> Notes;
+  std::map<std::string, std::string> Sections;
 };
 
 }  // namespace rp

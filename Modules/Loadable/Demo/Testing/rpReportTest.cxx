@@ -2,6 +2,8 @@
 
 #include <stdexcept>
 
+#include <nlohmann/json.hpp>
+
 #include "rpReport.h"
 #include "rpStageRunner.h"
 
@@ -25,6 +27,19 @@ TEST(Report, FiguresAreScoredAgainstTheirTargets) {
   EXPECT_NE(json.find("\"result\": \"fail\""), std::string::npos) << json;
   EXPECT_NE(json.find("\"value\": null"), std::string::npos) << json;  // the figure not measured
   EXPECT_NE(json.find("\"value\": 0.4"), std::string::npos) << json;
+}
+
+TEST(Report, JsonSectionsSitBesideTheFigures) {
+  rp::Report report("test");
+  report.SetJsonSection("executions", R"([{"name": "free hand", "tipOffsetMm": 1.25}])");
+  report.SetJsonSection("executions", R"([{"name": "guided", "tipOffsetMm": 0.25}])");  // replaces
+  report.SetJsonSection("broken", "{not json");
+  const nlohmann::json doc = nlohmann::json::parse(report.ToJson());
+  ASSERT_EQ(doc["executions"].size(), 1u);
+  EXPECT_EQ(doc["executions"][0]["name"], "guided");
+  EXPECT_EQ(doc["executions"][0]["tipOffsetMm"].get<double>(), 0.25);
+  EXPECT_EQ(doc["broken"], "{not json");
+  EXPECT_TRUE(doc["figures"].is_array());
 }
 
 TEST(StageRunner, StopsAtTheFirstFailureAndRecordsIt) {

@@ -16,8 +16,8 @@
 #include "rpArgParser.h"
 #include "rpBlockMesher.h"
 #include "rpDrillProtection.h"
-#include "rpExecutionScoreJson.h"
 #include "rpGuidedDrill.h"
+#include "rpGuidedDrillJson.h"
 #include "rpModelIO.h"
 #include "rpPlanFixtures.h"
 #include "rpPolyDataTriangleMesh.h"
@@ -279,7 +279,6 @@ struct DrillWork {
   vtkSmartPointer<vtkRPDrillingLogic> Logic = vtkSmartPointer<vtkRPDrillingLogic>::New();
   std::shared_ptr<const PlanSnapshot> Plan;  // --plan
   TrajectorySnapshot Trajectory;
-  std::shared_ptr<const FixtureSet> Fixtures;
   GuidedDrillResult Guided;
   DrillRecording Recording;
   std::vector<std::string> Segments;  // the drilled segments' IDs ("block" for --block)
@@ -377,14 +376,9 @@ int BuildSegmentedBone(const DrillRequest& q, DrillWork& s, TerminalProgress& pr
 int DrivePlannedDrill(const DrillRequest& q, DrillWork& s, TerminalProgress& progress, std::ostream& err) {
   std::string error;
   s.Logic->SetTouchOtherModels(false);
-  ProtectRegions(*s.Logic->GetBone(), ProtectedRegionsOf(*s.Plan));
   PlanFixtureChoice choice;
-  choice.Trajectory = s.Trajectory.NodeID;
-  if (!ParseFixtureKinds(q.Fixtures, choice, error) || !(s.Fixtures = BuildPlanFixtures(*s.Plan, choice, error)))
-    return Fail(err, "--fixtures " + q.Fixtures + ": " + error);
+  if (!ParseFixtureKinds(q.Fixtures, choice, error)) return Fail(err, "--fixtures " + q.Fixtures + ": " + error);
   GuidedDrillOptions o;
-  if (!TrajectoryAxis::Make(s.Trajectory.Entry, s.Trajectory.Target, o.Plan, error)) return Fail(err, error);
-  o.PlanDiameterMm = s.Trajectory.ToolDiameterMm;
   o.BurrRadiusMm = q.Radius;
   o.Rpm = q.Rpm;
   o.FeedRate = q.Feed;
@@ -392,15 +386,14 @@ int DrivePlannedDrill(const DrillRequest& q, DrillWork& s, TerminalProgress& pro
   o.Noise.TremorMm = q.Tremor;
   o.Noise.DriftMmPerS = q.Drift;
   o.Noise.Seed = q.Seed;
-  o.Fixtures = s.Fixtures->Count() > 0 ? s.Fixtures : nullptr;
-  o.Structures = ScoredStructuresOf(*s.Plan);
   o.Realtime = q.Realtime;
   o.Loop.RequestRealTimePriority = q.Realtime;
   o.Loop.CpuAffinity = q.Cpu;
   o.Loop.ShieldCpu = q.Shield;
   o.RecordPath = q.Record;
   progress.Report(0.3, "drilling the plan");
-  if (!RunGuidedDrill(s.Logic, o, s.Guided, error)) return Fail(err, error);
+  if (!DrillPlannedTrajectory(s.Logic, *s.Plan, s.Trajectory, choice, o, s.Guided, error))
+    return Fail(err, "--plan with --fixtures " + q.Fixtures + ": " + error);
   s.Result = s.Guided.Run;
   s.Run.Realtime = q.Realtime;
   return 0;
@@ -587,17 +580,16 @@ nlohmann::json DrillJson(const DrillRequest& q, const DrillWork& session, const 
         {"closestApproachMm", std::isfinite(s.ClosestApproach) ? nlohmann::json(s.ClosestApproach) : nlohmann::json(nullptr)}}}};
   doc["servo"] = ServoJson(result, session.Run);
   if (q.HasPlan) {  // the score keys at the top, as `roboplan score` prints them
-    doc.update(ExecutionScoreJson(session.Guided.Score));
-    doc["enteredForbidden"] = session.Guided.EnteredForbidden;
-    doc["drillSeconds"] = session.Guided.DrillSeconds;
+    doc.update(GuidedDrillJson(session.Guided));
     const TrajectorySnapshot& t = session.Trajectory;
     doc["plan"] = {{"file", q.Plan}, {"trajectory", t.Name}, {"entry", Json(t.Entry)}, {"target", Json(t.Target)},
                    {"toolDiameterMm", t.ToolDiameterMm}};
     nlohmann::json fixtures = nlohmann::json::array();
-    for (const FixtureEntry& e : session.Fixtures->Entries)
-      fixtures.push_back({{"kind", FixtureKindName(e.Fixture->Kind())}, {"name", e.Fixture->Name()},
-                          {"stiffnessNPerMm", e.Tuning.Stiffness}, {"dampingNsPerMm", e.Tuning.Damping},
-                          {"captureMm", e.Tuning.Capture}});
+    if (session.Guided.Fixtures)
+      for (const FixtureEntry& e : session.Guided.Fixtures->Entries)
+        fixtures.push_back({{"kind", FixtureKindName(e.Fixture->Kind())}, {"name", e.Fixture->Name()},
+                            {"stiffnessNPerMm", e.Tuning.Stiffness}, {"dampingNsPerMm", e.Tuning.Damping},
+                            {"captureMm", e.Tuning.Capture}});
     doc["fixtures"] = fixtures;
     doc["hand"] = {{"tremorMm", q.Tremor}, {"driftMmPerS", q.Drift}, {"seed", q.Seed}};
   }

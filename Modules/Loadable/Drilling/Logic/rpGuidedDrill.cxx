@@ -6,7 +6,9 @@
 #include <vtkNew.h>
 
 #include "rpDataLoader.h"
+#include "rpExecutionScoreJson.h"
 #include "rpFixtureConstraint.h"
+#include "rpGuidedDrillJson.h"
 #include "rpSimulatedDevice.h"
 #include "vtkRPPlanningLogic.h"
 
@@ -88,6 +90,39 @@ std::vector<ProtectedRegion> ProtectedRegionsOf(const PlanSnapshot& plan) {
   return out;
 }
 
+bool DrillPlannedTrajectory(vtkRPDrillingLogic* logic, const PlanSnapshot& plan, const TrajectorySnapshot& trajectory,
+                            PlanFixtureChoice choice, GuidedDrillOptions options, GuidedDrillResult& result,
+                            std::string& error) {
+  if (!logic || !logic->HasBone()) {
+    error = "drilling the plan: build the bone first";
+    return false;
+  }
+  if (!TrajectoryAxis::Make(trajectory.Entry, trajectory.Target, options.Plan, error)) return false;
+  ProtectRegions(*logic->GetBone(), ProtectedRegionsOf(plan));
+  choice.Trajectory = trajectory.NodeID.empty() ? trajectory.Name : trajectory.NodeID;
+  const std::shared_ptr<const FixtureSet> fixtures = BuildPlanFixtures(plan, choice, error);
+  if (!fixtures) return false;
+  options.PlanDiameterMm = trajectory.ToolDiameterMm;
+  options.Fixtures = fixtures->Count() > 0 ? fixtures : nullptr;
+  options.Structures = ScoredStructuresOf(plan);
+  return RunGuidedDrill(logic, options, result, error);
+}
+
+const std::vector<ExecutionWay>& ExecutionWays() {
+  static const std::vector<ExecutionWay> ways = {{"free hand", "none"},
+                                                 {"axis guidance and depth stop", "axis,depth"},
+                                                 {"guidance and forbidden regions", "axis,depth,forbidden"}};
+  return ways;
+}
+
+nlohmann::json GuidedDrillJson(const GuidedDrillResult& result) {
+  nlohmann::json doc = ExecutionScoreJson(result.Score);
+  doc["enteredForbidden"] = result.EnteredForbidden;
+  doc["drillSeconds"] = result.DrillSeconds;
+  doc["depthOvershootMm"] = result.DepthOvershootMm;
+  return doc;
+}
+
 bool RunGuidedDrill(vtkRPDrillingLogic* logic, const GuidedDrillOptions& o, GuidedDrillResult& result, std::string& error) {
   result = GuidedDrillResult{};
   if (!logic || !logic->HasBone()) {
@@ -133,6 +168,7 @@ bool RunGuidedDrill(vtkRPDrillingLogic* logic, const GuidedDrillOptions& o, Guid
     result.Path.push_back(l.Record.Proxy);
     if (l.Record.Flags & DrillRecordFlags::Cutting) result.DrillSeconds = l.Record.Time;
   }
+  result.Fixtures = o.Fixtures;
   bool ok = false;
   ScoreRun(o, logic, result, error, ok);
   return ok;

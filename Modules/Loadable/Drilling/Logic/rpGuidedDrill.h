@@ -14,6 +14,7 @@
 #include "rpExecutionScore.h"
 #include "rpDrillProtection.h"
 #include "rpFixtureSet.h"
+#include "rpPlanFixtures.h"
 #include "rpPlanSnapshot.h"
 #include "rpSimulatedHand.h"
 #include "vtkRPDrillingLogic.h"
@@ -47,6 +48,7 @@ struct GuidedDrillResult {
   bool EnteredForbidden = false;    // the tool's surface came within a structure's margin
   double DrillSeconds = 0;          // from the start to the last tick that removed bone
   double DepthOvershootMm = 0;      // max(0, the score's depth error)
+  std::shared_ptr<const FixtureSet> Fixtures;  // the fixtures it ran with (nullptr: free hand)
 };
 
 /// Runs the execution on the logic's bone (built by the caller; drilled by this run) and scores
@@ -67,5 +69,23 @@ const TrajectorySnapshot* ChooseTrajectory(const PlanSnapshot& plan, const std::
 /// The plan's structures at risk as the score measures them, and as the drill bone protects them.
 std::vector<ScoredStructure> ScoredStructuresOf(const PlanSnapshot& plan);
 std::vector<ProtectedRegion> ProtectedRegionsOf(const PlanSnapshot& plan);
+
+// ---- executing a plan's trajectory (`roboplan drill --plan`, the demo, the guidance benchmark)
+/// Drills `trajectory` of `plan` on the logic's bone (built by the caller, not yet drilled) with
+/// the fixtures `choice` switches on (its Trajectory is set to this one) and the hand, burr and
+/// speeds of `options`: the plan's structures at risk protect the bone (the drill refuses to cut
+/// within their margins), are scored, and are the forbidden regions; options' Plan,
+/// PlanDiameterMm, Fixtures and Structures come from the plan. False with `error`.
+bool DrillPlannedTrajectory(vtkRPDrillingLogic* logic, const PlanSnapshot& plan, const TrajectorySnapshot& trajectory,
+                            PlanFixtureChoice choice, GuidedDrillOptions options, GuidedDrillResult& result,
+                            std::string& error);
+
+/// The ways one plan is executed and compared under one hand (issue 38): free hand; axis
+/// guidance and depth stop; guidance and the structures at risk as forbidden regions.
+struct ExecutionWay {
+  std::string Name;      // "free hand", ...
+  std::string Fixtures;  // as ParseFixtureKinds reads it: "none", "axis,depth", "axis,depth,forbidden"
+};
+const std::vector<ExecutionWay>& ExecutionWays();
 
 }  // namespace rp
