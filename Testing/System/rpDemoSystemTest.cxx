@@ -224,7 +224,7 @@ TEST(Demo, SmallPhantomEndToEndAndSlicerConventions) {
   // structure at risk clear beyond its margin and no breach beyond grade 1.
   for (const std::string plan : {"tibial tunnel", "screw"}) {
     for (const std::string figure : {": length", ": length in bone", ": share of the tool's surface in cortical bone",
-                                      ": cortical breach", ": clearance from Fibula", ": clearance from PCL",
+                                      ": cortical breach", ": clearance from fibula", ": clearance from PCL",
                                       ": clearance from Popliteal vessels (stand-in)"}) {
       const auto f = FindFigure(figures, plan + figure);
       ASSERT_FALSE(f.is_null()) << plan + figure;
