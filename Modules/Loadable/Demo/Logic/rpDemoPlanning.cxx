@@ -276,7 +276,8 @@ vtkRPTrajectoryNode* PlanTunnel(DemoState& state, vtkRPPlanningLogic* logic, vtk
   RiskMapPicture(state, logic, result, target, "plan-tibial-tunnel-risk-map.png",
                  "The tunnel's entry region on the tibia's anteromedial face coloured by the clearance a 4 mm tunnel to the "
                  "ACL footprint from each point keeps from the structures at risk (fibula, popliteal vessels' stand-in, "
-                 "PCL), with the best entries.");
+                 "PCL), with the best entries. Where the colour is even, every entry's clearance is set near the "
+                 "target (the PCL behind the footprint), the same for all: the shortest of the equal entries is planned.");
   return node;
 }
 
