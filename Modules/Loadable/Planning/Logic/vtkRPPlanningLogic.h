@@ -99,8 +99,9 @@ class vtkRPPlanningLogic : public vtkObject {
   const std::vector<rp::Vec3>& GetCandidates() const { return this->Candidates; }
   /// Scores every candidate entry towards `targetRAS` against the scene's structures at risk.
   bool Propose(const double targetRAS[3], const ProposalOptions& options, rp::ProposalResult& result, std::string& error);
-  /// The entry region coloured by clearance: a model node ("<name>") whose points carry the
-  /// scalar "clearanceMm" (and "slackMm"), added to the scene or updated.
+  /// The entry region coloured by clearance: a model node ("<name>", attribute "Planning.riskMap"
+  /// = "clearanceMm") whose points carry the scalar "clearanceMm" (and "slackMm"), added to the
+  /// scene or updated.
   vtkRPModelNode* UpdateRiskMap(const rp::ProposalResult& result, const std::string& name = "Risk map");
   /// The region's surface with the scores as point scalars (what the risk map model shows).
   vtkSmartPointer<vtkPolyData> RiskMapPolyData(const rp::ProposalResult& result) const;

@@ -187,7 +187,9 @@ vtkRPModelNode* vtkRPPlanningLogic::UpdateRiskMap(const rp::ProposalResult& resu
   if (!model) {
     vtkNew<vtkRPModelNode> created;
     created->SetName(name);
-    created->SetAttribute("RoboPlan.riskMap", "clearanceMm");
+    // Not under "RoboPlan.": that prefix is our fields' in MRML (rpMrmlNames.h), and a plain
+    // attribute there would not survive a .mrml/.mrb.
+    created->SetAttribute("Planning.riskMap", "clearanceMm");
     model = vtkRPModelNode::SafeDownCast(this->Scene->AddNode(created));
   }
   model->SetPolyData(this->RiskMapPolyData(result));
