@@ -15,9 +15,7 @@
 #include <filesystem>
 #include <stdexcept>
 
-#include <vtkImageData.h>
 #include <vtkNew.h>
-#include <vtkPointData.h>
 
 #include "rpBenchmarkChart.h"
 #include "rpBlockMesher.h"
