@@ -15,17 +15,13 @@
 #include "rpForbiddenRegion.h"
 #include "rpGuidedDrill.h"
 #include "vtkRPScene.h"
+#include "rpTestAxis.h"
 
 namespace {
 
 using rp::Vec3;
 
-rp::TrajectoryAxis Axis(const Vec3& a, const Vec3& b) {
-  rp::TrajectoryAxis axis;
-  std::string error;
-  EXPECT_TRUE(rp::TrajectoryAxis::Make(a, b, axis, error)) << error;
-  return axis;
-}
+using rptest::Axis;
 
 struct Block {
   vtkNew<vtkRPScene> Scene;

@@ -25,6 +25,7 @@
 #include "vtkRPNavigationLogic.h"
 #include "vtkRPScene.h"
 #include "vtkRPTrajectoryNode.h"
+#include "rpTestAxis.h"
 
 namespace {
 
@@ -37,12 +38,7 @@ std::string TempFile(const std::string& name, const std::string& text) {
   return path;
 }
 
-rp::TrajectoryAxis Axis(const Vec3& a, const Vec3& b) {
-  rp::TrajectoryAxis axis;
-  std::string error;
-  EXPECT_TRUE(rp::TrajectoryAxis::Make(a, b, axis, error)) << error;
-  return axis;
-}
+using rptest::Axis;
 
 TEST(GuidanceReadout, EntryErrorAngleDepthAndTheToolInTheTrajectorysFrame) {
   const rp::TrajectoryAxis plan = Axis({5, 6, 7}, {5, 6, -33});  // straight down, 40 mm

@@ -13,9 +13,9 @@
 #include <QTimer>
 #include <QVBoxLayout>
 
-#include <vtkCallbackCommand.h>
 
 #include "qRPSliceFollowCheckBox.h"
+#include "rpSceneNodesWatch.h"
 #include "vtkRPLinearTransformNode.h"
 #include "vtkRPModelNode.h"
 #include "vtkRPNavigationLogic.h"
@@ -72,27 +72,13 @@ qRPNavigationPanel::qRPNavigationPanel(vtkRPNavigationLogic* logic, QWidget* par
     if (!this->Refreshing) this->Update();
   });
   connect(this->Warning, QOverload<double>::of(&QDoubleSpinBox::valueChanged), this, [this](double) { this->Update(); });
-  if (vtkRPScene* scene = logic ? logic->GetScene() : nullptr) {
-    this->SceneCallback = vtkCallbackCommand::New();
-    this->SceneCallback->SetClientData(this);
-    this->SceneCallback->SetCallback(&qRPNavigationPanel::OnSceneNodesChanged);
-    for (unsigned long event : {static_cast<unsigned long>(vtkRPScene::NodeAddedEvent),
-                                static_cast<unsigned long>(vtkRPScene::NodeRemovedEvent),
-                                static_cast<unsigned long>(vtkRPScene::EndImportEvent),
-                                static_cast<unsigned long>(vtkRPScene::EndCloseEvent)})
-      this->SceneTags.push_back(scene->AddObserver(event, this->SceneCallback));
-  }
+  this->SceneWatch = std::make_unique<rp::SceneNodesWatch>(logic ? logic->GetScene() : nullptr);
   this->RefreshNodeLists();
   this->Timer->start();
 }
 
-void qRPNavigationPanel::OnSceneNodesChanged(vtkObject*, unsigned long, void* clientData, void*) {
-  static_cast<qRPNavigationPanel*>(clientData)->NodeListsDirty = true;
-}
-
 void qRPNavigationPanel::OnTimer() {
-  if (this->NodeListsDirty) {
-    this->NodeListsDirty = false;
+  if (this->SceneWatch->TakeChanged()) {
     this->RefreshNodeLists();  // also updates
   } else {
     this->Update();
@@ -102,9 +88,6 @@ void qRPNavigationPanel::OnTimer() {
 
 qRPNavigationPanel::~qRPNavigationPanel() {
   this->Timer->stop();
-  if (vtkRPScene* scene = this->Logic ? this->Logic->GetScene() : nullptr)
-    for (unsigned long tag : this->SceneTags) scene->RemoveObserver(tag);
-  if (this->SceneCallback) this->SceneCallback->Delete();
   if (this->Logic) this->Logic->SetToolNodeID("");  // stop observing the tool
 }
 

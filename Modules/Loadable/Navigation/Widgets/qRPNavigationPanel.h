@@ -9,6 +9,7 @@
 // attributes onto the tool node for the viewer); a 30 Hz timer refreshes the read-outs.
 #include <QWidget>
 
+#include <memory>
 #include <vector>
 
 class QComboBox;
@@ -16,8 +17,9 @@ class QDoubleSpinBox;
 class QLabel;
 class QListWidget;
 class QTimer;
-class vtkCallbackCommand;
-class vtkObject;
+namespace rp {
+class SceneNodesWatch;
+}
 class qRPSliceFollowCheckBox;
 class vtkRPNavigationLogic;
 
@@ -54,7 +56,6 @@ class qRPNavigationPanel : public QWidget {
   void ApplySettings();
   void ShowReadout();
   void OnTimer();
-  static void OnSceneNodesChanged(vtkObject*, unsigned long, void* clientData, void*);
 
   vtkRPNavigationLogic* Logic;
   QComboBox* Tool;
@@ -68,9 +69,7 @@ class qRPNavigationPanel : public QWidget {
   QTimer* Timer;
   bool WarningShown = false;
   bool Refreshing = false;
-  bool NodeListsDirty = false;  // nodes added/removed: refresh the lists on the next tick
-  vtkCallbackCommand* SceneCallback = nullptr;
-  std::vector<unsigned long> SceneTags;
+  std::unique_ptr<rp::SceneNodesWatch> SceneWatch;  // nodes added/removed: refresh the lists on the next tick
 };
 
 #endif
