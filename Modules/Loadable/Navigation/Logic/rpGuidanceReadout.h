@@ -20,6 +20,11 @@
 
 namespace rp {
 
+/// The read-out's OpenIGTLink messages (device names): the tool tip in the trajectory's frame
+/// (TRANSFORM) and ReadoutString (STRING). The frame is defined in the Navigation README.
+constexpr const char* ReadoutTransformName = "ToolTipToTrajectory";
+constexpr const char* ReadoutStringName = "GuidanceReadout";
+
 struct ReadoutStructure {
   std::string Name;
   const MeshSignedDistance* Surface = nullptr;  // not owned

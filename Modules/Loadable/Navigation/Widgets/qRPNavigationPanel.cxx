@@ -50,6 +50,9 @@ qRPNavigationPanel::qRPNavigationPanel(vtkRPNavigationLogic* logic, QWidget* par
   this->Closest->setAlignment(Qt::AlignCenter);
   this->Readout = new QLabel("-");
   this->Readout->setAlignment(Qt::AlignCenter);
+  this->Structure = new QLabel("-");
+  this->Structure->setAlignment(Qt::AlignCenter);
+  this->Structure->setToolTip("The scene's structures at risk (protected models and segments), from the tool's surface");
   auto* layout = new QVBoxLayout(this);
   layout->addLayout(form);
   layout->addWidget(new QLabel("Measure to the models:"));
@@ -58,6 +61,7 @@ qRPNavigationPanel::qRPNavigationPanel(vtkRPNavigationLogic* logic, QWidget* par
   layout->addWidget(this->Distance);
   layout->addWidget(this->Closest);
   layout->addWidget(this->Readout);
+  layout->addWidget(this->Structure);
   this->Timer = new QTimer(this);
   this->Timer->setInterval(33);  // 30 Hz display rate
   connect(this->Timer, &QTimer::timeout, this, &qRPNavigationPanel::OnTimer);
@@ -94,6 +98,7 @@ qRPNavigationPanel::~qRPNavigationPanel() {
 QString qRPNavigationPanel::DistanceText() const { return this->Distance->text(); }
 QString qRPNavigationPanel::ClosestModelText() const { return this->Closest->text(); }
 QString qRPNavigationPanel::ReadoutText() const { return this->Readout->text(); }
+QString qRPNavigationPanel::StructureText() const { return this->Structure->text(); }
 
 void qRPNavigationPanel::showEvent(QShowEvent* event) {
   this->RefreshNodeLists();
@@ -151,10 +156,20 @@ void qRPNavigationPanel::ApplySettings() {
 
 void qRPNavigationPanel::ShowReadout() {
   const rp::GuidanceReadout& g = this->Logic->GetLastReadout();
+  this->StructureWarningShown = g.Valid && g.HasStructure && g.WithinMargin;
+  this->Structure->setStyleSheet(this->StructureWarningShown ? "color: rgb(220, 30, 30);" : "");
   if (!g.Valid) {
     this->Readout->setText("-");
+    this->Structure->setText("-");
     return;
   }
+  this->Structure->setText(g.HasStructure ? QString("closest structure at risk: %1 %2 mm%3")
+                                                .arg(QString::fromStdString(g.ClosestStructure))
+                                                .arg(g.ClosestStructureMm, 0, 'f', 1)
+                                                .arg(g.WithinMargin ? " (within its margin)" : "")
+                                          : QString::fromStdString(this->Logic->GetStructuresProblem().empty()
+                                                                       ? std::string("no structure at risk in the scene")
+                                                                       : this->Logic->GetStructuresProblem()));
   this->Readout->setText(QString::fromUtf8("entry %1 mm · angle %2° · depth to target %3 mm · lateral %4 mm")
                              .arg(g.EntryErrorMm, 0, 'f', 1)
                              .arg(g.AngleDeg, 0, 'f', 1)

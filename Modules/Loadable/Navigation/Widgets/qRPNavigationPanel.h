@@ -41,6 +41,9 @@ class qRPNavigationPanel : public QWidget {
   QComboBox* TrajectoryComboBox() const { return this->Trajectory; }
   /// "entry 1.2 mm · angle 2.5° · depth to target 10.2 mm · lateral 0.8 mm", or "-".
   QString ReadoutText() const;
+  /// "closest structure at risk: vessel 3.2 mm (margin 2.0 mm)", or "-"; red under its margin.
+  QString StructureText() const;
+  bool IsStructureWarningShown() const { return this->StructureWarningShown; }
   /// "Slices follow the tool": the scene's slice nodes follow the chosen tool's tip (the views
   /// re-slice at the tracked stylus; the panel never touches a view).
   qRPSliceFollowCheckBox* FollowToolCheckBox() const { return this->FollowTool; }
@@ -61,6 +64,8 @@ class qRPNavigationPanel : public QWidget {
   QComboBox* Tool;
   QComboBox* Trajectory;
   QLabel* Readout;
+  QLabel* Structure;
+  bool StructureWarningShown = false;
   QListWidget* Models;
   QDoubleSpinBox* Warning;
   qRPSliceFollowCheckBox* FollowTool;
