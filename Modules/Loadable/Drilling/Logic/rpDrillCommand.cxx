@@ -399,6 +399,7 @@ int DrivePlannedDrill(const DrillRequest& q, DrillWork& s, TerminalProgress& pro
   o.Loop.CpuAffinity = q.Cpu;
   o.Loop.ShieldCpu = q.Shield;
   o.RecordPath = q.Record;
+  if (q.Timeout > 0) o.MaxSeconds = q.Timeout;
   progress.Report(0.3, "drilling the plan");
   if (!RunGuidedDrill(s.Logic, o, s.Guided, error)) return Fail(err, error);
   s.Result = s.Guided.Run;

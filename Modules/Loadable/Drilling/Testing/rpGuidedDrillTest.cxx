@@ -54,7 +54,6 @@ rp::GuidedDrillOptions Options(const rp::TrajectoryAxis& plan, double speed) {
   o.PlanDiameterMm = 3;
   o.BurrRadiusMm = 1.5;
   o.SpeedMmPerS = speed;
-  o.FeedRate = 20;  // a fast burr, so the hand sets the pace
   o.PushBeyondMm = 3;
   return o;
 }
@@ -64,6 +63,7 @@ TEST(GuidedDrill, TheDepthStopHoldsTheBurrWithinATenthOfAMillimetreAtTenMmPerSec
   for (bool stop : {false, true}) {
     Block block;
     rp::GuidedDrillOptions o = Options(plan, 10.0);
+    o.FeedRate = 20;  // a burr that cuts as fast as the hand moves: the speed is what is tested
     o.Noise.TremorMm = 0.2;
     o.Noise.Seed = 5;
     o.Fixtures = stop ? Fixtures(plan, false, true) : nullptr;
@@ -134,6 +134,36 @@ TEST(GuidedDrill, AxisGuidanceKeepsATremblingDriftingHandOnThePlan) {
   EXPECT_GT(free, 2 * guided) << "free " << free << " guided " << guided;
 }
 
+// A hand faster than the burr cuts (5 mm/s against the default feed, 2 mm/s) waits for it: the run
+// lasts until the burr reaches the hand's intended end, PushBeyondMm past the target (the old end,
+// the intent + 1.5 s, left it about 5 mm short). With the depth stop the burr stalls at the
+// target and the run ends StallSeconds + SettleSeconds after the intent.
+TEST(GuidedDrill, AHandFasterThanTheBurrWaitsForItToArriveOrStall) {
+  const double length = 15, beyond = 3, speed = 5;
+  const rp::TrajectoryAxis plan = Axis({0, 0, 0}, {0, 0, -length});
+  for (bool stop : {false, true}) {
+    Block block(0.4);
+    rp::GuidedDrillOptions o = Options(plan, speed);
+    o.Hand = false;
+    o.PushBeyondMm = beyond;
+    o.Fixtures = stop ? Fixtures(plan, false, true) : nullptr;
+    ASSERT_LT(o.FeedRate, speed);
+    rp::GuidedDrillResult r;
+    std::string error;
+    ASSERT_TRUE(rp::RunGuidedDrill(block.Logic, o, r, error)) << error;
+    const double intent = (length + beyond) / speed;
+    if (stop) {
+      EXPECT_LE(r.Score.DepthErrorMm, 0.1);
+      EXPECT_GE(r.Score.DepthErrorMm, -0.5);  // it got there
+      EXPECT_LE(r.Run.Final.Time, intent + o.StallSeconds + o.SettleSeconds + 0.01);
+    } else {
+      EXPECT_NEAR(r.Score.DepthErrorMm, beyond, o.ArrivalToleranceMm + 0.01);
+      EXPECT_GT(r.Run.Final.Time, (length + beyond) / o.FeedRate * 0.9);  // the burr's pace, not the hand's
+    }
+    EXPECT_LT(r.Run.Final.Time, o.MaxSeconds);
+  }
+}
+
 double Lens(double r, double d) { return 2 * r * r * std::acos(d / (2 * r)) - 0.5 * d * std::sqrt(4 * r * r - d * d); }
 
 TEST(GuidedDrill, ATunnelDrilledOffItsPlanLeavesTheLensVolumeOutsideThePlansCylinder) {
@@ -165,6 +195,7 @@ TEST(GuidedDrill, OnTheRealTimeServoThreadTheDepthStopStillHolds) {
   const rp::TrajectoryAxis plan = Axis({0, 0, 0}, {0, 0, -6});
   Block block(0.4);
   rp::GuidedDrillOptions o = Options(plan, 10.0);
+  o.FeedRate = 20;  // as above: the speed is what is tested
   o.Noise.TremorMm = 0.2;
   o.Noise.Seed = 7;
   o.Fixtures = Fixtures(plan, true, true);
