@@ -7,6 +7,7 @@
 #include <Eigen/Dense>
 #include <nlohmann/json.hpp>
 #include <vtkNew.h>
+#include <vtkSphereSource.h>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -22,6 +23,7 @@
 #include "rpScoreCommand.h"
 #include "rpSharedData.h"
 #include "vtkRPLinearTransformNode.h"
+#include "vtkRPModelNode.h"
 #include "vtkRPNavigationLogic.h"
 #include "vtkRPScene.h"
 #include "vtkRPTrajectoryNode.h"
@@ -245,6 +247,63 @@ TEST(NavigationLogic, ReadsTheToolOutAgainstThePlannedTrajectoryWhenItMoves) {
   logic->Update();
   EXPECT_FALSE(logic->GetLastReadout().Valid);
   EXPECT_EQ(tip->GetAttribute("Navigation.Guidance"), "");
+}
+
+// The read-out's closest structure at risk is the scene's (a protected model, as the Planning logic
+// finds it), from the tool's surface (the trajectory's tool radius): a sphere of radius R meshed by
+// vtkSphereSource has a vertex at its pole and every other point inside the sphere, so from a tip on
+// the pole's axis at D from the centre the mesh is exactly D − R away; under the margin it warns.
+TEST(NavigationLogic, TheClosestStructureAtRiskOfTheSceneFromTheToolsSurface) {
+  vtkNew<vtkRPScene> scene;
+  vtkNew<vtkRPTrajectoryNode> trajectory;
+  const double entry[3] = {0, 0, 0}, target[3] = {0, 0, -50};
+  trajectory->SetEntryAndTarget(entry, target);
+  trajectory->SetToolDiameterMm(2);
+  scene->AddNode(trajectory);
+  const double radius = 5, center[3] = {20, 0, -10}, margin = 3;
+  vtkNew<vtkSphereSource> sphere;
+  sphere->SetCenter(center[0], center[1], center[2]);
+  sphere->SetRadius(radius);
+  sphere->SetThetaResolution(48);
+  sphere->SetPhiResolution(48);
+  sphere->Update();
+  vtkNew<vtkRPModelNode> vessel;
+  vessel->SetName("vessel");
+  vessel->SetPolyData(sphere->GetOutput());
+  scene->AddNode(vessel);
+  vtkNew<vtkRPModelNode> bone;  // not protected: not a structure at risk, however close
+  bone->SetName("bone");
+  vtkNew<vtkSphereSource> near;
+  near->SetCenter(center[0], center[1] + 3, center[2] + radius + 5);  // 2.5 mm from the first tip
+  near->Update();
+  bone->SetPolyData(near->GetOutput());
+  scene->AddNode(bone);
+  vtkNew<vtkRPLinearTransformNode> tip;
+  scene->AddNode(tip);
+  vtkNew<vtkRPNavigationLogic> logic;
+  logic->SetScene(scene);
+  logic->SetToolNodeID(tip->GetID());
+  logic->SetTrajectoryNodeID(trajectory->GetID());
+  auto place = [&](double d) {
+    const double m[16] = {1, 0, 0, center[0], 0, 1, 0, center[1], 0, 0, 1, center[2] + d, 0, 0, 0, 1};
+    tip->SetMatrixTransformToParent(m);
+    return logic->GetLastReadout();
+  };
+  EXPECT_FALSE(place(radius + 5).HasStructure) << "nothing is protected yet";
+  vessel->SetProtection({true, margin});
+  rp::GuidanceReadout r = place(radius + 5);
+  ASSERT_TRUE(r.Valid);
+  ASSERT_TRUE(r.HasStructure) << logic->GetStructuresProblem();
+  EXPECT_EQ(r.ClosestStructure, "vessel");
+  EXPECT_NEAR(r.ClosestStructureMm, 5 - 1, 1e-9);  // D − R − the tool's radius
+  EXPECT_FALSE(r.WithinMargin);
+  r = place(radius + 3.5);
+  EXPECT_NEAR(r.ClosestStructureMm, 3.5 - 1, 1e-9);
+  EXPECT_TRUE(r.WithinMargin);
+  const std::string line = tip->GetAttribute("Navigation.Guidance");
+  EXPECT_NE(line.find("closestStructure=vessel;closestStructureMm=2.500;withinMargin=1"), std::string::npos) << line;
+  r = place(-radius / 2);  // inside it: negative
+  EXPECT_NEAR(r.ClosestStructureMm, -radius / 2 - 1, 0.05);
 }
 
 // `roboplan score` on a plan file and a CSV path it has never seen: a line offset 1 mm from the
