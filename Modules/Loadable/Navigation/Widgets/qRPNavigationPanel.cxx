@@ -4,9 +4,15 @@
 #include <string>
 #include <vector>
 
+#include <QCheckBox>
 #include <QComboBox>
+#include <QImage>
+#include <QPixmap>
+#include <QSpinBox>
 #include <QDoubleSpinBox>
 #include <QFormLayout>
+#include <QHBoxLayout>
+#include <QSignalBlocker>
 #include <QLabel>
 #include <QListWidget>
 #include <QPushButton>
@@ -16,6 +22,11 @@
 
 #include "qRPSliceFollowCheckBox.h"
 #include "rpSceneNodesWatch.h"
+#include "rpTargetView.h"
+#include "vtkRPScalarVolumeNode.h"
+#include "vtkRPTrajectoryNode.h"
+
+#include <vtkImageData.h>
 #include "vtkRPLinearTransformNode.h"
 #include "vtkRPModelNode.h"
 #include "vtkRPNavigationLogic.h"
@@ -62,6 +73,33 @@ qRPNavigationPanel::qRPNavigationPanel(vtkRPNavigationLogic* logic, QWidget* par
   layout->addWidget(this->Closest);
   layout->addWidget(this->Readout);
   layout->addWidget(this->Structure);
+  auto* views = new QFormLayout;
+  this->Volume = new QComboBox;
+  this->Volume->setToolTip("The volume re-sliced along the plan and across it at the tool tip");
+  views->addRow("Volume (re-sliced)", this->Volume);
+  this->Stream = new QCheckBox("Stream read-outs over OpenIGTLink");
+  this->Stream->setToolTip("TRANSFORM ToolTipToTrajectory and STRING GuidanceReadout to every client (3D Slicer's "
+                           "OpenIGTLinkIF connects as a client), on 127.0.0.1");
+  this->StreamPort = new QSpinBox;
+  this->StreamPort->setRange(1, 65535);
+  this->StreamPort->setValue(18945);
+  auto* stream = new QHBoxLayout;
+  stream->addWidget(this->Stream);
+  stream->addWidget(this->StreamPort);
+  views->addRow(stream);
+  this->StreamState = new QLabel("not streaming");
+  views->addRow(this->StreamState);
+  layout->addLayout(views);
+  this->TargetPicture = new QLabel;
+  this->TargetPicture->setAlignment(Qt::AlignCenter);
+  this->TargetPicture->setToolTip("Target view (the plan seen from the entry, rings 1, 2, 5 mm), and the volume along and "
+                                  "across the plan at the tool tip");
+  layout->addWidget(this->TargetPicture);
+  this->Picture = std::make_unique<rp::TargetViewPicture>();
+  connect(this->Stream, &QCheckBox::toggled, this, &qRPNavigationPanel::ToggleStream);
+  connect(this->Volume, QOverload<int>::of(&QComboBox::currentIndexChanged), this, [this](int) {
+    if (!this->Refreshing) this->Update();
+  });
   this->Timer = new QTimer(this);
   this->Timer->setInterval(33);  // 30 Hz display rate
   connect(this->Timer, &QTimer::timeout, this, &qRPNavigationPanel::OnTimer);
@@ -99,6 +137,55 @@ QString qRPNavigationPanel::DistanceText() const { return this->Distance->text()
 QString qRPNavigationPanel::ClosestModelText() const { return this->Closest->text(); }
 QString qRPNavigationPanel::ReadoutText() const { return this->Readout->text(); }
 QString qRPNavigationPanel::StructureText() const { return this->Structure->text(); }
+QString qRPNavigationPanel::StreamText() const { return this->StreamState->text(); }
+QImage qRPNavigationPanel::TargetViewImage() const { return this->TargetPicture->pixmap(Qt::ReturnByValue).toImage(); }
+
+void qRPNavigationPanel::ToggleStream(bool on) {
+  if (!this->Logic) return;
+  if (!on) {
+    this->Logic->StopReadoutServer();
+    this->StreamState->setText("not streaming");
+    return;
+  }
+  std::string error;
+  if (!this->Logic->StartReadoutServer(this->StreamPort->value(), error)) {
+    this->StreamState->setText(QString::fromStdString(error));
+    const QSignalBlocker block(this->Stream);
+    this->Stream->setChecked(false);
+  }
+}
+
+void qRPNavigationPanel::ShowTargetView() {
+  const rp::GuidanceReadout& g = this->Logic->GetLastReadout();
+  auto* trajectory = vtkRPTrajectoryNode::SafeDownCast(this->Logic->GetScene()->GetNodeByID(this->Logic->GetTrajectoryNodeID()));
+  auto* volume = vtkRPScalarVolumeNode::SafeDownCast(
+      this->Logic->GetScene()->GetNodeByID(this->Volume->currentData().toString().toStdString()));
+  double entry[3], target[3];
+  rp::TrajectoryAxis plan;
+  std::string error;
+  if (!g.Valid || !trajectory || !trajectory->GetEntryWorld(entry) || !trajectory->GetTargetWorld(target) ||
+      !rp::TrajectoryAxis::Make({entry[0], entry[1], entry[2]}, {target[0], target[1], target[2]}, plan, error)) {
+    this->TargetPicture->clear();
+    this->PictureShown.clear();
+    return;
+  }
+  // Redraw only when what it shows changed (a still tool costs nothing at display rate).
+  std::vector<double> shown(g.ToolTipToTrajectory, g.ToolTipToTrajectory + 16);
+  shown.insert(shown.end(), {entry[0], entry[1], entry[2], target[0], target[1], target[2],
+                             volume ? static_cast<double>(volume->GetMTime()) : -1.0});
+  if (shown == this->PictureShown) return;
+  this->PictureShown = shown;
+  if (!this->Picture->Render(plan, g, volume, error)) {
+    this->TargetPicture->setText(QString::fromStdString(error));
+    return;
+  }
+  vtkImageData* image = this->Picture->GetImage();
+  int dims[3];
+  image->GetDimensions(dims);
+  const auto* rgb = static_cast<const uchar*>(image->GetScalarPointer());
+  QImage picture(rgb, dims[0], dims[1], 3 * dims[0], QImage::Format_RGB888);
+  this->TargetPicture->setPixmap(QPixmap::fromImage(picture.mirrored()));  // VTK's rows start at the bottom
+}
 
 void qRPNavigationPanel::showEvent(QShowEvent* event) {
   this->RefreshNodeLists();
@@ -124,6 +211,13 @@ void qRPNavigationPanel::RefreshNodeLists() {
   for (vtkRPNode* node : scene->GetNodesByClass("vtkRPTrajectoryNode"))
     this->Trajectory->addItem(QString::fromStdString(node->GetName()), QString::fromStdString(node->GetID()));
   this->Trajectory->setCurrentIndex(std::max(0, this->Trajectory->findData(trajectory)));
+  const QString volume = this->Volume->currentData().toString();
+  this->Volume->clear();
+  this->Volume->addItem("(none)", QString());
+  for (vtkRPNode* node : scene->GetNodesByClass("vtkRPScalarVolumeNode"))
+    this->Volume->addItem(QString::fromStdString(node->GetName()), QString::fromStdString(node->GetID()));
+  const int volumeIndex = this->Volume->findData(volume);
+  this->Volume->setCurrentIndex(volumeIndex >= 0 ? volumeIndex : std::min(1, this->Volume->count() - 1));
 
   QStringList checked;
   for (int i = 0; i < this->Models->count(); ++i)
@@ -182,6 +276,11 @@ void qRPNavigationPanel::Update() {
   this->ApplySettings();
   const vtkRPNavigationLogic::Result r = this->Logic->Update();
   this->ShowReadout();
+  this->ShowTargetView();
+  if (this->Logic->GetReadoutServerPort() > 0)
+    this->StreamState->setText(QString("streaming on 127.0.0.1:%1, %2 client(s)")
+                                   .arg(this->Logic->GetReadoutServerPort())
+                                   .arg(this->Logic->GetReadoutClientCount()));
   if (!r.Valid) {
     this->Distance->setText("-");
     this->Distance->setStyleSheet("");
