@@ -10,8 +10,7 @@
 //   closest structure at risk: its name and the distance from the tool's surface to it (mm).
 // These are the score's measures (rpExecutionScore.h) for one pose instead of a whole path. The
 // tool's pose is also given in the trajectory's own frame (ToolTipToTrajectory, what the
-// OpenIGTLink stream sends): origin at the planned entry, z along the plan towards the target,
-// x across it towards the patient's right (anterior when the plan runs right–left), y = z × x.
+// OpenIGTLink stream sends; the frame is defined in the Navigation README, "The trajectory's frame").
 #include <string>
 #include <vector>
 
