@@ -171,7 +171,7 @@ bool TargetViewPicture::Render(const TrajectoryAxis& plan, const GuidanceReadout
     this->Window = window;
   }
   vtkRenderWindow* window = this->Window;
-  window->GetRenderers()->RemoveAllItems();
+  while (vtkRenderer* old = window->GetRenderers()->GetFirstRenderer()) window->RemoveRenderer(old);
   const int p = this->Opts.PaneSize;
   window->SetSize(3 * p, p);
   window->SetMultiSamples(0);  // exact colours: the test finds the tip by its colour

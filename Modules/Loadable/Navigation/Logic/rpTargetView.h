@@ -6,7 +6,7 @@
 //                Navigation README: its x to the screen's right, its −y up): the target at the
 //                centre with rings (1, 2, 5 mm), the tool tip (green dot) at its offset from the
 //                axis, the tool's own axis projected (cyan: from where it crosses the entry plane,
-//                a yellow square — the entry error — to where it would reach the target's depth,
+//                a yellow diamond — the entry error — to where it would reach the target's depth,
 //                a cyan cross — where it would arrive), and the depth to target written below;
 //   along        the volume in the plane containing the axis (the trajectory's x to the right, the
 //                entry up), at the tip's depth: the plan (red), the tool's axis and tip projected;

@@ -107,6 +107,7 @@ bool vtkRPNavigationLogic::StartReadoutServer(int port, std::string& error, cons
   options.Port = port;
   options.BindAddress = bindAddress;
   options.Outbox = this->Outbox.get();
+  options.CommandClients = rp::AddressAllowList{};  // it streams read-outs: no client records or sets transforms
   auto server = std::make_unique<rp::IgtlServer>(*this->NoPoses, options);
   if (!server->Start(error)) return false;
   this->Server = std::move(server);

@@ -230,7 +230,7 @@ TEST(NavigationPanel, TheTargetViewDrawsTheTipAtItsOffsetFromThePlan) {
   EXPECT_NEAR((tip[0] - 0.5 * pane) / slicePerMm, 2.0, 1.0 / slicePerMm);
 
   // Tilted 10° about A (the tip's −z leans towards +R going down): its axis crosses the entry plane
-  // 10·tan 10° to the left of the tip, the geometry the view draws the yellow square at.
+  // 10·tan 10° to the left of the tip, the geometry the view draws the yellow diamond at.
   const double t = 10 * M_PI / 180;
   pose->SetElement(0, 0, std::cos(t));
   pose->SetElement(0, 2, -std::sin(t));

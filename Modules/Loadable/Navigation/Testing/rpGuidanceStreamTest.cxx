@@ -16,11 +16,8 @@
 #include <vtkNew.h>
 
 #include "rpGuidanceReadout.h"
+#include "rpPlannedToolScene.h"
 #include "rpTestTime.h"
-#include "vtkRPLinearTransformNode.h"
-#include "vtkRPNavigationLogic.h"
-#include "vtkRPScene.h"
-#include "vtkRPTrajectoryNode.h"
 
 #if ROBOPLAN_UPSTREAM_IGTL
 #include <igtlClientSocket.h>
@@ -45,17 +42,9 @@ TEST(GuidanceStream, UpstreamOpenIGTLinkReceivesTheReadoutsWithinOneFrameOfAPose
   GTEST_SKIP() << "upstream OpenIGTLink not found at " << ROBOPLAN_UPSTREAM_IGTL_SOURCE;
 #else
   // A plan straight down −S, 50 mm from the origin. Its frame: z = −S, x = R, y = z × x = −A.
-  vtkNew<vtkRPScene> scene;
-  vtkNew<vtkRPTrajectoryNode> trajectory;
   const double entry[3] = {0, 0, 0}, target[3] = {0, 0, -50};
-  trajectory->SetEntryAndTarget(entry, target);
-  scene->AddNode(trajectory);
-  vtkNew<vtkRPLinearTransformNode> tip;
-  scene->AddNode(tip);
-  vtkNew<vtkRPNavigationLogic> logic;
-  logic->SetScene(scene);
-  logic->SetToolNodeID(tip->GetID());
-  logic->SetTrajectoryNodeID(trajectory->GetID());
+  rptest::PlannedToolScene s(entry, target);
+  vtkRPNavigationLogic* logic = s.Logic;
   std::string error;
   ASSERT_TRUE(logic->StartReadoutServer(0, error)) << error;
 
@@ -70,10 +59,10 @@ TEST(GuidanceStream, UpstreamOpenIGTLinkReceivesTheReadoutsWithinOneFrameOfAPose
   for (int i = 0; i < 6; ++i) {
     // The tip at (dx, dy, −depth), tilted by θ about A (its −z axis leans towards +R).
     const double dx = 0.5 * i, dy = 2.0 - 0.3 * i, depth = 5 + 3 * i, theta = (5.0 * i) * M_PI / 180;
-    const double c = std::cos(theta), s = std::sin(theta);
-    const double pose[16] = {c, 0, -s, dx, 0, 1, 0, dy, s, 0, c, -depth, 0, 0, 0, 1};
+    const double c = std::cos(theta), sn = std::sin(theta);
+    const double pose[16] = {c, 0, -sn, dx, 0, 1, 0, dy, sn, 0, c, -depth, 0, 0, 0, 1};
     const double posed = Seconds();
-    tip->SetMatrixTransformToParent(pose);  // the logic reads the tool out on the move and publishes
+    s.Place(pose);  // the logic reads the tool out on the move and publishes
     int result = 0;
     auto transform = rptest::UpstreamReceive<::igtl::TransformMessage>(socket, "TRANSFORM", result);
     ASSERT_TRUE(transform) << "no TRANSFORM after pose " << i;
@@ -92,7 +81,7 @@ TEST(GuidanceStream, UpstreamOpenIGTLinkReceivesTheReadoutsWithinOneFrameOfAPose
     EXPECT_NEAR(m[0][3], dx, 1e-4);
     EXPECT_NEAR(m[1][3], -dy, 1e-4);
     EXPECT_NEAR(m[2][3], depth, 1e-4);
-    EXPECT_NEAR(m[0][2], -s, 1e-6);
+    EXPECT_NEAR(m[0][2], -sn, 1e-6);
     EXPECT_NEAR(m[1][2], 0, 1e-6);
     EXPECT_NEAR(m[2][2], -c, 1e-6);
     // The STRING is the read-out's text (the one formatter), its figures the closed forms.

@@ -27,6 +27,7 @@
 #include "vtkRPNavigationLogic.h"
 #include "vtkRPScene.h"
 #include "vtkRPTrajectoryNode.h"
+#include "rpPlannedToolScene.h"
 #include "rpTestAxis.h"
 
 namespace {
@@ -217,20 +218,12 @@ TEST(ExecutionPath, PlusRecordingScoredThroughItsStylusTipAgainstAPlan) {
 // 0°, and 40 mm short of a target 50 mm deep; tilted 30° about A its axis crosses the entry plane
 // 10·tan 30° farther along R.
 TEST(NavigationLogic, ReadsTheToolOutAgainstThePlannedTrajectoryWhenItMoves) {
-  vtkNew<vtkRPScene> scene;
-  vtkNew<vtkRPTrajectoryNode> trajectory;
   const double entry[3] = {0, 0, 0}, target[3] = {0, 0, -50};
-  trajectory->SetEntryAndTarget(entry, target);
-  scene->AddNode(trajectory);
-  vtkNew<vtkRPLinearTransformNode> tip;
-  scene->AddNode(tip);
-  vtkNew<vtkRPNavigationLogic> logic;
-  logic->SetScene(scene);
-  logic->SetToolNodeID(tip->GetID());
-  logic->SetTrajectoryNodeID(trajectory->GetID());
+  rptest::PlannedToolScene s(entry, target);
+  vtkRPLinearTransformNode* tip = s.Tip;
+  vtkRPNavigationLogic* logic = s.Logic;
   const double shifted[16] = {1, 0, 0, 3, 0, 1, 0, 4, 0, 0, 1, -10, 0, 0, 0, 1};
-  tip->SetMatrixTransformToParent(shifted);
-  const rp::GuidanceReadout& r = logic->GetLastReadout();
+  const rp::GuidanceReadout& r = s.Place(shifted);
   ASSERT_TRUE(r.Valid);
   EXPECT_NEAR(r.EntryErrorMm, 5, 1e-9);
   EXPECT_NEAR(r.LateralMm, 5, 1e-9);
@@ -254,12 +247,10 @@ TEST(NavigationLogic, ReadsTheToolOutAgainstThePlannedTrajectoryWhenItMoves) {
 // vtkSphereSource has a vertex at its pole and every other point inside the sphere, so from a tip on
 // the pole's axis at D from the centre the mesh is exactly D − R away; under the margin it warns.
 TEST(NavigationLogic, TheClosestStructureAtRiskOfTheSceneFromTheToolsSurface) {
-  vtkNew<vtkRPScene> scene;
-  vtkNew<vtkRPTrajectoryNode> trajectory;
   const double entry[3] = {0, 0, 0}, target[3] = {0, 0, -50};
-  trajectory->SetEntryAndTarget(entry, target);
-  trajectory->SetToolDiameterMm(2);
-  scene->AddNode(trajectory);
+  rptest::PlannedToolScene s(entry, target);
+  s.Trajectory->SetToolDiameterMm(2);
+  vtkRPScene* scene = s.Scene;
   const double radius = 5, center[3] = {20, 0, -10}, margin = 3;
   vtkNew<vtkSphereSource> sphere;
   sphere->SetCenter(center[0], center[1], center[2]);
@@ -278,29 +269,22 @@ TEST(NavigationLogic, TheClosestStructureAtRiskOfTheSceneFromTheToolsSurface) {
   near->Update();
   bone->SetPolyData(near->GetOutput());
   scene->AddNode(bone);
-  vtkNew<vtkRPLinearTransformNode> tip;
-  scene->AddNode(tip);
-  vtkNew<vtkRPNavigationLogic> logic;
-  logic->SetScene(scene);
-  logic->SetToolNodeID(tip->GetID());
-  logic->SetTrajectoryNodeID(trajectory->GetID());
   auto place = [&](double d) {
     const double m[16] = {1, 0, 0, center[0], 0, 1, 0, center[1], 0, 0, 1, center[2] + d, 0, 0, 0, 1};
-    tip->SetMatrixTransformToParent(m);
-    return logic->GetLastReadout();
+    return s.Place(m);
   };
   EXPECT_FALSE(place(radius + 5).HasStructure) << "nothing is protected yet";
   vessel->SetProtection({true, margin});
   rp::GuidanceReadout r = place(radius + 5);
   ASSERT_TRUE(r.Valid);
-  ASSERT_TRUE(r.HasStructure) << logic->GetStructuresProblem();
+  ASSERT_TRUE(r.HasStructure) << s.Logic->GetStructuresProblem();
   EXPECT_EQ(r.ClosestStructure, "vessel");
   EXPECT_NEAR(r.ClosestStructureMm, 5 - 1, 1e-9);  // D − R − the tool's radius
   EXPECT_FALSE(r.WithinMargin);
   r = place(radius + 3.5);
   EXPECT_NEAR(r.ClosestStructureMm, 3.5 - 1, 1e-9);
   EXPECT_TRUE(r.WithinMargin);
-  const std::string line = tip->GetAttribute("Navigation.Guidance");
+  const std::string line = s.Tip->GetAttribute("Navigation.Guidance");
   EXPECT_NE(line.find("closestStructure=vessel;closestStructureMm=2.500;withinMargin=1"), std::string::npos) << line;
   r = place(-radius / 2);  // inside it: negative
   EXPECT_NEAR(r.ClosestStructureMm, -radius / 2 - 1, 0.05);

@@ -8,12 +8,14 @@ namespace rp {
 
 IgtlOutbox::Message* IgtlOutbox::Begin(const char* type, const std::string& name) {
   if (name.empty() || name.size() > MaxName) return nullptr;
-  const std::string key = std::string(type) + ":" + name;
   const int used = this->Used.load(std::memory_order_relaxed);
   int slot = 0;
-  while (slot < used && this->Keys[static_cast<size_t>(slot)] != key) ++slot;
+  while (slot < used && (std::strcmp(this->KeyTypes[slot], type) != 0 || name != this->KeyNames[slot])) ++slot;
   if (slot == MaxMessages) return nullptr;
-  if (slot == used) this->Keys[static_cast<size_t>(slot)] = key;  // the name's first use
+  if (slot == used) {  // the name's first use
+    std::strncpy(this->KeyTypes[slot], type, sizeof this->KeyTypes[slot] - 1);
+    std::memcpy(this->KeyNames[slot], name.data(), name.size());
+  }
   this->PendingSlot = slot;
   std::memset(this->Pending.Type, 0, sizeof this->Pending.Type);
   std::memset(this->Pending.Name, 0, sizeof this->Pending.Name);

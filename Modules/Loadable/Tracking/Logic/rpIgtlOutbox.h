@@ -48,7 +48,8 @@ class IgtlOutbox {
   std::array<LatestValue<Message>, MaxMessages> Slots;
   std::atomic<int> Used{0};
   // Writer only: each slot's type and name, and the message being composed.
-  std::array<std::string, MaxMessages> Keys;
+  char KeyTypes[MaxMessages][13] = {};
+  char KeyNames[MaxMessages][MaxName + 1] = {};
   Message Pending;
   int PendingSlot = -1;
   ReadySignal Ready;

@@ -488,6 +488,7 @@ void IgtlServer::Run() {
     if (outbox && (fds.back().revents & POLLIN)) this->SendOutbox(WallSeconds());
     if (now >= nextSend) {
       nextSend = std::max(nextSend + period, now);
+      if (outbox) this->SendOutbox(WallSeconds());  // also without an eventfd (none left): at the send rate
       this->SendPoses(now);
     }
     // Forget clients that went away or were dropped.
