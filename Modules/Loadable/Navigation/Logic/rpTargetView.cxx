@@ -107,6 +107,8 @@ void Text(vtkRenderer* renderer, const std::string& text, double x, double y, in
   actor->SetPosition(x, y);
   actor->GetTextProperty()->SetFontSize(size);
   actor->GetTextProperty()->SetColor(0.95, 0.95, 0.95);
+  actor->GetTextProperty()->SetBackgroundColor(0, 0, 0);  // readable over a bright slice
+  actor->GetTextProperty()->SetBackgroundOpacity(0.6);
   renderer->AddActor2D(actor);
 }
 

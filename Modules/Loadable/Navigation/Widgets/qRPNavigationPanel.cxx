@@ -212,11 +212,12 @@ void qRPNavigationPanel::RefreshNodeLists() {
     this->Trajectory->addItem(QString::fromStdString(node->GetName()), QString::fromStdString(node->GetID()));
   this->Trajectory->setCurrentIndex(std::max(0, this->Trajectory->findData(trajectory)));
   const QString volume = this->Volume->currentData().toString();
+  const bool hadVolumes = this->Volume->count() > 1;  // none before: show the first one that came
   this->Volume->clear();
   this->Volume->addItem("(none)", QString());
   for (vtkRPNode* node : scene->GetNodesByClass("vtkRPScalarVolumeNode"))
     this->Volume->addItem(QString::fromStdString(node->GetName()), QString::fromStdString(node->GetID()));
-  const int volumeIndex = this->Volume->findData(volume);
+  const int volumeIndex = hadVolumes ? this->Volume->findData(volume) : -1;
   this->Volume->setCurrentIndex(volumeIndex >= 0 ? volumeIndex : std::min(1, this->Volume->count() - 1));
 
   QStringList checked;
