@@ -9,7 +9,9 @@
 
 #include <QApplication>
 #include <QComboBox>
+#include <QCheckBox>
 #include <QDoubleSpinBox>
+#include <QSpinBox>
 #include <QListWidget>
 
 #include <vtkMatrix4x4.h>
@@ -244,6 +246,23 @@ TEST(NavigationPanel, TheTargetViewDrawsTheTipAtItsOffsetFromThePlan) {
   EXPECT_NEAR(g.TargetCrossing[0], 2 + 30 * std::tan(t), 1e-9);
   panel.Update();
   EXPECT_TRUE(view->WritePNG((rptest::TestDir("qRPNavigationPanelTest-tilted") / "target_view.png").string(), error)) << error;
+
+  // "Stream read-outs over OpenIGTLink" on a port another server holds: the reason is shown and the
+  // box unticks; once the port is free, it streams there.
+  vtkNew<vtkRPNavigationLogic> other;
+  ASSERT_TRUE(other->StartReadoutServer(0, error)) << error;
+  const int port = other->GetReadoutServerPort();
+  panel.StreamPortSpinBox()->setValue(port);
+  panel.StreamCheckBox()->setChecked(true);
+  EXPECT_FALSE(panel.StreamCheckBox()->isChecked());
+  EXPECT_TRUE(panel.StreamText().contains("cannot listen on 127.0.0.1:" + QString::number(port))) << panel.StreamText().toStdString();
+  other->StopReadoutServer();
+  panel.StreamCheckBox()->setChecked(true);
+  panel.Update();
+  EXPECT_EQ(logic->GetReadoutServerPort(), port);
+  EXPECT_EQ(panel.StreamText(), QString("streaming on 127.0.0.1:%1, 0 client(s)").arg(port));
+  panel.StreamCheckBox()->setChecked(false);
+  EXPECT_EQ(logic->GetReadoutServerPort(), 0);
 }
 
 // "Slices follow the tool": the scene's slice nodes follow the tracked stylus tip (StylusTip
