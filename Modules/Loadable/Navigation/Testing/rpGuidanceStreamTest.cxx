@@ -29,6 +29,7 @@
 
 namespace {
 
+#if ROBOPLAN_UPSTREAM_IGTL
 double Seconds() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 
 // The value of `key` in a read-out line "k=v;k=v".
@@ -36,6 +37,7 @@ double Field(const std::string& line, const std::string& key) {
   const size_t at = line.find(key + "=");
   return at == std::string::npos ? NAN : std::stod(line.substr(at + key.size() + 1));
 }
+#endif
 
 TEST(GuidanceStream, UpstreamOpenIGTLinkReceivesTheReadoutsWithinOneFrameOfAPose) {
 #if !ROBOPLAN_UPSTREAM_IGTL
