@@ -72,7 +72,6 @@ Execution Execute(DemoState& state, const PlanSnapshot& plan, const TrajectorySn
   o.Noise.TremorMm = TremorMm;
   o.Noise.DriftMmPerS = DriftMmPerS;
   o.Noise.Seed = Seed;
-  o.SettleSeconds = 3;  // a fast hand (10 mm/s) outruns the cut: time for the burr to reach the stop
   if (!logic->BuildBone(source, {"Tibia"}, error) || !ParseFixtureKinds(way.Fixtures, choice, error) ||
       !DrillPlannedTrajectory(logic, plan, trajectory, choice, o, e.Result, error))
     throw std::runtime_error(trajectory.Name + ", " + way.Name + ": " + error);
