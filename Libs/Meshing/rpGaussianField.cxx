@@ -18,6 +18,7 @@ struct Kernel1D {
   std::vector<int> First, Count;   // first input index (relative to the input range) and tap count
   std::vector<size_t> Offset;      // into Weights
   std::vector<float> Weights;
+  std::vector<float> Sum;          // the taps' weights summed in order: the output under all ones
 };
 
 Kernel1D MakeKernel(double start, double step, int outputCount, int inputCount, double sigma) {
@@ -32,9 +33,12 @@ Kernel1D MakeKernel(double start, double step, int outputCount, int inputCount, 
     kernel.First.push_back(first);
     kernel.Count.push_back(std::max(0, last - first + 1));
     kernel.Offset.push_back(kernel.Weights.size());
+    float sum = 0;
     for (int k = first; k <= last; ++k) {
       kernel.Weights.push_back(static_cast<float>(std::exp(-0.5 * (p - k) * (p - k) / (sigma * sigma)) / norm));
+      sum += kernel.Weights.back();
     }
+    kernel.Sum.push_back(sum);
   }
   return kernel;
 }
@@ -54,40 +58,70 @@ void GaussianResample(const T* voxels, const int dims[3], long label, const Labe
   // Passes x and y, one input slice at a time: mask rows → A[outX x inY] (a buffer per thread,
   // small enough to stay in cache) → B[outX x outY x inZ]. B is left uninitialized (every value
   // is written below): zeroing it first took a serial pass over tens of MB.
+  // The mask is binary and mostly constant: an output whose taps all read 0 is 0, one whose taps
+  // all read 1 is its weights' sum (the same sum, in the same order, as the taps would give), and
+  // rows or slices that are all 0 add nothing to the passes after them (x + w * 0 == x). Only
+  // outputs near the label's edges take the taps: the field is bit for bit what the plain
+  // convolution gives.
   const size_t nxo = static_cast<size_t>(outDims[0]);
   const size_t nyo = static_cast<size_t>(outDims[1]);
   std::unique_ptr<float[]> B(new float[nxo * nyo * static_cast<size_t>(inDims[2])]);
-  vtkSMPThreadLocal<std::vector<float>> sliceA;
+  std::vector<char> sliceEmpty(static_cast<size_t>(inDims[2]));  // B's slice kk is all 0
+  struct SliceScratch {
+    std::vector<float> A, Row;
+    std::vector<int> Ones;      // Ones[i]: labelled voxels before i in the row
+    std::vector<char> RowEmpty;  // A's row jj is all 0
+  };
+  vtkSMPThreadLocal<SliceScratch> scratch;
   vtkSMPTools::For(0, inDims[2], [&](vtkIdType k0, vtkIdType k1) {
-    std::vector<float>& A = sliceA.Local();
+    SliceScratch& local = scratch.Local();
+    std::vector<float>& A = local.A;
     A.resize(nxo * static_cast<size_t>(inDims[1]));
-    std::vector<float> row(static_cast<size_t>(inDims[0]));
+    local.Row.resize(static_cast<size_t>(inDims[0]));
+    local.Ones.resize(static_cast<size_t>(inDims[0]) + 1);
+    local.RowEmpty.resize(static_cast<size_t>(inDims[1]));
+    float* row = local.Row.data();
+    int* ones = local.Ones.data();
     for (vtkIdType kk = k0; kk < k1; ++kk) {
+      bool sliceAny = false;
       for (int jj = 0; jj < inDims[1]; ++jj) {
         const T* in = voxels + (static_cast<size_t>(b.Lo[2] + kk) * dims[1] + (b.Lo[1] + jj)) * dims[0] + b.Lo[0];
-        bool any = false;
+        ones[0] = 0;
         for (int i = 0; i < inDims[0]; ++i) {
-          row[static_cast<size_t>(i)] = in[i] == value ? 1.0f : 0.0f;
-          any = any || in[i] == value;
+          const bool inside = in[i] == value;
+          row[i] = inside ? 1.0f : 0.0f;
+          ones[i + 1] = ones[i] + inside;
         }
         float* out = A.data() + static_cast<size_t>(jj) * nxo;
-        if (!any) {
+        local.RowEmpty[static_cast<size_t>(jj)] = ones[inDims[0]] == 0;
+        if (ones[inDims[0]] == 0) {
           std::fill(out, out + nxo, 0.0f);
           continue;
         }
+        sliceAny = true;
         for (size_t o = 0; o < nxo; ++o) {
-          const float* w = kx.Weights.data() + kx.Offset[o];
-          const float* x = row.data() + kx.First[o];
-          float sum = 0;
-          for (int t = 0; t < kx.Count[o]; ++t) sum += w[t] * x[t];
-          out[o] = sum;
+          const int first = kx.First[o], count = kx.Count[o];
+          const int labelled = ones[first + count] - ones[first];
+          if (labelled == 0) {
+            out[o] = 0.0f;
+          } else if (labelled == count) {
+            out[o] = kx.Sum[o];
+          } else {
+            const float* w = kx.Weights.data() + kx.Offset[o];
+            const float* x = row + first;
+            float sum = 0;
+            for (int t = 0; t < count; ++t) sum += w[t] * x[t];
+            out[o] = sum;
+          }
         }
       }
+      sliceEmpty[static_cast<size_t>(kk)] = !sliceAny;
       for (size_t oy = 0; oy < nyo; ++oy) {
         float* out = B.get() + (static_cast<size_t>(kk) * nyo + oy) * nxo;
         std::fill(out, out + nxo, 0.0f);
         const float* w = ky.Weights.data() + ky.Offset[oy];
         for (int t = 0; t < ky.Count[oy]; ++t) {
+          if (local.RowEmpty[static_cast<size_t>(ky.First[oy] + t)]) continue;
           const float* in = A.data() + static_cast<size_t>(ky.First[oy] + t) * nxo;
           const float wt = w[t];
           for (size_t x = 0; x < nxo; ++x) out[x] += wt * in[x];
@@ -103,7 +137,9 @@ void GaussianResample(const T* voxels, const int dims[3], long label, const Labe
       std::fill(out, out + plane, 0.0f);
       const float* w = kz.Weights.data() + kz.Offset[static_cast<size_t>(oz)];
       for (int t = 0; t < kz.Count[static_cast<size_t>(oz)]; ++t) {
-        const float* in = B.get() + static_cast<size_t>(kz.First[static_cast<size_t>(oz)] + t) * plane;
+        const size_t k = static_cast<size_t>(kz.First[static_cast<size_t>(oz)] + t);
+        if (sliceEmpty[k]) continue;
+        const float* in = B.get() + k * plane;
         const float wt = w[t];
         for (size_t x = 0; x < plane; ++x) out[x] += wt * in[x];
       }
