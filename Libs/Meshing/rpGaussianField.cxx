@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <memory>
 #include <vector>
@@ -43,6 +45,36 @@ Kernel1D MakeKernel(double start, double step, int outputCount, int inputCount, 
   return kernel;
 }
 
+// The runs of `value` in a row, as start, end (exclusive) pairs. One-byte labels are read eight
+// at a time while a word holds no voxel of the label, or only such voxels.
+template <typename T>
+void FindRuns(const T* in, int n, T value, std::vector<int>& runs) {
+  runs.clear();
+  int i = 0;
+  while (i < n) {
+    if constexpr (sizeof(T) == 1) {
+      const uint64_t pattern = 0x0101010101010101ULL * static_cast<unsigned char>(value);
+      for (uint64_t word; i + 8 <= n; i += 8) {
+        std::memcpy(&word, in + i, sizeof(word));
+        const uint64_t x = word ^ pattern;  // a zero byte where the voxel is the label
+        if ((x - 0x0101010101010101ULL) & ~x & 0x8080808080808080ULL) break;
+      }
+    }
+    while (i < n && in[i] != value) ++i;
+    if (i == n) break;
+    runs.push_back(i);
+    if constexpr (sizeof(T) == 1) {
+      const uint64_t pattern = 0x0101010101010101ULL * static_cast<unsigned char>(value);
+      for (uint64_t word; i + 8 <= n; i += 8) {
+        std::memcpy(&word, in + i, sizeof(word));
+        if (word != pattern) break;
+      }
+    }
+    while (i < n && in[i] == value) ++i;
+    runs.push_back(i);
+  }
+}
+
 // Separable Gaussian resampling of the bounding box of `label` onto the contour grid.
 // Input range per axis = the label's bounds (the mask is zero elsewhere).
 template <typename T>
@@ -68,8 +100,8 @@ void GaussianResample(const T* voxels, const int dims[3], long label, const Labe
   std::unique_ptr<float[]> B(new float[nxo * nyo * static_cast<size_t>(inDims[2])]);
   std::vector<char> sliceEmpty(static_cast<size_t>(inDims[2]));  // B's slice kk is all 0
   struct SliceScratch {
-    std::vector<float> A, Row;
-    std::vector<int> Ones;      // Ones[i]: labelled voxels before i in the row
+    std::vector<float> A;
+    std::vector<int> Runs;       // the row's runs of the label: start, end (exclusive), ...
     std::vector<char> RowEmpty;  // A's row jj is all 0
   };
   vtkSMPThreadLocal<SliceScratch> scratch;
@@ -77,40 +109,39 @@ void GaussianResample(const T* voxels, const int dims[3], long label, const Labe
     SliceScratch& local = scratch.Local();
     std::vector<float>& A = local.A;
     A.resize(nxo * static_cast<size_t>(inDims[1]));
-    local.Row.resize(static_cast<size_t>(inDims[0]));
-    local.Ones.resize(static_cast<size_t>(inDims[0]) + 1);
     local.RowEmpty.resize(static_cast<size_t>(inDims[1]));
-    float* row = local.Row.data();
-    int* ones = local.Ones.data();
+    std::vector<int>& runs = local.Runs;
     for (vtkIdType kk = k0; kk < k1; ++kk) {
       bool sliceAny = false;
       for (int jj = 0; jj < inDims[1]; ++jj) {
         const T* in = voxels + (static_cast<size_t>(b.Lo[2] + kk) * dims[1] + (b.Lo[1] + jj)) * dims[0] + b.Lo[0];
-        ones[0] = 0;
-        for (int i = 0; i < inDims[0]; ++i) {
-          const bool inside = in[i] == value;
-          row[i] = inside ? 1.0f : 0.0f;
-          ones[i + 1] = ones[i] + inside;
-        }
+        FindRuns(in, inDims[0], value, runs);
         float* out = A.data() + static_cast<size_t>(jj) * nxo;
-        local.RowEmpty[static_cast<size_t>(jj)] = ones[inDims[0]] == 0;
-        if (ones[inDims[0]] == 0) {
+        local.RowEmpty[static_cast<size_t>(jj)] = runs.empty();
+        if (runs.empty()) {
           std::fill(out, out + nxo, 0.0f);
           continue;
         }
         sliceAny = true;
+        // Outputs in order: their windows move right, so the first run that can reach one only
+        // moves right too.
+        size_t r = 0;
         for (size_t o = 0; o < nxo; ++o) {
-          const int first = kx.First[o], count = kx.Count[o];
-          const int labelled = ones[first + count] - ones[first];
+          const int first = kx.First[o], count = kx.Count[o], last = first + count;
+          while (r < runs.size() && runs[r + 1] <= first) r += 2;
+          int labelled = 0;
+          for (size_t q = r; q < runs.size() && runs[q] < last; q += 2)
+            labelled += std::min(runs[q + 1], last) - std::max(runs[q], first);
           if (labelled == 0) {
             out[o] = 0.0f;
           } else if (labelled == count) {
             out[o] = kx.Sum[o];
           } else {
+            // The taps that read 1, in order (w * 1 == w; the taps that read 0 add +0).
             const float* w = kx.Weights.data() + kx.Offset[o];
-            const float* x = row + first;
             float sum = 0;
-            for (int t = 0; t < count; ++t) sum += w[t] * x[t];
+            for (size_t q = r; q < runs.size() && runs[q] < last; q += 2)
+              for (int i = std::max(runs[q], first), e = std::min(runs[q + 1], last); i < e; ++i) sum += w[i - first];
             out[o] = sum;
           }
         }
