@@ -92,24 +92,30 @@ void GaussianResample(const T* voxels, const int dims[3], long label, const Labe
   // is written below): zeroing it first took a serial pass over tens of MB.
   // The mask is binary and mostly constant: an output whose taps all read 0 is 0, one whose taps
   // all read 1 is its weights' sum (the same sum, in the same order, as the taps would give), and
-  // rows or slices that are all 0 add nothing to the passes after them (x + w * 0 == x). Only
-  // outputs near the label's edges take the taps: the field is bit for bit what the plain
-  // convolution gives.
+  // rows or slices that are all 0 add nothing to the passes after them (x + w * 0 == x), nor do
+  // the 0s of a row outside its span (the outputs from its first to its last that are not 0: a
+  // row of A or B is written and read over its span only). Only outputs near the label's edges
+  // take the taps: the field is bit for bit what the plain convolution gives.
   const size_t nxo = static_cast<size_t>(outDims[0]);
   const size_t nyo = static_cast<size_t>(outDims[1]);
   std::unique_ptr<float[]> B(new float[nxo * nyo * static_cast<size_t>(inDims[2])]);
+  struct Span {
+    int Lo = 0, Hi = 0;  // outputs [Lo, Hi) may be non-zero; the rest are 0
+    bool Empty() const { return this->Lo >= this->Hi; }
+  };
   std::vector<char> sliceEmpty(static_cast<size_t>(inDims[2]));  // B's slice kk is all 0
+  std::vector<Span> spanB(static_cast<size_t>(inDims[2]) * nyo);  // B's row (kk, oy)
   struct SliceScratch {
     std::vector<float> A;
-    std::vector<int> Runs;       // the row's runs of the label: start, end (exclusive), ...
-    std::vector<char> RowEmpty;  // A's row jj is all 0
+    std::vector<int> Runs;   // the row's runs of the label: start, end (exclusive), ...
+    std::vector<Span> SpanA;  // A's row jj
   };
   vtkSMPThreadLocal<SliceScratch> scratch;
   vtkSMPTools::For(0, inDims[2], [&](vtkIdType k0, vtkIdType k1) {
     SliceScratch& local = scratch.Local();
     std::vector<float>& A = local.A;
     A.resize(nxo * static_cast<size_t>(inDims[1]));
-    local.RowEmpty.resize(static_cast<size_t>(inDims[1]));
+    local.SpanA.resize(static_cast<size_t>(inDims[1]));
     std::vector<int>& runs = local.Runs;
     for (vtkIdType kk = k0; kk < k1; ++kk) {
       bool sliceAny = false;
@@ -117,12 +123,11 @@ void GaussianResample(const T* voxels, const int dims[3], long label, const Labe
         const T* in = voxels + (static_cast<size_t>(b.Lo[2] + kk) * dims[1] + (b.Lo[1] + jj)) * dims[0] + b.Lo[0];
         FindRuns(in, inDims[0], value, runs);
         float* out = A.data() + static_cast<size_t>(jj) * nxo;
-        local.RowEmpty[static_cast<size_t>(jj)] = runs.empty();
-        if (runs.empty()) {
-          std::fill(out, out + nxo, 0.0f);
-          continue;
-        }
+        Span& span = local.SpanA[static_cast<size_t>(jj)];
+        span = Span();
+        if (runs.empty()) continue;
         sliceAny = true;
+        int lo = static_cast<int>(nxo), hi = 0;
         // Outputs in order: their windows move right, so the first run that can reach one only
         // moves right too.
         size_t r = 0;
@@ -134,7 +139,10 @@ void GaussianResample(const T* voxels, const int dims[3], long label, const Labe
             labelled += std::min(runs[q + 1], last) - std::max(runs[q], first);
           if (labelled == 0) {
             out[o] = 0.0f;
-          } else if (labelled == count) {
+            continue;
+          }
+          lo = std::min(lo, static_cast<int>(o)), hi = static_cast<int>(o) + 1;
+          if (labelled == count) {
             out[o] = kx.Sum[o];
           } else {
             // The taps that read 1, in order (w * 1 == w; the taps that read 0 add +0).
@@ -145,17 +153,29 @@ void GaussianResample(const T* voxels, const int dims[3], long label, const Labe
             out[o] = sum;
           }
         }
+        span.Lo = lo, span.Hi = hi;
       }
       sliceEmpty[static_cast<size_t>(kk)] = !sliceAny;
       for (size_t oy = 0; oy < nyo; ++oy) {
+        Span& span = spanB[static_cast<size_t>(kk) * nyo + oy];
+        span = Span();
+        span.Lo = static_cast<int>(nxo);
+        for (int t = 0; t < ky.Count[oy]; ++t) {
+          const Span& in = local.SpanA[static_cast<size_t>(ky.First[oy] + t)];
+          if (!in.Empty()) span.Lo = std::min(span.Lo, in.Lo), span.Hi = std::max(span.Hi, in.Hi);
+        }
+        if (span.Empty()) continue;
+        // Over the B row's span (the rows of A it reads are 0 outside it): per tap spans took
+        // more bookkeeping than they saved.
+        const size_t lo = static_cast<size_t>(span.Lo), hi = static_cast<size_t>(span.Hi);
         float* out = B.get() + (static_cast<size_t>(kk) * nyo + oy) * nxo;
-        std::fill(out, out + nxo, 0.0f);
+        std::fill(out + lo, out + hi, 0.0f);
         const float* w = ky.Weights.data() + ky.Offset[oy];
         for (int t = 0; t < ky.Count[oy]; ++t) {
-          if (local.RowEmpty[static_cast<size_t>(ky.First[oy] + t)]) continue;
+          if (local.SpanA[static_cast<size_t>(ky.First[oy] + t)].Empty()) continue;
           const float* in = A.data() + static_cast<size_t>(ky.First[oy] + t) * nxo;
           const float wt = w[t];
-          for (size_t x = 0; x < nxo; ++x) out[x] += wt * in[x];
+          for (size_t x = lo; x < hi; ++x) out[x] += wt * in[x];
         }
       }
     }
@@ -170,9 +190,15 @@ void GaussianResample(const T* voxels, const int dims[3], long label, const Labe
       for (int t = 0; t < kz.Count[static_cast<size_t>(oz)]; ++t) {
         const size_t k = static_cast<size_t>(kz.First[static_cast<size_t>(oz)] + t);
         if (sliceEmpty[k]) continue;
-        const float* in = B.get() + k * plane;
         const float wt = w[t];
-        for (size_t x = 0; x < plane; ++x) out[x] += wt * in[x];
+        for (size_t oy = 0; oy < nyo; ++oy) {
+          const Span& from = spanB[k * nyo + oy];
+          if (from.Empty()) continue;
+          const float* in = B.get() + (k * nyo + oy) * nxo;
+          float* row = out + oy * nxo;
+          const size_t lo = static_cast<size_t>(from.Lo), hi = static_cast<size_t>(from.Hi);
+          for (size_t x = lo; x < hi; ++x) row[x] += wt * in[x];
+        }
       }
     }
   });
