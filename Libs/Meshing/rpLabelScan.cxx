@@ -15,6 +15,19 @@ namespace rp {
 
 namespace {
 
+// Calls visit(local, row, j, k) for every row of the volume, the slices spread over VTK's SMP
+// threads, each with its thread's `locals` entry.
+template <typename T, typename Local, typename Visit>
+void ForEachRow(const T* voxels, const int dims[3], vtkSMPThreadLocal<Local>& locals, Visit&& visit) {
+  vtkSMPTools::For(0, dims[2], [&](vtkIdType k0, vtkIdType k1) {
+    Local& l = locals.Local();
+    for (vtkIdType kk = k0; kk < k1; ++kk) {
+      const int k = static_cast<int>(kk);
+      for (int j = 0; j < dims[1]; ++j) visit(l, voxels + (static_cast<size_t>(k) * dims[1] + j) * dims[0], j, k);
+    }
+  });
+}
+
 template <typename T>
 void FindBounds(const T* voxels, const int dims[3], long label, LabelBounds& b) {
   const T value = static_cast<T>(label);
@@ -24,26 +37,19 @@ void FindBounds(const T* voxels, const int dims[3], long label, LabelBounds& b) 
     long Count = 0;
   };
   vtkSMPThreadLocal<Local> locals;
-  vtkSMPTools::For(0, dims[2], [&](vtkIdType k0, vtkIdType k1) {
-    Local& l = locals.Local();
-    for (vtkIdType kk = k0; kk < k1; ++kk) {
-      const int k = static_cast<int>(kk);
-      for (int j = 0; j < dims[1]; ++j) {
-        const T* row = voxels + (static_cast<size_t>(k) * dims[1] + j) * dims[0];
-        // Count first (a branch-free loop the compiler vectorizes), then find the ends only in
-        // rows that hold the label: most rows of a large labelmap do not.
-        long count = 0;
-        for (int i = 0; i < dims[0]; ++i) count += row[i] == value;
-        if (count == 0) continue;
-        l.Count += count;
-        int first = 0, last = dims[0] - 1;
-        while (row[first] != value) ++first;
-        while (row[last] != value) --last;
-        l.Lo[0] = std::min(l.Lo[0], first), l.Hi[0] = std::max(l.Hi[0], last);
-        l.Lo[1] = std::min(l.Lo[1], j), l.Hi[1] = std::max(l.Hi[1], j);
-        l.Lo[2] = std::min(l.Lo[2], k), l.Hi[2] = std::max(l.Hi[2], k);
-      }
-    }
+  ForEachRow(voxels, dims, locals, [&](Local& l, const T* row, int j, int k) {
+    // Count first (a branch-free loop the compiler vectorizes), then find the ends only in
+    // rows that hold the label: most rows of a large labelmap do not.
+    long count = 0;
+    for (int i = 0; i < dims[0]; ++i) count += row[i] == value;
+    if (count == 0) return;
+    l.Count += count;
+    int first = 0, last = dims[0] - 1;
+    while (row[first] != value) ++first;
+    while (row[last] != value) --last;
+    l.Lo[0] = std::min(l.Lo[0], first), l.Hi[0] = std::max(l.Hi[0], last);
+    l.Lo[1] = std::min(l.Lo[1], j), l.Hi[1] = std::max(l.Hi[1], j);
+    l.Lo[2] = std::min(l.Lo[2], k), l.Hi[2] = std::max(l.Hi[2], k);
   });
   LabelBounds result;
   for (int a = 0; a < 3; ++a) result.Lo[a] = std::numeric_limits<int>::max(), result.Hi[a] = -1;
@@ -73,36 +79,29 @@ void FindAllBounds(const T* voxels, const int dims[3], AllBounds& all) {
     }
   };
   vtkSMPThreadLocal<Local> locals;
-  vtkSMPTools::For(0, dims[2], [&](vtkIdType k0, vtkIdType k1) {
-    Local& l = locals.Local();
-    for (vtkIdType kk = k0; kk < k1; ++kk) {
-      const int k = static_cast<int>(kk);
-      for (int j = 0; j < dims[1]; ++j) {
-        const unsigned char* row =
-            reinterpret_cast<const unsigned char*>(voxels + (static_cast<size_t>(k) * dims[1] + j) * dims[0]);
-        // Runs of one value, eight voxels at a time while a whole word holds it.
-        const int n = dims[0];
-        int i = 0;
-        while (i < n) {
-          const unsigned char v = row[i];
-          const uint64_t pattern = 0x0101010101010101ULL * v;
-          const int start = i;
-          while (i + 8 <= n) {
-            uint64_t word;
-            std::memcpy(&word, row + i, sizeof(word));
-            if (word != pattern) break;
-            i += 8;
-          }
-          while (i < n && row[i] == v) ++i;
-          if (!v) continue;
-          l.Count[v] += i - start;
-          auto& lo = l.Lo[v];
-          auto& hi = l.Hi[v];
-          lo[0] = std::min(lo[0], start), hi[0] = std::max(hi[0], i - 1);
-          lo[1] = std::min(lo[1], j), hi[1] = std::max(hi[1], j);
-          lo[2] = std::min(lo[2], k), hi[2] = std::max(hi[2], k);
-        }
+  ForEachRow(voxels, dims, locals, [&](Local& l, const T* voxelRow, int j, int k) {
+    // Runs of one value, eight voxels at a time while a whole word holds it.
+    const unsigned char* row = reinterpret_cast<const unsigned char*>(voxelRow);
+    const int n = dims[0];
+    int i = 0;
+    while (i < n) {
+      const unsigned char v = row[i];
+      const uint64_t pattern = 0x0101010101010101ULL * v;
+      const int start = i;
+      while (i + 8 <= n) {
+        uint64_t word;
+        std::memcpy(&word, row + i, sizeof(word));
+        if (word != pattern) break;
+        i += 8;
       }
+      while (i < n && row[i] == v) ++i;
+      if (!v) continue;
+      l.Count[v] += i - start;
+      auto& lo = l.Lo[v];
+      auto& hi = l.Hi[v];
+      lo[0] = std::min(lo[0], start), hi[0] = std::max(hi[0], i - 1);
+      lo[1] = std::min(lo[1], j), hi[1] = std::max(hi[1], j);
+      lo[2] = std::min(lo[2], k), hi[2] = std::max(hi[2], k);
     }
   });
   for (auto& b : all.ByByte) {
