@@ -230,6 +230,14 @@ bool WriteVolumeFile(const std::string& path, vtkImageData* image, const vtkMatr
   return WriteAtomicallyWith(path, writeTo, error);
 }
 
+bool IsVolumeFileName(const std::string& path) {
+  // The extensions the volume storage lists (ScalarVolumeStorage below): listed there only.
+  for (const std::string& ext : ExtensionsForNodeClass("vtkRPScalarVolumeNode")) {
+    if (path.size() > ext.size() && HasExtension(path, ext)) return true;
+  }
+  return false;
+}
+
 bool ReadVolumeFile(const std::string& path, vtkRPImageNode* node, std::string& error) {
   auto image = vtkSmartPointer<vtkImageData>::New();
   vtkNew<vtkMatrix4x4> ijkToRAS;

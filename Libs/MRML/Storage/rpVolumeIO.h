@@ -24,6 +24,11 @@ bool WriteVolumeFile(const std::string& path, vtkImageData* image, const vtkMatr
                      const std::map<std::string, std::string>& metadata, std::string& error,
                      bool compress = true);
 
+/// True for names the volume storage reads (its Extensions(), below: .nrrd .nii.gz ...; a .seg.nrrd
+/// is one too, as its labelmap). Which reader a path goes to is the loader's answer
+/// (rp::FindDataReader); this says whether a node file holds an image.
+bool IsVolumeFileName(const std::string& path);
+
 /// Node-level helpers (image + IJKToRAS of a volume or segmentation node).
 bool ReadVolumeFile(const std::string& path, vtkRPImageNode* node, std::string& error);
 bool WriteVolumeFile(const std::string& path, vtkRPImageNode* node, std::string& error);
