@@ -148,12 +148,7 @@ bool ReadLayers(const std::string& path, std::vector<vtkSmartPointer<vtkImageDat
       for (vtkIdType n = 0; n < count; ++n) target->SetComponent(n, 0, source->GetComponent(n, static_cast<int>(c)));
       layers.push_back(layer);
     }
-    metadata.clear();
-    const itk::MetaDataDictionary& dictionary = io->GetMetaDataDictionary();
-    for (const auto& key : dictionary.GetKeys()) {
-      std::string value;
-      if (itk::ExposeMetaData<std::string>(dictionary, key, value)) metadata[key] = value;
-    }
+    metadata = StringMetadata(io->GetMetaDataDictionary());
     FlipLPSRASIndexToSpace(ijkToLPS->GetData());
     ijkToRAS->DeepCopy(ijkToLPS);
     return true;

@@ -7,6 +7,9 @@
 class vtkImageData;
 class vtkMatrix4x4;
 class vtkRPImageNode;
+namespace itk {
+class MetaDataDictionary;
+}
 
 namespace rp {
 
@@ -16,6 +19,10 @@ struct VolumeFileData {
   vtkMatrix4x4* IJKToRAS = nullptr;  // caller-owned output
   std::map<std::string, std::string> Metadata;
 };
+
+/// The string entries of an ITK image IO's dictionary (NRRD `key:=value`), as files carry them
+/// (VolumeFileData::Metadata; the segmentation reader's layers).
+std::map<std::string, std::string> StringMetadata(const itk::MetaDataDictionary& dictionary);
 
 /// Reads a 3D scalar volume (2D images load as one slice). Multi-component images are refused.
 bool ReadVolumeFile(const std::string& path, VolumeFileData& data, std::string& error);
