@@ -338,65 +338,33 @@ double SegmentCrossesTriangle(const Vec3& p0, const Vec3& p1, const Vec3& a, con
   return t >= 0 && t <= 1 ? t : -1;
 }
 
-// The squared distance between the segment a + t d (t in [0,1]) and a box, exactly: it is a
-// convex piecewise quadratic in t whose pieces change where the segment crosses a face's plane;
-// each piece's minimum is its vertex or an end of the piece.
-double SegmentBoxDistance2(const Vec3& a, const Vec3& d, const Vec3& lo, const Vec3& hi) noexcept {
-  double breaks[8];
-  int n = 0;
-  breaks[n++] = 0;
-  breaks[n++] = 1;
-  for (int i = 0; i < 3; ++i) {
-    if (d[i] == 0) continue;
-    for (const double face : {lo[i], hi[i]}) {
-      const double t = (face - a[i]) / d[i];
-      if (t > 0 && t < 1) breaks[n++] = t;
-    }
-  }
-  for (int i = 1; i < n; ++i)  // insertion sort of at most 8 (std::sort trips GCC 12's bounds warning here)
-    for (int j = i; j > 0 && breaks[j - 1] > breaks[j]; --j) std::swap(breaks[j - 1], breaks[j]);
-  auto at = [&](double t) {
-    double f = 0;
-    for (int i = 0; i < 3; ++i) {
-      const double x = a[i] + d[i] * t;
-      if (x < lo[i]) f += (lo[i] - x) * (lo[i] - x);
-      else if (x > hi[i]) f += (x - hi[i]) * (x - hi[i]);
-    }
-    return f;
-  };
-  double best = at(0);
-  for (int k = 0; k + 1 < n; ++k) {
-    const double t0 = breaks[k], t1 = breaks[k + 1], mid = 0.5 * (t0 + t1);
-    // On this piece each axis is below, inside or above its slab: f = sum (a_i + d_i t - face_i)^2.
-    double qa = 0, qb = 0;
-    for (int i = 0; i < 3; ++i) {
-      const double x = a[i] + d[i] * mid;
-      const double face = x < lo[i] ? lo[i] : (x > hi[i] ? hi[i] : std::nan(""));
-      if (std::isnan(face)) continue;
-      qa += d[i] * d[i];
-      qb += 2 * d[i] * (a[i] - face);
-    }
-    const double t = qa > 0 ? std::clamp(-qb / (2 * qa), t0, t1) : t1;
-    best = std::min({best, at(t), at(t1)});
-  }
-  return best;
-}
-
-// A lower bound of the squared distance between the segment and a box: the larger of the gap
-// between the box and the segment's own box, and the distance from the box's centre to the
-// segment less its half-diagonal; when neither prunes, the exact distance.
-inline double SegmentBoxLowerBound2(const Vec3& a, const Vec3& d, double invLength2, const Vec3& segLo,
-                                    const Vec3& segHi, const Vec3& lo, const Vec3& hi, double best2) noexcept {
+// A lower bound of the squared distance between the segment a + t d (t in [0,1]) and a box, from
+// separating axes, without the exact (piecewise quadratic) distance: the gap between the box and
+// the segment's own box, and the gap in the plane of the segment's direction u and the direction
+// n across it towards the box's centre. In that plane the segment is a piece of the u axis and the
+// box lies inside the rectangle of its projections (centre ± the half-sizes' extents on n and on
+// u), so the distance is at least the 2D distance between the two. Tight for the long segments
+// the queries pass beside small boxes with; the triangles decide the answer exactly.
+inline double SegmentBoxLowerBound2(const Vec3& a, const Vec3& u, double length, const Vec3& segLo, const Vec3& segHi,
+                                    const Vec3& lo, const Vec3& hi) noexcept {
   double gap2 = 0;
   for (int i = 0; i < 3; ++i) {
     const double g = std::max(lo[i] - segHi[i], segLo[i] - hi[i]);
     if (g > 0) gap2 += g * g;
   }
-  const Vec3 center = (lo + hi) * 0.5;
-  const double t = std::clamp(Dot(center - a, d) * invLength2, 0.0, 1.0);
-  const double fromCenter = Norm(center - (a + d * t)) - 0.5 * Norm(hi - lo);
-  const double cheap = fromCenter > 0 ? std::max(gap2, fromCenter * fromCenter) : gap2;
-  return cheap > best2 ? cheap : SegmentBoxDistance2(a, d, lo, hi);
+  const Vec3 half = (hi - lo) * 0.5, toCenter = (lo + hi) * 0.5 - a;
+  const double along = Dot(toCenter, u);
+  const double extentU = std::fabs(u.x) * half.x + std::fabs(u.y) * half.y + std::fabs(u.z) * half.z;
+  const double gapU = std::max(along - extentU - length, -(along + extentU));
+  const Vec3 across = toCenter - u * along;
+  const double acrossLength = Norm(across);
+  double gapN = 0;
+  if (acrossLength > 0) {
+    const Vec3 n = across / acrossLength;
+    gapN = acrossLength - (std::fabs(n.x) * half.x + std::fabs(n.y) * half.y + std::fabs(n.z) * half.z);
+  }
+  const double plane2 = (gapU > 0 ? gapU * gapU : 0.0) + (gapN > 0 ? gapN * gapN : 0.0);
+  return std::max(gap2, plane2);
 }
 
 }  // namespace
@@ -467,7 +435,9 @@ bool BVH::ClosestToSegment(const Vec3& a, const Vec3& b, double maxDistance, Seg
     hit.Triangle = tri.Source, hit.Leaf = i;
   };
   if (warmLeaf && *warmLeaf < this->Tris.size()) test(*warmLeaf);
-  auto bound = [&](const Node& node) { return SegmentBoxLowerBound2(a, d, invLength2, segLo, segHi, node.Lo, node.Hi, best2); };
+  const double length = std::sqrt(length2);
+  const Vec3 u = length > 0 ? d / length : Vec3{1, 0, 0};
+  auto bound = [&](const Node& node) { return SegmentBoxLowerBound2(a, u, length, segLo, segHi, node.Lo, node.Hi); };
   // The stack keeps each node's bound, computed once (the exact box distance is not free).
   std::pair<uint32_t, double> stack[MaxDepth];
   int top = 0;

@@ -7,17 +7,13 @@
 #include <cmath>
 
 #include "rpExecutionScore.h"
+#include "rpTestAxis.h"
 
 namespace {
 
 using rp::Vec3;
 
-rp::TrajectoryAxis Axis(const Vec3& a, const Vec3& b) {
-  rp::TrajectoryAxis axis;
-  std::string error;
-  EXPECT_TRUE(rp::TrajectoryAxis::Make(a, b, axis, error)) << error;
-  return axis;
-}
+using rptest::Axis;
 
 // A straight path from `start` along `direction` for `length` mm, one point every `step` mm.
 std::vector<Vec3> Line(const Vec3& start, const Vec3& direction, double length, double step = 0.05) {

@@ -165,7 +165,8 @@ ArgParser DrillParser() {
       .Option("shell", "MM", "--block: a cortical shell this thick around a trabecular core (0: all cortical)", "0")
       .Option("margin", "MM", "build the voxel bone only within this distance of the stroke (0: the whole segment)", "0")
       .Option("materials", "FILE", "material table (default: Resources/Materials/materials.json)")
-      .Option("timeout", "S", "give up after this much session time (default: three times the stroke at the feed rate + 5 s)")
+      .Option("timeout", "S", "give up after this much session time (default: three times the stroke at the feed rate + 5 s; with --plan, 120 s: "
+                                 "the run otherwise ends when the burr arrives or stalls)")
       .Option("record", "FILE", "write the drill path (time, burr, proxy, force, removed volume per tick)")
       .Option("replay", "FILE", "drive the burr along a recorded drill path instead of --from/--to")
       .Option("model", "FILE", "write the drilled bone's surface (" + ModelFileExtensionsText() + ")")
@@ -399,6 +400,7 @@ int DrivePlannedDrill(const DrillRequest& q, DrillWork& s, TerminalProgress& pro
   o.Loop.CpuAffinity = q.Cpu;
   o.Loop.ShieldCpu = q.Shield;
   o.RecordPath = q.Record;
+  if (q.Timeout > 0) o.MaxSeconds = q.Timeout;
   progress.Report(0.3, "drilling the plan");
   if (!RunGuidedDrill(s.Logic, o, s.Guided, error)) return Fail(err, error);
   s.Result = s.Guided.Run;

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <limits>
 
 #include <vtkNew.h>
 
@@ -88,6 +90,22 @@ std::vector<ProtectedRegion> ProtectedRegionsOf(const PlanSnapshot& plan) {
   return out;
 }
 
+namespace {
+// The run's end (GuidedDrillOptions): the intent over, and the burr at its end or making no progress.
+std::function<bool(const DrillState&)> ArrivedOrStalled(const GuidedDrillOptions& o, double intentSeconds, double endDepth) {
+  double progressDepth = -std::numeric_limits<double>::infinity(), progressTime = 0;
+  return [=](const DrillState& s) mutable {
+    const double depth = o.Plan.Depth(s.Proxy);
+    if (depth > progressDepth + o.StallProgressMm) {
+      progressDepth = depth;
+      progressTime = s.Time;
+    }
+    if (s.Time < intentSeconds) return false;
+    return depth >= endDepth - o.ArrivalToleranceMm || s.Time - progressTime >= o.StallSeconds;
+  };
+}
+}  // namespace
+
 bool RunGuidedDrill(vtkRPDrillingLogic* logic, const GuidedDrillOptions& o, GuidedDrillResult& result, std::string& error) {
   result = GuidedDrillResult{};
   if (!logic || !logic->HasBone()) {
@@ -125,7 +143,9 @@ bool RunGuidedDrill(vtkRPDrillingLogic* logic, const GuidedDrillOptions& o, Guid
   DrillRunOptions run;
   run.Realtime = o.Realtime;
   run.Schedule = [on](double) { return on; };
-  run.MaxSeconds = duration + o.SettleSeconds;
+  run.Finished = ArrivedOrStalled(o, duration, Dot(end - o.Plan.Entry(), o.Plan.Direction()));
+  run.SettleSeconds = o.SettleSeconds;
+  run.MaxSeconds = std::max(o.MaxSeconds, duration + o.SettleSeconds);
   run.MeshEveryFrame = o.Realtime;
   if (!logic->RunSimulated(run, result.Run, error)) return false;
   for (const DrillRecordLine& l : result.Run.Records) {

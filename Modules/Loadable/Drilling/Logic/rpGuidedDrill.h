@@ -34,7 +34,16 @@ struct GuidedDrillOptions {
   HandImpedance Grip;
   std::shared_ptr<const FixtureSet> Fixtures;  // nullptr: free hand
   std::vector<ScoredStructure> Structures;     // clearance and enteredForbidden
-  double SettleSeconds = 1.5;       // after the hand's intent ends
+  // When the run ends: once the hand's intent has ended and the burr has reached the intended end
+  // (along the plan, within ArrivalToleranceMm) or stalled (no StallProgressMm deeper for
+  // StallSeconds: a depth stop, a protected margin, a bone too hard for the feed), SettleSeconds
+  // later; at MaxSeconds of session time at the latest. So a hand faster than the burr cuts waits
+  // for the burr, as a surgeon's does.
+  double SettleSeconds = 1.5;       // after the intent ended and the burr arrived or stalled
+  double StallSeconds = 1.0;
+  double StallProgressMm = 0.05;
+  double ArrivalToleranceMm = 0.1;
+  double MaxSeconds = 120;
   bool Realtime = false;            // the 1 kHz servo thread on the wall clock (default: scripted ticks)
   ServoLoop::Options Loop;
   std::string RecordPath;           // the drill path recording ("" none)

@@ -15,17 +15,13 @@
 #include "rpForbiddenRegion.h"
 #include "rpGuidedDrill.h"
 #include "vtkRPScene.h"
+#include "rpTestAxis.h"
 
 namespace {
 
 using rp::Vec3;
 
-rp::TrajectoryAxis Axis(const Vec3& a, const Vec3& b) {
-  rp::TrajectoryAxis axis;
-  std::string error;
-  EXPECT_TRUE(rp::TrajectoryAxis::Make(a, b, axis, error)) << error;
-  return axis;
-}
+using rptest::Axis;
 
 struct Block {
   vtkNew<vtkRPScene> Scene;
@@ -58,7 +54,6 @@ rp::GuidedDrillOptions Options(const rp::TrajectoryAxis& plan, double speed) {
   o.PlanDiameterMm = 3;
   o.BurrRadiusMm = 1.5;
   o.SpeedMmPerS = speed;
-  o.FeedRate = 20;  // a fast burr, so the hand sets the pace
   o.PushBeyondMm = 3;
   return o;
 }
@@ -68,6 +63,7 @@ TEST(GuidedDrill, TheDepthStopHoldsTheBurrWithinATenthOfAMillimetreAtTenMmPerSec
   for (bool stop : {false, true}) {
     Block block;
     rp::GuidedDrillOptions o = Options(plan, 10.0);
+    o.FeedRate = 20;  // a burr that cuts as fast as the hand moves: the speed is what is tested
     o.Noise.TremorMm = 0.2;
     o.Noise.Seed = 5;
     o.Fixtures = stop ? Fixtures(plan, false, true) : nullptr;
@@ -95,6 +91,10 @@ TEST(GuidedDrill, AForbiddenRegionIsNeverEnteredAndItsMarginNeverCut) {
     rp::ProtectRegions(*block.Logic->GetBone(), {{"vessel", vessel, 1.5}});
     rp::GuidedDrillOptions o = Options(plan, 5.0);
     o.Hand = false;
+    // A burr that keeps up with a hand held exactly on its intent (no hand impedance): the wall's
+    // geometry is what is tested. A burr lagging far behind such a hand heads straight for it, into
+    // the wall, and stalls there (the forbidden region stops the tool, it does not slide it round).
+    o.FeedRate = 20;
     o.IntentOffsetMm = {2.5, 0, 0};
     o.Structures = {{"vessel", vessel.get(), 1.5}};
     o.Fixtures = guard ? Fixtures(plan, false, false, rp::ForbiddenRegion::Make(3, "vessel", vessel, 1.5, error)) : nullptr;
@@ -138,6 +138,40 @@ TEST(GuidedDrill, AxisGuidanceKeepsATremblingDriftingHandOnThePlan) {
   EXPECT_GT(free, 2 * guided) << "free " << free << " guided " << guided;
 }
 
+// A hand faster than the burr cuts (5 mm/s against the default feed, 2 mm/s) waits for it: the run
+// lasts until the burr reaches the hand's intended end, PushBeyondMm past the target, then
+// SettleSeconds (the old end, the intent + 1.5 s, left it about 5 mm short). With the depth stop the
+// burr stops at the target and the run ends StallSeconds + SettleSeconds after it got there.
+TEST(GuidedDrill, AHandFasterThanTheBurrWaitsForItToArriveOrStall) {
+  const double length = 15, beyond = 3, speed = 5;
+  const rp::TrajectoryAxis plan = Axis({0, 0, 0}, {0, 0, -length});
+  for (bool stop : {false, true}) {
+    Block block(0.4);
+    rp::GuidedDrillOptions o = Options(plan, speed);
+    o.Hand = false;
+    o.PushBeyondMm = beyond;
+    o.Fixtures = stop ? Fixtures(plan, false, true) : nullptr;
+    ASSERT_LT(o.FeedRate, speed);
+    rp::GuidedDrillResult r;
+    std::string error;
+    ASSERT_TRUE(rp::RunGuidedDrill(block.Logic, o, r, error)) << error;
+    // When the burr's centre first came within the run's tolerance of where it stops.
+    const double end = stop ? length - o.StallProgressMm : length + beyond - o.ArrivalToleranceMm;
+    double arrived = -1;
+    for (const auto& l : r.Run.Records)
+      if (arrived < 0 && plan.Depth(l.Record.Proxy) >= end) arrived = l.Record.Time;
+    ASSERT_GT(arrived, (length + beyond) / speed) << "the burr keeps the feed's pace, not the hand's";
+    if (stop) {
+      EXPECT_LE(r.Score.DepthErrorMm, 0.1);
+      EXPECT_GE(r.Score.DepthErrorMm, -0.5);  // it got there
+      EXPECT_NEAR(r.Run.Final.Time, arrived + o.StallSeconds + o.SettleSeconds, 0.1);
+    } else {
+      EXPECT_NEAR(r.Score.DepthErrorMm, beyond, o.ArrivalToleranceMm);
+      EXPECT_NEAR(r.Run.Final.Time, arrived + o.SettleSeconds, 0.01);
+    }
+  }
+}
+
 double Lens(double r, double d) { return 2 * r * r * std::acos(d / (2 * r)) - 0.5 * d * std::sqrt(4 * r * r - d * d); }
 
 TEST(GuidedDrill, ATunnelDrilledOffItsPlanLeavesTheLensVolumeOutsideThePlansCylinder) {
@@ -169,6 +203,7 @@ TEST(GuidedDrill, OnTheRealTimeServoThreadTheDepthStopStillHolds) {
   const rp::TrajectoryAxis plan = Axis({0, 0, 0}, {0, 0, -6});
   Block block(0.4);
   rp::GuidedDrillOptions o = Options(plan, 10.0);
+  o.FeedRate = 20;  // as above: the speed is what is tested
   o.Noise.TremorMm = 0.2;
   o.Noise.Seed = 7;
   o.Fixtures = Fixtures(plan, true, true);

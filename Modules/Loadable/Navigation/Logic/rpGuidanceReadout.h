@@ -10,8 +10,7 @@
 //   closest structure at risk: its name and the distance from the tool's surface to it (mm).
 // These are the score's measures (rpExecutionScore.h) for one pose instead of a whole path. The
 // tool's pose is also given in the trajectory's own frame (ToolTipToTrajectory, what the
-// OpenIGTLink stream sends): origin at the planned entry, z along the plan towards the target,
-// x across it towards the patient's right (anterior when the plan runs right–left), y = z × x.
+// OpenIGTLink stream sends; the frame is defined in the Navigation README, "The trajectory's frame").
 #include <string>
 #include <vector>
 
@@ -19,6 +18,11 @@
 #include "rpTrajectoryAxis.h"
 
 namespace rp {
+
+/// The read-out's OpenIGTLink messages (device names): the tool tip in the trajectory's frame
+/// (TRANSFORM) and ReadoutString (STRING). The frame is defined in the Navigation README.
+constexpr const char* ReadoutTransformName = "ToolTipToTrajectory";
+constexpr const char* ReadoutStringName = "GuidanceReadout";
 
 struct ReadoutStructure {
   std::string Name;

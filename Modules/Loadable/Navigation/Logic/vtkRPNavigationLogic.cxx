@@ -12,20 +12,25 @@
 #include <vtkStaticCellLocator.h>
 #include <vtkTriangle.h>
 
+#include "rpIgtlOutbox.h"
+#include "rpIgtlServer.h"
 #include "vtkRPModelNode.h"
+#include "vtkRPPlanningLogic.h"
 #include "vtkRPScene.h"
 #include "vtkRPTrajectoryNode.h"
 #include "vtkRPTransformableNode.h"
 
 vtkStandardNewMacro(vtkRPNavigationLogic);
 
-vtkRPNavigationLogic::vtkRPNavigationLogic() {
+vtkRPNavigationLogic::vtkRPNavigationLogic()
+    : Planning(vtkSmartPointer<vtkRPPlanningLogic>::New()), Outbox(std::make_unique<rp::IgtlOutbox>()) {
   this->ToolCallback = vtkSmartPointer<vtkCallbackCommand>::New();
   this->ToolCallback->SetClientData(this);
   this->ToolCallback->SetCallback(&vtkRPNavigationLogic::OnToolMoved);
 }
 
 vtkRPNavigationLogic::~vtkRPNavigationLogic() {
+  this->StopReadoutServer();
   if (this->ObservedTool) this->ObservedTool->RemoveObserver(this->ToolObserverTag);
 }
 
@@ -36,6 +41,7 @@ void vtkRPNavigationLogic::PrintSelf(ostream& os, vtkIndent indent) {
 
 void vtkRPNavigationLogic::SetScene(vtkRPScene* scene) {
   this->Scene = scene;
+  this->Planning->SetScene(scene);
   this->ObserveTool();
 }
 
@@ -70,9 +76,49 @@ void vtkRPNavigationLogic::UpdateReadout(vtkRPTransformableNode* tool) {
   tool->GetMatrixTransformToWorld(toWorld);
   double tipToRAS[16];
   vtkMatrix4x4::DeepCopy(tipToRAS, toWorld);  // row-major, as ComputeReadout takes it
-  this->LastReadout = rp::ComputeReadout(plan, tipToRAS, {});
+  const double toolRadius = 0.5 * trajectory->GetToolDiameterMm();
+  this->LastReadout = rp::ComputeReadout(plan, tipToRAS, this->CurrentStructures(), toolRadius);
   tool->SetAttribute("Navigation.Guidance", rp::ReadoutString(this->LastReadout));
+  this->PublishReadout();
 }
+
+std::vector<rp::ReadoutStructure> vtkRPNavigationLogic::CurrentStructures() {
+  // The Planning logic's snapshot is rebuilt only when a structure changed: a query per move.
+  this->StructuresProblem.clear();
+  if (!this->Planning->GetStructuresAtRiskSnapshot(this->Structures, this->StructuresProblem)) this->Structures.clear();
+  std::vector<rp::ReadoutStructure> structures;
+  for (const rp::StructureAtRiskSnapshot& s : this->Structures) {
+    if (s.Signed) structures.push_back({s.Name, s.Signed.get(), s.SafetyMarginMm});
+    else this->StructuresProblem = "structure at risk '" + s.Name + "' has an open surface: no inside, not measured";
+  }
+  return structures;
+}
+
+void vtkRPNavigationLogic::PublishReadout() {
+  if (!this->LastReadout.Valid) return;
+  this->Outbox->PublishTransform(rp::ReadoutTransformName, this->LastReadout.ToolTipToTrajectory);
+  this->Outbox->PublishString(rp::ReadoutStringName, rp::ReadoutString(this->LastReadout));
+}
+
+bool vtkRPNavigationLogic::StartReadoutServer(int port, std::string& error, const std::string& bindAddress) {
+  this->StopReadoutServer();
+  if (!this->NoPoses) this->NoPoses = std::make_unique<rp::ToolPoseTable>();
+  rp::IgtlServer::Options options;
+  options.Port = port;
+  options.BindAddress = bindAddress;
+  options.Outbox = this->Outbox.get();
+  options.CommandClients = rp::AddressAllowList{};  // it streams read-outs: no client records or sets transforms
+  auto server = std::make_unique<rp::IgtlServer>(*this->NoPoses, options);
+  if (!server->Start(error)) return false;
+  this->Server = std::move(server);
+  return true;
+}
+
+void vtkRPNavigationLogic::StopReadoutServer() { this->Server.reset(); }
+
+int vtkRPNavigationLogic::GetReadoutServerPort() const { return this->Server ? this->Server->Port() : 0; }
+
+int vtkRPNavigationLogic::GetReadoutClientCount() const { return this->Server ? this->Server->ClientCount() : 0; }
 
 void vtkRPNavigationLogic::ObserveTool() {
   vtkObject* tool = this->Scene ? this->Scene->GetNodeByID(this->ToolNodeID) : nullptr;

@@ -8,8 +8,13 @@
 // Navigation.Warning) so the viewer shows them without knowing this module. With a planned
 // trajectory chosen (SetTrajectoryNodeID, issue 38) it also gives the tool's read-out against the
 // plan (rpGuidanceReadout.h: entry error, angle, depth to target, lateral distance) as
-// Navigation.Guidance ("entryErrorMm=…;angleDeg=…;…") and GetLastReadout(). Main thread only.
+// Navigation.Guidance ("entryErrorMm=…;angleDeg=…;…") and GetLastReadout(), measured against the
+// scene's structures at risk as the Planning logic finds them (protected models and segments, with
+// their margins), and hands the same read-out to OpenIGTLink (GetReadoutOutbox: a TRANSFORM
+// ToolTipToTrajectory and a STRING GuidanceReadout, sent by an rp::IgtlServer the moment they are
+// published; StartReadoutServer serves them). Main thread only.
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -17,12 +22,19 @@
 #include <vtkSmartPointer.h>
 
 #include "rpGuidanceReadout.h"
+#include "rpPlanSnapshot.h"
 
 class vtkRPScene;
 class vtkRPModelNode;
 class vtkRPTransformableNode;
 class vtkStaticCellLocator;
 class vtkCallbackCommand;
+class vtkRPPlanningLogic;
+namespace rp {
+class IgtlOutbox;
+class IgtlServer;
+class ToolPoseTable;
+}  // namespace rp
 
 class vtkRPNavigationLogic : public vtkObject {
  public:
@@ -43,7 +55,23 @@ class vtkRPNavigationLogic : public vtkObject {
   void SetTrajectoryNodeID(const std::string& id);
   const std::string& GetTrajectoryNodeID() const { return this->TrajectoryNodeID; }
   /// The last read-out against the trajectory (Valid false without a tool or a complete trajectory).
+  /// Its closest structure is the closest of the scene's structures at risk to the tool's surface
+  /// (the trajectory's tool radius around the tip), WithinMargin under that structure's margin.
   const rp::GuidanceReadout& GetLastReadout() const { return this->LastReadout; }
+  /// Why the last read-out has no structure although the scene has some (e.g. an empty segment).
+  const std::string& GetStructuresProblem() const { return this->StructuresProblem; }
+
+  /// Every read-out goes here as it is computed (TRANSFORM rp::ReadoutTransformName, STRING
+  /// rp::ReadoutStringName); any rp::IgtlServer given it (Options::Outbox) sends them at once.
+  const rp::IgtlOutbox& GetReadoutOutbox() const { return *this->Outbox; }
+  /// Serves the read-outs over OpenIGTLink (the Tracking module's server, as `roboplan track
+  /// --serve`: Slicer's OpenIGTLinkIF connects as a client). Port 0: an ephemeral one. False with
+  /// the reason; a running server is replaced.
+  bool StartReadoutServer(int port, std::string& error, const std::string& bindAddress = "127.0.0.1");
+  void StopReadoutServer();
+  /// The port served (0: none) and the clients connected.
+  int GetReadoutServerPort() const;
+  int GetReadoutClientCount() const;
   vtkSetMacro(WarningDistance, double);
   vtkGetMacro(WarningDistance, double);
 
@@ -73,12 +101,20 @@ class vtkRPNavigationLogic : public vtkObject {
   void ObserveTool();
   vtkStaticCellLocator* LocatorFor(vtkRPModelNode* model);
   void UpdateReadout(vtkRPTransformableNode* tool);
+  std::vector<rp::ReadoutStructure> CurrentStructures();
+  void PublishReadout();
 
   vtkRPScene* Scene = nullptr;  // not owned
   std::string ToolNodeID;
   std::vector<std::string> TargetModelNodeIDs;
   std::string TrajectoryNodeID;
   rp::GuidanceReadout LastReadout;
+  std::string StructuresProblem;
+  vtkSmartPointer<vtkRPPlanningLogic> Planning;  // finds the structures at risk (cached surfaces)
+  std::vector<rp::StructureAtRiskSnapshot> Structures;
+  std::unique_ptr<rp::IgtlOutbox> Outbox;
+  std::unique_ptr<rp::ToolPoseTable> NoPoses;  // the read-out server streams no tool of its own
+  std::unique_ptr<rp::IgtlServer> Server;
   double WarningDistance = 3.0;
   Result Last;
   vtkSmartPointer<vtkCallbackCommand> ToolCallback;

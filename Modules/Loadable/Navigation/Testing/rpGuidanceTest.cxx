@@ -7,6 +7,7 @@
 #include <Eigen/Dense>
 #include <nlohmann/json.hpp>
 #include <vtkNew.h>
+#include <vtkSphereSource.h>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -22,9 +23,12 @@
 #include "rpScoreCommand.h"
 #include "rpSharedData.h"
 #include "vtkRPLinearTransformNode.h"
+#include "vtkRPModelNode.h"
 #include "vtkRPNavigationLogic.h"
 #include "vtkRPScene.h"
 #include "vtkRPTrajectoryNode.h"
+#include "rpPlannedToolScene.h"
+#include "rpTestAxis.h"
 
 namespace {
 
@@ -37,12 +41,7 @@ std::string TempFile(const std::string& name, const std::string& text) {
   return path;
 }
 
-rp::TrajectoryAxis Axis(const Vec3& a, const Vec3& b) {
-  rp::TrajectoryAxis axis;
-  std::string error;
-  EXPECT_TRUE(rp::TrajectoryAxis::Make(a, b, axis, error)) << error;
-  return axis;
-}
+using rptest::Axis;
 
 TEST(GuidanceReadout, EntryErrorAngleDepthAndTheToolInTheTrajectorysFrame) {
   const rp::TrajectoryAxis plan = Axis({5, 6, 7}, {5, 6, -33});  // straight down, 40 mm
@@ -219,20 +218,12 @@ TEST(ExecutionPath, PlusRecordingScoredThroughItsStylusTipAgainstAPlan) {
 // 0°, and 40 mm short of a target 50 mm deep; tilted 30° about A its axis crosses the entry plane
 // 10·tan 30° farther along R.
 TEST(NavigationLogic, ReadsTheToolOutAgainstThePlannedTrajectoryWhenItMoves) {
-  vtkNew<vtkRPScene> scene;
-  vtkNew<vtkRPTrajectoryNode> trajectory;
   const double entry[3] = {0, 0, 0}, target[3] = {0, 0, -50};
-  trajectory->SetEntryAndTarget(entry, target);
-  scene->AddNode(trajectory);
-  vtkNew<vtkRPLinearTransformNode> tip;
-  scene->AddNode(tip);
-  vtkNew<vtkRPNavigationLogic> logic;
-  logic->SetScene(scene);
-  logic->SetToolNodeID(tip->GetID());
-  logic->SetTrajectoryNodeID(trajectory->GetID());
+  rptest::PlannedToolScene s(entry, target);
+  vtkRPLinearTransformNode* tip = s.Tip;
+  vtkRPNavigationLogic* logic = s.Logic;
   const double shifted[16] = {1, 0, 0, 3, 0, 1, 0, 4, 0, 0, 1, -10, 0, 0, 0, 1};
-  tip->SetMatrixTransformToParent(shifted);
-  const rp::GuidanceReadout& r = logic->GetLastReadout();
+  const rp::GuidanceReadout& r = s.Place(shifted);
   ASSERT_TRUE(r.Valid);
   EXPECT_NEAR(r.EntryErrorMm, 5, 1e-9);
   EXPECT_NEAR(r.LateralMm, 5, 1e-9);
@@ -249,6 +240,55 @@ TEST(NavigationLogic, ReadsTheToolOutAgainstThePlannedTrajectoryWhenItMoves) {
   logic->Update();
   EXPECT_FALSE(logic->GetLastReadout().Valid);
   EXPECT_EQ(tip->GetAttribute("Navigation.Guidance"), "");
+}
+
+// The read-out's closest structure at risk is the scene's (a protected model, as the Planning logic
+// finds it), from the tool's surface (the trajectory's tool radius): a sphere of radius R meshed by
+// vtkSphereSource has a vertex at its pole and every other point inside the sphere, so from a tip on
+// the pole's axis at D from the centre the mesh is exactly D − R away; under the margin it warns.
+TEST(NavigationLogic, TheClosestStructureAtRiskOfTheSceneFromTheToolsSurface) {
+  const double entry[3] = {0, 0, 0}, target[3] = {0, 0, -50};
+  rptest::PlannedToolScene s(entry, target);
+  s.Trajectory->SetToolDiameterMm(2);
+  vtkRPScene* scene = s.Scene;
+  const double radius = 5, center[3] = {20, 0, -10}, margin = 3;
+  vtkNew<vtkSphereSource> sphere;
+  sphere->SetCenter(center[0], center[1], center[2]);
+  sphere->SetRadius(radius);
+  sphere->SetThetaResolution(48);
+  sphere->SetPhiResolution(48);
+  sphere->Update();
+  vtkNew<vtkRPModelNode> vessel;
+  vessel->SetName("vessel");
+  vessel->SetPolyData(sphere->GetOutput());
+  scene->AddNode(vessel);
+  vtkNew<vtkRPModelNode> bone;  // not protected: not a structure at risk, however close
+  bone->SetName("bone");
+  vtkNew<vtkSphereSource> near;
+  near->SetCenter(center[0], center[1] + 3, center[2] + radius + 5);  // 2.5 mm from the first tip
+  near->Update();
+  bone->SetPolyData(near->GetOutput());
+  scene->AddNode(bone);
+  auto place = [&](double d) {
+    const double m[16] = {1, 0, 0, center[0], 0, 1, 0, center[1], 0, 0, 1, center[2] + d, 0, 0, 0, 1};
+    return s.Place(m);
+  };
+  EXPECT_FALSE(place(radius + 5).HasStructure) << "nothing is protected yet";
+  vessel->SetProtection({true, margin});
+  s.Logic->Update();  // the tool did not move: what the panel's display-rate timer does
+  rp::GuidanceReadout r = s.Logic->GetLastReadout();
+  ASSERT_TRUE(r.Valid);
+  ASSERT_TRUE(r.HasStructure) << s.Logic->GetStructuresProblem();
+  EXPECT_EQ(r.ClosestStructure, "vessel");
+  EXPECT_NEAR(r.ClosestStructureMm, 5 - 1, 1e-9);  // D − R − the tool's radius
+  EXPECT_FALSE(r.WithinMargin);
+  r = place(radius + 3.5);
+  EXPECT_NEAR(r.ClosestStructureMm, 3.5 - 1, 1e-9);
+  EXPECT_TRUE(r.WithinMargin);
+  const std::string line = s.Tip->GetAttribute("Navigation.Guidance");
+  EXPECT_NE(line.find("closestStructure=vessel;closestStructureMm=2.500;withinMargin=1"), std::string::npos) << line;
+  r = place(-radius / 2);  // inside it: negative
+  EXPECT_NEAR(r.ClosestStructureMm, -radius / 2 - 1, 0.05);
 }
 
 // `roboplan score` on a plan file and a CSV path it has never seen: a line offset 1 mm from the

@@ -4,18 +4,29 @@
 #include <string>
 #include <vector>
 
+#include <QCheckBox>
 #include <QComboBox>
+#include <QImage>
+#include <QPixmap>
+#include <QSpinBox>
 #include <QDoubleSpinBox>
 #include <QFormLayout>
+#include <QHBoxLayout>
+#include <QSignalBlocker>
 #include <QLabel>
 #include <QListWidget>
 #include <QPushButton>
 #include <QTimer>
 #include <QVBoxLayout>
 
-#include <vtkCallbackCommand.h>
 
 #include "qRPSliceFollowCheckBox.h"
+#include "rpSceneNodesWatch.h"
+#include "rpTargetView.h"
+#include "vtkRPScalarVolumeNode.h"
+#include "vtkRPTrajectoryNode.h"
+
+#include <vtkImageData.h>
 #include "vtkRPLinearTransformNode.h"
 #include "vtkRPModelNode.h"
 #include "vtkRPNavigationLogic.h"
@@ -50,6 +61,9 @@ qRPNavigationPanel::qRPNavigationPanel(vtkRPNavigationLogic* logic, QWidget* par
   this->Closest->setAlignment(Qt::AlignCenter);
   this->Readout = new QLabel("-");
   this->Readout->setAlignment(Qt::AlignCenter);
+  this->Structure = new QLabel("-");
+  this->Structure->setAlignment(Qt::AlignCenter);
+  this->Structure->setToolTip("The scene's structures at risk (protected models and segments), from the tool's surface");
   auto* layout = new QVBoxLayout(this);
   layout->addLayout(form);
   layout->addWidget(new QLabel("Measure to the models:"));
@@ -58,6 +72,34 @@ qRPNavigationPanel::qRPNavigationPanel(vtkRPNavigationLogic* logic, QWidget* par
   layout->addWidget(this->Distance);
   layout->addWidget(this->Closest);
   layout->addWidget(this->Readout);
+  layout->addWidget(this->Structure);
+  auto* views = new QFormLayout;
+  this->Volume = new QComboBox;
+  this->Volume->setToolTip("The volume re-sliced along the plan and across it at the tool tip");
+  views->addRow("Volume (re-sliced)", this->Volume);
+  this->Stream = new QCheckBox("Stream read-outs over OpenIGTLink");
+  this->Stream->setToolTip("TRANSFORM ToolTipToTrajectory and STRING GuidanceReadout to every client (3D Slicer's "
+                           "OpenIGTLinkIF connects as a client), on 127.0.0.1");
+  this->StreamPort = new QSpinBox;
+  this->StreamPort->setRange(1, 65535);
+  this->StreamPort->setValue(18945);
+  auto* stream = new QHBoxLayout;
+  stream->addWidget(this->Stream);
+  stream->addWidget(this->StreamPort);
+  views->addRow(stream);
+  this->StreamState = new QLabel("not streaming");
+  views->addRow(this->StreamState);
+  layout->addLayout(views);
+  this->TargetPicture = new QLabel;
+  this->TargetPicture->setAlignment(Qt::AlignCenter);
+  this->TargetPicture->setToolTip("Target view (the plan seen from the entry, rings 1, 2, 5 mm), and the volume along and "
+                                  "across the plan at the tool tip");
+  layout->addWidget(this->TargetPicture);
+  this->Picture = std::make_unique<rp::TargetViewPicture>();
+  connect(this->Stream, &QCheckBox::toggled, this, &qRPNavigationPanel::ToggleStream);
+  connect(this->Volume, QOverload<int>::of(&QComboBox::currentIndexChanged), this, [this](int) {
+    if (!this->Refreshing) this->Update();
+  });
   this->Timer = new QTimer(this);
   this->Timer->setInterval(33);  // 30 Hz display rate
   connect(this->Timer, &QTimer::timeout, this, &qRPNavigationPanel::OnTimer);
@@ -72,27 +114,13 @@ qRPNavigationPanel::qRPNavigationPanel(vtkRPNavigationLogic* logic, QWidget* par
     if (!this->Refreshing) this->Update();
   });
   connect(this->Warning, QOverload<double>::of(&QDoubleSpinBox::valueChanged), this, [this](double) { this->Update(); });
-  if (vtkRPScene* scene = logic ? logic->GetScene() : nullptr) {
-    this->SceneCallback = vtkCallbackCommand::New();
-    this->SceneCallback->SetClientData(this);
-    this->SceneCallback->SetCallback(&qRPNavigationPanel::OnSceneNodesChanged);
-    for (unsigned long event : {static_cast<unsigned long>(vtkRPScene::NodeAddedEvent),
-                                static_cast<unsigned long>(vtkRPScene::NodeRemovedEvent),
-                                static_cast<unsigned long>(vtkRPScene::EndImportEvent),
-                                static_cast<unsigned long>(vtkRPScene::EndCloseEvent)})
-      this->SceneTags.push_back(scene->AddObserver(event, this->SceneCallback));
-  }
+  this->SceneWatch = std::make_unique<rp::SceneNodesWatch>(logic ? logic->GetScene() : nullptr);
   this->RefreshNodeLists();
   this->Timer->start();
 }
 
-void qRPNavigationPanel::OnSceneNodesChanged(vtkObject*, unsigned long, void* clientData, void*) {
-  static_cast<qRPNavigationPanel*>(clientData)->NodeListsDirty = true;
-}
-
 void qRPNavigationPanel::OnTimer() {
-  if (this->NodeListsDirty) {
-    this->NodeListsDirty = false;
+  if (this->SceneWatch->TakeChanged()) {
     this->RefreshNodeLists();  // also updates
   } else {
     this->Update();
@@ -102,15 +130,62 @@ void qRPNavigationPanel::OnTimer() {
 
 qRPNavigationPanel::~qRPNavigationPanel() {
   this->Timer->stop();
-  if (vtkRPScene* scene = this->Logic ? this->Logic->GetScene() : nullptr)
-    for (unsigned long tag : this->SceneTags) scene->RemoveObserver(tag);
-  if (this->SceneCallback) this->SceneCallback->Delete();
   if (this->Logic) this->Logic->SetToolNodeID("");  // stop observing the tool
 }
 
 QString qRPNavigationPanel::DistanceText() const { return this->Distance->text(); }
 QString qRPNavigationPanel::ClosestModelText() const { return this->Closest->text(); }
 QString qRPNavigationPanel::ReadoutText() const { return this->Readout->text(); }
+QString qRPNavigationPanel::StructureText() const { return this->Structure->text(); }
+QString qRPNavigationPanel::StreamText() const { return this->StreamState->text(); }
+QImage qRPNavigationPanel::TargetViewImage() const { return this->TargetPicture->pixmap(Qt::ReturnByValue).toImage(); }
+
+void qRPNavigationPanel::ToggleStream(bool on) {
+  if (!this->Logic) return;
+  if (!on) {
+    this->Logic->StopReadoutServer();
+    this->StreamState->setText("not streaming");
+    return;
+  }
+  std::string error;
+  if (!this->Logic->StartReadoutServer(this->StreamPort->value(), error)) {
+    this->StreamState->setText(QString::fromStdString(error));
+    const QSignalBlocker block(this->Stream);
+    this->Stream->setChecked(false);
+  }
+}
+
+void qRPNavigationPanel::ShowTargetView() {
+  const rp::GuidanceReadout& g = this->Logic->GetLastReadout();
+  auto* trajectory = vtkRPTrajectoryNode::SafeDownCast(this->Logic->GetScene()->GetNodeByID(this->Logic->GetTrajectoryNodeID()));
+  auto* volume = vtkRPScalarVolumeNode::SafeDownCast(
+      this->Logic->GetScene()->GetNodeByID(this->Volume->currentData().toString().toStdString()));
+  double entry[3], target[3];
+  rp::TrajectoryAxis plan;
+  std::string error;
+  if (!g.Valid || !trajectory || !trajectory->GetEntryWorld(entry) || !trajectory->GetTargetWorld(target) ||
+      !rp::TrajectoryAxis::Make({entry[0], entry[1], entry[2]}, {target[0], target[1], target[2]}, plan, error)) {
+    this->TargetPicture->clear();
+    this->PictureShown.clear();
+    return;
+  }
+  // Redraw only when what it shows changed (a still tool costs nothing at display rate).
+  std::vector<double> shown(g.ToolTipToTrajectory, g.ToolTipToTrajectory + 16);
+  shown.insert(shown.end(), {entry[0], entry[1], entry[2], target[0], target[1], target[2],
+                             volume ? static_cast<double>(volume->GetMTime()) : -1.0});
+  if (shown == this->PictureShown) return;
+  this->PictureShown = shown;
+  if (!this->Picture->Render(plan, g, volume, error)) {
+    this->TargetPicture->setText(QString::fromStdString(error));
+    return;
+  }
+  vtkImageData* image = this->Picture->GetImage();
+  int dims[3];
+  image->GetDimensions(dims);
+  const auto* rgb = static_cast<const uchar*>(image->GetScalarPointer());
+  QImage picture(rgb, dims[0], dims[1], 3 * dims[0], QImage::Format_RGB888);
+  this->TargetPicture->setPixmap(QPixmap::fromImage(picture.mirrored()));  // VTK's rows start at the bottom
+}
 
 void qRPNavigationPanel::showEvent(QShowEvent* event) {
   this->RefreshNodeLists();
@@ -136,6 +211,14 @@ void qRPNavigationPanel::RefreshNodeLists() {
   for (vtkRPNode* node : scene->GetNodesByClass("vtkRPTrajectoryNode"))
     this->Trajectory->addItem(QString::fromStdString(node->GetName()), QString::fromStdString(node->GetID()));
   this->Trajectory->setCurrentIndex(std::max(0, this->Trajectory->findData(trajectory)));
+  const QString volume = this->Volume->currentData().toString();
+  const bool hadVolumes = this->Volume->count() > 1;  // none before: show the first one that came
+  this->Volume->clear();
+  this->Volume->addItem("(none)", QString());
+  for (vtkRPNode* node : scene->GetNodesByClass("vtkRPScalarVolumeNode"))
+    this->Volume->addItem(QString::fromStdString(node->GetName()), QString::fromStdString(node->GetID()));
+  const int volumeIndex = hadVolumes ? this->Volume->findData(volume) : -1;
+  this->Volume->setCurrentIndex(volumeIndex >= 0 ? volumeIndex : std::min(1, this->Volume->count() - 1));
 
   QStringList checked;
   for (int i = 0; i < this->Models->count(); ++i)
@@ -168,10 +251,20 @@ void qRPNavigationPanel::ApplySettings() {
 
 void qRPNavigationPanel::ShowReadout() {
   const rp::GuidanceReadout& g = this->Logic->GetLastReadout();
+  this->StructureWarningShown = g.Valid && g.HasStructure && g.WithinMargin;
+  this->Structure->setStyleSheet(this->StructureWarningShown ? "color: rgb(220, 30, 30);" : "");
   if (!g.Valid) {
     this->Readout->setText("-");
+    this->Structure->setText("-");
     return;
   }
+  this->Structure->setText(g.HasStructure ? QString("closest structure at risk: %1 %2 mm%3")
+                                                .arg(QString::fromStdString(g.ClosestStructure))
+                                                .arg(g.ClosestStructureMm, 0, 'f', 1)
+                                                .arg(g.WithinMargin ? " (within its margin)" : "")
+                                          : QString::fromStdString(this->Logic->GetStructuresProblem().empty()
+                                                                       ? std::string("no structure at risk in the scene")
+                                                                       : this->Logic->GetStructuresProblem()));
   this->Readout->setText(QString::fromUtf8("entry %1 mm · angle %2° · depth to target %3 mm · lateral %4 mm")
                              .arg(g.EntryErrorMm, 0, 'f', 1)
                              .arg(g.AngleDeg, 0, 'f', 1)
@@ -184,6 +277,11 @@ void qRPNavigationPanel::Update() {
   this->ApplySettings();
   const vtkRPNavigationLogic::Result r = this->Logic->Update();
   this->ShowReadout();
+  this->ShowTargetView();
+  if (this->Logic->GetReadoutServerPort() > 0)
+    this->StreamState->setText(QString("streaming on 127.0.0.1:%1, %2 client(s)")
+                                   .arg(this->Logic->GetReadoutServerPort())
+                                   .arg(this->Logic->GetReadoutClientCount()));
   if (!r.Valid) {
     this->Distance->setText("-");
     this->Distance->setStyleSheet("");

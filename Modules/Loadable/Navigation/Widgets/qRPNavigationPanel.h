@@ -6,18 +6,27 @@
 // the closest model's name; the slices can follow the tool (through the scene's slice nodes);
 // with a planned trajectory chosen, the tool's read-out against it (entry error, angle, depth to
 // target, lateral distance; issue 38). vtkRPNavigationLogic does the work (and writes Navigation.*
-// attributes onto the tool node for the viewer); a 30 Hz timer refreshes the read-outs.
+// attributes onto the tool node for the viewer); a 30 Hz timer refreshes the read-outs. Below
+// them, the target ("bull's-eye") view and the chosen volume re-sliced along and across the plan
+// at the tool tip (rpTargetView.h), drawn when the read-out changed; and a check box that streams
+// the read-outs over OpenIGTLink (vtkRPNavigationLogic::StartReadoutServer).
+#include <QImage>
 #include <QWidget>
 
+#include <memory>
 #include <vector>
 
+class QCheckBox;
 class QComboBox;
+class QSpinBox;
 class QDoubleSpinBox;
 class QLabel;
 class QListWidget;
 class QTimer;
-class vtkCallbackCommand;
-class vtkObject;
+namespace rp {
+class SceneNodesWatch;
+class TargetViewPicture;
+}
 class qRPSliceFollowCheckBox;
 class vtkRPNavigationLogic;
 
@@ -39,6 +48,19 @@ class qRPNavigationPanel : public QWidget {
   QComboBox* TrajectoryComboBox() const { return this->Trajectory; }
   /// "entry 1.2 mm · angle 2.5° · depth to target 10.2 mm · lateral 0.8 mm", or "-".
   QString ReadoutText() const;
+  /// "closest structure at risk: vessel 3.2 mm (margin 2.0 mm)", or "-"; red under its margin.
+  QString StructureText() const;
+  bool IsStructureWarningShown() const { return this->StructureWarningShown; }
+  /// The volume the re-sliced views show ("(none)" first).
+  QComboBox* VolumeComboBox() const { return this->Volume; }
+  /// The target view and the re-sliced views as last drawn (null before a read-out), and the
+  /// picture shown (empty when none).
+  const rp::TargetViewPicture* TargetView() const { return this->Picture.get(); }
+  QImage TargetViewImage() const;
+  /// "Stream read-outs over OpenIGTLink" on the port beside it (127.0.0.1), and its state line.
+  QCheckBox* StreamCheckBox() const { return this->Stream; }
+  QSpinBox* StreamPortSpinBox() const { return this->StreamPort; }
+  QString StreamText() const;
   /// "Slices follow the tool": the scene's slice nodes follow the chosen tool's tip (the views
   /// re-slice at the tracked stylus; the panel never touches a view).
   qRPSliceFollowCheckBox* FollowToolCheckBox() const { return this->FollowTool; }
@@ -53,13 +75,23 @@ class qRPNavigationPanel : public QWidget {
  private:
   void ApplySettings();
   void ShowReadout();
+  void ShowTargetView();
+  void ToggleStream(bool on);
   void OnTimer();
-  static void OnSceneNodesChanged(vtkObject*, unsigned long, void* clientData, void*);
 
   vtkRPNavigationLogic* Logic;
   QComboBox* Tool;
   QComboBox* Trajectory;
   QLabel* Readout;
+  QLabel* Structure;
+  QComboBox* Volume;
+  QLabel* TargetPicture;
+  QCheckBox* Stream;
+  QSpinBox* StreamPort;
+  QLabel* StreamState;
+  std::unique_ptr<rp::TargetViewPicture> Picture;
+  std::vector<double> PictureShown;  // what the picture shows (pose, plan, volume time): redraw when it changes
+  bool StructureWarningShown = false;
   QListWidget* Models;
   QDoubleSpinBox* Warning;
   qRPSliceFollowCheckBox* FollowTool;
@@ -68,9 +100,7 @@ class qRPNavigationPanel : public QWidget {
   QTimer* Timer;
   bool WarningShown = false;
   bool Refreshing = false;
-  bool NodeListsDirty = false;  // nodes added/removed: refresh the lists on the next tick
-  vtkCallbackCommand* SceneCallback = nullptr;
-  std::vector<unsigned long> SceneTags;
+  std::unique_ptr<rp::SceneNodesWatch> SceneWatch;  // nodes added/removed: refresh the lists on the next tick
 };
 
 #endif

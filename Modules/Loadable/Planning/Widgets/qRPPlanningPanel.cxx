@@ -16,8 +16,6 @@
 #include <QTimer>
 #include <QVBoxLayout>
 
-#include <vtkCallbackCommand.h>
-
 #include "qRPProfilePlot.h"
 #include "vtkRPCutPlaneNode.h"
 #include "vtkRPModelNode.h"
@@ -64,25 +62,13 @@ qRPPlanningPanel::qRPPlanningPanel(vtkRPPlanningLogic* logic, QWidget* parent) :
   this->Timer = new QTimer(this);
   this->Timer->setInterval(33);  // display rate: the figures follow a dragged point
   connect(this->Timer, &QTimer::timeout, this, &qRPPlanningPanel::OnTimer);
-  if (vtkRPScene* scene = logic ? logic->GetScene() : nullptr) {
-    this->SceneCallback = vtkCallbackCommand::New();
-    this->SceneCallback->SetClientData(this);
-    this->SceneCallback->SetCallback(&qRPPlanningPanel::OnSceneNodesChanged);
-    for (unsigned long event : {static_cast<unsigned long>(vtkRPScene::NodeAddedEvent),
-                                static_cast<unsigned long>(vtkRPScene::NodeRemovedEvent),
-                                static_cast<unsigned long>(vtkRPScene::EndImportEvent),
-                                static_cast<unsigned long>(vtkRPScene::EndCloseEvent)})
-      this->SceneTags.push_back(scene->AddObserver(event, this->SceneCallback));
-  }
+  this->SceneWatch = std::make_unique<rp::SceneNodesWatch>(logic ? logic->GetScene() : nullptr);
   this->RefreshNodeLists();
   this->Timer->start();
 }
 
 qRPPlanningPanel::~qRPPlanningPanel() {
   this->Timer->stop();
-  if (vtkRPScene* scene = this->Logic ? this->Logic->GetScene() : nullptr)
-    for (unsigned long tag : this->SceneTags) scene->RemoveObserver(tag);
-  if (this->SceneCallback) this->SceneCallback->Delete();
 }
 
 void qRPPlanningPanel::BuildPatientBox(QVBoxLayout* layout) {
@@ -213,9 +199,6 @@ void qRPPlanningPanel::BuildProposalBox(QVBoxLayout* layout) {
   });
 }
 
-void qRPPlanningPanel::OnSceneNodesChanged(vtkObject*, unsigned long, void* clientData, void*) {
-  static_cast<qRPPlanningPanel*>(clientData)->NodeListsDirty = true;
-}
 
 void qRPPlanningPanel::showEvent(QShowEvent* event) {
   this->RefreshNodeLists();
@@ -383,8 +366,7 @@ unsigned long qRPPlanningPanel::WatchedTime() const {
 }
 
 void qRPPlanningPanel::OnTimer() {
-  if (this->NodeListsDirty) {
-    this->NodeListsDirty = false;
+  if (this->SceneWatch->TakeChanged()) {
     this->RefreshNodeLists();
     return;
   }

@@ -11,9 +11,11 @@
 // does the work; the panel never draws in a view.
 #include <QWidget>
 
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "rpSceneNodesWatch.h"
 #include "rpTrajectoryFigures.h"
 #include "rpTrajectoryProposal.h"
 
@@ -26,8 +28,6 @@ class QSpinBox;
 class QTableWidget;
 class QTimer;
 class qRPProfilePlot;
-class vtkCallbackCommand;
-class vtkObject;
 class vtkRPPlanningLogic;
 class vtkRPNode;
 
@@ -81,7 +81,6 @@ class qRPPlanningPanel : public QWidget {
   void OnTimer();
   unsigned long WatchedTime() const;
   vtkRPNode* CurrentPlan() const;
-  static void OnSceneNodesChanged(vtkObject*, unsigned long, void* clientData, void*);
 
   vtkRPPlanningLogic* Logic;
   QComboBox *Volume, *Segmentation, *Plan, *Tissue, *Region;
@@ -97,9 +96,7 @@ class qRPPlanningPanel : public QWidget {
   unsigned long ShownTime = 0;
   int FigureUpdates = 0;
   bool Refreshing = false;
-  bool NodeListsDirty = false;
-  vtkCallbackCommand* SceneCallback = nullptr;
-  std::vector<unsigned long> SceneTags;
+  std::unique_ptr<rp::SceneNodesWatch> SceneWatch;  // nodes added/removed: refresh the lists on the next tick
 };
 
 #endif

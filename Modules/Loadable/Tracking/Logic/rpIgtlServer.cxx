@@ -104,6 +104,7 @@ void IgtlServer::HandleClientInfo(Client& c, const igtl::Body& body) {
   if (!plus::ParseClientInfo(std::string(text, length), info, error)) return;  // PLUS keeps the old info too
   c.HasClientInfo = true;
   c.WantsTransforms = std::find(info.MessageTypes.begin(), info.MessageTypes.end(), "TRANSFORM") != info.MessageTypes.end();
+  c.WantsStrings = std::find(info.MessageTypes.begin(), info.MessageTypes.end(), "STRING") != info.MessageTypes.end();
   c.Wanted.assign(static_cast<size_t>(this->Source.Count()), 0);
   c.Extras.clear();
   for (const plus::TransformName& t : info.TransformNames) {
@@ -136,6 +137,28 @@ void IgtlServer::SendExtras(Client& c, double wall) {
     const bool valid = state == ToolState::OK || state == ToolState::OutOfVolume;
     if (!valid && c.Version < 2 && !this->Opts.SendInvalid) continue;
     this->SendTransform(c, e.Name.c_str(), m, state, wall);
+  }
+}
+
+void IgtlServer::SendOutbox(double wall) {
+  const IgtlOutbox* outbox = this->Opts.Outbox;
+  outbox->DrainReady();
+  IgtlOutbox::Message& m = this->OutboxMessage;
+  for (int slot = 0; slot < outbox->Count(); ++slot) {
+    const uint64_t published = outbox->Read(slot, m);
+    if (published == 0 || published == this->OutboxSent[static_cast<size_t>(slot)]) continue;
+    this->OutboxSent[static_cast<size_t>(slot)] = published;
+    const bool transform = std::strcmp(m.Type, "TRANSFORM") == 0;
+    for (Client& c : this->Connections) {
+      if (c.Fd < 0 || (transform && !c.WantsTransforms) || (!transform && !c.WantsStrings)) continue;
+      std::memcpy(this->Writer.Begin(c.Version, m.Type, m.Name, wall, m.ContentSize), m.Content, m.ContentSize);
+      igtl::MetaPair meta[2];
+      size_t count = 0;
+      if (transform) meta[count++] = {"TransformStatus", "OK"};  // as the served tools' (PLUS's)
+      if (std::strlen(m.Name) > igtl::NameSize) meta[count++] = {"IGTL_DEVICE_NAME", m.Name};
+      this->Writer.Finish(meta, count);
+      this->Send(c);
+    }
   }
 }
 
@@ -448,19 +471,24 @@ void IgtlServer::Run() {
     fds.push_back({this->ListenFd, POLLIN, 0});
     for (const Client& c : this->Connections)
       fds.push_back({c.Fd, static_cast<short>(POLLIN | (c.Queued.size() != c.QueuedSent ? POLLOUT : 0)), 0});
+    const size_t polled = this->Connections.size();  // Accept() may add more below
+    const IgtlOutbox* outbox = this->Opts.Outbox;
+    if (outbox) fds.push_back({outbox->ReadyFd(), POLLIN, 0});  // last: the clients keep indices 1..n
     const double wait = std::max(0.0, nextSend - SteadySeconds());
     ::poll(fds.data(), fds.size(), static_cast<int>(wait * 1000) + 1);
     const double now = SteadySeconds();
     if (fds[0].revents & POLLIN) this->Accept();
-    for (size_t i = 1; i < fds.size(); ++i) {
+    for (size_t i = 1; i <= polled; ++i) {
       Client& c = this->Connections[i - 1];
       if (fds[i].revents & POLLOUT) this->Flush(c, now);
       if (c.Fd >= 0 && (fds[i].revents & (POLLIN | POLLHUP | POLLERR))) this->Receive(c, scratch.data(), scratch.size());
       if (c.Fd >= 0 && c.Queued.size() != c.QueuedSent && now - c.StalledSince > this->Opts.StallSeconds)
         this->Drop(c, this->Stalled, "dropped: it read nothing for too long");
     }
+    if (outbox && (fds.back().revents & POLLIN)) this->SendOutbox(WallSeconds());
     if (now >= nextSend) {
       nextSend = std::max(nextSend + period, now);
+      if (outbox) this->SendOutbox(WallSeconds());  // also without an eventfd (none left): at the send rate
       this->SendPoses(now);
     }
     // Forget clients that went away or were dropped.

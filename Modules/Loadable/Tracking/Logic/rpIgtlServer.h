@@ -22,12 +22,18 @@
 // <ClientInfo> XML) replaces, for that client only, which message types and transform names it
 // gets; names the server does not stream come from the TransformProvider.
 //
+// Messages of the main thread's (Options::Outbox: e.g. the navigation read-outs, a TRANSFORM
+// ToolTipToTrajectory and a STRING GuidanceReadout) go to every client as soon as they are
+// published (the outbox wakes the server's poll), to a client with CLIENTINFO only when its
+// message types name their type.
+//
 // Who may do what: every client gets the stream and the read-only commands; the commands that
 // change state or write files (UpdateTransform, StartRecording, StopRecording) run only for a
 // client whose address is in `CommandClients` (loopback by default), any other gets a FAIL reply
 // naming why. Each connection, refusal, command (client address, command, result) and recording
 // problem is one line through `Log` (called on the server thread: the sink must be thread-safe).
 // OpenIGTLink itself has no encryption and no authentication: an address is all we can check.
+#include <array>
 #include <atomic>
 #include <functional>
 #include <map>
@@ -37,6 +43,7 @@
 #include <vector>
 
 #include "rpIgtlCommands.h"
+#include "rpIgtlOutbox.h"
 #include "rpIgtlProtocol.h"
 #include "rpNetworkAddress.h"
 #include "rpPlusRecorder.h"
@@ -73,6 +80,7 @@ class IgtlServer : public IgtlCommandTarget {
     std::vector<std::string> DeviceIds = {"TrackerDevice"};  // RequestDeviceIds
     TransformProvider Transforms;                           // GetTransform of chained names
     TransformUpdater UpdateTransforms;                      // UpdateTransform into it (else kept here)
+    const IgtlOutbox* Outbox = nullptr;                     // the main thread's messages (not owned; outlives the server)
   };
 
   struct Statistics {
@@ -112,7 +120,7 @@ class IgtlServer : public IgtlCommandTarget {
     size_t QueuedSent = 0;
     // CLIENTINFO (PlusServer's): this client's own message types and transform names replace
     // the default (every served transform) for this client only.
-    bool HasClientInfo = false, WantsTransforms = true;
+    bool HasClientInfo = false, WantsTransforms = true, WantsStrings = true;
     std::vector<uint8_t> Wanted;  // per Source slot
     struct Extra {
       std::string Name, From, To;  // asked for but not served: computed by Opts.Transforms
@@ -134,6 +142,7 @@ class IgtlServer : public IgtlCommandTarget {
   void HandleClientInfo(Client& c, const igtl::Body& body);
   void SendTransform(Client& c, const char* name, const double m[16], ToolState state, double wall);
   void SendExtras(Client& c, double wall);
+  void SendOutbox(double wall);
 
   const ToolPoseTable& Source;
   Options Opts;
@@ -150,6 +159,8 @@ class IgtlServer : public IgtlCommandTarget {
   RecordingFolder Recordings;  // opened by Start
   PlusRecorder Recorder;       // while StartRecording is on
   std::map<std::string, std::vector<double>> FixedTransforms;  // UpdateTransform
+  std::array<uint64_t, IgtlOutbox::MaxMessages> OutboxSent{};  // publish count of each outbox message sent
+  IgtlOutbox::Message OutboxMessage;
 };
 
 }  // namespace rp
