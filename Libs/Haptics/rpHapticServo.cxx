@@ -3,6 +3,20 @@
 #include <algorithm>
 
 namespace rp {
+namespace {
+
+// What every tick's log record holds (a trip's and a rendered tick's alike); the caller adds the rest.
+HapticLogRecord LogRecordOf(const HapticState& s, const TickInfo& tick, double elapsed) noexcept {
+  HapticLogRecord r;
+  r.Time = tick.Time;
+  r.Hip = s.Hip;
+  r.Proxy = s.Proxy;
+  r.TickComputeUs = static_cast<float>(tick.PreviousComputeNs * 1e-3);
+  r.Elapsed = static_cast<float>(elapsed);
+  return r;
+}
+
+}  // namespace
 
 HapticServo::HapticServo(HapticDevice& device) : Tool(device) { this->Render.SetDevice(device.Info()); }
 
@@ -39,12 +53,7 @@ void HapticServo::Tick(const TickInfo& tick) noexcept {
     s.WatchdogTrips = this->Trips;
     this->State.Publish(s);
     if (this->LogEnabled.load(std::memory_order_relaxed)) {
-      HapticLogRecord r;
-      r.Time = tick.Time;
-      r.Hip = s.Hip;
-      r.Proxy = s.Proxy;
-      r.TickComputeUs = static_cast<float>(tick.PreviousComputeNs * 1e-3);
-      r.Elapsed = static_cast<float>(elapsed);
+      HapticLogRecord r = LogRecordOf(s, tick, elapsed);
       r.Flags = 1;
       this->Log.TryPush(r);
     }
@@ -86,15 +95,10 @@ void HapticServo::Tick(const TickInfo& tick) noexcept {
   }
   this->State.Publish(s);
   if (this->LogEnabled.load(std::memory_order_relaxed)) {
-    HapticLogRecord r;
-    r.Time = tick.Time;
-    r.Hip = s.Hip;
-    r.Proxy = s.Proxy;
+    HapticLogRecord r = LogRecordOf(s, tick, elapsed);
     r.Force = force;
     r.Label = s.Label;
     r.Contacts = s.Contacts;
-    r.TickComputeUs = static_cast<float>(tick.PreviousComputeNs * 1e-3);
-    r.Elapsed = static_cast<float>(elapsed);
     r.ObservedEnergy = out.ObservedEnergy;
     r.Flags = (out.Clamped ? 2u : 0u) | (out.StallLimited ? 4u : 0u);
     this->Log.TryPush(r);

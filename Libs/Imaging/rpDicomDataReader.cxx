@@ -89,13 +89,19 @@ class DicomReader : public DataReader {
     return true;
   }
 };
+// The one DicomReader: registered, and what GetDicomDataReader names.
+const std::shared_ptr<DataReader>& TheDicomReader() {
+  static const std::shared_ptr<DataReader> reader = std::make_shared<DicomReader>();
+  return reader;
+}
 const bool registeredAtLoad = RegisterImagingReaders();
 
 }  // namespace
 
+const DataReader* GetDicomDataReader() { return TheDicomReader().get(); }
+
 bool RegisterImagingReaders() {
-  static const bool registered =
-      RegisterDataReader(std::make_shared<DicomReader>()) && RegisterDicomSegmentationReader();
+  static const bool registered = RegisterDataReader(TheDicomReader()) && RegisterDicomSegmentationReader();
   return registered;
 }
 

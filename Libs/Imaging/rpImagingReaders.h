@@ -14,6 +14,11 @@ namespace rp {
 /// Registers the imaging readers once (later calls do nothing). Returns true.
 bool RegisterImagingReaders();
 
+/// The DICOM reader RegisterImagingReaders registers (for a caller that asks the loader which
+/// reader a path goes to, as rp::ReadVolume does).
+class DataReader;
+const DataReader* GetDicomDataReader();
+
 /// The DICOM SEG / RTSTRUCT reader (rpDicomSegmentationDataReader.cxx); RegisterImagingReaders
 /// calls it.
 bool RegisterDicomSegmentationReader();

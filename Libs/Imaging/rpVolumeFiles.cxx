@@ -2,23 +2,23 @@
 
 #include <filesystem>
 
+#include "rpDataLoader.h"
+#include "rpImagingReaders.h"
 #include "rpNodeStorage.h"
-#include "rpVolumeIO.h"
 
 namespace rp {
 
-bool IsVolumeFileName(const std::string& path) {
-  // The extensions the volume storage registered (rpVolumeIO.cxx): listed there only.
-  for (const std::string& ext : ExtensionsForNodeClass("vtkRPScalarVolumeNode")) {
-    if (path.size() > ext.size() && HasExtension(path, ext)) return true;
-  }
-  return false;
-}
-
 bool ReadVolume(const std::string& path, ImageVolume& volume, std::string& error, const VolumeReadOptions& options,
                 std::vector<std::string>* warnings, const ProgressCallback& progress) {
-  if (!IsVolumeFileName(path)) {
+  RegisterImagingReaders();  // this library's DICOM reader, for the loader's answer
+  const DataReader* reader = FindDataReader(path);
+  if (!reader || reader == GetDicomDataReader()) {
     return ReadDicomVolume(path, volume, error, options.SeriesInstanceUID, options.Dicom, warnings, progress);
+  }
+  if (!IsVolumeFileName(path)) {
+    const NodeStorage* storage = FindNodeStorageForFile(path);
+    error = "'" + path + "' is a " + (storage ? storage->Description() : reader->Description()) + " file, not a volume";
+    return false;
   }
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) {

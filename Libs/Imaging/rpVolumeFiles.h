@@ -9,19 +9,20 @@
 #include "rpDicomWriter.h"
 #include "rpImageVolume.h"
 #include "rpProgress.h"
+#include "rpVolumeIO.h"
 
 namespace rp {
-
-/// True for names the volume storage reads (rpVolumeIO.cxx registers them: .nrrd .nii.gz ...).
-/// ReadVolume reads anything else as DICOM. Scenes and nodes: rp::LoadPath (rpDataLoader.h).
-bool IsVolumeFileName(const std::string& path);
 
 struct VolumeReadOptions {
   std::string SeriesInstanceUID;  // DICOM: which series when the folder holds several
   DicomReadOptions Dicom;
 };
 
-/// Reads a volume; `volume` is only assigned on success.
+/// Reads a volume; `volume` is only assigned on success. What `path` is comes from the loader
+/// (rp::FindDataReader, rpDataLoader.h): DICOM (or what no reader claims: the DICOM scan says
+/// why it is not DICOM) is read as one series, a node file holding an image (IsVolumeFileName)
+/// as a volume file; anything else (a model, a scene, a DICOM SEG) is refused by name.
+/// Scenes and nodes: rp::LoadPath.
 bool ReadVolume(const std::string& path, ImageVolume& volume, std::string& error,
                 const VolumeReadOptions& options = {}, std::vector<std::string>* warnings = nullptr,
                 const ProgressCallback& progress = nullptr);

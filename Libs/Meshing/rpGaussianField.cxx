@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <memory>
 #include <vector>
@@ -18,6 +20,7 @@ struct Kernel1D {
   std::vector<int> First, Count;   // first input index (relative to the input range) and tap count
   std::vector<size_t> Offset;      // into Weights
   std::vector<float> Weights;
+  std::vector<float> Sum;          // the taps' weights summed in order: the output under all ones
 };
 
 Kernel1D MakeKernel(double start, double step, int outputCount, int inputCount, double sigma) {
@@ -32,11 +35,44 @@ Kernel1D MakeKernel(double start, double step, int outputCount, int inputCount, 
     kernel.First.push_back(first);
     kernel.Count.push_back(std::max(0, last - first + 1));
     kernel.Offset.push_back(kernel.Weights.size());
+    float sum = 0;
     for (int k = first; k <= last; ++k) {
       kernel.Weights.push_back(static_cast<float>(std::exp(-0.5 * (p - k) * (p - k) / (sigma * sigma)) / norm));
+      sum += kernel.Weights.back();
     }
+    kernel.Sum.push_back(sum);
   }
   return kernel;
+}
+
+// The runs of `value` in a row, as start, end (exclusive) pairs. One-byte labels are read eight
+// at a time while a word holds no voxel of the label, or only such voxels.
+template <typename T>
+void FindRuns(const T* in, int n, T value, std::vector<int>& runs) {
+  runs.clear();
+  int i = 0;
+  while (i < n) {
+    if constexpr (sizeof(T) == 1) {
+      const uint64_t pattern = 0x0101010101010101ULL * static_cast<unsigned char>(value);
+      for (uint64_t word; i + 8 <= n; i += 8) {
+        std::memcpy(&word, in + i, sizeof(word));
+        const uint64_t x = word ^ pattern;  // a zero byte where the voxel is the label
+        if ((x - 0x0101010101010101ULL) & ~x & 0x8080808080808080ULL) break;
+      }
+    }
+    while (i < n && in[i] != value) ++i;
+    if (i == n) break;
+    runs.push_back(i);
+    if constexpr (sizeof(T) == 1) {
+      const uint64_t pattern = 0x0101010101010101ULL * static_cast<unsigned char>(value);
+      for (uint64_t word; i + 8 <= n; i += 8) {
+        std::memcpy(&word, in + i, sizeof(word));
+        if (word != pattern) break;
+      }
+    }
+    while (i < n && in[i] == value) ++i;
+    runs.push_back(i);
+  }
 }
 
 // Separable Gaussian resampling of the bounding box of `label` onto the contour grid.
@@ -54,43 +90,92 @@ void GaussianResample(const T* voxels, const int dims[3], long label, const Labe
   // Passes x and y, one input slice at a time: mask rows → A[outX x inY] (a buffer per thread,
   // small enough to stay in cache) → B[outX x outY x inZ]. B is left uninitialized (every value
   // is written below): zeroing it first took a serial pass over tens of MB.
+  // The mask is binary and mostly constant: an output whose taps all read 0 is 0, one whose taps
+  // all read 1 is its weights' sum (the same sum, in the same order, as the taps would give), and
+  // rows or slices that are all 0 add nothing to the passes after them (x + w * 0 == x), nor do
+  // the 0s of a row outside its span (the outputs from its first to its last that are not 0: a
+  // row of A or B is written and read over its span only). Only outputs near the label's edges
+  // take the taps: the field is bit for bit what the plain convolution gives.
   const size_t nxo = static_cast<size_t>(outDims[0]);
   const size_t nyo = static_cast<size_t>(outDims[1]);
   std::unique_ptr<float[]> B(new float[nxo * nyo * static_cast<size_t>(inDims[2])]);
-  vtkSMPThreadLocal<std::vector<float>> sliceA;
+  struct Span {
+    int Lo = 0, Hi = 0;  // outputs [Lo, Hi) may be non-zero; the rest are 0
+    bool Empty() const { return this->Lo >= this->Hi; }
+  };
+  std::vector<char> sliceEmpty(static_cast<size_t>(inDims[2]));  // B's slice kk is all 0
+  std::vector<Span> spanB(static_cast<size_t>(inDims[2]) * nyo);  // B's row (kk, oy)
+  struct SliceScratch {
+    std::vector<float> A;
+    std::vector<int> Runs;   // the row's runs of the label: start, end (exclusive), ...
+    std::vector<Span> SpanA;  // A's row jj
+  };
+  vtkSMPThreadLocal<SliceScratch> scratch;
   vtkSMPTools::For(0, inDims[2], [&](vtkIdType k0, vtkIdType k1) {
-    std::vector<float>& A = sliceA.Local();
+    SliceScratch& local = scratch.Local();
+    std::vector<float>& A = local.A;
     A.resize(nxo * static_cast<size_t>(inDims[1]));
-    std::vector<float> row(static_cast<size_t>(inDims[0]));
+    local.SpanA.resize(static_cast<size_t>(inDims[1]));
+    std::vector<int>& runs = local.Runs;
     for (vtkIdType kk = k0; kk < k1; ++kk) {
+      bool sliceAny = false;
       for (int jj = 0; jj < inDims[1]; ++jj) {
         const T* in = voxels + (static_cast<size_t>(b.Lo[2] + kk) * dims[1] + (b.Lo[1] + jj)) * dims[0] + b.Lo[0];
-        bool any = false;
-        for (int i = 0; i < inDims[0]; ++i) {
-          row[static_cast<size_t>(i)] = in[i] == value ? 1.0f : 0.0f;
-          any = any || in[i] == value;
-        }
+        FindRuns(in, inDims[0], value, runs);
         float* out = A.data() + static_cast<size_t>(jj) * nxo;
-        if (!any) {
-          std::fill(out, out + nxo, 0.0f);
-          continue;
-        }
+        Span& span = local.SpanA[static_cast<size_t>(jj)];
+        span = Span();
+        if (runs.empty()) continue;
+        sliceAny = true;
+        int lo = static_cast<int>(nxo), hi = 0;
+        // Outputs in order: their windows move right, so the first run that can reach one only
+        // moves right too.
+        size_t r = 0;
         for (size_t o = 0; o < nxo; ++o) {
-          const float* w = kx.Weights.data() + kx.Offset[o];
-          const float* x = row.data() + kx.First[o];
-          float sum = 0;
-          for (int t = 0; t < kx.Count[o]; ++t) sum += w[t] * x[t];
-          out[o] = sum;
+          const int first = kx.First[o], count = kx.Count[o], last = first + count;
+          while (r < runs.size() && runs[r + 1] <= first) r += 2;
+          int labelled = 0;
+          for (size_t q = r; q < runs.size() && runs[q] < last; q += 2)
+            labelled += std::min(runs[q + 1], last) - std::max(runs[q], first);
+          if (labelled == 0) {
+            out[o] = 0.0f;
+            continue;
+          }
+          lo = std::min(lo, static_cast<int>(o)), hi = static_cast<int>(o) + 1;
+          if (labelled == count) {
+            out[o] = kx.Sum[o];
+          } else {
+            // The taps that read 1, in order (w * 1 == w; the taps that read 0 add +0).
+            const float* w = kx.Weights.data() + kx.Offset[o];
+            float sum = 0;
+            for (size_t q = r; q < runs.size() && runs[q] < last; q += 2)
+              for (int i = std::max(runs[q], first), e = std::min(runs[q + 1], last); i < e; ++i) sum += w[i - first];
+            out[o] = sum;
+          }
         }
+        span.Lo = lo, span.Hi = hi;
       }
+      sliceEmpty[static_cast<size_t>(kk)] = !sliceAny;
       for (size_t oy = 0; oy < nyo; ++oy) {
+        Span& span = spanB[static_cast<size_t>(kk) * nyo + oy];
+        span = Span();
+        span.Lo = static_cast<int>(nxo);
+        for (int t = 0; t < ky.Count[oy]; ++t) {
+          const Span& in = local.SpanA[static_cast<size_t>(ky.First[oy] + t)];
+          if (!in.Empty()) span.Lo = std::min(span.Lo, in.Lo), span.Hi = std::max(span.Hi, in.Hi);
+        }
+        if (span.Empty()) continue;
+        // Over the B row's span (the rows of A it reads are 0 outside it): per tap spans took
+        // more bookkeeping than they saved.
+        const size_t lo = static_cast<size_t>(span.Lo), hi = static_cast<size_t>(span.Hi);
         float* out = B.get() + (static_cast<size_t>(kk) * nyo + oy) * nxo;
-        std::fill(out, out + nxo, 0.0f);
+        std::fill(out + lo, out + hi, 0.0f);
         const float* w = ky.Weights.data() + ky.Offset[oy];
         for (int t = 0; t < ky.Count[oy]; ++t) {
+          if (local.SpanA[static_cast<size_t>(ky.First[oy] + t)].Empty()) continue;
           const float* in = A.data() + static_cast<size_t>(ky.First[oy] + t) * nxo;
           const float wt = w[t];
-          for (size_t x = 0; x < nxo; ++x) out[x] += wt * in[x];
+          for (size_t x = lo; x < hi; ++x) out[x] += wt * in[x];
         }
       }
     }
@@ -103,9 +188,17 @@ void GaussianResample(const T* voxels, const int dims[3], long label, const Labe
       std::fill(out, out + plane, 0.0f);
       const float* w = kz.Weights.data() + kz.Offset[static_cast<size_t>(oz)];
       for (int t = 0; t < kz.Count[static_cast<size_t>(oz)]; ++t) {
-        const float* in = B.get() + static_cast<size_t>(kz.First[static_cast<size_t>(oz)] + t) * plane;
+        const size_t k = static_cast<size_t>(kz.First[static_cast<size_t>(oz)] + t);
+        if (sliceEmpty[k]) continue;
         const float wt = w[t];
-        for (size_t x = 0; x < plane; ++x) out[x] += wt * in[x];
+        for (size_t oy = 0; oy < nyo; ++oy) {
+          const Span& from = spanB[k * nyo + oy];
+          if (from.Empty()) continue;
+          const float* in = B.get() + (k * nyo + oy) * nxo;
+          float* row = out + oy * nxo;
+          const size_t lo = static_cast<size_t>(from.Lo), hi = static_cast<size_t>(from.Hi);
+          for (size_t x = lo; x < hi; ++x) row[x] += wt * in[x];
+        }
       }
     }
   });

@@ -45,6 +45,17 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// The enclosed volume and area of the mesh as it stands, once measured (each measure is a pass
+// over every triangle): Known is cleared by any step that moves points or flips triangles.
+struct Measured {
+  bool Known = false;
+  double Volume = 0, Area = 0;
+  void Of(vtkPolyData* mesh) {
+    if (!Known) MeshVolumeAndArea(mesh, Volume, Area);
+    Known = true;
+  }
+};
+
 double Determinant3(const vtkMatrix4x4* m) {
   double a[3][3];
   for (int r = 0; r < 3; ++r)
@@ -54,8 +65,8 @@ double Determinant3(const vtkMatrix4x4* m) {
 }
 
 bool GaussianMesh(vtkImageData* labelmap, const vtkMatrix4x4* ijkToRAS, int label, const LabelBounds& b,
-                  const MeshOptions& options, vtkPolyData* output, MeshStats& stats, std::string& error,
-                  const ProgressCallback& progress) {
+                  const MeshOptions& options, vtkPolyData* output, MeshStats& stats, Measured& measured,
+                  std::string& error, const ProgressCallback& progress) {
   int dims[3];
   labelmap->GetDimensions(dims);
   double sigma[3], start[3], step[3];
@@ -95,13 +106,13 @@ bool GaussianMesh(vtkImageData* labelmap, const vtkMatrix4x4* ijkToRAS, int labe
   }
   if (progress) progress(0.7, "mapping to RAS");
   GridToRAS(output, ijkToRAS, start, step, true);
-  OrientOutward(output);
+  measured.Known = OrientOutward(output, &measured.Volume, &measured.Area);
   return true;
 }
 
 bool DiscreteMesh(vtkImageData* labelmap, const vtkMatrix4x4* ijkToRAS, int label, const LabelBounds& b,
-                  const MeshOptions& options, vtkPolyData* output, MeshStats& stats, std::string& error,
-                  const ProgressCallback& progress) {
+                  const MeshOptions& options, vtkPolyData* output, MeshStats& stats, Measured& measured,
+                  std::string& error, const ProgressCallback& progress) {
   int dims[3], start[3], size[3];
   labelmap->GetDimensions(dims);
   for (int a = 0; a < 3; ++a) {
@@ -163,7 +174,7 @@ bool DiscreteMesh(vtkImageData* labelmap, const vtkMatrix4x4* ijkToRAS, int labe
     normals->Update();
     output->ShallowCopy(normals->GetOutput());
   } else {
-    OrientOutward(output);
+    measured.Known = OrientOutward(output, &measured.Volume, &measured.Area);
     ComputeMeshNormals(output);
   }
   return true;
@@ -184,9 +195,16 @@ void Decimate(vtkPolyData* mesh, double fraction, MeshStats& stats) {
 }  // namespace
 
 void FillMeshStats(vtkPolyData* mesh, MeshStats& stats) {
+  double volume = 0, area = 0;
+  MeshVolumeAndArea(mesh, volume, area);
+  FillMeshStats(mesh, stats, volume, area);
+}
+
+void FillMeshStats(vtkPolyData* mesh, MeshStats& stats, double volume, double area) {
   stats.Triangles = mesh->GetNumberOfPolys();
   stats.Points = mesh->GetNumberOfPoints();
-  MeshVolumeAndArea(mesh, stats.MeshVolumeMm3, stats.AreaMm2);
+  stats.MeshVolumeMm3 = volume;
+  stats.AreaMm2 = area;
   stats.VolumeErrorPercent =
       stats.LabelVolumeMm3 > 0 ? 100.0 * (stats.MeshVolumeMm3 - stats.LabelVolumeMm3) / stats.LabelVolumeMm3 : 0.0;
   const MeshTopology topology = CountTopology(mesh);
@@ -235,12 +253,12 @@ bool LabelmapToMesh(vtkImageData* labelmap, const vtkMatrix4x4* ijkToRAS, int la
   if (stats.TouchesBorder) stats.Warnings.push_back("segment touches the volume border: closed by padding (flat cap)");
 
   bool ok = false;
+  Measured measured;
   stats.Method = MeshMethodName(options.Method);
   if (options.Method == MeshMethod::Gaussian) {
-    ok = GaussianMesh(labelmap, ijkToRAS, label, b, options, output, stats, error, progress);
-    double volume = 0, area = 0;
-    if (ok) MeshVolumeAndArea(output, volume, area);
-    if (!ok || volume < 0.5 * stats.LabelVolumeMm3) {
+    ok = GaussianMesh(labelmap, ijkToRAS, label, b, options, output, stats, measured, error, progress);
+    if (ok) measured.Of(output);
+    if (!ok || measured.Volume < 0.5 * stats.LabelVolumeMm3) {
       // Should not happen with the voxel-centre constraint; kept as a safety net.
       stats.Warnings.push_back("gaussian surface failed (" + (ok ? "lost half the volume" : error) +
                                "): used the discrete surface");
@@ -248,10 +266,11 @@ bool LabelmapToMesh(vtkImageData* labelmap, const vtkMatrix4x4* ijkToRAS, int la
       fallback.Method = MeshMethod::Discrete;
       stats.Method = "discrete (gaussian failed)";
       error.clear();
-      ok = DiscreteMesh(labelmap, ijkToRAS, label, b, fallback, output, stats, error, progress);
+      measured = Measured();
+      ok = DiscreteMesh(labelmap, ijkToRAS, label, b, fallback, output, stats, measured, error, progress);
     }
   } else {
-    ok = DiscreteMesh(labelmap, ijkToRAS, label, b, options, output, stats, error, progress);
+    ok = DiscreteMesh(labelmap, ijkToRAS, label, b, options, output, stats, measured, error, progress);
   }
   if (!ok) {
     output->Initialize();
@@ -260,10 +279,11 @@ bool LabelmapToMesh(vtkImageData* labelmap, const vtkMatrix4x4* ijkToRAS, int la
   if (options.DecimationFraction > 0) {
     if (progress) progress(0.8, "decimating");
     Decimate(output, options.DecimationFraction, stats);
+    measured = Measured();
   }
   if (options.CorrectVolume && options.Method != MeshMethod::SlicerDefault) {
-    double volume = 0, area = 0;
-    MeshVolumeAndArea(output, volume, area);
+    measured.Of(output);
+    const double volume = measured.Volume, area = measured.Area;
     const double mismatch = std::abs(volume - stats.LabelVolumeMm3) / stats.LabelVolumeMm3;
     // The offset that would fix the volume. More than half a voxel means the mesh lacks whole
     // structures below the smoothing scale (noise specks, pinholes): a global offset would
@@ -282,10 +302,11 @@ bool LabelmapToMesh(vtkImageData* labelmap, const vtkMatrix4x4* ijkToRAS, int la
                                "clean the segment first (keep largest, fill holes, opening)");
     } else {
       if (progress) progress(0.9, "volume correction");
-      stats.VolumeCorrectionMm = CorrectMeshVolume(output, stats.LabelVolumeMm3);
+      stats.VolumeCorrectionMm = CorrectMeshVolume(output, stats.LabelVolumeMm3, measured.Volume, measured.Area);
     }
   }
-  FillMeshStats(output, stats);
+  measured.Of(output);
+  FillMeshStats(output, stats, measured.Volume, measured.Area);
   if (!stats.Watertight) {
     stats.Warnings.push_back("mesh is not watertight: " + std::to_string(stats.BoundaryEdges) + " boundary and " +
                              std::to_string(stats.NonManifoldEdges) + " non-manifold edges");

@@ -93,5 +93,7 @@ bool LabelmapToMesh(vtkImageData* labelmap, const vtkMatrix4x4* ijkToRAS, int la
 
 /// Stats of a finished mesh (triangles, volume against the label's, area, topology).
 void FillMeshStats(vtkPolyData* mesh, MeshStats& stats);
+/// The same with the mesh's enclosed volume and area already measured.
+void FillMeshStats(vtkPolyData* mesh, MeshStats& stats, double volume, double area);
 
 }  // namespace rp

@@ -143,17 +143,16 @@ void ReduceByEdgeCollapse(vtkPolyData* fewest, const MeshStats& fewestStats, lon
                            " triangles cannot hold every component");
     }
     ComputeMeshNormals(mesh);
-    if (options.CorrectVolume && !s.DroppedComponents && options.Method != MeshMethod::SlicerDefault) {
-      double volume = 0, area = 0;
-      MeshVolumeAndArea(mesh, volume, area);
-      if (std::abs(volume - s.LabelVolumeMm3) < 0.05 * s.LabelVolumeMm3)
-        s.VolumeCorrectionMm = CorrectMeshVolume(mesh, s.LabelVolumeMm3);
-    }
+    double volume = 0, area = 0;
+    MeshVolumeAndArea(mesh, volume, area);
+    if (options.CorrectVolume && !s.DroppedComponents && options.Method != MeshMethod::SlicerDefault &&
+        std::abs(volume - s.LabelVolumeMm3) < 0.05 * s.LabelVolumeMm3)
+      s.VolumeCorrectionMm = CorrectMeshVolume(mesh, s.LabelVolumeMm3, volume, area);
     const std::string method = s.Method;
     auto warnings = s.Warnings;
     const long droppedComponents = s.DroppedComponents;
     const double droppedVolume = s.DroppedVolumeMm3;
-    FillMeshStats(mesh, s);
+    FillMeshStats(mesh, s, volume, area);
     s.Method = method, s.Warnings = warnings, s.DroppedComponents = droppedComponents, s.DroppedVolumeMm3 = droppedVolume;
     chosen = mesh;
     chosenStats = s;

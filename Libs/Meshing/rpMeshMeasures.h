@@ -14,40 +14,6 @@ inline void TriangleCross(const double a[3], const double b[3], const double c[3
   f[0] = u[1] * v[2] - u[2] * v[1], f[1] = u[2] * v[0] - u[0] * v[2], f[2] = u[0] * v[1] - u[1] * v[0];
 }
 
-/// Calls `visit(ids, a, b, c, cross)` for every triangle (3-point polygon; other cells are
-/// skipped) of `mesh`: its corner ids, corner points and TriangleCross(a, b, c). The one walk
-/// that vertex normals, orientation checks and area-weighted sampling share.
-template <class Visit>
-void ForEachTriangle(vtkPolyData* mesh, Visit&& visit) {
-  vtkCellArray* polys = mesh->GetPolys();
-  vtkPoints* points = mesh->GetPoints();
-  if (!polys || !points) return;
-  vtkIdType n;
-  const vtkIdType* ids;
-  double a[3], b[3], c[3], cross[3];
-  for (polys->InitTraversal(); polys->GetNextCell(n, ids);) {
-    if (n != 3) continue;
-    points->GetPoint(ids[0], a), points->GetPoint(ids[1], b), points->GetPoint(ids[2], c);
-    TriangleCross(a, b, c, cross);
-    visit(ids, a, b, c, cross);
-  }
-}
-
-/// Edge topology of a triangle mesh: edges used by one triangle (holes) and by more than two.
-void CountBadEdges(vtkPolyData* mesh, long& boundaryEdges, long& nonManifoldEdges);
-/// Vertices whose triangles do not form one closed fan (two sheets touching at a point).
-long CountNonManifoldVertices(vtkPolyData* mesh);
-struct MeshTopology {
-  long BoundaryEdges = 0, NonManifoldEdges = 0, NonManifoldVertices = 0;
-};
-/// All three counts in one parallel pass over every vertex's fan (the edges counted from both
-/// ends' fans instead of one global sort of every edge); the same numbers as CountBadEdges and
-/// CountNonManifoldVertices.
-MeshTopology CountTopology(vtkPolyData* mesh);
-/// Enclosed volume (mm³, positive for outward orientation) and area of a triangle mesh.
-void MeshVolumeAndArea(vtkPolyData* mesh, double& volume, double& area);
-
-
 /// Points read without a virtual call per coordinate (float or double storage; else vtkPoints).
 struct PointsView {
   explicit PointsView(vtkPoints* points) : Points(points) {
@@ -70,5 +36,41 @@ struct PointsView {
   float* F = nullptr;
   double* D = nullptr;
 };
+
+/// Calls `visit(ids, a, b, c, cross)` for every triangle (3-point polygon; other cells are
+/// skipped) of `mesh`: its corner ids, corner points and TriangleCross(a, b, c). The one walk
+/// that vertex normals, orientation checks and area-weighted sampling share.
+template <class Visit>
+void ForEachTriangle(vtkPolyData* mesh, Visit&& visit) {
+  vtkCellArray* polys = mesh->GetPolys();
+  vtkPoints* points = mesh->GetPoints();
+  if (!polys || !points) return;
+  vtkIdType n;
+  const vtkIdType* ids;
+  double a[3], b[3], c[3], cross[3];
+  const PointsView view(points);
+  for (polys->InitTraversal(); polys->GetNextCell(n, ids);) {
+    if (n != 3) continue;
+    view.Get(ids[0], a), view.Get(ids[1], b), view.Get(ids[2], c);
+    TriangleCross(a, b, c, cross);
+    visit(ids, a, b, c, cross);
+  }
+}
+
+/// Edge topology of a triangle mesh: edges used by one triangle (holes) and by more than two.
+void CountBadEdges(vtkPolyData* mesh, long& boundaryEdges, long& nonManifoldEdges);
+/// Vertices whose triangles do not form one closed fan (two sheets touching at a point).
+long CountNonManifoldVertices(vtkPolyData* mesh);
+struct MeshTopology {
+  long BoundaryEdges = 0, NonManifoldEdges = 0, NonManifoldVertices = 0;
+};
+/// All three counts in one parallel pass over every vertex's fan (the edges counted from both
+/// ends' fans instead of one global sort of every edge); the same numbers as CountBadEdges and
+/// CountNonManifoldVertices.
+MeshTopology CountTopology(vtkPolyData* mesh);
+/// Enclosed volume (mm³, positive for outward orientation) and area of a triangle mesh.
+void MeshVolumeAndArea(vtkPolyData* mesh, double& volume, double& area);
+
+
 
 }  // namespace rp

@@ -65,9 +65,12 @@ void ComputeMeshNormals(vtkPolyData* mesh) {
   mesh->GetPointData()->SetNormals(normals);
 }
 
-void OrientOutward(vtkPolyData* mesh) {
+bool OrientOutward(vtkPolyData* mesh, double* measuredVolume, double* measuredArea) {
   double volume = 0, area = 0;
   MeshVolumeAndArea(mesh, volume, area);
+  if (measuredVolume) *measuredVolume = volume;
+  if (measuredArea) *measuredArea = area;
+  const bool wasOutward = volume >= 0;
   if (volume < 0) {
     vtkCellArray* polys = mesh->GetPolys();
     vtkNew<vtkCellArray> flipped;
@@ -84,7 +87,7 @@ void OrientOutward(vtkPolyData* mesh) {
   }
   // Normals must agree with the (now outward) triangles: compare with face normals in bulk.
   vtkDataArray* normals = mesh->GetPointData()->GetNormals();
-  if (!normals) return;
+  if (!normals) return wasOutward;
   double agreement = 0, nv[3];
   ForEachTriangle(mesh, [&](const vtkIdType* ids, const double*, const double*, const double*, const double* f) {
     normals->GetTuple(ids[0], nv);
@@ -97,6 +100,7 @@ void OrientOutward(vtkPolyData* mesh) {
       normals->SetTuple(id, nv);
     }
   }
+  return wasOutward;
 }
 
 // Moves vertices along their normals so the enclosed volume becomes `targetVolume`. The
@@ -104,6 +108,10 @@ void OrientOutward(vtkPolyData* mesh) {
 double CorrectMeshVolume(vtkPolyData* mesh, double targetVolume) {
   double volume = 0, area = 0;
   MeshVolumeAndArea(mesh, volume, area);
+  return CorrectMeshVolume(mesh, targetVolume, volume, area);
+}
+
+double CorrectMeshVolume(vtkPolyData* mesh, double targetVolume, double& volume, double& area) {
   vtkDataArray* normals = mesh->GetPointData()->GetNormals();
   if (area <= 0 || !normals) return 0;
   double total = 0;

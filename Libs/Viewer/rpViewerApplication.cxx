@@ -21,7 +21,7 @@
 #include "rpScreenshot.h"
 #include "rpViewController.h"
 #include "rpXDisplay.h"
-#include "rpViewerMainWindow.h"
+#include "qRPViewerMainWindow.h"
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
 #include "vtkRPLayoutNode.h"
@@ -64,7 +64,7 @@ int RunViewer(int argc, char* argv[], ModuleManager& manager, vtkRPScene* scene,
   QApplication application(argc, argv);
   QApplication::setOrganizationName("RoboPlan");
   QApplication::setApplicationName("roboplan");
-  ViewerMainWindow window(&manager, scene);
+  qRPViewerMainWindow window(&manager, scene);
   for (const std::string& file : files) {
     QString error;
     if (!window.LoadFile(QString::fromStdString(file), &error)) {

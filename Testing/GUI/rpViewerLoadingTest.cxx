@@ -26,7 +26,7 @@
 #include "rpDicomWriter.h"
 #include "rpImageVolume.h"
 #include "rpSceneIO.h"
-#include "rpViewerMainWindow.h"
+#include "qRPViewerMainWindow.h"
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
 
@@ -112,7 +112,7 @@ TEST(ViewerLoading, LargeSeriesLoadsWhileTheEventLoopServesATimer) {
   Application();
   const fs::path series = LargeSeries();
   vtkNew<vtkRPScene> scene;
-  rp::ViewerMainWindow window(nullptr, scene);
+  qRPViewerMainWindow window(nullptr, scene);
   window.resize(900, 700);
   window.show();
   ASSERT_TRUE(QTest::qWaitForWindowExposed(&window));
@@ -171,7 +171,7 @@ TEST(ViewerLoading, CancelLeavesTheSceneUnchanged) {
   Application();
   const fs::path series = LargeSeries();
   vtkNew<vtkRPScene> scene;
-  rp::ViewerMainWindow window(nullptr, scene);
+  qRPViewerMainWindow window(nullptr, scene);
   window.show();
   ASSERT_TRUE(QTest::qWaitForWindowExposed(&window));
   const int before = scene->GetNumberOfNodes();
@@ -222,7 +222,7 @@ TEST(ViewerLoading, ASceneFileIsHandedBackToTheGuiThreadAndOpens) {
     ASSERT_TRUE(rp::SaveScene(source, path, error)) << error;
   }
   vtkNew<vtkRPScene> scene;
-  rp::ViewerMainWindow window(nullptr, scene);
+  qRPViewerMainWindow window(nullptr, scene);
   window.show();
   ASSERT_TRUE(QTest::qWaitForWindowExposed(&window));
   QString error;

@@ -40,6 +40,28 @@ std::shared_ptr<rp::WaypointTrajectory> Probe() {
   EXPECT_TRUE(path->Set(t, p, error)) << error;
   return path;
 }
+// The servo's ticks given by hand at 1 kHz (tick i at i ms, from where the last run stopped), its
+// state read after each run: the set-up the servo tests share.
+struct HandTicks {
+  rp::HapticServo& Servo;
+  rp::TickInfo Tick;
+  rp::HapticState State;
+  explicit HandTicks(rp::HapticServo& servo) : Servo(servo) { servo.ServoStarted(); }
+  const rp::HapticState& Run(int ticks) {
+    for (int i = 0; i < ticks; ++i, ++this->Tick.Index) this->Step();
+    this->Servo.ReadState(this->State);
+    return this->State;
+  }
+  const rp::HapticState& RunTo(double seconds) {
+    for (; this->Tick.Index * 1e-3 < seconds; ++this->Tick.Index) this->Step();
+    this->Servo.ReadState(this->State);
+    return this->State;
+  }
+  void Step() {
+    this->Tick.Time = this->Tick.Index * 1e-3;
+    this->Servo.Tick(this->Tick);
+  }
+};
 void Configure(rp::HapticServo& servo) {
   const Vec3 points[3] = {{0, 0, 0}, {0, 0, 15}, {0, 0, 30}};
   servo.Renderer().SetToolPoints(points, 3);
@@ -90,16 +112,10 @@ TEST(HapticServo, ForceRampsInAndWatchdogZeroesIt) {
   o.PassivityControl = false;
   servo.Renderer().SetOptions(o);
   servo.Scenes().Publish(BoneSlab());
-  servo.ServoStarted();
-  rp::TickInfo tick;
-  rp::HapticState s;
-  auto run = [&](int n) {
-    for (int i = 0; i < n; ++i, ++tick.Index) {
-      tick.Time = tick.Index * 1e-3;
-      servo.Tick(tick);
-    }
-    servo.ReadState(s);
-  };
+  HandTicks ticks(servo);
+  rp::TickInfo& tick = ticks.Tick;
+  const rp::HapticState& s = ticks.State;
+  auto run = [&](int n) { ticks.Run(n); };
   run(51);  // t = 0.05 s: half the ramp
   const double full = BoneStiffness() * (1 + rp::GodObjectProxy::Gap);  // within the Omni's limits
   EXPECT_NEAR(s.RampScale, 0.5, 1e-9);
@@ -264,16 +280,9 @@ TEST(HapticServo, AFixtureActsBesideTheContactsInsideThePassivityObserverAndTheC
   servo.SetRampSeconds(0);
   WallConstraint* wall = nullptr;
   servo.Constraints().Publish(Wall(0, 0.5, &wall));
-  servo.ServoStarted();
-  rp::TickInfo tick;
-  rp::HapticState s;
-  auto run = [&](int n) {
-    for (int i = 0; i < n; ++i, ++tick.Index) {
-      tick.Time = tick.Index * 1e-3;
-      servo.Tick(tick);
-    }
-    servo.ReadState(s);
-  };
+  HandTicks ticks(servo);
+  const rp::HapticState& s = ticks.State;
+  auto run = [&](int n) { ticks.Run(n); };
   run(700);  // pressed 1 mm beyond the wall at 10 mm/s, then held
   EXPECT_EQ(s.Contacts, 0);
   EXPECT_NEAR(s.Force.z, 0.5, 1e-9);
@@ -337,16 +346,9 @@ TEST(HapticServo, ThePlansFixturesGiveTheirClosedFormForcesAtOneKilohertz) {
   rp::HapticServo servo(device);
   servo.SetRampSeconds(0);
   servo.Constraints().Publish(rp::MakeFixtureConstraints(fixtures));
-  servo.ServoStarted();
-  rp::TickInfo tick;
-  rp::HapticState s;
-  auto runTo = [&](double seconds) {
-    for (; tick.Index * 1e-3 < seconds; ++tick.Index) {
-      tick.Time = tick.Index * 1e-3;
-      servo.Tick(tick);
-    }
-    servo.ReadState(s);
-  };
+  HandTicks ticks(servo);
+  const rp::HapticState& s = ticks.State;
+  auto runTo = [&](double seconds) { ticks.RunTo(seconds); };
   runTo(1.9);  // held at 10 mm deep, 1.5 mm off the axis along R
   EXPECT_NEAR(s.Force.x, -kAxis * 1.5, 1e-6);
   EXPECT_NEAR(s.Force.y, 0, 1e-6);

@@ -75,7 +75,9 @@ LoadResult ReadPath(vtkRPScene* scene, const std::string& path, const ReadOption
 LoadResult ReadPath(vtkRPScene* scene, const std::string& path, const DataReader* reader, const ReadOptions& options) {
   LoadResult result;
   if (!reader) {
-    result.Error = "'" + path + "': no reader for this file type";
+    std::error_code ec;
+    result.Error = std::filesystem::exists(path, ec) ? "'" + path + "': no reader for this file type"
+                                                     : "no such file or folder: " + path;
     return result;
   }
   if (!scene) {

@@ -19,6 +19,7 @@
 #include <vtkPointData.h>
 #include <vtkSmartPointer.h>
 
+#include "rpDataLoader.h"
 #include "rpLPSRAS.h"
 #include "rpMemoryBudget.h"
 #include "rpNodeStorage.h"
@@ -147,12 +148,7 @@ bool ReadLayers(const std::string& path, std::vector<vtkSmartPointer<vtkImageDat
       for (vtkIdType n = 0; n < count; ++n) target->SetComponent(n, 0, source->GetComponent(n, static_cast<int>(c)));
       layers.push_back(layer);
     }
-    metadata.clear();
-    const itk::MetaDataDictionary& dictionary = io->GetMetaDataDictionary();
-    for (const auto& key : dictionary.GetKeys()) {
-      std::string value;
-      if (itk::ExposeMetaData<std::string>(dictionary, key, value)) metadata[key] = value;
-    }
+    metadata = StringMetadata(io->GetMetaDataDictionary());
     FlipLPSRASIndexToSpace(ijkToLPS->GetData());
     ijkToRAS->DeepCopy(ijkToLPS);
     return true;
@@ -348,6 +344,15 @@ class SegmentationStorage : public NodeStorage {
 }  // namespace
 
 bool ReadSegmentationOrLabelmap(const std::string& path, vtkRPSegmentationNode* node, std::string& error) {
+  // What `path` is comes from the loader (rpDataLoader.h), as for every reader: a node file that
+  // holds an image is read here; a model, a scene, DICOM... is refused by name. Which image: a
+  // Slicer segmentation by its header's keys (whatever its name), else a labelmap.
+  if (const DataReader* reader = FindDataReader(path); reader && !IsVolumeFileName(path)) {
+    const NodeStorage* storage = FindNodeStorageForFile(path);
+    error = "'" + path + "' is a " + (storage ? storage->Description() : reader->Description()) +
+            " file, not a segmentation or a labelmap volume";
+    return false;
+  }
   std::string segError;
   if (ReadSegmentationFile(path, node, segError) && node->GetNumberOfSegments() > 0) return true;
   if (!ReadVolumeFile(path, node, error)) {

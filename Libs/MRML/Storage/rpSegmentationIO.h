@@ -13,7 +13,8 @@ namespace rp {
 bool WriteSegmentationFile(const std::string& path, vtkRPSegmentationNode* node, std::string& error);
 bool ReadSegmentationFile(const std::string& path, vtkRPSegmentationNode* node, std::string& error);
 /// A .seg.nrrd, or any labelmap volume file: then one segment per label value found (ID the
-/// value, name "Label <value>", no tissue class; at most 255).
+/// value, name "Label <value>", no tissue class; at most 255). A path the loader reads as
+/// something else (a model, a scene, DICOM) is refused with an error naming what it is.
 bool ReadSegmentationOrLabelmap(const std::string& path, vtkRPSegmentationNode* node, std::string& error);
 
 }  // namespace rp

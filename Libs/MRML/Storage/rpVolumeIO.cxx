@@ -137,16 +137,10 @@ bool ReadVolumeFile(const std::string& path, VolumeFileData& data, std::string& 
         !ReadNrrdGzipVoxels(path, image->GetScalarPointer(), bytes, io->GetComponentSize()))
       io->Read(image->GetScalarPointer());
 
-    std::map<std::string, std::string> metadata;
-    const itk::MetaDataDictionary& dictionary = io->GetMetaDataDictionary();
-    for (const auto& key : dictionary.GetKeys()) {
-      std::string value;
-      if (itk::ExposeMetaData<std::string>(dictionary, key, value)) metadata[key] = value;
-    }
     FlipLPSRAS(ijkToLPS);
     data.Image->ShallowCopy(image);
     data.IJKToRAS->DeepCopy(ijkToLPS);
-    data.Metadata = metadata;
+    data.Metadata = StringMetadata(io->GetMetaDataDictionary());
     return true;
   } catch (const itk::ExceptionObject& e) {
     error = "'" + path + "': " + e.GetDescription();
@@ -228,6 +222,23 @@ bool WriteVolumeFile(const std::string& path, vtkImageData* image, const vtkMatr
     return true;
   }
   return WriteAtomicallyWith(path, writeTo, error);
+}
+
+std::map<std::string, std::string> StringMetadata(const itk::MetaDataDictionary& dictionary) {
+  std::map<std::string, std::string> metadata;
+  for (const auto& key : dictionary.GetKeys()) {
+    std::string value;
+    if (itk::ExposeMetaData<std::string>(dictionary, key, value)) metadata[key] = value;
+  }
+  return metadata;
+}
+
+bool IsVolumeFileName(const std::string& path) {
+  // The extensions the volume storage lists (ScalarVolumeStorage below): listed there only.
+  for (const std::string& ext : ExtensionsForNodeClass("vtkRPScalarVolumeNode")) {
+    if (path.size() > ext.size() && HasExtension(path, ext)) return true;
+  }
+  return false;
 }
 
 bool ReadVolumeFile(const std::string& path, vtkRPImageNode* node, std::string& error) {

@@ -7,6 +7,9 @@
 class vtkImageData;
 class vtkMatrix4x4;
 class vtkRPImageNode;
+namespace itk {
+class MetaDataDictionary;
+}
 
 namespace rp {
 
@@ -17,12 +20,21 @@ struct VolumeFileData {
   std::map<std::string, std::string> Metadata;
 };
 
+/// The string entries of an ITK image IO's dictionary (NRRD `key:=value`), as files carry them
+/// (VolumeFileData::Metadata; the segmentation reader's layers).
+std::map<std::string, std::string> StringMetadata(const itk::MetaDataDictionary& dictionary);
+
 /// Reads a 3D scalar volume (2D images load as one slice). Multi-component images are refused.
 bool ReadVolumeFile(const std::string& path, VolumeFileData& data, std::string& error);
 /// Writes a 3D scalar volume with metadata; NRRD is written gzip-compressed.
 bool WriteVolumeFile(const std::string& path, vtkImageData* image, const vtkMatrix4x4* ijkToRAS,
                      const std::map<std::string, std::string>& metadata, std::string& error,
                      bool compress = true);
+
+/// True for names the volume storage reads (its Extensions(), below: .nrrd .nii.gz ...; a .seg.nrrd
+/// is one too, as its labelmap). Which reader a path goes to is the loader's answer
+/// (rp::FindDataReader); this says whether a node file holds an image.
+bool IsVolumeFileName(const std::string& path);
 
 /// Node-level helpers (image + IJKToRAS of a volume or segmentation node).
 bool ReadVolumeFile(const std::string& path, vtkRPImageNode* node, std::string& error);

@@ -73,9 +73,12 @@ TEST(DataLoader, AFailedReadLeavesTheSceneAsItWas) {
   EXPECT_FALSE(broken.Ok);
   EXPECT_NE(broken.Error.find("broken.vtp"), std::string::npos) << broken.Error;
   EXPECT_TRUE(broken.Nodes.empty());
+  std::ofstream((dir / "notes.unknown").string()) << "notes";
   const rp::LoadResult unknown = rp::LoadPath(scene, (dir / "notes.unknown").string());
   EXPECT_FALSE(unknown.Ok);
   EXPECT_NE(unknown.Error.find("no reader for this file type"), std::string::npos) << unknown.Error;
+  const rp::LoadResult missing = rp::LoadPath(scene, (dir / "missing.unknown").string());
+  EXPECT_NE(missing.Error.find("no such file or folder"), std::string::npos) << missing.Error;
   EXPECT_EQ(scene->GetNumberOfNodes(), 1);
 }
 

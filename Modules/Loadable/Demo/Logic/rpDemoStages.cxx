@@ -34,6 +34,7 @@
 #include "rpStageRunner.h"
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
+#include "vtkRPVolumesLogic.h"
 
 namespace fs = std::filesystem;
 
@@ -185,17 +186,11 @@ void RegisterCTAndMR(DemoState& state) {
   options.MaxIterationsPerLevel = 100;
   RigidRegistrationResult result;
   std::string error;
-  const ImageVolume fixed = FromNode(state.CT), moving = FromNode(state.MR);
-  if (!RegisterVolumesRigid(fixed, moving, options, result, error, StageProgress(state))) {
+  // The Volumes logic, as a host's: MR under MRToCT (its "to parent" matrix is moving → fixed).
+  vtkNew<vtkRPVolumesLogic> volumes;
+  volumes->SetScene(state.Scene);
+  if (!volumes->RegisterVolumes(state.CT, state.MR, options, result, error, StageProgress(state)))
     throw std::runtime_error(error);
-  }
-  if (!result.Converged) throw std::runtime_error("did not converge: " + result.StopReason);
-  // MR sits under MRToCT: the transform node's "to parent" matrix is moving → fixed.
-  vtkNew<vtkRPLinearTransformNode> mrToCT;
-  mrToCT->SetName("MRToCT");
-  mrToCT->SetMatrixTransformToParent(result.MovingToFixed);
-  state.Scene->AddNode(mrToCT);
-  state.MR->SetAndObserveTransformNodeID(mrToCT->GetID());
   state.Report->AddFigure(stage, "registration time", result.Seconds, "s", std::to_string(result.Iterations) + " iterations");
   if (state.HasGroundTruth()) {
     std::vector<std::array<double, 3>> bone;

@@ -46,6 +46,7 @@
 #include "vtkRPScene.h"
 #include "vtkRPSliceNode.h"
 #include "vtkRPTrackedToolNode.h"
+#include "vtkRPTrackingLogic.h"
 
 namespace fs = std::filesystem;
 
@@ -197,7 +198,19 @@ void CalibrateStylus(DemoState& state) {
   state.Runner->Progress(0.1, "pivoting the stylus in the divot (simulated Polaris on a pty)");
   const auto poses = TrackStylus(stylus, 3.0, 90, 7, stats);
   WriteTrackingLog(state, "tracking-pivot.txt", stylus.Name, poses);
-  const PivotResult pivot = PivotCalibrate(poses, 1.0, 10.0);
+  // Scene: TrackerToRAS (set by the registration), StylusToTracker, and StylusTipToStylus under it
+  // from the Tracking logic's calibration (as the panel calibrates).
+  vtkNew<vtkRPLinearTransformNode> trackerToRAS;
+  trackerToRAS->SetName(TransformName(TrackerFrameName, "RAS"));
+  state.Scene->AddNode(trackerToRAS);
+  vtkNew<vtkRPTrackedToolNode> stylusNode;
+  stylusNode->SetName(ToolToTrackerName(stylus.Name));
+  state.Scene->AddNode(stylusNode);
+  stylusNode->SetAndObserveTransformNodeID(trackerToRAS->GetID());
+  vtkNew<vtkRPTrackingLogic> tracking;
+  tracking->SetScene(state.Scene);
+  vtkRPLinearTransformNode* tip = nullptr;
+  const PivotResult pivot = tracking->CalibratePivot(poses, stylusNode->GetName(), 1.0, 10.0, &tip);
   if (!pivot.Valid || !pivot.Accepted) throw std::runtime_error("pivot calibration refused: " + pivot.Message);
   state.StylusTip = pivot.TipOffset;
   state.StylusTruth = stylus;
@@ -207,22 +220,6 @@ void CalibrateStylus(DemoState& state) {
   state.Report->AddFigure(stage, "poses tracked for the pivot calibration", double(poses.size()), "", stats);
   state.Report->AddFigureBelow(stage, "pivot calibration RMSE", pivot.Rmse, "mm", 1.0, "rejection threshold 1 mm");
   state.Report->AddFigureBelow(stage, "tip offset error (vs the stylus definition)", tipError, "mm", 0.5);
-  // Scene: TrackerToRAS (set by the registration), StylusToTracker, StylusTipToStylus.
-  vtkNew<vtkRPLinearTransformNode> trackerToRAS;
-  trackerToRAS->SetName(TransformName(TrackerFrameName, "RAS"));
-  state.Scene->AddNode(trackerToRAS);
-  vtkNew<vtkRPTrackedToolNode> stylusNode;
-  stylusNode->SetName(ToolToTrackerName(state.StylusTruth.Name));
-  state.Scene->AddNode(stylusNode);
-  stylusNode->SetAndObserveTransformNodeID(trackerToRAS->GetID());
-  vtkNew<vtkRPLinearTransformNode> tip;
-  tip->SetName("StylusTipToStylus");
-  double m[16];
-  TipOffsetMatrix(pivot.TipOffset, m);
-  tip->SetMatrixTransformToParent(m);
-  state.Scene->AddNode(tip);
-  tip->SetAndObserveTransformNodeID(stylusNode->GetID());
-  tip->SetAttribute("PivotCalibration.RMSE", std::to_string(pivot.Rmse));
   state.TrackerToRASID = trackerToRAS->GetID();
   state.StylusToTrackerID = stylusNode->GetID();
   state.StylusTipToStylusID = tip->GetID();

@@ -355,6 +355,33 @@ bool WithVolume(vtkRPImageNode* volume, Op&& op, std::string& error) {
   return false;
 }
 
+// Runs `makeMask(image)` (an ITK filter's mask, nullptr when it cannot run: `error` says why) on
+// the volume in its own pixel type and writes the mask into the target segment: how every edit
+// that reads the volume ends.
+template <typename MakeMask>
+bool WriteMaskOf(vtkRPImageNode* volume, vtkRPSegmentationNode* segmentation, const SegmentTarget& target,
+                 EditResult& result, std::string& error, MakeMask&& makeMask) {
+  return WithVolume(
+      volume,
+      [&](auto image) {
+        const MaskImage::Pointer mask = makeMask(image);
+        return mask && WriteSegment(segmentation, target, WholeBox(volume->GetImageData()), mask->GetBufferPointer(),
+                                    result, error);
+      },
+      error);
+}
+
+// The seeds' voxels (each must lie in the volume).
+bool SeedsToIndices(vtkRPImageNode* volume, const std::vector<std::array<double, 3>>& seedsRAS,
+                    std::vector<MaskImage::IndexType>& seeds, std::string& error) {
+  for (const auto& s : seedsRAS) {
+    MaskImage::IndexType index;
+    if (!SeedToIndex(volume, s, index, error)) return false;
+    seeds.push_back(index);
+  }
+  return true;
+}
+
 bool ValidRange(double lower, double upper, std::string& error) {
   if (!(lower <= upper) || !std::isfinite(lower) || !std::isfinite(upper)) {
     error = "threshold range [" + std::to_string(lower) + ", " + std::to_string(upper) + "] is empty or not finite";
@@ -387,24 +414,19 @@ bool SegmentationEditor::Threshold(vtkRPImageNode* volume, vtkRPSegmentationNode
                                    const SegmentTarget& target, double lower, double upper, EditResult& result,
                                    std::string& error) {
   if (!ValidRange(lower, upper, error) || !PrepareSegmentation(volume, segmentation, error)) return false;
-  return WithVolume(
-      volume,
-      [&](auto image) {
-        using ImageType = typename decltype(image)::ObjectType;
-        using Pixel = typename ImageType::PixelType;
-        Pixel lo, hi;
-        if (!VoxelRange(lower, upper, lo, hi, error)) return false;
-        auto filter = itk::BinaryThresholdImageFilter<ImageType, MaskImage>::New();
-        filter->SetInput(image);
-        filter->SetLowerThreshold(lo);
-        filter->SetUpperThreshold(hi);
-        filter->SetInsideValue(1);
-        filter->SetOutsideValue(0);
-        filter->Update();
-        return WriteSegment(segmentation, target, WholeBox(volume->GetImageData()),
-                            filter->GetOutput()->GetBufferPointer(), result, error);
-      },
-      error);
+  return WriteMaskOf(volume, segmentation, target, result, error, [&](auto image) -> MaskImage::Pointer {
+    using ImageType = typename decltype(image)::ObjectType;
+    typename ImageType::PixelType lo, hi;
+    if (!VoxelRange(lower, upper, lo, hi, error)) return nullptr;
+    auto filter = itk::BinaryThresholdImageFilter<ImageType, MaskImage>::New();
+    filter->SetInput(image);
+    filter->SetLowerThreshold(lo);
+    filter->SetUpperThreshold(hi);
+    filter->SetInsideValue(1);
+    filter->SetOutsideValue(0);
+    filter->Update();
+    return filter->GetOutput();
+  });
 }
 
 bool SegmentationEditor::RegionGrow(vtkRPImageNode* volume, vtkRPSegmentationNode* segmentation,
@@ -416,37 +438,32 @@ bool SegmentationEditor::RegionGrow(vtkRPImageNode* volume, vtkRPSegmentationNod
     return false;
   }
   std::vector<MaskImage::IndexType> seeds;
-  for (const auto& s : seedsRAS) {
-    MaskImage::IndexType index;
-    if (!SeedToIndex(volume, s, index, error)) return false;
+  if (!SeedsToIndices(volume, seedsRAS, seeds, error)) return false;
+  for (size_t n = 0; n < seeds.size(); ++n) {
+    const auto& index = seeds[n];
     const double value = volume->GetImageData()->GetScalarComponentAsDouble(
         static_cast<int>(index[0]), static_cast<int>(index[1]), static_cast<int>(index[2]), 0);
     if (value < lower || value > upper) {
+      const auto& s = seedsRAS[n];
       error = "seed (" + std::to_string(s[0]) + ", " + std::to_string(s[1]) + ", " + std::to_string(s[2]) +
               ") has value " + std::to_string(value) + ", outside the range [" + std::to_string(lower) + ", " +
               std::to_string(upper) + "]";
       return false;
     }
-    seeds.push_back(index);
   }
-  return WithVolume(
-      volume,
-      [&](auto image) {
-        using ImageType = typename decltype(image)::ObjectType;
-        using Pixel = typename ImageType::PixelType;
-        Pixel lo, hi;
-        if (!VoxelRange(lower, upper, lo, hi, error)) return false;
-        auto filter = itk::ConnectedThresholdImageFilter<ImageType, MaskImage>::New();
-        filter->SetInput(image);
-        filter->SetLower(lo);
-        filter->SetUpper(hi);
-        filter->SetReplaceValue(1);
-        for (const auto& s : seeds) filter->AddSeed(s);
-        filter->Update();
-        return WriteSegment(segmentation, target, WholeBox(volume->GetImageData()),
-                            filter->GetOutput()->GetBufferPointer(), result, error);
-      },
-      error);
+  return WriteMaskOf(volume, segmentation, target, result, error, [&](auto image) -> MaskImage::Pointer {
+    using ImageType = typename decltype(image)::ObjectType;
+    typename ImageType::PixelType lo, hi;
+    if (!VoxelRange(lower, upper, lo, hi, error)) return nullptr;
+    auto filter = itk::ConnectedThresholdImageFilter<ImageType, MaskImage>::New();
+    filter->SetInput(image);
+    filter->SetLower(lo);
+    filter->SetUpper(hi);
+    filter->SetReplaceValue(1);
+    for (const auto& s : seeds) filter->AddSeed(s);
+    filter->Update();
+    return filter->GetOutput();
+  });
 }
 
 bool SegmentationEditor::ConfidenceConnected(vtkRPImageNode* volume, vtkRPSegmentationNode* segmentation,
@@ -463,27 +480,19 @@ bool SegmentationEditor::ConfidenceConnected(vtkRPImageNode* volume, vtkRPSegmen
     return false;
   }
   std::vector<MaskImage::IndexType> seeds;
-  for (const auto& s : seedsRAS) {
-    MaskImage::IndexType index;
-    if (!SeedToIndex(volume, s, index, error)) return false;
-    seeds.push_back(index);
-  }
-  return WithVolume(
-      volume,
-      [&](auto image) {
-        using ImageType = typename decltype(image)::ObjectType;
-        auto filter = itk::ConfidenceConnectedImageFilter<ImageType, MaskImage>::New();
-        filter->SetInput(image);
-        filter->SetMultiplier(multiplier);
-        filter->SetNumberOfIterations(static_cast<unsigned>(iterations));
-        filter->SetInitialNeighborhoodRadius(static_cast<unsigned>(radius));
-        filter->SetReplaceValue(1);
-        for (const auto& s : seeds) filter->AddSeed(s);
-        filter->Update();
-        return WriteSegment(segmentation, target, WholeBox(volume->GetImageData()),
-                            filter->GetOutput()->GetBufferPointer(), result, error);
-      },
-      error);
+  if (!SeedsToIndices(volume, seedsRAS, seeds, error)) return false;
+  return WriteMaskOf(volume, segmentation, target, result, error, [&](auto image) -> MaskImage::Pointer {
+    using ImageType = typename decltype(image)::ObjectType;
+    auto filter = itk::ConfidenceConnectedImageFilter<ImageType, MaskImage>::New();
+    filter->SetInput(image);
+    filter->SetMultiplier(multiplier);
+    filter->SetNumberOfIterations(static_cast<unsigned>(iterations));
+    filter->SetInitialNeighborhoodRadius(static_cast<unsigned>(radius));
+    filter->SetReplaceValue(1);
+    for (const auto& s : seeds) filter->AddSeed(s);
+    filter->Update();
+    return filter->GetOutput();
+  });
 }
 
 bool SegmentationEditor::ApplyMorphology(vtkRPSegmentationNode* segmentation, const std::string& segmentID,

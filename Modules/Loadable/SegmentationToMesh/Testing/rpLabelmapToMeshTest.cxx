@@ -2,8 +2,11 @@
 // detail, geometry (oblique and mirrored IJK-to-RAS), and where the methods fail.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
+#include <vector>
 
 #include <vtkDataArray.h>
 #include <vtkImageData.h>
@@ -11,8 +14,11 @@
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPolyData.h>
+#include <vtkSmartPointer.h>
 
 #include "rpAnalyticSolids.h"
+#include "rpGaussianField.h"
+#include "rpLabelScan.h"
 #include "rpLabelmapToMesh.h"
 #include "rpSegmentationToModels.h"
 #include "rpSurfaceError.h"
@@ -381,4 +387,119 @@ TEST(LabelmapToMeshFailure, BadInputsAreClearErrors) {
   bad.GridStep[1] = 0;
   EXPECT_FALSE(LabelmapToMesh(labels, identity, 1, bad, mesh, stats, error));
   EXPECT_NE(error.find("grid step"), std::string::npos);
+}
+
+namespace {
+
+// A one-byte labelmap of size dims with every voxel set by `label(i, j, k)`.
+template <typename T, typename Label>
+vtkSmartPointer<vtkImageData> MakeLabelmap(const int dims[3], int scalarType, Label&& label) {
+  auto image = vtkSmartPointer<vtkImageData>::New();
+  image->SetDimensions(dims[0], dims[1], dims[2]);
+  image->AllocateScalars(scalarType, 1);
+  T* v = static_cast<T*>(image->GetScalarPointer());
+  for (int k = 0; k < dims[2]; ++k)
+    for (int j = 0; j < dims[1]; ++j)
+      for (int i = 0; i < dims[0]; ++i) *v++ = static_cast<T>(label(i, j, k));
+  return image;
+}
+
+void ExpectBounds(const LabelBounds& b, std::array<int, 3> lo, std::array<int, 3> hi, long count) {
+  EXPECT_EQ(b.Count, count);
+  for (int a = 0; a < 3; ++a) EXPECT_EQ(b.Lo[a], lo[a]) << "axis " << a;
+  for (int a = 0; a < 3; ++a) EXPECT_EQ(b.Hi[a], hi[a]) << "axis " << a;
+}
+
+}  // namespace
+
+// Every label's bounds of a one-byte labelmap come from one pass that reads runs a word at a
+// time: runs across word edges, a label at the row's last voxel (rows of 37, not a multiple of
+// 8), label 255, a label that is absent, the background, signed labels, and a changed image.
+TEST(LabelScan, EveryLabelsBoundsFromOnePass) {
+  const int dims[3] = {37, 6, 5};
+  auto label = [](int i, int j, int k) {
+    if (i >= 3 && i <= 20 && j >= 1 && j <= 2 && k <= 1) return 1;  // 18 x 2 x 2
+    if ((i == 36 && j == 5 && k == 4) || (i == 0 && j == 0 && k == 3)) return 2;
+    if (i >= 8 && i <= 15 && j == 3 && k == 2) return 255;  // one aligned word
+    return 0;
+  };
+  auto image = MakeLabelmap<unsigned char>(dims, VTK_UNSIGNED_CHAR, label);
+  ExpectBounds(CachedLabelBounds(image, 1), {3, 1, 0}, {20, 2, 1}, 72);
+  ExpectBounds(CachedLabelBounds(image, 2), {0, 0, 3}, {36, 5, 4}, 2);
+  ExpectBounds(CachedLabelBounds(image, 255), {8, 3, 2}, {15, 3, 2}, 8);
+  EXPECT_TRUE(CachedLabelBounds(image, 7).Empty());
+  ExpectBounds(CachedLabelBounds(image, 0), {0, 0, 0}, {36, 5, 4}, 37 * 6 * 5 - 72 - 2 - 8);
+  // A changed image is scanned again.
+  static_cast<unsigned char*>(image->GetScalarPointer(5, 4, 4))[0] = 1;
+  image->Modified();
+  ExpectBounds(CachedLabelBounds(image, 1), {3, 1, 0}, {20, 4, 4}, 73);
+
+  auto signedImage = MakeLabelmap<signed char>(dims, VTK_SIGNED_CHAR, [&](int i, int j, int k) {
+    const int l = label(i, j, k);
+    return l == 1 ? -3 : l == 255 ? 0 : l;
+  });
+  ExpectBounds(CachedLabelBounds(signedImage, -3), {3, 1, 0}, {20, 2, 1}, 72);
+  ExpectBounds(CachedLabelBounds(signedImage, 2), {0, 0, 3}, {36, 5, 4}, 2);
+}
+
+// The field against the plain dense convolution it stands for: normalized Gaussian taps within
+// 3 sigma of each output, the blurred mask of one label among others, then the voxel-centre
+// constraint. On the voxel grid and on a coarser, off-centre grid.
+TEST(GaussianField, EqualsTheDenseConvolutionOfTheMask) {
+  const int dims[3] = {29, 21, 13};
+  auto image = MakeLabelmap<unsigned char>(dims, VTK_UNSIGNED_CHAR, [](int i, int j, int k) {
+    const double x = i - 14.2, y = j - 10.1, z = k - 6.3;
+    if (x * x / 60 + y * y / 30 + z * z / 12 < 1) return 4;  // an ellipsoid
+    if (i == 3 && j == 3) return 4;                        // a one-voxel-thin rod
+    return (i + j + k) % 7 == 0 ? 9 : 0;                   // another label all over
+  });
+  const LabelBounds b = CachedLabelBounds(image, 4);
+  ASSERT_FALSE(b.Empty());
+  for (const double stepValue : {1.0, 1.7}) {
+    const double step[3] = {stepValue, stepValue, 1.0}, sigma[3] = {1.0, 1.1, 0.8};
+    double start[3];
+    int outDims[3];
+    for (int a = 0; a < 3; ++a) {
+      start[a] = b.Lo[a] - 4 + (stepValue > 1 ? 0.35 : 0.0);
+      outDims[a] = static_cast<int>(std::ceil((b.Hi[a] + 4 - start[a]) / step[a])) + 1;
+    }
+    std::vector<float> field(static_cast<size_t>(outDims[0]) * outDims[1] * outDims[2]);
+    ResampleLabelGaussian(image, 4, b, start, step, outDims, sigma, field.data());
+    auto weight = [&](int a, double p, int voxel) {
+      const double r = 3 * sigma[a];
+      if (std::abs(p - voxel) > r + 1e-9 && (voxel < std::ceil(p - r) || voxel > std::floor(p + r))) return 0.0;
+      double norm = 0;
+      for (int v = static_cast<int>(std::ceil(p - r)); v <= static_cast<int>(std::floor(p + r)); ++v)
+        norm += std::exp(-0.5 * (p - v) * (p - v) / (sigma[a] * sigma[a]));
+      return std::exp(-0.5 * (p - voxel) * (p - voxel) / (sigma[a] * sigma[a])) / norm;
+    };
+    const auto* voxels = static_cast<const unsigned char*>(image->GetScalarPointer());
+    double worst = 0;
+    for (int oz = 0; oz < outDims[2]; ++oz)
+      for (int oy = 0; oy < outDims[1]; ++oy)
+        for (int ox = 0; ox < outDims[0]; ++ox) {
+          const double p[3] = {start[0] + ox * step[0], start[1] + oy * step[1], start[2] + oz * step[2]};
+          double want = 0;
+          for (int k = 0; k < dims[2]; ++k)
+            for (int j = 0; j < dims[1]; ++j)
+              for (int i = 0; i < dims[0]; ++i)
+                if (voxels[(static_cast<size_t>(k) * dims[1] + j) * dims[0] + i] == 4)
+                  want += weight(0, p[0], i) * weight(1, p[1], j) * weight(2, p[2], k);
+          bool centre = true;
+          int c[3];
+          for (int a = 0; a < 3; ++a) {
+            centre = centre && std::abs(p[a] - std::round(p[a])) < 1e-6;
+            c[a] = static_cast<int>(std::lround(p[a]));
+          }
+          if (centre) {
+            bool inside = true;
+            for (int a = 0; a < 3; ++a) inside = inside && c[a] >= 0 && c[a] < dims[a];
+            inside = inside && voxels[(static_cast<size_t>(c[2]) * dims[1] + c[1]) * dims[0] + c[0]] == 4;
+            want = inside ? std::max(want, 0.5 + GaussianConstraintMargin) : std::min(want, 0.5 - GaussianConstraintMargin);
+          }
+          const float got = field[(static_cast<size_t>(oz) * outDims[1] + oy) * outDims[0] + ox];
+          worst = std::max(worst, std::abs(got - want));
+        }
+    EXPECT_LT(worst, 1e-5) << "grid step " << stepValue;
+  }
 }

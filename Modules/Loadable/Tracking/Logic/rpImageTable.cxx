@@ -4,15 +4,8 @@
 
 namespace rp {
 
-size_t ImageFrame::ScalarBytes(uint8_t type) {
-  switch (type) {
-    case Int8: case UInt8: return 1;
-    case Int16: case UInt16: return 2;
-    case Int32: case UInt32: case Float32: return 4;
-    case Float64: return 8;
-  }
-  return 0;
-}
+// The frame numbers its scalar types as OpenIGTLink's IMAGE does: the wire format's sizes.
+size_t ImageFrame::ScalarBytes(uint8_t type) { return igtl::ImageHeader::ScalarBytes(type); }
 
 size_t ImageFrame::ByteCount() const {
   return static_cast<size_t>(this->Dimensions[0]) * this->Dimensions[1] * this->Dimensions[2] * this->Components *

@@ -9,12 +9,23 @@
 #include <cstdint>
 #include <vector>
 
+#include "rpIgtlProtocol.h"
+
 namespace rp {
 
 /// One whole image in the host's byte order, with its geometry in RAS.
 struct ImageFrame {
-  /// Scalar types, numbered as OpenIGTLink's IMAGE (2 int8 ... 11 float64).
-  enum Scalar : uint8_t { Int8 = 2, UInt8 = 3, Int16 = 4, UInt16 = 5, Int32 = 6, UInt32 = 7, Float32 = 10, Float64 = 11 };
+  /// Scalar types, numbered as OpenIGTLink's IMAGE (the wire format's numbers and sizes).
+  enum Scalar : uint8_t {
+    Int8 = igtl::ImageHeader::Int8,
+    UInt8 = igtl::ImageHeader::UInt8,
+    Int16 = igtl::ImageHeader::Int16,
+    UInt16 = igtl::ImageHeader::UInt16,
+    Int32 = igtl::ImageHeader::Int32,
+    UInt32 = igtl::ImageHeader::UInt32,
+    Float32 = igtl::ImageHeader::Float32,
+    Float64 = igtl::ImageHeader::Float64
+  };
   int Dimensions[3] = {0, 0, 0};
   int Components = 1;
   uint8_t ScalarType = UInt8;

@@ -286,7 +286,7 @@ bool NdiTracker::Connect() {
   return r.Ok();
 }
 
-bool NdiTracker::Configure() {
+bool NdiTracker::NegotiateLink() {
   const int timeout = this->Opts.CommandTimeoutMs, retries = this->Opts.Retries;
   ndi::ParseResult r = this->Command("GETINFO", "Features.Firmware.Version", timeout, retries);
   if (r.Code == ndi::ParseCode::DeviceError) --this->DeviceErrors;  // expected on Spectra/Vicra: old API
@@ -318,7 +318,13 @@ bool NdiTracker::Configure() {
     r = this->Command("IRATE", args.c_str(), timeout, retries);
     if (!r.Ok()) return this->Fail(Describe("IRATE", r)), false;
   }
+  return true;
+}
 
+bool NdiTracker::Configure() {
+  if (!this->NegotiateLink()) return false;
+  const int timeout = this->Opts.CommandTimeoutMs, retries = this->Opts.Retries;
+  ndi::ParseResult r;
   // Free handles left over from an earlier session.
   uint8_t handles[ndi::MaxHandles];
   int count = 0;

@@ -94,6 +94,8 @@ class NdiTracker : public PoseSource {
   void Run();
   bool Connect();
   bool Configure();
+  /// The version (VER), the fastest baud both ends can do (COMM) and the frame rate (IRATE).
+  bool NegotiateLink();
   void TrackLoop();
   /// Parses the frame in Rx and publishes its poses. False: the device must be set up again.
   bool ProcessTrackingFrame(uint32_t& lastFrame);

@@ -469,7 +469,8 @@ int RunPivotCommand(const std::vector<std::string>& args, std::ostream& out, std
   } else {
     poses = recording.PosesOf(recording.Tools[static_cast<size_t>(indexOf(tool))]);
   }
-  const PivotResult r = PivotCalibrate(poses, threshold);
+  vtkNew<vtkRPTrackingLogic> logic;  // no scene: the command reports the calibration, applies none
+  const PivotResult r = logic->CalibratePivot(poses, tool, threshold);
   nlohmann::json doc = {{"tool", tool},
                         {"valid", r.Valid},
                         {"accepted", r.Accepted},

@@ -344,6 +344,15 @@ std::vector<vtkRPTrackingLogic::ImageStatistics> vtkRPTrackingLogic::GetImageSta
   return out;
 }
 
+rp::PivotResult vtkRPTrackingLogic::CalibratePivot(const std::vector<rp::ToolPose>& poses,
+                                                   const std::string& stylusNodeName, double thresholdMm,
+                                                   double minSpreadDeg, vtkRPLinearTransformNode** tip) {
+  const rp::PivotResult result = rp::PivotCalibrate(poses, thresholdMm, minSpreadDeg);
+  vtkRPLinearTransformNode* applied = result.Valid ? this->ApplyPivotCalibration(result, stylusNodeName) : nullptr;
+  if (tip) *tip = applied;
+  return result;
+}
+
 vtkRPLinearTransformNode* vtkRPTrackingLogic::ApplyPivotCalibration(const rp::PivotResult& result,
                                                                     const std::string& stylusNodeName,
                                                                     const std::string& tipNodeName) {
@@ -366,6 +375,6 @@ vtkRPLinearTransformNode* vtkRPTrackingLogic::ApplyPivotCalibration(const rp::Pi
       break;
     }
   }
-  tip->SetAttribute("PivotRMSE", std::to_string(result.Rmse));
+  tip->SetAttribute(PivotCalibrationRMSEAttribute(), std::to_string(result.Rmse));
   return tip;
 }

@@ -90,9 +90,19 @@ class vtkRPTrackingLogic : public vtkObject {
   };
   std::vector<ImageStatistics> GetImageStatistics() const;
 
-  /// StylusTipToStylus as a child transform of the stylus node (created or updated).
+  /// Pivot calibration of a stylus from its poses (rp::PivotCalibrate: only OK poses count; RMSE
+  /// above thresholdMm rejects; the stylus must turn minSpreadDeg). When it solves (Valid, even if
+  /// rejected, so that a user sees it) and the logic has a scene, StylusTipToStylus is applied
+  /// under the stylus node (ApplyPivotCalibration; `tip` receives it). The panel, `roboplan pivot`
+  /// and the demo calibrate through this one function.
+  rp::PivotResult CalibratePivot(const std::vector<rp::ToolPose>& poses, const std::string& stylusNodeName,
+                                 double thresholdMm = 1.0, double minSpreadDeg = 10.0,
+                                 vtkRPLinearTransformNode** tip = nullptr);
+  /// StylusTipToStylus as a child transform of the stylus node (created or updated), with the
+  /// calibration's RMSE in its PivotCalibrationRMSEAttribute().
   vtkRPLinearTransformNode* ApplyPivotCalibration(const rp::PivotResult& result, const std::string& stylusNodeName,
                                                   const std::string& tipNodeName = "StylusTipToStylus");
+  static const char* PivotCalibrationRMSEAttribute() { return "PivotCalibration.RMSE"; }
 
  protected:
   vtkRPTrackingLogic();

@@ -3,6 +3,9 @@
 // the `roboplan pivot` command on a recording.
 #include <gtest/gtest.h>
 
+#include <vtkMatrix4x4.h>
+#include <vtkNew.h>
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -14,6 +17,10 @@
 #include "rpToolDefinition.h"
 #include "rpTrackingCommands.h"
 #include "rpTrackingRecording.h"
+#include "vtkRPLinearTransformNode.h"
+#include "vtkRPScene.h"
+#include "vtkRPTrackedToolNode.h"
+#include "vtkRPTrackingLogic.h"
 
 using namespace rp;
 
@@ -53,6 +60,35 @@ TEST(PivotCalibration, RecoversTheStylusTipExactlyWithoutNoise) {
   }
   EXPECT_LT(r.Rmse, 1e-6);
   EXPECT_GT(r.RotationSpreadDeg, 15.0);
+}
+
+// The Tracking logic's calibration (the panel's, `pivot`'s and the demo's): StylusTipToStylus
+// under the stylus node, the tip offset as its translation, the RMSE as its attribute.
+TEST(PivotCalibration, TheLogicAppliesTheTipUnderTheStylus) {
+  const ToolDefinition stylus = Stylus();
+  vtkNew<vtkRPScene> scene;
+  vtkNew<vtkRPTrackedToolNode> stylusNode;
+  stylusNode->SetName("StylusToTracker");
+  scene->AddNode(stylusNode);
+  vtkNew<vtkRPTrackingLogic> logic;
+  logic->SetScene(scene);
+  vtkRPLinearTransformNode* tip = nullptr;
+  const PivotResult r = logic->CalibratePivot(PivotPoses(stylus, 200, 0, 1), "StylusToTracker", 1.0, 10.0, &tip);
+  ASSERT_TRUE(r.Accepted) << r.Message;
+  ASSERT_NE(tip, nullptr);
+  EXPECT_EQ(tip->GetName(), "StylusTipToStylus");
+  EXPECT_EQ(tip->GetTransformNodeID(), stylusNode->GetID());
+  vtkMatrix4x4* m = tip->GetMatrixTransformToParent();
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(m->GetElement(k, 3), stylus.TipOffset[k], 1e-6);
+  EXPECT_EQ(tip->GetAttribute(vtkRPTrackingLogic::PivotCalibrationRMSEAttribute()), std::to_string(r.Rmse));
+  // Too few poses: not solved, nothing applied; without a scene nothing is applied either.
+  const int nodes = scene->GetNumberOfNodes();
+  EXPECT_FALSE(logic->CalibratePivot(PivotPoses(stylus, 4, 0, 1), "StylusToTracker", 1.0, 10.0, &tip).Valid);
+  EXPECT_EQ(tip, nullptr);
+  vtkNew<vtkRPTrackingLogic> sceneless;
+  EXPECT_TRUE(sceneless->CalibratePivot(PivotPoses(stylus, 200, 0, 1), "StylusToTracker", 1.0, 10.0, &tip).Valid);
+  EXPECT_EQ(tip, nullptr);
+  EXPECT_EQ(scene->GetNumberOfNodes(), nodes);
 }
 
 TEST(PivotCalibration, RmseMatchesTheNoiseModel) {

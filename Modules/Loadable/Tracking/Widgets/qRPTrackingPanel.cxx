@@ -170,8 +170,7 @@ void qRPTrackingPanel::Update() {
     }
     if (now >= this->PivotEnd) {
       this->PivotEnd = 0;
-      const rp::PivotResult r = rp::PivotCalibrate(this->PivotPoses, 1.0);
-      if (r.Valid) this->Logic->ApplyPivotCalibration(r, this->PivotTool);
+      const rp::PivotResult r = this->Logic->CalibratePivot(this->PivotPoses, this->PivotTool);
       this->Pivot->setText(r.Valid ? QString("tip %1 %2 %3 mm, RMSE %4 mm: %5")
                                          .arg(r.TipOffset[0], 0, 'f', 2)
                                          .arg(r.TipOffset[1], 0, 'f', 2)

@@ -27,6 +27,9 @@
 #include "rpVolumeFiles.h"
 #include "rpVolumeIO.h"
 #include "rpVolumeRegistration.h"
+#include "vtkRPScalarVolumeNode.h"
+#include "vtkRPScene.h"
+#include "vtkRPVolumesLogic.h"
 
 namespace fs = std::filesystem;
 
@@ -436,7 +439,7 @@ struct RegisterVolumesRequest {
 };
 
 struct RegisterVolumesRun {
-  ImageVolume Fixed, Moving;
+  ImageVolume Fixed;  // the fixed volume's node, as a volume (for --truth)
   RigidRegistrationResult Result;
   double TruthRMS = -1.0;
   bool Written = false;
@@ -513,16 +516,23 @@ double TruthRMSOverCentre(const ImageVolume& fixed, const vtkMatrix4x4* movingTo
   return TransformRMSDifference(movingToFixed, truth, points);
 }
 
-// Reads, registers, scores against --truth and writes --out (only when converged). False: an
-// input could not be read or the registration could not run (named on `err`).
+// Reads and registers through the Volumes logic (as a host's scene would: the moving volume under
+// the MovingToFixed transform), scores against --truth and writes --out (only when converged).
+// False: an input could not be read or the registration could not run (named on `err`).
 bool RunRegisterVolumes(RegisterVolumesRequest& request, RegisterVolumesRun& run, TerminalProgress& progress,
                         std::ostream& err) {
   RigidRegistrationOptions& options = request.Options;
+  vtkNew<vtkRPScene> scene;
+  vtkNew<vtkRPVolumesLogic> logic;
+  logic->SetScene(scene);
   std::string error;
-  if (!ReadVolume(request.Fixed, run.Fixed, error) || !ReadVolume(request.Moving, run.Moving, error)) {
+  vtkRPScalarVolumeNode* fixed = logic->LoadVolume(request.Fixed, "", error);
+  vtkRPScalarVolumeNode* moving = fixed ? logic->LoadVolume(request.Moving, "", error) : nullptr;
+  if (!moving) {
     err << "roboplan register-volumes: " << error << "\n";
     return false;
   }
+  run.Fixed = FromNode(fixed);
   for (unsigned f : options.ShrinkFactors) options.SmoothingSigmasMM.push_back(f > 1 ? 0.75 * f : 0.0);
   if (!request.Initial.empty()) {
     vtkNew<vtkMatrix4x4> movingToFixed;
@@ -541,7 +551,8 @@ bool RunRegisterVolumes(RegisterVolumesRequest& request, RegisterVolumesRun& run
     return false;
   }
   RigidRegistrationResult& result = run.Result;
-  if (!RegisterVolumesRigid(run.Fixed, run.Moving, options, result, error, Quieter(progress))) {
+  // Not converged: the logic applies nothing, but the optimizer ran (StopReason) and is reported.
+  if (!logic->RegisterVolumes(fixed, moving, options, result, error, Quieter(progress)) && result.StopReason.empty()) {
     err << "roboplan register-volumes: " << error << "\n";
     return false;
   }

@@ -38,7 +38,8 @@ class vtkRPVolumesLogic : public vtkObject {
 
   /// Registers `moving` onto `fixed` and puts `moving` under a transform node named
   /// "<moving>To<fixed>" (to-parent = moving RAS → fixed RAS). When the optimizer did not
-  /// converge nothing is changed and `error` says why. The result details go to `result`.
+  /// converge nothing is changed and `error` says why. The result details go to `result`
+  /// whenever the optimizer ran (its StopReason set), converged or not.
   vtkRPLinearTransformNode* RegisterVolumes(vtkRPScalarVolumeNode* fixed, vtkRPScalarVolumeNode* moving,
                                             const rp::RigidRegistrationOptions& options,
                                             rp::RigidRegistrationResult& result, std::string& error,

@@ -313,6 +313,17 @@ TEST(VolumesCommands, PhantomDicomListingAndConversion) {
   r = Call(rp::RunConvertCommand, {(Dir() / "missing.nrrd").string(), (Dir() / "y.nrrd").string()});
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.err.find("missing.nrrd"), std::string::npos) << r.err;
+  // What a path is, the loader says (rp::FindDataReader): a model is refused as a model, by a
+  // volume reader and by the segmentation-or-labelmap reader alike, not scanned as DICOM.
+  const std::string model = (dir / "surfaces" / "femur.vtp").string();
+  r = Call(rp::RunConvertCommand, {model, (Dir() / "z.nrrd").string()});
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("is a model"), std::string::npos) << r.err;
+  vtkNew<vtkRPSegmentationNode> segmentation;
+  EXPECT_FALSE(rp::ReadSegmentationOrLabelmap(model, segmentation, error));
+  EXPECT_NE(error.find("is a model"), std::string::npos) << error;
+  ASSERT_TRUE(rp::ReadSegmentationOrLabelmap((dir / "labels.nrrd").string(), segmentation, error)) << error;
+  EXPECT_GT(segmentation->GetNumberOfSegments(), 10);
 }
 
 // The real-data case as close as shared/data allows (no real JPEG 2000 knee MR there):

@@ -1,4 +1,4 @@
-#include "rpViewerMainWindow.h"
+#include "qRPViewerMainWindow.h"
 
 #include <QAction>
 #include <QActionGroup>
@@ -70,8 +70,11 @@ QString FilePatterns(std::initializer_list<const char*> nodeClasses) {
   return patterns.join(' ');
 }
 }  // namespace
+}  // namespace rp
 
-ViewerMainWindow::ViewerMainWindow(ModuleManager* manager, vtkRPScene* scene, QWidget* parent)
+using namespace rp;  // the viewer's types (ModuleManager, ViewController, ViewKind...)
+
+qRPViewerMainWindow::qRPViewerMainWindow(ModuleManager* manager, vtkRPScene* scene, QWidget* parent)
     : QMainWindow(parent), Scene(scene), Controller(std::make_unique<ViewController>(scene)) {
   this->setWindowTitle("RoboPlan");
   this->BuildViews();
@@ -80,14 +83,14 @@ ViewerMainWindow::ViewerMainWindow(ModuleManager* manager, vtkRPScene* scene, QW
 
   this->SceneCallback = vtkSmartPointer<vtkCallbackCommand>::New();
   this->SceneCallback->SetClientData(this);
-  this->SceneCallback->SetCallback(&ViewerMainWindow::OnSceneChanged);
+  this->SceneCallback->SetCallback(&qRPViewerMainWindow::OnSceneChanged);
   for (unsigned long event : {vtkRPScene::NodeAddedEvent, vtkRPScene::NodeRemovedEvent}) {
     this->SceneTags.push_back(scene->AddObserver(event, this->SceneCallback));
   }
   this->LayoutCallback = vtkSmartPointer<vtkCallbackCommand>::New();
   this->LayoutCallback->SetClientData(this);
   this->LayoutCallback->SetCallback(
-      [](vtkObject*, unsigned long, void* clientData, void*) { static_cast<ViewerMainWindow*>(clientData)->LayoutDirty = true; });
+      [](vtkObject*, unsigned long, void* clientData, void*) { static_cast<qRPViewerMainWindow*>(clientData)->LayoutDirty = true; });
   this->LayoutTag = this->Controller->GetLayoutNode()->AddObserver(vtkCommand::ModifiedEvent, this->LayoutCallback);
   this->ApplyLayout();
 
@@ -123,7 +126,7 @@ ViewerMainWindow::ViewerMainWindow(ModuleManager* manager, vtkRPScene* scene, QW
   this->statusBar()->showMessage("Click: set the slice point · drag: window/level · wheel: slice · right drag: zoom · middle drag: pan");
 }
 
-ViewerMainWindow::~ViewerMainWindow() {
+qRPViewerMainWindow::~qRPViewerMainWindow() {
   this->RenderTimer.stop();
   for (unsigned long tag : this->SceneTags) this->Scene->RemoveObserver(tag);
   this->Controller->GetLayoutNode()->RemoveObserver(this->LayoutTag);
@@ -131,11 +134,11 @@ ViewerMainWindow::~ViewerMainWindow() {
   for (int kind = 0; kind < 4; ++kind) this->Controller->GetView(static_cast<ViewKind>(kind))->DetachFromRenderWindow();
 }
 
-void ViewerMainWindow::OnSceneChanged(vtkObject*, unsigned long, void* clientData, void*) {
-  static_cast<ViewerMainWindow*>(clientData)->DataPanelDirty = true;
+void qRPViewerMainWindow::OnSceneChanged(vtkObject*, unsigned long, void* clientData, void*) {
+  static_cast<qRPViewerMainWindow*>(clientData)->DataPanelDirty = true;
 }
 
-void ViewerMainWindow::BuildViews() {
+void qRPViewerMainWindow::BuildViews() {
   this->ViewArea = new QWidget(this);
   auto* grid = new QGridLayout(this->ViewArea);
   grid->setContentsMargins(0, 0, 0, 0);
@@ -174,13 +177,13 @@ void ViewerMainWindow::BuildViews() {
   this->setCentralWidget(this->ViewArea);
 }
 
-void ViewerMainWindow::SetViewLayout(int layout) {
+void qRPViewerMainWindow::SetViewLayout(int layout) {
   this->Controller->GetLayoutNode()->SetViewArrangement(layout);  // the layout observer applies it
   this->ApplyLayout();
 }
 
 // Shows the views of the scene's layout node (set here, by a loaded scene or by a module).
-void ViewerMainWindow::ApplyLayout() {
+void qRPViewerMainWindow::ApplyLayout() {
   const int layout = this->Controller->GetLayoutNode()->GetViewArrangement();
   if (QAction* action = this->findChild<QAction*>(QString("layout_%1").arg(vtkRPLayoutNode::GetArrangementAsString(layout)))) {
     action->setChecked(true);
@@ -199,11 +202,11 @@ void ViewerMainWindow::ApplyLayout() {
   }
 }
 
-int ViewerMainWindow::RenderPendingViews() { return this->Scheduler.RenderPendingViews(); }
+int qRPViewerMainWindow::RenderPendingViews() { return this->Scheduler.RenderPendingViews(); }
 
-void ViewerMainWindow::BuildMenus() {
+void qRPViewerMainWindow::BuildMenus() {
   QMenu* file = this->menuBar()->addMenu("&File");
-  QAction* dicom = file->addAction("Load &DICOM folder...", this, &ViewerMainWindow::OpenDicomFolder);
+  QAction* dicom = file->addAction("Load &DICOM folder...", this, &qRPViewerMainWindow::OpenDicomFolder);
 #ifndef ROBOPLAN_VIEWER_HAVE_DICOM
   dicom->setEnabled(false);
   dicom->setToolTip("This build has no DICOM reader (Libs/Imaging's rpDicomSeries was not available)");
@@ -211,7 +214,7 @@ void ViewerMainWindow::BuildMenus() {
   (void)dicom;
 #endif
   file->addAction("&Load data (volume, segmentation, model, fiducials, transform)...", this,
-                  &ViewerMainWindow::OpenDataFiles, QKeySequence::Open);
+                  &qRPViewerMainWindow::OpenDataFiles, QKeySequence::Open);
   // The formats are the storage registry's (rpNodeStorage), not a list of our own.
   const std::pair<const char*, const char*> kinds[] = {{"Load &volume...", "vtkRPScalarVolumeNode"},
                                                        {"Load se&gmentation...", "vtkRPSegmentationNode"},
@@ -223,12 +226,12 @@ void ViewerMainWindow::BuildMenus() {
     const QString files = caption.mid(caption.indexOf(' ') + 1) + "s (" + FilePatterns({nodeClass}) + ")";
     file->addAction(title, this, [this, caption, files]() { this->OpenDataFilesOfKind(caption, files); });
   }
-  file->addAction("Load &scene...", this, &ViewerMainWindow::OpenScene);
-  file->addAction("&Save scene as...", this, &ViewerMainWindow::SaveSceneAs, QKeySequence::SaveAs);
+  file->addAction("Load &scene...", this, &qRPViewerMainWindow::OpenScene);
+  file->addAction("&Save scene as...", this, &qRPViewerMainWindow::SaveSceneAs, QKeySequence::SaveAs);
   this->RecentMenu = file->addMenu("&Recent files");
   this->RebuildRecentMenu();
   file->addSeparator();
-  file->addAction("&Close scene", this, &ViewerMainWindow::CloseScene);
+  file->addAction("&Close scene", this, &qRPViewerMainWindow::CloseScene);
   file->addAction("&Quit", this, &QWidget::close, QKeySequence::Quit);
 
   QToolBar* toolbar = this->addToolBar("Views");
@@ -281,7 +284,7 @@ void ViewerMainWindow::BuildMenus() {
   toolbar->addWidget(presets);
 }
 
-void ViewerMainWindow::BuildPanels(ModuleManager* manager) {
+void qRPViewerMainWindow::BuildPanels(ModuleManager* manager) {
   auto* dock = new QDockWidget("Modules", this);
   dock->setObjectName("ModulesDock");
   dock->setFeatures(QDockWidget::DockWidgetMovable | QDockWidget::DockWidgetFloatable);
@@ -298,7 +301,7 @@ void ViewerMainWindow::BuildPanels(ModuleManager* manager) {
   this->addDockWidget(Qt::LeftDockWidgetArea, dock);
 }
 
-QWidget* ViewerMainWindow::BuildDataPanel() {
+QWidget* qRPViewerMainWindow::BuildDataPanel() {
   auto* panel = new QWidget;
   auto* layout = new QVBoxLayout(panel);
   this->DataTree = new QTreeWidget(panel);
@@ -373,7 +376,7 @@ QWidget* ViewerMainWindow::BuildDataPanel() {
   return panel;
 }
 
-void ViewerMainWindow::RefreshDataPanel() {
+void qRPViewerMainWindow::RefreshDataPanel() {
   this->DataPanelDirty = false;
   this->UpdatingPanel = true;
   this->DataTree->clear();
@@ -393,7 +396,7 @@ void ViewerMainWindow::RefreshDataPanel() {
   this->UpdatingPanel = false;
 }
 
-void ViewerMainWindow::RefreshParentTransformCombo() {
+void qRPViewerMainWindow::RefreshParentTransformCombo() {
   const bool wasUpdating = this->UpdatingPanel;
   this->UpdatingPanel = true;
   QTreeWidgetItem* item = this->DataTree->currentItem();
@@ -415,13 +418,13 @@ void ViewerMainWindow::RefreshParentTransformCombo() {
   this->UpdatingPanel = wasUpdating;
 }
 
-std::string ViewerMainWindow::ShownLayersKey() const {
+std::string qRPViewerMainWindow::ShownLayersKey() const {
   vtkRPSliceNode* red = this->Controller->GetSliceNode(ViewKind::Axial);
   return red->GetBackgroundVolumeID() + "|" + red->GetForegroundVolumeID() + "|" + red->GetFollowNodeID() + "|" +
          std::to_string(red->GetForegroundOpacity());
 }
 
-void ViewerMainWindow::RefreshVolumeCombos() {
+void qRPViewerMainWindow::RefreshVolumeCombos() {
   vtkRPSliceNode* red = this->Controller->GetSliceNode(ViewKind::Axial);
   this->ShownLayers = this->ShownLayersKey();
   for (QComboBox* combo : {this->BackgroundCombo, this->ForegroundCombo}) {
@@ -442,7 +445,7 @@ void ViewerMainWindow::RefreshVolumeCombos() {
   }
 }
 
-bool ViewerMainWindow::LoadFile(const QString& path, QString* error) {
+bool qRPViewerMainWindow::LoadFile(const QString& path, QString* error) {
   std::string message;
   std::vector<std::string> warnings;
   bool ok = false;
@@ -472,16 +475,16 @@ bool ViewerMainWindow::LoadFile(const QString& path, QString* error) {
   return true;
 }
 
-void ViewerMainWindow::ShowProblem(const QString& title, const QString& text) {
+void qRPViewerMainWindow::ShowProblem(const QString& title, const QString& text) {
   QMessageBox::warning(this, title, text);
 }
 
-void ViewerMainWindow::LoadAndReport(const QString& path, const QString& title) {
+void qRPViewerMainWindow::LoadAndReport(const QString& path, const QString& title) {
   QString error;
   if (!this->LoadFile(path, &error) && error != "cancelled") this->ShowProblem(title, error);
 }
 
-void ViewerMainWindow::OpenDataFiles() {
+void qRPViewerMainWindow::OpenDataFiles() {
   this->OpenDataFilesOfKind("Load data", "Data (" +
                                              FilePatterns({"vtkRPScalarVolumeNode", "vtkRPSegmentationNode",
                                                            "vtkRPModelNode", "vtkRPFiducialListNode",
@@ -489,12 +492,12 @@ void ViewerMainWindow::OpenDataFiles() {
                                              ")");
 }
 
-void ViewerMainWindow::OpenDataFilesOfKind(const QString& title, const QString& filter) {
+void qRPViewerMainWindow::OpenDataFilesOfKind(const QString& title, const QString& filter) {
   const QStringList files = QFileDialog::getOpenFileNames(this, title, QString(), filter + ";;All files (*)");
   for (const QString& file : files) this->LoadAndReport(file, title);
 }
 
-void ViewerMainWindow::OpenScene() {
+void qRPViewerMainWindow::OpenScene() {
   const QString file = QFileDialog::getOpenFileName(this, "Load scene", QString(),
                                                     "Scenes (*.rpscene *.mrml *.mrb);;RoboPlan scene (*.rpscene);;"
                                                     "3D Slicer scene (*.mrml *.mrb)");
@@ -502,7 +505,7 @@ void ViewerMainWindow::OpenScene() {
   this->LoadAndReport(file, "Load scene");
 }
 
-void ViewerMainWindow::SaveSceneAs() {
+void qRPViewerMainWindow::SaveSceneAs() {
   QString filter;
   QString file = QFileDialog::getSaveFileName(this, "Save scene", QString(),
                                               "RoboPlan scene (*.rpscene);;3D Slicer bundle (*.mrb)", &filter);
@@ -517,12 +520,12 @@ void ViewerMainWindow::SaveSceneAs() {
   this->statusBar()->showMessage("Saved " + file, 5000);
 }
 
-void ViewerMainWindow::CloseScene() {
+void qRPViewerMainWindow::CloseScene() {
   this->Scene->Clear();  // the views' nodes stay (singletons)
   this->Controller->ResetViews();
 }
 
-void ViewerMainWindow::OpenDicomFolder() {
+void qRPViewerMainWindow::OpenDicomFolder() {
 #ifdef ROBOPLAN_VIEWER_HAVE_DICOM
   const QString folder = QFileDialog::getExistingDirectory(this, "Load DICOM folder");
   if (folder.isEmpty()) return;
@@ -583,11 +586,11 @@ void ViewerMainWindow::OpenDicomFolder() {
 #endif
 }
 
-void ViewerMainWindow::dragEnterEvent(QDragEnterEvent* event) {
+void qRPViewerMainWindow::dragEnterEvent(QDragEnterEvent* event) {
   if (event->mimeData()->hasUrls()) event->acceptProposedAction();
 }
 
-void ViewerMainWindow::dropEvent(QDropEvent* event) {
+void qRPViewerMainWindow::dropEvent(QDropEvent* event) {
   for (const QUrl& url : event->mimeData()->urls()) {
     if (!url.isLocalFile()) continue;
     this->LoadAndReport(url.toLocalFile(), "Load");
@@ -595,11 +598,11 @@ void ViewerMainWindow::dropEvent(QDropEvent* event) {
   event->acceptProposedAction();
 }
 
-QStringList ViewerMainWindow::RecentFiles() {
+QStringList qRPViewerMainWindow::RecentFiles() {
   return QSettings().value(RecentFilesKey).toStringList();
 }
 
-void ViewerMainWindow::AddRecentFile(const QString& path) {
+void qRPViewerMainWindow::AddRecentFile(const QString& path) {
   QStringList files = RecentFiles();
   files.removeAll(path);
   files.prepend(path);
@@ -608,7 +611,7 @@ void ViewerMainWindow::AddRecentFile(const QString& path) {
   this->RebuildRecentMenu();
 }
 
-void ViewerMainWindow::RebuildRecentMenu() {
+void qRPViewerMainWindow::RebuildRecentMenu() {
   if (!this->RecentMenu) return;
   this->RecentMenu->clear();
   const QStringList files = RecentFiles();
@@ -617,5 +620,3 @@ void ViewerMainWindow::RebuildRecentMenu() {
   }
   this->RecentMenu->setEnabled(!files.isEmpty());
 }
-
-}  // namespace rp

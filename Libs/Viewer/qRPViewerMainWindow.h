@@ -33,19 +33,19 @@ class vtkObject;
 class vtkRPScene;
 
 namespace rp {
-
 class ModuleManager;
 class ViewController;
+}  // namespace rp
 
-class ViewerMainWindow : public QMainWindow {
+class qRPViewerMainWindow : public QMainWindow {
   Q_OBJECT
 
  public:
-  ViewerMainWindow(ModuleManager* manager, vtkRPScene* scene, QWidget* parent = nullptr);
-  ~ViewerMainWindow() override;
+  qRPViewerMainWindow(rp::ModuleManager* manager, vtkRPScene* scene, QWidget* parent = nullptr);
+  ~qRPViewerMainWindow() override;
 
-  ViewController* GetController() const { return this->Controller.get(); }
-  QVTKOpenGLNativeWidget* GetViewWidget(ViewKind kind) const { return this->ViewWidgets[static_cast<size_t>(kind)]; }
+  rp::ViewController* GetController() const { return this->Controller.get(); }
+  QVTKOpenGLNativeWidget* GetViewWidget(rp::ViewKind kind) const { return this->ViewWidgets[static_cast<size_t>(kind)]; }
   QToolBox* GetPanelBox() const { return this->Panels; }
   QTreeWidget* GetDataTree() const { return this->DataTree; }
 
@@ -79,7 +79,7 @@ class ViewerMainWindow : public QMainWindow {
   static void OnSceneChanged(vtkObject*, unsigned long, void* clientData, void*);
   void BuildViews();
   void BuildMenus();
-  void BuildPanels(ModuleManager* manager);
+  void BuildPanels(rp::ModuleManager* manager);
   QWidget* BuildDataPanel();
   void RefreshDataPanel();
   void RefreshVolumeCombos();
@@ -93,7 +93,7 @@ class ViewerMainWindow : public QMainWindow {
   void LoadAndReport(const QString& path, const QString& title);
 
   vtkRPScene* Scene;
-  std::unique_ptr<ViewController> Controller;
+  std::unique_ptr<rp::ViewController> Controller;
   std::array<QVTKOpenGLNativeWidget*, 4> ViewWidgets{};
   QWidget* ViewArea = nullptr;
   QToolBox* Panels = nullptr;
@@ -106,7 +106,7 @@ class ViewerMainWindow : public QMainWindow {
   QMenu* RecentMenu = nullptr;
   QAction* PlaceFiducialAction = nullptr;
   QTimer RenderTimer;
-  RenderScheduler Scheduler;
+  rp::RenderScheduler Scheduler;
   vtkSmartPointer<vtkCallbackCommand> SceneCallback;
   std::vector<unsigned long> SceneTags;
   vtkSmartPointer<vtkCallbackCommand> LayoutCallback;
@@ -116,5 +116,3 @@ class ViewerMainWindow : public QMainWindow {
   bool DataPanelDirty = true;
   bool UpdatingPanel = false;
 };
-
-}  // namespace rp

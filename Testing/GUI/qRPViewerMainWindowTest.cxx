@@ -24,7 +24,7 @@
 #include "rpNodeStorage.h"
 #include "rpView.h"
 #include "rpViewController.h"
-#include "rpViewerMainWindow.h"
+#include "qRPViewerMainWindow.h"
 #include "rpViewerTestScene.h"
 #include "vtkRPFiducialListNode.h"
 #include "vtkRPLinearTransformNode.h"
@@ -43,13 +43,13 @@ namespace {
 
 QApplication& Application() {
   static int argc = 1;
-  static char name[] = "rpViewerMainWindowTest";
+  static char name[] = "qRPViewerMainWindowTest";
   static char* argv[] = {name, nullptr};
   static QApplication* application = [] {
     QSurfaceFormat::setDefaultFormat(QVTKOpenGLNativeWidget::defaultFormat());
     auto* app = new QApplication(argc, argv);
     QApplication::setOrganizationName("RoboPlanTest");
-    QApplication::setApplicationName("rpViewerMainWindowTest");
+    QApplication::setApplicationName("qRPViewerMainWindowTest");
     return app;
   }();
   return *application;
@@ -71,11 +71,11 @@ void Drag(QWidget* widget, QPoint from, QPoint to) {
 
 }  // namespace
 
-TEST(ViewerMainWindow, ScriptedSession) {
+TEST(qRPViewerMainWindow, ScriptedSession) {
   Application();
   QSettings().clear();
   vtkNew<vtkRPScene> scene;
-  ViewerMainWindow window(nullptr, scene);
+  qRPViewerMainWindow window(nullptr, scene);
   window.resize(1100, 800);
   window.show();
   ASSERT_TRUE(QTest::qWaitForWindowExposed(&window));
@@ -95,8 +95,8 @@ TEST(ViewerMainWindow, ScriptedSession) {
   for (vtkRPNode* node : scene->GetNodes()) dataNodes += node->GetHideFromEditors() ? 0 : 1;
   EXPECT_EQ(dataNodes, 2);
   EXPECT_EQ(vtkRPSliceNode::GetSliceNodes(scene).size(), 3u);  // the views' nodes, not in the Data panel
-  EXPECT_EQ(ViewerMainWindow::RecentFiles().size(), 2);
-  EXPECT_TRUE(ViewerMainWindow::RecentFiles().front().endsWith("femur.vtp"));
+  EXPECT_EQ(qRPViewerMainWindow::RecentFiles().size(), 2);
+  EXPECT_TRUE(qRPViewerMainWindow::RecentFiles().front().endsWith("femur.vtp"));
   QTest::qWait(120);  // the 30 Hz timer renders and refreshes the Data panel
 
   ViewController* controller = window.GetController();
