@@ -201,22 +201,62 @@ double Footprint(const Frame& f, double depth, double radius, const TissueModel&
   return std::min(3 * radius, radius * std::sqrt(std::max(0.0, 1 - cosine * cosine)) / cosine);
 }
 
-// Where the axis is in bone, the tool's surface out of it: the breach. The tool's own footprint
-// where the axis crosses the bone's surface is left out (at every crossing, not at the span's
-// ends); so is a stretch where the axis itself is out of bone (a canal, or the tool between two
-// bones: the bone intervals show it).
+// Whether the tool's whole cross-section (its surface, `angles` points) is in bone at this depth.
+bool ToolInBone(const Frame& f, double depth, double radius, const TissueModel& tissue, int angles) {
+  for (int a = 0; a < angles; ++a)
+    if (!tissue.InBone(f.Around(depth, radius, 2 * Pi * a / angles))) return false;
+  return true;
+}
+
+// How far past the axis' crossing of the bone's surface at `crossing` (going `direction`: +1 into
+// the bone, -1 back from an exit) the tool is still entering: its footprint on an oblique surface
+// (r tan of the angle to the normal), then until its whole cross-section is in bone (a curved
+// surface sags away from the tool by about r²/2R past the crossing), at most 3 r. A tool that never
+// gets wholly in within that keeps the footprint alone: standing out of the bone along the way is
+// a breach.
+double EntryStretch(const Frame& f, double crossing, double direction, double radius, double step,
+                    const TissueModel& tissue, int angles, double h) {
+  const double cap = 3 * radius;
+  const double foot = Footprint(f, crossing, radius, tissue, h);
+  for (double s = foot; s < cap; s += 0.25 * step)
+    if (ToolInBone(f, crossing + direction * s, radius, tissue, angles)) return s;
+  return foot;
+}
+
+// Where the axis crosses the bone's surface within 3 r beyond a span's end (`direction` -1 before
+// its start, +1 after its end): a plan whose entry or target lies on the surface (as a proposed
+// entry does) crosses it there. NaN when the axis stays in bone that far (the span begins or ends
+// inside the bone: no crossing to leave out).
+double CrossingBeyondSpan(const Frame& f, double end, double direction, double radius, double step,
+                          const TissueModel& tissue) {
+  const auto inBone = [&](double depth) { return tissue.InBone(f.At(depth)); };
+  for (double s = step; s <= 3 * radius + step; s += step) {
+    const double depth = end + direction * s;
+    if (!inBone(depth)) return Bisect(end + direction * (s - step), depth, inBone);
+  }
+  return std::nan("");
+}
+
+// Where the axis is in bone, the tool's surface out of it: the breach. The stretch where the tool
+// is still entering the bone at each crossing of its surface is left out (EntryStretch), also where
+// a span's end lies on the surface; so is a stretch where the axis itself is out of bone (a canal,
+// or the tool between two bones: the bone intervals show it).
 BreachFigure Breach(const Frame& f, const std::vector<DepthInterval>& bone, double radius, double step,
                     const TissueModel& tissue, const FigureOptions& options, double spanFrom, double spanTo) {
   BreachFigure breach;
   const double h = std::max(step, 0.25);
+  const int angles = options.SurfaceAngles;
   for (const DepthInterval& interval : bone) {
-    const double entryFoot = interval.FromMm > spanFrom + 1e-9 ? Footprint(f, interval.FromMm, radius, tissue, h) : 0;
-    const double exitFoot = interval.ToMm < spanTo - 1e-9 ? Footprint(f, interval.ToMm, radius, tissue, h) : 0;
-    const double from = interval.FromMm + entryFoot, to = interval.ToMm - exitFoot;
+    double from = interval.FromMm, to = interval.ToMm;
+    const double entry = interval.FromMm > spanFrom + 1e-9 ? interval.FromMm
+                                                           : CrossingBeyondSpan(f, spanFrom, -1, radius, step, tissue);
+    const double exit = interval.ToMm < spanTo - 1e-9 ? interval.ToMm
+                                                      : CrossingBeyondSpan(f, spanTo, +1, radius, step, tissue);
+    if (!std::isnan(entry)) from = std::max(from, entry + EntryStretch(f, entry, +1, radius, step, tissue, angles, h));
+    if (!std::isnan(exit)) to = std::min(to, exit - EntryStretch(f, exit, -1, radius, step, tissue, angles, h));
     if (!(to >= from)) continue;
     const int n = std::max(1, static_cast<int>(std::ceil((to - from) / step)));
-    for (int i = 0; i <= n; ++i)
-      RadialBreach(f, from + (to - from) * i / n, radius, step, tissue, options.SurfaceAngles, breach);
+    for (int i = 0; i <= n; ++i) RadialBreach(f, from + (to - from) * i / n, radius, step, tissue, angles, breach);
   }
   breach.Grade = GertzbeinRobbinsGrade(breach.BreachMm);
   return breach;

@@ -166,7 +166,9 @@ TEST(PlanRealKnee, ATibialTunnelsFiguresMatchVTKsOwnComputation) {
   std::cout << "real knee tunnel: length " << f.LengthMm << " mm, in tibia " << f.LengthInBoneMm << " mm (VTK " << length
             << "), clearance from the fibula " << f.Clearances[0].ClearanceMm << " mm (VTK " << closest - 2.0 << ") at "
             << f.Clearances[0].DepthMm << " mm, HU max difference " << worstHU << ", breach "
-            << (f.Breach.Found ? std::to_string(f.Breach.BreachMm) : std::string("none")) << "\n";
+            << (f.Breach.Found ? std::to_string(f.Breach.BreachMm) + " mm at depth " + std::to_string(f.Breach.DepthMm) + " mm": std::string("none")) << "; bone";
+  for (const auto& b : f.Bone) std::cout << " [" << b.FromMm << ", " << b.ToMm << "]";
+  std::cout << "\n";
 }
 
 TEST(PlanRealKnee, ACutThroughTheTibiaMatchesVTKsClippedVolumes) {

@@ -5,6 +5,7 @@
 // a scene whose best entry is known analytically finds it within the candidate spacing.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -142,6 +143,33 @@ TEST(PlanningCore, AToolAlongTheWallBreachesByHowFarItStandsOut) {
   }
   // A 3.9 mm tool on the wall's middle stays inside: no breach.
   EXPECT_FALSE(rp::ComputeTrajectoryFigures(Trajectory({8, 0, -10}, {8, 0, 10}, 3.9), tissue, {}).Breach.Found);
+}
+
+// A ball of bone (radius 15, the 100 HU threshold on its surface, 1000 HU inside): a tool that
+// enters it is no breach, wherever its entry lies (on the surface, as a proposed entry does, or
+// outside) and however the surface curves away from it; a tool along a chord near the surface
+// stands out of it by the closed form.
+double BallHU(double x, double y, double z) { return std::clamp(100 + 900 * (15 - std::sqrt(x * x + y * y + z * z)), -1000.0, 1000.0); }
+
+TEST(PlanningCore, EnteringACurvedBoneIsNoBreachWhereverTheEntryLies) {
+  const AnalyticVolume ct({-20, -20, -20}, {20, 20, 22}, 0.5, BallHU);
+  rp::TissueModel tissue;
+  ct.Into(tissue.CT);
+  AddBoneRanges(tissue);
+  tissue.Prepare();
+  for (const double entryZ : {15.0, 15.02, 18.0}) {  // on the surface, a hair outside, outside
+    const rp::TrajectoryFigures f = rp::ComputeTrajectoryFigures(Trajectory({0, 0, entryZ}, {0, 0, 0}, 4.0), tissue, {});
+    EXPECT_NEAR(f.LengthInBoneMm, 15, 1e-3) << entryZ;
+    EXPECT_FALSE(f.Breach.Found) << entryZ << ": " << f.Breach.BreachMm << " mm at " << f.Breach.DepthMm;
+  }
+  // Oblique, entry on the surface: from (0, 9, 12) (|p| = 15) to the centre.
+  EXPECT_FALSE(rp::ComputeTrajectoryFigures(Trajectory({0, 9, 12}, {0, 0, 0}, 4.0), tissue, {}).Breach.Found);
+  // Along a chord 14 mm from the centre (z from 8 to -8): the 4 mm tool's surface stands out by
+  // 2 - (15 - 14) = 1 mm where the chord is deepest (z = 0).
+  const rp::TrajectoryFigures chord = rp::ComputeTrajectoryFigures(Trajectory({14, 0, 8}, {14, 0, -8}, 4.0), tissue, {});
+  ASSERT_TRUE(chord.Breach.Found);
+  EXPECT_NEAR(chord.Breach.BreachMm, 1.0, 0.01);
+  EXPECT_NEAR(chord.Breach.DepthMm, 8, 0.5);
 }
 
 TEST(PlanningCore, TheProfileOfALinearRampIsExact) {
