@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <thread>
 #include <utility>
 
 #include "rpMortonCode.h"
@@ -98,6 +99,27 @@ void RadixSortByCode(std::vector<std::pair<uint64_t, uint32_t>>& keys) {
 
 }  // namespace
 
+namespace {
+// Threads for building over `triangles`: one below a size where starting threads costs more than
+// it saves (the haptic models of a scene), else the machine's (at most 8).
+int BuildThreads(size_t triangles) {
+  if (triangles < 50000) return 1;
+  return static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 8u));
+}
+
+// body(chunk, begin, end) over [0, n) in `chunks` contiguous chunks, one thread each (the caller
+// runs the last).
+template <class Body>
+void ForChunks(size_t n, int chunks, const Body& body) {
+  const size_t size = (n + static_cast<size_t>(chunks) - 1) / static_cast<size_t>(chunks);
+  std::vector<std::thread> threads;
+  for (int c = 0; c + 1 < chunks; ++c)
+    threads.emplace_back([&, c] { body(c, std::min(n, c * size), std::min(n, (c + 1) * size)); });
+  body(chunks - 1, std::min(n, (chunks - 1) * size), n);
+  for (auto& thread : threads) thread.join();
+}
+}  // namespace
+
 void BVH::Build(const TriangleMesh& mesh, int leafSize) {
   this->Nodes.clear();
   this->Tris.clear();
@@ -107,72 +129,83 @@ void BVH::Build(const TriangleMesh& mesh, int leafSize) {
     a = mesh.Points[static_cast<size_t>(t[0])], b = mesh.Points[static_cast<size_t>(t[1])],
     c = mesh.Points[static_cast<size_t>(t[2])];
   };
+  // Every pass below but the sort runs in contiguous chunks on threads for a large mesh; the tree
+  // is the same for any number of threads (the keys stay in triangle order before the stable sort).
+  const int chunks = BuildThreads(mesh.Triangles.size());
   // The triangles with an area, and the box of their centroids; no copy of the corners yet.
-  std::vector<std::pair<uint64_t, uint32_t>> keys;
-  keys.reserve(mesh.Triangles.size());
+  std::vector<std::vector<uint32_t>> kept(static_cast<size_t>(chunks));
+  std::vector<Vec3> los(static_cast<size_t>(chunks), Vec3{HUGE_VAL, HUGE_VAL, HUGE_VAL});
+  std::vector<Vec3> his(static_cast<size_t>(chunks), Vec3{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL});
+  ForChunks(mesh.Triangles.size(), chunks, [&](int chunk, size_t begin, size_t end) {
+    auto& mine = kept[static_cast<size_t>(chunk)];
+    Vec3& lo = los[static_cast<size_t>(chunk)];
+    Vec3& hi = his[static_cast<size_t>(chunk)];
+    mine.reserve(end - begin);
+    for (size_t i = begin; i < end; ++i) {
+      Vec3 a, b, c;
+      corners(static_cast<uint32_t>(i), a, b, c);
+      if (Norm2(Cross(b - a, c - a)) == 0) continue;
+      const Vec3 centroid = (a + b + c) / 3.0;
+      lo = Min(lo, centroid);
+      hi = Max(hi, centroid);
+      mine.push_back(static_cast<uint32_t>(i));
+    }
+  });
   Vec3 lo{HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-  for (uint32_t i = 0; i < static_cast<uint32_t>(mesh.Triangles.size()); ++i) {
-    Vec3 a, b, c;
-    corners(i, a, b, c);
-    if (Norm2(Cross(b - a, c - a)) == 0) continue;
-    const Vec3 centroid = (a + b + c) / 3.0;
-    lo = Min(lo, centroid);
-    hi = Max(hi, centroid);
-    keys.push_back({0, i});
+  std::vector<std::pair<uint64_t, uint32_t>> keys;
+  {
+    size_t total = 0;
+    for (const auto& mine : kept) total += mine.size();
+    keys.reserve(total);
   }
+  for (int c = 0; c < chunks; ++c) {
+    lo = Min(lo, los[static_cast<size_t>(c)]);
+    hi = Max(hi, his[static_cast<size_t>(c)]);
+    for (uint32_t i : kept[static_cast<size_t>(c)]) keys.push_back({0, i});
+  }
+  kept.clear();
   if (keys.empty()) return;
   // Sort along the Z-order curve of the centroids.
   const Vec3 extent = hi - lo;
   const double cells = static_cast<double>((1u << 21) - 1);
   const Vec3 scale{extent.x > 0 ? cells / extent.x : 0, extent.y > 0 ? cells / extent.y : 0,
                    extent.z > 0 ? cells / extent.z : 0};
-  for (auto& key : keys) {
-    Vec3 a, b, c;
-    corners(key.second, a, b, c);
-    const Vec3 centroid = (a + b + c) / 3.0 - lo;
-    key.first = SpreadMortonBits(static_cast<uint64_t>(centroid.x * scale.x)) |
-                SpreadMortonBits(static_cast<uint64_t>(centroid.y * scale.y)) << 1 |
-                SpreadMortonBits(static_cast<uint64_t>(centroid.z * scale.z)) << 2;
-  }
+  ForChunks(keys.size(), chunks, [&](int, size_t begin, size_t end) {
+    for (size_t k = begin; k < end; ++k) {
+      auto& key = keys[k];
+      Vec3 a, b, c;
+      corners(key.second, a, b, c);
+      const Vec3 centroid = (a + b + c) / 3.0 - lo;
+      key.first = SpreadMortonBits(static_cast<uint64_t>(centroid.x * scale.x)) |
+                  SpreadMortonBits(static_cast<uint64_t>(centroid.y * scale.y)) << 1 |
+                  SpreadMortonBits(static_cast<uint64_t>(centroid.z * scale.z)) << 2;
+    }
+  });
   RadixSortByCode(keys);
-  this->Tris.reserve(keys.size());
-  std::vector<uint64_t> codes;
-  codes.reserve(keys.size());
-  for (const auto& [code, i] : keys) {
-    Tri tri;
-    corners(i, tri.A, tri.B, tri.C);
-    tri.Normal = Cross(tri.B - tri.A, tri.C - tri.A);
-    tri.Source = i;
-    this->Tris.push_back(tri);
-    const Vec3 centroid = (tri.A + tri.B + tri.C) / 3.0;
-    this->Balls.push_back({centroid, std::sqrt(std::max({Norm2(tri.A - centroid), Norm2(tri.B - centroid), Norm2(tri.C - centroid)}))});
-    codes.push_back(code);
-  }
+  this->Tris.resize(keys.size());
+  this->Balls.resize(keys.size());
+  std::vector<uint64_t> codes(keys.size());
+  ForChunks(keys.size(), chunks, [&](int, size_t begin, size_t end) {
+    for (size_t k = begin; k < end; ++k) {
+      Tri& tri = this->Tris[k];
+      corners(keys[k].second, tri.A, tri.B, tri.C);
+      tri.Normal = Cross(tri.B - tri.A, tri.C - tri.A);
+      tri.Source = keys[k].second;
+      const Vec3 centroid = (tri.A + tri.B + tri.C) / 3.0;
+      this->Balls[k] = {centroid, std::sqrt(std::max({Norm2(tri.A - centroid), Norm2(tri.B - centroid), Norm2(tri.C - centroid)}))};
+      codes[k] = keys[k].first;
+    }
+  });
+  keys = {};
   leafSize = std::max(1, leafSize);
   this->Nodes.reserve(2 * this->Tris.size() + 1);
-  this->BuildRange(codes, 0, static_cast<uint32_t>(this->Tris.size()), 0, leafSize);
+  BuildSubtree(this->Nodes, this->Tris, codes, 0, static_cast<uint32_t>(this->Tris.size()), 0, leafSize, chunks);
 }
 
-uint32_t BVH::BuildRange(const std::vector<uint64_t>& codes, uint32_t begin, uint32_t end, int depth, int leafSize) {
-  const uint32_t index = static_cast<uint32_t>(this->Nodes.size());
-  this->Nodes.emplace_back();
-  const uint32_t count = end - begin;
-  if (count <= static_cast<uint32_t>(leafSize) || depth >= MaxDepth - 2) {  // the stack bounds the depth
-    Vec3 lo{HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-    for (uint32_t i = begin; i < end; ++i) {
-      const Tri& t = this->Tris[i];
-      lo = Min(lo, Min(t.A, Min(t.B, t.C)));
-      hi = Max(hi, Max(t.A, Max(t.B, t.C)));
-    }
-    this->Nodes[index].Lo = lo;
-    this->Nodes[index].Hi = hi;
-    this->Nodes[index].First = begin;
-    this->Nodes[index].Count = count;
-    return index;
-  }
-  // Split where the highest bit that differs between the first and last code flips; equal codes
-  // (or a deep tree, to respect the traversal stack) split in the middle.
-  uint32_t mid = begin + count / 2;
+uint32_t BVH::SplitOf(const std::vector<uint64_t>& codes, uint32_t begin, uint32_t end, int depth) {
+  // Where the highest bit that differs between the first and last code flips; equal codes (or a
+  // deep tree, to respect the traversal stack) split in the middle.
+  uint32_t mid = begin + (end - begin) / 2;
   const uint64_t first = codes[begin], last = codes[end - 1];
   if (first != last && depth < MaxDepth / 2) {
     const int bit = 63 - __builtin_clzll(first ^ last);
@@ -180,12 +213,60 @@ uint32_t BVH::BuildRange(const std::vector<uint64_t>& codes, uint32_t begin, uin
     const uint64_t pivot = (first & mask) | (1ULL << bit);
     mid = static_cast<uint32_t>(std::lower_bound(codes.begin() + begin, codes.begin() + end, pivot) - codes.begin());
   }
-  const uint32_t left = this->BuildRange(codes, begin, mid, depth + 1, leafSize);
-  const uint32_t right = this->BuildRange(codes, mid, end, depth + 1, leafSize);
-  this->Nodes[index].Lo = Min(this->Nodes[left].Lo, this->Nodes[right].Lo);
-  this->Nodes[index].Hi = Max(this->Nodes[left].Hi, this->Nodes[right].Hi);
-  this->Nodes[index].First = right;
-  this->Nodes[index].Count = 0;
+  return mid;
+}
+
+uint32_t BVH::BuildSubtree(std::vector<Node>& nodes, const std::vector<Tri>& tris, const std::vector<uint64_t>& codes,
+                           uint32_t begin, uint32_t end, int depth, int leafSize, int threads) {
+  const uint32_t count = end - begin;
+  if (threads <= 1 || count <= 4096u || depth >= MaxDepth / 2)
+    return BuildRange(nodes, tris, codes, begin, end, depth, leafSize);
+  // The left half on this thread into `nodes`, the right half on another into its own array,
+  // appended after the left one (its right-child indices shifted): the serial build's layout.
+  const uint32_t index = static_cast<uint32_t>(nodes.size());
+  nodes.emplace_back();
+  const uint32_t mid = SplitOf(codes, begin, end, depth);
+  std::vector<Node> rightNodes;
+  rightNodes.reserve(2 * (end - mid) + 1);
+  std::thread rightThread([&] { BuildSubtree(rightNodes, tris, codes, mid, end, depth + 1, leafSize, threads / 2); });
+  const uint32_t left = BuildSubtree(nodes, tris, codes, begin, mid, depth + 1, leafSize, threads - threads / 2);
+  rightThread.join();
+  const uint32_t right = static_cast<uint32_t>(nodes.size());
+  for (Node& node : rightNodes)
+    if (node.Count == 0) node.First += right;
+  nodes.insert(nodes.end(), rightNodes.begin(), rightNodes.end());
+  nodes[index].Lo = Min(nodes[left].Lo, nodes[right].Lo);
+  nodes[index].Hi = Max(nodes[left].Hi, nodes[right].Hi);
+  nodes[index].First = right;
+  nodes[index].Count = 0;
+  return index;
+}
+
+uint32_t BVH::BuildRange(std::vector<Node>& nodes, const std::vector<Tri>& tris, const std::vector<uint64_t>& codes,
+                         uint32_t begin, uint32_t end, int depth, int leafSize) {
+  const uint32_t index = static_cast<uint32_t>(nodes.size());
+  nodes.emplace_back();
+  const uint32_t count = end - begin;
+  if (count <= static_cast<uint32_t>(leafSize) || depth >= MaxDepth - 2) {  // the stack bounds the depth
+    Vec3 lo{HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+    for (uint32_t i = begin; i < end; ++i) {
+      const Tri& t = tris[i];
+      lo = Min(lo, Min(t.A, Min(t.B, t.C)));
+      hi = Max(hi, Max(t.A, Max(t.B, t.C)));
+    }
+    nodes[index].Lo = lo;
+    nodes[index].Hi = hi;
+    nodes[index].First = begin;
+    nodes[index].Count = count;
+    return index;
+  }
+  const uint32_t mid = SplitOf(codes, begin, end, depth);
+  const uint32_t left = BuildRange(nodes, tris, codes, begin, mid, depth + 1, leafSize);
+  const uint32_t right = BuildRange(nodes, tris, codes, mid, end, depth + 1, leafSize);
+  nodes[index].Lo = Min(nodes[left].Lo, nodes[right].Lo);
+  nodes[index].Hi = Max(nodes[left].Hi, nodes[right].Hi);
+  nodes[index].First = right;
+  nodes[index].Count = 0;
   return index;
 }
 

@@ -36,7 +36,8 @@ struct SegmentClosestHit {
 
 class BVH {
  public:
-  /// Builds over `mesh` (keeps its own copy of the triangle corners; `mesh` may go away).
+  /// Builds over `mesh` (keeps its own copy of the triangle corners; `mesh` may go away), on the
+  /// machine's threads for a large mesh (the same tree as on one).
   /// Degenerate (zero-area) triangles are skipped.
   void Build(const TriangleMesh& mesh, int maxTrianglesPerLeaf = 4);
   bool Empty() const { return this->Nodes.empty(); }
@@ -79,7 +80,11 @@ class BVH {
     Vec3 Normal;  // unnormalized (B-A)x(C-A)
     uint32_t Source;
   };
-  uint32_t BuildRange(const std::vector<uint64_t>& codes, uint32_t begin, uint32_t end, int depth, int leafSize);
+  static uint32_t SplitOf(const std::vector<uint64_t>& codes, uint32_t begin, uint32_t end, int depth);
+  static uint32_t BuildRange(std::vector<Node>& nodes, const std::vector<Tri>& tris, const std::vector<uint64_t>& codes,
+                             uint32_t begin, uint32_t end, int depth, int leafSize);
+  static uint32_t BuildSubtree(std::vector<Node>& nodes, const std::vector<Tri>& tris, const std::vector<uint64_t>& codes,
+                               uint32_t begin, uint32_t end, int depth, int leafSize, int threads);
 
   std::vector<Node> Nodes;
   std::vector<Tri> Tris;  // in leaf order

@@ -34,7 +34,11 @@ inline Vec3 Normalized(const Vec3& v) {
   const double n = Norm(v);
   return n > 0 ? v / n : Vec3{};
 }
-inline Vec3 Min(const Vec3& a, const Vec3& b) { return {std::fmin(a.x, b.x), std::fmin(a.y, b.y), std::fmin(a.z, b.z)}; }
-inline Vec3 Max(const Vec3& a, const Vec3& b) { return {std::fmax(a.x, b.x), std::fmax(a.y, b.y), std::fmax(a.z, b.z)}; }
+// As std::fmin/fmax (a NaN operand gives the other), written out: GCC calls libm for those
+// unless math is finite-only, and the BVH's build and queries call these in their inner loops.
+inline double MinOf(double a, double b) { return (b < a || a != a) ? b : a; }
+inline double MaxOf(double a, double b) { return (b > a || a != a) ? b : a; }
+inline Vec3 Min(const Vec3& a, const Vec3& b) { return {MinOf(a.x, b.x), MinOf(a.y, b.y), MinOf(a.z, b.z)}; }
+inline Vec3 Max(const Vec3& a, const Vec3& b) { return {MaxOf(a.x, b.x), MaxOf(a.y, b.y), MaxOf(a.z, b.z)}; }
 
 }  // namespace rp

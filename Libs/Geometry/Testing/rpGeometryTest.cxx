@@ -266,3 +266,26 @@ TEST(BVH, SegmentClearanceFromASphereIsItsClosedForm) {
   for (int i = 0; i < 200; ++i) bvh.ClosestToSegment({-30, 0, 11.0 + i}, {30, 5, 11.0}, HUGE_VAL, hit, &hit.Leaf);
   EXPECT_EQ(rp::alloc::ThreadAllocations(), before);
 }
+
+// A display-sized mesh is built on several threads (rpBVH.cxx, BuildThreads): its tree must answer
+// as the brute force does, with the degenerate triangles left out and every source index kept.
+TEST(BVH, LargeMeshBuiltOnThreadsMatchesBruteForce) {
+  rp::TriangleMesh m = rp::shapes::Sphere({3, -2, 1}, 40, 6);
+  ASSERT_GT(m.Triangles.size(), 50000u);
+  const size_t valid = m.Triangles.size();
+  for (int i = 0; i < 100; ++i) m.Triangles.push_back({0, 0, 1});  // zero area: skipped
+  rp::BVH bvh;
+  bvh.Build(m);
+  EXPECT_EQ(bvh.NumberOfTriangles(), valid);
+  EXPECT_LE(bvh.NumberOfNodes(), 2 * valid);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-60, 60);
+  for (int q = 0; q < 200; ++q) {
+    const rp::Vec3 p{u(rng), u(rng), u(rng)};
+    rp::ClosestPointHit hit;
+    ASSERT_TRUE(bvh.ClosestPoint(p, HUGE_VAL, hit));
+    const rp::ClosestPointHit brute = BruteClosest(m, p);
+    EXPECT_NEAR(hit.Distance2, brute.Distance2, 1e-9 * (1 + brute.Distance2));
+    ASSERT_LT(hit.Triangle, valid);
+  }
+}
