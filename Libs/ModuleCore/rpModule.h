@@ -4,6 +4,11 @@
 //     extern "C" rp::Module* roboplan_create_module();
 //     extern "C" int roboplan_module_abi_version();   // must return ROBOPLAN_MODULE_ABI_VERSION
 // (use ROBOPLAN_DECLARE_MODULE(ClassName) at the end of the plugin's .cxx).
+// Its Qt panel, if it has one, is a plugin of its own beside it, libRoboPlanPanel<Name>.so, which
+// exports
+//     extern "C" QWidget* roboplan_create_module_panel(vtkObject* logic, vtkRPScene* scene, QWidget* parent);
+// (ROBOPLAN_MODULE_PANEL_EXPORT): the viewer loads it when it shows the panel
+// (rp::ModuleManager::CreatePanel); commands never load Qt.
 #include <functional>
 #include <iostream>
 #include <memory>
@@ -14,7 +19,7 @@ class vtkRPScene;
 class vtkObject;
 class QWidget;
 
-#define ROBOPLAN_MODULE_ABI_VERSION 2  // 2: CommandContext carries the output streams
+#define ROBOPLAN_MODULE_ABI_VERSION 3  // 2: CommandContext carries the output streams; 3: panels in their own plugin
 
 namespace rp {
 
@@ -51,11 +56,6 @@ class Module {
   virtual void Setup(vtkRPScene* scene) { (void)scene; }
   /// The module's logic object (no Qt), or nullptr.
   virtual vtkObject* Logic() { return nullptr; }
-  /// The module's Qt panel, or nullptr when the module has none or was built without the GUI.
-  virtual QWidget* CreatePanel(QWidget* parent) {
-    (void)parent;
-    return nullptr;
-  }
   /// CLI subcommands this module contributes.
   virtual std::vector<Command> Commands() { return {}; }
 };
@@ -69,3 +69,6 @@ class Module {
   extern "C" __attribute__((visibility("default"))) int roboplan_module_abi_version() {    \
     return ROBOPLAN_MODULE_ABI_VERSION;                                                  \
   }
+
+// Exports a panel plugin's factory: ROBOPLAN_MODULE_PANEL_EXPORT QWidget* roboplan_create_module_panel(...).
+#define ROBOPLAN_MODULE_PANEL_EXPORT extern "C" __attribute__((visibility("default")))

@@ -312,6 +312,38 @@ bool ModuleManager::Load(Entry& entry) {
   return true;
 }
 
+std::string ModuleManager::PanelPath(const std::string& modulePath, const std::string& name) {
+  return (fs::path(modulePath).parent_path() / ("libRoboPlanPanel" + name + ".so")).string();
+}
+
+QWidget* ModuleManager::CreatePanel(const std::string& name, vtkRPScene* scene, QWidget* parent) {
+  Entry* entry = this->FindEntry(name);
+  if (!entry || !entry->SetUp || !entry->Handle) return nullptr;  // not set up, or built in
+  const std::string path = PanelPath(entry->Path, name);
+  std::error_code ec;
+  if (!fs::exists(path, ec)) return nullptr;  // a module without a panel
+  void* handle = ::dlopen(path.c_str(), RTLD_LAZY | RTLD_LOCAL);
+  if (!handle) {
+    const char* why = ::dlerror();
+    this->Failures.push_back({path, std::string("cannot load the panel: ") + (why ? why : "unknown error")});
+    return nullptr;
+  }
+  using CreatePanelFunction = QWidget* (*)(vtkObject*, vtkRPScene*, QWidget*);
+  auto create = reinterpret_cast<CreatePanelFunction>(::dlsym(handle, "roboplan_create_module_panel"));
+  if (!create) {
+    this->Failures.push_back({path, "not a RoboPlan panel plugin: missing roboplan_create_module_panel"});
+    return nullptr;
+  }
+  try {
+    QWidget* panel = create(entry->Instance->Logic(), scene, parent);
+    if (!panel) this->Failures.push_back({path, "the panel plugin made no panel for module " + name});
+    return panel;
+  } catch (const std::exception& e) {
+    this->Failures.push_back({path, std::string("roboplan_create_module_panel threw: ") + e.what()});
+    return nullptr;
+  }
+}
+
 int ModuleManager::LoadModules(const std::vector<std::string>& searchPaths, vtkRPScene* scene) {
   this->DiscoverModules(searchPaths);
   return this->LoadAll(scene);

@@ -78,6 +78,12 @@ class ModuleManager {
   std::vector<std::pair<std::string, ModuleManifest::CommandInfo>> ListCommands() const;
   /// Modules found whose manifest let them stay unloaded so far.
   int UnloadedModuleCount() const;
+  /// The Qt panel of module `name` (set up) from its panel plugin beside it
+  /// (libRoboPlanPanel<Name>.so, loaded on first call), on `scene`, as a child of `parent`.
+  /// nullptr when the module has none; when the plugin fails to load, also a failure naming it.
+  QWidget* CreatePanel(const std::string& name, vtkRPScene* scene, QWidget* parent);
+  /// `libRoboPlanPanel<Name>.so` beside the module library at `modulePath`.
+  static std::string PanelPath(const std::string& modulePath, const std::string& name);
   /// An entry point a module set up exports (dlsym in its library), or nullptr.
   void* FindSymbol(const std::string& module, const char* symbol) const;
 

@@ -292,7 +292,7 @@ void qRPViewerMainWindow::BuildPanels(ModuleManager* manager) {
   this->Panels->addItem(this->BuildDataPanel(), "Data");
   if (manager) {
     for (Module* module : manager->GetModules()) {
-      QWidget* panel = module->CreatePanel(this->Panels);
+      QWidget* panel = manager->CreatePanel(module->Name(), this->Scene, this->Panels);
       if (panel) this->Panels->addItem(panel, QString::fromStdString(module->Title()));
     }
   }

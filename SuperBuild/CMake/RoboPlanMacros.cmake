@@ -43,6 +43,13 @@ macro(roboplan_setup_linker)
   # list (every VTK module for the object factories' autoinit, all of ITK), and each library
   # recorded is mapped and relocated at every start of `roboplan` and of every module it loads.
   add_link_options(LINKER:--as-needed)
+  # Our shared libraries and modules call their own functions directly, not through the dynamic
+  # linker: most of their symbol relocations were vtable slots of the ITK and VTK templates they
+  # instantiate, each a symbol lookup across every library loaded when a command starts
+  # (libRoboPlanSegmentationToMeshLogic.so: 12 199 symbol relocations, 5 350 with this).
+  foreach(_kind SHARED MODULE)
+    string(APPEND CMAKE_${_kind}_LINKER_FLAGS " -Wl,-Bsymbolic-functions")
+  endforeach()
   set(ROBOPLAN_SUBBUILD_CMAKE_ARGS)
   if(ROBOPLAN_LINKER_FLAG)
     add_link_options(${ROBOPLAN_LINKER_FLAG})
@@ -247,15 +254,22 @@ function(roboplan_add_benchmark name)
     ROBOPLAN_RESOURCES_DIR="${ROBOPLAN_RESOURCES_DIR}")
 endfunction()
 
-# roboplan_add_module_widgets(<Name> SOURCES Widgets/qRP<Name>Panel.cxx ... LIBS <logic> ...)
+# roboplan_add_module_widgets(<Name> SOURCES Widgets/qRP<Name>Panel.cxx ... LIBS <logic> ...
+#                             PLUGIN Widgets/<Name>PanelPlugin.cxx)
 # A module's Qt panel layer: the static library RoboPlan<Name>Widgets (headers in Widgets/, each
-# .cxx's header beside it added for moc), linked into the module's plugin by roboplan_add_module
-# and into the panel's GUI test. Does nothing when the GUI is not built.
+# .cxx's header beside it added for moc), linked into the panel's GUI test and into the panel
+# plugin lib/roboplan-modules/libRoboPlanPanel<Name>.so made from PLUGIN (the file that exports
+# roboplan_create_module_panel, Libs/ModuleCore/rpModule.h). The viewer loads that plugin when it
+# shows the module's panel; the module's own plugin does not link Qt, so a command maps none of it.
+# Does nothing when the GUI is not built.
 function(roboplan_add_module_widgets name)
   if(NOT ROBOPLAN_BUILD_GUI)
     return()
   endif()
-  cmake_parse_arguments(A "" "" "SOURCES;LIBS" ${ARGN})
+  cmake_parse_arguments(A "" "PLUGIN" "SOURCES;LIBS" ${ARGN})
+  if(NOT A_PLUGIN)
+    message(FATAL_ERROR "roboplan_add_module_widgets(${name}): PLUGIN Widgets/${name}PanelPlugin.cxx is missing")
+  endif()
   set(target RoboPlan${name}Widgets)
   set(sources ${A_SOURCES})
   foreach(source ${A_SOURCES})
@@ -274,12 +288,23 @@ function(roboplan_add_module_widgets name)
   target_include_directories(${target} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/Widgets
     ${CMAKE_CURRENT_BINARY_DIR}/${target}_autogen/include)
   target_link_libraries(${target} PUBLIC ${A_LIBS} Qt5::Widgets PRIVATE roboplan_warnings)
+  set(plugin RoboPlanPanel${name})
+  add_library(${plugin} MODULE ${A_PLUGIN})
+  target_link_libraries(${plugin} PRIVATE roboplan_warnings RoboPlanModuleCore ${target})
+  roboplan_vtk_autoinit(${plugin})  # the panels' VTK views need the OpenGL factories
+  set_target_properties(${plugin} PROPERTIES
+    LIBRARY_OUTPUT_DIRECTORY ${ROBOPLAN_MODULE_OUTPUT_DIRECTORY}
+    BUILD_RPATH "$ORIGIN/..;${CMAKE_BINARY_DIR}/lib"
+    INSTALL_RPATH "$ORIGIN/..")
+  if(NOT ROBOPLAN_MODULE_NO_INSTALL)
+    install(TARGETS ${plugin} LIBRARY DESTINATION ${ROBOPLAN_MODULE_DIR_NAME})
+  endif()
 endfunction()
 
 # roboplan_add_module(<Name> SOURCES ... LIBS ... [SLICER_CLI_COMMANDS <command>...])
 # A run-time loadable module: a shared object lib/roboplan-modules/libRoboPlanModule<Name>.so that
-# exports roboplan_create_module() (see Libs/ModuleCore/rpModule.h). Links RoboPlan<Name>Widgets
-# when roboplan_add_module_widgets made it. SLICER_CLI_COMMANDS: the module's commands that 3D
+# exports roboplan_create_module() (see Libs/ModuleCore/rpModule.h). Building it builds its panel
+# plugin when roboplan_add_module_widgets made one (call that first). SLICER_CLI_COMMANDS: the module's commands that 3D
 # Slicer lists as CLI modules (they describe themselves with --xml): each gets
 # lib/roboplan-cli/roboplan-<command>, a link to roboplan (roboplanMain.cxx runs it as
 # `roboplan <command>`), in the build and the install tree.
@@ -290,18 +315,16 @@ function(roboplan_add_module name)
   endforeach()
   set(target RoboPlanModule${name})
   add_library(${target} MODULE ${A_SOURCES})
+  # No VTK autoinit here: a module's plugin renders nothing itself, and the libraries that render
+  # bring their own (roboplan_add_library); every VTK module here would be loaded by every command.
   target_link_libraries(${target} PRIVATE roboplan_warnings RoboPlanModuleCore ${A_LIBS})
-  if(TARGET RoboPlan${name}Widgets)
-    target_link_libraries(${target} PRIVATE RoboPlan${name}Widgets)
+  if(TARGET RoboPlanPanel${name})
+    add_dependencies(${target} RoboPlanPanel${name})
   endif()
-  roboplan_vtk_autoinit(${target})
   set_target_properties(${target} PROPERTIES
     LIBRARY_OUTPUT_DIRECTORY ${ROBOPLAN_MODULE_OUTPUT_DIRECTORY}
     BUILD_RPATH "$ORIGIN/..;${CMAKE_BINARY_DIR}/lib"
     INSTALL_RPATH "$ORIGIN/..")
-  if(ROBOPLAN_BUILD_GUI)
-    target_compile_definitions(${target} PRIVATE ROBOPLAN_BUILD_GUI)
-  endif()
   # Its manifest beside it (<library>.json, Libs/ModuleCore/rpModuleManager.h), written from the
   # module after each link: `roboplan <command>` then loads only the module that owns the command
   # (a module without a manifest that matches it is loaded at start-up). The tool loads the

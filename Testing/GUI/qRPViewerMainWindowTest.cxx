@@ -13,6 +13,7 @@
 #include <QSettings>
 #include <QSurfaceFormat>
 #include <QTest>
+#include <QToolBox>
 #include <QTreeWidget>
 #include <QVTKOpenGLNativeWidget.h>
 #include <QWheelEvent>
@@ -21,6 +22,7 @@
 #include <vtkMatrix4x4.h>
 #include <vtkRenderer.h>
 
+#include "rpModuleManager.h"
 #include "rpNodeStorage.h"
 #include "rpView.h"
 #include "rpViewController.h"
@@ -277,4 +279,22 @@ TEST(qRPViewerMainWindow, ScriptedSession) {
   QTest::qWait(100);
   window.grab().save(QString::fromStdString((dir / "mainwindow.png").string()));
   QSettings().clear();
+}
+
+// The project's modules in the viewer: each module's panel comes from its panel plugin (loaded
+// only now: a command never loads them), in the Modules dock after the Data panel.
+TEST(ViewerMainWindow, ShowsEveryModulesPanelFromItsPlugin) {
+  Application();
+  vtkNew<vtkRPScene> scene;
+  rp::ModuleManager manager;
+  ASSERT_GE(manager.LoadModules({ROBOPLAN_BINARY_DIR "/lib/roboplan-modules"}, scene), 9);
+  qRPViewerMainWindow window(&manager, scene);
+  auto* panels = window.findChild<QToolBox*>();
+  ASSERT_NE(panels, nullptr);
+  QStringList titles;
+  for (int i = 0; i < panels->count(); ++i) titles << panels->itemText(i);
+  for (const char* title : {"Data", "Segmentation to Mesh", "Landmark Registration", "Haptics", "Tracking", "Navigation",
+                            "Drilling", "Planning"})
+    EXPECT_TRUE(titles.contains(title)) << title << " missing from " << titles.join(", ").toStdString();
+  EXPECT_TRUE(manager.GetFailures().empty()) << manager.GetFailures()[0].Path << ": " << manager.GetFailures()[0].Reason;
 }

@@ -5,6 +5,7 @@
 #include <iterator>
 #include <map>
 
+#include <nlohmann/json.hpp>
 #include <vtkNew.h>
 
 #include "rpModuleManager.h"
@@ -147,4 +148,47 @@ TEST(ModuleManager, AStaleManifestIsNotTrusted) {
   ASSERT_NE(good, nullptr);
   rp::CommandContext context;
   EXPECT_EQ(good->Run(context), 42);
+}
+
+// A panel comes from the plugin beside its module, loaded when asked for; a module without one
+// has no panel and no failure; a plugin without the factory is named.
+TEST(ModuleManager, PanelsComeFromTheirPluginWhenAskedFor) {
+  vtkNew<vtkRPScene> scene;
+  rp::ModuleManager manager;
+  ASSERT_EQ(manager.LoadModules({ROBOPLAN_TEST_MODULE_DIR}, scene), 2);
+  const size_t failuresBefore = manager.GetFailures().size();  // the broken module's
+  auto* parent = reinterpret_cast<QWidget*>(&manager);  // never dereferenced: the test plugin returns it
+  EXPECT_EQ(manager.CreatePanel("TestGood", scene, parent), parent);
+  EXPECT_EQ(manager.CreatePanel("NoSuchModule", scene, parent), nullptr);
+  EXPECT_EQ(manager.GetFailures().size(), failuresBefore);
+  EXPECT_EQ(manager.CreatePanel("TestDependent", scene, parent), nullptr);
+  ASSERT_EQ(manager.GetFailures().size(), failuresBefore + 1);
+  EXPECT_NE(manager.GetFailures().back().Path.find("libRoboPlanPanelTestDependent.so"), std::string::npos);
+  EXPECT_NE(manager.GetFailures().back().Reason.find("roboplan_create_module_panel"), std::string::npos);
+
+  const fs::path dir = ModulesWithManifests("no-panels");  // the modules alone
+  rp::ModuleManager alone;
+  ASSERT_EQ(alone.LoadModules({dir.string()}, scene), 2);
+  EXPECT_EQ(alone.CreatePanel("TestGood", scene, parent), nullptr);
+  EXPECT_TRUE(alone.GetFailures().empty());
+}
+
+// What a command loads is what it needs: a module's panel is a plugin of its own that only the
+// viewer loads, so no module maps Qt for its commands but the viewer's and the demo's (the demo
+// draws the viewer's screenshots). Each module's manifest lists the libraries loading it maps.
+TEST(ModuleManager, TheProjectsCommandsLoadNoQt) {
+  int modules = 0;
+  for (const auto& item : fs::directory_iterator(ROBOPLAN_MODULE_DIR)) {
+    const std::string file = item.path().filename().string();
+    if (file.rfind("libRoboPlanModule", 0) != 0 || item.path().extension() != ".so") continue;
+    std::ifstream in(rp::ModuleManager::ManifestPath(item.path().string()));
+    ASSERT_TRUE(in) << "no manifest beside " << file;
+    const nlohmann::json manifest = nlohmann::json::parse(in);
+    const std::string name = manifest.at("name").get<std::string>();
+    if (name == "Viewer" || name == "Demo") continue;
+    for (const auto& library : manifest.at("libraries"))
+      EXPECT_EQ(library.get<std::string>().find("libQt5"), std::string::npos) << name << " loads " << library;
+    ++modules;
+  }
+  EXPECT_GE(modules, 7);
 }

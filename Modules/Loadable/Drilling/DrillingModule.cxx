@@ -6,9 +6,6 @@
 #include "rpDrillCommand.h"
 #include "rpModule.h"
 #include "vtkRPDrillingLogic.h"
-#ifdef ROBOPLAN_BUILD_GUI
-#include "qRPDrillingPanel.h"
-#endif
 
 namespace {
 
@@ -18,14 +15,6 @@ class DrillingModule : public rp::Module {
   std::string Title() const override { return "Drilling"; }
   void Setup(vtkRPScene* scene) override { this->LogicObject->SetScene(scene); }
   vtkObject* Logic() override { return this->LogicObject; }
-  QWidget* CreatePanel(QWidget* parent) override {
-#ifdef ROBOPLAN_BUILD_GUI
-    return new qRPDrillingPanel(this->LogicObject, parent);
-#else
-    (void)parent;
-    return nullptr;
-#endif
-  }
   std::vector<rp::Command> Commands() override {
     return {{"drill", "drill a stroke into a bone with a burr at 1 kHz (removed volume, forces, timings)",
              [](rp::CommandContext& c) { return rp::RunDrillCommand(c.Arguments, c.Scene, *c.Out, *c.Err); }}};

@@ -6,9 +6,6 @@
 #include "rpHapticsCommand.h"
 #include "rpModule.h"
 #include "vtkRPHapticsLogic.h"
-#ifdef ROBOPLAN_BUILD_GUI
-#include "qRPHapticsPanel.h"
-#endif
 
 namespace {
 
@@ -18,14 +15,6 @@ class HapticsModule : public rp::Module {
   std::string Title() const override { return "Haptics"; }
   void Setup(vtkRPScene* scene) override { this->LogicObject->SetScene(scene); }
   vtkObject* Logic() override { return this->LogicObject; }
-  QWidget* CreatePanel(QWidget* parent) override {
-#ifdef ROBOPLAN_BUILD_GUI
-    return new qRPHapticsPanel(this->LogicObject, parent);
-#else
-    (void)parent;
-    return nullptr;
-#endif
-  }
   std::vector<rp::Command> Commands() override {
     return {{"haptics", "touch the haptic models at 1 kHz with a simulated device (timing, forces, clamped tissues)",
              [](rp::CommandContext& c) { return rp::RunHapticsCommand(c.Arguments, c.Scene, *c.Out, *c.Err); }}};

@@ -7,28 +7,14 @@
 #include "rpModule.h"
 #include "rpRegisterCommand.h"
 #include "vtkRPLandmarkRegistrationLogic.h"
-#ifdef ROBOPLAN_BUILD_GUI
-#include "qRPLandmarkRegistrationPanel.h"
-#endif
 
 namespace {
 class LandmarkRegistrationModule : public rp::Module {
  public:
   std::string Name() const override { return "LandmarkRegistration"; }
   std::string Title() const override { return "Landmark Registration"; }
-  void Setup(vtkRPScene* scene) override {
-    this->Scene = scene;
-    this->LogicObject = vtkSmartPointer<vtkRPLandmarkRegistrationLogic>::New();
-  }
+  void Setup(vtkRPScene*) override { this->LogicObject = vtkSmartPointer<vtkRPLandmarkRegistrationLogic>::New(); }
   vtkObject* Logic() override { return this->LogicObject; }
-  QWidget* CreatePanel(QWidget* parent) override {
-#ifdef ROBOPLAN_BUILD_GUI
-    return new qRPLandmarkRegistrationPanel(this->LogicObject, this->Scene, parent);
-#else
-    (void)parent;
-    return nullptr;
-#endif
-  }
   std::vector<rp::Command> Commands() override {
     return {{"register",
              "paired-point registration of two fiducial files into a transform file, with FRE, "
@@ -38,7 +24,6 @@ class LandmarkRegistrationModule : public rp::Module {
 
  private:
   vtkSmartPointer<vtkRPLandmarkRegistrationLogic> LogicObject;
-  vtkRPScene* Scene = nullptr;  // owned by the host
 };
 }  // namespace
 

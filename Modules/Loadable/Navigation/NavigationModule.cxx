@@ -6,9 +6,6 @@
 #include "rpModule.h"
 #include "rpScoreCommand.h"
 #include "vtkRPNavigationLogic.h"
-#ifdef ROBOPLAN_BUILD_GUI
-#include "qRPNavigationPanel.h"
-#endif
 
 namespace {
 class NavigationModule : public rp::Module {
@@ -23,14 +20,6 @@ class NavigationModule : public rp::Module {
   std::vector<rp::Command> Commands() override {
     return {{"score", "an execution (drilling recording, PLUS sequence or CSV of tip points) scored against its plan",
              [](rp::CommandContext& context) { return rp::RunScoreCommand(context.Arguments, *context.Out, *context.Err); }}};
-  }
-  QWidget* CreatePanel(QWidget* parent) override {
-#ifdef ROBOPLAN_BUILD_GUI
-    return new qRPNavigationPanel(this->LogicObject, parent);
-#else
-    (void)parent;
-    return nullptr;
-#endif
   }
 
  private:

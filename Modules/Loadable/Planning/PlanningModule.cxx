@@ -8,9 +8,6 @@
 #include "rpModule.h"
 #include "rpPlanCommand.h"
 #include "vtkRPPlanningLogic.h"
-#ifdef ROBOPLAN_BUILD_GUI
-#include "qRPPlanningPanel.h"
-#endif
 
 namespace {
 class PlanningModule : public rp::Module {
@@ -22,14 +19,6 @@ class PlanningModule : public rp::Module {
     this->LogicObject->SetScene(scene);
   }
   vtkObject* Logic() override { return this->LogicObject; }
-  QWidget* CreatePanel(QWidget* parent) override {
-#ifdef ROBOPLAN_BUILD_GUI
-    return new qRPPlanningPanel(this->LogicObject, parent);
-#else
-    (void)parent;
-    return nullptr;
-#endif
-  }
   std::vector<rp::Command> Commands() override {
     return {{"plan", "plan trajectories, screws and cut planes; check them against the CT and the structures at risk; "
                      "propose an entry",

@@ -7,11 +7,6 @@
 #include "rpMeshCommand.h"
 #include "rpModule.h"
 #include "vtkRPSegmentationToMeshLogic.h"
-#ifdef ROBOPLAN_BUILD_GUI
-#include <QScrollArea>
-
-#include "qRPSegmentationToMeshPanel.h"
-#endif
 
 namespace {
 
@@ -21,20 +16,6 @@ class SegmentationToMeshModule : public rp::Module {
   std::string Title() const override { return "Segmentation to Mesh"; }
   void Setup(vtkRPScene* scene) override { this->LogicObject->SetScene(scene); }
   vtkObject* Logic() override { return this->LogicObject; }
-  QWidget* CreatePanel(QWidget* parent) override {
-#ifdef ROBOPLAN_BUILD_GUI
-    if (!this->LogicObject->GetScene()) return nullptr;
-    // The panel is taller than a module page on a laptop screen: let it scroll.
-    auto* scroll = new QScrollArea(parent);
-    scroll->setWidgetResizable(true);
-    scroll->setFrameShape(QFrame::NoFrame);
-    scroll->setWidget(new qRPSegmentationToMeshPanel(this->LogicObject));
-    return scroll;
-#else
-    (void)parent;
-    return nullptr;
-#endif
-  }
   std::vector<rp::Command> Commands() override {
     return {{"mesh", "segment a CT/MR (or take a .seg.nrrd) and write one closed surface per tissue",
              [](rp::CommandContext& c) { return rp::RunMeshCommand(c.Arguments, c.Scene, *c.Out, *c.Err); }}};

@@ -8,9 +8,6 @@
 #include "rpPhantomRegistrationCommand.h"
 #include "rpTrackingCommands.h"
 #include "vtkRPTrackingLogic.h"
-#ifdef ROBOPLAN_BUILD_GUI
-#include "qRPTrackingPanel.h"
-#endif
 
 namespace {
 class TrackingModule : public rp::Module {
@@ -22,14 +19,6 @@ class TrackingModule : public rp::Module {
     this->LogicObject->SetScene(scene);
   }
   vtkObject* Logic() override { return this->LogicObject; }
-  QWidget* CreatePanel(QWidget* parent) override {
-#ifdef ROBOPLAN_BUILD_GUI
-    return new qRPTrackingPanel(this->LogicObject, parent);
-#else
-    (void)parent;
-    return nullptr;
-#endif
-  }
   std::vector<rp::Command> Commands() override {
     return {
         {"track", "track tools from a pose source (--serial, --igtl, --replay, --simulate); pose, frame counts, rate, latency per tool",
