@@ -10,6 +10,7 @@
 #include <vtkObjectFactory.h>
 
 #include "rpImageTable.h"
+#include "rpPlusSequenceFile.h"
 #include "rpTransformNames.h"
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
@@ -377,4 +378,51 @@ vtkRPLinearTransformNode* vtkRPTrackingLogic::ApplyPivotCalibration(const rp::Pi
   }
   tip->SetAttribute(PivotCalibrationRMSEAttribute(), std::to_string(result.Rmse));
   return tip;
+}
+
+rp::PhantomRegistrationResult vtkRPTrackingLogic::RegisterPhantom(const std::string& recordingPath,
+                                                                  const std::string& configPath,
+                                                                  rp::LandmarkDetectionMethod method,
+                                                                  rp::PlusPhantomConfiguration& config,
+                                                                  vtkRPLinearTransformNode** applied) {
+  if (applied) *applied = nullptr;
+  rp::PhantomRegistrationResult result;
+  rp::PlusSequence recording;
+  try {
+    config = rp::PlusPhantomConfiguration::Read(configPath);
+    recording = rp::ReadPlusSequence(recordingPath);
+  } catch (const std::exception& e) {
+    result.Error = e.what();
+    return result;
+  }
+  result = rp::RegisterPhantomFromRecording(recording, config, method);
+  vtkRPLinearTransformNode* node = result.Ok ? this->ApplyPhantomRegistration(result, config) : nullptr;
+  if (applied) *applied = node;
+  return result;
+}
+
+vtkRPLinearTransformNode* vtkRPTrackingLogic::ApplyPhantomRegistration(const rp::PhantomRegistrationResult& result,
+                                                                       const rp::PlusPhantomConfiguration& config) {
+  if (!this->Scene || !result.Ok) return nullptr;
+  const std::string name = config.PhantomFrame + "To" + config.ReferenceFrame;
+  vtkRPLinearTransformNode* node = nullptr;
+  for (vtkRPNode* n : this->Scene->GetNodesByName(name))
+    if ((node = vtkRPLinearTransformNode::SafeDownCast(n))) break;
+  if (!node) {
+    vtkNew<vtkRPLinearTransformNode> created;
+    created->SetName(name);
+    this->Scene->AddNode(created);
+    node = created;
+  }
+  vtkNew<vtkMatrix4x4> m;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) m->SetElement(r, c, result.PhantomToReference(r, c));
+  node->SetMatrixTransformToParent(m);
+  for (vtkRPNode* n : this->Scene->GetNodesByName(config.ReferenceFrame + "ToTracker"))
+    if (vtkRPLinearTransformNode::SafeDownCast(n)) {
+      node->SetAndObserveTransformNodeID(n->GetID());
+      break;
+    }
+  node->SetAttribute(PhantomRegistrationFREAttribute(), std::to_string(result.FRE));
+  return node;
 }
