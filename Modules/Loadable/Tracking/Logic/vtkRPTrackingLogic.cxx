@@ -358,24 +358,9 @@ vtkRPLinearTransformNode* vtkRPTrackingLogic::ApplyPivotCalibration(const rp::Pi
                                                                     const std::string& stylusNodeName,
                                                                     const std::string& tipNodeName) {
   if (!this->Scene || !result.Valid) return nullptr;
-  vtkRPLinearTransformNode* tip = nullptr;
-  for (vtkRPNode* n : this->Scene->GetNodesByName(tipNodeName))
-    if ((tip = vtkRPLinearTransformNode::SafeDownCast(n))) break;
-  if (!tip) {
-    vtkNew<vtkRPLinearTransformNode> created;
-    created->SetName(tipNodeName);
-    this->Scene->AddNode(created);
-    tip = created;
-  }
   double m[16];
   rp::TipOffsetMatrix(result.TipOffset, m);
-  tip->SetMatrixTransformToParent(m);
-  for (vtkRPNode* n : this->Scene->GetNodesByName(stylusNodeName)) {
-    if (vtkRPLinearTransformNode::SafeDownCast(n)) {
-      tip->SetAndObserveTransformNodeID(n->GetID());
-      break;
-    }
-  }
+  vtkRPLinearTransformNode* tip = this->SetTransformUnder(tipNodeName, m, stylusNodeName);
   tip->SetAttribute(PivotCalibrationRMSEAttribute(), std::to_string(result.Rmse));
   return tip;
 }
@@ -404,7 +389,17 @@ rp::PhantomRegistrationResult vtkRPTrackingLogic::RegisterPhantom(const std::str
 vtkRPLinearTransformNode* vtkRPTrackingLogic::ApplyPhantomRegistration(const rp::PhantomRegistrationResult& result,
                                                                        const rp::PlusPhantomConfiguration& config) {
   if (!this->Scene || !result.Ok) return nullptr;
-  const std::string name = config.PhantomFrame + "To" + config.ReferenceFrame;
+  double m[16];
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) m[4 * r + c] = result.PhantomToReference(r, c);
+  vtkRPLinearTransformNode* node = this->SetTransformUnder(config.PhantomFrame + "To" + config.ReferenceFrame, m,
+                                                           config.ReferenceFrame + "ToTracker");
+  node->SetAttribute(PhantomRegistrationFREAttribute(), std::to_string(result.FRE));
+  return node;
+}
+
+vtkRPLinearTransformNode* vtkRPTrackingLogic::SetTransformUnder(const std::string& name, const double toParent[16],
+                                                                const std::string& parentName) {
   vtkRPLinearTransformNode* node = nullptr;
   for (vtkRPNode* n : this->Scene->GetNodesByName(name))
     if ((node = vtkRPLinearTransformNode::SafeDownCast(n))) break;
@@ -414,15 +409,11 @@ vtkRPLinearTransformNode* vtkRPTrackingLogic::ApplyPhantomRegistration(const rp:
     this->Scene->AddNode(created);
     node = created;
   }
-  vtkNew<vtkMatrix4x4> m;
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) m->SetElement(r, c, result.PhantomToReference(r, c));
-  node->SetMatrixTransformToParent(m);
-  for (vtkRPNode* n : this->Scene->GetNodesByName(config.ReferenceFrame + "ToTracker"))
+  node->SetMatrixTransformToParent(toParent);
+  for (vtkRPNode* n : this->Scene->GetNodesByName(parentName))
     if (vtkRPLinearTransformNode::SafeDownCast(n)) {
       node->SetAndObserveTransformNodeID(n->GetID());
       break;
     }
-  node->SetAttribute(PhantomRegistrationFREAttribute(), std::to_string(result.FRE));
   return node;
 }

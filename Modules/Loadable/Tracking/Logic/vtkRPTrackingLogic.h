@@ -153,6 +153,10 @@ class vtkRPTrackingLogic : public vtkObject {
     std::vector<Image> Streams;  // by image slot
   };
   vtkRPTrackedToolNode* NodeFor(Tool& tool);
+  // The transform node `name` (created when the scene has none) set to `toParent` (row-major)
+  // and, when the scene has a transform node `parentName`, under it.
+  vtkRPLinearTransformNode* SetTransformUnder(const std::string& name, const double toParent[16],
+                                              const std::string& parentName);
   vtkRPScalarVolumeNode* VolumeFor(Image& image);
   void WriteNode(vtkRPTrackedToolNode* node, const rp::ToolPose& pose, int status, double errorRMS);
   int UpdateTools(Source& source, double now, std::vector<const Tool*>& all, std::vector<const Tool*>& changed,
