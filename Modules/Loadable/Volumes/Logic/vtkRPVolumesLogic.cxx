@@ -33,7 +33,8 @@ vtkRPScalarVolumeNode* vtkRPVolumesLogic::AddVolume(const rp::ImageVolume& volum
 
 vtkRPScalarVolumeNode* vtkRPVolumesLogic::LoadVolume(const std::string& path, const std::string& name,
                                                      std::string& error, const rp::VolumeReadOptions& options,
-                                                     const rp::ProgressCallback& progress) {
+                                                     const rp::ProgressCallback& progress,
+                                                     std::vector<std::string>* warnings) {
   if (!this->Scene) {
     error = "volumes logic has no scene";
     return nullptr;
@@ -61,6 +62,7 @@ vtkRPScalarVolumeNode* vtkRPVolumesLogic::LoadVolume(const std::string& path, co
                                     " image series: choose one by its ID (roboplan dicom lists them)";
     return nullptr;
   }
+  if (warnings) warnings->insert(warnings->end(), loaded.Warnings.begin(), loaded.Warnings.end());
   // The node is named from the file (extension dropped) or the series, unless `name` is given.
   volume->SetName(this->Scene->GenerateUniqueName(name.empty() ? volume->GetName() : name));
   return vtkRPScalarVolumeNode::SafeDownCast(this->Scene->AddNode(volume));

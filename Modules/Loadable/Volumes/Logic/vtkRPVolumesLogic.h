@@ -35,10 +35,11 @@ class vtkRPVolumesLogic : public vtkObject {
   vtkRPScene* GetScene() const { return this->Scene; }
 
   /// Reads `path` and adds a volume node named `name` (file name when empty). nullptr + error
-  /// on failure; the scene is not touched then.
+  /// on failure; the scene is not touched then. `warnings` (when given) receives the read's.
   vtkRPScalarVolumeNode* LoadVolume(const std::string& path, const std::string& name, std::string& error,
                                     const rp::VolumeReadOptions& options = {},
-                                    const rp::ProgressCallback& progress = nullptr);
+                                    const rp::ProgressCallback& progress = nullptr,
+                                    std::vector<std::string>* warnings = nullptr);
   /// Adds an in-memory volume as a node.
   vtkRPScalarVolumeNode* AddVolume(const rp::ImageVolume& volume, const std::string& name);
 
