@@ -4,6 +4,7 @@
 #include <vtkNew.h>
 
 #include "rpDrillCommand.h"
+#include "rpImagingReaders.h"
 #include "rpModule.h"
 #include "vtkRPDrillingLogic.h"
 
@@ -13,7 +14,11 @@ class DrillingModule : public rp::Module {
  public:
   std::string Name() const override { return "Drilling"; }
   std::string Title() const override { return "Drilling"; }
-  void Setup(vtkRPScene* scene) override { this->LogicObject->SetScene(scene); }
+  // What this module registers: the imaging readers (a DICOM SEG or a DICOM CT through the loader).
+  void Setup(vtkRPScene* scene) override {
+    rp::RegisterImagingReaders();
+    this->LogicObject->SetScene(scene);
+  }
   vtkObject* Logic() override { return this->LogicObject; }
   std::vector<rp::Command> Commands() override {
     return {{"drill", "drill a stroke into a bone with a burr at 1 kHz (removed volume, forces, timings)",

@@ -5,6 +5,7 @@
 #include <vtkNew.h>
 
 #include "rpMeshCommand.h"
+#include "rpImagingReaders.h"
 #include "rpModule.h"
 #include "vtkRPSegmentationToMeshLogic.h"
 
@@ -14,7 +15,11 @@ class SegmentationToMeshModule : public rp::Module {
  public:
   std::string Name() const override { return "SegmentationToMesh"; }
   std::string Title() const override { return "Segmentation to Mesh"; }
-  void Setup(vtkRPScene* scene) override { this->LogicObject->SetScene(scene); }
+  // What this module registers: the imaging readers (it reads DICOM through the loader).
+  void Setup(vtkRPScene* scene) override {
+    rp::RegisterImagingReaders();
+    this->LogicObject->SetScene(scene);
+  }
   vtkObject* Logic() override { return this->LogicObject; }
   std::vector<rp::Command> Commands() override {
     return {{"mesh", "segment a CT/MR (or take a .seg.nrrd) and write one closed surface per tissue",
