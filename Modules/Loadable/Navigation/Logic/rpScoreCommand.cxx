@@ -98,6 +98,7 @@ int Score(const ScoreArguments& q, ScoredExecution& run, std::ostream& err) {
   std::string error;
   if (!logic->PrepareScore(request, run, error)) return Fail(err, "--plan " + q.Plan + ": " + error);
   if (!RunScore(run, error)) return Fail(err, error);
+  for (const std::string& warning : run.Warnings) err << "roboplan score: warning: " << warning << "\n";
   return 0;
 }
 

@@ -1,5 +1,8 @@
 #include "rpScoredExecution.h"
 
+#include <algorithm>
+#include <cstdio>
+#include <limits>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -9,6 +12,18 @@
 #include "rpGuidedDrill.h"
 
 namespace rp {
+
+namespace {
+// The closest any point of the path comes to the planned segment.
+double ClosestToPlanMm(const std::vector<Vec3>& path, const TrajectoryAxis& plan) {
+  double closest = std::numeric_limits<double>::infinity();
+  for (const Vec3& p : path) {
+    const double depth = std::clamp(plan.Depth(p), 0.0, plan.Length());
+    closest = std::min(closest, Norm(p - plan.PointAt(depth)));
+  }
+  return closest;
+}
+}  // namespace
 
 bool RunScore(ScoredExecution& job, std::string& error) {
   const ScoreRequest& q = job.Request;
@@ -37,6 +52,15 @@ bool RunScore(ScoredExecution& job, std::string& error) {
     error = "scoring " + q.PathFile + ": " + error;
     return false;
   }
+  job.Warnings.clear();
+  if (const double closest = ClosestToPlanMm(input.Path, input.Plan); closest > FarFromPlanMm) {
+    char text[320];
+    std::snprintf(text, sizeof text,
+                  "the path never comes within %.0f mm of the trajectory '%s' (closest %.1f mm): is it in the plan's "
+                  "frame (RAS)? A PLUS transform should end in the patient's frame (e.g. ...ToReference, ...ToRAS)",
+                  FarFromPlanMm, t.Name.c_str(), closest);
+    job.Warnings.push_back(text);
+  }
   return true;
 }
 
@@ -49,6 +73,11 @@ std::string ScoredExecutionJson(const ScoredExecution& job, const std::string& p
   doc["path"] = {{"file", job.Request.PathFile}, {"kind", job.Path.Kind},        {"samples", job.Path.Samples},
                  {"skipped", job.Path.Skipped},  {"transform", job.Path.Chain}, {"toolRadiusMm", job.Input.ToolRadiusMm}};
   return doc.dump(2);
+}
+
+bool WriteScoredExecutionJson(const ScoredExecution& job, const std::string& planFile, const std::string& file,
+                              std::string& error) {
+  return bench::WriteFigureFile(file, ScoredExecutionJson(job, planFile) + "\n", error);
 }
 
 bool WriteDeviationCsv(const ExecutionScore& score, const std::string& file, std::string& error) {

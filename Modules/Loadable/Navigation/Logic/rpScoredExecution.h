@@ -7,6 +7,7 @@
 // vtkRPNavigationLogic::ScoreExecution does both at once.
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "rpExecutionPath.h"
 #include "rpExecutionScore.h"
@@ -33,11 +34,17 @@ struct ScoredExecution {
   MeshSignedDistance Bone;
   ExecutionInput Input;
   ExecutionScore Score;
+  /// What looks wrong though it scores, e.g. a path nowhere near the plan (another frame?).
+  std::vector<std::string> Warnings;
 
   ScoredExecution() = default;
   ScoredExecution(const ScoredExecution&) = delete;
   ScoredExecution& operator=(const ScoredExecution&) = delete;
 };
+
+/// A path none of whose points comes this close to the planned segment (entry to target) gets a
+/// warning: it is most likely in another frame (a PLUS transform to the tracker, not the patient).
+constexpr double FarFromPlanMm = 50;
 
 /// The prepared job's second half, on any thread: reads the path, builds the bone's signed
 /// distance, scores. False with `error` naming the file or the problem (a path of one point, a
@@ -48,6 +55,9 @@ bool RunScore(ScoredExecution& job, std::string& error);
 /// `planFile`, the trajectory, its entry, target and tool diameter) and `path` (file, kind,
 /// samples, skipped, transform chain, tool radius). The one writer for the command and the panel.
 std::string ScoredExecutionJson(const ScoredExecution& job, const std::string& planFile);
+/// The same written to `file` (atomically). False with `error` naming the file.
+bool WriteScoredExecutionJson(const ScoredExecution& job, const std::string& planFile, const std::string& file,
+                              std::string& error);
 
 /// The deviation along depth (0.5 mm bins) as a table (depthMm, deviationMm) and as a chart
 /// (Libs/Charts): what `--csv` and `--chart` write and the panel shows.
