@@ -12,6 +12,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <sstream>
 
 #include <QApplication>
@@ -21,8 +22,10 @@
 #include <QLabel>
 #include <QLineEdit>
 #include <QPixmap>
+#include <QProgressBar>
 #include <QPushButton>
 #include <QTableWidget>
+#include <QTimer>
 
 #include <nlohmann/json.hpp>
 #include <vtkNew.h>
@@ -134,9 +137,14 @@ TEST(ScorePanel, AnOffsetAndTiltedLineGivesTheClosedFormsInTheTableAndTheChart) 
   panel.resize(520, 900);
   panel.grab().save(QString::fromStdString((dir / "score-panel.png").string()));  // to look at
 
-  // With a tool radius the swept volume outside the plan's cylinder is measured.
+  // With a tool radius the swept volume outside the plan's cylinder is measured. The window stays
+  // live while it scores: an event posted after "Score" is handled before the score ends.
   panel.ToolRadiusSpin->setValue(1.5);
+  bool liveWhileScoring = false;
+  QTimer::singleShot(0, &panel, [&] { liveWhileScoring = panel.IsScoring() && panel.ScoreProgress->isVisibleTo(&panel); });
   ScoreAndWait(panel);
+  EXPECT_TRUE(liveWhileScoring);
+  EXPECT_FALSE(panel.ScoreProgress->isVisibleTo(&panel));
   ASSERT_NE(panel.LastScore(), nullptr);
   EXPECT_GT(panel.FigureValue(panel.FigureRow("Outside the plan's cylinder")), 0);
 }
@@ -236,6 +244,14 @@ TEST(ScorePanel, BadInputIsNamedAndTheSceneIsKept) {
   double kept[3];
   ASSERT_TRUE(s.Trajectory->GetEntryWorld(kept));
   EXPECT_EQ(kept[2], 30);
+
+  // A panel closed while it scores waits for its worker and drops the result.
+  auto closing = std::make_unique<qRPScorePanel>(s.Logic);
+  closing->PathEdit->setText(QString::fromStdString((dir / "far.csv").string()));
+  closing->ToolRadiusSpin->setValue(2);
+  ASSERT_TRUE(closing->StartScore());
+  closing.reset();
+  App().processEvents();
 }
 
 }  // namespace

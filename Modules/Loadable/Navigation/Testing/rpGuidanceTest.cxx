@@ -45,6 +45,16 @@ std::string TempFile(const std::string& name, const std::string& text) {
 
 using rptest::Axis;
 
+// A CSV of tip points from 1 mm right of (10, 20, 30) down −S, tilted by θ towards R, `run` mm long.
+std::string TiltedPath(const std::string& name, double theta, double run) {
+  std::ostringstream csv;
+  csv.precision(17);
+  csv << "R,A,S\n";
+  for (double s = 0; s <= run + 1e-9; s += 0.25)
+    csv << 10 + 1 + s * std::sin(theta) << "," << 20 << "," << 30 - s * std::cos(theta) << "\n";
+  return TempFile(name, csv.str());
+}
+
 TEST(GuidanceReadout, EntryErrorAngleDepthAndTheToolInTheTrajectorysFrame) {
   const rp::TrajectoryAxis plan = Axis({5, 6, 7}, {5, 6, -33});  // straight down, 40 mm
   const double theta = 0.2;
@@ -307,12 +317,7 @@ TEST(ScoreCommand, ACsvPathOffsetAndTiltedGivesTheClosedFormsInJson) {
   std::string error;
   const rp::NodeStorage* storage = rp::FindNodeStorageForFile(plan);
   ASSERT_TRUE(storage && storage->Write(trajectory, plan, error)) << error;
-  std::ostringstream csv;
-  csv.precision(17);
-  csv << "R,A,S\n";
-  for (double s = 0; s <= run + 1e-9; s += 0.25)
-    csv << 10 + 1 + s * std::sin(theta) << "," << 20 << "," << 30 - s * std::cos(theta) << "\n";
-  const std::string path = TempFile("tilted.csv", csv.str());
+  const std::string path = TiltedPath("tilted.csv", theta, run);
   const std::string table = (std::filesystem::temp_directory_path() / "rpGuidanceTest-deviation.csv").string();
   std::ostringstream out, err;
   ASSERT_EQ(rp::RunScoreCommand({"--plan", plan, "--path", path, "--csv", table, "--json"}, out, err), 0) << err.str();
@@ -353,12 +358,7 @@ TEST(ScoreLogic, ScoresATrajectoryOfTheSceneAsTheCommandDoes) {
   trajectory->SetToolDiameterMm(3);
   trajectory->SetName("tunnel");
   scene->AddNode(trajectory);
-  std::ostringstream csv;
-  csv.precision(17);
-  csv << "R,A,S\n";
-  for (double s = 0; s <= run + 1e-9; s += 0.25)
-    csv << 10 + 1 + s * std::sin(theta) << "," << 20 << "," << 30 - s * std::cos(theta) << "\n";
-  const std::string path = TempFile("logic.csv", csv.str());
+  const std::string path = TiltedPath("logic.csv", theta, run);
   vtkNew<vtkRPNavigationLogic> logic;
   logic->SetScene(scene);
   rp::ScoreRequest request;
