@@ -28,6 +28,7 @@ void FixtureConstraint::Evaluate(const ConstraintContext& tool, ConstraintForce&
   out.Damping += f.Damping;
   out.StoredEnergy += f.Stored;
   out.Engaged = out.Engaged || f.Active;
+  out.Fixtures = &f;
 }
 
 void FixtureConstraint::CarryFrom(const ToolConstraint& previous) noexcept {

@@ -62,6 +62,10 @@ bool AddForbiddenRegions(const PlanSnapshot& plan, const PlanFixtureChoice& c, F
 
 bool AddSurfaceConstraint(const PlanSnapshot& plan, const PlanFixtureChoice& c, FixtureSet& set, std::string& error) {
   if (!c.Surface) return true;
+  if (!c.SurfaceModelNode.empty() && !c.SurfaceModel) {
+    error = "the surface constraint's model '" + c.SurfaceModelNode + "' was not read (vtkRPPlanningLogic::MakePlanFixtures reads it)";
+    return false;
+  }
   if (!c.SurfacePlane.empty() || !c.SurfaceModel) {
     const CutPlaneSnapshot* p = c.SurfacePlane.empty() ? (plan.Planes.empty() ? nullptr : &plan.Planes.front())
                                                        : plan.FindPlane(c.SurfacePlane);

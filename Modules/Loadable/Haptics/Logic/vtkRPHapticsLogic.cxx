@@ -7,13 +7,17 @@
 #include <vtkObjectFactory.h>
 
 #include "rpDeviceProfiles.h"
+#include "rpFixtureConstraint.h"
 #include "rpHapticSceneBridge.h"
 #include "rpSimulatedDevice.h"
+#include "vtkRPPlanningLogic.h"
 
 vtkStandardNewMacro(vtkRPHapticsLogic);
 
 vtkRPHapticsLogic::vtkRPHapticsLogic()
-    : Device(std::make_unique<rp::SimulatedDevice>()), Profile(rp::DeviceProfiles().front().Key) {}
+    : Device(std::make_unique<rp::SimulatedDevice>()),
+      Profile(rp::DeviceProfiles().front().Key),
+      Planning(vtkSmartPointer<vtkRPPlanningLogic>::New()) {}
 
 bool vtkRPHapticsLogic::SetDeviceProfile(const std::string& name, std::string& error) {
   if (this->IsRunning()) {
@@ -36,6 +40,21 @@ void vtkRPHapticsLogic::PrintSelf(ostream& os, vtkIndent indent) {
   os << indent << "Running: " << (this->IsRunning() ? "yes" : "no") << "\n";
   os << indent << "DeviceProfile: " << this->Profile << "\n";
   if (this->Session) os << indent << "HapticTriangles: " << this->Session->SceneTriangles() << "\n";
+}
+
+bool vtkRPHapticsLogic::SetPlanFixtures(const rp::PlanFixtureChoice& choice, std::string& error) {
+  if (this->Scene == nullptr) {
+    error = "haptics: no scene";
+    return false;
+  }
+  this->Planning->SetScene(this->Scene);
+  std::shared_ptr<const rp::FixtureSet> set = this->Planning->MakePlanFixtures(choice, error);
+  if (!set) return false;
+  this->Settings.MakeConstraints = [set] { return rp::MakeFixtureConstraints(set); };
+  this->PlanFixtures = set;
+  // Even an empty set goes in as a fixture constraint: it carries the fades of those switched off.
+  if (this->IsRunning()) this->Session->Servo().Constraints().Publish(rp::MakeFixtureConstraints(set));
+  return true;
 }
 
 void vtkRPHapticsLogic::SetSimulatedTrajectory(std::shared_ptr<const rp::Trajectory> path) { this->Path = std::move(path); }
