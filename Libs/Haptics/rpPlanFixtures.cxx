@@ -77,7 +77,8 @@ bool AddSurfaceConstraint(const PlanSnapshot& plan, const PlanFixtureChoice& c, 
     return AddTo(set, SurfaceConstraint::Plane(FixtureId(p->NodeID, FixtureKind::SurfaceConstraint), p->Name, p->Origin, p->Normal),
                  c.SurfaceTuning, error);
   }
-  auto surface = SurfaceConstraint::Mesh(FixtureId("model", FixtureKind::SurfaceConstraint), "model", *c.SurfaceModel, error);
+  const std::string name = c.SurfaceModelNode.empty() ? "model" : c.SurfaceModelNode;
+  auto surface = SurfaceConstraint::Mesh(FixtureId(name, FixtureKind::SurfaceConstraint), name, *c.SurfaceModel, error);
   return surface && set.Add(std::move(surface), c.SurfaceTuning, true, error);
 }
 }  // namespace

@@ -221,6 +221,7 @@ bool qRPDrillingPanel::ExecutePlan() {
   if (this->Logic == nullptr) return false;
   this->Stop();
   auto refuse = [this](const QString& why) {
+    this->Last = rp::GuidedDrillResult{};
     this->ExecutionInfo->setText(why);
     return false;
   };
@@ -229,6 +230,7 @@ bool qRPDrillingPanel::ExecutePlan() {
   if (!this->Logic->HasBone()) return refuse("build the voxel bone first");
   std::string error;
   const std::shared_ptr<const rp::PlanSnapshot> plan = rp::SnapshotPlan(this->Logic->GetScene(), error);
+  if (plan && plan->Trajectories.empty()) return refuse("the scene has no complete trajectory (entry and target) to execute");
   const rp::PlanFixtureChoice choice = this->Guidance->Choice();
   const rp::TrajectorySnapshot* trajectory = plan ? rp::ChooseTrajectory(*plan, choice.Trajectory, error) : nullptr;
   if (trajectory == nullptr) return refuse(QString::fromStdString(error));
@@ -248,8 +250,10 @@ bool qRPDrillingPanel::ExecutePlan() {
   this->setEnabled(false);
   this->Progress->setValue(0);
   this->ExecutionInfo->setText("drilling '" + QString::fromStdString(trajectory->Name) + "' with the simulated hand…");
-  rp::GuidedDrillResult result;
+  rp::GuidedDrillResult& result = this->Last;
+  result = rp::GuidedDrillResult{};
   const bool done = rp::DrillPlannedTrajectory(this->Logic, *plan, *trajectory, choice, options, result, error);
+  result.Run.Records.clear();  // every tick's record: the path and the score are what is kept
   this->setEnabled(true);
   this->Progress->setValue(1000);
   // The run handed its own fixtures to the logic: the Guidance group's again for the next session.

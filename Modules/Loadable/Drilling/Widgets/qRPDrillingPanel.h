@@ -13,6 +13,8 @@
 // kept painted with a progress bar. A 30 Hz timer drives vtkRPDrillingLogic::Update.
 #include <QWidget>
 
+#include "rpGuidedDrill.h"
+
 class QCheckBox;
 class QComboBox;
 class QProgressBar;
@@ -70,8 +72,9 @@ class qRPDrillingPanel : public QWidget {
   QCheckBox* FreshBoneCheckBox() const { return this->FreshBone; }
   QPushButton* ExecuteButton() const { return this->Execute; }
   QProgressBar* ExecuteProgressBar() const { return this->Progress; }
-  /// The last execution's score (or why it did not run).
+  /// The last execution's score (or why it did not run), and the run itself.
   QString ExecutionText() const;
+  const rp::GuidedDrillResult& LastExecution() const { return this->Last; }
   QString StatusText() const;
   QString BoneText() const;
   QString RemovedText() const;
@@ -118,6 +121,7 @@ class qRPDrillingPanel : public QWidget {
   QPushButton* Execute;
   QProgressBar* Progress;
   QLabel* ExecutionInfo;
+  rp::GuidedDrillResult Last;
   bool Warning = false;
   double Removed = 0;
 };

@@ -254,6 +254,7 @@ std::shared_ptr<const rp::FixtureSet> vtkRPPlanningLogic::MakePlanFixtures(rp::P
     }
     choice.SurfaceModel = this->GetStructureSurface({model, "", model->GetName(), 0}, error);
     if (!choice.SurfaceModel) return nullptr;
+    choice.SurfaceModelNode = model->GetName().empty() ? model->GetID() : model->GetName();
   }
   return rp::BuildPlanFixtures(*plan, choice, error);
 }
