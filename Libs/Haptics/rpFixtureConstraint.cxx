@@ -43,4 +43,10 @@ std::unique_ptr<ToolConstraints> MakeFixtureConstraints(std::shared_ptr<const Fi
   return constraints;
 }
 
+void InstallFixtures(std::shared_ptr<const FixtureSet> set, std::function<std::unique_ptr<ToolConstraints>()>& make,
+                     ConstraintExchange* running) {
+  if (running) running->Publish(MakeFixtureConstraints(set));
+  make = [set] { return MakeFixtureConstraints(set); };
+}
+
 }  // namespace rp

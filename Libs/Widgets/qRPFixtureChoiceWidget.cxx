@@ -92,7 +92,9 @@ QCheckBox* qRPFixtureChoiceWidget::ForbiddenCheckBox() const { return this->UI->
 QCheckBox* qRPFixtureChoiceWidget::SurfaceCheckBox() const { return this->UI->SurfaceCheck; }
 QString qRPFixtureChoiceWidget::StatusText() const { return this->UI->StatusLabel->text(); }
 
-void qRPFixtureChoiceWidget::SetScene(vtkRPScene* scene) {
+void qRPFixtureChoiceWidget::Setup(vtkRPScene* scene, ApplyFunction apply, InUseFunction inUse) {
+  this->Apply = std::move(apply);
+  this->InUse = std::move(inUse);
   this->Scene = scene;
   this->Watch = std::make_unique<rp::SceneNodesWatch>(scene);
   this->WatchTimer->start();
@@ -154,6 +156,7 @@ bool qRPFixtureChoiceWidget::ApplyChoice() {
   this->Applied = choice;
   this->Refusal.clear();
   this->UI->StatusLabel->setStyleSheet("");
+  this->ShowFixtures(nullptr);  // while running, the panel's next display tick adds the servo's reports
   emit this->FixturesChanged();
   return true;
 }
@@ -165,9 +168,10 @@ void qRPFixtureChoiceWidget::OnChanged() {
   this->ApplyChoice();
 }
 
-void qRPFixtureChoiceWidget::ShowFixtures(const rp::FixtureSet* set, const rp::FixtureStatus* running) {
+void qRPFixtureChoiceWidget::ShowFixtures(const rp::FixtureStatus* running) {
   // A refusal stays readable (above the fixtures still in use) until the next change.
-  const QString fixtures = DescribeFixtures(set, running);
+  const std::shared_ptr<const rp::FixtureSet> set = this->InUse ? this->InUse() : nullptr;
+  const QString fixtures = DescribeFixtures(set.get(), running);
   this->UI->StatusLabel->setText(this->Refusal.isEmpty() ? fixtures : this->Refusal + "\nin use: " + fixtures);
 }
 

@@ -35,11 +35,12 @@ class qRPFixtureChoiceWidget : public QGroupBox {
   explicit qRPFixtureChoiceWidget(QWidget* parent = nullptr);
   ~qRPFixtureChoiceWidget() override;
 
-  /// The scene whose plan nodes are listed (null: none).
-  void SetScene(vtkRPScene* scene);
   /// Applies a choice (the logic's SetPlanFixtures): false with `error` keeps the fixtures in use.
   using ApplyFunction = std::function<bool(const rp::PlanFixtureChoice& choice, std::string& error)>;
-  void SetApply(ApplyFunction apply) { this->Apply = std::move(apply); }
+  /// The fixtures in use (the logic's GetPlanFixtures).
+  using InUseFunction = std::function<std::shared_ptr<const rp::FixtureSet>()>;
+  /// The scene whose plan nodes are listed (null: none), and the panel's logic's two calls.
+  void Setup(vtkRPScene* scene, ApplyFunction apply, InUseFunction inUse);
 
   /// The choice as the boxes show it.
   rp::PlanFixtureChoice Choice() const;
@@ -48,9 +49,9 @@ class qRPFixtureChoiceWidget : public QGroupBox {
   /// Re-reads the trajectories, cut planes and models (also done by its timer when nodes come or go).
   void RefreshNodes();
 
-  /// The status line: the fixtures in `set` (null or empty: none) and, while the servo runs, its
-  /// latest reports (`running` null when stopped).
-  void ShowFixtures(const rp::FixtureSet* set, const rp::FixtureStatus* running);
+  /// The status line: the fixtures in use and, while the servo runs, its latest reports (`running`
+  /// null when stopped). The panel calls it from its display timer (and after stopping).
+  void ShowFixtures(const rp::FixtureStatus* running);
   /// The status line, one line per fixture.
   static QString DescribeFixtures(const rp::FixtureSet* set, const rp::FixtureStatus* running);
   QString StatusText() const;
@@ -75,6 +76,7 @@ class qRPFixtureChoiceWidget : public QGroupBox {
   std::unique_ptr<rp::SceneNodesWatch> Watch;
   QTimer* WatchTimer;
   ApplyFunction Apply;
+  InUseFunction InUse;
   rp::PlanFixtureChoice Applied;  // the choice in use (the boxes go back to it when one is refused)
   QString Refusal;  // why the last choice was refused ("" when it was applied)
 };

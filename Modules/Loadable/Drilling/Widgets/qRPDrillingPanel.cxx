@@ -112,13 +112,10 @@ qRPDrillingPanel::qRPDrillingPanel(vtkRPDrillingLogic* logic, QWidget* parent) :
   this->Picture = new QPushButton("Save tunnel picture…");
   form->addRow(this->Picture);
   this->Guidance = new qRPFixtureChoiceWidget;
-  this->Guidance->SetScene(logic ? logic->GetScene() : nullptr);
-  this->Guidance->SetApply([this](const rp::PlanFixtureChoice& choice, std::string& error) {
-    return this->Logic && this->Logic->SetPlanFixtures(choice, error);
-  });
-  connect(this->Guidance, &qRPFixtureChoiceWidget::FixturesChanged, this, [this] {
-    if (!this->IsRunning()) this->Guidance->ShowFixtures(this->Logic->GetPlanFixtures().get(), nullptr);
-  });
+  this->Guidance->Setup(
+      logic ? logic->GetScene() : nullptr,
+      [this](const rp::PlanFixtureChoice& choice, std::string& error) { return this->Logic && this->Logic->SetPlanFixtures(choice, error); },
+      [this] { return this->Logic ? this->Logic->GetPlanFixtures() : nullptr; });
   auto* layout = new QVBoxLayout(this);
   layout->addLayout(form);
   layout->addWidget(this->Guidance);
@@ -406,7 +403,7 @@ void qRPDrillingPanel::Stop() {
   this->StartStop->setText("Start drilling");
   this->RecordPath->setEnabled(true);
   this->Build->setEnabled(true);
-  if (this->Logic) this->Guidance->ShowFixtures(this->Logic->GetPlanFixtures().get(), nullptr);
+  if (this->Logic) this->Guidance->ShowFixtures(nullptr);
   if (wasRunning)
     this->State->setText(this->Logic->GetRecordPath().empty()
                              ? QString("stopped")
@@ -441,7 +438,7 @@ void qRPDrillingPanel::Update() {
     this->ProtectedInfo->setStyleSheet("");
   }
   this->ForceInfo->setText(QString("%1 N%2").arg(rp::Norm(s.Force), 0, 'f', 2).arg(s.Clamped ? " (device maximum)" : ""));
-  this->Guidance->ShowFixtures(this->Logic->GetPlanFixtures().get(), &s.Fixtures);
+  this->Guidance->ShowFixtures(&s.Fixtures);
   if (rp::DrillSession* session = this->Logic->GetSession()) {
     const auto frames = session->Display().Frames();
     std::vector<double> ms;

@@ -49,11 +49,9 @@ bool vtkRPHapticsLogic::SetPlanFixtures(const rp::PlanFixtureChoice& choice, std
   }
   this->Planning->SetScene(this->Scene);
   std::shared_ptr<const rp::FixtureSet> set = this->Planning->MakePlanFixtures(choice, error);
-  if (!set) return false;
-  this->Settings.MakeConstraints = [set] { return rp::MakeFixtureConstraints(set); };
+  if (!set) return false;  // refused: the set in use stays
   this->PlanFixtures = set;
-  // Even an empty set goes in as a fixture constraint: it carries the fades of those switched off.
-  if (this->IsRunning()) this->Session->Servo().Constraints().Publish(rp::MakeFixtureConstraints(set));
+  rp::InstallFixtures(this->PlanFixtures, this->Settings.MakeConstraints, this->IsRunning() ? &this->Session->Servo().Constraints() : nullptr);
   return true;
 }
 

@@ -55,6 +55,16 @@ double BoneStiffness() {
     if (m.at("tissue") == "bone") return m.at("stiffness").get<double>();
   return -1;
 }
+
+// The display timer's work for `seconds` (the test drives it: 10 ms steps).
+void Pump(QApplication& app, qRPHapticsPanel& panel, double seconds) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  while (std::chrono::steady_clock::now() < end) {
+    app.processEvents();
+    panel.Update();
+    QThread::msleep(10);
+  }
+}
 }  // namespace
 
 TEST(HapticsPanel, PressIntoBoneSlabShowsStiffnessForceAndTissue) {
@@ -83,14 +93,7 @@ TEST(HapticsPanel, PressIntoBoneSlabShowsStiffnessForceAndTissue) {
   // Spin box ranges: the haptic models' bounds ± 20 mm.
   EXPECT_DOUBLE_EQ(panel->StylusSpinBox(2)->minimum(), -40);
   EXPECT_DOUBLE_EQ(panel->StylusSpinBox(2)->maximum(), 20);
-  auto pump = [&](double seconds) {
-    const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-    while (std::chrono::steady_clock::now() < end) {
-      app.processEvents();
-      panel->Update();
-      QThread::msleep(10);
-    }
-  };
+  auto pump = [&](double seconds) { Pump(app, *panel, seconds); };
   panel->StartStopButton()->click();
   ASSERT_TRUE(panel->IsRunning()) << panel->StatusText().toStdString();
   panel->StylusSpinBox(0)->setValue(3);
@@ -196,14 +199,7 @@ TEST(HapticsPanel, SlicesFollowTheProxyThroughTheScene) {
   logic->SetScene(scene);
   auto panel = std::make_unique<qRPHapticsPanel>(logic.GetPointer());
   panel->LogPathEdit()->setText("");
-  auto pump = [&](double seconds) {
-    const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-    while (std::chrono::steady_clock::now() < end) {
-      app.processEvents();
-      panel->Update();
-      QThread::msleep(10);
-    }
-  };
+  auto pump = [&](double seconds) { Pump(app, *panel, seconds); };
   panel->FollowProxyCheckBox()->setChecked(true);  // before the proxy exists: applied when it does
   panel->StartStopButton()->click();
   ASSERT_TRUE(panel->IsRunning()) << panel->StatusText().toStdString();
@@ -283,14 +279,7 @@ TEST(HapticsPanel, GuidanceGroupSwitchesThePlansFixturesWhileRunning) {
   EXPECT_EQ(guidance->TrajectoryComboBox()->currentText(), "Plan");
   EXPECT_NE(guidance->SurfaceComboBox()->findText("model Slab"), -1);
   EXPECT_EQ(guidance->StatusText(), "no fixture acts (free hand)");
-  auto pump = [&](double seconds) {
-    const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-    while (std::chrono::steady_clock::now() < end) {
-      app.processEvents();
-      panel->Update();
-      QThread::msleep(10);
-    }
-  };
+  auto pump = [&](double seconds) { Pump(app, *panel, seconds); };
   auto servoTime = [&] {
     rp::HapticState s;
     logic->GetSession()->Servo().ReadState(s);

@@ -74,13 +74,10 @@ qRPHapticsPanel::qRPHapticsPanel(vtkRPHapticsLogic* logic, QWidget* parent) : QW
   form->addRow("Servo p99 period / compute", this->Timing);
   form->addRow("Missed deadlines", this->Missed);
   this->Guidance = new qRPFixtureChoiceWidget;
-  this->Guidance->SetScene(logic ? logic->GetScene() : nullptr);
-  this->Guidance->SetApply([this](const rp::PlanFixtureChoice& choice, std::string& error) {
-    return this->Logic && this->Logic->SetPlanFixtures(choice, error);
-  });
-  connect(this->Guidance, &qRPFixtureChoiceWidget::FixturesChanged, this, [this] {
-    if (!this->IsRunning()) this->Guidance->ShowFixtures(this->Logic->GetPlanFixtures().get(), nullptr);
-  });
+  this->Guidance->Setup(
+      logic ? logic->GetScene() : nullptr,
+      [this](const rp::PlanFixtureChoice& choice, std::string& error) { return this->Logic && this->Logic->SetPlanFixtures(choice, error); },
+      [this] { return this->Logic ? this->Logic->GetPlanFixtures() : nullptr; });
   auto* layout = new QVBoxLayout(this);
   layout->addLayout(form);
   layout->addWidget(this->Clamps);
@@ -209,7 +206,7 @@ void qRPHapticsPanel::Stop() {
                            ? "stopped; log " + QString::fromStdString(this->Logic->GetLogPath())
                            : QString("stopped"));
   this->ForceN = 0;
-  if (this->Logic) this->Guidance->ShowFixtures(this->Logic->GetPlanFixtures().get(), nullptr);
+  if (this->Logic) this->Guidance->ShowFixtures(nullptr);
 }
 
 void qRPHapticsPanel::Update() {
@@ -255,5 +252,5 @@ void qRPHapticsPanel::Update() {
                                                     .arg(1e3 * session->StabilityPeriod(), 0, 'f', 2) +
                                                 clamped.join("\n"));
   this->Clamps->setVisible(!clamped.isEmpty());
-  this->Guidance->ShowFixtures(this->Logic->GetPlanFixtures().get(), &s.Fixtures);
+  this->Guidance->ShowFixtures(&s.Fixtures);
 }
