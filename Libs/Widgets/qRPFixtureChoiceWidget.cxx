@@ -75,6 +75,10 @@ qRPFixtureChoiceWidget::qRPFixtureChoiceWidget(QWidget* parent)
   this->WatchTimer->setInterval(250);  // node lists: a quarter second is soon enough
   connect(this->WatchTimer, &QTimer::timeout, this, [this] {
     if (this->Watch && this->Watch->TakeChanged()) this->RefreshNodes();
+    // A plan node moved (a trajectory dragged) while fixtures act: build them again (their ids
+    // stay, so the servo carries the fades over and the force follows within the device's rate).
+    const bool acting = this->Applied.Axis || this->Applied.Depth || this->Applied.Forbidden || this->Applied.Surface;
+    if (acting && this->PlanSignature() != this->AppliedSignature) this->ApplyChoice();
   });
   for (QCheckBox* box : {this->UI->AxisCheck, this->UI->DepthCheck, this->UI->ForbiddenCheck, this->UI->SurfaceCheck})
     connect(box, &QCheckBox::toggled, this, [this](bool) { this->OnChanged(); });
@@ -142,8 +146,17 @@ void qRPFixtureChoiceWidget::SetBoxes(const rp::PlanFixtureChoice& c) {
   this->UI->SurfaceCheck->setChecked(c.Surface);
 }
 
+unsigned long qRPFixtureChoiceWidget::PlanSignature() const {
+  unsigned long signature = 0;
+  if (this->Scene)
+    for (const char* type : {"vtkRPTrajectoryNode", "vtkRPCutPlaneNode", "vtkRPModelNode"})
+      for (vtkRPNode* node : this->Scene->GetNodesByClass(type)) signature += node->GetMTime();
+  return signature;
+}
+
 bool qRPFixtureChoiceWidget::ApplyChoice() {
   if (!this->Apply) return false;
+  this->AppliedSignature = this->PlanSignature();  // tried with the plan as it is now
   const rp::PlanFixtureChoice choice = this->Choice();
   std::string error;
   if (!this->Apply(choice, error)) {

@@ -7,7 +7,9 @@
 // distance, its force): the read-out a surgeon needs. Every change is applied at once through the
 // panel's apply function (its logic's SetPlanFixtures); when that refuses, the status line names
 // the problem and the boxes go back to the fixtures in use. Its node lists follow the scene
-// (nodes added or removed); main thread only. Layout: qRPFixtureChoiceWidget.ui.
+// (nodes added or removed), and the fixtures follow their plan nodes (a trajectory dragged while
+// they act is applied again within a quarter second); main thread only. Layout:
+// qRPFixtureChoiceWidget.ui.
 #include <functional>
 #include <memory>
 #include <string>
@@ -70,6 +72,8 @@ class qRPFixtureChoiceWidget : public QGroupBox {
  private:
   void OnChanged();
   void SetBoxes(const rp::PlanFixtureChoice& choice);
+  /// Changes when a plan node (trajectory, cut plane, model) is modified.
+  unsigned long PlanSignature() const;
 
   std::unique_ptr<Ui::qRPFixtureChoiceWidget> UI;
   vtkRPScene* Scene = nullptr;  // not owned: the host's scene outlives its panels
@@ -78,6 +82,7 @@ class qRPFixtureChoiceWidget : public QGroupBox {
   ApplyFunction Apply;
   InUseFunction InUse;
   rp::PlanFixtureChoice Applied;  // the choice in use (the boxes go back to it when one is refused)
+  unsigned long AppliedSignature = 0;  // the plan nodes as they were when it was applied
   QString Refusal;  // why the last choice was refused ("" when it was applied)
 };
 

@@ -257,7 +257,7 @@ TEST(HapticsPanel, SlicesFollowTheProxyThroughTheScene) {
 // servo runs, against closed forms — axis guidance pulls the stylus held 1.5 mm off a straight
 // trajectory with k·d towards the axis; the depth stop holds it at the target depth with k·2 mm
 // when pushed 2 mm past; the surface constraint on the slab's model pulls the stylus 1 mm above
-// it with k·1 mm onto it; every switch within the device's force step per tick; the status line
+// it with k·1 mm onto it; the trajectory dragged 0.5 mm, the pull follows; every switch within the device's force step per tick; the status line
 // says which fixture is engaged and how far; a fixture with nothing to act on is refused with
 // its reason and its box unticked; the trajectory list follows the scene.
 TEST(HapticsPanel, GuidanceGroupSwitchesThePlansFixturesWhileRunning) {
@@ -307,6 +307,18 @@ TEST(HapticsPanel, GuidanceGroupSwitchesThePlansFixturesWhileRunning) {
   EXPECT_NEAR(panel->DisplayedForce(), k * d, 0.02);
   EXPECT_TRUE(guidance->StatusText().contains("axis guidance on 'Plan' (captures within 3.00 mm): ENGAGED, 1.50 mm off the axis, 0.90 N"))
       << guidance->StatusText().toStdString();
+
+  // The trajectory dragged 0.5 mm towards the stylus while the guidance acts: the pull follows.
+  auto* plan = vtkRPTrajectoryNode::SafeDownCast(scene->GetFirstNodeByName("Plan"));
+  const double movedEntry[3] = {0.5, 0, rptest::EntryS}, movedTarget[3] = {0.5, 0, rptest::TargetS};
+  plan->SetEntryAndTarget(movedEntry, movedTarget);
+  pump(0.5);
+  EXPECT_NEAR(force().x, -k * (d - 0.5), 1e-6);
+  EXPECT_TRUE(guidance->StatusText().contains("ENGAGED, 1.00 mm off the axis")) << guidance->StatusText().toStdString();
+  const double backEntry[3] = {0, 0, rptest::EntryS}, backTarget[3] = {0, 0, rptest::TargetS};
+  plan->SetEntryAndTarget(backEntry, backTarget);
+  pump(0.5);
+  EXPECT_NEAR(force().x, -k * d, 1e-6);
 
   guidance->DepthCheckBox()->click();
   pump(0.15);
