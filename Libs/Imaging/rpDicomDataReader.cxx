@@ -94,7 +94,6 @@ const std::shared_ptr<DataReader>& TheDicomReader() {
   static const std::shared_ptr<DataReader> reader = std::make_shared<DicomReader>();
   return reader;
 }
-const bool registeredAtLoad = RegisterImagingReaders();
 
 }  // namespace
 

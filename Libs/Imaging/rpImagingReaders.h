@@ -4,10 +4,12 @@
 // (rpDicomSegmentationDataReader.cxx), registered by RegisterImagingReaders(). A program that
 // reaches them only through rp::LoadPath references no symbol of this library, and a linker that
 // drops unreferenced libraries (--as-needed, as RoboPlan links, or static builds) would lose a
-// registration made only when the library loads; so a host calls RegisterImagingReaders() when it
-// starts (the viewer module's Setup, Libs/Application/ViewerModule.cxx). It is idempotent; the
-// library still also calls it when it loads (rpDicomDataReader.cxx), so that the modules whose
-// commands read DICOM, and tests linking it directly, need no call of their own.
+// registration made when the library loads; so nothing registers at load: each owner that reads
+// through the loader calls RegisterImagingReaders() when it starts, in the one place it registers
+// its things — the viewer module's Setup (Libs/Application/ViewerModule.cxx) and the Setup of
+// each module whose work reads DICOM through the loader (Volumes, SegmentationToMesh, Drilling,
+// Planning, Demo: their <Name>Module.cxx); a test that reads DICOM through the loader without a
+// module calls it too. It is idempotent.
 // Testing/Registration/rpRegistrationTest.cxx checks the list.
 namespace rp {
 

@@ -10,7 +10,8 @@ namespace rp {
 
 bool ReadVolume(const std::string& path, ImageVolume& volume, std::string& error, const VolumeReadOptions& options,
                 std::vector<std::string>* warnings, const ProgressCallback& progress) {
-  RegisterImagingReaders();  // this library's DICOM reader, for the loader's answer
+  // What the loader says the path is; no reader (the imaging readers not registered by this
+  // program, or a DICOM file without a known extension) is a DICOM read too.
   const DataReader* reader = FindDataReader(path);
   if (!reader || reader == GetDicomDataReader()) {
     return ReadDicomVolume(path, volume, error, options.SeriesInstanceUID, options.Dicom, warnings, progress);

@@ -21,7 +21,8 @@ struct VolumeReadOptions {
 /// Reads a volume; `volume` is only assigned on success. What `path` is comes from the loader
 /// (rp::FindDataReader, rpDataLoader.h): DICOM (or what no reader claims: the DICOM scan says
 /// why it is not DICOM) is read as one series, a node file holding an image (IsVolumeFileName)
-/// as a volume file; anything else (a model, a scene, a DICOM SEG) is refused by name.
+/// as a volume file; anything else (a model, a scene, a DICOM SEG once RegisterImagingReaders
+/// ran) is refused by name.
 /// Scenes and nodes: rp::LoadPath.
 bool ReadVolume(const std::string& path, ImageVolume& volume, std::string& error,
                 const VolumeReadOptions& options = {}, std::vector<std::string>* warnings = nullptr,

@@ -75,6 +75,46 @@ void FindRuns(const T* in, int n, T value, std::vector<int>& runs) {
   }
 }
 
+// Constrains the field at samples that sit on voxel centres: labelled voxels stay inside the
+// surface, others outside. The blur smooths staircases; the constraint keeps one-voxel
+// structures (a single voxel, a one-voxel-thin plate) that a blur alone would erase.
+template <typename T>
+void ConstrainAtVoxelCentres(const T* voxels, const int dims[3], T value, const double gridStart[3],
+                             const double step[3], const int outDims[3], float* field) {
+  const size_t nxo = static_cast<size_t>(outDims[0]);
+  const size_t plane = nxo * static_cast<size_t>(outDims[1]);
+  auto onCentre = [](double p) { return std::abs(p - std::round(p)) < 1e-6; };
+  constexpr int NotCentre = std::numeric_limits<int>::min();
+  std::vector<int> centre[3];
+  for (int a = 0; a < 3; ++a) {
+    centre[a].assign(static_cast<size_t>(outDims[a]), NotCentre);
+    for (int o = 0; o < outDims[a]; ++o) {
+      const double p = gridStart[a] + o * step[a];
+      if (onCentre(p)) centre[a][static_cast<size_t>(o)] = static_cast<int>(std::lround(p));
+    }
+  }
+  const float high = 0.5f + GaussianConstraintMargin, low = 0.5f - GaussianConstraintMargin;
+  vtkSMPTools::For(0, outDims[2], [&](vtkIdType z0, vtkIdType z1) {
+    for (vtkIdType oz = z0; oz < z1; ++oz) {
+      const int k = centre[2][static_cast<size_t>(oz)];
+      if (k == NotCentre) continue;
+      for (int oy = 0; oy < outDims[1]; ++oy) {
+        const int j = centre[1][static_cast<size_t>(oy)];
+        if (j == NotCentre) continue;
+        float* out = field + static_cast<size_t>(oz) * plane + static_cast<size_t>(oy) * nxo;
+        const bool rowInside = k >= 0 && k < dims[2] && j >= 0 && j < dims[1];
+        const T* row = rowInside ? voxels + (static_cast<size_t>(k) * dims[1] + j) * dims[0] : nullptr;
+        for (size_t ox = 0; ox < nxo; ++ox) {
+          const int i = centre[0][ox];
+          if (i == NotCentre) continue;
+          const bool inside = row && i >= 0 && i < dims[0] && row[i] == value;
+          out[ox] = inside ? std::max(out[ox], high) : std::min(out[ox], low);
+        }
+      }
+    }
+  });
+}
+
 // Separable Gaussian resampling of the bounding box of `label` onto the contour grid.
 // Input range per axis = the label's bounds (the mask is zero elsewhere).
 template <typename T>
@@ -202,39 +242,7 @@ void GaussianResample(const T* voxels, const int dims[3], long label, const Labe
       }
     }
   });
-  // Constrain the field at samples that sit on voxel centres: labelled voxels stay inside the
-  // surface, others outside. The blur smooths staircases; the constraint keeps one-voxel
-  // structures (a single voxel, a one-voxel-thin plate) that a blur alone would erase.
-  auto onCentre = [](double p) { return std::abs(p - std::round(p)) < 1e-6; };
-  constexpr int NotCentre = std::numeric_limits<int>::min();
-  std::vector<int> centre[3];
-  for (int a = 0; a < 3; ++a) {
-    centre[a].assign(static_cast<size_t>(outDims[a]), NotCentre);
-    for (int o = 0; o < outDims[a]; ++o) {
-      const double p = gridStart[a] + o * step[a];
-      if (onCentre(p)) centre[a][static_cast<size_t>(o)] = static_cast<int>(std::lround(p));
-    }
-  }
-  const float high = 0.5f + GaussianConstraintMargin, low = 0.5f - GaussianConstraintMargin;
-  vtkSMPTools::For(0, outDims[2], [&](vtkIdType z0, vtkIdType z1) {
-    for (vtkIdType oz = z0; oz < z1; ++oz) {
-      const int k = centre[2][static_cast<size_t>(oz)];
-      if (k == NotCentre) continue;
-      for (int oy = 0; oy < outDims[1]; ++oy) {
-        const int j = centre[1][static_cast<size_t>(oy)];
-        if (j == NotCentre) continue;
-        float* out = field + static_cast<size_t>(oz) * plane + static_cast<size_t>(oy) * nxo;
-        const bool rowInside = k >= 0 && k < dims[2] && j >= 0 && j < dims[1];
-        const T* row = rowInside ? voxels + (static_cast<size_t>(k) * dims[1] + j) * dims[0] : nullptr;
-        for (size_t ox = 0; ox < nxo; ++ox) {
-          const int i = centre[0][ox];
-          if (i == NotCentre) continue;
-          const bool inside = row && i >= 0 && i < dims[0] && row[i] == value;
-          out[ox] = inside ? std::max(out[ox], high) : std::min(out[ox], low);
-        }
-      }
-    }
-  });
+  ConstrainAtVoxelCentres(voxels, dims, value, gridStart, step, outDims, field);
 }
 
 }  // namespace

@@ -94,26 +94,28 @@ bool ParseSize(const std::string& text, int& width, int& height) {
 }
 
 int RunScreenshot(CommandContext& context) {
+  std::ostream& out = *context.Out;  // the host's streams (a test may capture them)
+  std::ostream& err = *context.Err;
   ArgParser parser("screenshot", "Render a scene headless (offscreen) into one PNG: the views of a layout.");
   parser.Positional("files", "scene (*.rpscene, Slicer's *.mrml, *.mrb), data files or DICOM series folders to load", true, true)
       .Option("out", "png", "output PNG file")
       .Option("layout", "name", "4up | 3d | axial | sagittal | coronal (default: the scene's, else 4up)")
       .Option("size", "WxH", "image size in pixels", std::string("800x800"))
       .Option("slice-point", "R,A,S", "where the slices cut (default: centre of the first volume)");
-  if (const auto exitCode = parser.ParseCommand(context.Arguments, std::cout, std::cerr)) return *exitCode;
+  if (const auto exitCode = parser.ParseCommand(context.Arguments, out, err)) return *exitCode;
   ScreenshotOptions options;
   if (!parser.Has("out")) {
-    std::cerr << "roboplan screenshot: --out is required\n" << parser.Usage();
+    err << "roboplan screenshot: --out is required\n" << parser.Usage();
     return 2;
   }
   if (parser.Has("layout")) options.Layout = vtkRPLayoutNode::GetArrangementFromString(parser.Get("layout"));
   if (parser.Has("layout") && options.Layout < 0) {
-    std::cerr << "roboplan screenshot: unknown layout '" << parser.Get("layout") << "' (4up, 3d, axial, sagittal, coronal)\n";
+    err << "roboplan screenshot: unknown layout '" << parser.Get("layout") << "' (4up, 3d, axial, sagittal, coronal)\n";
     return 2;
   }
   if (!ParseSize(parser.Get("size"), options.Width, options.Height) || options.Width < 16 || options.Height < 16 ||
       options.Width > 8192 || options.Height > 8192) {
-    std::cerr << "roboplan screenshot: --size must be WxH with 16..8192 pixels, got '" << parser.Get("size") << "'\n";
+    err << "roboplan screenshot: --size must be WxH with 16..8192 pixels, got '" << parser.Get("size") << "'\n";
     return 2;
   }
   if (parser.Has("slice-point")) {
@@ -122,7 +124,7 @@ int RunScreenshot(CommandContext& context) {
       options.HasSlicePoint = true;
       for (int i = 0; i < 3; ++i) options.SlicePointRAS[i] = point[static_cast<size_t>(i)];
     } catch (const std::exception& e) {
-      std::cerr << "roboplan screenshot: " << e.what() << "\n";
+      err << "roboplan screenshot: " << e.what() << "\n";
       return 2;
     }
   }
@@ -131,20 +133,20 @@ int RunScreenshot(CommandContext& context) {
     std::string error;
     std::vector<std::string> warnings;
     if (!LoadSceneOrDataFile(scene, file, error, &warnings)) {
-      std::cerr << "roboplan screenshot: " << error << "\n";
+      err << "roboplan screenshot: " << error << "\n";
       return 1;
     }
-    for (const std::string& warning : warnings) std::cerr << "roboplan screenshot: warning: " << warning << "\n";
+    for (const std::string& warning : warnings) err << "roboplan screenshot: warning: " << warning << "\n";
   }
   std::string error;
   // $DISPLAY when it answers, else a private Xvfb for this process (rpXDisplay.h).
   if (!EnsureXDisplay(error)) {
-    std::cerr << "roboplan screenshot: " << error << "\n";
+    err << "roboplan screenshot: " << error << "\n";
     return 1;
   }
   ViewController controller(scene);
   if (!SaveScreenshot(controller, parser.Get("out"), options, error)) {
-    std::cerr << "roboplan screenshot: " << error << "\n";
+    err << "roboplan screenshot: " << error << "\n";
     return 1;
   }
   const int layout = options.Layout >= 0 ? options.Layout : controller.GetLayoutNode()->GetViewArrangement();
@@ -160,9 +162,9 @@ int RunScreenshot(CommandContext& context) {
       doc["background"] = {{"name", background->GetName()}, {"rasBounds", bounds},
                            {"window", background->GetWindow()}, {"level", background->GetLevel()}};
     }
-    std::cout << doc.dump(2) << "\n";
+    out << doc.dump(2) << "\n";
   } else {
-    std::cerr << "wrote " << parser.Get("out") << " (" << options.Width << "x" << options.Height << ", "
+    err << "wrote " << parser.Get("out") << " (" << options.Width << "x" << options.Height << ", "
               << vtkRPLayoutNode::GetArrangementAsString(layout) << ")\n";
   }
   return 0;

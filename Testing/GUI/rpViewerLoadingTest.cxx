@@ -24,6 +24,7 @@
 #include <vtkImageData.h>
 
 #include "rpDicomWriter.h"
+#include "rpImagingReaders.h"
 #include "rpImageVolume.h"
 #include "rpSceneIO.h"
 #include "qRPViewerMainWindow.h"
@@ -35,7 +36,9 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
+// The application, and the imaging readers its viewer module registers at Setup.
 QApplication& Application() {
+  rp::RegisterImagingReaders();
   static int argc = 1;
   static char name[] = "rpViewerLoadingTest";
   static char* argv[] = {name, nullptr};

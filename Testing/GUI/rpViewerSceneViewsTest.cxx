@@ -19,6 +19,7 @@
 #include <vtkTransform.h>
 #include <vtkTransformPolyDataFilter.h>
 
+#include "rpImagingReaders.h"
 #include "rpSceneIO.h"
 #include "rpScreenshot.h"
 #include "rpSharedData.h"
@@ -171,6 +172,7 @@ TEST(ViewerSceneViews, ASavedSceneReloadsWithItsSliceLayout) {
 TEST(ViewerSceneViews, ThreeDOfARealCTWithItsBoneModelIsReadable) {
   RP_REQUIRE_SHARED_DATA("knee-ct-vhf/dicom");
   const std::string dicom = rptest::SharedDataPath("knee-ct-vhf/dicom");
+  ASSERT_TRUE(rp::RegisterImagingReaders());  // as the viewer module's Setup does
   vtkNew<vtkRPScene> scene;
   std::string error;
   ASSERT_TRUE(LoadSceneOrDataFile(scene, dicom, error)) << error;

@@ -11,7 +11,7 @@ namespace rp {
 namespace {
 
 // The library's own readers (rpStorageFormats.cxx), then what others register (the imaging
-// readers: RegisterImagingReaders at start-up).
+// readers: RegisterImagingReaders, called in the Setup of each module that reads DICOM).
 struct Registry {
   std::mutex Mutex;
   std::vector<std::shared_ptr<DataReader>> Readers = BuiltInDataReaders();

@@ -23,6 +23,7 @@
 #include <vtkPointData.h>
 #include <vtkTransform.h>
 
+#include "rpImagingReaders.h"
 #include "rpSharedData.h"
 #include "rpSliceComposite.h"
 #include "rpViewerApplication.h"
@@ -135,6 +136,7 @@ vtkSmartPointer<vtkImageData> InIndexSpace(vtkImageData* image) {
 TEST(SliceComposite, MatchesVTKsResliceToColorsAndBlendOnTheRealKneeCT) {
   RP_REQUIRE_SHARED_DATA("knee-ct-vhf/dicom");
   RP_REQUIRE_SHARED_DATA("knee-ct-vhf/labels.nrrd");
+  ASSERT_TRUE(rp::RegisterImagingReaders());  // as the viewer module's Setup does
   vtkNew<vtkRPScene> scene;
   std::string error;
   ASSERT_TRUE(rp::LoadSceneOrDataFile(scene, rptest::SharedDataPath("knee-ct-vhf/dicom"), error)) << error;
@@ -258,6 +260,7 @@ TEST(SliceComposite, EightSamplesAtATimeGiveTheSameValuesAsOneAtATime) {
   // time: the same operations in the same order, so the same values. A table of 1/64 HU steps,
   // each entry its own colour, turns any difference in a sample into a different pixel.
   RP_REQUIRE_SHARED_DATA("knee-ct-vhf/dicom");
+  ASSERT_TRUE(rp::RegisterImagingReaders());  // as the viewer module's Setup does
   vtkNew<vtkRPScene> scene;
   std::string error;
   ASSERT_TRUE(rp::LoadSceneOrDataFile(scene, rptest::SharedDataPath("knee-ct-vhf/dicom"), error)) << error;

@@ -4,6 +4,7 @@
 #include <vtkNew.h>
 
 #include "rpDrillCommand.h"
+#include "rpImagingReaders.h"
 #include "rpModule.h"
 #include "vtkRPDrillingLogic.h"
 #ifdef ROBOPLAN_BUILD_GUI
@@ -16,7 +17,11 @@ class DrillingModule : public rp::Module {
  public:
   std::string Name() const override { return "Drilling"; }
   std::string Title() const override { return "Drilling"; }
-  void Setup(vtkRPScene* scene) override { this->LogicObject->SetScene(scene); }
+  // What this module registers: the imaging readers (a DICOM SEG or a DICOM CT through the loader).
+  void Setup(vtkRPScene* scene) override {
+    rp::RegisterImagingReaders();
+    this->LogicObject->SetScene(scene);
+  }
   vtkObject* Logic() override { return this->LogicObject; }
   QWidget* CreatePanel(QWidget* parent) override {
 #ifdef ROBOPLAN_BUILD_GUI

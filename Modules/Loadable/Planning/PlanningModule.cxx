@@ -1,10 +1,9 @@
 // The Planning module: plans as scene nodes (trajectories, screws, cut planes, structures at
 // risk), checked against the CT before anything is cut. Logic: vtkRPPlanningLogic; panel:
 // qRPPlanningPanel; CLI: roboplan plan.
-#include <iostream>
-
 #include <vtkSmartPointer.h>
 
+#include "rpImagingReaders.h"
 #include "rpModule.h"
 #include "rpPlanCommand.h"
 #include "vtkRPPlanningLogic.h"
@@ -17,7 +16,9 @@ class PlanningModule : public rp::Module {
  public:
   std::string Name() const override { return "Planning"; }
   std::string Title() const override { return "Planning"; }
+  // What this module registers: the imaging readers (`plan --ct` reads DICOM through the loader).
   void Setup(vtkRPScene* scene) override {
+    rp::RegisterImagingReaders();
     this->LogicObject = vtkSmartPointer<vtkRPPlanningLogic>::New();
     this->LogicObject->SetScene(scene);
   }
@@ -33,7 +34,7 @@ class PlanningModule : public rp::Module {
   std::vector<rp::Command> Commands() override {
     return {{"plan", "plan trajectories, screws and cut planes; check them against the CT and the structures at risk; "
                      "propose an entry",
-             [](rp::CommandContext& c) { return rp::RunPlanCommand(c.Arguments, std::cout, std::cerr); }}};
+             [](rp::CommandContext& c) { return rp::RunPlanCommand(c.Arguments, *c.Out, *c.Err); }}};
   }
 
  private:

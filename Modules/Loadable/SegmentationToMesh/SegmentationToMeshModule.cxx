@@ -5,6 +5,7 @@
 #include <vtkNew.h>
 
 #include "rpMeshCommand.h"
+#include "rpImagingReaders.h"
 #include "rpModule.h"
 #include "vtkRPSegmentationToMeshLogic.h"
 #ifdef ROBOPLAN_BUILD_GUI
@@ -19,7 +20,11 @@ class SegmentationToMeshModule : public rp::Module {
  public:
   std::string Name() const override { return "SegmentationToMesh"; }
   std::string Title() const override { return "Segmentation to Mesh"; }
-  void Setup(vtkRPScene* scene) override { this->LogicObject->SetScene(scene); }
+  // What this module registers: the imaging readers (it reads DICOM through the loader).
+  void Setup(vtkRPScene* scene) override {
+    rp::RegisterImagingReaders();
+    this->LogicObject->SetScene(scene);
+  }
   vtkObject* Logic() override { return this->LogicObject; }
   QWidget* CreatePanel(QWidget* parent) override {
 #ifdef ROBOPLAN_BUILD_GUI

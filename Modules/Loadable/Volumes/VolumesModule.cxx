@@ -3,6 +3,7 @@
 
 #include <vtkSmartPointer.h>
 
+#include "rpImagingReaders.h"
 #include "rpModule.h"
 #include "rpVolumesCommands.h"
 #include "vtkRPVolumesLogic.h"
@@ -12,7 +13,9 @@ class VolumesModule : public rp::Module {
  public:
   std::string Name() const override { return "Volumes"; }
   std::string Title() const override { return "Volumes"; }
+  // What this module registers: the imaging readers (it reads DICOM through the loader).
   void Setup(vtkRPScene* scene) override {
+    rp::RegisterImagingReaders();
     this->LogicObject = vtkSmartPointer<vtkRPVolumesLogic>::New();
     this->LogicObject->SetScene(scene);
   }

@@ -124,11 +124,16 @@ void DicomRoundTrip(DemoState& state) {
       if (series.Problem.empty() && (!chosen || series.Files.size() > chosen->Files.size())) chosen = &series;
     }
     if (!chosen) throw std::runtime_error("no loadable image series in '" + state.Options.DicomData + "'");
-    ImageVolume ct;
+    // Read through the Volumes logic (the loader's DICOM reader), as register-volumes and the
+    // viewer's loader read a series.
+    vtkNew<vtkRPVolumesLogic> volumes;
+    volumes->SetScene(state.Scene);
+    VolumeReadOptions read;
+    read.SeriesInstanceUID = chosen->StackID;
     std::vector<std::string> warnings;
-    if (!ReadDicomSeries(*chosen, ct, error, {}, &warnings, StageProgress(state))) throw std::runtime_error(error);
+    state.CT = volumes->LoadVolume(state.Options.DicomData, "CT", error, read, StageProgress(state), &warnings);
+    if (!state.CT) throw std::runtime_error(error);
     for (const auto& w : warnings) state.Report->AddNote("DICOM: " + w);
-    state.CT = AddVolumeNode(state, ct, "CT");
     state.Report->AddFigure(stage, "slices read", double(chosen->Files.size()), "",
                             chosen->Modality + " " + chosen->SeriesDescription);
     return;

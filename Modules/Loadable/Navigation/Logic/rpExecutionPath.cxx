@@ -52,49 +52,58 @@ bool ReadDrillRecordingPath(const std::string& file, ExecutionPath& path, std::s
   return true;
 }
 
-bool ReadPlusPath(const std::string& file, const ExecutionPathOptions& options, ExecutionPath& path, std::string& error) {
-  if (options.Transform.empty()) {
-    error = "'" + file + "' is a PLUS sequence: name the transform to follow (e.g. --transform StylusTipToReference)";
-    return false;
-  }
-  std::string from, to;
-  if (!SplitTransformName(options.Transform, from, to, error)) {
-    error = "--transform " + options.Transform + ": " + error;
-    return false;
-  }
-  PlusSequence sequence;
+// A PLUS sequence's transform repository: the configuration's CoordinateDefinitions are its fixed
+// links, every transform the recording holds a live one (as PLUS's repository takes a frame);
+// `live` gives each sequence transform's edge (-1: left out, it would close a loop).
+bool BuildSequenceRepository(const std::string& file, const std::string& configurationFile, PlusSequence& sequence,
+                             TransformRepository& repository, std::vector<int>& live, std::string& error) {
   try {
     sequence = ReadPlusSequence(file);
   } catch (const std::exception& e) {
     error = e.what();
     return false;
   }
-  TransformRepository repository;
-  if (!options.Configuration.empty()) {
+  if (!configurationFile.empty()) {
     plus::Configuration configuration;
-    if (!plus::ReadConfiguration(options.Configuration, {}, configuration, error)) return false;
+    if (!plus::ReadConfiguration(configurationFile, {}, configuration, error)) return false;
     std::vector<int> edges;
     std::vector<plus::Refusal> refused;
     BuildRepository(configuration, nullptr, repository, edges, refused);
     for (const plus::Refusal& r : refused) {
-      error = options.Configuration + ": " + r.What + ": " + r.Why;
+      error = configurationFile + ": " + r.What + ": " + r.Why;
       return false;
     }
   }
-  // Every transform the recording holds is a live link (as PLUS's repository takes a frame).
-  std::vector<int> live(sequence.TransformNames.size(), -1);
+  live.assign(sequence.TransformNames.size(), -1);
   for (size_t i = 0; i < sequence.TransformNames.size(); ++i) {
     std::string a, b, why;
     if (!SplitTransformName(sequence.TransformNames[i], a, b, why)) continue;
-    live[i] = repository.DeclareLive(a, b, why);  // -1 when it would close a loop: left out
+    live[i] = repository.DeclareLive(a, b, why);
   }
+  return true;
+}
+
+bool ReadPlusPath(const std::string& file, const ExecutionPathOptions& options, ExecutionPath& path, std::string& error) {
+  if (options.Transform.empty()) {
+    error = "'" + file + "' is a PLUS sequence: name the transform to follow (e.g. StylusTipToReference)";
+    return false;
+  }
+  std::string from, to;
+  if (!SplitTransformName(options.Transform, from, to, error)) {
+    error = "the transform '" + options.Transform + "': " + error;
+    return false;
+  }
+  PlusSequence sequence;
+  TransformRepository repository;
+  std::vector<int> live;
+  if (!BuildSequenceRepository(file, options.Configuration, sequence, repository, live, error)) return false;
   const int route = repository.Prepare(from, to);
   path.Chain = repository.Describe(route);
   if (path.Chain.empty()) {
     std::string names;
     for (const std::string& n : sequence.TransformNames) names += (names.empty() ? "" : ", ") + n;
     error = "'" + file + "': " + options.Transform + " cannot be computed from its transforms (" + names + ")" +
-            (options.Configuration.empty() ? " without a PLUS configuration (--config) giving the fixed ones"
+            (options.Configuration.empty() ? " without a PLUS configuration giving the fixed ones (e.g. StylusTipToStylus)"
                                            : " and the configuration's CoordinateDefinitions");
     return false;
   }
@@ -185,6 +194,26 @@ bool ReadExecutionPath(const std::string& file, const ExecutionPathOptions& opti
   error = "'" + file + "' is not a path RoboPlan scores: a drilling recording ('# RoboPlan drill recording'), a PLUS "
           "sequence (.igs.mha, .mha, .mhd, .nrrd) or a CSV with the header R,A,S";
   return false;
+}
+
+bool ListPathTransforms(const std::string& file, const std::string& configuration, std::vector<std::string>& names,
+                        std::string& error) {
+  names.clear();
+  if (!IsPlusSequenceFileName(file)) return true;  // a recording or a CSV: no transform to choose
+  PlusSequence sequence;
+  TransformRepository repository;
+  std::vector<int> live;
+  if (!BuildSequenceRepository(file, configuration, sequence, repository, live, error)) return false;
+  std::vector<std::string> tips, others;
+  const std::vector<std::string>& frames = repository.Frames();
+  for (const std::string& from : frames)
+    for (const std::string& to : frames) {
+      if (from == to || repository.Describe(repository.Prepare(from, to)).empty()) continue;
+      (from.find("Tip") != std::string::npos ? tips : others).push_back(from + "To" + to);
+    }
+  names = tips;
+  names.insert(names.end(), others.begin(), others.end());
+  return true;
 }
 
 }  // namespace rp

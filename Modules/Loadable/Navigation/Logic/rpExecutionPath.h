@@ -34,4 +34,10 @@ struct ExecutionPath {
 bool ReadExecutionPath(const std::string& file, const ExecutionPathOptions& options, ExecutionPath& path,
                        std::string& error);
 
+/// The transforms a PLUS sequence can be followed through (with the configuration's fixed ones):
+/// every connected frame pair "<From>To<To>", those from a tool tip first (what a score follows).
+/// Empty for a file that is not a PLUS sequence. False with `error` naming the file.
+bool ListPathTransforms(const std::string& file, const std::string& configuration, std::vector<std::string>& names,
+                        std::string& error);
+
 }  // namespace rp

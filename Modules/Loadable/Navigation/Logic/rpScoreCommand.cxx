@@ -1,21 +1,17 @@
 #include "rpScoreCommand.h"
 
-#include <cmath>
 #include <cstdio>
-#include <memory>
 #include <stdexcept>
 
-#include <nlohmann/json.hpp>
 #include <vtkNew.h>
 #include <vtkPolyData.h>
 
 #include "rpArgParser.h"
-#include "rpBenchmarkChart.h"
-#include "rpExecutionPath.h"
-#include "rpExecutionScoreJson.h"
-#include "rpGuidedDrill.h"
+#include "rpDataLoader.h"
 #include "rpModelIO.h"
-#include "rpPolyDataTriangleMesh.h"
+#include "rpScoredExecution.h"
+#include "vtkRPModelNode.h"
+#include "vtkRPNavigationLogic.h"
 #include "vtkRPScene.h"
 
 namespace rp {
@@ -34,10 +30,10 @@ const char* const Summary =
     "structure at risk of the plan, and the volume the tool swept outside the plan's cylinder (with a tool "
     "radius: the recording's burr, or --tool-radius).";
 
-struct ScoreRequest {
-  std::string Plan, Path, Trajectory, Bone, Chart, Csv;
-  ExecutionPathOptions PathOptions;
-  double ToolRadius = -1;  // < 0: the recording's (a tip: 0)
+// The command's arguments: the plan and bone files, the figures, and the logic's request.
+struct ScoreArguments {
+  std::string Plan, Bone, Chart, Csv;
+  ScoreRequest Request;
 };
 
 void DeclareOptions(ArgParser& parser) {
@@ -57,17 +53,17 @@ void DeclareOptions(ArgParser& parser) {
       .Option("csv", "FILE.csv", "write the deviation along depth as a table (depthMm, deviationMm)");
 }
 
-bool ParseRequest(const ArgParser& parser, ScoreRequest& q, std::ostream& err) {
+bool ParseRequest(const ArgParser& parser, ScoreArguments& q, std::ostream& err) {
   q.Plan = parser.Get("plan");
-  q.Path = parser.Get("path");
-  q.Trajectory = parser.Get("trajectory");
   q.Bone = parser.Get("bone");
   q.Chart = parser.Get("chart");
   q.Csv = parser.Get("csv");
-  q.PathOptions.Transform = parser.Get("transform");
-  q.PathOptions.Configuration = parser.Get("configuration");
+  q.Request.PathFile = parser.Get("path");
+  q.Request.Trajectory = parser.Get("trajectory");
+  q.Request.PathOptions.Transform = parser.Get("transform");
+  q.Request.PathOptions.Configuration = parser.Get("configuration");
   try {
-    if (parser.Has("tool-radius")) q.ToolRadius = parser.GetDouble("tool-radius");
+    if (parser.Has("tool-radius")) q.Request.ToolRadiusMm = parser.GetDouble("tool-radius");
   } catch (const std::invalid_argument& e) {
     err << "roboplan score: " << e.what() << "\n";
     return false;
@@ -80,86 +76,43 @@ int Fail(std::ostream& err, const std::string& message) {
   return 1;
 }
 
-// The bone's closed surface for the breach.
-bool LoadBone(const std::string& file, MeshSignedDistance& bone, std::string& error) {
-  vtkNew<vtkPolyData> polyData;
-  TriangleMesh mesh;
-  if (!ReadModelFile(file, polyData, error) || !PolyDataToTriangleMesh(polyData, nullptr, mesh, error)) {
-    error = "--bone " + file + ": " + error;
-    return false;
-  }
-  if (!bone.Build(mesh, error)) {
-    error = "--bone " + file + ": " + error + " (the breach needs a closed surface)";
-    return false;
-  }
-  return true;
-}
-
-// What the scoring used and made, for the report.
-struct ScoreRun {
-  std::shared_ptr<const PlanSnapshot> Plan;
-  TrajectorySnapshot Trajectory;
-  ExecutionPath Path;
-  MeshSignedDistance Bone;
-  ExecutionInput Input;
-  ExecutionScore Score;
-};
-
-int Score(const ScoreRequest& q, ScoreRun& run, std::ostream& err) {
-  std::string error;
+// Parse -> the Navigation logic -> report: the plan file (and the bone) loaded into a scene of
+// its own, scored by vtkRPNavigationLogic as the panel scores the viewer's scene.
+int Score(const ScoreArguments& q, ScoredExecution& run, std::ostream& err) {
   vtkNew<vtkRPScene> scene;
-  run.Plan = LoadPlan(scene, q.Plan, error);
-  const TrajectorySnapshot* t = run.Plan ? ChooseTrajectory(*run.Plan, q.Trajectory, error) : nullptr;
-  if (!t) return Fail(err, "--plan " + q.Plan + ": " + error);
-  run.Trajectory = *t;
-  if (!ReadExecutionPath(q.Path, q.PathOptions, run.Path, error)) return Fail(err, "--path: " + error);
-  if (!q.Bone.empty() && !LoadBone(q.Bone, run.Bone, error)) return Fail(err, error);
-  ExecutionInput& input = run.Input;
-  if (!TrajectoryAxis::Make(t->Entry, t->Target, input.Plan, error)) return Fail(err, "--plan " + q.Plan + ": " + error);
-  input.PlanDiameterMm = t->ToolDiameterMm;
-  input.ToolRadiusMm = q.ToolRadius >= 0 ? q.ToolRadius : run.Path.ToolRadiusMm;
-  input.Path = run.Path.Points;
-  input.Bone = q.Bone.empty() ? nullptr : &run.Bone;
-  input.Structures = ScoredStructuresOf(*run.Plan);
-  if (!ScoreExecution(input, run.Score, error)) return Fail(err, "scoring " + q.Path + ": " + error);
+  const LoadResult plan = LoadPath(scene, q.Plan);
+  if (!plan.Ok) return Fail(err, "--plan " + q.Plan + ": " + plan.Error);
+  ScoreRequest request = q.Request;
+  if (!q.Bone.empty()) {
+    vtkNew<vtkPolyData> polyData;
+    std::string error;
+    if (!ReadModelFile(q.Bone, polyData, error)) return Fail(err, "--bone " + q.Bone + ": " + error);
+    vtkNew<vtkRPModelNode> bone;
+    bone->SetName(q.Bone);
+    bone->SetPolyData(polyData);
+    scene->AddNode(bone);
+    request.BoneModelNodeID = bone->GetID();
+  }
+  vtkNew<vtkRPNavigationLogic> logic;
+  logic->SetScene(scene);
+  std::string error;
+  if (!logic->PrepareScore(request, run, error)) return Fail(err, "--plan " + q.Plan + ": " + error);
+  if (!RunScore(run, error)) return Fail(err, error);
+  for (const std::string& warning : run.Warnings) err << "roboplan score: warning: " << warning << "\n";
   return 0;
 }
 
 // The deviation along depth as a table and a chart, when asked; a figure that cannot be written
 // is an error (exit 1) after the scores are printed.
-bool WriteFigures(const ScoreRequest& q, const ExecutionScore& score, std::ostream& err) {
-  std::vector<double> depth, deviation;
-  std::vector<std::vector<double>> rows;
-  for (const DeviationSample& d : score.DeviationAlongDepth) {
-    depth.push_back(d.DepthMm);
-    deviation.push_back(d.DeviationMm);
-    rows.push_back({d.DepthMm, d.DeviationMm});
-  }
+bool WriteFigures(const ScoreArguments& q, const ExecutionScore& score, std::ostream& err) {
   bool ok = true;
   std::string error;
-  if (!q.Csv.empty() && !bench::WriteCSV(q.Csv, {"depthMm", "deviationMm"}, rows, error)) ok = Fail(err, error) == 0;
-  if (!q.Chart.empty()) {
-    bench::ChartOptions options;
-    options.Title = "Deviation from the planned axis along depth";
-    options.XLabel = "depth along the plan (mm)";
-    options.YLabel = "deviation (mm)";
-    if (!bench::WriteChartPNG(q.Chart, {{"deviation", depth, deviation, false}}, options, error)) ok = Fail(err, error) == 0;
-  }
+  if (!q.Csv.empty() && !WriteDeviationCsv(score, q.Csv, error)) ok = Fail(err, error) == 0;
+  if (!q.Chart.empty() && !WriteDeviationChart(score, q.Chart, error)) ok = Fail(err, error) == 0;
   return ok;
 }
 
-nlohmann::json ScoreJson(const ScoreRequest& q, const ScoreRun& run) {
-  nlohmann::json doc = ExecutionScoreJson(run.Score);
-  const TrajectorySnapshot& t = run.Trajectory;
-  auto point = [](const Vec3& p) { return nlohmann::json::array({p.x, p.y, p.z}); };
-  doc["plan"] = {{"file", q.Plan}, {"trajectory", t.Name}, {"entry", point(t.Entry)}, {"target", point(t.Target)},
-                 {"toolDiameterMm", t.ToolDiameterMm}};
-  doc["path"] = {{"file", q.Path},         {"kind", run.Path.Kind},       {"samples", run.Path.Samples},
-                 {"skipped", run.Path.Skipped}, {"transform", run.Path.Chain}, {"toolRadiusMm", run.Input.ToolRadiusMm}};
-  return doc;
-}
-
-void ReportText(const ScoreRun& run, std::ostream& out) {
+void ReportText(const ScoredExecution& run, std::ostream& out) {
   const ExecutionScore& s = run.Score;
   char line[256];
   std::snprintf(line, sizeof line, "%s (%zu points of %zu) against '%s':\n", run.Path.Kind.c_str(), run.Path.Points.size(),
@@ -192,12 +145,12 @@ int RunScoreCommand(const std::vector<std::string>& arguments, std::ostream& out
   ArgParser parser("score", Summary);
   DeclareOptions(parser);
   if (const auto exitCode = parser.ParseCommand(arguments, out, err)) return *exitCode;
-  ScoreRequest q;
+  ScoreArguments q;
   if (!ParseRequest(parser, q, err)) return 2;
-  ScoreRun run;
+  ScoredExecution run;
   if (const int code = Score(q, run, err)) return code;
   if (parser.Json()) {
-    out << ScoreJson(q, run).dump(2) << "\n";
+    out << ScoredExecutionJson(run, q.Plan) << "\n";
   } else {
     ReportText(run, out);
   }

@@ -12,7 +12,9 @@
 #include <vtkStaticCellLocator.h>
 #include <vtkTriangle.h>
 
+#include "rpGuidedDrill.h"
 #include "rpIgtlOutbox.h"
+#include "rpPolyDataTriangleMesh.h"
 #include "rpIgtlServer.h"
 #include "vtkRPModelNode.h"
 #include "vtkRPPlanningLogic.h"
@@ -59,6 +61,45 @@ void vtkRPNavigationLogic::SetTargetModelNodeIDs(const std::vector<std::string>&
 void vtkRPNavigationLogic::SetTrajectoryNodeID(const std::string& id) {
   this->TrajectoryNodeID = id;
   this->Modified();
+}
+
+bool vtkRPNavigationLogic::PrepareScore(const rp::ScoreRequest& request, rp::ScoredExecution& job, std::string& error) {
+  job.Request = request;
+  if (!this->Scene) {
+    error = "no scene";
+    return false;
+  }
+  job.Plan = this->Planning->MakePlanSnapshot(error);
+  if (!job.Plan) return false;
+  if (job.Plan->Trajectories.empty()) {
+    error = "the scene holds no complete trajectory (a Slicer markups line: entry and target)";
+    return false;
+  }
+  const rp::TrajectorySnapshot* trajectory = rp::ChooseTrajectory(*job.Plan, request.Trajectory, error);
+  if (!trajectory) return false;
+  job.Trajectory = *trajectory;
+  job.BoneName.clear();
+  job.BoneSurface.reset();
+  if (request.BoneModelNodeID.empty()) return true;
+  auto* bone = vtkRPModelNode::SafeDownCast(this->Scene->GetNodeByID(request.BoneModelNodeID));
+  if (!bone) {
+    error = "the scene has no model '" + request.BoneModelNodeID + "' for the bone";
+    return false;
+  }
+  vtkNew<vtkMatrix4x4> toWorld;
+  bone->GetMatrixTransformToWorld(toWorld);
+  auto surface = std::make_shared<rp::TriangleMesh>();
+  if (!rp::PolyDataToTriangleMesh(bone->GetPolyData(), toWorld, *surface, error)) {
+    error = "the bone '" + bone->GetName() + "' has no surface: " + error;
+    return false;
+  }
+  job.BoneName = bone->GetName();
+  job.BoneSurface = std::move(surface);
+  return true;
+}
+
+bool vtkRPNavigationLogic::ScoreExecution(const rp::ScoreRequest& request, rp::ScoredExecution& result, std::string& error) {
+  return this->PrepareScore(request, result, error) && rp::RunScore(result, error);
 }
 
 void vtkRPNavigationLogic::UpdateReadout(vtkRPTransformableNode* tool) {

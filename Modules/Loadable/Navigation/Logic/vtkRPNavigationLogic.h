@@ -23,6 +23,7 @@
 
 #include "rpGuidanceReadout.h"
 #include "rpPlanSnapshot.h"
+#include "rpScoredExecution.h"
 
 class vtkRPScene;
 class vtkRPModelNode;
@@ -72,6 +73,16 @@ class vtkRPNavigationLogic : public vtkObject {
   /// The port served (0: none) and the clients connected.
   int GetReadoutServerPort() const;
   int GetReadoutClientCount() const;
+  /// Scores an execution against a trajectory of the scene (issue 38; `roboplan score` and the
+  /// panel): the path file read (a drilling recording, a PLUS sequence through a transform, a CSV
+  /// R,A,S), scored against the trajectory (rpExecutionScore.h), the bone model's surface for the
+  /// breach, the scene's structures at risk for the clearance. False with `error`; the scene is
+  /// not changed either way.
+  bool ScoreExecution(const rp::ScoreRequest& request, rp::ScoredExecution& result, std::string& error);
+  /// Its first half, on the main thread: the scene's plan and the bone's surface taken into `job`,
+  /// so that rp::RunScore(job) may run on another thread (the panel keeps its window live).
+  bool PrepareScore(const rp::ScoreRequest& request, rp::ScoredExecution& job, std::string& error);
+
   vtkSetMacro(WarningDistance, double);
   vtkGetMacro(WarningDistance, double);
 

@@ -6,6 +6,7 @@
 
 #include <Eigen/Dense>
 #include <nlohmann/json.hpp>
+#include <vtkMatrix4x4.h>
 #include <vtkNew.h>
 #include <vtkSphereSource.h>
 #include <cmath>
@@ -21,6 +22,7 @@
 #include "rpGuidanceReadout.h"
 #include "rpNodeStorage.h"
 #include "rpScoreCommand.h"
+#include "rpScoredExecution.h"
 #include "rpSharedData.h"
 #include "vtkRPLinearTransformNode.h"
 #include "vtkRPModelNode.h"
@@ -42,6 +44,16 @@ std::string TempFile(const std::string& name, const std::string& text) {
 }
 
 using rptest::Axis;
+
+// A CSV of tip points from 1 mm right of (10, 20, 30) down −S, tilted by θ towards R, `run` mm long.
+std::string TiltedPath(const std::string& name, double theta, double run) {
+  std::ostringstream csv;
+  csv.precision(17);
+  csv << "R,A,S\n";
+  for (double s = 0; s <= run + 1e-9; s += 0.25)
+    csv << 10 + 1 + s * std::sin(theta) << "," << 20 << "," << 30 - s * std::cos(theta) << "\n";
+  return TempFile(name, csv.str());
+}
 
 TEST(GuidanceReadout, EntryErrorAngleDepthAndTheToolInTheTrajectorysFrame) {
   const rp::TrajectoryAxis plan = Axis({5, 6, 7}, {5, 6, -33});  // straight down, 40 mm
@@ -305,12 +317,7 @@ TEST(ScoreCommand, ACsvPathOffsetAndTiltedGivesTheClosedFormsInJson) {
   std::string error;
   const rp::NodeStorage* storage = rp::FindNodeStorageForFile(plan);
   ASSERT_TRUE(storage && storage->Write(trajectory, plan, error)) << error;
-  std::ostringstream csv;
-  csv.precision(17);
-  csv << "R,A,S\n";
-  for (double s = 0; s <= run + 1e-9; s += 0.25)
-    csv << 10 + 1 + s * std::sin(theta) << "," << 20 << "," << 30 - s * std::cos(theta) << "\n";
-  const std::string path = TempFile("tilted.csv", csv.str());
+  const std::string path = TiltedPath("tilted.csv", theta, run);
   const std::string table = (std::filesystem::temp_directory_path() / "rpGuidanceTest-deviation.csv").string();
   std::ostringstream out, err;
   ASSERT_EQ(rp::RunScoreCommand({"--plan", plan, "--path", path, "--csv", table, "--json"}, out, err), 0) << err.str();
@@ -336,6 +343,91 @@ TEST(ScoreCommand, ACsvPathOffsetAndTiltedGivesTheClosedFormsInJson) {
   EXPECT_NE(err3.str().find("--plan"), std::string::npos) << err3.str();
   std::ostringstream err4;
   EXPECT_EQ(rp::RunScoreCommand({"--plan", plan}, out, err4), 2);
+}
+
+// The Navigation logic scores an execution against a trajectory of the scene (what `roboplan score`
+// and the panel call): the figures the command prints for the same plan and path; the bone is a
+// model of the scene in world RAS (its parent transform followed: a ball under a transform scores
+// as the same ball moved there); bad input named, the scene unchanged.
+TEST(ScoreLogic, ScoresATrajectoryOfTheSceneAsTheCommandDoes) {
+  const double length = 40, theta = 2 * M_PI / 180, run = 42;
+  const double entry[3] = {10, 20, 30}, target[3] = {10, 20, 30 - length};
+  vtkNew<vtkRPScene> scene;
+  vtkNew<vtkRPTrajectoryNode> trajectory;
+  trajectory->SetEntryAndTarget(entry, target);
+  trajectory->SetToolDiameterMm(3);
+  trajectory->SetName("tunnel");
+  scene->AddNode(trajectory);
+  const std::string path = TiltedPath("logic.csv", theta, run);
+  vtkNew<vtkRPNavigationLogic> logic;
+  logic->SetScene(scene);
+  rp::ScoreRequest request;
+  request.PathFile = path;
+  rp::ScoredExecution scored;
+  std::string error;
+  ASSERT_TRUE(logic->ScoreExecution(request, scored, error)) << error;
+  EXPECT_NEAR(scored.Score.EntryOffsetMm, 1, 1e-9);
+  EXPECT_NEAR(scored.Score.TipOffsetMm, 1 + length * std::tan(theta), 1e-9);
+  EXPECT_NEAR(scored.Score.AngleDeg, 2, 1e-9);
+  EXPECT_TRUE(scored.Warnings.empty());
+  EXPECT_FALSE(scored.Score.HasBreach);
+
+  // Named as the node (a Slicer markups file loads as a node named after the file).
+  const auto planDir = std::filesystem::temp_directory_path() / "rpGuidanceTest-logic";
+  std::filesystem::create_directories(planDir);
+  const std::string plan = (planDir / "tunnel.mrk.json").string();
+  const rp::NodeStorage* storage = rp::FindNodeStorageForFile(plan);
+  ASSERT_TRUE(storage && storage->Write(trajectory, plan, error)) << error;
+  std::ostringstream out, err;
+  ASSERT_EQ(rp::RunScoreCommand({"--plan", plan, "--path", path, "--json"}, out, err), 0) << err.str();
+  nlohmann::json command = nlohmann::json::parse(out.str()), logicJson = nlohmann::json::parse(rp::ScoredExecutionJson(scored, plan));
+  EXPECT_EQ(logicJson, command);
+
+  // The bone: a ball of radius 30 about the plan's middle, once built there and once built at the
+  // origin under a transform that moves it there: the same breach figures.
+  auto ball = [&](const double center[3]) {
+    vtkNew<vtkSphereSource> sphere;
+    sphere->SetCenter(center[0], center[1], center[2]);
+    sphere->SetRadius(30);
+    sphere->SetThetaResolution(32);
+    sphere->SetPhiResolution(32);
+    sphere->Update();
+    vtkSmartPointer<vtkRPModelNode> model = vtkSmartPointer<vtkRPModelNode>::New();
+    model->SetPolyData(sphere->GetOutput());
+    scene->AddNode(model);
+    return model;
+  };
+  const double middle[3] = {10, 20, 10}, origin[3] = {0, 0, 0};
+  vtkSmartPointer<vtkRPModelNode> placed = ball(middle), moved = ball(origin);
+  vtkNew<vtkRPLinearTransformNode> move;
+  vtkNew<vtkMatrix4x4> m;
+  for (int i = 0; i < 3; ++i) m->SetElement(i, 3, middle[i]);
+  move->SetMatrixTransformToParent(m);
+  scene->AddNode(move);
+  moved->SetAndObserveTransformNodeID(move->GetID());
+  rp::ScoredExecution a, b;
+  request.BoneModelNodeID = placed->GetID();
+  ASSERT_TRUE(logic->ScoreExecution(request, a, error)) << error;
+  request.BoneModelNodeID = moved->GetID();
+  ASSERT_TRUE(logic->ScoreExecution(request, b, error)) << error;
+  ASSERT_TRUE(a.Score.HasBreach && b.Score.HasBreach);
+  EXPECT_NEAR(a.Score.BreachMm, b.Score.BreachMm, 1e-9);
+  EXPECT_NEAR(a.Score.BreachDepthMm, b.Score.BreachDepthMm, 1e-9);
+
+  // Bad input: named; the scene keeps its nodes.
+  const int nodes = scene->GetNumberOfNodes();
+  request.BoneModelNodeID = "vtkRPModelNode404";
+  EXPECT_FALSE(logic->ScoreExecution(request, a, error));
+  EXPECT_NE(error.find("no model 'vtkRPModelNode404'"), std::string::npos) << error;
+  request.BoneModelNodeID.clear();
+  request.Trajectory = "screw";
+  EXPECT_FALSE(logic->ScoreExecution(request, a, error));
+  EXPECT_NE(error.find("no trajectory 'screw' (it has: 'tunnel')"), std::string::npos) << error;
+  request.Trajectory.clear();
+  request.PathFile = TempFile("logic-one.csv", "R,A,S\n1,2,3\n");
+  EXPECT_FALSE(logic->ScoreExecution(request, a, error));
+  EXPECT_NE(error.find("fewer than two distinct points"), std::string::npos) << error;
+  EXPECT_EQ(scene->GetNumberOfNodes(), nodes);
 }
 
 }  // namespace

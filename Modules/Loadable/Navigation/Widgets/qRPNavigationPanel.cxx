@@ -11,6 +11,7 @@
 #include <QSpinBox>
 #include <QDoubleSpinBox>
 #include <QFormLayout>
+#include <QGroupBox>
 #include <QHBoxLayout>
 #include <QSignalBlocker>
 #include <QLabel>
@@ -20,6 +21,7 @@
 #include <QVBoxLayout>
 
 
+#include "qRPScorePanel.h"
 #include "qRPSliceFollowCheckBox.h"
 #include "rpSceneNodesWatch.h"
 #include "rpTargetView.h"
@@ -95,6 +97,11 @@ qRPNavigationPanel::qRPNavigationPanel(vtkRPNavigationLogic* logic, QWidget* par
   this->TargetPicture->setToolTip("Target view (the plan seen from the entry, rings 1, 2, 5 mm), and the volume along and "
                                   "across the plan at the tool tip");
   layout->addWidget(this->TargetPicture);
+  auto* scoreGroup = new QGroupBox("Score an execution against its plan");
+  auto* scoreLayout = new QVBoxLayout(scoreGroup);
+  this->Score = new qRPScorePanel(logic);
+  scoreLayout->addWidget(this->Score);
+  layout->addWidget(scoreGroup);
   this->Picture = std::make_unique<rp::TargetViewPicture>();
   connect(this->Stream, &QCheckBox::toggled, this, &qRPNavigationPanel::ToggleStream);
   connect(this->Volume, QOverload<int>::of(&QComboBox::currentIndexChanged), this, [this](int) {
@@ -108,7 +115,10 @@ qRPNavigationPanel::qRPNavigationPanel(vtkRPNavigationLogic* logic, QWidget* par
     if (!this->Refreshing) this->Update();
   });
   connect(this->Trajectory, QOverload<int>::of(&QComboBox::currentIndexChanged), this, [this](int) {
-    if (!this->Refreshing) this->Update();
+    if (this->Refreshing) return;
+    this->Update();
+    const int scored = this->Score->TrajectoryCombo->findData(this->Trajectory->currentData());
+    if (scored >= 0 && !this->Trajectory->currentData().toString().isEmpty()) this->Score->TrajectoryCombo->setCurrentIndex(scored);
   });
   connect(this->Models, &QListWidget::itemChanged, this, [this](QListWidgetItem*) {
     if (!this->Refreshing) this->Update();
@@ -223,6 +233,7 @@ void qRPNavigationPanel::RefreshNodeLists() {
   QStringList checked;
   for (int i = 0; i < this->Models->count(); ++i)
     if (this->Models->item(i)->checkState() == Qt::Checked) checked << this->Models->item(i)->data(Qt::UserRole).toString();
+  this->Score->RefreshNodeLists();
   this->Models->clear();
   for (vtkRPNode* node : scene->GetNodesByClass("vtkRPModelNode")) {
     auto* item = new QListWidgetItem(QString::fromStdString(node->GetName()), this->Models);

@@ -9,7 +9,8 @@
 // attributes onto the tool node for the viewer); a 30 Hz timer refreshes the read-outs. Below
 // them, the target ("bull's-eye") view and the chosen volume re-sliced along and across the plan
 // at the tool tip (rpTargetView.h), drawn when the read-out changed; and a check box that streams
-// the read-outs over OpenIGTLink (vtkRPNavigationLogic::StartReadoutServer).
+// the read-outs over OpenIGTLink (vtkRPNavigationLogic::StartReadoutServer). Last, an execution
+// scored against its plan (qRPScorePanel: the trajectory chosen above is its default).
 #include <QImage>
 #include <QWidget>
 
@@ -27,6 +28,7 @@ namespace rp {
 class SceneNodesWatch;
 class TargetViewPicture;
 }
+class qRPScorePanel;
 class qRPSliceFollowCheckBox;
 class vtkRPNavigationLogic;
 
@@ -64,6 +66,8 @@ class qRPNavigationPanel : public QWidget {
   /// "Slices follow the tool": the scene's slice nodes follow the chosen tool's tip (the views
   /// re-slice at the tracked stylus; the panel never touches a view).
   qRPSliceFollowCheckBox* FollowToolCheckBox() const { return this->FollowTool; }
+  /// "Score an execution against its plan" (qRPScorePanel.h), below the views.
+  qRPScorePanel* ScorePanel() const { return this->Score; }
   QString DistanceText() const;
   QString ClosestModelText() const;
   /// True when the distance is shown in the warning colour.
@@ -97,6 +101,7 @@ class qRPNavigationPanel : public QWidget {
   qRPSliceFollowCheckBox* FollowTool;
   QLabel* Distance;
   QLabel* Closest;
+  qRPScorePanel* Score;
   QTimer* Timer;
   bool WarningShown = false;
   bool Refreshing = false;

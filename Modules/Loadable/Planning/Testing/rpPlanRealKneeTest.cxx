@@ -47,7 +47,7 @@ struct Knee {
 // CT (the DICOM series), labels (1 tibia, 2 fibula, 3 patella), the fibula protected by 2 mm,
 // the tibia the bone.
 void LoadKnee(Knee& k) {
-  rp::RegisterImagingReaders();  // DICOM, as roboplan registers it at start-up
+  rp::RegisterImagingReaders();  // DICOM, as the Planning module's Setup registers it
   const rp::LoadResult ct = rp::LoadPath(k.Scene, rptest::SharedDataPath("knee-ct-vhf/dicom"));
   ASSERT_TRUE(ct.Ok) << ct.Error;
   k.CT = vtkRPScalarVolumeNode::SafeDownCast(ct.Nodes.front());

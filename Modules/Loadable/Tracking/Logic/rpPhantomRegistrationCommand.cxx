@@ -10,8 +10,8 @@
 
 #include "rpArgParser.h"
 #include "rpPlusPhantomRegistration.h"
-#include "rpPlusSequenceFile.h"
 #include "rpXmlDocument.h"
+#include "vtkRPTrackingLogic.h"
 
 namespace rp {
 
@@ -131,17 +131,10 @@ int RunPhantomRegistrationCommand(const std::vector<std::string>& arguments, std
       .Option("out", "xml", "write the configuration with PhantomToReference added, as fCal saves it")
       .Output(FileKind::Any, {".xml"});
   if (const auto exitCode = parser.ParseCommand(arguments, out, err)) return *exitCode;
-  PlusPhantomConfiguration config;
-  PlusSequence recording;
-  try {
-    config = PlusPhantomConfiguration::Read(parser.Get("plus-config"));
-    recording = ReadPlusSequence(parser.Get("recording"));
-  } catch (const std::exception& e) {
-    err << "roboplan phantom-registration: " << e.what() << "\n";
-    return 1;
-  }
   const LandmarkDetectionMethod method = parser.Get("method") == "pivot" ? LandmarkDetectionMethod::Pivot : LandmarkDetectionMethod::Plus;
-  const PhantomRegistrationResult r = RegisterPhantomFromRecording(recording, config, method);
+  PlusPhantomConfiguration config;
+  vtkNew<vtkRPTrackingLogic> logic;  // no scene: the command reports the registration, applies none
+  const PhantomRegistrationResult r = logic->RegisterPhantom(parser.Get("recording"), parser.Get("plus-config"), method, config);
   if (!r.Ok) {
     err << "roboplan phantom-registration: " << r.Error << "\n";
     return 1;

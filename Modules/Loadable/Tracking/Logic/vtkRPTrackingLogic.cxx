@@ -10,6 +10,7 @@
 #include <vtkObjectFactory.h>
 
 #include "rpImageTable.h"
+#include "rpPlusSequenceFile.h"
 #include "rpTransformNames.h"
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
@@ -357,24 +358,62 @@ vtkRPLinearTransformNode* vtkRPTrackingLogic::ApplyPivotCalibration(const rp::Pi
                                                                     const std::string& stylusNodeName,
                                                                     const std::string& tipNodeName) {
   if (!this->Scene || !result.Valid) return nullptr;
-  vtkRPLinearTransformNode* tip = nullptr;
-  for (vtkRPNode* n : this->Scene->GetNodesByName(tipNodeName))
-    if ((tip = vtkRPLinearTransformNode::SafeDownCast(n))) break;
-  if (!tip) {
-    vtkNew<vtkRPLinearTransformNode> created;
-    created->SetName(tipNodeName);
-    this->Scene->AddNode(created);
-    tip = created;
-  }
   double m[16];
   rp::TipOffsetMatrix(result.TipOffset, m);
-  tip->SetMatrixTransformToParent(m);
-  for (vtkRPNode* n : this->Scene->GetNodesByName(stylusNodeName)) {
-    if (vtkRPLinearTransformNode::SafeDownCast(n)) {
-      tip->SetAndObserveTransformNodeID(n->GetID());
-      break;
-    }
-  }
+  vtkRPLinearTransformNode* tip = this->SetTransformUnder(tipNodeName, m, stylusNodeName);
   tip->SetAttribute(PivotCalibrationRMSEAttribute(), std::to_string(result.Rmse));
   return tip;
+}
+
+rp::PhantomRegistrationResult vtkRPTrackingLogic::RegisterPhantom(const std::string& recordingPath,
+                                                                  const std::string& configPath,
+                                                                  rp::LandmarkDetectionMethod method,
+                                                                  rp::PlusPhantomConfiguration& config,
+                                                                  vtkRPLinearTransformNode** applied) {
+  if (applied) *applied = nullptr;
+  rp::PhantomRegistrationResult result;
+  rp::PlusSequence recording;
+  try {
+    config = rp::PlusPhantomConfiguration::Read(configPath);
+    recording = rp::ReadPlusSequence(recordingPath);
+  } catch (const std::exception& e) {
+    result.Error = e.what();
+    return result;
+  }
+  result = rp::RegisterPhantomFromRecording(recording, config, method);
+  vtkRPLinearTransformNode* node = result.Ok ? this->ApplyPhantomRegistration(result, config) : nullptr;
+  if (applied) *applied = node;
+  return result;
+}
+
+vtkRPLinearTransformNode* vtkRPTrackingLogic::ApplyPhantomRegistration(const rp::PhantomRegistrationResult& result,
+                                                                       const rp::PlusPhantomConfiguration& config) {
+  if (!this->Scene || !result.Ok) return nullptr;
+  double m[16];
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) m[4 * r + c] = result.PhantomToReference(r, c);
+  vtkRPLinearTransformNode* node = this->SetTransformUnder(config.PhantomFrame + "To" + config.ReferenceFrame, m,
+                                                           config.ReferenceFrame + "ToTracker");
+  node->SetAttribute(PhantomRegistrationFREAttribute(), std::to_string(result.FRE));
+  return node;
+}
+
+vtkRPLinearTransformNode* vtkRPTrackingLogic::SetTransformUnder(const std::string& name, const double toParent[16],
+                                                                const std::string& parentName) {
+  vtkRPLinearTransformNode* node = nullptr;
+  for (vtkRPNode* n : this->Scene->GetNodesByName(name))
+    if ((node = vtkRPLinearTransformNode::SafeDownCast(n))) break;
+  if (!node) {
+    vtkNew<vtkRPLinearTransformNode> created;
+    created->SetName(name);
+    this->Scene->AddNode(created);
+    node = created;
+  }
+  node->SetMatrixTransformToParent(toParent);
+  for (vtkRPNode* n : this->Scene->GetNodesByName(parentName))
+    if (vtkRPLinearTransformNode::SafeDownCast(n)) {
+      node->SetAndObserveTransformNodeID(n->GetID());
+      break;
+    }
+  return node;
 }

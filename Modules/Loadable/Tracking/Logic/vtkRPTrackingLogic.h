@@ -18,6 +18,7 @@
 #include <vtkObject.h>
 
 #include "rpPivotCalibration.h"
+#include "rpPlusPhantomRegistration.h"
 #include "rpPoseSource.h"
 #include "rpToolPose.h"
 
@@ -104,6 +105,22 @@ class vtkRPTrackingLogic : public vtkObject {
                                                   const std::string& tipNodeName = "StylusTipToStylus");
   static const char* PivotCalibrationRMSEAttribute() { return "PivotCalibration.RMSE"; }
 
+  /// Phantom registration from a PLUS recording, as fCal's landmark detection: reads the PLUS
+  /// configuration (`config` receives it) and the tracked-frame recording, finds the landmarks
+  /// (rp::RegisterPhantomFromRecording) and fits PhantomToReference. A file that cannot be read
+  /// gives Ok false and its reason in Error. When it solves and the logic has a scene, the result
+  /// is applied (ApplyPhantomRegistration; `applied` receives it). `roboplan phantom-registration`
+  /// registers through this function.
+  rp::PhantomRegistrationResult RegisterPhantom(const std::string& recordingPath, const std::string& configPath,
+                                                rp::LandmarkDetectionMethod method, rp::PlusPhantomConfiguration& config,
+                                                vtkRPLinearTransformNode** applied = nullptr);
+  /// <Phantom>To<Reference> (the configuration's frame names) as a transform node (created or
+  /// updated) under the reference tool's node when the scene has one, with the FRE in its
+  /// PhantomRegistrationFREAttribute().
+  vtkRPLinearTransformNode* ApplyPhantomRegistration(const rp::PhantomRegistrationResult& result,
+                                                     const rp::PlusPhantomConfiguration& config);
+  static const char* PhantomRegistrationFREAttribute() { return "PhantomRegistration.FRE"; }
+
  protected:
   vtkRPTrackingLogic();
   ~vtkRPTrackingLogic() override;
@@ -136,6 +153,10 @@ class vtkRPTrackingLogic : public vtkObject {
     std::vector<Image> Streams;  // by image slot
   };
   vtkRPTrackedToolNode* NodeFor(Tool& tool);
+  // The transform node `name` (created when the scene has none) set to `toParent` (row-major)
+  // and, when the scene has a transform node `parentName`, under it.
+  vtkRPLinearTransformNode* SetTransformUnder(const std::string& name, const double toParent[16],
+                                              const std::string& parentName);
   vtkRPScalarVolumeNode* VolumeFor(Image& image);
   void WriteNode(vtkRPTrackedToolNode* node, const rp::ToolPose& pose, int status, double errorRMS);
   int UpdateTools(Source& source, double now, std::vector<const Tool*>& all, std::vector<const Tool*>& changed,

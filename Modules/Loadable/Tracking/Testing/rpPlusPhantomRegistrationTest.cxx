@@ -9,12 +9,17 @@
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <vtkMatrix4x4.h>
+#include <vtkNew.h>
 
 #include "rpPhantomRegistrationCommand.h"
 #include "rpPlusPhantomRegistration.h"
 #include "rpPlusSequenceFile.h"
 #include "rpSharedData.h"
 #include "rpTrackingRecording.h"
+#include "vtkRPLinearTransformNode.h"
+#include "vtkRPScene.h"
+#include "vtkRPTrackingLogic.h"
 
 namespace {
 
@@ -222,4 +227,36 @@ TEST(PhantomRegistrationCommand, ComparesWithPlusAndWritesTheConfigurationFCalWo
   std::ostringstream none, noneErr;
   EXPECT_EQ(rp::RunPhantomRegistrationCommand({RecordingFile, "--plus-config", RecordingFile}, none, noneErr), 1);
   EXPECT_NE(noneErr.str().find("malformed XML"), std::string::npos) << noneErr.str();
+}
+
+// The Tracking logic's phantom registration (what the command runs through): the same result as
+// the library's, PhantomToReference applied under the reference tool's node with the FRE; a file
+// that cannot be read leaves the scene as it was and names the problem.
+TEST(PhantomRegistrationLogic, AppliesPhantomToReferenceUnderTheReferenceToolWithItsFRE) {
+  RP_REQUIRE_SHARED_DATA(PlusData);
+  vtkNew<vtkRPScene> scene;
+  vtkNew<vtkRPLinearTransformNode> reference;
+  reference->SetName("ReferenceToTracker");
+  scene->AddNode(reference);
+  vtkNew<vtkRPTrackingLogic> logic;
+  logic->SetScene(scene);
+  rp::PlusPhantomConfiguration config;
+  vtkRPLinearTransformNode* applied = nullptr;
+  const rp::PhantomRegistrationResult r =
+      logic->RegisterPhantom(RecordingFile, ConfigFile, rp::LandmarkDetectionMethod::Plus, config, &applied);
+  ASSERT_TRUE(r.Ok) << r.Error;
+  const rp::PhantomRegistrationResult direct =
+      rp::RegisterPhantomFromRecording(rp::ReadPlusSequence(RecordingFile), rp::PlusPhantomConfiguration::Read(ConfigFile));
+  EXPECT_TRUE(r.PhantomToReference.isApprox(direct.PhantomToReference, 1e-12));
+  ASSERT_NE(applied, nullptr);
+  EXPECT_EQ(applied->GetName(), "PhantomToReference");
+  EXPECT_EQ(applied->GetTransformNodeID(), reference->GetID());
+  EXPECT_NEAR(applied->GetMatrixTransformToParent()->GetElement(0, 3), r.PhantomToReference(0, 3), 1e-9);
+  EXPECT_NEAR(std::stod(applied->GetAttribute(vtkRPTrackingLogic::PhantomRegistrationFREAttribute())), r.FRE, 1e-6);
+  const int nodes = scene->GetNumberOfNodes();
+  const rp::PhantomRegistrationResult bad =
+      logic->RegisterPhantom(RecordingFile, RecordingFile, rp::LandmarkDetectionMethod::Plus, config);
+  EXPECT_FALSE(bad.Ok);
+  EXPECT_NE(bad.Error.find("malformed XML"), std::string::npos) << bad.Error;
+  EXPECT_EQ(scene->GetNumberOfNodes(), nodes);
 }

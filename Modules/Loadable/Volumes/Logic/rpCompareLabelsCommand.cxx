@@ -1,4 +1,5 @@
-// `roboplan compare-labels <segmentation> <truth labelmap>`: Dice and surface distances per segment.
+// `roboplan compare-labels <segmentation> <truth labelmap>`: Dice and surface distances per segment,
+// read and scored by the Volumes logic (LoadLabelmap, CompareLabels); the command parses and reports.
 #include <cstdio>
 #include <map>
 
@@ -6,43 +7,14 @@
 #include <vtkNew.h>
 
 #include "rpArgParser.h"
-#include "rpDataLoader.h"
-#include "rpLabelComparison.h"
 #include "rpNodeStorage.h"
 #include "rpProgress.h"
 #include "rpVolumesCommands.h"
-#include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
-#include "vtkRPSegmentationNode.h"
+#include "vtkRPVolumesLogic.h"
 
 namespace rp {
 namespace {
-
-struct LabelName {
-  std::string ID, Name;
-};
-
-// A labelmap from a segmentation (.seg.nrrd: its segments name the labels) or a volume file.
-bool LoadLabels(vtkRPScene* scene, const std::string& path, ImageVolume& volume, std::map<int, LabelName>& names,
-                std::string& error) {
-  LoadResult loaded;
-  vtkRPNode* node = LoadSingleNode(scene, path, loaded);
-  if (!node) {
-    error = loaded.Error;
-    return false;
-  }
-  if (auto* segmentation = vtkRPSegmentationNode::SafeDownCast(node)) {
-    volume = FromNode(segmentation);
-    for (const auto& s : segmentation->GetSegments()) names[s.LabelValue] = {s.ID, s.Name};
-    return true;
-  }
-  if (auto* image = vtkRPScalarVolumeNode::SafeDownCast(node)) {
-    volume = FromNode(image);
-    return true;
-  }
-  error = "'" + path + "' is neither a segmentation nor a labelmap volume";
-  return false;
-}
 
 std::string Fixed(double v) {
   char buffer[32];
@@ -72,24 +44,30 @@ int RunCompareLabelsCommand(const std::vector<std::string>& arguments, std::ostr
       .Repeatable();
   if (const auto exitCode = parser.ParseCommand(arguments, out, err)) return *exitCode;
   TerminalProgress progress("compare-labels", parser.Json(), err);
+  // Read and scored by the Volumes logic, in a scene of the command's own.
   vtkNew<vtkRPScene> scene;
-  ImageVolume test, truth;
-  std::map<int, LabelName> names, truthNames;
+  vtkNew<vtkRPVolumesLogic> logic;
+  logic->SetScene(scene);
   std::string error;
   progress.Report(0.0, "loading");
-  if (!LoadLabels(scene, parser.Get("segmentation"), test, names, error) ||
-      !LoadLabels(scene, parser.Get("truth"), truth, truthNames, error)) {
+  vtkRPNode* segmentation = logic->LoadLabelmap(parser.Get("segmentation"), error);
+  vtkRPNode* truth = segmentation ? logic->LoadLabelmap(parser.Get("truth"), error) : nullptr;
+  if (!truth) {
     err << "roboplan compare-labels: " << error << "\n";
     return 1;
   }
   std::vector<int> labels;
   for (const auto& text : parser.GetAll("label")) labels.push_back(std::stoi(text));
   progress.Report(0.2, "scoring");
-  LabelComparison comparison;
-  if (!CompareLabels(test, truth, labels, comparison, error)) {
+  vtkRPVolumesLogic::LabelScores scores;
+  if (!logic->CompareLabels(segmentation, truth, labels, scores, error)) {
     err << "roboplan compare-labels: " << error << "\n";
     return 1;
   }
+  const LabelComparison& comparison = scores.Comparison;
+  auto& names = scores.Names;
+  auto& truthNames = scores.TruthNames;
+  using LabelName = vtkRPVolumesLogic::LabelName;
   progress.Report(1.0, "done");
   if (parser.Json()) {
     nlohmann::json segments = nlohmann::json::array();

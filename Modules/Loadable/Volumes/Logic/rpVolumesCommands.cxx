@@ -12,14 +12,12 @@
 #include <nlohmann/json.hpp>
 #include <vtkMatrix4x4.h>
 #include <vtkNew.h>
-#include <vtkPolyData.h>
 
 
 #include "rpArgParser.h"
 #include "rpDicomTransferSyntax.h"
 #include "rpNodeStorage.h"
 #include "rpKneePhantom.h"
-#include "rpModelIO.h"
 #include "rpProgress.h"
 #include "rpSceneFormats.h"
 #include "rpSegmentationConversion.h"
@@ -258,14 +256,9 @@ int RunConvertCommand(const std::vector<std::string>& arguments, std::ostream& o
   ImageVolume volume;
   std::vector<std::string> warnings;
   std::string error;
-  if (!ReadVolume(parser.Get("in"), volume, error, readOptions, &warnings, progress.Callback())) {
-    err << "roboplan convert: " << error << "\n";
-    return 1;
-  }
-  DicomWriteOptions dicom;
-  dicom.Modality = !modality.empty() ? modality : (volume.Modality == "MR" ? "MR" : "CT");
-  dicom.SeriesDescription = volume.Description;
-  if (!WriteVolume(parser.Get("out"), volume, error, dicom, progress.Callback())) {
+  vtkNew<vtkRPVolumesLogic> logic;
+  if (!logic->ConvertVolume(parser.Get("in"), parser.Get("out"), readOptions, modality, volume, warnings, error,
+                            progress.Callback())) {
     err << "roboplan convert: " << error << "\n";
     return 1;
   }
@@ -333,60 +326,19 @@ int RunPhantomCommand(const std::vector<std::string>& arguments, std::ostream& o
   }
   TerminalProgress progress("phantom", parser.Json(), err);
   const auto start = std::chrono::steady_clock::now();
-  KneePhantom phantom;
+  vtkNew<vtkRPVolumesLogic> logic;
+  vtkRPVolumesLogic::KneePhantomFiles files;
   std::string error;
-  if (!GenerateKneePhantom(options, phantom, error, progress.Callback())) {
+  if (!logic->WriteKneePhantom(options, dir, format == "dicom", files, error, progress.Callback())) {
     err << "roboplan phantom: " << error << "\n";
     return 1;
   }
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (!fs::is_directory(dir)) {
-    err << "roboplan phantom: cannot create " << dir << "\n";
-    return 1;
-  }
+  const KneePhantom& phantom = files.Phantom;
   const fs::path root(dir);
-  const std::string ctPath = (root / (format == "dicom" ? "CT" : "ct.nrrd")).string();
-  const std::string mrPath = (root / (format == "dicom" ? "MR" : "mr.nrrd")).string();
-  DicomWriteOptions ctOptions, mrOptions;
-  ctOptions.Modality = "CT";
-  ctOptions.SeriesDescription = phantom.CT.Description;
-  ctOptions.SeriesNumber = 1;
-  mrOptions.Modality = "MR";
-  mrOptions.SeriesDescription = phantom.MR.Description;
-  mrOptions.SeriesNumber = 2;
-  mrOptions.PatientName = ctOptions.PatientName;
-  mrOptions.PatientID = ctOptions.PatientID;
-  if (format == "dicom") {
-    for (const char* sub : {"CT", "MR"}) fs::remove_all(root / sub, ec);  // no stale slices
-  }
-  if (!WriteVolume(ctPath, phantom.CT, error, ctOptions, progress.Callback()) ||
-      !WriteVolume(mrPath, phantom.MR, error, mrOptions, progress.Callback()) ||
-      !WriteVolumeFile((root / "labels.nrrd").string(), phantom.Labels.Image, phantom.Labels.IJKToRAS, {}, error)) {
-    err << "roboplan phantom: " << error << "\n";
-    return 1;
-  }
-  // The true surfaces (in the CT's RAS, written as LPS model files like every model).
+  const std::string& ctPath = files.CT;
+  const std::string& mrPath = files.MR;
   nlohmann::json surfaces = nlohmann::json::object();
-  for (int s = 0; s < KneeStructureCount; ++s) {
-    const auto structure = static_cast<KneeStructure>(s);
-    vtkSmartPointer<vtkPolyData> surface = phantom.Model->Surface(structure);
-    if (!surface) continue;
-    fs::create_directories(root / "surfaces", ec);
-    const std::string name = KneeStructureName(structure);
-    const fs::path path = root / "surfaces" / (name + ".vtp");
-    if (!WriteModelFile(path.string(), surface, error)) {
-      err << "roboplan phantom: " << error << "\n";
-      return 1;
-    }
-    surfaces[name] = path.string();
-  }
-  vtkNew<vtkMatrix4x4> mrToCT;
-  vtkMatrix4x4::Invert(phantom.CTToMR, mrToCT);
-  if (!WriteTransformFile((root / "MRToCT-truth.tfm").string(), mrToCT, error)) {
-    err << "roboplan phantom: " << error << "\n";
-    return 1;
-  }
+  for (const auto& [name, path] : files.Surfaces) surfaces[name] = path;
   nlohmann::json doc;
   doc["ok"] = true;
   doc["size"] = size;
@@ -398,9 +350,9 @@ int RunPhantomCommand(const std::vector<std::string>& arguments, std::ostream& o
   doc["mr"] = VolumeJson(phantom.MR);
   doc["mr"]["path"] = mrPath;
   doc["labels"] = VolumeJson(phantom.Labels);
-  doc["labels"]["path"] = (root / "labels.nrrd").string();
+  doc["labels"]["path"] = files.Labels;
   doc["ctToMR"] = MatrixJson(phantom.CTToMR);
-  doc["mrToCTTransformFile"] = (root / "MRToCT-truth.tfm").string();
+  doc["mrToCTTransformFile"] = files.TruthTransform;
   doc["tissues"] = nlohmann::json::array();
   for (const auto& t : KneeTissues())
     doc["tissues"].push_back({{"label", t.Label},

@@ -1,9 +1,17 @@
 // Dice and surface distances on boxes whose answers are known in closed form.
+#include <filesystem>
+
 #include <gtest/gtest.h>
 
 #include <vtkImageData.h>
+#include <vtkNew.h>
 
 #include "rpLabelComparison.h"
+#include "rpSegmentationIO.h"
+#include "rpVolumeIO.h"
+#include "vtkRPScene.h"
+#include "vtkRPSegmentationNode.h"
+#include "vtkRPVolumesLogic.h"
 
 namespace {
 
@@ -80,6 +88,49 @@ TEST(LabelComparison, DisjointLabelIsReportedNotMatched) {
   const int none[3] = {0, 0, 0};
   EXPECT_FALSE(rp::CompareLabels(Box(dims, none, none, 1, spacing), Box(dims, lo2, hi2, 2, spacing), {}, result, error));
   EXPECT_NE(error.find("no labelled voxel"), std::string::npos);
+}
+
+// The Volumes logic (what `roboplan compare-labels` runs): a segmentation file and a labelmap
+// file read through the loader, scored with the segment's name; a model is refused by name and
+// leaves the scene as it was.
+TEST(LabelComparison, TheVolumesLogicReadsAndScoresFilesWithTheSegmentsNames) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(ROBOPLAN_TEST_OUTPUT_DIR);
+  fs::create_directories(dir);
+  const int dims[3] = {30, 30, 30}, lo[3] = {10, 10, 10}, hi[3] = {20, 20, 20};
+  const int shiftedLo[3] = {12, 10, 10}, shiftedHi[3] = {22, 20, 20};
+  const double spacing[3] = {0.5, 1.0, 1.0};
+  const rp::ImageVolume test = Box(dims, lo, hi, 1, spacing), truth = Box(dims, shiftedLo, shiftedHi, 7, spacing);
+  std::string error;
+  vtkNew<vtkRPSegmentationNode> segmentation;
+  rp::CopyToNode(test, segmentation.GetPointer());
+  rp::Segment femur;
+  femur.ID = "Segment_1";
+  femur.Name = "femur";
+  femur.LabelValue = 1;
+  segmentation->SetSegment(femur);
+  ASSERT_TRUE(rp::WriteSegmentationFile((dir / "test.seg.nrrd").string(), segmentation, error)) << error;
+  ASSERT_TRUE(rp::WriteVolumeFile((dir / "truth.nrrd").string(), truth.Image, truth.IJKToRAS, {}, error)) << error;
+
+  vtkNew<vtkRPScene> scene;
+  vtkNew<vtkRPVolumesLogic> logic;
+  logic->SetScene(scene);
+  vtkRPNode* a = logic->LoadLabelmap((dir / "test.seg.nrrd").string(), error);
+  vtkRPNode* b = a ? logic->LoadLabelmap((dir / "truth.nrrd").string(), error) : nullptr;
+  ASSERT_NE(b, nullptr) << error;
+  vtkRPVolumesLogic::LabelScores scores;
+  ASSERT_TRUE(logic->CompareLabels(a, b, {}, scores, error)) << error;
+  ASSERT_EQ(scores.Comparison.Scores.size(), 1u);
+  EXPECT_DOUBLE_EQ(scores.Comparison.Scores[0].Dice, 0.8);  // as the closed form above
+  EXPECT_EQ(scores.Comparison.Scores[0].TruthLabel, 7);
+  EXPECT_EQ(scores.Names.at(1).Name, "femur");
+  EXPECT_TRUE(scores.TruthNames.empty());  // a plain labelmap names no label
+
+  const int nodes = scene->GetNumberOfNodes();
+  EXPECT_EQ(logic->LoadLabelmap((dir / "missing.nrrd").string(), error), nullptr);
+  EXPECT_NE(error.find("missing.nrrd"), std::string::npos) << error;
+  EXPECT_EQ(scene->GetNumberOfNodes(), nodes);
+  EXPECT_FALSE(logic->CompareLabels(a, nullptr, {}, scores, error));
 }
 
 }  // namespace

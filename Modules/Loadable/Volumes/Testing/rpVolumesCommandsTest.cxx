@@ -17,6 +17,7 @@
 #include <vtkPointData.h>
 
 #include "rpKneePhantom.h"
+#include "rpImagingReaders.h"
 #include "rpKneeStudy.h"
 #include "rpSegmentationIO.h"
 #include "rpSharedData.h"
@@ -40,7 +41,10 @@ struct CommandRun {
   nlohmann::json Json() const { return nlohmann::json::parse(out); }
 };
 
+// A command run as `roboplan` runs it, after the Volumes module's Setup registered the imaging
+// readers (VolumesModule.cxx; this test calls the commands without the module).
 CommandRun Call(int (*command)(const std::vector<std::string>&, std::ostream&, std::ostream&), std::vector<std::string> args) {
+  rp::RegisterImagingReaders();
   std::ostringstream out, err;
   const int code = command(args, out, err);
   return {code, out.str(), err.str()};
