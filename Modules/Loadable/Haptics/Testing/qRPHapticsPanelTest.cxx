@@ -363,11 +363,14 @@ TEST(HapticsPanel, GuidanceGroupSwitchesThePlansFixturesWhileRunning) {
   scene->AddNode(second);
   pump(0.4);
   EXPECT_EQ(guidance->TrajectoryComboBox()->count(), 2);
+  // The fades' budget per tick is MaxForceRate × the period the servo assumes: the measured p99
+  // once it grew past the nominal one (a loaded machine), never less.
+  const double lastPeriod = logic->GetSession()->StabilityPeriod();
   panel->StartStopButton()->click();
   ASSERT_FALSE(panel->IsRunning());
 
   const std::vector<rptest::LogRow> rows = rptest::ReadSessionLog(log);
-  const double limit = device.MaxForceRate * period + 1e-4;
+  const double limit = device.MaxForceRate * lastPeriod + 1e-4;
   EXPECT_LE(rptest::LargestStep(rows, axisOn, pushed - 0.01), limit);
   EXPECT_LE(rptest::LargestStep(rows, off, free), limit);
   panel.reset();

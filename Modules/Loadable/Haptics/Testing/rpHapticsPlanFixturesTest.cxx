@@ -121,22 +121,25 @@ TEST(HapticsPlanFixtures, SwitchedWhileRunningClosedFormForcesAndBoundedSteps) {
   s = State(logic);
   EXPECT_NEAR(rp::Norm(s.Force), 0, 1e-9);
   EXPECT_NEAR(s.Hip.z, rptest::TargetS - 2, 1e-6);  // the tool point is the stylus again
+  // The fades' budget per tick is MaxForceRate × the period the servo assumes: the measured p99
+  // once it grew past the nominal one (a loaded machine), never less.
+  const double lastPeriod = session->StabilityPeriod();
   logic->Stop();
 
   // Every tick of the run: the switches' steps within the device's event rate; the tool point
   // never past the target while the depth stop held it.
   const std::vector<rptest::LogRow> rows = rptest::ReadSessionLog(log);
   ASSERT_GT(rows.size(), 500u);
-  const double limit = device.MaxForceRate * period + 1e-4;  // the log's 5 decimals
+  const double limit = device.MaxForceRate * lastPeriod + 1e-4;  // the log's 5 decimals
   const double onStep = rptest::LargestStep(rows, axisOn, pushed - 0.01);
   const double offStep = rptest::LargestStep(rows, off, rows.back().Time);
   EXPECT_LE(onStep, limit);
   EXPECT_LE(offStep, limit);
-  EXPECT_GT(onStep, 0.5 * limit);  // the fade really ran at the device's rate (k·d spans several ticks)
+  EXPECT_GT(onStep, 0.5 * device.MaxForceRate * period);  // the fade ran at the device's rate (k·d spans several ticks)
   double deepest = 0;
   for (const rptest::LogRow& r : rows)
     if (r.Time > depthOn && r.Time < off) deepest = std::fmin(deepest, r.Hip.z - rptest::TargetS);
   EXPECT_GE(deepest, -1e-4);
   std::printf("largest step: switching on %.4f N, off %.4f N (limit %.4f N/tick); deepest tool point %.5f mm past the target\n",
-              onStep, offStep, device.MaxForceRate * period, -deepest);
+              onStep, offStep, device.MaxForceRate * lastPeriod, -deepest);
 }
