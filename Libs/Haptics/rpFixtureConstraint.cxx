@@ -28,6 +28,7 @@ void FixtureConstraint::Evaluate(const ConstraintContext& tool, ConstraintForce&
   out.Damping += f.Damping;
   out.StoredEnergy += f.Stored;
   out.Engaged = out.Engaged || f.Active;
+  out.Fixtures = &f;
 }
 
 void FixtureConstraint::CarryFrom(const ToolConstraint& previous) noexcept {
@@ -40,6 +41,12 @@ std::unique_ptr<ToolConstraints> MakeFixtureConstraints(std::shared_ptr<const Fi
   auto constraints = std::make_unique<ToolConstraints>();
   constraints->Add(std::make_unique<FixtureConstraint>(std::move(set)));
   return constraints;
+}
+
+void InstallFixtures(std::shared_ptr<const FixtureSet> set, std::function<std::unique_ptr<ToolConstraints>()>& make,
+                     ConstraintExchange* running) {
+  if (running) running->Publish(MakeFixtureConstraints(set));
+  make = [set] { return MakeFixtureConstraints(set); };
 }
 
 }  // namespace rp

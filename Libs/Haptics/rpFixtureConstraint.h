@@ -5,6 +5,7 @@
 // rpFixtureRenderer. A new set published while the servo runs (a fixture switched, the plan
 // dragged) carries the servo-side state over (CarryFrom): each fixture keeps its fade and proxy
 // by id, and what changed fades instead of jumping. Never allocates, locks or logs on the servo.
+#include <functional>
 #include <memory>
 
 #include "rpFixtureRenderer.h"
@@ -31,5 +32,11 @@ class FixtureConstraint : public ToolConstraint {
 
 /// A constraint set holding the fixtures: what a logic's SetConstraints maker returns.
 std::unique_ptr<ToolConstraints> MakeFixtureConstraints(std::shared_ptr<const FixtureSet> set);
+
+/// What a logic's SetPlanFixtures does with a built set: `make` hands it to every next session,
+/// and `running` (the running servo's exchange; null when none runs) gets it now. Even an empty
+/// set goes in as a fixture constraint: it carries the fades of the fixtures switched off.
+void InstallFixtures(std::shared_ptr<const FixtureSet> set, std::function<std::unique_ptr<ToolConstraints>()>& make,
+                     ConstraintExchange* running);
 
 }  // namespace rp

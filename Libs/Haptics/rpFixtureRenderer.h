@@ -41,6 +41,18 @@ struct FixtureOutput {
   FixtureReport Fixtures[MaxFixtures];
 };
 
+/// The fixtures' reports as a servo publishes them for the main thread (HapticState, DrillState:
+/// which fixture acts, engaged or not, at what distance). Copied in the tick: no allocation.
+struct FixtureStatus {
+  int Count = 0;
+  FixtureReport Fixtures[MaxFixtures];
+  /// This tick's reports (nullptr: no fixtures).
+  void CopyFrom(const FixtureOutput* output) noexcept {
+    this->Count = output ? output->Count : 0;
+    for (int i = 0; i < this->Count; ++i) this->Fixtures[i] = output->Fixtures[i];
+  }
+};
+
 class FixtureRenderer {
  public:
   FixtureRenderer() { this->SetDevice(DeviceInfo{}); }

@@ -93,6 +93,7 @@ void HapticServo::Tick(const TickInfo& tick) noexcept {
     s.Hips[i] = out.Points[i].Hip;
     s.Proxies[i] = out.Points[i].Proxy;
   }
+  s.Fixtures.CopyFrom(out.Constraint.Fixtures);
   this->State.Publish(s);
   if (this->LogEnabled.load(std::memory_order_relaxed)) {
     HapticLogRecord r = LogRecordOf(s, tick, elapsed);

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <atomic>
 
+#include "rpFixtureRenderer.h"
 #include "rpHapticRenderer.h"
 #include "rpLatestValue.h"
 #include "rpServoLoop.h"
@@ -59,6 +60,7 @@ struct HapticState {
   uint32_t Buttons = 0;
   int32_t NumberOfPoints = 0;
   Vec3 Hips[MaxToolPoints], Proxies[MaxToolPoints];
+  FixtureStatus Fixtures;  // the plan's virtual fixtures this tick (none when Count is 0)
 };
 
 /// One line of the session log.

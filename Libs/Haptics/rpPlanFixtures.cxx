@@ -62,6 +62,10 @@ bool AddForbiddenRegions(const PlanSnapshot& plan, const PlanFixtureChoice& c, F
 
 bool AddSurfaceConstraint(const PlanSnapshot& plan, const PlanFixtureChoice& c, FixtureSet& set, std::string& error) {
   if (!c.Surface) return true;
+  if (!c.SurfaceModelNode.empty() && !c.SurfaceModel) {
+    error = "the surface constraint's model '" + c.SurfaceModelNode + "' was not read (vtkRPPlanningLogic::MakePlanFixtures reads it)";
+    return false;
+  }
   if (!c.SurfacePlane.empty() || !c.SurfaceModel) {
     const CutPlaneSnapshot* p = c.SurfacePlane.empty() ? (plan.Planes.empty() ? nullptr : &plan.Planes.front())
                                                        : plan.FindPlane(c.SurfacePlane);
@@ -73,7 +77,8 @@ bool AddSurfaceConstraint(const PlanSnapshot& plan, const PlanFixtureChoice& c, 
     return AddTo(set, SurfaceConstraint::Plane(FixtureId(p->NodeID, FixtureKind::SurfaceConstraint), p->Name, p->Origin, p->Normal),
                  c.SurfaceTuning, error);
   }
-  auto surface = SurfaceConstraint::Mesh(FixtureId("model", FixtureKind::SurfaceConstraint), "model", *c.SurfaceModel, error);
+  const std::string name = c.SurfaceModelNode.empty() ? "model" : c.SurfaceModelNode;
+  auto surface = SurfaceConstraint::Mesh(FixtureId(name, FixtureKind::SurfaceConstraint), name, *c.SurfaceModel, error);
   return surface && set.Add(std::move(surface), c.SurfaceTuning, true, error);
 }
 }  // namespace

@@ -20,6 +20,9 @@ struct PlanFixtureChoice {
   std::string Trajectory;          // node ID or name; "" the plan's first trajectory
   std::string SurfacePlane;        // the surface constraint on this cut plane (ID or name), or
   std::shared_ptr<const TriangleMesh> SurfaceModel;  // on this model's surface (RAS), when no plane is named
+  std::string SurfaceModelNode;    // or on this model node's (ID or name): the Planning logic's
+                                   // MakePlanFixtures reads its surface into SurfaceModel (and
+                                   // puts the model's name here: it names the fixture)
   FixtureTuning AxisTuning = DefaultFixtureTuning(FixtureKind::AxisGuidance);
   FixtureTuning DepthTuning = DefaultFixtureTuning(FixtureKind::DepthStop);
   FixtureTuning ForbiddenTuning = DefaultFixtureTuning(FixtureKind::ForbiddenRegion);

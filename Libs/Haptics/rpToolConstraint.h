@@ -28,6 +28,8 @@
 
 namespace rp {
 
+struct FixtureOutput;  // rpFixtureRenderer.h
+
 /// The tool as a constraint sees it in one servo tick (scene frame RAS, mm, s, N).
 struct ConstraintContext {
   double Dt = 0.001;             // s since the previous tick (a stall shows here)
@@ -65,6 +67,9 @@ struct ConstraintForce {
   double StoredEnergy = 0;     // N·mm the springs will give back (the passivity observer's U)
   bool Engaged = false;        // some constraint acts: a passivity episode runs
   bool ForbidCut = false;      // drilling: no bone may be removed this tick
+  /// The plan's fixtures one by one this tick (FixtureConstraint; servo thread, valid during the
+  /// tick): what the servo copies into the state it publishes (FixtureStatus). nullptr: none.
+  const FixtureOutput* Fixtures = nullptr;
 };
 
 class ToolConstraint {

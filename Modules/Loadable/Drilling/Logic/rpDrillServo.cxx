@@ -175,6 +175,7 @@ uint32_t DrillServo::FillState(const BurrForce& burr, const Vec3& hip, const Vec
   s.Stiffness = burr.Stiffness;
   s.RampScale = ramp;
   s.PeakForce = std::max(s.PeakForce, Norm(force));
+  s.Fixtures.CopyFrom(burr.Constraint.Fixtures);
   uint32_t flags = 0;
   if (on) flags |= DrillRecordFlags::BurrOn;
   if (s.Contact) flags |= DrillRecordFlags::Contact;

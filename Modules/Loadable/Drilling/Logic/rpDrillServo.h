@@ -70,6 +70,7 @@ struct DrillState {
   uint32_t WatchdogTrips = 0;
   double ObservedEnergy = 0, Stiffness = 0, RampScale = 0;
   double PeakForce = 0;                  // largest |F| sent so far (N)
+  FixtureStatus Fixtures;                // the plan's virtual fixtures this tick (none when Count is 0)
 };
 
 /// One line of the drill path (flags: see DrillRecordFlags).

@@ -182,6 +182,10 @@ bool RunGuidedDrill(vtkRPDrillingLogic* logic, const GuidedDrillOptions& o, Guid
   run.SettleSeconds = o.SettleSeconds;
   run.MaxSeconds = std::max(o.MaxSeconds, duration + o.SettleSeconds);
   run.MeshEveryFrame = o.Realtime;
+  if (o.Progress) {
+    const double scale = run.MaxSeconds / (duration + o.SettleSeconds);  // the run's fraction of MaxSeconds
+    run.Progress = [&o, scale](double fraction, const std::string& message) { o.Progress(std::min(1.0, fraction * scale), message); };
+  }
   if (!logic->RunSimulated(run, result.Run, error)) return false;
   for (const DrillRecordLine& l : result.Run.Records) {
     if (!(l.Record.Flags & DrillRecordFlags::BurrOn)) continue;

@@ -48,6 +48,7 @@ struct GuidedDrillOptions {
   bool Realtime = false;            // the 1 kHz servo thread on the wall clock (default: scripted ticks)
   ServoLoop::Options Loop;
   std::string RecordPath;           // the drill path recording ("" none)
+  ProgressCallback Progress;        // share of the hand's stroke and its settling (the panel's bar)
 };
 
 struct GuidedDrillResult {

@@ -9,10 +9,12 @@
 #include <vtkPolyData.h>
 
 #include "rpDrillAnalytic.h"
+#include "rpFixtureConstraint.h"
 #include "rpHapticSceneBridge.h"
 #include "rpPolyDataTriangleMesh.h"
 #include "rpSimulatedDevice.h"
 #include "rpTunnelPicture.h"
+#include "vtkRPPlanningLogic.h"
 #include "vtkRPModelNode.h"
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
@@ -20,7 +22,21 @@
 
 vtkStandardNewMacro(vtkRPDrillingLogic);
 
-vtkRPDrillingLogic::vtkRPDrillingLogic() : Device(std::make_unique<rp::SimulatedDevice>()) {}
+vtkRPDrillingLogic::vtkRPDrillingLogic()
+    : Planning(vtkSmartPointer<vtkRPPlanningLogic>::New()), Device(std::make_unique<rp::SimulatedDevice>()) {}
+
+bool vtkRPDrillingLogic::SetPlanFixtures(const rp::PlanFixtureChoice& choice, std::string& error) {
+  if (this->Scene == nullptr) {
+    error = "drilling: no scene";
+    return false;
+  }
+  this->Planning->SetScene(this->Scene);
+  std::shared_ptr<const rp::FixtureSet> set = this->Planning->MakePlanFixtures(choice, error);
+  if (!set) return false;  // refused: the set in use stays
+  this->PlanFixtures = set;
+  rp::InstallFixtures(this->PlanFixtures, this->MakeConstraints, this->IsRunning() ? &this->Session->Servo().Constraints() : nullptr);
+  return true;
+}
 
 vtkRPDrillingLogic::~vtkRPDrillingLogic() { this->Stop(); }
 

@@ -17,12 +17,15 @@
 #include <vector>
 
 #include <vtkObject.h>
+#include <vtkSmartPointer.h>
 
 #include "rpDrillBoneBuilder.h"
 #include "rpDrillSession.h"
+#include "rpPlanFixtures.h"
 #include "rpSimulatedHand.h"
 
 class vtkPolyData;
+class vtkRPPlanningLogic;
 class vtkRPScene;
 
 namespace rp {
@@ -90,7 +93,16 @@ class vtkRPDrillingLogic : public vtkObject {
   /// its servo once handed over); nullptr: none. A running session: GetSession()->Servo().Constraints().
   void SetConstraints(std::function<std::unique_ptr<rp::ToolConstraints>()> make) {
     this->MakeConstraints = std::move(make);
+    this->PlanFixtures.reset();
   }
+  /// The plan's virtual fixtures (issue 38; what the panel's Guidance group and tests call): builds
+  /// the fixtures `choice` switches on from the scene's plan (vtkRPPlanningLogic::MakePlanFixtures),
+  /// installs them for every next session and hands them to a running one, where a fixture
+  /// switched on or off fades in or out (no force step beyond the device's event rate). A choice
+  /// with none clears them. False with `error` naming the problem; the fixtures in use are kept.
+  bool SetPlanFixtures(const rp::PlanFixtureChoice& choice, std::string& error);
+  /// The plan's fixtures in use (null: none set through SetPlanFixtures since the last SetConstraints).
+  std::shared_ptr<const rp::FixtureSet> GetPlanFixtures() const { return this->PlanFixtures; }
   /// The next run starts with the burr placed at `center` (RAS), cutting when `control` has it on
   /// (a stroke that begins inside bone: `roboplan drill --from`).
   void PlaceBurr(const rp::Vec3& center, const rp::DrillControl& control);
@@ -154,6 +166,8 @@ class vtkRPDrillingLogic : public vtkObject {
   rp::DrillServoOptions ServoSettings;
   rp::ServoLoop::Options LoopSettings;
   std::function<std::unique_ptr<rp::ToolConstraints>()> MakeConstraints;
+  vtkSmartPointer<vtkRPPlanningLogic> Planning;  // the plan's snapshot (its structures' surfaces cached)
+  std::shared_ptr<const rp::FixtureSet> PlanFixtures;
   bool TouchOthers = true;
   bool HasHand = false;
   rp::HandNoise HandTremor;

@@ -11,6 +11,9 @@
 #include <memory>
 
 #include <QApplication>
+#include <QCheckBox>
+#include <QProgressBar>
+#include <QSet>
 #include <QComboBox>
 #include <QDoubleSpinBox>
 #include <QLineEdit>
@@ -24,26 +27,30 @@
 #include <vtkPolyData.h>
 
 #include "qRPDrillingPanel.h"
+#include "qRPFixtureChoiceWidget.h"
+#include "rpDrillServo.h"
 #include "rpTestTime.h"
 #include "vtkRPDrillingLogic.h"
 #include "vtkRPModelNode.h"
 #include "vtkRPScene.h"
 #include "vtkRPSegmentationNode.h"
+#include "vtkRPTrajectoryNode.h"
 
 namespace {
 // Labels on a 1 mm grid centred at the origin: trabecular bone for |R|,|A| <= 10, −2 <= S <= 12;
-// a protected layer under it (−6 <= S < −2).
-void AddSegmentation(vtkRPScene* scene) {
+// a protected layer under it (−6 <= S < −2); `atRisk`: that layer is a structure at risk of the
+// plan too (protected, 1 mm margin); `top`: the bone's top voxels' S.
+void AddSegmentation(vtkRPScene* scene, bool atRisk = false, int top = 12) {
   vtkNew<vtkImageData> labels;
-  labels->SetDimensions(36, 36, 36);
+  labels->SetDimensions(36, 36, 36 + top - 12);
   labels->AllocateScalars(VTK_UNSIGNED_CHAR, 1);
-  for (int k = 0; k < 36; ++k)
+  for (int k = 0; k < 36 + top - 12; ++k)
     for (int j = 0; j < 36; ++j)
       for (int i = 0; i < 36; ++i) {
         const double r = i - 18, a = j - 18, s = k - 16;
         const bool box = std::fabs(r) <= 10 && std::fabs(a) <= 10;
         static_cast<unsigned char*>(labels->GetScalarPointer(i, j, k))[0] =
-            box && s >= -2 && s <= 12 ? 1 : (box && s >= -6 && s < -2 ? 2 : 0);
+            box && s >= -2 && s <= top ? 1 : (box && s >= -6 && s < -2 ? 2 : 0);
       }
   vtkNew<vtkRPSegmentationNode> segmentation;
   segmentation->SetName("Knee");
@@ -61,6 +68,7 @@ void AddSegmentation(vtkRPScene* scene) {
   guarded.Name = "Posterior cortex";
   guarded.LabelValue = 2;
   guarded.TissueClass = "bone";
+  guarded.Protection = {atRisk, atRisk ? 1.0 : 0.0};
   segmentation->SetSegment(guarded);
   scene->AddNode(segmentation);
 }
@@ -153,4 +161,119 @@ TEST(DrillingPanel, BuildDrillUndoProtectedResetPicture) {
   EXPECT_TRUE(std::filesystem::file_size(out / "panel-drill.txt") > 1000);
   panel.reset();  // closing the panel stops everything
   EXPECT_FALSE(logic->IsRunning());
+}
+
+// The Guidance group and "Execute plan with simulated hand" (issue 38) on a taller block, a
+// 25 mm tunnel planned straight down its middle, the protected layer a structure at risk: axis
+// guidance switched on while the servo runs engages on the burr held 1 mm off the axis (the
+// status line says so); the plan executed by a hand with 0.2 mm tremor and 1 mm/s drift scores
+// within the issue's targets with axis guidance and the depth stop (entry and tip ≤ 0.5 mm, angle
+// ≤ 1°, no overshoot past 0.1 mm) and with the forbidden region too (never entered), while the
+// same hand free overshoots the target; the window is repainted with progress while it drills.
+TEST(DrillingPanel, GuidanceSwitchesAndExecutesThePlanWithTheSimulatedHand) {
+  int argc = 1;
+  char name[] = "qRPDrillingPanelTest";
+  char* argv[] = {name};
+  QApplication app(argc, argv);
+  vtkNew<vtkRPScene> scene;
+  AddSegmentation(scene, true, 27);  // bone top at S = 27.5
+  vtkNew<vtkRPTrajectoryNode> tunnel;
+  tunnel->SetName("Tunnel");
+  const double entry[3] = {0, 0, 27.5}, target[3] = {0, 0, 2.5};
+  tunnel->SetEntryAndTarget(entry, target);
+  tunnel->SetToolDiameterMm(4);
+  scene->AddNode(tunnel);
+  vtkNew<vtkRPDrillingLogic> logic;
+  logic->SetScene(scene);
+  auto panel = std::make_unique<qRPDrillingPanel>(logic.GetPointer());
+  panel->RecordPathEdit()->setText("");
+  panel->BoneList()->item(0)->setCheckState(Qt::Checked);  // tibia
+  qRPFixtureChoiceWidget* guidance = panel->GuidanceWidget();
+  ASSERT_EQ(guidance->TrajectoryComboBox()->currentText(), "Tunnel");
+
+  // Axis guidance switched on while drilling runs, the burr 1 mm off the axis above the bone.
+  panel->BuildButton()->click();
+  ASSERT_TRUE(logic->HasBone()) << panel->BoneText().toStdString();
+  panel->BurrSpinBox(0)->setValue(1.0);
+  panel->BurrSpinBox(1)->setValue(0.0);
+  panel->BurrSpinBox(2)->setValue(31);
+  panel->StartStopButton()->click();
+  ASSERT_TRUE(panel->IsRunning()) << panel->StatusText().toStdString();
+  guidance->AxisCheckBox()->click();
+  rp::DrillState state;
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(rptest::WaitSeconds(2.0));
+  while (std::chrono::steady_clock::now() < end &&
+         !(logic->ReadState(state) && state.Fixtures.Count == 1 && state.Fixtures.Fixtures[0].Weight >= 1)) {
+    app.processEvents();
+    panel->Update();
+    QThread::msleep(10);
+  }
+  panel->Update();
+  ASSERT_EQ(state.Fixtures.Count, 1);
+  EXPECT_TRUE(state.Fixtures.Fixtures[0].Engaged);
+  EXPECT_NEAR(state.Fixtures.Fixtures[0].Distance, 1.0, 1e-9);
+  EXPECT_TRUE(guidance->StatusText().startsWith("axis guidance on 'Tunnel' (captures within 3.00 mm): ENGAGED, 1.00 mm off the axis"))
+      << guidance->StatusText().toStdString();
+  panel->StartStopButton()->click();
+  ASSERT_FALSE(panel->IsRunning());
+
+  // The plan executed three ways under one hand (each on a freshly built bone).
+  panel->TremorSpinBox()->setValue(0.2);
+  panel->DriftSpinBox()->setValue(1.0);
+  panel->HandSpeedSpinBox()->setValue(2.5);
+  panel->SeedSpinBox()->setValue(3);
+  ASSERT_TRUE(panel->FreshBoneCheckBox()->isChecked());
+  QSet<int> shown;  // progress the window showed while drilling
+  QObject::connect(panel->ExecuteProgressBar(), &QProgressBar::valueChanged, [&](int v) { shown.insert(v); });
+  auto execute = [&](bool axis, bool depth, bool forbidden) -> const rp::GuidedDrillResult& {
+    if (guidance->AxisCheckBox()->isChecked() != axis) guidance->AxisCheckBox()->click();
+    if (guidance->DepthCheckBox()->isChecked() != depth) guidance->DepthCheckBox()->click();
+    if (guidance->ForbiddenCheckBox()->isChecked() != forbidden) guidance->ForbiddenCheckBox()->click();
+    EXPECT_EQ(guidance->ForbiddenCheckBox()->isChecked(), forbidden) << guidance->StatusText().toStdString();
+    panel->ExecuteButton()->click();
+    std::printf("%s\n", panel->ExecutionText().toStdString().c_str());
+    EXPECT_TRUE(panel->ExecutionText().contains("entry")) << panel->ExecutionText().toStdString();
+    return panel->LastExecution();
+  };
+  const rp::GuidedDrillResult free = execute(false, false, false);
+  EXPECT_TRUE(panel->ExecutionText().startsWith("'Tunnel', free hand: entry")) << panel->ExecutionText().toStdString();
+  EXPECT_EQ(free.Fixtures, nullptr);
+  EXPECT_TRUE(panel->isEnabled());
+  EXPECT_GE(shown.size(), 5);  // the bar moved during the run, not only at its ends
+  EXPECT_TRUE(shown.contains(1000));
+  EXPECT_GT(free.Score.DepthErrorMm, 1.0);  // the hand's push carries the free burr past the target
+  const rp::GuidedDrillResult guided = execute(true, true, false);
+  ASSERT_NE(guided.Fixtures, nullptr);
+  EXPECT_EQ(guided.Fixtures->Count(), 2);
+  EXPECT_TRUE(panel->ExecutionText().contains("axis guidance on 'Tunnel'") &&
+              panel->ExecutionText().contains("depth stop at the target of 'Tunnel'"))
+      << panel->ExecutionText().toStdString();
+  EXPECT_LE(guided.Score.EntryOffsetMm, 0.5);
+  EXPECT_LE(guided.Score.TipOffsetMm, 0.5);
+  EXPECT_LE(guided.Score.AngleDeg, 1.0);
+  EXPECT_LE(guided.Score.DepthErrorMm, 0.1);
+  EXPECT_GE(guided.Score.DepthErrorMm, -0.5);  // and it got there
+  EXPECT_FALSE(guided.EnteredForbidden);
+  EXPECT_TRUE(panel->ExecutionText().contains(QString("depth error %1 mm").arg(guided.Score.DepthErrorMm, 0, 'f', 2)));
+  const rp::GuidedDrillResult guarded = execute(true, true, true);
+  ASSERT_NE(guarded.Fixtures, nullptr);
+  EXPECT_EQ(guarded.Fixtures->Count(), 3);
+  EXPECT_TRUE(panel->ExecutionText().contains("forbidden region 'Posterior cortex'")) << panel->ExecutionText().toStdString();
+  EXPECT_FALSE(guarded.EnteredForbidden);
+  ASSERT_EQ(guarded.Score.Clearance.size(), 1u);
+  EXPECT_GE(guarded.Score.Clearance[0].ClosestMm, 1.0 - 1e-6);  // outside the 1 mm margin
+  EXPECT_LE(guarded.Score.TipOffsetMm, 0.5);
+  EXPECT_LE(guarded.Score.AngleDeg, 1.0);
+  // The Guidance group's fixtures are the logic's again for the next session.
+  ASSERT_NE(logic->GetPlanFixtures(), nullptr);
+  EXPECT_EQ(logic->GetPlanFixtures()->Count(), 3);
+
+  // A plan without the trajectory chosen: the reason, nothing drilled.
+  scene->RemoveNode(tunnel);
+  guidance->RefreshNodes();
+  EXPECT_EQ(guidance->TrajectoryComboBox()->count(), 0);
+  panel->ExecuteButton()->click();
+  EXPECT_TRUE(panel->ExecutionText().startsWith("the scene has no complete trajectory")) << panel->ExecutionText().toStdString();
+  std::printf("without a trajectory: %s\n", panel->ExecutionText().toStdString().c_str());
+  panel.reset();
 }

@@ -5,7 +5,10 @@
 // lens's closed-form volume outside the plan's cylinder (within the voxel error).
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
+#include <functional>
+#include <thread>
 
 #include <vtkNew.h>
 
@@ -14,7 +17,9 @@
 #include "rpDrillProtection.h"
 #include "rpForbiddenRegion.h"
 #include "rpGuidedDrill.h"
+#include "rpSimulatedDevice.h"
 #include "vtkRPScene.h"
+#include "vtkRPTrajectoryNode.h"
 #include "rpTestAxis.h"
 
 namespace {
@@ -218,3 +223,46 @@ TEST(GuidedDrill, OnTheRealTimeServoThreadTheDepthStopStillHolds) {
 }
 
 }  // namespace
+
+// The plan's fixtures switched through vtkRPDrillingLogic::SetPlanFixtures while the real-time
+// drilling servo runs (what the Drilling panel's Guidance group calls): the burr held 1 mm off a
+// trajectory above the bone is captured by axis guidance (the servo's report: engaged, 1 mm off)
+// and pulled with the spring's k·d; cleared, the force fades back to none. Runs under TSan.
+TEST(GuidedDrill, FixturesSwitchedWhileTheServoRuns) {
+  Block block;
+  vtkNew<vtkRPTrajectoryNode> plan;
+  plan->SetName("Plan");
+  const double entry[3] = {0, 0, 0}, target[3] = {0, 0, -20};
+  plan->SetEntryAndTarget(entry, target);
+  block.Scene->AddNode(plan);
+  const double burr[3] = {1.0, 0, 8};  // 1 mm off the axis, the burr (r = 2) clear of the bone
+  block.Logic->SetSimulatedBurrPosition(burr);
+  std::string error;
+  ASSERT_TRUE(block.Logic->StartSimulated(error)) << error;
+  auto wait = [&](const std::function<bool(const rp::DrillState&)>& until) {
+    rp::DrillState s;
+    for (int i = 0; i < 300; ++i) {  // 3 s at most
+      block.Logic->Update();
+      if (block.Logic->ReadState(s) && until(s)) break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return s;
+  };
+  rp::DrillState s = wait([](const rp::DrillState& s) { return s.RampScale >= 1; });
+  EXPECT_NEAR(rp::Norm(s.Force), 0, 1e-12);
+  rp::PlanFixtureChoice choice;
+  choice.Axis = true;
+  ASSERT_TRUE(block.Logic->SetPlanFixtures(choice, error)) << error;
+  s = wait([](const rp::DrillState& s) { return s.Fixtures.Count == 1 && s.Fixtures.Fixtures[0].Weight >= 1; });
+  ASSERT_EQ(s.Fixtures.Count, 1);
+  EXPECT_TRUE(s.Fixtures.Fixtures[0].Engaged);
+  EXPECT_NEAR(s.Fixtures.Fixtures[0].Distance, 1.0, 1e-9);
+  const double k = rp::RenderedFixtureStiffness(choice.AxisTuning, rp::SimulatedDevice::DefaultInfo(), 0.001);
+  EXPECT_NEAR(s.Force.x, -k * 1.0, 1e-6);
+  EXPECT_NEAR(s.Force.y, 0, 1e-9);
+  ASSERT_TRUE(block.Logic->SetPlanFixtures(rp::PlanFixtureChoice{}, error)) << error;
+  s = wait([](const rp::DrillState& s) { return s.Fixtures.Count == 0 && rp::Norm(s.Force) == 0; });
+  EXPECT_EQ(s.Fixtures.Count, 0);
+  EXPECT_NEAR(rp::Norm(s.Force), 0, 1e-12);
+  block.Logic->Stop();
+}

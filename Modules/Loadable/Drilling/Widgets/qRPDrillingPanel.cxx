@@ -4,6 +4,10 @@
 #include <cmath>
 
 #include <QApplication>
+#include <QCheckBox>
+#include <QGroupBox>
+#include <QProgressBar>
+#include <QSpinBox>
 #include <QComboBox>
 #include <QDateTime>
 #include <QDir>
@@ -20,7 +24,9 @@
 
 #include <vtkPolyData.h>
 
+#include "qRPFixtureChoiceWidget.h"
 #include "rpDrillSession.h"
+#include "rpGuidedDrill.h"
 #include "rpHapticSceneBridge.h"
 #include "vtkRPDrillingLogic.h"
 #include "vtkRPModelNode.h"
@@ -105,8 +111,15 @@ qRPDrillingPanel::qRPDrillingPanel(vtkRPDrillingLogic* logic, QWidget* parent) :
   form->addRow("Servo p99 / re-contour p95", this->Timing);
   this->Picture = new QPushButton("Save tunnel picture…");
   form->addRow(this->Picture);
+  this->Guidance = new qRPFixtureChoiceWidget;
+  this->Guidance->Setup(
+      logic ? logic->GetScene() : nullptr,
+      [this](const rp::PlanFixtureChoice& choice, std::string& error) { return this->Logic && this->Logic->SetPlanFixtures(choice, error); },
+      [this] { return this->Logic ? this->Logic->GetPlanFixtures() : nullptr; });
   auto* layout = new QVBoxLayout(this);
   layout->addLayout(form);
+  layout->addWidget(this->Guidance);
+  layout->addWidget(this->MakeExecutionGroup());
   layout->addStretch(1);
 
   this->Timer = new QTimer(this);
@@ -147,6 +160,108 @@ qRPDrillingPanel::qRPDrillingPanel(vtkRPDrillingLogic* logic, QWidget* parent) :
 }
 
 qRPDrillingPanel::~qRPDrillingPanel() { this->Stop(); }
+
+QWidget* qRPDrillingPanel::MakeExecutionGroup() {
+  auto* group = new QGroupBox("Execute the plan with a simulated hand");
+  auto* form = new QFormLayout(group);
+  this->Tremor = Spin(0, 2, 0.05, 2, 0.2);
+  this->Tremor->setToolTip("RMS physiological tremor (8-12 Hz) of the simulated hand");
+  this->Drift = Spin(0, 5, 0.1, 2, 1.0);
+  this->Drift->setToolTip("The hand's slow drift (a postural sway)");
+  this->HandSpeed = Spin(0.5, 10, 0.5, 1, 2.5);
+  this->HandSpeed->setToolTip("The hand's intended speed along the plan");
+  this->Seed = new QSpinBox;
+  this->Seed->setRange(0, 1000000);
+  this->Seed->setValue(3);
+  this->Seed->setToolTip("The same seed is the same hand: executions with and without fixtures compare");
+  this->FreshBone = new QCheckBox("Rebuild the bone first (each execution on intact bone)");
+  this->FreshBone->setChecked(true);
+  this->Execute = new QPushButton("Execute plan with simulated hand");
+  this->Execute->setToolTip("Drills the Guidance group's trajectory with its fixtures (none: the free hand) and scores it against the plan");
+  this->Progress = new QProgressBar;
+  this->Progress->setRange(0, 1000);
+  this->Progress->setValue(0);
+  this->Progress->setTextVisible(false);
+  this->ExecutionInfo = new QLabel("-");
+  this->ExecutionInfo->setWordWrap(true);
+  this->ExecutionInfo->setTextInteractionFlags(Qt::TextSelectableByMouse);
+  form->addRow("Tremor (mm RMS)", this->Tremor);
+  form->addRow("Drift (mm/s)", this->Drift);
+  form->addRow("Hand speed (mm/s)", this->HandSpeed);
+  form->addRow("Seed", this->Seed);
+  form->addRow(this->FreshBone);
+  form->addRow(this->Execute, this->Progress);
+  form->addRow(this->ExecutionInfo);
+  connect(this->Execute, &QPushButton::clicked, this, [this] { this->ExecutePlan(); });
+  return group;
+}
+
+QString qRPDrillingPanel::ExecutionText() const { return this->ExecutionInfo->text(); }
+
+namespace {
+QString ScoreText(const rp::GuidedDrillResult& r, const QString& fixtures) {
+  const rp::ExecutionScore& s = r.Score;
+  return QString("%1: entry %2 mm, tip %3 mm, angle %4°, depth error %5 mm, max deviation %6 mm; "
+                 "forbidden region entered: %7; drilling %8 s")
+      .arg(fixtures)
+      .arg(s.EntryOffsetMm, 0, 'f', 2)
+      .arg(s.TipOffsetMm, 0, 'f', 2)
+      .arg(s.AngleDeg, 0, 'f', 2)
+      .arg(s.DepthErrorMm, 0, 'f', 2)
+      .arg(s.MaxDeviationMm, 0, 'f', 2)
+      .arg(r.EnteredForbidden ? "YES" : "no")
+      .arg(r.DrillSeconds, 0, 'f', 1);
+}
+}  // namespace
+
+bool qRPDrillingPanel::ExecutePlan() {
+  if (this->Logic == nullptr) return false;
+  this->Stop();
+  auto refuse = [this](const QString& why) {
+    this->Last = rp::GuidedDrillResult{};
+    this->ExecutionInfo->setText(why);
+    return false;
+  };
+  if (this->FreshBone->isChecked() && !Checked(this->BoneSegments).isEmpty() && !this->BuildBone())
+    return refuse("the bone: " + this->BoneText());
+  if (!this->Logic->HasBone()) return refuse("build the voxel bone first");
+  std::string error;
+  const std::shared_ptr<const rp::PlanSnapshot> plan = rp::SnapshotPlan(this->Logic->GetScene(), error);
+  if (plan && plan->Trajectories.empty()) return refuse("the scene has no complete trajectory (entry and target) to execute");
+  const rp::PlanFixtureChoice choice = this->Guidance->Choice();
+  const rp::TrajectorySnapshot* trajectory = plan ? rp::ChooseTrajectory(*plan, choice.Trajectory, error) : nullptr;
+  if (trajectory == nullptr) return refuse(QString::fromStdString(error));
+  rp::GuidedDrillOptions options;
+  options.BurrRadiusMm = this->Radius->value();
+  options.Rpm = this->Rpm->value();
+  options.SpeedMmPerS = this->HandSpeed->value();
+  options.Noise.TremorMm = this->Tremor->value();
+  options.Noise.DriftMmPerS = this->Drift->value();
+  options.Noise.Seed = static_cast<uint64_t>(this->Seed->value());
+  // The run takes seconds on this thread (it drills the logic's bone and its model node): the
+  // window repaints and the bar moves, the panel's own input waits.
+  options.Progress = [this](double fraction, const std::string&) {
+    this->Progress->setValue(static_cast<int>(1000 * fraction));
+    QApplication::processEvents(QEventLoop::ExcludeUserInputEvents);
+  };
+  this->setEnabled(false);
+  this->Progress->setValue(0);
+  this->ExecutionInfo->setText("drilling '" + QString::fromStdString(trajectory->Name) + "' with the simulated hand…");
+  rp::GuidedDrillResult& result = this->Last;
+  result = rp::GuidedDrillResult{};
+  const bool done = rp::DrillPlannedTrajectory(this->Logic, *plan, *trajectory, choice, options, result, error);
+  result.Run.Records.clear();  // every tick's record: the path and the score are what is kept
+  this->setEnabled(true);
+  this->Progress->setValue(1000);
+  // The run handed its own fixtures to the logic: the Guidance group's again for the next session.
+  std::string ignored;
+  if (this->Logic->GetPlanFixtures() == nullptr) this->Logic->SetPlanFixtures(this->Guidance->Choice(), ignored);
+  if (!done) return refuse(QString::fromStdString(error));
+  const QString fixtures = qRPFixtureChoiceWidget::DescribeFixtures(result.Fixtures.get(), nullptr);
+  this->ExecutionInfo->setText(ScoreText(result, "'" + QString::fromStdString(trajectory->Name) + "', " +
+                                                     (result.Fixtures ? fixtures.split("\n").join(", ") : "free hand")));
+  return true;
+}
 
 bool qRPDrillingPanel::IsRunning() const { return this->Logic && this->Logic->IsRunning(); }
 QString qRPDrillingPanel::StatusText() const { return this->State->text(); }
@@ -288,6 +403,7 @@ void qRPDrillingPanel::Stop() {
   this->StartStop->setText("Start drilling");
   this->RecordPath->setEnabled(true);
   this->Build->setEnabled(true);
+  if (this->Logic) this->Guidance->ShowFixtures(nullptr);
   if (wasRunning)
     this->State->setText(this->Logic->GetRecordPath().empty()
                              ? QString("stopped")
@@ -322,6 +438,7 @@ void qRPDrillingPanel::Update() {
     this->ProtectedInfo->setStyleSheet("");
   }
   this->ForceInfo->setText(QString("%1 N%2").arg(rp::Norm(s.Force), 0, 'f', 2).arg(s.Clamped ? " (device maximum)" : ""));
+  this->Guidance->ShowFixtures(&s.Fixtures);
   if (rp::DrillSession* session = this->Logic->GetSession()) {
     const auto frames = session->Display().Frames();
     std::vector<double> ms;

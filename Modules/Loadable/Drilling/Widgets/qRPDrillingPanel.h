@@ -5,11 +5,21 @@
 // R/A/S spin boxes) or following a tracked tool: burr on/off, radius, speed, undo the last
 // stroke, reset; read-outs of the removed volume per tissue, the distance to the protected
 // structure (red when it warns or stopped the burr), force and timings; the drill path
-// recording and a picture of the tunnel. A 30 Hz timer drives vtkRPDrillingLogic::Update.
+// recording and a picture of the tunnel. The Guidance group (qRPFixtureChoiceWidget) switches the
+// plan's virtual fixtures on and off, before drilling or while the servo runs
+// (vtkRPDrillingLogic::SetPlanFixtures); "Execute plan with simulated hand" drills the chosen
+// trajectory with a trembling, drifting hand and those fixtures (rp::DrillPlannedTrajectory, the
+// run `roboplan drill --plan` and the demo make) and shows its score against the plan, the window
+// kept painted with a progress bar. A 30 Hz timer drives vtkRPDrillingLogic::Update.
 #include <QWidget>
+
+#include "rpGuidedDrill.h"
 
 class QCheckBox;
 class QComboBox;
+class QProgressBar;
+class QSpinBox;
+class qRPFixtureChoiceWidget;
 class QDoubleSpinBox;
 class QLabel;
 class QLineEdit;
@@ -33,6 +43,10 @@ class qRPDrillingPanel : public QWidget {
   /// One timer tick (public for tests).
   void Update();
   bool SavePicture(const QString& path);
+  /// Drills the Guidance group's trajectory with the simulated hand (tremor, drift, speed, seed
+  /// of the spin boxes) and its fixtures, on a freshly built bone when the box says so, and shows
+  /// the score. False with the reason in ExecutionText().
+  bool ExecutePlan();
 
   QComboBox* SegmentationComboBox() const { return this->Segmentation; }
   QListWidget* BoneList() const { return this->BoneSegments; }
@@ -49,6 +63,18 @@ class qRPDrillingPanel : public QWidget {
   QPushButton* UndoButton() const { return this->UndoStroke; }
   QPushButton* ResetButton() const { return this->ResetBone; }
   QLineEdit* RecordPathEdit() const { return this->RecordPath; }
+  /// The Guidance group: the plan's virtual fixtures.
+  qRPFixtureChoiceWidget* GuidanceWidget() const { return this->Guidance; }
+  QDoubleSpinBox* TremorSpinBox() const { return this->Tremor; }
+  QDoubleSpinBox* DriftSpinBox() const { return this->Drift; }
+  QDoubleSpinBox* HandSpeedSpinBox() const { return this->HandSpeed; }
+  QSpinBox* SeedSpinBox() const { return this->Seed; }
+  QCheckBox* FreshBoneCheckBox() const { return this->FreshBone; }
+  QPushButton* ExecuteButton() const { return this->Execute; }
+  QProgressBar* ExecuteProgressBar() const { return this->Progress; }
+  /// The last execution's score (or why it did not run), and the run itself.
+  QString ExecutionText() const;
+  const rp::GuidedDrillResult& LastExecution() const { return this->Last; }
   QString StatusText() const;
   QString BoneText() const;
   QString RemovedText() const;
@@ -60,6 +86,7 @@ class qRPDrillingPanel : public QWidget {
  private:
   void SendBurrPosition();
   void FitBurrRange();
+  QWidget* MakeExecutionGroup();
 
   vtkRPDrillingLogic* Logic;
   QComboBox* Segmentation;
@@ -85,6 +112,16 @@ class qRPDrillingPanel : public QWidget {
   QLabel* ForceInfo;
   QLabel* Timing;
   QTimer* Timer;
+  qRPFixtureChoiceWidget* Guidance;
+  QDoubleSpinBox* Tremor;
+  QDoubleSpinBox* Drift;
+  QDoubleSpinBox* HandSpeed;
+  QSpinBox* Seed;
+  QCheckBox* FreshBone;
+  QPushButton* Execute;
+  QProgressBar* Progress;
+  QLabel* ExecutionInfo;
+  rp::GuidedDrillResult Last;
   bool Warning = false;
   double Removed = 0;
 };

@@ -7,13 +7,17 @@
 #include <vtkObjectFactory.h>
 
 #include "rpDeviceProfiles.h"
+#include "rpFixtureConstraint.h"
 #include "rpHapticSceneBridge.h"
 #include "rpSimulatedDevice.h"
+#include "vtkRPPlanningLogic.h"
 
 vtkStandardNewMacro(vtkRPHapticsLogic);
 
 vtkRPHapticsLogic::vtkRPHapticsLogic()
-    : Device(std::make_unique<rp::SimulatedDevice>()), Profile(rp::DeviceProfiles().front().Key) {}
+    : Device(std::make_unique<rp::SimulatedDevice>()),
+      Profile(rp::DeviceProfiles().front().Key),
+      Planning(vtkSmartPointer<vtkRPPlanningLogic>::New()) {}
 
 bool vtkRPHapticsLogic::SetDeviceProfile(const std::string& name, std::string& error) {
   if (this->IsRunning()) {
@@ -36,6 +40,19 @@ void vtkRPHapticsLogic::PrintSelf(ostream& os, vtkIndent indent) {
   os << indent << "Running: " << (this->IsRunning() ? "yes" : "no") << "\n";
   os << indent << "DeviceProfile: " << this->Profile << "\n";
   if (this->Session) os << indent << "HapticTriangles: " << this->Session->SceneTriangles() << "\n";
+}
+
+bool vtkRPHapticsLogic::SetPlanFixtures(const rp::PlanFixtureChoice& choice, std::string& error) {
+  if (this->Scene == nullptr) {
+    error = "haptics: no scene";
+    return false;
+  }
+  this->Planning->SetScene(this->Scene);
+  std::shared_ptr<const rp::FixtureSet> set = this->Planning->MakePlanFixtures(choice, error);
+  if (!set) return false;  // refused: the set in use stays
+  this->PlanFixtures = set;
+  rp::InstallFixtures(this->PlanFixtures, this->Settings.MakeConstraints, this->IsRunning() ? &this->Session->Servo().Constraints() : nullptr);
+  return true;
 }
 
 void vtkRPHapticsLogic::SetSimulatedTrajectory(std::shared_ptr<const rp::Trajectory> path) { this->Path = std::move(path); }

@@ -13,10 +13,13 @@
 #include <vector>
 
 #include <vtkObject.h>
+#include <vtkSmartPointer.h>
 
 #include "rpHapticSession.h"
+#include "rpPlanFixtures.h"
 
 class vtkMatrix4x4;
+class vtkRPPlanningLogic;
 class vtkRPScene;
 
 namespace rp {
@@ -55,7 +58,16 @@ class vtkRPHapticsLogic : public vtkObject {
   /// its servo once handed over); nullptr: none. A running session: GetSession()->Servo().Constraints().
   void SetConstraints(std::function<std::unique_ptr<rp::ToolConstraints>()> make) {
     this->Settings.MakeConstraints = std::move(make);
+    this->PlanFixtures.reset();
   }
+  /// The plan's virtual fixtures (issue 38; what the panel's Guidance group and tests call): builds
+  /// the fixtures `choice` switches on from the scene's plan (vtkRPPlanningLogic::MakePlanFixtures),
+  /// installs them for every next session and hands them to a running one, where a fixture
+  /// switched on or off fades in or out (no force step beyond the device's event rate). A choice
+  /// with none clears them. False with `error` naming the problem; the fixtures in use are kept.
+  bool SetPlanFixtures(const rp::PlanFixtureChoice& choice, std::string& error);
+  /// The plan's fixtures in use (null: none set through SetPlanFixtures since the last SetConstraints).
+  std::shared_ptr<const rp::FixtureSet> GetPlanFixtures() const { return this->PlanFixtures; }
   /// The session log CSV written while running (empty: none); flushed by Stop().
   void SetLogPath(const std::string& path) { this->Settings.LogPath = path; }
   const std::string& GetLogPath() const { return this->Settings.LogPath; }
@@ -106,6 +118,8 @@ class vtkRPHapticsLogic : public vtkObject {
   std::unique_ptr<rp::HapticSession> Session;  // after Device: destroyed first
   std::string MaterialsPath, FollowedID;
   std::string Profile;
+  vtkSmartPointer<vtkRPPlanningLogic> Planning;  // the plan's snapshot (its structures' surfaces cached)
+  std::shared_ptr<const rp::FixtureSet> PlanFixtures;
 };
 
 #endif

@@ -12,6 +12,7 @@
 #include <memory>
 
 #include <QApplication>
+#include <QCheckBox>
 #include <QComboBox>
 #include <QDir>
 #include <QDoubleSpinBox>
@@ -22,7 +23,10 @@
 #include <nlohmann/json.hpp>
 #include <vtkNew.h>
 
+#include "qRPFixtureChoiceWidget.h"
 #include "qRPHapticsPanel.h"
+#include "rpFixtureSet.h"
+#include "rpHapticsGuidanceScene.h"
 #include "qRPSliceFollowCheckBox.h"
 #include "rpHapticSceneBridge.h"
 #include "rpPolyDataTriangleMesh.h"
@@ -34,6 +38,7 @@
 #include "vtkRPLinearTransformNode.h"
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPSliceNode.h"
+#include "vtkRPTrajectoryNode.h"
 #ifdef ROBOPLAN_TEST_WITH_VIEWER
 #include <vtkImageData.h>
 #include "rpScreenshot.h"
@@ -49,6 +54,16 @@ double BoneStiffness() {
   for (const auto& m : doc.at("materials"))
     if (m.at("tissue") == "bone") return m.at("stiffness").get<double>();
   return -1;
+}
+
+// The display timer's work for `seconds` (the test drives it: 10 ms steps).
+void Pump(QApplication& app, qRPHapticsPanel& panel, double seconds) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  while (std::chrono::steady_clock::now() < end) {
+    app.processEvents();
+    panel.Update();
+    QThread::msleep(10);
+  }
 }
 }  // namespace
 
@@ -78,14 +93,7 @@ TEST(HapticsPanel, PressIntoBoneSlabShowsStiffnessForceAndTissue) {
   // Spin box ranges: the haptic models' bounds ± 20 mm.
   EXPECT_DOUBLE_EQ(panel->StylusSpinBox(2)->minimum(), -40);
   EXPECT_DOUBLE_EQ(panel->StylusSpinBox(2)->maximum(), 20);
-  auto pump = [&](double seconds) {
-    const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-    while (std::chrono::steady_clock::now() < end) {
-      app.processEvents();
-      panel->Update();
-      QThread::msleep(10);
-    }
-  };
+  auto pump = [&](double seconds) { Pump(app, *panel, seconds); };
   panel->StartStopButton()->click();
   ASSERT_TRUE(panel->IsRunning()) << panel->StatusText().toStdString();
   panel->StylusSpinBox(0)->setValue(3);
@@ -191,14 +199,7 @@ TEST(HapticsPanel, SlicesFollowTheProxyThroughTheScene) {
   logic->SetScene(scene);
   auto panel = std::make_unique<qRPHapticsPanel>(logic.GetPointer());
   panel->LogPathEdit()->setText("");
-  auto pump = [&](double seconds) {
-    const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-    while (std::chrono::steady_clock::now() < end) {
-      app.processEvents();
-      panel->Update();
-      QThread::msleep(10);
-    }
-  };
+  auto pump = [&](double seconds) { Pump(app, *panel, seconds); };
   panel->FollowProxyCheckBox()->setChecked(true);  // before the proxy exists: applied when it does
   panel->StartStopButton()->click();
   ASSERT_TRUE(panel->IsRunning()) << panel->StatusText().toStdString();
@@ -249,5 +250,128 @@ TEST(HapticsPanel, SlicesFollowTheProxyThroughTheScene) {
   EXPECT_EQ(red->GetFollowNodeID(), proxy->GetID());
   panel->FollowProxyCheckBox()->setChecked(false);
   EXPECT_EQ(red->GetFollowNodeID(), "");
+  panel.reset();
+}
+
+// The Guidance group (issue 38): the plan's fixtures switched with the panel's boxes while the
+// servo runs, against closed forms — axis guidance pulls the stylus held 1.5 mm off a straight
+// trajectory with k·d towards the axis; the depth stop holds it at the target depth with k·2 mm
+// when pushed 2 mm past; the surface constraint on the slab's model pulls the stylus 1 mm above
+// it with k·1 mm onto it; the trajectory dragged 0.5 mm, the pull follows; every switch within the device's force step per tick; the status line
+// says which fixture is engaged and how far; a fixture with nothing to act on is refused with
+// its reason and its box unticked; the trajectory list follows the scene.
+TEST(HapticsPanel, GuidanceGroupSwitchesThePlansFixturesWhileRunning) {
+  int argc = 1;
+  char name[] = "qRPHapticsPanelTest";
+  char* argv[] = {name};
+  QApplication app(argc, argv);
+  vtkNew<vtkRPScene> scene;
+  rptest::AddGuidanceScene(scene);
+  vtkNew<vtkRPHapticsLogic> logic;
+  logic->SetScene(scene);
+  logic->SetRampSeconds(0.05);
+  QDir().mkpath(ROBOPLAN_TEST_OUTPUT_DIR);
+  const std::string log = std::string(ROBOPLAN_TEST_OUTPUT_DIR) + "/haptics-panel-guidance.csv";
+  auto panel = std::make_unique<qRPHapticsPanel>(logic.GetPointer());
+  panel->LogPathEdit()->setText(QString::fromStdString(log));
+  qRPFixtureChoiceWidget* guidance = panel->GuidanceWidget();
+  ASSERT_EQ(guidance->TrajectoryComboBox()->count(), 1);
+  EXPECT_EQ(guidance->TrajectoryComboBox()->currentText(), "Plan");
+  EXPECT_NE(guidance->SurfaceComboBox()->findText("model Slab"), -1);
+  EXPECT_EQ(guidance->StatusText(), "no fixture acts (free hand)");
+  auto pump = [&](double seconds) { Pump(app, *panel, seconds); };
+  auto servoTime = [&] {
+    rp::HapticState s;
+    logic->GetSession()->Servo().ReadState(s);
+    return s.Time;
+  };
+  auto force = [&] {  // a tick that ran on time, as the panel shows it
+    rp::HapticState s;
+    for (int i = 0; i < 100 && (!logic->GetSession()->Servo().ReadState(s) || s.StallLimited); ++i) QThread::msleep(1);
+    return s.Force;
+  };
+  const double d = 1.5;
+  panel->StartStopButton()->click();
+  ASSERT_TRUE(panel->IsRunning()) << panel->StatusText().toStdString();
+  panel->StylusSpinBox(0)->setValue(d);
+  EXPECT_DOUBLE_EQ(panel->StylusSpinBox(2)->value(), -50);  // above the slab, between entry and target
+  pump(0.2);
+  const rp::DeviceInfo device = logic->GetSession()->DeviceLimits();
+  const double period = logic->GetSession()->StabilityPeriod();
+  const double k = rp::RenderedFixtureStiffness(rp::DefaultFixtureTuning(rp::FixtureKind::AxisGuidance), device, period);
+
+  const double axisOn = servoTime();
+  guidance->AxisCheckBox()->click();
+  pump(0.3);
+  EXPECT_NEAR(force().x, -k * d, 1e-6);
+  EXPECT_NEAR(panel->DisplayedForce(), k * d, 0.02);
+  EXPECT_TRUE(guidance->StatusText().contains("axis guidance on 'Plan' (captures within 3.00 mm): ENGAGED, 1.50 mm off the axis, 0.90 N"))
+      << guidance->StatusText().toStdString();
+
+  // The trajectory dragged 0.5 mm towards the stylus while the guidance acts: the pull follows.
+  auto* plan = vtkRPTrajectoryNode::SafeDownCast(scene->GetFirstNodeByName("Plan"));
+  const double movedEntry[3] = {0.5, 0, rptest::EntryS}, movedTarget[3] = {0.5, 0, rptest::TargetS};
+  plan->SetEntryAndTarget(movedEntry, movedTarget);
+  pump(0.5);
+  EXPECT_NEAR(force().x, -k * (d - 0.5), 1e-6);
+  EXPECT_TRUE(guidance->StatusText().contains("ENGAGED, 1.00 mm off the axis")) << guidance->StatusText().toStdString();
+  const double backEntry[3] = {0, 0, rptest::EntryS}, backTarget[3] = {0, 0, rptest::TargetS};
+  plan->SetEntryAndTarget(backEntry, backTarget);
+  pump(0.5);
+  EXPECT_NEAR(force().x, -k * d, 1e-6);
+
+  guidance->DepthCheckBox()->click();
+  pump(0.15);
+  const double pushed = servoTime();
+  panel->StylusSpinBox(2)->setValue(rptest::TargetS - 2);
+  pump(0.3);
+  const double kDepth = rp::RenderedFixtureStiffness(rp::DefaultFixtureTuning(rp::FixtureKind::DepthStop), device, period);
+  EXPECT_NEAR(force().z, kDepth * 2, 1e-5);
+  EXPECT_TRUE(guidance->StatusText().contains("depth stop at the target of 'Plan': AT THE STOP")) << guidance->StatusText().toStdString();
+  std::printf("Guidance group, axis + depth stop:\n%s\n", guidance->StatusText().toStdString().c_str());
+
+  // The scene has no structure at risk: refused, named, the box unticked, the fixtures kept.
+  guidance->ForbiddenCheckBox()->click();
+  EXPECT_FALSE(guidance->ForbiddenCheckBox()->isChecked());
+  EXPECT_TRUE(guidance->StatusText().startsWith("the plan has no structure at risk for a forbidden region"))
+      << guidance->StatusText().toStdString();
+  EXPECT_EQ(logic->GetPlanFixtures()->Count(), 2);
+
+  // Both off, pushed past the target: back to no force.
+  const double off = servoTime();
+  guidance->AxisCheckBox()->click();
+  guidance->DepthCheckBox()->click();
+  pump(0.3);
+  EXPECT_NEAR(rp::Norm(force()), 0, 1e-9);
+  EXPECT_EQ(guidance->StatusText(), "no fixture acts (free hand)");
+  const double free = servoTime();
+
+  // The surface constraint on the slab's model (its top at S = −60), the stylus 1 mm above it.
+  panel->StylusSpinBox(2)->setValue(-59);
+  pump(0.1);
+  guidance->SurfaceComboBox()->setCurrentIndex(guidance->SurfaceComboBox()->findText("model Slab"));
+  guidance->SurfaceCheckBox()->click();
+  pump(0.3);
+  const double kSurface = rp::RenderedFixtureStiffness(rp::DefaultFixtureTuning(rp::FixtureKind::SurfaceConstraint), device, period);
+  EXPECT_NEAR(force().z, -kSurface * 1.0, 1e-5);
+  EXPECT_TRUE(guidance->StatusText().contains("surface constraint on 'Slab' (within 2.00 mm): HOLDING, 1.00 mm from the surface"))
+      << guidance->StatusText().toStdString();
+
+  // A trajectory added to the scene joins the list.
+  vtkNew<vtkRPTrajectoryNode> second;
+  second->SetName("Second");
+  scene->AddNode(second);
+  pump(0.4);
+  EXPECT_EQ(guidance->TrajectoryComboBox()->count(), 2);
+  // The fades' budget per tick is MaxForceRate × the period the servo assumes: the measured p99
+  // once it grew past the nominal one (a loaded machine), never less.
+  const double lastPeriod = logic->GetSession()->StabilityPeriod();
+  panel->StartStopButton()->click();
+  ASSERT_FALSE(panel->IsRunning());
+
+  const std::vector<rptest::LogRow> rows = rptest::ReadSessionLog(log);
+  const double limit = device.MaxForceRate * lastPeriod + 1e-4;
+  EXPECT_LE(rptest::LargestStep(rows, axisOn, pushed - 0.01), limit);
+  EXPECT_LE(rptest::LargestStep(rows, off, free), limit);
   panel.reset();
 }

@@ -18,6 +18,7 @@
 #include <vtkNew.h>
 #include <vtkPolyData.h>
 
+#include "qRPFixtureChoiceWidget.h"
 #include "qRPSliceFollowCheckBox.h"
 #include "rpDeviceProfiles.h"
 #include "rpHapticSceneBridge.h"
@@ -72,9 +73,15 @@ qRPHapticsPanel::qRPHapticsPanel(vtkRPHapticsLogic* logic, QWidget* parent) : QW
   form->addRow("Penetration", this->Penetration);
   form->addRow("Servo p99 period / compute", this->Timing);
   form->addRow("Missed deadlines", this->Missed);
+  this->Guidance = new qRPFixtureChoiceWidget;
+  this->Guidance->Setup(
+      logic ? logic->GetScene() : nullptr,
+      [this](const rp::PlanFixtureChoice& choice, std::string& error) { return this->Logic && this->Logic->SetPlanFixtures(choice, error); },
+      [this] { return this->Logic ? this->Logic->GetPlanFixtures() : nullptr; });
   auto* layout = new QVBoxLayout(this);
   layout->addLayout(form);
   layout->addWidget(this->Clamps);
+  layout->addWidget(this->Guidance);
   layout->addStretch(1);
   this->Timer = new QTimer(this);
   this->Timer->setInterval(33);  // 30 Hz display rate
@@ -199,6 +206,7 @@ void qRPHapticsPanel::Stop() {
                            ? "stopped; log " + QString::fromStdString(this->Logic->GetLogPath())
                            : QString("stopped"));
   this->ForceN = 0;
+  if (this->Logic) this->Guidance->ShowFixtures(nullptr);
 }
 
 void qRPHapticsPanel::Update() {
@@ -244,4 +252,5 @@ void qRPHapticsPanel::Update() {
                                                     .arg(1e3 * session->StabilityPeriod(), 0, 'f', 2) +
                                                 clamped.join("\n"));
   this->Clamps->setVisible(!clamped.isEmpty());
+  this->Guidance->ShowFixtures(&s.Fixtures);
 }

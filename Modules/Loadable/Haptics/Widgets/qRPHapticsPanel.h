@@ -5,7 +5,9 @@
 // boxes (so the module is usable without hardware) or let a tracked tool (a stylus or drill
 // under the tracker) drive it, and live read-outs (tissue, force,
 // penetration, servo timing) with a warning per tissue the device cannot render stably.
-// A 30 Hz timer drives vtkRPHapticsLogic::Update (main thread). Destroying the panel stops the
+// The Guidance group (qRPFixtureChoiceWidget) switches the plan's virtual fixtures on and off,
+// before a session or while the servo runs (vtkRPHapticsLogic::SetPlanFixtures), and says which
+// act and, while running, which is engaged. A 30 Hz timer drives vtkRPHapticsLogic::Update (main thread). Destroying the panel stops the
 // loop (zero force on the device) and flushes the session log.
 #include <QWidget>
 
@@ -15,6 +17,7 @@ class QLabel;
 class QLineEdit;
 class QPushButton;
 class QTimer;
+class qRPFixtureChoiceWidget;
 class qRPSliceFollowCheckBox;
 class vtkRPHapticsLogic;
 
@@ -42,6 +45,8 @@ class qRPHapticsPanel : public QWidget {
   /// views re-slice at the point of contact; the panel never touches a view).
   qRPSliceFollowCheckBox* FollowProxyCheckBox() const { return this->FollowProxy; }
   QPushButton* StartStopButton() const { return this->StartButton; }
+  /// The Guidance group: the plan's virtual fixtures.
+  qRPFixtureChoiceWidget* GuidanceWidget() const { return this->Guidance; }
   /// Where the session log (CSV, one row per servo tick) goes; empty: no log.
   QLineEdit* LogPathEdit() const { return this->LogPath; }
   QString StatusText() const;
@@ -72,6 +77,7 @@ class qRPHapticsPanel : public QWidget {
   QLabel* Missed;
   qRPSliceFollowCheckBox* FollowProxy;
   QLabel* Clamps;
+  qRPFixtureChoiceWidget* Guidance;
   QTimer* Timer;
   double ForceN = 0;
 };

@@ -237,6 +237,28 @@ std::shared_ptr<const rp::PlanSnapshot> vtkRPPlanningLogic::MakePlanSnapshot(std
   return plan;
 }
 
+std::shared_ptr<const rp::FixtureSet> vtkRPPlanningLogic::MakePlanFixtures(rp::PlanFixtureChoice choice, std::string& error) {
+  const std::shared_ptr<const rp::PlanSnapshot> plan = this->MakePlanSnapshot(error);
+  if (!plan) return nullptr;
+  if (choice.Surface && !choice.SurfaceModelNode.empty()) {
+    vtkRPNode* node = this->Scene->GetNodeByID(choice.SurfaceModelNode);
+    if (!node) node = this->Scene->GetFirstNodeByName(choice.SurfaceModelNode);
+    auto* model = vtkRPModelNode::SafeDownCast(node);
+    if (!model) {
+      error = "the scene has no model '" + choice.SurfaceModelNode + "' for the surface constraint";
+      return nullptr;
+    }
+    if (!model->GetPolyData() || model->GetPolyData()->GetNumberOfPolys() == 0) {
+      error = "model '" + model->GetName() + "' has no surface for the surface constraint";
+      return nullptr;
+    }
+    choice.SurfaceModel = this->GetStructureSurface({model, "", model->GetName(), 0}, error);
+    if (!choice.SurfaceModel) return nullptr;
+    choice.SurfaceModelNode = model->GetName().empty() ? model->GetID() : model->GetName();
+  }
+  return rp::BuildPlanFixtures(*plan, choice, error);
+}
+
 const rp::MaterialTable& vtkRPPlanningLogic::GetMaterials() {
   if (this->Materials.Empty()) {
     std::string error;

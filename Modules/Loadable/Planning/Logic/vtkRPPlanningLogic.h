@@ -17,6 +17,7 @@
 
 #include "rpCutFigures.h"
 #include "rpMaterial.h"
+#include "rpPlanFixtures.h"
 #include "rpPlanSnapshot.h"
 #include "rpPlanningInputs.h"
 #include "rpSegment.h"
@@ -132,6 +133,11 @@ class vtkRPPlanningLogic : public vtkObject {
   /// `error` when a structure at risk has no surface or a trajectory has zero length: a plan that
   /// cannot be guided is not handed over in part.
   std::shared_ptr<const rp::PlanSnapshot> MakePlanSnapshot(std::string& error);
+  /// The virtual fixtures `choice` switches on, built from that snapshot (rp::BuildPlanFixtures;
+  /// a surface constraint on choice.SurfaceModelNode takes that model's surface in world RAS): what
+  /// the Haptics and Drilling logics hand their servos. An empty set when none is on; null with
+  /// `error` naming what a chosen fixture lacks.
+  std::shared_ptr<const rp::FixtureSet> MakePlanFixtures(rp::PlanFixtureChoice choice, std::string& error);
 
  protected:
   vtkRPPlanningLogic() = default;
