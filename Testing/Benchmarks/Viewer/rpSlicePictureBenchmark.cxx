@@ -28,6 +28,7 @@
 
 #include "rpBenchmarkChart.h"
 #include "rpBenchmarkMain.h"
+#include "rpImagingReaders.h"
 #include "rpSliceComposite.h"
 #include "rpViewerApplication.h"
 #include "vtkRPScalarVolumeNode.h"
@@ -46,6 +47,7 @@ struct Case {
 
   bool Load() {
     const std::string data = std::string(ROBOPLAN_SHARED_DATA_DIR) + "/knee-ct-vhf";
+    rp::RegisterImagingReaders();  // the DICOM folder through the loader (rpImagingReaders.h)
     vtkNew<vtkRPScene> scene;
     if (!rp::LoadSceneOrDataFile(scene, data + "/dicom", this->Error) ||
         !rp::LoadSceneOrDataFile(scene, data + "/labels.nrrd", this->Error)) {
