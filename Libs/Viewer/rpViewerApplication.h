@@ -22,8 +22,10 @@ std::vector<rp::Command> ViewerCommands();
 /// The read of a data file or a DICOM series folder as a BackgroundRead (rp::ReadPath: nodes
 /// made, not added to the scene); it may run on any thread. A path whose DataReader
 /// ReadsIntoScene (a scene file: loading it changes the scene as it goes) is not read: the
-/// result is LeftToMainThread (LoadSceneOrDataFile reads it there).
-BackgroundRead MakeDataRead(vtkRPScene* scene, const std::string& path);
+/// result is LeftToMainThread (LoadSceneOrDataFile reads it there). `dicomObject`: for a DICOM
+/// folder, the one object to read (an image stack's ID, a SEG's or RTSTRUCT's
+/// SeriesInstanceUID, as ReadOptions::Series); empty: all it holds.
+BackgroundRead MakeDataRead(vtkRPScene* scene, const std::string& path, const std::string& dicomObject = {});
 
 /// Loads a scene file (*.rpscene, *.mrml, *.mrb), a data file or a DICOM series folder into the scene (rp::LoadPath). Problems that did not stop the
 /// load (e.g. one missing data file of a scene) go to `warnings`. False with `error` on failure.
