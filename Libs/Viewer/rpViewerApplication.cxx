@@ -22,17 +22,18 @@
 
 namespace rp {
 
-BackgroundRead MakeDataRead(vtkRPScene* scene, const std::string& path) {
+BackgroundRead MakeDataRead(vtkRPScene* scene, const std::string& path, const std::string& dicomObject) {
   // The one loader (rpDataLoader.h) on the worker thread: readers that do not read into the scene
   // only create nodes through it (a const lookup in its node registry). The lookup too: for a
   // folder it looks into every file (is one a DICOM SEG or RTSTRUCT?).
-  return [scene, path](BackgroundReadResult& result, const ProgressCallback& progress) {
+  return [scene, path, dicomObject](BackgroundReadResult& result, const ProgressCallback& progress) {
     const DataReader* reader = FindDataReader(path);
     if (reader && reader->ReadsIntoScene()) {
       result.LeftToMainThread = true;
       return false;
     }
     ReadOptions options;
+    options.Series = dicomObject;
     options.Progress = progress;
     LoadResult read = ReadPath(scene, path, reader, options);
     result.Error = read.Error;

@@ -21,7 +21,9 @@ int RunViewer(int argc, char* argv[], ModuleManager& manager, vtkRPScene* scene,
 /// The read of a data file or a DICOM series folder as a BackgroundRead (rp::ReadPath: nodes
 /// made, not added to the scene); it may run on any thread. A path whose DataReader
 /// ReadsIntoScene (a scene file: loading it changes the scene as it goes) is not read: the
-/// result is LeftToMainThread (LoadSceneOrDataFile reads it there).
-BackgroundRead MakeDataRead(vtkRPScene* scene, const std::string& path);
+/// result is LeftToMainThread (LoadSceneOrDataFile reads it there). `dicomObject`: for a DICOM
+/// folder, the one object to read (an image stack's ID, a SEG's or RTSTRUCT's
+/// SeriesInstanceUID, as ReadOptions::Series); empty: all it holds.
+BackgroundRead MakeDataRead(vtkRPScene* scene, const std::string& path, const std::string& dicomObject = {});
 
 }  // namespace rp
