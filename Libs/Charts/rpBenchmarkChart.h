@@ -8,6 +8,9 @@
 // started, rpBenchmarkConditions.h) each call also prints "[figures] wrote <path>" or "[figures]
 // warning: <error>" on stderr, so that a figure lost is named even where the caller ignores the
 // result. CSV and JSON files are written atomically (no half file is left).
+// The charts are drawn by libRoboPlanChartsDraw.so (rpChartDrawing.cxx), loaded on the first chart:
+// this library maps no VTK rendering, so linking it costs a command nothing until it draws. Where
+// that library is missing, a Write*PNG call returns false with an error naming the file.
 #include <array>
 #include <cstddef>
 #include <string>
@@ -15,7 +18,6 @@
 
 #include <nlohmann/json_fwd.hpp>
 
-class vtkRenderWindow;
 
 namespace rp::bench {
 
@@ -48,9 +50,6 @@ bool WriteHistogramPNG(const std::string& path, const std::vector<double>& binCe
 bool WriteBarChartPNG(const std::string& path, const std::vector<std::string>& categories,
                       const std::vector<Series>& series, const ChartOptions& options, std::string& error);
 
-/// Renders an offscreen window and writes what it shows as a PNG (charts, pictures). Without an X
-/// display (rp::EnsureXDisplay) it returns false naming why and renders nothing.
-bool WriteWindowPNG(vtkRenderWindow* window, const std::string& path, std::string& error);
 
 /// Writes a CSV with a header row; every row must have header.size() values. In a benchmark
 /// (Conditions::Process() started) the conditions come first as '#' comment lines.

@@ -14,13 +14,10 @@
 #include <unistd.h>
 
 #include <nlohmann/json.hpp>
-#include <vtkNew.h>
-#include <vtkRenderWindow.h>
-#include <vtkRenderer.h>
 #include <vtkSMPTools.h>
 
 #include "rpBenchmarkChart.h"
-#include "rpXDisplay.h"
+#include "rpChartsDrawEntries.h"
 
 namespace rp::bench {
 namespace {
@@ -144,7 +141,12 @@ void Conditions::Finish() {
 }
 
 void Conditions::NoteRenderWindow(vtkRenderWindow* window) {
-  const std::string report = window ? window->ReportCapabilities() : "";
+  std::string report, error;
+  if (const auto glReport = draw::Entry<draw::GLReportFunction>("roboplan_gl_report", error)) glReport(window, report);
+  this->NoteGLReport(report);
+}
+
+void Conditions::NoteGLReport(const std::string& report) {
   auto field = [&report](const std::string& key) {
     const size_t at = report.find(key);
     if (at == std::string::npos) return std::string();
@@ -155,19 +157,15 @@ void Conditions::NoteRenderWindow(vtkRenderWindow* window) {
   this->GLVersion = field("OpenGL version string:");
 }
 
-// A 16x16 offscreen window, drawn once, for its context's renderer and version strings.
+// A 16x16 offscreen window, drawn once (libRoboPlanChartsDraw.so), for its context's renderer and version.
 void Conditions::ProbeGL() {
-  std::string error;
-  vtkNew<vtkRenderWindow> window;
-  if (!rp::PrepareOffscreenWindow(window, error)) {
+  std::string report, error;
+  const auto probe = draw::Entry<draw::ProbeGLFunction>("roboplan_probe_gl", error);
+  if (!probe || !probe(report, error)) {
     this->GLRenderer = "none (" + error + ")";
     return;
   }
-  vtkNew<vtkRenderer> renderer;
-  window->SetSize(16, 16);
-  window->AddRenderer(renderer);
-  window->Render();
-  this->NoteRenderWindow(window);
+  this->NoteGLReport(report);
 }
 
 std::vector<std::pair<std::string, std::string>> Conditions::Fields() const {
@@ -188,7 +186,10 @@ std::vector<std::pair<std::string, std::string>> Conditions::Fields() const {
   if (QuickRun())
     fields.emplace_back("run", "quick (ROBOPLAN_BENCHMARK_QUICK): smallest sizes and shortest times, a check that "
                                "every figure is written; not figures to quote");
-  const XDisplayInfo display = rp::CurrentXDisplay();
+  XDisplayInfo display;  // none opened unless the drawing half, which opens displays, is loaded
+  std::string error;
+  if (const auto current = draw::Entry<draw::CurrentXDisplayFunction>("roboplan_current_x_display", error, true))
+    current(display);
   fields.emplace_back("screen", display.Name.empty() ? "none opened"
                                                       : display.Name + " " + std::to_string(display.Width) + "x" +
                                                             std::to_string(display.Height) + "x" +

@@ -45,6 +45,7 @@ class Conditions {
   };
   static CpuTicks ReadCpuTicks();
   void ProbeGL();
+  void NoteGLReport(const std::string& report);
 
   bool IsStarted = false, IsFinished = false;
   std::string Date, Commit, CpuModel;

@@ -11,12 +11,15 @@ namespace rp {
 /// folder of the shared object (or executable) that holds `anchor` — an address in the caller's
 /// own code. The library is loaded once and never unloaded; thread-safe. nullptr with `error`
 /// naming the file and the reason.
-void* SiblingLibrarySymbol(const void* anchor, const std::string& library, const char* symbol, std::string& error);
+/// With `onlyIfLoaded`, the library is not loaded: nullptr (and no error) unless the process already holds it.
+void* SiblingLibrarySymbol(const void* anchor, const std::string& library, const char* symbol, std::string& error,
+                           bool onlyIfLoaded = false);
 
 /// Typed: `Function` is the function pointer type of `symbol`.
 template <typename Function>
-Function SiblingLibraryFunction(const void* anchor, const std::string& library, const char* symbol, std::string& error) {
-  return reinterpret_cast<Function>(SiblingLibrarySymbol(anchor, library, symbol, error));
+Function SiblingLibraryFunction(const void* anchor, const std::string& library, const char* symbol, std::string& error,
+                                bool onlyIfLoaded = false) {
+  return reinterpret_cast<Function>(SiblingLibrarySymbol(anchor, library, symbol, error, onlyIfLoaded));
 }
 
 }  // namespace rp

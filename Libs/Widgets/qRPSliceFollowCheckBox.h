@@ -17,6 +17,8 @@ class qRPSliceFollowCheckBox : public QCheckBox {
   Q_OBJECT
  public:
   explicit qRPSliceFollowCheckBox(const QString& text, QWidget* parent = nullptr);
+  /// For a panel's .ui file (a promoted QCheckBox: uic constructs it with its parent, then sets the text).
+  explicit qRPSliceFollowCheckBox(QWidget* parent = nullptr) : qRPSliceFollowCheckBox(QString(), parent) {}
 
   void SetScene(vtkRPScene* scene);
   /// The node whose tip the slices follow when ticked ("" while it does not exist).

@@ -171,6 +171,20 @@ function(roboplan_add_library name)
   endif()
 endfunction()
 
+# roboplan_add_pictures(<Module> SOURCES ... LIBS ...)
+# A module's pictures (offscreen VTK rendering), lib/libRoboPlan<Module>Pictures.so: its logic
+# resolves the library's extern "C" entries when a command draws (rp::SiblingLibraryFunction), so
+# the logic, the module and every command map no VTK rendering, chart stack or GL until then.
+function(roboplan_add_pictures module)
+  cmake_parse_arguments(A "" "" "SOURCES;LIBS" ${ARGN})
+  set(target RoboPlan${module}Pictures)
+  add_library(${target} MODULE ${A_SOURCES})
+  target_link_libraries(${target} PRIVATE roboplan_warnings ${A_LIBS} RoboPlanChartsDraw)
+  roboplan_vtk_autoinit(${target})
+  set_target_properties(${target} PROPERTIES LIBRARY_OUTPUT_DIRECTORY ${CMAKE_LIBRARY_OUTPUT_DIRECTORY})
+  add_dependencies(roboplan-plugins ${target})
+endfunction()
+
 # roboplan_add_test(<name> SOURCES ... LIBS ... LABELS unit|integration|gui|stress
 #                   [TIMEOUT s] [ARGS ...] [ENVIRONMENT ...] [OWN_MAIN])
 # A GoogleTest executable registered as one ctest test. Tests labelled gui run on a virtual X

@@ -18,6 +18,7 @@
 #include <vtkRenderer.h>
 
 #include "rpBenchmarkChart.h"
+#include "rpWindowPicture.h"
 #include "rpDemoStages.h"
 #include "rpImageVolume.h"
 #include "rpKneePhantom.h"

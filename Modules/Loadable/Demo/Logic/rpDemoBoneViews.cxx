@@ -19,6 +19,7 @@
 #include <vtkTextProperty.h>
 
 #include "rpBenchmarkChart.h"
+#include "rpWindowPicture.h"
 #include "rpDemoStages.h"
 #include "rpXDisplay.h"
 #include "vtkRPModelNode.h"

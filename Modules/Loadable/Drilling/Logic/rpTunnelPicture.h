@@ -30,6 +30,8 @@ struct TunnelPicture {
   int Width = 1600, Height = 800;
 };
 
+/// Drawn by libRoboPlanDrillingPictures.so (Pictures/rpTunnelPicture.cxx), loaded on the first
+/// picture; false with `error` naming that file where it is missing.
 bool WriteTunnelPicture(const std::string& path, const TunnelPicture& picture, std::string& error);
 
 }  // namespace rp

@@ -4,27 +4,13 @@
 #include <cmath>
 
 #include <QApplication>
-#include <QCheckBox>
-#include <QGroupBox>
-#include <QProgressBar>
-#include <QSpinBox>
-#include <QComboBox>
 #include <QDateTime>
 #include <QDir>
-#include <QDoubleSpinBox>
 #include <QFileDialog>
-#include <QFormLayout>
-#include <QHBoxLayout>
-#include <QLabel>
-#include <QLineEdit>
-#include <QListWidget>
-#include <QPushButton>
 #include <QTimer>
-#include <QVBoxLayout>
 
 #include <vtkPolyData.h>
 
-#include "qRPFixtureChoiceWidget.h"
 #include "rpDrillSession.h"
 #include "rpGuidedDrill.h"
 #include "rpHapticSceneBridge.h"
@@ -36,15 +22,6 @@
 #include "vtkRPTransformableNode.h"
 
 namespace {
-QDoubleSpinBox* Spin(double lo, double hi, double step, int decimals, double value) {
-  auto* spin = new QDoubleSpinBox;
-  spin->setRange(lo, hi);
-  spin->setSingleStep(step);
-  spin->setDecimals(decimals);
-  spin->setValue(value);
-  spin->setKeyboardTracking(false);
-  return spin;
-}
 QStringList Checked(const QListWidget* list) {
   QStringList ids;
   for (int i = 0; i < list->count(); ++i)
@@ -54,73 +31,18 @@ QStringList Checked(const QListWidget* list) {
 }  // namespace
 
 qRPDrillingPanel::qRPDrillingPanel(vtkRPDrillingLogic* logic, QWidget* parent) : QWidget(parent), Logic(logic) {
-  auto* form = new QFormLayout;
-  this->Segmentation = new QComboBox;
-  this->BoneSegments = new QListWidget;
-  this->ProtectedSegments = new QListWidget;
-  this->BoneSegments->setMaximumHeight(90);
-  this->ProtectedSegments->setMaximumHeight(90);
-  this->CT = new QComboBox;
-  this->Voxel = Spin(0.2, 0.5, 0.05, 2, 0.3);
-  this->Build = new QPushButton("Build voxel bone");
-  this->BoneInfo = new QLabel("-");
-  this->BoneInfo->setWordWrap(true);
-  form->addRow("Segmentation", this->Segmentation);
-  form->addRow("Bone to drill", this->BoneSegments);
-  form->addRow("Protected", this->ProtectedSegments);
-  form->addRow("CT (cortical / trabecular by HU)", this->CT);
-  form->addRow("Voxel (mm)", this->Voxel);
-  form->addRow(this->Build, this->BoneInfo);
-
-  this->Radius = Spin(1.0, 3.0, 0.25, 2, 2.0);
-  this->Rpm = Spin(0, 80000, 5000, 0, 60000);
-  this->Drive = new QComboBox;
-  this->StartStop = new QPushButton("Start drilling");
-  this->BurrOn = new QPushButton("Burr on");
-  this->BurrOn->setCheckable(true);
-  this->UndoStroke = new QPushButton("Undo last stroke");
-  this->ResetBone = new QPushButton("Reset bone");
-  this->State = new QLabel("stopped");
-  this->State->setWordWrap(true);
-  this->RecordPath = new QLineEdit(QDir::tempPath() + "/roboplan-drill-" +
-                                   QDateTime::currentDateTime().toString("yyyyMMdd-HHmmss") + ".txt");
-  this->RecordPath->setToolTip("Drill path recording (one line per servo tick; roboplan drill --replay reads it); empty: none");
-  form->addRow("Burr radius (mm)", this->Radius);
-  form->addRow("Burr speed (rpm)", this->Rpm);
-  form->addRow("Burr driven by", this->Drive);
-  form->addRow("Drill path recording", this->RecordPath);
-  form->addRow(this->StartStop, this->State);
-  auto* buttons = new QHBoxLayout;
-  buttons->addWidget(this->BurrOn);
-  buttons->addWidget(this->UndoStroke);
-  buttons->addWidget(this->ResetBone);
-  form->addRow(buttons);
-  const char* names[3] = {"Burr R (mm)", "Burr A (mm)", "Burr S (mm)"};
-  for (int k = 0; k < 3; ++k) {
-    this->Burr[k] = Spin(-500, 500, 0.25, 2, 0);
-    form->addRow(names[k], this->Burr[k]);
-    connect(this->Burr[k], QOverload<double>::of(&QDoubleSpinBox::valueChanged), this, [this](double) { this->SendBurrPosition(); });
-  }
-  this->RemovedInfo = new QLabel("-");
-  this->ProtectedInfo = new QLabel("-");
-  this->ForceInfo = new QLabel("-");
-  this->Timing = new QLabel("-");
-  form->addRow("Removed", this->RemovedInfo);
-  form->addRow("To protected", this->ProtectedInfo);
-  form->addRow("Force", this->ForceInfo);
-  form->addRow("Servo p99 / re-contour p95", this->Timing);
-  this->Picture = new QPushButton("Save tunnel picture…");
-  form->addRow(this->Picture);
-  this->Guidance = new qRPFixtureChoiceWidget;
+  this->setupUi(this);
+  this->Burr[0] = this->BurrR;
+  this->Burr[1] = this->BurrA;
+  this->Burr[2] = this->BurrS;
+  this->RecordPath->setText(QDir::tempPath() + "/roboplan-drill-" +
+                            QDateTime::currentDateTime().toString("yyyyMMdd-HHmmss") + ".txt");
   this->Guidance->Setup(
       logic ? logic->GetScene() : nullptr,
       [this](const rp::PlanFixtureChoice& choice, std::string& error) { return this->Logic && this->Logic->SetPlanFixtures(choice, error); },
       [this] { return this->Logic ? this->Logic->GetPlanFixtures() : nullptr; });
-  auto* layout = new QVBoxLayout(this);
-  layout->addLayout(form);
-  layout->addWidget(this->Guidance);
-  layout->addWidget(this->MakeExecutionGroup());
-  layout->addStretch(1);
+  for (QDoubleSpinBox* spin : this->Burr)
+    connect(spin, QOverload<double>::of(&QDoubleSpinBox::valueChanged), this, [this](double) { this->SendBurrPosition(); });
 
   this->Timer = new QTimer(this);
   this->Timer->setInterval(33);  // 30 Hz display rate
@@ -152,6 +74,7 @@ qRPDrillingPanel::qRPDrillingPanel(vtkRPDrillingLogic* logic, QWidget* parent) :
     const QString path = QFileDialog::getSaveFileName(this, "Save tunnel picture", QDir::homePath() + "/tunnel.png", "PNG (*.png)");
     if (!path.isEmpty()) this->SavePicture(path);
   });
+  connect(this->Execute, &QPushButton::clicked, this, [this] { this->ExecutePlan(); });
   if (this->Logic) {
     this->Logic->SetBurrRadius(this->Radius->value());
     this->Logic->SetRpm(this->Rpm->value());
@@ -160,41 +83,6 @@ qRPDrillingPanel::qRPDrillingPanel(vtkRPDrillingLogic* logic, QWidget* parent) :
 }
 
 qRPDrillingPanel::~qRPDrillingPanel() { this->Stop(); }
-
-QWidget* qRPDrillingPanel::MakeExecutionGroup() {
-  auto* group = new QGroupBox("Execute the plan with a simulated hand");
-  auto* form = new QFormLayout(group);
-  this->Tremor = Spin(0, 2, 0.05, 2, 0.2);
-  this->Tremor->setToolTip("RMS physiological tremor (8-12 Hz) of the simulated hand");
-  this->Drift = Spin(0, 5, 0.1, 2, 1.0);
-  this->Drift->setToolTip("The hand's slow drift (a postural sway)");
-  this->HandSpeed = Spin(0.5, 10, 0.5, 1, 2.5);
-  this->HandSpeed->setToolTip("The hand's intended speed along the plan");
-  this->Seed = new QSpinBox;
-  this->Seed->setRange(0, 1000000);
-  this->Seed->setValue(3);
-  this->Seed->setToolTip("The same seed is the same hand: executions with and without fixtures compare");
-  this->FreshBone = new QCheckBox("Rebuild the bone first (each execution on intact bone)");
-  this->FreshBone->setChecked(true);
-  this->Execute = new QPushButton("Execute plan with simulated hand");
-  this->Execute->setToolTip("Drills the Guidance group's trajectory with its fixtures (none: the free hand) and scores it against the plan");
-  this->Progress = new QProgressBar;
-  this->Progress->setRange(0, 1000);
-  this->Progress->setValue(0);
-  this->Progress->setTextVisible(false);
-  this->ExecutionInfo = new QLabel("-");
-  this->ExecutionInfo->setWordWrap(true);
-  this->ExecutionInfo->setTextInteractionFlags(Qt::TextSelectableByMouse);
-  form->addRow("Tremor (mm RMS)", this->Tremor);
-  form->addRow("Drift (mm/s)", this->Drift);
-  form->addRow("Hand speed (mm/s)", this->HandSpeed);
-  form->addRow("Seed", this->Seed);
-  form->addRow(this->FreshBone);
-  form->addRow(this->Execute, this->Progress);
-  form->addRow(this->ExecutionInfo);
-  connect(this->Execute, &QPushButton::clicked, this, [this] { this->ExecutePlan(); });
-  return group;
-}
 
 QString qRPDrillingPanel::ExecutionText() const { return this->ExecutionInfo->text(); }
 

@@ -1,6 +1,6 @@
 #ifndef qRPDrillingPanel_h
 #define qRPDrillingPanel_h
-// The Drilling module's Qt panel: choose the bone and protected segments (and a CT for cortical /
+// The Drilling module's Qt panel (the layout is qRPDrillingPanel.ui): choose the bone and protected segments (and a CT for cortical /
 // trabecular), build the voxel bone, then drill with the simulated device (burr moved with the
 // R/A/S spin boxes) or following a tracked tool: burr on/off, radius, speed, undo the last
 // stroke, reset; read-outs of the removed volume per tissue, the distance to the protected
@@ -14,21 +14,14 @@
 #include <QWidget>
 
 #include "rpGuidedDrill.h"
+#include "ui_qRPDrillingPanel.h"
 
-class QCheckBox;
-class QComboBox;
-class QProgressBar;
-class QSpinBox;
-class qRPFixtureChoiceWidget;
-class QDoubleSpinBox;
-class QLabel;
-class QLineEdit;
-class QListWidget;
-class QPushButton;
 class QTimer;
 class vtkRPDrillingLogic;
 
-class qRPDrillingPanel : public QWidget {
+/// The widgets (Ui::qRPDrillingPanel) are private: tests and scripts reach them through the
+/// accessors below.
+class qRPDrillingPanel : public QWidget, private Ui::qRPDrillingPanel {
   Q_OBJECT
  public:
   explicit qRPDrillingPanel(vtkRPDrillingLogic* logic, QWidget* parent = nullptr);
@@ -86,41 +79,10 @@ class qRPDrillingPanel : public QWidget {
  private:
   void SendBurrPosition();
   void FitBurrRange();
-  QWidget* MakeExecutionGroup();
 
   vtkRPDrillingLogic* Logic;
-  QComboBox* Segmentation;
-  QListWidget* BoneSegments;
-  QListWidget* ProtectedSegments;
-  QComboBox* CT;
-  QComboBox* Drive;
-  QDoubleSpinBox* Voxel;
-  QDoubleSpinBox* Radius;
-  QDoubleSpinBox* Rpm;
-  QDoubleSpinBox* Burr[3];
-  QPushButton* Build;
-  QPushButton* StartStop;
-  QPushButton* BurrOn;
-  QPushButton* UndoStroke;
-  QPushButton* ResetBone;
-  QPushButton* Picture;
-  QLineEdit* RecordPath;
-  QLabel* State;
-  QLabel* BoneInfo;
-  QLabel* RemovedInfo;
-  QLabel* ProtectedInfo;
-  QLabel* ForceInfo;
-  QLabel* Timing;
+  QDoubleSpinBox* Burr[3];  // BurrR, BurrA, BurrS
   QTimer* Timer;
-  qRPFixtureChoiceWidget* Guidance;
-  QDoubleSpinBox* Tremor;
-  QDoubleSpinBox* Drift;
-  QDoubleSpinBox* HandSpeed;
-  QSpinBox* Seed;
-  QCheckBox* FreshBone;
-  QPushButton* Execute;
-  QProgressBar* Progress;
-  QLabel* ExecutionInfo;
   rp::GuidedDrillResult Last;
   bool Warning = false;
   double Removed = 0;

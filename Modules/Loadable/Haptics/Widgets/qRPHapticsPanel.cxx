@@ -3,23 +3,14 @@
 #include <cmath>
 
 #include <QApplication>
-#include <QComboBox>
 #include <QDateTime>
 #include <QDir>
-#include <QDoubleSpinBox>
-#include <QFormLayout>
-#include <QLabel>
-#include <QLineEdit>
-#include <QPushButton>
 #include <QTimer>
-#include <QVBoxLayout>
 
 #include <vtkMatrix4x4.h>
 #include <vtkNew.h>
 #include <vtkPolyData.h>
 
-#include "qRPFixtureChoiceWidget.h"
-#include "qRPSliceFollowCheckBox.h"
 #include "rpDeviceProfiles.h"
 #include "rpHapticSceneBridge.h"
 #include "rpHapticSession.h"
@@ -28,61 +19,23 @@
 #include "vtkRPScene.h"
 
 qRPHapticsPanel::qRPHapticsPanel(vtkRPHapticsLogic* logic, QWidget* parent) : QWidget(parent), Logic(logic) {
-  auto* form = new QFormLayout;
-  this->Device = new QComboBox;
+  this->setupUi(this);
+  this->Stylus[0] = this->StylusR;
+  this->Stylus[1] = this->StylusA;
+  this->Stylus[2] = this->StylusS;
   for (const rp::DeviceProfile& profile : rp::DeviceProfiles())
     this->Device->addItem(QString::fromStdString(profile.Info.Name), QString::fromStdString(profile.Key));
   this->Device->setCurrentIndex(std::max(0, this->Device->findData(QString::fromStdString(logic ? logic->GetDeviceProfile() : ""))));
-  this->Device->setToolTip("The simulated device's limits (peak force, nominal maximum stiffness, workspace)");
-  form->addRow("Device", this->Device);
-  this->StartButton = new QPushButton("Start simulated device");
-  this->State = new QLabel("stopped");
-  this->LogPath = new QLineEdit(QDir::tempPath() + "/roboplan-haptics-" +
-                                QDateTime::currentDateTime().toString("yyyyMMdd-HHmmss") + ".csv");
-  this->LogPath->setToolTip("Session log (one CSV row per servo tick), written while the loop runs, flushed when it stops; empty: none");
-  form->addRow("Session log", this->LogPath);
-  form->addRow(this->StartButton, this->State);
-  this->Drive = new QComboBox;
-  this->Drive->setToolTip("The spin boxes below, or a tracked tool whose tip drives the haptic stylus");
-  form->addRow("Stylus driven by", this->Drive);
-  const char* names[3] = {"Stylus R (mm)", "Stylus A (mm)", "Stylus S (mm)"};
-  for (int k = 0; k < 3; ++k) {
-    this->Stylus[k] = new QDoubleSpinBox;
-    this->Stylus[k]->setDecimals(1);
-    this->Stylus[k]->setSingleStep(0.5);
-    this->Stylus[k]->setRange(-200, 200);
-    this->Stylus[k]->setKeyboardTracking(false);
-    form->addRow(names[k], this->Stylus[k]);
-    connect(this->Stylus[k], QOverload<double>::of(&QDoubleSpinBox::valueChanged), this,
-            [this](double) { this->SendStylusPose(); });
-  }
-  this->FollowProxy = new qRPSliceFollowCheckBox("Slices follow the haptic proxy");
+  this->LogPath->setText(QDir::tempPath() + "/roboplan-haptics-" +
+                         QDateTime::currentDateTime().toString("yyyyMMdd-HHmmss") + ".csv");
+  this->Clamps->setVisible(false);  // shown when the device clamps a tissue (Update)
   this->FollowProxy->SetScene(logic ? logic->GetScene() : nullptr);
-  form->addRow(this->FollowProxy);
-  this->Tissue = new QLabel("-");
-  this->Force = new QLabel("-");
-  this->Penetration = new QLabel("-");
-  this->Timing = new QLabel("-");
-  this->Missed = new QLabel("-");
-  this->Clamps = new QLabel;
-  this->Clamps->setWordWrap(true);
-  this->Clamps->setStyleSheet("color: #b35900;");  // a warning, not an error
-  this->Clamps->setVisible(false);
-  form->addRow("Tissue in contact", this->Tissue);
-  form->addRow("Force", this->Force);
-  form->addRow("Penetration", this->Penetration);
-  form->addRow("Servo p99 period / compute", this->Timing);
-  form->addRow("Missed deadlines", this->Missed);
-  this->Guidance = new qRPFixtureChoiceWidget;
   this->Guidance->Setup(
       logic ? logic->GetScene() : nullptr,
       [this](const rp::PlanFixtureChoice& choice, std::string& error) { return this->Logic && this->Logic->SetPlanFixtures(choice, error); },
       [this] { return this->Logic ? this->Logic->GetPlanFixtures() : nullptr; });
-  auto* layout = new QVBoxLayout(this);
-  layout->addLayout(form);
-  layout->addWidget(this->Clamps);
-  layout->addWidget(this->Guidance);
-  layout->addStretch(1);
+  for (QDoubleSpinBox* spin : this->Stylus)
+    connect(spin, QOverload<double>::of(&QDoubleSpinBox::valueChanged), this, [this](double) { this->SendStylusPose(); });
   this->Timer = new QTimer(this);
   this->Timer->setInterval(33);  // 30 Hz display rate
   connect(this->Timer, &QTimer::timeout, this, &qRPHapticsPanel::Update);

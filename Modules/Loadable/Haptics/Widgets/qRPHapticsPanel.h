@@ -1,6 +1,6 @@
 #ifndef qRPHapticsPanel_h
 #define qRPHapticsPanel_h
-// The Haptics module's Qt panel: pick the simulated device (Phantom Omni, Touch), start/stop its
+// The Haptics module's Qt panel (the layout is qRPHapticsPanel.ui): pick the simulated device (Phantom Omni, Touch), start/stop its
 // 1 kHz servo loop on the scene's haptic models, move the simulated stylus tip with R/A/S spin
 // boxes (so the module is usable without hardware) or let a tracked tool (a stylus or drill
 // under the tracker) drive it, and live read-outs (tissue, force,
@@ -11,17 +11,14 @@
 // loop (zero force on the device) and flushes the session log.
 #include <QWidget>
 
-class QComboBox;
-class QDoubleSpinBox;
-class QLabel;
-class QLineEdit;
-class QPushButton;
+#include "ui_qRPHapticsPanel.h"
+
 class QTimer;
-class qRPFixtureChoiceWidget;
-class qRPSliceFollowCheckBox;
 class vtkRPHapticsLogic;
 
-class qRPHapticsPanel : public QWidget {
+/// The widgets (Ui::qRPHapticsPanel) are private: tests and scripts reach them through the
+/// accessors below.
+class qRPHapticsPanel : public QWidget, private Ui::qRPHapticsPanel {
   Q_OBJECT
  public:
   explicit qRPHapticsPanel(vtkRPHapticsLogic* logic, QWidget* parent = nullptr);
@@ -64,20 +61,7 @@ class qRPHapticsPanel : public QWidget {
   void SendStylusPose();
 
   vtkRPHapticsLogic* Logic;
-  QPushButton* StartButton;
-  QComboBox* Device;
-  QComboBox* Drive;
-  QLineEdit* LogPath;
-  QDoubleSpinBox* Stylus[3];
-  QLabel* State;
-  QLabel* Tissue;
-  QLabel* Force;
-  QLabel* Penetration;
-  QLabel* Timing;
-  QLabel* Missed;
-  qRPSliceFollowCheckBox* FollowProxy;
-  QLabel* Clamps;
-  qRPFixtureChoiceWidget* Guidance;
+  QDoubleSpinBox* Stylus[3];  // StylusR, StylusA, StylusS
   QTimer* Timer;
   double ForceN = 0;
 };

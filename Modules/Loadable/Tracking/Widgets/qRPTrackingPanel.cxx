@@ -1,16 +1,8 @@
 #include "qRPTrackingPanel.h"
 
-#include <QComboBox>
-#include <QFormLayout>
-#include <QHBoxLayout>
 #include <QHeaderView>
-#include <QLabel>
-#include <QLineEdit>
-#include <QPushButton>
 #include <QSocketNotifier>
-#include <QTableWidget>
 #include <QTimer>
-#include <QVBoxLayout>
 
 #include "rpPivotCalibration.h"
 #include "rpPoseSource.h"
@@ -20,34 +12,13 @@
 #include "vtkRPTrackingLogic.h"
 
 qRPTrackingPanel::qRPTrackingPanel(vtkRPTrackingLogic* logic, QWidget* parent) : QWidget(parent), Logic(logic) {
-  auto* form = new QFormLayout;
-  this->Kind = new QComboBox;
+  this->setupUi(this);
   for (const auto& entry : rp::PoseSourceRegistry::Entries())
     this->Kind->addItem(QString::fromStdString(entry.Description), QString::fromStdString(entry.Kind));
   this->Kind->setCurrentIndex(std::max(0, this->Kind->findData("simulator")));
-  this->Address = new QLineEdit;
   const QString tools = QString::fromStdString(rp::ResourcePath("Tools")) + "/";
-  this->Tools = new QLineEdit(tools + "Stylus.json;" + tools + "Reference.json");
-  this->ConnectButton = new QPushButton("Connect");
-  this->State = new QLabel("not connected");
-  this->State->setWordWrap(true);
-  form->addRow("Source", this->Kind);
-  form->addRow("Port / address", this->Address);
-  form->addRow("Tool definitions", this->Tools);
-  form->addRow(this->ConnectButton, this->State);
-  this->Table = new QTableWidget(0, 7);
-  this->Table->setHorizontalHeaderLabels({"Tool", "Status", "Rate (Hz)", "OK", "Missing", "Out of volume", "Error (mm)"});
-  this->Table->horizontalHeader()->setSectionResizeMode(QHeaderView::Stretch);
-  this->Table->setEditTriggers(QAbstractItemView::NoEditTriggers);
-  this->PivotButton = new QPushButton("Pivot calibration (10 s)");
-  this->Pivot = new QLabel;
-  auto* pivotRow = new QHBoxLayout;
-  pivotRow->addWidget(this->PivotButton);
-  pivotRow->addWidget(this->Pivot, 1);
-  auto* layout = new QVBoxLayout(this);
-  layout->addLayout(form);
-  layout->addWidget(this->Table, 1);
-  layout->addLayout(pivotRow);
+  this->Tools->setText(tools + "Stylus.json;" + tools + "Reference.json");
+  this->Table->horizontalHeader()->setSectionResizeMode(QHeaderView::Stretch);  // not a Designer property
   this->Timer = new QTimer(this);
   this->Timer->setInterval(33);
   this->Coalesce = new QTimer(this);

@@ -1,6 +1,6 @@
 #ifndef qRPTrackingPanel_h
 #define qRPTrackingPanel_h
-// The Tracking module's Qt panel: connect any registered pose source (an NDI tracker on a
+// The Tracking module's Qt panel (the layout is qRPTrackingPanel.ui): connect any registered pose source (an NDI tracker on a
 // serial port, an OpenIGTLink server, a recording, the simulated Polaris) through
 // vtkRPTrackingLogic; a table of tools with status, rate and frame counts; pivot calibration
 // of the stylus. Nodes follow the source as soon as it publishes (its ReadyFd wakes the main
@@ -10,12 +10,9 @@
 #include <string>
 #include <vector>
 
-class QComboBox;
-class QLabel;
-class QLineEdit;
-class QPushButton;
+#include "ui_qRPTrackingPanel.h"
+
 class QSocketNotifier;
-class QTableWidget;
 class QTimer;
 class vtkRPTrackingLogic;
 
@@ -24,7 +21,9 @@ class PoseSource;
 struct ToolPose;
 }  // namespace rp
 
-class qRPTrackingPanel : public QWidget {
+/// The widgets (Ui::qRPTrackingPanel) are private: tests and scripts reach them through the
+/// accessors below.
+class qRPTrackingPanel : public QWidget, private Ui::qRPTrackingPanel {
   Q_OBJECT
  public:
   static constexpr int MinUpdateMs = 8;  // nodes are not updated faster than this (~120 Hz)
@@ -53,14 +52,6 @@ class qRPTrackingPanel : public QWidget {
   void ShowAddressHint();
 
   vtkRPTrackingLogic* Logic;
-  QComboBox* Kind;
-  QLineEdit* Address;
-  QLineEdit* Tools;
-  QPushButton* ConnectButton;
-  QPushButton* PivotButton;
-  QLabel* State;
-  QLabel* Pivot;
-  QTableWidget* Table;
   QTimer* Timer;
   QTimer* Coalesce;  // a wake-up that came too soon after an update
   std::vector<QSocketNotifier*> Notifiers;
