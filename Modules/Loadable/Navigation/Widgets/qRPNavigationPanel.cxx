@@ -25,10 +25,7 @@
 qRPNavigationPanel::qRPNavigationPanel(vtkRPNavigationLogic* logic, QWidget* parent) : QWidget(parent), Logic(logic) {
   this->setupUi(this);
   this->Warning->setValue(logic ? logic->GetWarningDistance() : 3.0);
-  this->FollowTool = new qRPSliceFollowCheckBox("Slices follow the tool");
   this->FollowTool->SetScene(logic ? logic->GetScene() : nullptr);
-  this->ToolForm->addRow(this->FollowTool);
-  QWidget::setTabOrder(this->Warning, this->FollowTool);  // made after the .ui's widgets: tab to it in its row's place
   this->Score = new qRPScorePanel(logic);
   this->ScoreLayout->addWidget(this->Score);
   this->Picture = std::make_unique<rp::TargetViewPicture>();

@@ -26,7 +26,6 @@ class SceneNodesWatch;
 class TargetViewPicture;
 }
 class qRPScorePanel;
-class qRPSliceFollowCheckBox;
 class vtkRPNavigationLogic;
 
 /// The widgets (Ui::qRPNavigationPanel) are private: the accessors below are the panel's interface.
@@ -85,8 +84,7 @@ class qRPNavigationPanel : public QWidget, private Ui::qRPNavigationPanel {
   std::unique_ptr<rp::TargetViewPicture> Picture;
   std::vector<double> PictureShown;  // what the picture shows (pose, plan, volume time): redraw when it changes
   bool StructureWarningShown = false;
-  qRPSliceFollowCheckBox* FollowTool;  // in ToolForm's last row (takes its text at construction)
-  qRPScorePanel* Score;                // in ScoreGroup (takes the logic at construction)
+  qRPScorePanel* Score;  // in ScoreLayout: made here, it takes the logic at construction
   QTimer* Timer;
   bool WarningShown = false;
   bool Refreshing = false;
