@@ -1,13 +1,15 @@
 // The viewer as a module (lib/roboplan-modules/libRoboPlanModuleViewer.so): `roboplan` without a
-// command or with data files, and `roboplan screenshot`, load it as they load any module, so the
-// commands that open no window do not map Qt and VTK's rendering at start-up. It exports
-// roboplan_run_viewer, which roboplanMain.cxx calls once every module is set up.
+// command or with data files, and `roboplan screenshot`, load it as they load any module. It holds
+// no Qt and no rendering: the window and the screenshot's drawing load libRoboPlanViewer.so when
+// they start (Libs/Viewer/rpViewerCommands.h), so `roboplan modules` and `screenshot --help` map
+// neither. It exports roboplan_run_viewer, which roboplanMain.cxx calls once every module is set up.
+#include <iostream>
 #include <string>
 #include <vector>
 
 #include "rpModule.h"
 #include "rpModuleManager.h"
-#include "rpViewerApplication.h"
+#include "rpViewerCommands.h"
 #ifdef ROBOPLAN_VIEWER_HAVE_DICOM
 #include "rpImagingReaders.h"
 #endif
@@ -30,9 +32,9 @@ class ViewerModule : public rp::Module {
 
 ROBOPLAN_DECLARE_MODULE(ViewerModule)
 
-/// The Qt main window on `scene` with every module's panel (rp::RunViewer).
+/// The Qt main window on `scene` with every module's panel (rp::RunViewer, in libRoboPlanViewer.so).
 extern "C" __attribute__((visibility("default"))) int roboplan_run_viewer(int argc, char* argv[], rp::ModuleManager* manager,
                                                                          vtkRPScene* scene,
                                                                          const std::vector<std::string>* files) {
-  return rp::RunViewer(argc, argv, *manager, scene, *files);
+  return rp::LaunchViewer(argc, argv, *manager, scene, *files, std::cerr);
 }

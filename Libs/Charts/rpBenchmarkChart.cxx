@@ -101,6 +101,11 @@ bool WriteBarChartPNG(const std::string& path, const std::vector<std::string>& c
   });
 }
 
+bool OpenDrawingDisplay(std::string& error) {
+  const auto ensure = draw::Entry<draw::EnsureXDisplayFunction>("roboplan_ensure_x_display", error);
+  return ensure && ensure(error);
+}
+
 bool WriteCSV(const std::string& path, const std::vector<std::string>& header,
               const std::vector<std::vector<double>>& rows, std::string& error) {
   return Guarded(path, error, [&](std::string& why) {

@@ -51,6 +51,10 @@ bool WriteBarChartPNG(const std::string& path, const std::vector<std::string>& c
                       const std::vector<Series>& series, const ChartOptions& options, std::string& error);
 
 
+/// An X display to draw on (rp::EnsureXDisplay, rpXDisplay.h, in libRoboPlanChartsDraw.so, loaded
+/// here): for a caller that checks once before a group of pictures. False with `error` naming why.
+bool OpenDrawingDisplay(std::string& error);
+
 /// Writes a CSV with a header row; every row must have header.size() values. In a benchmark
 /// (Conditions::Process() started) the conditions come first as '#' comment lines.
 bool WriteCSV(const std::string& path, const std::vector<std::string>& header,

@@ -265,3 +265,5 @@ RP_CHARTS_DRAW_ENTRY bool roboplan_probe_gl(std::string& report, std::string& er
 }
 
 RP_CHARTS_DRAW_ENTRY void roboplan_current_x_display(rp::XDisplayInfo& display) { display = rp::CurrentXDisplay(); }
+
+RP_CHARTS_DRAW_ENTRY bool roboplan_ensure_x_display(std::string& error) { return rp::EnsureXDisplay(error); }

@@ -22,6 +22,7 @@ using BarChartFunction = bool (*)(const std::string&, const std::vector<std::str
 using GLReportFunction = void (*)(vtkRenderWindow*, std::string&);
 using ProbeGLFunction = bool (*)(std::string&, std::string&);
 using CurrentXDisplayFunction = void (*)(rp::XDisplayInfo&);
+using EnsureXDisplayFunction = bool (*)(std::string&);
 
 /// The entry `symbol` of the library beside RoboPlanCharts (used by RoboPlanCharts only: the anchor
 /// is its own code), loaded on first use; nullptr with `error` naming the library's path and why.

@@ -1,5 +1,7 @@
 #include "qRPViewerMainWindow.h"
 
+#include <algorithm>
+
 #include <QAction>
 #include <QActionGroup>
 #include <QApplication>
@@ -51,7 +53,6 @@
 
 #ifdef ROBOPLAN_VIEWER_HAVE_DICOM
 #include "rpDicomSeries.h"
-#include "rpImageVolume.h"
 #endif
 
 namespace rp {
@@ -445,14 +446,14 @@ void qRPViewerMainWindow::RefreshVolumeCombos() {
   }
 }
 
-bool qRPViewerMainWindow::LoadFile(const QString& path, QString* error) {
+bool qRPViewerMainWindow::LoadFile(const QString& path, QString* error, const QString& dicomObject) {
   std::string message;
   std::vector<std::string> warnings;
   bool ok = false;
   // The worker finds the reader too (for a folder that looks into every file) and reads unless
   // the path is a scene file.
   BackgroundReadResult result = RunBackgroundRead(this, "Loading " + QFileInfo(path).fileName(),
-                                                  MakeDataRead(this->Scene, path.toStdString()));
+                                                  MakeDataRead(this->Scene, path.toStdString(), dicomObject.toStdString()));
   if (result.LeftToMainThread && !result.Cancelled) {
     // A scene file fills the scene as it reads: on this thread.
     QApplication::setOverrideCursor(Qt::WaitCursor);
@@ -525,11 +526,9 @@ void qRPViewerMainWindow::CloseScene() {
   this->Controller->ResetViews();
 }
 
-void qRPViewerMainWindow::OpenDicomFolder() {
+std::vector<std::pair<QString, QString>> qRPViewerMainWindow::DicomFolderChoices(const QString& folder, QString* error) {
+  std::vector<std::pair<QString, QString>> choices;
 #ifdef ROBOPLAN_VIEWER_HAVE_DICOM
-  const QString folder = QFileDialog::getExistingDirectory(this, "Load DICOM folder");
-  if (folder.isEmpty()) return;
-  // Scan, then read the chosen stack, both on a worker thread.
   auto scan = std::make_shared<DicomScanResult>();
   const std::string folderPath = folder.toStdString();
   const BackgroundReadResult scanned = RunBackgroundRead(
@@ -537,13 +536,14 @@ void qRPViewerMainWindow::OpenDicomFolder() {
       [scan, folderPath](BackgroundReadResult& result, const ProgressCallback& progress) {
         return ScanDicom(folderPath, *scan, result.Error, progress);
       });
-  if (scanned.Cancelled) return;
-  if (!scanned.Ok || scan->Series.empty()) {
-    this->ShowProblem("Load DICOM", scanned.Ok ? "No DICOM image series in " + folder : QString::fromStdString(scanned.Error));
-    return;
+  if (!scanned.Ok || (scan->Series.empty() && scan->Segmentations.empty())) {
+    if (error)
+      *error = scanned.Cancelled ? QString("cancelled")
+               : scanned.Ok     ? "No DICOM image series or segmentation in " + folder
+                                : QString::fromStdString(scanned.Error);
+    return choices;
   }
-  // The series picker: one line per series, problems shown.
-  QStringList names;
+  // One line per object, as `roboplan dicom` lists them, problems shown.
   for (const DicomSeriesInfo& series : scan->Series) {
     QString line = QString("%1 %2 — %3, %4 (%5x%6x%7)")
                        .arg(QString::fromStdString(series.Modality), QString::fromStdString(series.SeriesNumber),
@@ -554,36 +554,47 @@ void qRPViewerMainWindow::OpenDicomFolder() {
                        .arg(series.Slices);
     if (series.StackCount > 1) line += QString(" stack %1 of %2").arg(series.StackIndex).arg(series.StackCount);
     if (!series.Problem.empty()) line += " [" + QString::fromStdString(series.Problem) + "]";
-    names << line;
+    choices.emplace_back(line, QString::fromStdString(series.StackID));
   }
-  int index = 0;
-  if (names.size() > 1) {
-    bool ok = false;
-    const QString chosen = QInputDialog::getItem(this, "Load DICOM", "Series:", names, 0, false, &ok);
-    if (!ok) return;
-    index = names.indexOf(chosen);
-  }
-  const DicomSeriesInfo series = scan->Series[static_cast<size_t>(index)];
-  const BackgroundReadResult read = RunBackgroundRead(
-      this, "Loading " + QString::fromStdString(series.SeriesDescription.empty() ? series.Modality : series.SeriesDescription),
-      [series](BackgroundReadResult& result, const ProgressCallback& progress) {
-        ImageVolume volume;
-        if (!ReadDicomSeries(series, volume, result.Error, {}, &result.Warnings, progress)) return false;
-        auto node = vtkSmartPointer<vtkRPScalarVolumeNode>::New();
-        node->SetName(series.SeriesDescription.empty() ? series.Modality : series.SeriesDescription);
-        CopyToNode(volume, node);
-        if (volume.Window <= 0) node->SetWindowLevelFromScalarRange();
-        result.Nodes.push_back(node);
-        return true;
-      });
-  if (read.Cancelled) return;
-  if (!read.Ok) {
-    this->ShowProblem("Load DICOM", QString::fromStdString(read.Error));
+  for (const DicomSegmentationObjectInfo& object : scan->Segmentations)
+    choices.emplace_back(QString("%1 %2 — %3 (%4 segments)")
+                             .arg(QString::fromStdString(object.Kind), QString::fromStdString(object.SeriesNumber),
+                                  QString::fromStdString(object.SeriesDescription))
+                             .arg(object.Segments.size()),
+                         QString::fromStdString(object.SeriesInstanceUID));
+  if (choices.size() > 1)
+    choices.insert(choices.begin(), {QString("The whole folder (%1 image stacks, %2 segmentations)")
+                                         .arg(scan->Series.size())
+                                         .arg(scan->Segmentations.size()),
+                                     QString()});
+#else
+  if (error) *error = "this viewer was built without DICOM";
+  (void)folder;
+#endif
+  return choices;
+}
+
+void qRPViewerMainWindow::OpenDicomFolder() {
+  const QString folder = QFileDialog::getExistingDirectory(this, "Load DICOM folder");
+  if (folder.isEmpty()) return;
+  QString error;
+  const std::vector<std::pair<QString, QString>> choices = this->DicomFolderChoices(folder, &error);
+  if (choices.empty()) {
+    if (error != "cancelled") this->ShowProblem("Load DICOM", error);
     return;
   }
-  for (const auto& node : read.Nodes) this->Scene->AddNode(node);
-  for (const std::string& warning : read.Warnings) this->statusBar()->showMessage(QString::fromStdString(warning), 10000);
-#endif
+  size_t index = 0;
+  if (choices.size() > 1) {
+    QStringList labels;
+    for (const auto& choice : choices) labels << choice.first;
+    bool ok = false;
+    const QString chosen = QInputDialog::getItem(this, "Load DICOM", "Load:", labels, 0, false, &ok);
+    if (!ok) return;
+    index = static_cast<size_t>(std::max(0, labels.indexOf(chosen)));
+  }
+  // The loader reads the folder again (headers only) and the chosen object: one DICOM path for
+  // the command line, drag and drop, and this menu.
+  if (!this->LoadFile(folder, &error, choices[index].second) && error != "cancelled") this->ShowProblem("Load DICOM", error);
 }
 
 void qRPViewerMainWindow::dragEnterEvent(QDragEnterEvent* event) {

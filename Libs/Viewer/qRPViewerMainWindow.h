@@ -6,6 +6,8 @@
 #include <array>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <QMainWindow>
 #include <QPointer>
@@ -54,7 +56,9 @@ class qRPViewerMainWindow : public QMainWindow {
   /// behind a progress dialog that can cancel (the event loop keeps running; the scene changes
   /// only here, on the main thread, once the read succeeded). A cancelled load returns false
   /// with the error "cancelled" and leaves the scene unchanged.
-  bool LoadFile(const QString& path, QString* error = nullptr);
+  /// `dicomObject`: for a DICOM folder, the one object to read (an image stack's ID, a SEG's or
+  /// RTSTRUCT's SeriesInstanceUID, as `roboplan dicom` lists them); empty: all the folder holds.
+  bool LoadFile(const QString& path, QString* error = nullptr, const QString& dicomObject = QString());
   /// Sets the scene's layout node's arrangement (vtkRPLayoutNode::Arrangement) and shows it.
   void SetViewLayout(int layout);
   /// Renders the views that asked for it; returns how many were rendered.
@@ -67,7 +71,13 @@ class qRPViewerMainWindow : public QMainWindow {
   void OpenDataFilesOfKind(const QString& title, const QString& filter);
   void OpenScene();
   void SaveSceneAs();
+  /// File > Load DICOM folder: scans the folder (worker thread), lets the user pick the whole
+  /// folder or one of its image stacks, SEGs or RTSTRUCTs, and loads it through LoadFile.
   void OpenDicomFolder();
+  /// The folder's choices as OpenDicomFolder offers them: a label and the object ID LoadFile
+  /// takes ("" for the whole folder, listed first when the folder holds several objects).
+  /// Empty with `error` when the scan failed or found nothing to load.
+  std::vector<std::pair<QString, QString>> DicomFolderChoices(const QString& folder, QString* error = nullptr);
   void CloseScene();
 
  protected:

@@ -22,7 +22,10 @@
 #include <QTimer>
 #include <QVTKOpenGLNativeWidget.h>
 #include <vtkImageData.h>
+#include <vtkMatrix4x4.h>
+#include <vtkNew.h>
 
+#include "rpDataLoader.h"
 #include "rpDicomWriter.h"
 #include "rpImagingReaders.h"
 #include "rpImageVolume.h"
@@ -241,4 +244,82 @@ TEST(ViewerLoading, ASceneFileIsHandedBackToTheGuiThreadAndOpens) {
   EXPECT_EQ(dims[1], 6);
   EXPECT_EQ(dims[2], 4);
   EXPECT_EQ(loaded->GetScalarComponentAsDouble(7, 5, 3, 0), 8 * 6 * 4 - 1);
+}
+
+// File > Load DICOM folder goes through the one loader: the scan's choices (the whole folder
+// first, then each series as `roboplan dicom` lists it), one series by its ID, and the whole
+// folder, each the same nodes as rp::LoadPath gives (names, geometry, voxel values).
+TEST(ViewerLoading, DicomFolderMenuLoadsThroughTheLoader) {
+  Application();
+  const fs::path dir = fs::path(ROBOPLAN_TEST_OUTPUT_DIR) / "dicom-two-series";
+  fs::remove_all(dir);
+  std::string error;
+  for (int s = 0; s < 2; ++s) {  // a CT of 10 and an MR of 6 slices, 2 mm apart, values by series
+    rp::ImageVolume volume;
+    volume.Image = vtkSmartPointer<vtkImageData>::New();
+    volume.Image->SetDimensions(16, 12, s == 0 ? 10 : 6);
+    volume.Image->AllocateScalars(VTK_SHORT, 1);
+    short* v = static_cast<short*>(volume.Image->GetScalarPointer());
+    for (vtkIdType i = 0; i < volume.Image->GetNumberOfPoints(); ++i) v[i] = static_cast<short>(100 * (s + 1) + i % 7);
+    volume.IJKToRAS->SetElement(2, 2, 2.0);
+    rp::DicomWriteOptions options;
+    options.Modality = s == 0 ? "CT" : "MR";
+    options.SeriesDescription = s == 0 ? "knee CT" : "knee MR";
+    options.SeriesNumber = s + 1;
+    options.FilePrefix = s == 0 ? "CT" : "MR";
+    ASSERT_TRUE(rp::WriteDicomSeries(volume, dir.string(), options, error)) << error;
+  }
+  vtkNew<vtkRPScene> scene;
+  qRPViewerMainWindow window(nullptr, scene);
+  const QString folder = QString::fromStdString(dir.string());
+
+  QString message;
+  const auto choices = window.DicomFolderChoices(folder, &message);
+  ASSERT_EQ(choices.size(), 3u) << message.toStdString();
+  EXPECT_TRUE(choices[0].second.isEmpty());
+  EXPECT_TRUE(choices[0].first.contains("2 image stacks")) << choices[0].first.toStdString();
+  const auto mr = std::find_if(choices.begin(), choices.end(), [](const auto& c) { return c.first.startsWith("MR 2"); });
+  ASSERT_NE(mr, choices.end());
+  EXPECT_TRUE(mr->first.contains("16x12x6")) << mr->first.toStdString();
+
+  // One series: the MR alone, as the loader reads it by that ID.
+  ASSERT_TRUE(window.LoadFile(folder, &message, mr->second)) << message.toStdString();
+  auto volumes = scene->GetNodesByClass("vtkRPScalarVolumeNode");
+  ASSERT_EQ(volumes.size(), 1u);
+  auto* node = vtkRPScalarVolumeNode::SafeDownCast(volumes.front());
+  EXPECT_EQ(node->GetName(), "knee MR");
+  int dims[3];
+  node->GetImageData()->GetDimensions(dims);
+  EXPECT_EQ(dims[2], 6);
+  EXPECT_EQ(node->GetImageData()->GetScalarComponentAsDouble(3, 0, 0, 0), 203.0);  // 100 * 2 + 3 % 7
+  vtkNew<vtkRPScene> byLoader;
+  rp::ReadOptions options;
+  options.Series = mr->second.toStdString();
+  const rp::LoadResult direct = rp::LoadPath(byLoader, dir.string(), options);
+  ASSERT_TRUE(direct.Ok) << direct.Error;
+  auto* same = vtkRPScalarVolumeNode::SafeDownCast(byLoader->GetNodesByClass("vtkRPScalarVolumeNode").front());
+  EXPECT_EQ(same->GetName(), node->GetName());
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c)
+      EXPECT_DOUBLE_EQ(same->GetIJKToRASMatrix()->GetElement(r, c), node->GetIJKToRASMatrix()->GetElement(r, c));
+
+  // The whole folder: both series beside the MR already there (nothing lost).
+  ASSERT_TRUE(window.LoadFile(folder, &message, QString())) << message.toStdString();
+  volumes = scene->GetNodesByClass("vtkRPScalarVolumeNode");
+  ASSERT_EQ(volumes.size(), 3u);
+  std::set<std::string> names;
+  for (auto* v : volumes) names.insert(v->GetName());
+  EXPECT_EQ(names, (std::set<std::string>{"knee CT", "knee MR", "knee MR_1"}));  // the scene keeps names unique
+
+  // An ID the folder does not hold is named in the error; the scene keeps its three volumes.
+  EXPECT_FALSE(window.LoadFile(folder, &message, "1.2.3.4.5"));
+  EXPECT_TRUE(message.contains("1.2.3.4.5")) << message.toStdString();
+  EXPECT_EQ(scene->GetNodesByClass("vtkRPScalarVolumeNode").size(), 3u);
+
+  // A folder with nothing DICOM in it gives no choices and says so.
+  const fs::path empty = fs::path(ROBOPLAN_TEST_OUTPUT_DIR) / "dicom-none";
+  fs::create_directories(empty);
+  std::ofstream(empty / "notes.txt") << "not DICOM\n";
+  EXPECT_TRUE(window.DicomFolderChoices(QString::fromStdString(empty.string()), &message).empty());
+  EXPECT_FALSE(message.isEmpty());
 }

@@ -23,7 +23,7 @@
 #include "rpScreenshot.h"
 #include "rpView.h"
 #include "rpViewController.h"
-#include "rpViewerApplication.h"
+#include "rpViewerCommands.h"
 #include "rpViewerTestScene.h"
 #include "rpXDisplay.h"
 #include "vtkRPModelNode.h"

@@ -78,33 +78,40 @@ bool WriteSceneFile(vtkRPScene* scene, const std::string& path, SceneTransferRep
   return report.Ok;
 }
 
-int ConvertSceneFile(const std::string& input, const std::string& output, bool json, std::ostream& out,
-                     std::ostream& err) {
+SceneConversion ConvertScene(const std::string& input, const std::string& output) {
   vtkNew<vtkRPScene> scene;
-  SceneTransferReport read, written;
-  std::string error;
-  bool didRead = false, didWrite = false;
+  SceneConversion c;
   if (!IsSceneFileName(input) || !IsSceneFileName(output))
-    error = "a scene converts only to a scene: use " + SceneFileExtensions()[0] + ", .mrml or .mrb on both sides";
-  else if (!(didRead = ReadSceneFile(input, scene, read))) error = read.Error;
-  else if (!(didWrite = WriteSceneFile(scene, output, written))) error = written.Error;
-  else if (!read.FirstProblem().empty()) error = "could not load " + read.FirstProblem();
-  else if (!written.FirstProblem().empty()) error = "could not write " + written.FirstProblem();
+    c.Error = "a scene converts only to a scene: use " + SceneFileExtensions()[0] + ", .mrml or .mrb on both sides";
+  else if (!(c.DidRead = ReadSceneFile(input, scene, c.Read))) c.Error = c.Read.Error;
+  else if (!(c.DidWrite = WriteSceneFile(scene, output, c.Written))) c.Error = c.Written.Error;
+  else if (!c.Read.FirstProblem().empty()) c.Error = "could not load " + c.Read.FirstProblem();
+  else if (!c.Written.FirstProblem().empty()) c.Error = "could not write " + c.Written.FirstProblem();
+  return c;
+}
+
+int ReportSceneConversion(const SceneConversion& c, const std::string& input, const std::string& output, bool json,
+                          std::ostream& out, std::ostream& err) {
   if (json) {
-    nlohmann::json doc = {{"ok", error.empty()}, {"input", input}, {"output", output}};
-    if (!error.empty()) doc["error"] = error;
-    if (didRead) doc["read"] = ReportJson(input, read);
-    if (didWrite) doc["written"] = ReportJson(output, written);
+    nlohmann::json doc = {{"ok", c.Error.empty()}, {"input", input}, {"output", output}};
+    if (!c.Error.empty()) doc["error"] = c.Error;
+    if (c.DidRead) doc["read"] = ReportJson(input, c.Read);
+    if (c.DidWrite) doc["written"] = ReportJson(output, c.Written);
     out << doc.dump(2) << "\n";
   } else {
-    for (const auto& warning : read.Warnings) err << "roboplan convert: warning: " << warning << "\n";
-    for (const auto& warning : written.Warnings) err << "roboplan convert: warning: " << warning << "\n";
-    if (didRead) out << "read " << input << ": " << CountsText(read.NodesByType) << "\n";
-    if (didWrite) out << "wrote " << output << ": " << CountsText(written.NodesByType) << "\n";
+    for (const auto& warning : c.Read.Warnings) err << "roboplan convert: warning: " << warning << "\n";
+    for (const auto& warning : c.Written.Warnings) err << "roboplan convert: warning: " << warning << "\n";
+    if (c.DidRead) out << "read " << input << ": " << CountsText(c.Read.NodesByType) << "\n";
+    if (c.DidWrite) out << "wrote " << output << ": " << CountsText(c.Written.NodesByType) << "\n";
   }
-  if (error.empty()) return 0;
-  err << "roboplan convert: " << error << "\n";
+  if (c.Error.empty()) return 0;
+  err << "roboplan convert: " << c.Error << "\n";
   return 1;
+}
+
+int ConvertSceneFile(const std::string& input, const std::string& output, bool json, std::ostream& out,
+                     std::ostream& err) {
+  return ReportSceneConversion(ConvertScene(input, output), input, output, json, out, err);
 }
 
 }  // namespace rp

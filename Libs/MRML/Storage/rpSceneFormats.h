@@ -22,11 +22,24 @@ bool ReadSceneFile(const std::string& path, vtkRPScene* scene, SceneTransferRepo
 /// Writes `scene` in the format of `path`'s extension.
 bool WriteSceneFile(vtkRPScene* scene, const std::string& path, SceneTransferReport& report);
 
-/// `roboplan convert <in> <out> [--json]` for scenes. Prints what was read and written (with
-/// --json one document: {"ok", "input", "output", "error"?, "read": {"format", "nodes": {tag:
-/// count}, "files", "skipped": [{"what", "why"}], "warnings"}, "written": {...}}). Returns 0, or
-/// 1 naming the first thing it could not do (a scene that cannot be read or written; a node
-/// left out for a missing or unreadable data file; the output then holds everything else).
+/// A scene file converted to another format: what was read and written, or the first thing that
+/// could not be done (a scene that cannot be read or written; a node left out for a missing or
+/// unreadable data file; the output then holds everything else).
+struct SceneConversion {
+  bool DidRead = false, DidWrite = false;
+  SceneTransferReport Read, Written;
+  std::string Error;  // empty: converted whole
+};
+SceneConversion ConvertScene(const std::string& input, const std::string& output);
+
+/// `roboplan convert <in> <out> [--json]`'s report of a scene conversion: what was read and
+/// written (with --json one document: {"ok", "input", "output", "error"?, "read": {"format",
+/// "nodes": {tag: count}, "files", "skipped": [{"what", "why"}], "warnings"}, "written": {...}}).
+/// Returns the exit code: 0, or 1 with the error on `err`.
+int ReportSceneConversion(const SceneConversion& conversion, const std::string& input, const std::string& output,
+                          bool json, std::ostream& out, std::ostream& err);
+
+/// ConvertScene, then ReportSceneConversion.
 int ConvertSceneFile(const std::string& input, const std::string& output, bool json, std::ostream& out,
                      std::ostream& err);
 

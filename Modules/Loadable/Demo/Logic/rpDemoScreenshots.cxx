@@ -1,22 +1,34 @@
-// 4-up pictures of the scene for the report, through the viewer's own offscreen rendering (the
-// same displayable managers as the Qt views). Only in builds with the viewer (GUI on).
-#include <cstdlib>
+// Whether the demo can draw, and its pictures that render the scene: drawn by
+// libRoboPlanDemoPictures.so (Pictures/, rpDemoPictures.h), loaded on the first one, so that the
+// demo's logic maps no Qt and no VTK rendering until it draws.
 #include <filesystem>
 
+#include "rpBenchmarkChart.h"
+#include "rpDemoPictures.h"
 #include "rpDemoStages.h"
 #include "rpReport.h"
-#include "rpXDisplay.h"
-
-#ifdef ROBOPLAN_WORKFLOW_HAVE_VIEWER
-#include "rpScreenshot.h"
-#include "rpViewController.h"
+#include "rpSiblingLibrary.h"
 #include "vtkRPScalarVolumeNode.h"
-#include "vtkRPLayoutNode.h"
-#endif
+#include "vtkRPScene.h"
 
 namespace fs = std::filesystem;
 
 namespace rp {
+
+namespace {
+
+/// The entry `symbol` of libRoboPlanDemoPictures.so (beside this library); nullptr with `error`
+/// naming the library's path and why.
+template <typename Function>
+Function PicturesEntry(const char* symbol, const std::string& file, std::string& error) {
+  std::string why;
+  const auto function = SiblingLibraryFunction<Function>(reinterpret_cast<const void*>(&PicturesEntry<Function>),
+                                                         demo_pictures::Library, symbol, why);
+  if (!function) error = "picture '" + file + "' not drawn: " + why;
+  return function;
+}
+
+}  // namespace
 
 bool CanDrawPictures(const DemoState& state, std::string& error) {
   if (!state.Options.Screenshots) {
@@ -24,7 +36,7 @@ bool CanDrawPictures(const DemoState& state, std::string& error) {
     return false;
   }
   // $DISPLAY when it answers, else a private Xvfb; once for the run (rpXDisplay.h).
-  return EnsureXDisplay(error);
+  return bench::OpenDrawingDisplay(error);
 }
 
 bool CanDrawPicturesOrWarn(DemoState& state, const std::string& stage, const std::string& what) {
@@ -40,32 +52,31 @@ bool CanDrawPicturesOrWarn(DemoState& state, const std::string& stage, const std
 bool DemoScreenshot(DemoState& state, const double slicePointRAS[3], const std::string& followNodeID,
                     const std::string& file, std::string& error) {
   if (!CanDrawPictures(state, error)) return false;
-#ifdef ROBOPLAN_WORKFLOW_HAVE_VIEWER
-  ViewController controller(state.Scene);
-  if (state.CT) controller.SetBackgroundVolumeID(state.CT->GetID());
-  if (state.MR) {
-    controller.SetForegroundVolumeID(state.MR->GetID());
-    controller.SetForegroundOpacity(0.35);
-  }
-  controller.ResetViews();
-  if (!followNodeID.empty()) controller.SetFollowTransformNodeID(followNodeID);
-  if (slicePointRAS) controller.SetSlicePointRAS(slicePointRAS);
-  ScreenshotOptions options;
-  options.Width = 1400;
-  options.Height = 1100;
-  options.Layout = vtkRPLayoutNode::FourUp;
-  if (slicePointRAS) {
-    options.HasSlicePoint = true;
-    for (int i = 0; i < 3; ++i) options.SlicePointRAS[i] = slicePointRAS[i];
-  }
-  return SaveScreenshot(controller, (fs::path(state.Output) / file).string(), options, error);
-#else
-  (void)slicePointRAS;
-  (void)followNodeID;
-  (void)file;
-  error = "this build has no viewer (ROBOPLAN_BUILD_GUI=OFF)";
-  return false;
-#endif
+  const auto draw = PicturesEntry<demo_pictures::FourUpFunction>("roboplan_demo_four_up", file, error);
+  if (!draw) return false;
+  demo_pictures::FourUp picture;
+  picture.Scene = state.Scene;
+  if (state.CT) picture.BackgroundID = state.CT->GetID();
+  if (state.MR) picture.ForegroundID = state.MR->GetID();
+  picture.FollowNodeID = followNodeID;
+  picture.HasSlicePoint = slicePointRAS != nullptr;
+  if (slicePointRAS)
+    for (int i = 0; i < 3; ++i) picture.SlicePointRAS[static_cast<size_t>(i)] = slicePointRAS[i];
+  return draw(picture, (fs::path(state.Output) / file).string(), error);
+}
+
+bool DemoBoneViews(DemoState& state, const std::vector<std::string>& modelIDs, const std::string& file,
+                   std::string& error) {
+  if (!CanDrawPictures(state, error)) return false;
+  const auto draw = PicturesEntry<demo_pictures::BoneViewsFunction>("roboplan_demo_bone_views", file, error);
+  if (!draw) return false;
+  demo_pictures::BoneViews picture;
+  picture.Scene = state.Scene;
+  picture.ModelIDs = modelIDs;
+  picture.Lateral = state.KneeLateral;
+  picture.Anterior = state.KneeAnterior;
+  picture.AxesKnown = state.KneeAxesKnown;
+  return draw(picture, (fs::path(state.Output) / file).string(), error);
 }
 
 }  // namespace rp

@@ -117,8 +117,11 @@ void DicomRoundTrip(DemoState& state) {
   const std::string stage = "DICOM series";
   std::string error;
   if (!state.HasGroundTruth()) {
+    vtkNew<vtkRPVolumesLogic> volumes;
+    volumes->SetScene(state.Scene);
     DicomScanResult scan;
-    if (!ScanDicom(state.Options.DicomData, scan, error, StageProgress(state))) throw std::runtime_error(error);
+    if (!volumes->ScanDicomFolder(state.Options.DicomData, scan, error, StageProgress(state)))
+      throw std::runtime_error(error);
     const DicomSeriesInfo* chosen = nullptr;
     for (const auto& series : scan.Series) {
       if (series.Problem.empty() && (!chosen || series.Files.size() > chosen->Files.size())) chosen = &series;
@@ -126,8 +129,6 @@ void DicomRoundTrip(DemoState& state) {
     if (!chosen) throw std::runtime_error("no loadable image series in '" + state.Options.DicomData + "'");
     // Read through the Volumes logic (the loader's DICOM reader), as register-volumes and the
     // viewer's loader read a series.
-    vtkNew<vtkRPVolumesLogic> volumes;
-    volumes->SetScene(state.Scene);
     VolumeReadOptions read;
     read.SeriesInstanceUID = chosen->StackID;
     std::vector<std::string> warnings;

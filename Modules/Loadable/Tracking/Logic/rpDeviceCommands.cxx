@@ -10,6 +10,7 @@
 #include "rpArgParser.h"
 #include "rpNdiProtocol.h"
 #include "rpNdiRom.h"
+#include "vtkRPTrackingLogic.h"
 #include "rpToolDefinition.h"
 
 namespace rp {
@@ -87,16 +88,9 @@ int RunToolInfoCommand(const std::vector<std::string>& args, std::ostream& out, 
   const std::string path = parser.Get("file");
   std::vector<uint8_t> bytes;
   rom::Definition definition;
-  try {
-    if (std::filesystem::path(path).extension() == ".json") {
-      bytes = ReadToolDefinition(path).Rom;
-      std::string error;
-      if (!rom::Read(bytes.data(), bytes.size(), definition, error)) throw std::runtime_error(error);
-    } else {
-      definition = rom::ReadFile(path, &bytes);  // checksum verified
-    }
-  } catch (const std::exception& e) {
-    err << "roboplan tool-info: " << e.what() << "\n";
+  std::string error;
+  if (!vtkRPTrackingLogic::ReadToolDefinitionFile(path, definition, bytes, error)) {
+    err << "roboplan tool-info: " << error << "\n";
     return 1;
   }
   const nlohmann::json doc = RomJson(definition, path, true);

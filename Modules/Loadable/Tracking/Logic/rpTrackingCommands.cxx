@@ -563,13 +563,13 @@ int RunPolarisSimCommand(const std::vector<std::string>& args, std::ostream& out
     }
     return 0;
   }
-  PolarisSimulator sim(o);
-  for (size_t i = 0; i < tools.size(); ++i) sim.AddTool(tools[i], ports[i]);
   std::string error;
-  if (!sim.Start(error)) {
+  const std::unique_ptr<PolarisSimulator> simulator = vtkRPTrackingLogic::StartSimulatedPolaris(o, tools, ports, error);
+  if (!simulator) {
     err << "roboplan polaris-sim: " << error << "\n";
     return 1;
   }
+  PolarisSimulator& sim = *simulator;
   if (parser.Json()) {
     nlohmann::json doc = {{"port", sim.PortPath()}, {"pty", sim.SlavePath()}, {"rateHz", o.FrameRate}};
     for (const auto& t : tools) doc["tools"].push_back(t.Name);

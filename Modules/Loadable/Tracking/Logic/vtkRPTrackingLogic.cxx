@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <filesystem>
 #include <stdexcept>
 
 #include <vtkImageData.h>
@@ -10,7 +11,10 @@
 #include <vtkObjectFactory.h>
 
 #include "rpImageTable.h"
+#include "rpNdiRom.h"
+#include "rpPolarisSimulator.h"
 #include "rpPlusSequenceFile.h"
+#include "rpToolDefinition.h"
 #include "rpTransformNames.h"
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
@@ -416,4 +420,28 @@ vtkRPLinearTransformNode* vtkRPTrackingLogic::SetTransformUnder(const std::strin
       break;
     }
   return node;
+}
+
+bool vtkRPTrackingLogic::ReadToolDefinitionFile(const std::string& path, rp::rom::Definition& definition,
+                                                std::vector<uint8_t>& rom, std::string& error) {
+  try {
+    if (std::filesystem::path(path).extension() == ".json") {
+      rom = rp::ReadToolDefinition(path).Rom;
+      return rp::rom::Read(rom.data(), rom.size(), definition, error);
+    }
+    definition = rp::rom::ReadFile(path, &rom);  // checksum verified
+    return true;
+  } catch (const std::exception& e) {
+    error = e.what();
+    return false;
+  }
+}
+
+std::unique_ptr<rp::PolarisSimulator> vtkRPTrackingLogic::StartSimulatedPolaris(
+    const rp::PolarisSimulatorOptions& options, const std::vector<rp::ToolDefinition>& tools,
+    const std::vector<int>& ports, std::string& error) {
+  auto simulator = std::make_unique<rp::PolarisSimulator>(options);
+  for (size_t i = 0; i < tools.size(); ++i) simulator->AddTool(tools[i], i < ports.size() ? ports[i] : -1);
+  if (!simulator->Start(error)) return nullptr;
+  return simulator;
 }

@@ -10,6 +10,7 @@
 // are looked up by ID at every update, so deleting a node that receives data is safe (it is
 // re-created when data arrives again, as Slicer's OpenIGTLink connector does, unless
 // AutoCreateNodes is off).
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <string>
@@ -30,6 +31,12 @@ class vtkRPScalarVolumeNode;
 namespace rp {
 class ImageTable;
 struct ImageFrame;
+class PolarisSimulator;
+struct PolarisSimulatorOptions;
+struct ToolDefinition;
+namespace rom {
+struct Definition;
+}
 }  // namespace rp
 
 class vtkRPTrackingLogic : public vtkObject {
@@ -120,6 +127,19 @@ class vtkRPTrackingLogic : public vtkObject {
   vtkRPLinearTransformNode* ApplyPhantomRegistration(const rp::PhantomRegistrationResult& result,
                                                      const rp::PlusPhantomConfiguration& config);
   static const char* PhantomRegistrationFREAttribute() { return "PhantomRegistration.FRE"; }
+
+  /// A tool definition file: an NDI .rom (checksum verified) or a RoboPlan tool (.json, whose
+  /// .rom is made), parsed into `definition` with its .rom bytes in `rom` (`roboplan tool-info`).
+  /// False with `error` naming the file and the problem.
+  static bool ReadToolDefinitionFile(const std::string& path, rp::rom::Definition& definition,
+                                     std::vector<uint8_t>& rom, std::string& error);
+  /// A simulated NDI Polaris (a pseudo-terminal, or a Vega over TCP when options.TcpPort >= 0)
+  /// tracking `tools`, each passive (port -1) or plugged into wired port `ports[i]` (PLUS's
+  /// PortName numbering), started (`roboplan polaris-sim`; Connect() opens its port like a real
+  /// camera's). nullptr with `error` when it cannot start.
+  static std::unique_ptr<rp::PolarisSimulator> StartSimulatedPolaris(const rp::PolarisSimulatorOptions& options,
+                                                                     const std::vector<rp::ToolDefinition>& tools,
+                                                                     const std::vector<int>& ports, std::string& error);
 
  protected:
   vtkRPTrackingLogic();

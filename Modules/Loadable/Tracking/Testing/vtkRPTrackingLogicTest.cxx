@@ -8,6 +8,7 @@
 #include <atomic>
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <netinet/in.h>
 #include <sys/socket.h>
@@ -25,6 +26,7 @@
 #include "rpIgtlServer.h"
 #include "rpTrackingTestHelpers.h"
 #include "rpNdiTracker.h"
+#include "rpNdiRom.h"
 #include "rpPolarisSimulator.h"
 #include "rpPlusSequenceFile.h"
 #include "rpTrackingCommands.h"
@@ -220,6 +222,47 @@ TEST(TrackingLogic, SimulatorThroughSerialAndOpenIGTLinkIntoTheScene) {
   server.Stop();
   tracker.Stop();
   sim.Stop();
+}
+
+// The logic calls behind `tool-info` and `polaris-sim`: a tool's .json and its NDI .rom read to
+// the same markers, bad files named; a simulated Polaris started by the logic is tracked by the
+// logic's own serial source (one path from the command line and from a panel).
+TEST(TrackingLogic, ToolFilesAndASimulatedPolarisThroughTheLogic) {
+  const std::string tools = std::string(ROBOPLAN_RESOURCES_DIR) + "/Tools/";
+  rom::Definition fromJson, fromRom;
+  std::vector<uint8_t> jsonRom, romBytes;
+  std::string error;
+  ASSERT_TRUE(vtkRPTrackingLogic::ReadToolDefinitionFile(tools + "Stylus.json", fromJson, jsonRom, error)) << error;
+  ASSERT_TRUE(vtkRPTrackingLogic::ReadToolDefinitionFile(tools + "Stylus.rom", fromRom, romBytes, error)) << error;
+  EXPECT_EQ(jsonRom, romBytes);  // the .rom in Resources is the one the .json makes
+  ASSERT_EQ(fromJson.Markers.size(), Tool("Stylus").Markers.size());
+  for (size_t m = 0; m < fromJson.Markers.size(); ++m)
+    for (int a = 0; a < 3; ++a) EXPECT_NEAR(fromJson.Markers[m][a], Tool("Stylus").Markers[m][a], 1e-4);
+  const std::string garbage = OutputDir() + "/garbage.rom";
+  std::ofstream(garbage) << "not a tool definition\n";
+  EXPECT_FALSE(vtkRPTrackingLogic::ReadToolDefinitionFile(garbage, fromRom, romBytes, error));
+  EXPECT_NE(error.find("garbage.rom"), std::string::npos) << error;
+  EXPECT_FALSE(vtkRPTrackingLogic::ReadToolDefinitionFile(OutputDir() + "/missing.json", fromRom, romBytes, error));
+  EXPECT_NE(error.find("missing.json"), std::string::npos) << error;
+
+  PolarisSimulator::Options so;
+  so.LinkPath = OutputDir() + "/logic-sim";
+  const std::unique_ptr<PolarisSimulator> sim =
+      vtkRPTrackingLogic::StartSimulatedPolaris(so, {Tool("Reference")}, {-1}, error);
+  ASSERT_NE(sim, nullptr) << error;
+  vtkNew<vtkRPScene> scene;
+  vtkNew<vtkRPTrackingLogic> logic;
+  logic->SetScene(scene);
+  PoseSourceConfig config;
+  config.Kind = "serial";
+  config.Address = sim->PortPath();
+  config.ToolFiles = {tools + "Reference.json"};
+  ASSERT_GE(logic->Connect(config, error), 0) << error;
+  EXPECT_TRUE(WaitFor([&] {
+    logic->UpdateNodes(SteadySeconds());
+    auto* node = ToolNode(scene, "ReferenceToTracker");
+    return node && node->GetStatus() == vtkRPTrackedToolNode::StatusOK;
+  }, 5));
 }
 
 namespace {

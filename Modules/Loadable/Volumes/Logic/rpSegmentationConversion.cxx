@@ -8,7 +8,6 @@
 #include <vtkNew.h>
 #include <vtkSmartPointer.h>
 
-#include "rpArgParser.h"
 #include "rpDataLoader.h"
 #include "rpDicomReferenceSeries.h"
 #include "rpDicomRtStruct.h"
@@ -59,23 +58,23 @@ bool ReadOnReference(const std::string& in, const std::string& reference, Segmen
 }
 
 // A labelmap volume as a segmentation: one segment per label value (--input-kind, --labels).
-bool LabelmapInput(const ArgParser& parser, vtkImageData* image, const vtkMatrix4x4* ijkToRAS, SegmentationInput& input,
-                   Failure& failure) {
+bool LabelmapInput(const SegmentationConversionRequest& request, vtkImageData* image, const vtkMatrix4x4* ijkToRAS,
+                   SegmentationInput& input, Failure& failure) {
   InputKind kind = InputKind::Auto;
-  if (!ParseInputKind(parser.Get("input-kind"), kind))
-    return Fail(failure, 2, "--input-kind '" + parser.Get("input-kind") + "': use auto, labelmap or intensity");
-  const InputChoice choice = ChooseInputKind(kind, image, parser.Get("in"), "a .seg.nrrd output");
+  if (!ParseInputKind(request.InputKind, kind))
+    return Fail(failure, 2, "--input-kind '" + request.InputKind + "': use auto, labelmap or intensity");
+  const InputChoice choice = ChooseInputKind(kind, image, request.In, "a .seg.nrrd output");
   if (!choice.Labelmap)
     return Fail(failure, 2,
-                "'" + parser.Get("in") + "' is an " + choice.Reason +
+                "'" + request.In + "' is an " + choice.Reason +
                     ": an image does not convert to a segmentation file (segment it with `roboplan mesh`), a labelmap "
                     "does (--input-kind labelmap)");
   LabelTable table;
-  if (parser.Has("labels") && !ReadLabelTable(parser.Get("labels"), table, failure.Message)) return false;
+  if (!request.Labels.empty() && !ReadLabelTable(request.Labels, table, failure.Message)) return false;
   input.Node = vtkSmartPointer<vtkRPSegmentationNode>::New();
   input.Kind = "labelmap";
   input.Reason = choice.Reason;
-  return LabelmapToSegmentation(image, ijkToRAS, parser.Has("labels") ? &table : nullptr, input.Node, failure.Message,
+  return LabelmapToSegmentation(image, ijkToRAS, !request.Labels.empty() ? &table : nullptr, input.Node, failure.Message,
                                 choice.Scanned ? &choice.Values : nullptr);
 }
 
@@ -97,20 +96,20 @@ std::string Choices(const std::string& in, const LoadResult& load, bool segmenta
 
 // The input through the one loader (rp::LoadPath): the one segmentation it holds, else the one
 // volume as a labelmap; --reference reads a SEG or RTSTRUCT on that series' grid instead.
-bool ReadInput(const ArgParser& parser, SegmentationInput& input, Failure& failure) {
-  const std::string in = parser.Get("in");
-  if (parser.Has("reference")) return ReadOnReference(in, parser.Get("reference"), input, failure);
+bool ReadInput(const SegmentationConversionRequest& request, SegmentationInput& input, Failure& failure) {
+  const std::string& in = request.In;
+  if (!request.Reference.empty()) return ReadOnReference(in, request.Reference, input, failure);
   input.Scene = vtkSmartPointer<vtkRPScene>::New();
   ReadOptions options;
-  options.Series = parser.Get("series");
-  options.ResampleIrregularSpacing = parser.Has("resample-irregular");
+  options.Series = request.Series;
+  options.ResampleIrregularSpacing = request.ResampleIrregularSpacing;
   const LoadResult load = LoadPath(input.Scene, in, options);
   if (!load.Ok) {
     // A plain labelmap named *.seg.nrrd (no Slicer segment keys), as earlier versions wrote them.
     ImageVolume volume;
     std::string volumeError;
     if (HasExtension(in, ".seg.nrrd") && ReadVolume(in, volume, volumeError))
-      return LabelmapInput(parser, volume.Image, volume.IJKToRAS, input, failure);
+      return LabelmapInput(request, volume.Image, volume.IJKToRAS, input, failure);
     return Fail(failure, 1, load.Error);
   }
   input.Warnings = load.Warnings;
@@ -126,83 +125,73 @@ bool ReadInput(const ArgParser& parser, SegmentationInput& input, Failure& failu
   }
   if (segmentations.size() > 1) return Fail(failure, 1, Choices(in, load, true));
   if (volumes.size() == 1)
-    return LabelmapInput(parser, volumes.front()->GetImageData(), volumes.front()->GetIJKToRASMatrix(), input, failure);
+    return LabelmapInput(request, volumes.front()->GetImageData(), volumes.front()->GetIJKToRASMatrix(), input, failure);
   return Fail(failure, 1, volumes.empty() ? "'" + in + "' holds no segmentation or labelmap" : Choices(in, load, false));
 }
 
-// .seg.nrrd → DICOM SEG on the grid of --reference (a .dcm file, or a folder receiving
+// .seg.nrrd → DICOM SEG on the grid of the reference series (a .dcm file, or a folder receiving
 // segmentation.dcm).
-int WriteDicomSeg(const ArgParser& parser, std::ostream& out, std::ostream& err) {
-  const std::string in = parser.Get("in"), outPath = parser.Get("out"), reference = parser.Get("reference");
-  if (reference.empty()) {
-    err << "roboplan convert: writing a DICOM SEG needs the image series it segments: --reference <DICOM folder>\n";
-    return 2;
+void WriteDicomSeg(const SegmentationConversionRequest& request, SegmentationConversion& result) {
+  result.OutputFormat = "DICOM SEG";
+  if (request.Reference.empty()) {
+    result.FailureCode = 2;
+    result.Error = "writing a DICOM SEG needs the image series it segments: --reference <DICOM folder>";
+    return;
   }
-  std::string file = outPath;
-  if (!HasExtension(outPath, ".dcm")) {
+  std::string file = request.Out;
+  if (!HasExtension(request.Out, ".dcm")) {
     std::error_code ec;
-    fs::create_directories(outPath, ec);
-    file = (fs::path(outPath) / "segmentation.dcm").string();
+    fs::create_directories(request.Out, ec);
+    file = (fs::path(request.Out) / "segmentation.dcm").string();
   }
   vtkNew<vtkRPSegmentationNode> node;
-  std::string error;
-  if (!ReadSegmentationFile(in, node, error) || !WriteDicomSegmentation(node, reference, file, error)) {
-    err << "roboplan convert: " << error << "\n";
-    return 1;
+  if (!ReadSegmentationFile(request.In, node, result.Error) ||
+      !WriteDicomSegmentation(node, request.Reference, file, result.Error)) {
+    result.FailureCode = 1;
+    return;
   }
-  if (parser.Json()) {
-    const nlohmann::json doc = {{"ok", true}, {"input", in}, {"output", outPath}, {"segments", node->GetNumberOfSegments()},
-                                {"outputFormat", "DICOM SEG"}, {"warnings", nlohmann::json::array()}};
-    out << doc.dump(2) << "\n";
-  } else {
-    out << "wrote " << outPath << " (" << node->GetNumberOfSegments() << " segments)\n";
-  }
-  return 0;
-}
-
-void Report(const ArgParser& parser, const SegmentationInput& input, std::ostream& out, std::ostream& err) {
-  vtkRPSegmentationNode* node = input.Node;
-  for (const auto& w : input.Warnings) err << "roboplan convert: warning: " << w << "\n";
-  if (parser.Json()) {
-    nlohmann::json names = nlohmann::json::array();
-    for (const auto& segment : node->GetSegments()) names.push_back(segment.Name);
-    nlohmann::json doc = {{"ok", true}, {"input", parser.Get("in")}, {"output", parser.Get("out")},
-                          {"segments", node->GetNumberOfSegments()}, {"segmentNames", names},
-                          {"inputKind", input.Kind}, {"outputFormat", "segmentation file"}, {"warnings", input.Warnings}};
-    if (!input.Reason.empty()) doc["inputKindReason"] = input.Reason;
-    out << doc.dump(2) << "\n";
-  } else {
-    out << "wrote " << parser.Get("out") << " (" << node->GetNumberOfSegments() << " segments"
-        << (input.Reason.empty() ? "" : " from a " + input.Reason) << ")\n";
-  }
+  result.Segments = node->GetNumberOfSegments();
 }
 
 }  // namespace
 
-std::optional<int> ConvertSegmentation(const ArgParser& parser, std::ostream& out, std::ostream& err) {
-  const std::string in = parser.Get("in"), outPath = parser.Get("out");
-  if (HasExtension(in, ".seg.nrrd") && !HasExtension(outPath, ".nrrd")) return WriteDicomSeg(parser, out, err);
-  if (!HasExtension(outPath, ".seg.nrrd")) {
+SegmentationConversion ConvertSegmentation(const SegmentationConversionRequest& request) {
+  SegmentationConversion result;
+  const std::string& in = request.In;
+  if (HasExtension(in, ".seg.nrrd") && !HasExtension(request.Out, ".nrrd")) {
+    result.Applies = true;
+    WriteDicomSeg(request, result);
+    return result;
+  }
+  if (!HasExtension(request.Out, ".seg.nrrd")) {
     // A volume output: a SEG or RTSTRUCT file has no image to give (a folder has its series).
     std::error_code ec;
     const int kind = fs::is_regular_file(in, ec) ? DicomSegmentationObjectKind(in) : 0;
-    if (kind <= 0) return std::nullopt;
-    err << "roboplan convert: a DICOM " << (kind == 1 ? "SEG" : "RTSTRUCT") << " converts to a segmentation file (.seg.nrrd)\n";
-    return 2;
+    if (kind <= 0) return result;
+    result.Applies = true;
+    result.FailureCode = 2;
+    result.Error = std::string("a DICOM ") + (kind == 1 ? "SEG" : "RTSTRUCT") + " converts to a segmentation file (.seg.nrrd)";
+    return result;
   }
+  result.Applies = true;
+  result.OutputFormat = "segmentation file";
   SegmentationInput input;
   Failure failure;
-  std::string error;
-  if (!ReadInput(parser, input, failure)) {
-    err << "roboplan convert: " << failure.Message << "\n";
-    return failure.Code;
+  if (!ReadInput(request, input, failure)) {
+    result.FailureCode = failure.Code;
+    result.Error = failure.Message;
+    return result;
   }
-  if (!WriteSegmentationFile(outPath, input.Node, error)) {
-    err << "roboplan convert: " << error << "\n";
-    return 1;
+  result.Warnings = input.Warnings;
+  if (!WriteSegmentationFile(request.Out, input.Node, result.Error)) {
+    result.FailureCode = 1;
+    return result;
   }
-  Report(parser, input, out, err);
-  return 0;
+  result.Segments = input.Node->GetNumberOfSegments();
+  for (const auto& segment : input.Node->GetSegments()) result.SegmentNames.push_back(segment.Name);
+  result.InputKind = input.Kind;
+  result.InputKindReason = input.Reason;
+  return result;
 }
 
 }  // namespace rp

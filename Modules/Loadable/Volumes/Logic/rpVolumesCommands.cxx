@@ -20,7 +20,6 @@
 #include "rpKneePhantom.h"
 #include "rpProgress.h"
 #include "rpSceneFormats.h"
-#include "rpSegmentationConversion.h"
 #include "rpTransformIO.h"
 #include "rpVolumeFiles.h"
 #include "rpVolumeIO.h"
@@ -190,7 +189,8 @@ int RunDicomCommand(const std::vector<std::string>& arguments, std::ostream& out
   TerminalProgress progress("dicom", parser.Json(), err);
   DicomScanResult scan;
   std::string error;
-  if (!ScanDicom(parser.Get("folder"), scan, error, progress.Callback())) {
+  vtkNew<vtkRPVolumesLogic> logic;
+  if (!logic->ScanDicomFolder(parser.Get("folder"), scan, error, progress.Callback())) {
     err << "roboplan dicom: " << error << "\n";
     return 1;
   }
@@ -206,6 +206,46 @@ int RunDicomCommand(const std::vector<std::string>& arguments, std::ostream& out
 }
 
 // ---------------------------------------------------------------------------------------------
+namespace {
+
+SegmentationConversionRequest SegmentationRequest(const ArgParser& parser) {
+  SegmentationConversionRequest request;
+  request.In = parser.Get("in");
+  request.Out = parser.Get("out");
+  request.Series = parser.Get("series");
+  request.Reference = parser.Get("reference");
+  request.InputKind = parser.Get("input-kind");
+  request.Labels = parser.Get("labels");
+  request.ResampleIrregularSpacing = parser.Has("resample-irregular");
+  return request;
+}
+
+int ReportSegmentationConversion(const ArgParser& parser, const SegmentationConversion& c, std::ostream& out,
+                                 std::ostream& err) {
+  if (c.FailureCode != 0) {
+    err << "roboplan convert: " << c.Error << "\n";
+    return c.FailureCode;
+  }
+  for (const auto& w : c.Warnings) err << "roboplan convert: warning: " << w << "\n";
+  const bool intoFile = c.OutputFormat == "segmentation file";
+  if (parser.Json()) {
+    nlohmann::json doc = {{"ok", true},       {"input", parser.Get("in")}, {"output", parser.Get("out")},
+                          {"segments", c.Segments}, {"outputFormat", c.OutputFormat}, {"warnings", c.Warnings}};
+    if (intoFile) {
+      doc["segmentNames"] = c.SegmentNames;
+      doc["inputKind"] = c.InputKind;
+      if (!c.InputKindReason.empty()) doc["inputKindReason"] = c.InputKindReason;
+    }
+    out << doc.dump(2) << "\n";
+  } else {
+    out << "wrote " << parser.Get("out") << " (" << c.Segments << " segments"
+        << (c.InputKindReason.empty() ? "" : " from a " + c.InputKindReason) << ")\n";
+  }
+  return 0;
+}
+
+}  // namespace
+
 int RunConvertCommand(const std::vector<std::string>& arguments, std::ostream& out, std::ostream& err) {
   ArgParser parser("convert",
                    "Convert a volume between DICOM series (folder, DICOMDIR or file), NRRD (.nrrd/.nhdr), "
@@ -241,9 +281,12 @@ int RunConvertCommand(const std::vector<std::string>& arguments, std::ostream& o
               "into a .seg.nrrd from a labelmap: label names and colours: Slicer colour table (.ctbl/.txt), ITK-SNAP "
               "label file, or a .seg.nrrd (its segments' names, colours and tissue classes)");
   if (const auto exitCode = parser.ParseCommand(arguments, out, err)) return *exitCode;
+  vtkNew<vtkRPVolumesLogic> logic;
   if (IsSceneFileName(parser.Get("in")) || IsSceneFileName(parser.Get("out")))
-    return ConvertSceneFile(parser.Get("in"), parser.Get("out"), parser.Json(), out, err);
-  if (const auto exitCode = ConvertSegmentation(parser, out, err)) return *exitCode;
+    return ReportSceneConversion(logic->ConvertScene(parser.Get("in"), parser.Get("out")), parser.Get("in"),
+                                 parser.Get("out"), parser.Json(), out, err);
+  const SegmentationConversion segmentation = logic->ConvertSegmentation(SegmentationRequest(parser));
+  if (segmentation.Applies) return ReportSegmentationConversion(parser, segmentation, out, err);
   const std::string modality = parser.Get("modality");
   if (!modality.empty() && modality != "CT" && modality != "MR") {
     err << "roboplan convert: --modality must be CT or MR\n";
@@ -256,7 +299,6 @@ int RunConvertCommand(const std::vector<std::string>& arguments, std::ostream& o
   ImageVolume volume;
   std::vector<std::string> warnings;
   std::string error;
-  vtkNew<vtkRPVolumesLogic> logic;
   if (!logic->ConvertVolume(parser.Get("in"), parser.Get("out"), readOptions, modality, volume, warnings, error,
                             progress.Callback())) {
     err << "roboplan convert: " << error << "\n";

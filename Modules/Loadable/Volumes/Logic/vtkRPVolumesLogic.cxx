@@ -195,6 +195,19 @@ bool vtkRPVolumesLogic::WriteKneePhantom(const rp::KneePhantomOptions& options, 
   return true;
 }
 
+bool vtkRPVolumesLogic::ScanDicomFolder(const std::string& path, rp::DicomScanResult& scan, std::string& error,
+                                        const rp::ProgressCallback& progress) {
+  return rp::ScanDicom(path, scan, error, progress);
+}
+
+rp::SceneConversion vtkRPVolumesLogic::ConvertScene(const std::string& in, const std::string& out) {
+  return rp::ConvertScene(in, out);
+}
+
+rp::SegmentationConversion vtkRPVolumesLogic::ConvertSegmentation(const rp::SegmentationConversionRequest& request) {
+  return rp::ConvertSegmentation(request);
+}
+
 bool vtkRPVolumesLogic::ConvertVolume(const std::string& in, const std::string& out,
                                       const rp::VolumeReadOptions& options, const std::string& modality,
                                       rp::ImageVolume& converted, std::vector<std::string>& warnings,

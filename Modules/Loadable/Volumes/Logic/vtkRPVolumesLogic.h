@@ -4,8 +4,8 @@
 // volume nodes, writes the knee phantom's files, registers a moving volume onto a fixed one by
 // mutual information into a transform node that the moving volume then hangs under (so the
 // MR is shown aligned with the CT), and scores a segmentation against a truth labelmap. A
-// failed load or registration leaves the scene unchanged. `roboplan phantom`, `register-volumes`
-// and `compare-labels` run through it.
+// failed load or registration leaves the scene unchanged. `roboplan dicom`, `convert`, `phantom`,
+// `register-volumes` and `compare-labels` run through it.
 #include <atomic>
 #include <map>
 #include <string>
@@ -13,9 +13,12 @@
 
 #include <vtkObject.h>
 
+#include "rpDicomSeries.h"
 #include "rpKneePhantom.h"
 #include "rpLabelComparison.h"
 #include "rpProgress.h"
+#include "rpSceneFormats.h"
+#include "rpSegmentationConversion.h"
 #include "rpVolumeFiles.h"
 #include "rpVolumeRegistration.h"
 
@@ -61,6 +64,17 @@ class vtkRPVolumesLogic : public vtkObject {
   bool ConvertVolume(const std::string& in, const std::string& out, const rp::VolumeReadOptions& options,
                      const std::string& modality, rp::ImageVolume& converted, std::vector<std::string>& warnings,
                      std::string& error, const rp::ProgressCallback& progress = nullptr);
+
+  /// What a DICOM folder, DICOMDIR or file holds (rp::ScanDicom): its image stacks (each with
+  /// the ID LoadVolume's options take, and why one cannot be read) and its SEGs and RTSTRUCTs.
+  /// False with `error` when the path cannot be scanned; an empty result is not an error here.
+  bool ScanDicomFolder(const std::string& path, rp::DicomScanResult& scan, std::string& error,
+                       const rp::ProgressCallback& progress = nullptr);
+  /// A scene file into another scene format (.rpscene, Slicer's .mrml and .mrb; rp::ConvertScene).
+  rp::SceneConversion ConvertScene(const std::string& in, const std::string& out);
+  /// A segmentation into a .seg.nrrd, or a .seg.nrrd into a DICOM SEG (rpSegmentationConversion.h);
+  /// the result says whether the request is a segmentation conversion at all (Applies).
+  rp::SegmentationConversion ConvertSegmentation(const rp::SegmentationConversionRequest& request);
 
   /// What WriteKneePhantom wrote: the phantom itself and where each part went.
   struct KneePhantomFiles {

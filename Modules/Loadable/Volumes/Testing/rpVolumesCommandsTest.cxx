@@ -13,12 +13,14 @@
 
 #include <nlohmann/json.hpp>
 #include <vtkDataArray.h>
+#include <vtkImageData.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
 
 #include "rpKneePhantom.h"
 #include "rpImagingReaders.h"
 #include "rpKneeStudy.h"
+#include "rpSceneIO.h"
 #include "rpSegmentationIO.h"
 #include "rpSharedData.h"
 #include "rpTransformIO.h"
@@ -495,4 +497,61 @@ TEST(VolumesLogic, LoadAndRegisterIntoTheScene) {
     inMR.push_back({q[0], q[1], q[2]});
   }
   EXPECT_LT(rp::TransformRMSDifference(mrToWorld, truth, inMR), 1.0);
+}
+
+// The logic calls `convert` makes for segmentations and scenes (no shared data): a labelmap of
+// two boxes becomes a .seg.nrrd of two segments with the boxes' voxel counts; a volume-to-volume
+// request is not a segmentation conversion; an intensity image is refused as a bad request (2);
+// the segmentation's scene converts to Slicer's .mrml and back with its node.
+TEST(VolumesLogic, ConvertsSegmentationsAndScenes) {
+  const fs::path dir = Dir() / "logic-convert";
+  fs::create_directories(dir);
+  rp::ImageVolume labels;
+  labels.Image = vtkSmartPointer<vtkImageData>::New();
+  labels.Image->SetDimensions(20, 20, 10);
+  labels.Image->AllocateScalars(VTK_UNSIGNED_CHAR, 1);
+  auto* v = static_cast<unsigned char*>(labels.Image->GetScalarPointer());
+  for (int k = 0; k < 10; ++k)
+    for (int j = 0; j < 20; ++j)
+      for (int i = 0; i < 20; ++i) *v++ = (i < 5 && j < 4) ? 1 : (i >= 10 && k >= 5) ? 2 : 0;  // 4*5*10=200, 10*20*5=1000
+  std::string error;
+  ASSERT_TRUE(rp::WriteVolume((dir / "labels.nrrd").string(), labels, error)) << error;
+  vtkNew<vtkRPVolumesLogic> logic;
+
+  rp::SegmentationConversionRequest request;
+  request.In = (dir / "labels.nrrd").string();
+  request.Out = (dir / "labels.seg.nrrd").string();
+  const rp::SegmentationConversion converted = logic->ConvertSegmentation(request);
+  ASSERT_TRUE(converted.Applies);
+  ASSERT_EQ(converted.FailureCode, 0) << converted.Error;
+  EXPECT_EQ(converted.Segments, 2);
+  EXPECT_EQ(converted.InputKind, "labelmap");
+  vtkNew<vtkRPSegmentationNode> node;
+  ASSERT_TRUE(rp::ReadSegmentationFile(request.Out, node, error)) << error;
+  std::map<int, int> counts;
+  const rp::ImageVolume back = rp::FromNode(node);
+  vtkDataArray* voxels = back.Image->GetPointData()->GetScalars();
+  for (vtkIdType i = 0; i < voxels->GetNumberOfTuples(); ++i) ++counts[static_cast<int>(voxels->GetComponent(i, 0))];
+  EXPECT_EQ(counts[1], 200);
+  EXPECT_EQ(counts[2], 1000);
+
+  request.Out = (dir / "copy.nrrd").string();
+  EXPECT_FALSE(logic->ConvertSegmentation(request).Applies);  // a volume's conversion
+  request.Out = (dir / "bad.seg.nrrd").string();
+  request.InputKind = "intensity";
+  const rp::SegmentationConversion refused = logic->ConvertSegmentation(request);
+  EXPECT_EQ(refused.FailureCode, 2);
+  EXPECT_NE(refused.Error.find("labels.nrrd"), std::string::npos) << refused.Error;
+  EXPECT_FALSE(fs::exists(request.Out));
+
+  vtkNew<vtkRPScene> scene;
+  logic->SetScene(scene);
+  ASSERT_NE(logic->LoadLabelmap((dir / "labels.seg.nrrd").string(), error), nullptr) << error;
+  ASSERT_TRUE(rp::SaveScene(scene, (dir / "seg.rpscene").string(), error)) << error;
+  const rp::SceneConversion toSlicer = logic->ConvertScene((dir / "seg.rpscene").string(), (dir / "seg.mrml").string());
+  ASSERT_TRUE(toSlicer.Error.empty()) << toSlicer.Error;
+  EXPECT_EQ(toSlicer.Read.NodesByType.at("Segmentation"), 1);
+  const rp::SceneConversion refusedScene = logic->ConvertScene((dir / "seg.mrml").string(), (dir / "x.nrrd").string());
+  EXPECT_FALSE(refusedScene.DidRead);
+  EXPECT_NE(refusedScene.Error.find("scene converts only to a scene"), std::string::npos);
 }

@@ -1,9 +1,9 @@
 // The knee as a surgeon looks at it: the bone models alone, each in its colour, seen from the
 // front (anterior) and from the side (lateral for the knee's side), side by side, the camera
 // framed on the bones. Rendered offscreen with plain VTK (no slices, no soft tissue in the way).
+// Part of libRoboPlanDemoPictures.so (rpDemoPictures.h).
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 
 #include <vtkActor.h>
 #include <vtkCamera.h>
@@ -19,23 +19,22 @@
 #include <vtkTextProperty.h>
 
 #include "rpBenchmarkChart.h"
+#include "rpDemoPictures.h"
 #include "rpWindowPicture.h"
-#include "rpDemoStages.h"
 #include "rpXDisplay.h"
 #include "vtkRPModelNode.h"
 #include "vtkRPScene.h"
 
-namespace fs = std::filesystem;
-
 namespace rp {
 
-bool DemoBoneViews(DemoState& state, const std::vector<std::string>& modelIDs, const std::string& file,
-                   std::string& error) {
-  if (!CanDrawPictures(state, error)) return false;
+namespace {
+
+bool DrawBoneViews(const demo_pictures::BoneViews& picture, const std::string& path, std::string& error) {
+  const std::vector<std::string>& modelIDs = picture.ModelIDs;
   std::vector<vtkRPModelNode*> models;
   double bounds[6] = {1e300, -1e300, 1e300, -1e300, 1e300, -1e300};
   for (const std::string& id : modelIDs) {
-    auto* model = vtkRPModelNode::SafeDownCast(state.Scene->GetNodeByID(id));
+    auto* model = vtkRPModelNode::SafeDownCast(picture.Scene->GetNodeByID(id));
     if (!model || !model->GetPolyData() || model->GetPolyData()->GetNumberOfPoints() == 0) continue;
     models.push_back(model);
     double b[6];
@@ -48,9 +47,9 @@ bool DemoBoneViews(DemoState& state, const std::vector<std::string>& modelIDs, c
   }
   // Along the knee's own axes when known; otherwise the scanner's, lateral being the side the
   // fibula is on.
-  double lateral[3] = {state.KneeLateral[0], state.KneeLateral[1], state.KneeLateral[2]};
-  const double* anterior = state.KneeAnterior.data();
-  if (!state.KneeAxesKnown) {
+  double lateral[3] = {picture.Lateral[0], picture.Lateral[1], picture.Lateral[2]};
+  const double* anterior = picture.Anterior.data();
+  if (!picture.AxesKnown) {
     for (vtkRPModelNode* model : models)
       if (model->GetName().find("ibula") != std::string::npos) {
         double b[6];
@@ -140,7 +139,14 @@ bool DemoBoneViews(DemoState& state, const std::vector<std::string>& modelIDs, c
     }
     window->AddRenderer(renderer);
   }
-  return bench::WriteWindowPNG(window, (fs::path(state.Output) / file).string(), error);
+  return bench::WriteWindowPNG(window, path, error);
 }
 
+}  // namespace
+
 }  // namespace rp
+
+RP_DEMO_PICTURES_ENTRY bool roboplan_demo_bone_views(const rp::demo_pictures::BoneViews& picture,
+                                                     const std::string& path, std::string& error) {
+  return rp::DrawBoneViews(picture, path, error);
+}
