@@ -1,16 +1,7 @@
 #include "qRPLandmarkRegistrationPanel.h"
 
-#include <QCheckBox>
-#include <QComboBox>
-#include <QDoubleSpinBox>
-#include <QFormLayout>
-#include <QGroupBox>
-#include <QHBoxLayout>
 #include <QHeaderView>
-#include <QLabel>
-#include <QPushButton>
-#include <QTableWidget>
-#include <QVBoxLayout>
+#include <QSignalBlocker>
 
 #include <cmath>
 #include <vector>
@@ -56,107 +47,11 @@ void SelectByID(QComboBox* combo, const QString& id) {
 qRPLandmarkRegistrationPanel::qRPLandmarkRegistrationPanel(vtkRPLandmarkRegistrationLogic* logic, vtkRPScene* scene,
                                                            QWidget* parent)
     : QWidget(parent), Logic(logic), Scene(scene) {
-  // ---- inputs and output
-  auto* nodes = new QFormLayout;
-  this->FromCombo = new QComboBox;
-  this->FromCombo->setToolTip("Landmarks digitized on the patient (tracker coordinates)");
-  this->ToCombo = new QComboBox;
-  this->ToCombo->setToolTip("The same landmarks picked in the image (RAS)");
-  this->OutputCombo = new QComboBox;
-  this->NewOutputButton = new QPushButton("New");
-  auto* outputRow = new QHBoxLayout;
-  outputRow->addWidget(this->OutputCombo, 1);
-  outputRow->addWidget(this->NewOutputButton);
-  this->ToolCombo = new QComboBox;
-  this->ToolCombo->setToolTip("The stylus tip transform (e.g. StylusTipToStylus, pivot-calibrated)");
-  nodes->addRow("Physical points (from)", this->FromCombo);
-  nodes->addRow("Image points (to)", this->ToCombo);
-  nodes->addRow("Output transform", outputRow);
-  nodes->addRow("Stylus tip", this->ToolCombo);
-
-  // ---- settings
-  auto* settings = new QFormLayout;
-  this->Mode = new QComboBox;
-  this->Mode->addItems({"rigid", "similarity"});
-  this->Threshold = new QDoubleSpinBox;
-  this->Threshold->setRange(0, 100);
-  this->Threshold->setDecimals(2);
-  this->Threshold->setSingleStep(0.1);
-  this->Threshold->setSuffix(" mm");
-  this->Threshold->setSpecialValueText("none");
-  this->Fle = new QDoubleSpinBox;
-  this->Fle->setRange(0, 10);
-  this->Fle->setDecimals(3);
-  this->Fle->setSingleStep(0.05);
-  this->Fle->setSuffix(" mm");
-  this->Fle->setSpecialValueText("unknown");
-  this->AutoUpdate = new QCheckBox("Recompute when a point moves");
-  settings->addRow("Mode", this->Mode);
-  settings->addRow("FRE threshold", this->Threshold);
-  settings->addRow("FLE (RMS)", this->Fle);
-  settings->addRow(this->AutoUpdate);
-  auto* targetRow = new QHBoxLayout;
-  this->UseTarget = new QCheckBox("Target (RAS)");
-  targetRow->addWidget(this->UseTarget);
-  for (auto*& box : this->Target) {
-    box = new QDoubleSpinBox;
-    box->setRange(-10000, 10000);
-    box->setDecimals(2);
-    box->setSuffix(" mm");
-    box->setEnabled(false);
-    targetRow->addWidget(box, 1);
-  }
-  this->TargetFromRowButton = new QPushButton("From selected point");
-  this->TargetFromRowButton->setToolTip("Use the selected row's image point as the target");
-  targetRow->addWidget(this->TargetFromRowButton);
-  settings->addRow(targetRow);
-  this->TargetListCombo = new QComboBox;
-  this->TargetListCombo->setToolTip("The target follows the first point of this list (e.g. a planned entry point)");
-  settings->addRow("Target from list", this->TargetListCombo);
-
-  // ---- pairs and results
-  this->Table = new QTableWidget(0, NumberOfColumns);
-  this->Table->setHorizontalHeaderLabels(
-      {"Label", "Physical (from), mm", "Image (to), mm", "Residual", "Leave-one-out"});
-  this->Table->horizontalHeader()->setSectionResizeMode(QHeaderView::ResizeToContents);
-  this->Table->horizontalHeader()->setStretchLastSection(true);
-  this->Table->horizontalHeaderItem(ResidualColumn)->setToolTip("Distance between the registered physical point and its image point (mm)");
-  this->Table->horizontalHeaderItem(LeaveOneOutColumn)->setToolTip("The same, registering without this pair (mm): flags a mislocalized or swapped point");
-  this->Table->setEditTriggers(QAbstractItemView::NoEditTriggers);
-  this->Table->setSelectionBehavior(QAbstractItemView::SelectRows);
-  this->Table->setSelectionMode(QAbstractItemView::SingleSelection);
-  this->JumpSlices = new QCheckBox("Jump slices to the selected point");
-  this->JumpSlices->setChecked(true);
-  this->JumpSlices->setToolTip("Selecting a row moves the slices through its image point (the views follow the scene)");
-  this->CollectPointButton = new QPushButton("Collect point");
-  this->CollectPointButton->setToolTip("Add the stylus tip to the physical list, matched to the next image point");
-  this->RemovePointButton = new QPushButton("Remove physical point");
-  this->RegisterPushButton = new QPushButton("Register");
-  this->ApplyToolsButton = new QPushButton("Apply to tools");
-  this->ApplyToolsButton->setToolTip("Put the tracked tools under the accepted transform (they move in image space)");
-  auto* buttons = new QHBoxLayout;
-  buttons->addWidget(this->CollectPointButton);
-  buttons->addWidget(this->RemovePointButton);
-  buttons->addWidget(this->RegisterPushButton);
-  buttons->addWidget(this->ApplyToolsButton);
-  this->Fre = new QLabel;
-  this->Tre = new QLabel;
-  this->Status = new QLabel;
-  this->Status->setWordWrap(true);
-  this->Warnings = new QLabel;
-  this->Warnings->setWordWrap(true);
-  this->Warnings->setStyleSheet("color: #b06000;");
-
-  auto* layout = new QVBoxLayout(this);
-  layout->addLayout(nodes);
-  layout->addLayout(settings);
-  layout->addWidget(this->Table, 1);
-  layout->addWidget(this->JumpSlices);
-  layout->addLayout(buttons);
-  layout->addWidget(this->Fre);
-  layout->addWidget(this->Tre);
-  layout->addWidget(this->Status);
-  layout->addWidget(this->Warnings);
+  this->setupUi(this);
+  this->Target[0] = this->TargetRSpin;
+  this->Target[1] = this->TargetASpin;
+  this->Target[2] = this->TargetSSpin;
+  this->Table->horizontalHeader()->setSectionResizeMode(QHeaderView::ResizeToContents);  // not a .ui property
 
   // ---- initial values from the logic
   if (this->Logic) {

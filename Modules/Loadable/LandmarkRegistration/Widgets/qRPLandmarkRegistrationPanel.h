@@ -7,26 +7,24 @@
 // FRE expected from FLE, the predicted TRE at a target, and accepted/rejected with the reason.
 // "Apply to tools" puts the tracker's tools under the accepted output so they move in image
 // space. The panel only edits scene nodes and the logic; the logic recomputes when a point moves.
+// The layout is qRPLandmarkRegistrationPanel.ui.
 #include <QWidget>
 
 #include <string>
 
 #include <vtkWeakPointer.h>
 
+#include "ui_qRPLandmarkRegistrationPanel.h"
 #include "vtkRPFiducialListNode.h"
 #include "vtkRPLandmarkRegistrationLogic.h"
 #include "vtkRPScene.h"
 
-class QCheckBox;
-class QComboBox;
-class QDoubleSpinBox;
-class QLabel;
-class QPushButton;
-class QTableWidget;
 class vtkObject;
 class vtkRPLinearTransformNode;
 
-class qRPLandmarkRegistrationPanel : public QWidget {
+/// The widgets (Ui::qRPLandmarkRegistrationPanel) are private: the accessors below are the
+/// panel's interface.
+class qRPLandmarkRegistrationPanel : public QWidget, private Ui::qRPLandmarkRegistrationPanel {
   Q_OBJECT
  public:
   /// Columns of the pair table.
@@ -95,29 +93,7 @@ class qRPLandmarkRegistrationPanel : public QWidget {
 
   vtkWeakPointer<vtkRPLandmarkRegistrationLogic> Logic;
   vtkWeakPointer<vtkRPScene> Scene;
-  QComboBox* FromCombo;
-  QComboBox* ToCombo;
-  QComboBox* OutputCombo;
-  QComboBox* ToolCombo;
-  QPushButton* NewOutputButton;
-  QComboBox* Mode;
-  QDoubleSpinBox* Threshold;
-  QDoubleSpinBox* Fle;
-  QCheckBox* UseTarget;
-  QDoubleSpinBox* Target[3];
-  QPushButton* TargetFromRowButton;
-  QComboBox* TargetListCombo;
-  QTableWidget* Table;
-  QLabel* Fre;
-  QLabel* Tre;
-  QLabel* Status;
-  QLabel* Warnings;
-  QPushButton* CollectPointButton;
-  QPushButton* RegisterPushButton;
-  QPushButton* ApplyToolsButton;
-  QPushButton* RemovePointButton;
-  QCheckBox* AutoUpdate;
-  QCheckBox* JumpSlices;
+  QDoubleSpinBox* Target[3];  // TargetRSpin, TargetASpin, TargetSSpin
   unsigned long SceneTags[4] = {0, 0, 0, 0};
   unsigned long LogicTag = 0;
   vtkWeakPointer<vtkRPFiducialListNode> ObservedFrom;

@@ -4,22 +4,10 @@
 #include <string>
 #include <vector>
 
-#include <QCheckBox>
-#include <QComboBox>
 #include <QImage>
 #include <QPixmap>
-#include <QSpinBox>
-#include <QDoubleSpinBox>
-#include <QFormLayout>
-#include <QGroupBox>
-#include <QHBoxLayout>
 #include <QSignalBlocker>
-#include <QLabel>
-#include <QListWidget>
-#include <QPushButton>
 #include <QTimer>
-#include <QVBoxLayout>
-
 
 #include "qRPScorePanel.h"
 #include "qRPSliceFollowCheckBox.h"
@@ -35,73 +23,11 @@
 #include "vtkRPScene.h"
 
 qRPNavigationPanel::qRPNavigationPanel(vtkRPNavigationLogic* logic, QWidget* parent) : QWidget(parent), Logic(logic) {
-  auto* form = new QFormLayout;
-  this->Tool = new QComboBox;
-  this->Tool->setToolTip("A transform node whose origin is the tool tip (e.g. StylusTipToStylus, HapticProxy)");
-  this->Warning = new QDoubleSpinBox;
-  this->Warning->setRange(0, 100);
-  this->Warning->setDecimals(1);
-  this->Warning->setSuffix(" mm");
+  this->setupUi(this);
   this->Warning->setValue(logic ? logic->GetWarningDistance() : 3.0);
-  auto* refresh = new QPushButton("Refresh node lists");
-  this->Trajectory = new QComboBox;
-  this->Trajectory->setToolTip("A planned trajectory: the tool is read out against it (the tool points along its -z)");
-  form->addRow("Tool (tip at origin)", this->Tool);
-  form->addRow("Planned trajectory", this->Trajectory);
-  form->addRow("Warning distance", this->Warning);
-  this->FollowTool = new qRPSliceFollowCheckBox("Slices follow the tool");
   this->FollowTool->SetScene(logic ? logic->GetScene() : nullptr);
-  form->addRow(this->FollowTool);
-  this->Models = new QListWidget;
-  this->Distance = new QLabel("-");
-  QFont big = this->Distance->font();
-  big.setPointSize(28);
-  big.setBold(true);
-  this->Distance->setFont(big);
-  this->Distance->setAlignment(Qt::AlignCenter);
-  this->Closest = new QLabel("-");
-  this->Closest->setAlignment(Qt::AlignCenter);
-  this->Readout = new QLabel("-");
-  this->Readout->setAlignment(Qt::AlignCenter);
-  this->Structure = new QLabel("-");
-  this->Structure->setAlignment(Qt::AlignCenter);
-  this->Structure->setToolTip("The scene's structures at risk (protected models and segments), from the tool's surface");
-  auto* layout = new QVBoxLayout(this);
-  layout->addLayout(form);
-  layout->addWidget(new QLabel("Measure to the models:"));
-  layout->addWidget(this->Models, 1);
-  layout->addWidget(refresh);
-  layout->addWidget(this->Distance);
-  layout->addWidget(this->Closest);
-  layout->addWidget(this->Readout);
-  layout->addWidget(this->Structure);
-  auto* views = new QFormLayout;
-  this->Volume = new QComboBox;
-  this->Volume->setToolTip("The volume re-sliced along the plan and across it at the tool tip");
-  views->addRow("Volume (re-sliced)", this->Volume);
-  this->Stream = new QCheckBox("Stream read-outs over OpenIGTLink");
-  this->Stream->setToolTip("TRANSFORM ToolTipToTrajectory and STRING GuidanceReadout to every client (3D Slicer's "
-                           "OpenIGTLinkIF connects as a client), on 127.0.0.1");
-  this->StreamPort = new QSpinBox;
-  this->StreamPort->setRange(1, 65535);
-  this->StreamPort->setValue(18945);
-  auto* stream = new QHBoxLayout;
-  stream->addWidget(this->Stream);
-  stream->addWidget(this->StreamPort);
-  views->addRow(stream);
-  this->StreamState = new QLabel("not streaming");
-  views->addRow(this->StreamState);
-  layout->addLayout(views);
-  this->TargetPicture = new QLabel;
-  this->TargetPicture->setAlignment(Qt::AlignCenter);
-  this->TargetPicture->setToolTip("Target view (the plan seen from the entry, rings 1, 2, 5 mm), and the volume along and "
-                                  "across the plan at the tool tip");
-  layout->addWidget(this->TargetPicture);
-  auto* scoreGroup = new QGroupBox("Score an execution against its plan");
-  auto* scoreLayout = new QVBoxLayout(scoreGroup);
   this->Score = new qRPScorePanel(logic);
-  scoreLayout->addWidget(this->Score);
-  layout->addWidget(scoreGroup);
+  this->ScoreLayout->addWidget(this->Score);
   this->Picture = std::make_unique<rp::TargetViewPicture>();
   connect(this->Stream, &QCheckBox::toggled, this, &qRPNavigationPanel::ToggleStream);
   connect(this->Volume, QOverload<int>::of(&QComboBox::currentIndexChanged), this, [this](int) {
@@ -110,7 +36,7 @@ qRPNavigationPanel::qRPNavigationPanel(vtkRPNavigationLogic* logic, QWidget* par
   this->Timer = new QTimer(this);
   this->Timer->setInterval(33);  // 30 Hz display rate
   connect(this->Timer, &QTimer::timeout, this, &qRPNavigationPanel::OnTimer);
-  connect(refresh, &QPushButton::clicked, this, &qRPNavigationPanel::RefreshNodeLists);
+  connect(this->RefreshButton, &QPushButton::clicked, this, &qRPNavigationPanel::RefreshNodeLists);
   connect(this->Tool, QOverload<int>::of(&QComboBox::currentIndexChanged), this, [this](int) {
     if (!this->Refreshing) this->Update();
   });

@@ -10,29 +10,26 @@
 // them, the target ("bull's-eye") view and the chosen volume re-sliced along and across the plan
 // at the tool tip (rpTargetView.h), drawn when the read-out changed; and a check box that streams
 // the read-outs over OpenIGTLink (vtkRPNavigationLogic::StartReadoutServer). Last, an execution
-// scored against its plan (qRPScorePanel: the trajectory chosen above is its default).
+// scored against its plan (qRPScorePanel: the trajectory chosen above is its default). The layout
+// is qRPNavigationPanel.ui.
 #include <QImage>
 #include <QWidget>
 
 #include <memory>
 #include <vector>
 
-class QCheckBox;
-class QComboBox;
-class QSpinBox;
-class QDoubleSpinBox;
-class QLabel;
-class QListWidget;
+#include "ui_qRPNavigationPanel.h"
+
 class QTimer;
 namespace rp {
 class SceneNodesWatch;
 class TargetViewPicture;
 }
 class qRPScorePanel;
-class qRPSliceFollowCheckBox;
 class vtkRPNavigationLogic;
 
-class qRPNavigationPanel : public QWidget {
+/// The widgets (Ui::qRPNavigationPanel) are private: the accessors below are the panel's interface.
+class qRPNavigationPanel : public QWidget, private Ui::qRPNavigationPanel {
   Q_OBJECT
  public:
   explicit qRPNavigationPanel(vtkRPNavigationLogic* logic, QWidget* parent = nullptr);
@@ -84,24 +81,10 @@ class qRPNavigationPanel : public QWidget {
   void OnTimer();
 
   vtkRPNavigationLogic* Logic;
-  QComboBox* Tool;
-  QComboBox* Trajectory;
-  QLabel* Readout;
-  QLabel* Structure;
-  QComboBox* Volume;
-  QLabel* TargetPicture;
-  QCheckBox* Stream;
-  QSpinBox* StreamPort;
-  QLabel* StreamState;
   std::unique_ptr<rp::TargetViewPicture> Picture;
   std::vector<double> PictureShown;  // what the picture shows (pose, plan, volume time): redraw when it changes
   bool StructureWarningShown = false;
-  QListWidget* Models;
-  QDoubleSpinBox* Warning;
-  qRPSliceFollowCheckBox* FollowTool;
-  QLabel* Distance;
-  QLabel* Closest;
-  qRPScorePanel* Score;
+  qRPScorePanel* Score;  // in ScoreLayout: made here, it takes the logic at construction
   QTimer* Timer;
   bool WarningShown = false;
   bool Refreshing = false;

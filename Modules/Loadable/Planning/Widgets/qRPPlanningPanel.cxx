@@ -3,18 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include <QCheckBox>
-#include <QComboBox>
-#include <QDoubleSpinBox>
-#include <QFormLayout>
-#include <QGroupBox>
-#include <QHBoxLayout>
 #include <QHeaderView>
-#include <QLabel>
-#include <QPushButton>
-#include <QTableWidget>
 #include <QTimer>
-#include <QVBoxLayout>
 
 #include "qRPProfilePlot.h"
 #include "vtkRPCutPlaneNode.h"
@@ -27,16 +17,6 @@
 #include "vtkRPTrajectoryNode.h"
 
 namespace {
-
-QDoubleSpinBox* MillimetreBox(double value, double lo, double hi) {
-  auto* box = new QDoubleSpinBox;
-  box->setRange(lo, hi);
-  box->setDecimals(1);
-  box->setSingleStep(0.5);
-  box->setSuffix(" mm");
-  box->setValue(value);
-  return box;
-}
 
 QString Mm(double v) { return QString("%1 mm").arg(v, 0, 'f', 1); }
 
@@ -53,12 +33,11 @@ void FillCombo(QComboBox* combo, const std::vector<vtkRPNode*>& nodes, bool with
 }  // namespace
 
 qRPPlanningPanel::qRPPlanningPanel(vtkRPPlanningLogic* logic, QWidget* parent) : QWidget(parent), Logic(logic) {
-  auto* layout = new QVBoxLayout(this);
-  this->BuildPatientBox(layout);
-  this->BuildPlanBox(layout);
-  this->BuildFiguresBox(layout);
-  this->BuildProposalBox(layout);
-  layout->addStretch(1);
+  this->setupUi(this);
+  // What a .ui cannot say: the name column takes the tables' spare width.
+  this->Structures->horizontalHeader()->setSectionResizeMode(0, QHeaderView::Stretch);
+  this->Clearances->horizontalHeader()->setSectionResizeMode(0, QHeaderView::Stretch);
+  this->ConnectWidgets();
   this->Timer = new QTimer(this);
   this->Timer->setInterval(33);  // display rate: the figures follow a dragged point
   connect(this->Timer, &QTimer::timeout, this, &qRPPlanningPanel::OnTimer);
@@ -71,59 +50,16 @@ qRPPlanningPanel::~qRPPlanningPanel() {
   this->Timer->stop();
 }
 
-void qRPPlanningPanel::BuildPatientBox(QVBoxLayout* layout) {
-  auto* box = new QGroupBox("Patient");
-  auto* form = new QFormLayout(box);
-  this->Volume = new QComboBox;
-  this->Segmentation = new QComboBox;
-  this->Segmentation->setToolTip("Bone is its segments of a bone tissue class; without one, CT above the bone threshold");
-  form->addRow("CT", this->Volume);
-  form->addRow("Segmentation", this->Segmentation);
-  this->Structures = new QTableWidget(0, 3);
-  this->Structures->setHorizontalHeaderLabels({"Structure", "At risk", "Margin (mm)"});
-  this->Structures->horizontalHeader()->setSectionResizeMode(0, QHeaderView::Stretch);
-  this->Structures->verticalHeader()->hide();
-  this->Structures->setToolTip("Models and segments flagged protected: planning, drilling and guidance keep this margin");
-  this->Structures->setMaximumHeight(130);
-  form->addRow(new QLabel("Structures at risk"));
-  form->addRow(this->Structures);
-  layout->addWidget(box);
+void qRPPlanningPanel::ConnectWidgets() {
   connect(this->Volume, QOverload<int>::of(&QComboBox::currentIndexChanged), this, [this](int) { this->ApplyPatient(); });
   connect(this->Segmentation, QOverload<int>::of(&QComboBox::currentIndexChanged), this, [this](int) { this->ApplyPatient(); });
   connect(this->Structures, &QTableWidget::itemChanged, this, [this](QTableWidgetItem* item) {
     if (!this->Refreshing) this->ApplyStructureRow(item->row());
   });
-}
-
-void qRPPlanningPanel::BuildPlanBox(QVBoxLayout* layout) {
-  auto* box = new QGroupBox("Plan");
-  auto* form = new QFormLayout(box);
-  this->Plan = new QComboBox;
-  auto* buttons = new QHBoxLayout;
-  for (const auto& [label, className] : {std::pair<const char*, const char*>{"New trajectory", "vtkRPTrajectoryNode"},
-                                         {"New screw", "vtkRPScrewNode"},
-                                         {"New cut plane", "vtkRPCutPlaneNode"}}) {
-    auto* button = new QPushButton(label);
-    button->setToolTip("Then click in the views: a trajectory's entry and target, a plane's origin; drag them after");
+  for (const auto& [button, className] : {std::pair<QPushButton*, const char*>{this->NewTrajectoryButton, "vtkRPTrajectoryNode"},
+                                          {this->NewScrewButton, "vtkRPScrewNode"},
+                                          {this->NewCutPlaneButton, "vtkRPCutPlaneNode"}})
     connect(button, &QPushButton::clicked, this, [this, className = className]() { this->NewPlan(className); });
-    buttons->addWidget(button);
-  }
-  this->Diameter = MillimetreBox(2.0, 0.1, 50);
-  this->Tissue = new QComboBox;
-  this->Tissue->setEditable(true);
-  this->ScrewDiameter = MillimetreBox(6.5, 0.5, 30);
-  this->ScrewLength = MillimetreBox(40, 1, 300);
-  this->HeadDiameter = MillimetreBox(10, 0.5, 50);
-  this->HeadLength = MillimetreBox(5, 0, 50);
-  form->addRow("Plan", this->Plan);
-  form->addRow(buttons);
-  form->addRow("Tool diameter", this->Diameter);
-  form->addRow("Meant to go through", this->Tissue);
-  form->addRow("Screw diameter", this->ScrewDiameter);
-  form->addRow("Screw length", this->ScrewLength);
-  form->addRow("Head diameter", this->HeadDiameter);
-  form->addRow("Head length", this->HeadLength);
-  layout->addWidget(box);
   connect(this->Plan, QOverload<int>::of(&QComboBox::currentIndexChanged), this, [this](int) {
     if (this->Refreshing) return;
     this->ShowPlanSettings();
@@ -136,60 +72,8 @@ void qRPPlanningPanel::BuildPlanBox(QVBoxLayout* layout) {
   connect(this->Tissue, &QComboBox::currentTextChanged, this, [this](const QString&) {
     if (!this->Refreshing) this->ApplyPlanSettings();
   });
-}
-
-void qRPPlanningPanel::BuildFiguresBox(QVBoxLayout* layout) {
-  auto* box = new QGroupBox("Before cutting");
-  auto* column = new QVBoxLayout(box);
-  this->Problem = new QLabel;
-  this->Problem->setWordWrap(true);
-  this->Problem->setStyleSheet("color: white; background: #c0392b; font-weight: bold; padding: 3px");
-  this->Problem->hide();
-  this->Summary = new QLabel("-");
-  this->Summary->setWordWrap(true);
-  this->Breach = new QLabel("-");
-  this->Clearances = new QTableWidget(0, 3);
-  this->Clearances->setHorizontalHeaderLabels({"Structure at risk", "Clearance", "At depth"});
-  this->Clearances->horizontalHeader()->setSectionResizeMode(0, QHeaderView::Stretch);
-  this->Clearances->verticalHeader()->hide();
-  this->Clearances->setEditTriggers(QAbstractItemView::NoEditTriggers);
-  this->Clearances->setMaximumHeight(110);
-  this->ProfilePlot = new qRPProfilePlot;
-  column->addWidget(this->Problem);
-  column->addWidget(this->Summary);
-  column->addWidget(this->Breach);
-  column->addWidget(this->Clearances);
-  column->addWidget(this->ProfilePlot);
-  layout->addWidget(box);
-}
-
-void qRPPlanningPanel::BuildProposalBox(QVBoxLayout* layout) {
-  auto* box = new QGroupBox("Propose the entry");
-  auto* form = new QFormLayout(box);
-  this->Region = new QComboBox;
-  this->Region->setToolTip("A model (a surface patch) or a segment whose surface holds the candidate entries");
-  this->SphereRadius = MillimetreBox(0, 0, 200);
-  this->SphereRadius->setToolTip("Only the region within this distance of the current entry (0: all of it)");
-  this->Spacing = MillimetreBox(1.0, 0.1, 10);
-  this->StayInBone = new QCheckBox("Stay in bone to the target");
-  this->FollowTarget = new QCheckBox("Follow the target (the risk map follows a drag)");
-  auto* propose = new QPushButton("Propose");
-  auto* use = new QPushButton("Use the best entry");
-  this->ProposalSummary = new QLabel("-");
-  this->ProposalSummary->setWordWrap(true);
-  form->addRow("Entry region", this->Region);
-  form->addRow("Within", this->SphereRadius);
-  form->addRow("Candidate spacing", this->Spacing);
-  form->addRow(this->StayInBone);
-  form->addRow(this->FollowTarget);
-  auto* row = new QHBoxLayout;
-  row->addWidget(propose);
-  row->addWidget(use);
-  form->addRow(row);
-  form->addRow(this->ProposalSummary);
-  layout->addWidget(box);
-  connect(propose, &QPushButton::clicked, this, [this]() { this->Propose(); });
-  connect(use, &QPushButton::clicked, this, [this]() {
+  connect(this->ProposeButton, &QPushButton::clicked, this, [this]() { this->Propose(); });
+  connect(this->UseBestEntryButton, &QPushButton::clicked, this, [this]() {
     auto* trajectory = vtkRPTrajectoryNode::SafeDownCast(this->CurrentPlan());
     const rp::ProposalResult& r = this->LastProposalResult;
     if (!trajectory || r.Best.empty() || static_cast<size_t>(r.Best.front()) >= this->Logic->GetCandidates().size()) return;
@@ -198,7 +82,6 @@ void qRPPlanningPanel::BuildProposalBox(QVBoxLayout* layout) {
     trajectory->SetNthControlPointPositionWorld(vtkRPTrajectoryNode::EntryIndex, entry);
   });
 }
-
 
 void qRPPlanningPanel::showEvent(QShowEvent* event) {
   this->RefreshNodeLists();

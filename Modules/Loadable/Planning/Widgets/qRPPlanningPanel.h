@@ -8,7 +8,7 @@
 // or a structure changed): length, length in bone, breach and its grade, cortical share,
 // clearance per structure (red under the margin) and the HU profile; propose an entry from a
 // region (the risk map follows a dragged target with "Follow the target"). vtkRPPlanningLogic
-// does the work; the panel never draws in a view.
+// does the work; the panel never draws in a view. The layout is qRPPlanningPanel.ui.
 #include <QWidget>
 
 #include <memory>
@@ -18,20 +18,14 @@
 #include "rpSceneNodesWatch.h"
 #include "rpTrajectoryFigures.h"
 #include "rpTrajectoryProposal.h"
+#include "ui_qRPPlanningPanel.h"
 
-class QCheckBox;
-class QComboBox;
-class QDoubleSpinBox;
-class QLabel;
-class QPushButton;
-class QSpinBox;
-class QTableWidget;
 class QTimer;
-class qRPProfilePlot;
 class vtkRPPlanningLogic;
 class vtkRPNode;
 
-class qRPPlanningPanel : public QWidget {
+/// The widgets (Ui::qRPPlanningPanel) are private: the accessors below are the panel's interface.
+class qRPPlanningPanel : public QWidget, private Ui::qRPPlanningPanel {
   Q_OBJECT
  public:
   explicit qRPPlanningPanel(vtkRPPlanningLogic* logic, QWidget* parent = nullptr);
@@ -67,10 +61,7 @@ class qRPPlanningPanel : public QWidget {
   void showEvent(QShowEvent* event) override;
 
  private:
-  void BuildPatientBox(class QVBoxLayout* layout);
-  void BuildPlanBox(class QVBoxLayout* layout);
-  void BuildFiguresBox(class QVBoxLayout* layout);
-  void BuildProposalBox(class QVBoxLayout* layout);
+  void ConnectWidgets();
   void ApplyPatient();
   void ApplyPlanSettings();
   void ShowPlanSettings();
@@ -83,12 +74,6 @@ class qRPPlanningPanel : public QWidget {
   vtkRPNode* CurrentPlan() const;
 
   vtkRPPlanningLogic* Logic;
-  QComboBox *Volume, *Segmentation, *Plan, *Tissue, *Region;
-  QDoubleSpinBox *Diameter, *ScrewDiameter, *ScrewLength, *HeadDiameter, *HeadLength, *SphereRadius, *Spacing;
-  QCheckBox *StayInBone, *FollowTarget;
-  QTableWidget *Structures, *Clearances;
-  QLabel *Summary, *Breach, *Problem, *ProposalSummary;
-  qRPProfilePlot* ProfilePlot;
   QTimer* Timer;
   rp::TrajectoryFigures LastFigures;
   rp::ProposalResult LastProposalResult;
