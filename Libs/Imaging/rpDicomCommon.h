@@ -1,5 +1,5 @@
 #pragma once
-// Internal to RoboPlanImaging: DCMTK set-up shared by the DICOM reader and writer, and the guard
+// Internal to RoboPlanDicom: DCMTK set-up shared by the DICOM reader and writer, and the guard
 // that keeps exceptions inside their API.
 #include <exception>
 #include <new>

@@ -1,5 +1,5 @@
 #pragma once
-// Internal to RoboPlanImaging: the geometry of a DICOM stack from its images' headers: which
+// Internal to RoboPlanDicom: the geometry of a DICOM stack from its images' headers: which
 // images form one stack, their order along the slice normal, the spacing, what makes a series
 // irregular or unreadable (gantry tilt, duplicate positions, missing slices), the IJK-to-LPS
 // matrix, and resampling an irregular stack onto a regular grid.

@@ -1,5 +1,5 @@
 #pragma once
-// Internal to RoboPlanImaging: one DICOM image's header as the series reader needs it (a
+// Internal to RoboPlanDicom: one DICOM image's header as the series reader needs it (a
 // single-frame file, or one frame of a multi-frame file), read with DCMTK. Scanning
 // (rpDicomScan.cxx), geometry (rpDicomGeometry.h), pixel decoding (rpDicomPixels.h) and reading
 // (rpDicomSeries.cxx) share it.

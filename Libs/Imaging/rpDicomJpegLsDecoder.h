@@ -1,5 +1,5 @@
 #pragma once
-// Internal to RoboPlanImaging: JPEG-LS pixel data decoded by CharLS 2 through its C API
+// Internal to RoboPlanDicom: JPEG-LS pixel data decoded by CharLS 2 through its C API
 // (charls_jpegls_decoder_*).
 //
 // Why not DCMTK's or GDCM's JPEG-LS codec: DCMTK 3.6.7's bundled CharLS 1 fork

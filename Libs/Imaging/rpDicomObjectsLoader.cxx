@@ -1,7 +1,8 @@
 // ReadDicomSegmentation (from a path or an already read series), WriteDicomSegmentation and
 // ReadDicomRtStruct (rpDicomSegmentation.h, rpDicomRtStruct.h) forward to
-// libRoboPlanDicomObjects.so beside this library, loaded on the first SEG or RTSTRUCT: DCMTK's dcmseg, dcmfg, dcmiod and dcmrt are about a quarter of the
-// symbol bindings of every command that links RoboPlanImaging, and few commands read them.
+// libRoboPlanDicomObjects.so beside this library, loaded on the first SEG or RTSTRUCT: DCMTK's
+// dcmseg, dcmfg, dcmiod and dcmrt are about a quarter of the symbol bindings of every program that
+// links RoboPlanDicom, and few read them.
 // The library's entry points: rpDicomObjectsEntry.cxx.
 #include "rpDicomRtStruct.h"
 #include "rpDicomSegmentation.h"

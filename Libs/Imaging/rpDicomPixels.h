@@ -1,5 +1,5 @@
 #pragma once
-// Internal to RoboPlanImaging: the pixels of a DICOM file, decoded with the library its transfer
+// Internal to RoboPlanDicom: the pixels of a DICOM file, decoded with the library its transfer
 // syntax needs (DCMTK, CharLS for JPEG-LS, GDCM for JPEG 2000), turned into modality values
 // (Rescale Slope/Intercept, Dose Grid Scaling, a Modality LUT), and a decoded stack narrowed to
 // the smallest type that holds its values exactly.

@@ -2,9 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
 
 #include <dcmtk/config/osconfig.h>
 #include <dcmtk/dcmdata/dctk.h>
@@ -13,6 +11,7 @@
 #include <vtkNew.h>
 
 #include "rpDicomCommon.h"
+#include "rpDicomMagic.h"
 #include "rpDicomSeries.h"
 
 namespace fs = std::filesystem;
@@ -26,19 +25,9 @@ std::string Text(DcmItem* item, const DcmTagKey& tag) {
   return item->findAndGetOFStringArray(tag, value).good() ? std::string(value.c_str()) : std::string();
 }
 
-// A Part 10 file ("DICM" after the preamble), or a file named .dcm or without extension (raw
-// datasets): other files (NRRD, models...) are not parsed as DICOM.
-bool MaybeDicom(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  char buffer[132];
-  if (in.read(buffer, 132) && std::memcmp(buffer + 128, "DICM", 4) == 0) return true;
-  const std::string extension = fs::path(path).extension().string();
-  return extension.empty() || extension == ".dcm" || extension == ".DCM";
-}
-
 // 1 SEG, 2 RTSTRUCT, 0 anything else (or not DICOM), from the first elements of the file.
 int FileKind(const std::string& path) {
-  if (!MaybeDicom(path)) return 0;
+  if (!MaybeDicomFile(path)) return 0;
   DcmFileFormat format;
   // The SOP Class UID is the dataset's first elements: stop right after it (a few hundred bytes).
   if (format.loadFileUntilTag(path.c_str(), EXS_Unknown, EGL_noChange, DCM_MaxReadLength, ERM_autoDetect,

@@ -3,15 +3,14 @@
 // takes them wherever it takes a .seg.nrrd. It outranks the DICOM reader for such files
 // (Priority 1); a folder holding them is the DICOM reader's (rpDicomDataReader.cxx: the study
 // whole). The SEG keeps the grid its frames span; an RTSTRUCT is rasterized on the image series
-// in its folder (rpDicomRtStruct.h).
+// in its folder (rpDicomRtStruct.h). Only a file that may be DICOM (MaybeDicomFile) loads the
+// DICOM library (rpDicomEntries.h) to be told apart.
 #include <filesystem>
 
 #include "rpDataLoader.h"
-#include "rpDicomReferenceSeries.h"
-#include "rpDicomRtStruct.h"
-#include "rpDicomSegmentation.h"
+#include "rpDicomEntries.h"
+#include "rpDicomMagic.h"
 #include "rpImagingReaders.h"
-#include "vtkRPSegmentationNode.h"
 
 namespace rp {
 namespace {
@@ -21,25 +20,15 @@ class DicomSegmentationReader : public DataReader {
   std::string Description() const override { return "DICOM SEG / RTSTRUCT"; }
   bool CanRead(const std::string& path) const override {
     std::error_code ec;
-    return std::filesystem::is_regular_file(path, ec) && DicomSegmentationObjectKind(path) > 0;
+    if (!std::filesystem::is_regular_file(path, ec) || !MaybeDicomFile(path)) return false;
+    std::string unused;
+    const auto kind = dicom::Entry<dicom::ObjectKindFunction>(dicom::ObjectKindEntry, path, unused);
+    return kind && kind(path, nullptr, nullptr) > 0;  // no DICOM library: the DICOM reader says so
   }
   int Priority() const override { return 1; }
   bool Read(const std::string& path, const ReadOptions&, vtkRPScene*, LoadResult& result) const override {
-    std::string file;
-    const int kind = DicomSegmentationObjectKind(path, &file, &result.Error);
-    if (kind <= 0) {
-      if (kind == 0) result.Error = path + " holds no DICOM SEG or RTSTRUCT";
-      return false;
-    }
-    auto node = vtkSmartPointer<vtkRPSegmentationNode>::New();
-    const bool ok = kind == 1 ? ReadDicomSegmentation(file, node, result.Error, "", &result.Warnings)
-                              : ReadDicomRtStruct(file, node, result.Error, "", &result.Warnings);
-    if (!ok) return false;
-    if (node->GetName().empty()) node->SetName(std::filesystem::path(file).stem().string());
-    result.Details["object"] = kind == 1 ? "SEG" : "RTSTRUCT";
-    result.Details["segments"] = node->GetNumberOfSegments();
-    result.Nodes.push_back(node);
-    return true;
+    const auto read = dicom::Entry<dicom::ReadObjectFunction>(dicom::ReadObjectEntry, path, result.Error);
+    return read && read(path, result);
   }
 };
 

@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include "rpDataLoader.h"
+#include "rpDicomEntries.h"
 #include "rpImagingReaders.h"
 #include "rpNodeStorage.h"
 
@@ -14,7 +15,8 @@ bool ReadVolume(const std::string& path, ImageVolume& volume, std::string& error
   // program, or a DICOM file without a known extension) is a DICOM read too.
   const DataReader* reader = FindDataReader(path);
   if (!reader || reader == GetDicomDataReader()) {
-    return ReadDicomVolume(path, volume, error, options.SeriesInstanceUID, options.Dicom, warnings, progress);
+    const auto read = dicom::Entry<dicom::ReadVolumeFunction>(dicom::ReadVolumeEntry, path, error);
+    return read && read(path, volume, error, options.SeriesInstanceUID, options.Dicom, warnings, progress);
   }
   if (!IsVolumeFileName(path)) {
     const NodeStorage* storage = FindNodeStorageForFile(path);
@@ -53,7 +55,8 @@ bool WriteVolume(const std::string& path, const ImageVolume& volume, std::string
     if (ok && progress) progress(1.0, "written");
     return ok;
   }
-  return WriteDicomSeries(volume, path, dicom, error, nullptr, progress);
+  const auto write = dicom::Entry<dicom::WriteSeriesFunction>(dicom::WriteSeriesEntry, path, error);
+  return write && write(volume, path, dicom, error, nullptr, progress);
 }
 
 }  // namespace rp

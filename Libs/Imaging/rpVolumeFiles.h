@@ -1,7 +1,7 @@
 #pragma once
 // One entry point for volume files of every format RoboPlan reads and writes: DICOM series
-// (a folder, a DICOMDIR or one .dcm file; DCMTK) and NRRD / NIfTI / MetaImage (ITK, through
-// rpVolumeIO). Everything is RAS here; the formats' LPS is converted at their boundary.
+// (a folder, a DICOMDIR or one .dcm file; DCMTK, in libRoboPlanDicom.so loaded on the first one:
+// rpDicomEntries.h) and NRRD / NIfTI / MetaImage (ITK, through rpVolumeIO). Everything is RAS here; the formats' LPS is converted at their boundary.
 #include <string>
 #include <vector>
 
