@@ -96,3 +96,42 @@ TEST(BenchmarkChart, TheLegendLeavesTheTallestBarWhole) {
   ASSERT_GT(half, 100);
   EXPECT_NEAR(whole, 2 * half, 4) << "the 1.0 bar shows " << whole << " px against " << half << " px for 0.5";
 }
+
+// Horizontal bars (ChartOptions::HorizontalBars, for many or long category names): the first
+// category is the top row, a bar's length is its value, and the legend (top right) hides none of
+// the first bar, the longest.
+TEST(BenchmarkChart, HorizontalBarsListTheFirstCategoryOnTopAndRunAlongX) {
+  std::filesystem::create_directories(ROBOPLAN_TEST_OUTPUT_DIR);
+  const std::string path = std::string(ROBOPLAN_TEST_OUTPUT_DIR) + "/bars-horizontal.png";
+  std::string error;
+  std::vector<rp::bench::Series> series{{"first, blue", {}, {1.0, 0.1, 0.1, 0.5}},
+                                        {"second, with a name as long as benchmarks give theirs", {}, {0.1, 0.1, 0.1, 0.1}}};
+  rp::bench::ChartOptions options{"Horizontal bars", "", "value"};
+  options.HorizontalBars = true;
+  ASSERT_TRUE(rp::bench::WriteBarChartPNG(path, {"register-volumes", "phantom-registration", "b", "c"}, series, options,
+                                          error))
+      << error;
+  vtkNew<vtkPNGReader> reader;
+  reader->SetFileName(path.c_str());
+  reader->Update();
+  vtkImageData* image = reader->GetOutput();
+  int dims[3];
+  image->GetDimensions(dims);
+  // The longest horizontal run of the first series' blue in rows y0..y1 (the PNG's y grows upwards).
+  auto longestBlueRun = [&](int y0, int y1) {
+    int longest = 0;
+    for (int y = y0; y < y1; ++y) {
+      int run = 0;
+      for (int x = 0; x < dims[0]; ++x) {
+        auto* p = static_cast<unsigned char*>(image->GetScalarPointer(x, y, 0));
+        run = (p[0] < 60 && p[1] > 100 && p[1] < 140 && p[2] > 160) ? run + 1 : 0;
+        longest = std::max(longest, run);
+      }
+    }
+    return longest;
+  };
+  const int bottom = longestBlueRun(0, dims[1] / 2), top = longestBlueRun(dims[1] / 2, dims[1]);
+  ASSERT_GT(bottom, 100);
+  EXPECT_NEAR(top, 2 * bottom, 4) << "the first category's 1.0 bar (top) shows " << top << " px against " << bottom
+                                  << " px for the last one's 0.5 (bottom)";
+}
