@@ -86,6 +86,19 @@ std::map<std::string, std::string> StringMetadata(const itk::MetaDataDictionary&
   return metadata;
 }
 
+// `read()`, with what ITK (or the standard library) throws as `error` naming the file.
+template <typename Read>
+bool WithFileErrors(const std::string& path, std::string& error, const Read& read) {
+  try {
+    return read();
+  } catch (const itk::ExceptionObject& e) {
+    error = "'" + path + "': " + e.GetDescription();
+  } catch (const std::exception& e) {
+    error = "'" + path + "': " + e.what();
+  }
+  return false;
+}
+
 // rp::ReadVolumeFile's work (rpVolumeIO.h); `data` has its image and matrix (checked there).
 bool ReadVolume(const std::string& path, VolumeFileData& data, std::string& error) {
   itk::ImageIOBase::Pointer io = CreateImageIO(path);
@@ -93,7 +106,7 @@ bool ReadVolume(const std::string& path, VolumeFileData& data, std::string& erro
     error = "'" + path + "': not a volume file this program reads (.nrrd, .nhdr, .nii, .nii.gz, .mha, .mhd)";
     return false;
   }
-  try {
+  return WithFileErrors(path, error, [&] {
     if (!io->CanReadFile(path.c_str())) {
       error = "'" + path + "': cannot be read as " + io->GetNameOfClass() + " (missing, unreadable or not that format)";
       return false;
@@ -149,12 +162,7 @@ bool ReadVolume(const std::string& path, VolumeFileData& data, std::string& erro
     data.IJKToRAS->DeepCopy(ijkToLPS);
     data.Metadata = StringMetadata(io->GetMetaDataDictionary());
     return true;
-  } catch (const itk::ExceptionObject& e) {
-    error = "'" + path + "': " + e.GetDescription();
-  } catch (const std::exception& e) {
-    error = "'" + path + "': " + e.what();
-  }
-  return false;
+  });
 }
 
 // The volume into `target` in the format of `path`'s extension; false with `err` why.
@@ -215,7 +223,7 @@ bool WriteVolume(const std::string& path, const std::string& target, vtkImageDat
 // per layer.
 bool ReadLayers(const std::string& path, std::vector<vtkSmartPointer<vtkImageData>>& layers, vtkMatrix4x4* ijkToRAS,
                 std::map<std::string, std::string>& metadata, std::string& error) {
-  try {
+  return WithFileErrors(path, error, [&] {
     auto io = itk::NrrdImageIO::New();
     if (!io->CanReadFile(path.c_str())) {
       error = "'" + path + "': cannot be read as NRRD";
@@ -283,12 +291,7 @@ bool ReadLayers(const std::string& path, std::vector<vtkSmartPointer<vtkImageDat
     FlipLPSRASIndexToSpace(ijkToLPS->GetData());
     ijkToRAS->DeepCopy(ijkToLPS);
     return true;
-  } catch (const itk::ExceptionObject& e) {
-    error = "'" + path + "': " + e.GetDescription();
-  } catch (const std::exception& e) {
-    error = "'" + path + "': " + e.what();
-  }
-  return false;
+  });
 }
 
 }  // namespace
