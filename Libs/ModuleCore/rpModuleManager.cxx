@@ -82,6 +82,21 @@ std::vector<std::string> LibrariesInLoadOrder(void* handle, const std::set<std::
   return order;
 }
 
+// A manifest names the libraries of the module's own tree (the folder above the module folder:
+// build/lib or <prefix>/lib) relative to the module's folder, and the system's absolutely, so a
+// build tree copied or moved elsewhere loads its own libraries, never the original's.
+std::string ManifestLibraryEntry(const fs::path& library, const fs::path& moduleFolder) {
+  const fs::path tree = moduleFolder.parent_path();
+  const fs::path inTree = library.lexically_relative(tree);
+  if (inTree.empty() || *inTree.begin() == "..") return library.string();
+  return library.lexically_relative(moduleFolder).string();
+}
+
+std::string ManifestLibraryPath(const std::string& entry, const fs::path& moduleFolder) {
+  const fs::path path(entry);
+  return path.is_absolute() ? entry : (moduleFolder / path).lexically_normal().string();
+}
+
 std::set<std::string> LoadedLibraries() {
   std::set<std::string> names;
   ::dl_iterate_phdr(
@@ -153,7 +168,10 @@ bool ModuleManager::ReadFreshManifest(const std::string& libraryPath, ModuleMani
     manifest.Name = doc.at("name").get<std::string>();
     manifest.Title = doc.value("title", manifest.Name);
     manifest.Dependencies = doc.value("dependencies", std::vector<std::string>{});
-    libraries = doc.value("libraries", std::vector<std::string>{});
+    libraries.clear();
+    const fs::path folder = fs::path(libraryPath).parent_path();
+    for (const std::string& entry : doc.value("libraries", std::vector<std::string>{}))
+      libraries.push_back(ManifestLibraryPath(entry, folder));
     manifest.Commands.clear();
     for (const auto& command : doc.value("commands", nlohmann::json::array()))
       manifest.Commands.push_back({command.at("name").get<std::string>(), command.value("summary", std::string())});
@@ -193,7 +211,10 @@ bool ModuleManager::WriteManifest(const std::string& libraryPath, std::string& e
   }
   nlohmann::json commands = nlohmann::json::array();
   for (const Command& command : entry.Commands) commands.push_back({{"name", command.Name}, {"summary", command.Summary}});
-  const std::vector<std::string> libraries = LibrariesInLoadOrder(check, before);
+  std::vector<std::string> libraries;
+  const fs::path folder = fs::absolute(libraryPath).parent_path().lexically_normal();
+  for (const std::string& library : LibrariesInLoadOrder(check, before))
+    libraries.push_back(ManifestLibraryEntry(library, folder));
   const nlohmann::json doc = {{"roboplanModuleManifest", ManifestFormat},
                               {"abi", ROBOPLAN_MODULE_ABI_VERSION},
                               {"library", {{"file", fs::path(libraryPath).filename().string()}, {"size", size}, {"mtimeNs", mtime}}},

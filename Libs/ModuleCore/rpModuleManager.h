@@ -9,8 +9,10 @@
 // Loading a module maps every library it links (VTK, ITK, Qt, DCMTK, ...), which costs more
 // than most commands' work. So a module's manifest — `<library>.json` beside it, written at build
 // time by `roboplan-module-manifest` from the module itself (name, title, dependencies, commands
-// with their summaries) — says what it offers without loading it: DiscoverModules reads the
-// manifests, LoadCommand loads only the module that owns a command (and its dependencies).
+// with their summaries, and the libraries loading it maps: those of its own tree relative to
+// the module folder, so a copied tree loads its own) — says what it offers without loading it:
+// DiscoverModules reads the manifests, LoadCommand loads only the module that owns a command
+// (and its dependencies).
 // A module without a manifest, or whose library changed since its manifest was written (size,
 // modification time, ABI), is loaded at discovery, as before.
 #include <memory>

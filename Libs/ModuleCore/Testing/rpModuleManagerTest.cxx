@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <link.h>
+
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -191,4 +193,57 @@ TEST(ModuleManager, TheProjectsCommandsLoadNoQt) {
     ++modules;
   }
   EXPECT_GE(modules, 7);
+}
+
+namespace {
+// Where each RoboPlan library mapped into this process was loaded from.
+std::map<std::string, std::string> MappedRoboPlanLibraries() {
+  std::map<std::string, std::string> mapped;
+  dl_iterate_phdr(
+      [](dl_phdr_info* info, size_t, void* data) {
+        const fs::path path(info->dlpi_name ? info->dlpi_name : "");
+        if (path.filename().string().rfind("libRoboPlan", 0) == 0)
+          static_cast<std::map<std::string, std::string>*>(data)->emplace(path.filename().string(), path.string());
+        return 0;
+      },
+      &mapped);
+  return mapped;
+}
+
+void CopyKeepingTime(const fs::path& from, const fs::path& to) {
+  fs::copy_file(from, to, fs::copy_options::overwrite_existing);
+  fs::last_write_time(to, fs::last_write_time(from));  // the manifest checks the module's time
+}
+}  // namespace
+
+// A build tree copied elsewhere (the module folder and the libraries beside it, with their
+// manifests) loads its own libraries: a manifest names the tree's libraries relative to the
+// module folder, so a command run from the copy maps nothing of the original tree.
+TEST(ModuleManager, ACopiedBuildTreeLoadsItsOwnLibraries) {
+  const fs::path modules = fs::path(ROBOPLAN_MODULE_DIR), lib = modules.parent_path();
+  const fs::path copy = fs::path(ROBOPLAN_TEST_OUTPUT_DIR) / "copied-tree" / "lib";
+  fs::remove_all(copy.parent_path());
+  fs::create_directories(copy / modules.filename());
+  for (const auto& item : fs::directory_iterator(lib))
+    if (item.is_regular_file() && item.path().extension() == ".so") CopyKeepingTime(item.path(), copy / item.path().filename());
+  for (const auto& item : fs::directory_iterator(modules))
+    if (item.is_regular_file()) CopyKeepingTime(item.path(), copy / modules.filename() / item.path().filename());
+
+  const std::map<std::string, std::string> before = MappedRoboPlanLibraries();
+  ASSERT_EQ(before.count("libRoboPlanDrillingLogic.so"), 0u) << "the test program must not link the module's logic";
+  vtkNew<vtkRPScene> scene;
+  rp::ModuleManager manager;
+  const int discovered = manager.DiscoverModules({(copy / modules.filename()).string()});
+  ASSERT_GE(discovered, 7);
+  EXPECT_EQ(manager.UnloadedModuleCount(), discovered) << "every copied manifest is trusted";
+  ASSERT_NE(manager.LoadCommand("drill", scene), nullptr);
+  EXPECT_TRUE(manager.GetFailures().empty()) << manager.GetFailures()[0].Path << ": " << manager.GetFailures()[0].Reason;
+  int loaded = 0;
+  for (const auto& [name, path] : MappedRoboPlanLibraries()) {
+    if (before.count(name)) continue;
+    ++loaded;
+    EXPECT_EQ(fs::path(path).lexically_normal().string().rfind(copy.lexically_normal().string(), 0), 0u)
+        << name << " was loaded from " << path;
+  }
+  EXPECT_GE(loaded, 3) << "the Drilling module and its logic came from the copy";
 }

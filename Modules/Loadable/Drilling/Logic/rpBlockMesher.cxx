@@ -67,8 +67,17 @@ struct BlockMesher::Scratch {
   uint32_t Triangles[3 * MaxTriangles];
 };
 
+// Each SMP thread's scratch, kept from one parallel pass to the next (a frame of many dirty
+// blocks allocates nothing once each thread has its own).
+struct BlockMesher::ThreadScratches {
+  vtkSMPThreadLocal<Scratch*> Local{nullptr};
+  ~ThreadScratches() {
+    for (Scratch* scratch : this->Local) delete scratch;
+  }
+};
+
 BlockMesher::BlockMesher(DrillVolume& volume)
-    : Volume(volume), Cache(volume.AllocatedBlocks()), Own(new Scratch) {
+    : Volume(volume), Cache(volume.AllocatedBlocks()), Own(new Scratch), Scratches(new ThreadScratches) {
   this->Slots.reserve(volume.AllocatedBlocks());
 }
 
@@ -95,50 +104,63 @@ void BlockMesher::ContourAll() {
 
 void BlockMesher::Contour(int32_t slot) { this->ContourBlock(slot, *this->Own); }
 
+uint8_t BlockMesher::BlockSide(int32_t slot) const {
+  if (slot < 0) return 0;  // a block never stored is empty
+  const std::atomic<uint8_t>* d = this->Volume.BlockDensities(slot);
+  uint64_t all = HighBits, any = 0;
+  for (int row = 0; row < DrillVolume::BlockVoxels; row += E) {
+    const uint64_t w = LoadRow(d + row) & HighBits;
+    all &= w, any |= w;
+  }
+  return all == HighBits ? 1 : (any == 0 ? 0 : 2);
+}
+
 void BlockMesher::ClassifyBlocks() {
   // Which side of ½ each block's voxels are on: most of a bone's blocks are all bone.
   this->Sides.resize(this->Cache.size());
   vtkSMPTools::For(0, static_cast<vtkIdType>(this->Cache.size()), [this](vtkIdType s0, vtkIdType s1) {
-    for (vtkIdType s = s0; s < s1; ++s) {
-      const std::atomic<uint8_t>* d = this->Volume.BlockDensities(static_cast<int32_t>(s));
-      uint64_t all = HighBits, any = 0;
-      for (int row = 0; row < DrillVolume::BlockVoxels; row += E) {
-        const uint64_t w = LoadRow(d + row) & HighBits;
-        all &= w, any |= w;
-      }
-      this->Sides[size_t(s)] = all == HighBits ? 1 : (any == 0 ? 0 : 2);
-    }
+    for (vtkIdType s = s0; s < s1; ++s) this->Sides[size_t(s)] = this->BlockSide(static_cast<int32_t>(s));
   });
 }
 
-bool BlockMesher::CrossesNoSurface(int32_t slot) const {
+template <class SideOf>
+bool BlockMesher::CrossesNoSurface(int32_t slot, SideOf sideOf) const {
   // The block's cells reach into the blocks after it along x, y and z (missing ones are empty):
   // no surface when all of them are on the block's side.
-  const uint8_t side = this->Sides[size_t(slot)];
+  const uint8_t side = sideOf(slot);
   if (side == 2) return false;
   const auto& b = this->Volume.BlockCoordinate(slot);
   for (int n = 1; n < 8; ++n) {
     const int32_t next = this->Volume.Slot(b[0] + (n & 1), b[1] + ((n >> 1) & 1), b[2] + (n >> 2));
-    if ((next < 0 ? 0 : this->Sides[size_t(next)]) != side) return false;
+    if (sideOf(next) != side) return false;
   }
   return true;
 }
 
 void BlockMesher::ContourSlots(const int32_t* slots, size_t count) {
-  this->ClassifyBlocks();
-  vtkSMPThreadLocal<Scratch*> scratches(nullptr);
+  // The sides of every block in one pass when most blocks are asked for (the whole bone, a
+  // reset); otherwise (a frame's or an undo's dirty blocks) each block's own and its neighbours'
+  // sides as it is met: a pass over the whole volume cost more than contouring them (44 000
+  // blocks at 0.2 mm, 1 ms a frame).
+  const bool wholePass = count * 8 >= this->Cache.size();
+  if (wholePass) this->ClassifyBlocks();
+  vtkSMPThreadLocal<Scratch*>& scratches = this->Scratches->Local;
+  const auto stored = [this](int32_t s) { return s < 0 ? uint8_t(0) : this->Sides[size_t(s)]; };
+  const auto measured = [this](int32_t s) { return this->BlockSide(s); };
   vtkSMPTools::For(0, static_cast<vtkIdType>(count), [&](vtkIdType i0, vtkIdType i1) {
     Scratch*& scratch = scratches.Local();
     if (!scratch) scratch = new Scratch;
     for (vtkIdType i = i0; i < i1; ++i) {
-      if (this->CrossesNoSurface(slots[i])) {
-        Clear(this->Cache[size_t(slots[i])]);
+      const int32_t slot = slots[i];
+      const bool empty =
+          wholePass ? this->CrossesNoSurface(slot, stored) : this->CrossesNoSurface(slot, measured);
+      if (empty) {
+        Clear(this->Cache[size_t(slot)]);
       } else {
-        this->ContourBlock(slots[i], *scratch);
+        this->ContourBlock(slot, *scratch);
       }
     }
   });
-  for (Scratch* scratch : scratches) delete scratch;
 }
 
 size_t BlockMesher::TriangleCount() const {

@@ -7,7 +7,8 @@
 // kept per block so a frame redoes a handful of blocks, never the whole bone.
 // The whole bone (the first frame, a reset, an undo that touches most blocks) is contoured on
 // VTK's SMP threads (vtkSMPTools, as vtkFlyingEdges3D), after one pass that finds the blocks no
-// surface crosses (all bone or all empty, with the neighbours their cells reach into) and skips them.
+// surface crosses (all bone or all empty, with the neighbours their cells reach into) and skips them;
+// many dirty blocks of a frame go parallel too, each checked on its own (no pass over the volume).
 // Reads densities with relaxed atomics, so the servo thread may carve meanwhile; the calls of
 // one BlockMesher come from one thread at a time (the display thread).
 #include <cstdint>
@@ -52,15 +53,19 @@ class BlockMesher {
 
  private:
   struct Scratch;  // one block's samples and edge vertices (one per thread)
+  struct ThreadScratches;
   /// Contours these slots on VTK's SMP threads, skipping the blocks no surface crosses.
   void ContourSlots(const int32_t* slots, size_t count);
-  void ClassifyBlocks();                     // fills Sides
-  bool CrossesNoSurface(int32_t slot) const;  // from Sides
+  uint8_t BlockSide(int32_t slot) const;  // 0 all empty, 1 all bone, 2 both (a missing slot: 0)
+  void ClassifyBlocks();                  // fills Sides
+  template <class SideOf>
+  bool CrossesNoSurface(int32_t slot, SideOf sideOf) const;
   void ContourBlock(int32_t slot, Scratch& scratch);
 
   DrillVolume& Volume;
   std::vector<BlockMesh> Cache;
   std::unique_ptr<Scratch> Own;  // the calling thread's scratch
+  std::unique_ptr<ThreadScratches> Scratches;  // the SMP threads' scratches
   std::vector<int32_t> Slots;    // dirty slots of one UpdateDirty (reserved: no allocation)
   std::vector<uint8_t> Sides;    // per slot: 0 all empty, 1 all bone, 2 both
 };

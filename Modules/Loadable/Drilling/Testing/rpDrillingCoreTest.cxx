@@ -265,6 +265,29 @@ TEST(BlockMesher, ClosedSurfaceHasTheBoneVolume) {
   EXPECT_NEAR(mesher.EnclosedVolume(), 10 * 8 * 6.3, 0.005 * 504);
 }
 
+// A frame with more dirty blocks than one thread takes (the parallel path that checks each block
+// on its own, without a pass over the whole volume) gives each block the mesh a whole re-contour gives.
+TEST(BlockMesher, ManyDirtyBlocksInOneFrameEqualAWholeRecontour) {
+  Rig rig(rp::BlockBone({-8, -8, -12}, {8, 8, 12}, 1), 0.2);
+  rp::BlockMesher frames(rig.Volume);
+  frames.ContourAll();
+  Stroke(rig, {0.13, -0.07, 14}, {0.13, -0.07, 9.5}, 2.0, 20.0, 5.0);
+  const size_t dirty = frames.UpdateDirty();
+  ASSERT_GE(dirty, rp::BlockMesher::ParallelBlocks) << "the stroke dirties enough blocks to go parallel";
+  ASSERT_LT(dirty * 8, frames.Blocks().size()) << "and few enough not to classify the whole volume";
+  rp::BlockMesher whole(rig.Volume);
+  whole.ContourAll();
+  ASSERT_EQ(frames.Blocks().size(), whole.Blocks().size());
+  size_t differing = 0;
+  for (size_t b = 0; b < whole.Blocks().size(); ++b)
+    differing += frames.Blocks()[b].Points != whole.Blocks()[b].Points ||
+                 frames.Blocks()[b].Triangles != whole.Blocks()[b].Triangles ||
+                 frames.Blocks()[b].Materials != whole.Blocks()[b].Materials;
+  EXPECT_EQ(differing, 0u);
+  EXPECT_GT(whole.TriangleCount(), 0u);
+  EXPECT_LT(whole.EnclosedVolume(), 16 * 16 * 24 - 10.0) << "the stroke's hole is in the surface";
+}
+
 TEST(Drilling, StraightStrokeRemovesTheCapsuleVolume) {
   const StrokeResult fine = StraightStroke(0.2);
   ASSERT_TRUE(fine.Arrived);
