@@ -18,15 +18,10 @@
 
 #include "rpBenchmarkChart.h"
 #include "rpChartsDrawEntries.h"
+#include "rpStrings.h"
 
 namespace rp::bench {
 namespace {
-
-std::string Trim(std::string text) {
-  const size_t first = text.find_first_not_of(" \t\r\n");
-  const size_t last = text.find_last_not_of(" \t\r\n");
-  return first == std::string::npos ? std::string() : text.substr(first, last - first + 1);
-}
 
 // The first line of a command's output, or "" (git absent, not a repository).
 std::string CommandLine(const std::string& command) {
@@ -70,12 +65,6 @@ std::string UtcNow() {
   char text[32];
   std::strftime(text, sizeof(text), "%Y-%m-%dT%H:%M:%SZ", &utc);
   return text;
-}
-
-std::string Fixed(double value, int digits) {
-  std::ostringstream out;
-  out << std::fixed << std::setprecision(digits) << value;
-  return out.str();
 }
 
 std::string Loads(const double load[3]) {

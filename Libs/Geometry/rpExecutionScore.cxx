@@ -19,8 +19,6 @@ double SegmentDistance(const Vec3& p, const Vec3& a, const Vec3& b) {
   return Norm(p - (a + ab * t));
 }
 
-bool Finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
 // Where the plan's axis runs inside the bone: from the first depth in bone to the first depth out
 // of it again (or the target). False when the planned segment never enters the bone.
 bool PlannedSpanInBone(const TrajectoryAxis& plan, const MeshSignedDistance& bone, double& in, double& out) {

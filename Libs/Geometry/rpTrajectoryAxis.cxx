@@ -7,10 +7,6 @@
 
 namespace rp {
 
-namespace {
-bool Finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-}  // namespace
-
 bool TrajectoryAxis::Make(const Vec3& entry, const Vec3& target, TrajectoryAxis& axis, std::string& error) {
   if (!Finite(entry) || !Finite(target)) {
     error = "trajectory: the entry or the target is not a finite point";

@@ -40,5 +40,6 @@ inline double MinOf(double a, double b) { return (b < a || a != a) ? b : a; }
 inline double MaxOf(double a, double b) { return (b > a || a != a) ? b : a; }
 inline Vec3 Min(const Vec3& a, const Vec3& b) { return {MinOf(a.x, b.x), MinOf(a.y, b.y), MinOf(a.z, b.z)}; }
 inline Vec3 Max(const Vec3& a, const Vec3& b) { return {MaxOf(a.x, b.x), MaxOf(a.y, b.y), MaxOf(a.z, b.z)}; }
+inline bool Finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 }  // namespace rp

@@ -3,14 +3,11 @@
 #include <algorithm>
 #include <cctype>
 
+#include "rpStrings.h"
+
 namespace rp {
 
 namespace {
-std::string Lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return s;
-}
-
 DeviceProfile Make(const char* key, const char* name, double maxForce, double maxStiffness, const char* notes) {
   DeviceProfile p;
   p.Key = key;

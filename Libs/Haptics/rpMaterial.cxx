@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "rpResources.h"
+#include "rpStrings.h"
 
 namespace rp {
 
@@ -17,10 +18,6 @@ namespace rp {
 const char* BuiltInMaterialsJson();
 
 namespace {
-std::string Lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return s;
-}
 constexpr const char* BuiltInSource = "built-in copy of Resources/Materials/materials.json";
 }  // namespace
 

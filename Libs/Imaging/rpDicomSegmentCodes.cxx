@@ -5,6 +5,7 @@
 #include <iterator>
 
 #include "rpDicomSegmentation.h"
+#include "rpStrings.h"
 
 namespace rp {
 
@@ -18,11 +19,6 @@ const DicomSegmentCode SegmentCodes[] = {
     {"bone", "85756007", "Tissue", "272673000", "Bone", "bone"},
     {"", "85756007", "Tissue", "85756007", "Tissue", ""},
 };
-
-std::string Lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
-  return s;
-}
 
 // Whether `key` is a whole word of `text` ("tibia" in "Left Tibia" and "tibia_2", not in
 // "tibial cartilage" or "patellar tendon").

@@ -86,14 +86,14 @@ Quantization ChooseQuantization(vtkDataArray* scalars) {
 }
 
 // The volume's grid in LPS: unit axes (columns of IJK-to-LPS), spacing, origin and slice normal.
-struct SeriesGeometry {
+struct VolumeGrid {
   double Axis[3][3], Spacing[3], Origin[3], Normal[3];
   bool Reversed = false;  // slice order runs against the row x column normal
 };
 
 double Dot(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
-bool ComputeSeriesGeometry(const ImageVolume& volume, SeriesGeometry& g, std::string& error) {
+bool ComputeVolumeGrid(const ImageVolume& volume, VolumeGrid& g, std::string& error) {
   double ijkToLPS[16];
   std::copy(volume.IJKToRAS->GetData(), volume.IJKToRAS->GetData() + 16, ijkToLPS);
   FlipLPSRASIndexToSpace(ijkToLPS);
@@ -187,7 +187,7 @@ double QuantizeSlice(vtkDataArray* scalars, const Quantization& q, int k, std::v
 class SliceDataset {
 public:
   SliceDataset(DcmDataset* ds, const ImageVolume& volume, const DicomWriteOptions& options,
-               const SeriesIdentity& id, const SeriesGeometry& g)
+               const SeriesIdentity& id, const VolumeGrid& g)
       : Ds(ds), Volume(volume), Options(options), Id(id), G(g), MR(options.Modality == "MR") {}
 
   void PutSOPCommon() {
@@ -285,7 +285,7 @@ private:
   const ImageVolume& Volume;
   const DicomWriteOptions& Options;
   const SeriesIdentity& Id;
-  const SeriesGeometry& G;
+  const VolumeGrid& G;
   const bool MR;
 };
 
@@ -298,8 +298,8 @@ bool WriteDicomSeries(const ImageVolume& volume, const std::string& folder, cons
   vtkDataArray* scalars = volume.Image->GetPointData()->GetScalars();
   int dims[3];
   volume.Image->GetDimensions(dims);
-  SeriesGeometry geometry;
-  if (!ComputeSeriesGeometry(volume, geometry, error)) return false;
+  VolumeGrid geometry;
+  if (!ComputeVolumeGrid(volume, geometry, error)) return false;
 
   const Quantization q = ChooseQuantization(scalars);
   std::error_code ec;

@@ -18,7 +18,6 @@
 namespace rp {
 namespace {
 
-constexpr double kSkin = 2.0;  // skin thickness (mm)
 
 // The tissue layers, top first: a point gets the label of the first layer it is inside.
 // Cartilage is painted over bone (the real cartilages overlap the bones by a few tenths of a
@@ -46,7 +45,7 @@ const Layer kLayers[] = {
     {KneeStructure::LCL, 0, KneeLCL},
     {KneeStructure::FatPads, 0, KneeFat},
     {KneeStructure::MuscleCompartment, 0, KneeMuscle},
-    {KneeStructure::Body, kSkin, KneeFat},  // subcutaneous fat: inside the skin
+    {KneeStructure::Body, KneeSkinMm, KneeFat},  // subcutaneous fat: inside the skin
     {KneeStructure::Body, 0, KneeSkin},
 };
 constexpr int kLayerCount = sizeof(kLayers) / sizeof(kLayers[0]);
@@ -218,9 +217,9 @@ struct SlabRenderer {
       if (IsMarrow(structure)) continue;  // from its bone's distance and the cortical thickness
       const bool bone = s <= static_cast<int>(KneeStructure::Patella);
       // Exact distances where a layer surface may cross a voxel: the bone's cortex reaches its
-      // thickness inside; the skin's inner surface is kSkin inside the body.
+      // thickness inside; the skin's inner surface is KneeSkinMm inside the body.
       const double band = halfDiagonal + step + (bone ? Model.MaxCorticalThickness() : 0.0) +
-                          (structure == KneeStructure::Body ? kSkin : 0.0);
+                          (structure == KneeStructure::Body ? KneeSkinMm : 0.0);
       double bounds[6];
       Model.Bounds(structure, bounds);
       Sampled& out = sampled[s];

@@ -63,6 +63,8 @@ enum class KneeStructure {
   FatPads             // popliteal and infrapatellar (Hoffa's) fat pads
 };
 constexpr int KneeStructureCount = 18;
+/// The skin's thickness (mm): the body's outer surface less this is the subcutaneous fat's.
+constexpr double KneeSkinMm = 2.0;
 /// A structure's file-friendly name: "femur", "femur-marrow", "femoral-cartilage", "acl", "body"...
 const char* KneeStructureName(KneeStructure structure);
 

@@ -21,7 +21,7 @@
 namespace rp {
 namespace {
 
-constexpr double kFar = 1e9;
+constexpr double kFarMm = 1e9;
 constexpr int kMeshStructures = 11;
 struct PartFiles {
   KneeStructure Structure;
@@ -57,7 +57,6 @@ constexpr Margins kThighMargins = {40, 45, 30, 50};
 constexpr Margins kCalfMargins = {18, 26, 6, 52};
 // Subcutaneous fat (mm) between the skin and the muscles, per side.
 constexpr Margins kFat = {8, 12, 4, 10};
-constexpr double kSkin = 2.0;
 constexpr double kSuperellipse = 2.4;  // exponent: between an ellipse (2) and a rounded box
 
 Margins MarginsAt(double z) {
@@ -211,7 +210,7 @@ bool KneeSurfaceModel::Load(const std::string& folder, std::string& error) {
   this->AxisV[1] = this->AxisU[0];
 
   // Bone extents (u, v) per 2 mm of height, from the bones' vertices.
-  double zlo = kFar, zhi = -kFar;
+  double zlo = kFarMm, zhi = -kFarMm;
   for (KneeStructure s : {KneeStructure::Femur, KneeStructure::Tibia, KneeStructure::Fibula, KneeStructure::Patella}) {
     zlo = std::min(zlo, this->Parts[s].Distance.Lo().z);
     zhi = std::max(zhi, this->Parts[s].Distance.Hi().z);
@@ -220,7 +219,7 @@ bool KneeSurfaceModel::Load(const std::string& folder, std::string& error) {
   this->LegZ[1] = zhi;
   this->SectionZ0 = zlo;
   const int sections = static_cast<int>(std::ceil((zhi - zlo) / this->SectionStep)) + 1;
-  this->Sections.assign(sections, {kFar, -kFar, kFar, -kFar});
+  this->Sections.assign(sections, {kFarMm, -kFarMm, kFarMm, -kFarMm});
   for (KneeStructure s : {KneeStructure::Femur, KneeStructure::Tibia, KneeStructure::Fibula, KneeStructure::Patella}) {
     vtkPolyData* poly = this->Parts[s].Poly;
     for (vtkIdType i = 0; i < poly->GetNumberOfPoints(); ++i) {
@@ -303,7 +302,7 @@ double KneeSurfaceModel::FatPads(const double ras[3]) const {
   double u, v;
   this->ToKneeAxes(ras, u, v);
   const double q[3] = {u, v, ras[2]};
-  double best = kFar;
+  double best = kFarMm;
   for (const Pad& pad : this->Pads) {
     // First-order ellipsoid distance (exact on the surface).
     double k0 = 0, k1 = 0;
@@ -333,7 +332,7 @@ double KneeSurfaceModel::SignedDistance(KneeStructure structure, const double ra
     case KneeStructure::MuscleCompartment:
       return this->Envelope(ras, [](const Margins& fat, int side) {
         const double perSide[4] = {fat.Lateral, fat.Medial, fat.Anterior, fat.Posterior};
-        return kSkin + perSide[side];
+        return KneeSkinMm + perSide[side];
       });
     case KneeStructure::FatPads:  // under the subcutaneous fat, between the muscles
       return std::max(this->FatPads(ras), this->SignedDistance(KneeStructure::MuscleCompartment, ras));
@@ -341,18 +340,18 @@ double KneeSurfaceModel::SignedDistance(KneeStructure structure, const double ra
       break;
   }
   const Part* part = this->PartOf(structure);
-  return part ? part->Distance.SignedDistance({ras[0], ras[1], ras[2]}) : kFar;
+  return part ? part->Distance.SignedDistance({ras[0], ras[1], ras[2]}) : kFarMm;
 }
 
 void KneeSurfaceModel::Bounds(KneeStructure structure, double bounds[6]) const {
   if (structure == KneeStructure::Body || structure == KneeStructure::MuscleCompartment) {
-    const double b[6] = {-kFar, kFar, -kFar, kFar, -kFar, kFar};
+    const double b[6] = {-kFarMm, kFarMm, -kFarMm, kFarMm, -kFarMm, kFarMm};
     std::copy(b, b + 6, bounds);
     return;
   }
   if (structure == KneeStructure::FatPads) {
     // The pads' boxes in (u, v, z), turned into x, y: the radius of the (u, v) box bounds both.
-    double b[6] = {kFar, -kFar, kFar, -kFar, kFar, -kFar};
+    double b[6] = {kFarMm, -kFarMm, kFarMm, -kFarMm, kFarMm, -kFarMm};
     for (const Pad& pad : this->Pads) {
       const double x = pad.Centre[0] * this->AxisU[0] + pad.Centre[1] * this->AxisV[0];
       const double y = pad.Centre[0] * this->AxisU[1] + pad.Centre[1] * this->AxisV[1];
@@ -381,7 +380,7 @@ void KneeSurfaceModel::Bounds(KneeStructure structure, double bounds[6]) const {
 
 // The middle of the leg's extent (x, y) over 80 mm above and below the joint line.
 void KneeSurfaceModel::FieldOfViewCentre(double ras[3]) const {
-  double lo[2] = {kFar, kFar}, hi[2] = {-kFar, -kFar};
+  double lo[2] = {kFarMm, kFarMm}, hi[2] = {-kFarMm, -kFarMm};
   for (double z = -80; z <= 80; z += 4) {
     const Section s = this->SectionAt(z);
     const Margins m = MarginsAt(z);

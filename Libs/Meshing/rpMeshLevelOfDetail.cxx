@@ -21,6 +21,7 @@
 #include <vtkSMPTools.h>
 
 #include "rpBVH.h"
+#include "rpFormat.h"
 #include "rpManifoldDecimation.h"
 #include "rpPolyDataTriangleMesh.h"
 
@@ -58,12 +59,6 @@ double MaxSurfaceDeviation(vtkPolyData* mesh, vtkPolyData* reference) {
 }
 
 namespace {
-
-std::string Format(const char* format, double value) {
-  char text[64];
-  std::snprintf(text, sizeof(text), format, value);
-  return text;
-}
 
 // Keeps the largest components (by enclosed volume) whose triangles fit in `budget`. Returns
 // the number left out and their volume.

@@ -11,15 +11,11 @@
 #include <Eigen/LU>
 #include <Eigen/SVD>
 
+#include "rpFormat.h"
+
 namespace rp {
 
 namespace {
-
-std::string Format(const char* format, double a, double b = 0) {
-  char buffer[256];
-  std::snprintf(buffer, sizeof(buffer), format, a, b);
-  return buffer;
-}
 
 bool AllFinite(const PointList& points) {
   for (const auto& p : points)

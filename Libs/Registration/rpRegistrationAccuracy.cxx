@@ -6,17 +6,9 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "rpFormat.h"
+
 namespace rp {
-
-namespace {
-
-std::string Format(const char* format, double a, double b = 0, double c = 0, double d = 0) {
-  char buffer[512];
-  std::snprintf(buffer, sizeof(buffer), format, a, b, c, d);
-  return buffer;
-}
-
-}  // namespace
 
 TREPredictor::TREPredictor(const PointList& fiducials, double fle) : N(static_cast<int>(fiducials.size())), Fle(fle) {
   if (fiducials.empty()) return;

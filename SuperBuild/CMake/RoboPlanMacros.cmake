@@ -212,6 +212,7 @@ endfunction()
 function(roboplan_add_test_executable name)
   cmake_parse_arguments(A "OWN_MAIN" "" "SOURCES;LIBS" ${ARGN})
   add_executable(${name} ${A_SOURCES})
+  set_target_properties(${name} PROPERTIES UNITY_BUILD OFF)  # one test, one source: nothing to share
   add_dependencies(${name} roboplan-plugins)  # what the libraries under test load on first use
   # Testing/Support: helpers every test may use (rpSharedData.h: skip without ../shared/data).
   target_include_directories(${name} PRIVATE ${PROJECT_SOURCE_DIR}/Testing/Support)
@@ -257,6 +258,7 @@ function(roboplan_add_benchmark name)
   endif()
   cmake_parse_arguments(A "" "" "SOURCES;LIBS" ${ARGN})
   add_executable(${name} EXCLUDE_FROM_ALL ${A_SOURCES})
+  set_target_properties(${name} PROPERTIES UNITY_BUILD OFF)
   add_dependencies(benchmarks ${name})
   add_dependencies(${name} roboplan-plugins)
   # Testing/Benchmarks/rpBenchmarkMain.h: the run's conditions in every benchmark's output.

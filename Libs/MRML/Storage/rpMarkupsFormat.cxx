@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "rpLPSRAS.h"
+#include "rpStrings.h"
 
 // Both formats store positions in the file's coordinate system; points here are RAS. LPS ↔ RAS
 // negates x and y. We always write LPS (what Slicer ≥ 4.11 writes) and read LPS and RAS.
@@ -17,18 +18,6 @@ namespace {
 const char* const MarkupsSchema =
     "https://raw.githubusercontent.com/slicer/slicer/master/Modules/Loadable/Markups/Resources/Schema/"
     "markups-schema-v1.0.3.json#";
-
-std::string Lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return s;
-}
-
-std::string Trim(const std::string& s) {
-  const auto first = s.find_first_not_of(" \t\r\n");
-  if (first == std::string::npos) return {};
-  const auto last = s.find_last_not_of(" \t\r\n");
-  return s.substr(first, last - first + 1);
-}
 
 // Slicer's markups coordinate system names: "RAS"/"LPS" (json), also "0"/"1" (old .fcsv).
 // Returns +1 for RAS, -1 for LPS, 0 when unknown (the sign applied to x and y).

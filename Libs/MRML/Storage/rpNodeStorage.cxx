@@ -9,6 +9,7 @@
 #include "vtkRPNode.h"
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
+#include "rpStrings.h"
 
 namespace rp {
 namespace {
@@ -20,11 +21,6 @@ struct Registry {
 Registry& GetRegistry() {
   static Registry registry;
   return registry;
-}
-
-std::string Lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return s;
 }
 
 std::string BaseNameWithoutExtension(const std::string& path, const NodeStorage& storage) {

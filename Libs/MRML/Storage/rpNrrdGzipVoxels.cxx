@@ -9,14 +9,10 @@
 
 #include <libdeflate.h>
 
+#include "rpStrings.h"
+
 namespace rp {
 namespace {
-
-std::string Trim(const std::string& text) {
-  const auto first = std::find_if_not(text.begin(), text.end(), [](unsigned char c) { return std::isspace(c); });
-  const auto last = std::find_if_not(text.rbegin(), text.rend(), [](unsigned char c) { return std::isspace(c); });
-  return first < last.base() ? std::string(first, last.base()) : std::string();
-}
 
 bool LittleEndianHost() {
   const unsigned short one = 1;

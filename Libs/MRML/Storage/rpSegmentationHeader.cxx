@@ -7,17 +7,12 @@
 #include <set>
 #include <sstream>
 
+#include "rpStrings.h"
+
 // Slicer's reader (vtkMRMLSegmentationStorageNode) keys segments by their index N in
 // "Segment<N>_*"; files before Slicer 4.11 have no label value (segment N is label N+1).
 namespace rp {
 namespace {
-
-std::string Trim(const std::string& s) {
-  const auto begin = s.find_first_not_of(" \t\r\n");
-  if (begin == std::string::npos) return {};
-  const auto end = s.find_last_not_of(" \t\r\n");
-  return s.substr(begin, end - begin + 1);
-}
 
 bool ParseInt(const std::string& text, long& value) {
   const std::string t = Trim(text);

@@ -44,7 +44,6 @@ namespace rp {
 namespace {
 
 constexpr double BurrRadius = 2.0;  // a 4 mm burr: the pilot of an 8–10 mm reamed tunnel
-constexpr double Voxel = 0.3;
 
 // Bone (mm³ per material) inside the planned tunnel: each voxel's density as built times its
 // coverage by the capsule (the same two-voxel ramp the burr carves).
@@ -105,7 +104,7 @@ void ReportTunnelBone(DemoState& state, const std::string& stage, DrillVolume& b
   state.Report->AddFigure(stage, "voxel tibia built", built.Seconds, "s",
                           "density from the " + built.Surface + " (" + std::to_string(built.SurfaceTriangles) + " triangles)");
   const SurfaceFit fit = MeasureSurfaceFit(bone, tibiaSurface);
-  state.Report->AddFigureBelow(stage, "voxel tibia's surface from the tibia model, p95", fit.P95Mm, "mm", 0.15 * Voxel,
+  state.Report->AddFigureBelow(stage, "voxel tibia's surface from the tibia model, p95", fit.P95Mm, "mm", 0.15 * DemoDrillVoxelMm,
                                "mean " + std::to_string(fit.MeanMm).substr(0, 6) + " mm over " +
                                    std::to_string(fit.Vertices) + " vertices; target 0.15 voxel");
 }
@@ -172,7 +171,7 @@ void ReportTunnelVolumes(DemoState& state, const std::string& stage, const Tunne
   // at most one cut's advance: the bound is r + h + skin + that lead.
   const double lead = cutLead;
   state.Report->AddFigureBelow(stage, "farthest removal from the burr's path", FarthestChangeFromPath(bone, burrPath), "mm",
-                               BurrRadius + Voxel * (1 + BurrProxy::Skin) + lead + 1e-9,
+                               BurrRadius + DemoDrillVoxelMm * (1 + BurrProxy::Skin) + lead + 1e-9,
                                "burr radius + one voxel + the cut's lead (" + std::to_string(static_cast<int>(lead * 1000 + 0.5)) + " µm)");
   state.Report->AddFigure(stage, "largest deviation of the cutting burr from the planned axis", deviation, "mm",
                           "the burr slides where the bone's surface is oblique to the push");
@@ -298,7 +297,7 @@ void DrillTibialTunnel(DemoState& state) {
   const TrajectorySnapshot* planned = snapshot ? ChooseTrajectory(*snapshot, state.TunnelPlanID, why) : nullptr;
   DrillBoneSource source;
   MeshSignedDistance tibiaDistance;
-  if (!planned || !TibiaDrillSource(state, planned->Entry, planned->Target, Voxel, source, why) ||
+  if (!planned || !TibiaDrillSource(state, planned->Entry, planned->Target, DemoDrillVoxelMm, source, why) ||
       !tibiaDistance.Build(source.BoneSurface, why)) {
     state.Report->AddNotScored(stage, "tibial tunnel", why);
     return;

@@ -33,8 +33,7 @@ namespace fs = std::filesystem;
 namespace rp {
 namespace {
 
-const std::string Stage = "Executions (three ways)";
-constexpr double Voxel = 0.3;
+const std::string ExecutionsStage = "Executions (three ways)";
 // The hand of issue 38's targets (the guidance benchmark's): its tremor, drift, seed and speed.
 constexpr double TremorMm = 0.2, DriftMmPerS = 1.0, HandSpeed = 2.5, FeedRate = 8;
 constexpr uint64_t Seed = 3;
@@ -57,7 +56,7 @@ Execution Execute(DemoState& state, const PlanSnapshot& plan, const TrajectorySn
   DrillBoneSource source;
   std::string error;
   if (!TibiaDrillSource(state, Min(trajectory.Entry, trajectory.Target) - margin, Max(trajectory.Entry, trajectory.Target) + margin,
-                        Voxel, source, error))
+                        DemoDrillVoxelMm, source, error))
     throw std::runtime_error(error);
   vtkNew<vtkRPScene> scratch;
   vtkNew<vtkRPDrillingLogic> logic;
@@ -102,20 +101,20 @@ void ReportExecution(DemoState& state, const Execution& e) {
   const bool guided = e.Fixtures.find("axis") != std::string::npos;
   const bool forbidden = e.Fixtures.find("forbidden") != std::string::npos;
   auto scored = [&](const std::string& what, double value, const std::string& unit, double maximum) {
-    if (guided) state.Report->AddFigureBelow(Stage, name + what, value, unit, maximum);
-    else state.Report->AddFigure(Stage, name + what, value, unit, "free hand: the baseline");
+    if (guided) state.Report->AddFigureBelow(ExecutionsStage, name + what, value, unit, maximum);
+    else state.Report->AddFigure(ExecutionsStage, name + what, value, unit, "free hand: the baseline");
   };
   scored("entry offset", s.EntryOffsetMm, "mm", 0.5);
   scored("tip offset", s.TipOffsetMm, "mm", 0.5);
   scored("angle to the plan", s.AngleDeg, "°", 1.0);
-  if (guided) state.Report->AddFigureBelow(Stage, name + "depth overshoot", e.Result.DepthOvershootMm, "mm", 0.1,
+  if (guided) state.Report->AddFigureBelow(ExecutionsStage, name + "depth overshoot", e.Result.DepthOvershootMm, "mm", 0.1,
                                            "depth error " + std::to_string(s.DepthErrorMm).substr(0, 6) + " mm");
-  else state.Report->AddFigure(Stage, name + "depth error", s.DepthErrorMm, "mm", "free hand: no depth stop");
-  state.Report->AddFigure(Stage, name + "largest deviation from the planned axis", s.MaxDeviationMm, "mm");
+  else state.Report->AddFigure(ExecutionsStage, name + "depth error", s.DepthErrorMm, "mm", "free hand: no depth stop");
+  state.Report->AddFigure(ExecutionsStage, name + "largest deviation from the planned axis", s.MaxDeviationMm, "mm");
   const double entered = e.Result.EnteredForbidden ? 1.0 : 0.0;
-  if (forbidden) state.Report->AddFigureBelow(Stage, name + "entered a forbidden region", entered, "", 0.5, "1: yes, 0: no");
-  else state.Report->AddFigure(Stage, name + "came within a structure's margin", entered, "", "1: yes, 0: no");
-  state.Report->AddFigure(Stage, name + "drilling time", e.Result.DrillSeconds, "s",
+  if (forbidden) state.Report->AddFigureBelow(ExecutionsStage, name + "entered a forbidden region", entered, "", 0.5, "1: yes, 0: no");
+  else state.Report->AddFigure(ExecutionsStage, name + "came within a structure's margin", entered, "", "1: yes, 0: no");
+  state.Report->AddFigure(ExecutionsStage, name + "drilling time", e.Result.DrillSeconds, "s",
                           std::to_string(e.Result.Run.Ticks) + " servo ticks at 1 kHz (scripted)");
 }
 
@@ -123,7 +122,7 @@ void Chart(DemoState& state, const std::string& file, const std::string& title, 
            const std::vector<bench::Series>& series, const std::string& caption) {
   bench::ChartOptions options{title, x, "offset (mm) / angle (°)"};
   std::string error;
-  state.Report->AddPictureIf(bench::WriteChartPNG((fs::path(state.Output) / file).string(), series, options, error), Stage,
+  state.Report->AddPictureIf(bench::WriteChartPNG((fs::path(state.Output) / file).string(), series, options, error), ExecutionsStage,
                              file, caption, error);
 }
 
@@ -158,7 +157,7 @@ nlohmann::json Sweeps(DemoState& state, const PlanSnapshot& plan, const Trajecto
     tEntry.Y.push_back(e.Result.Score.EntryOffsetMm), tTip.Y.push_back(e.Result.Score.TipOffsetMm);
     tAngle.Y.push_back(e.Result.Score.AngleDeg);
   }
-  if (!CanDrawPicturesOrWarn(state, Stage, "execution charts")) return doc;
+  if (!CanDrawPicturesOrWarn(state, ExecutionsStage, "execution charts")) return doc;
   char baseline[160];
   std::snprintf(baseline, sizeof baseline, " The free hand under the same hand: entry %.2f mm, tip %.2f mm, angle %.2f°.",
                 free.Result.Score.EntryOffsetMm, free.Result.Score.TipOffsetMm, free.Result.Score.AngleDeg);
@@ -181,7 +180,7 @@ void ExecutePlans(DemoState& state) {
   std::string why;
   const std::shared_ptr<const PlanSnapshot> plan = DemoPlan(state, why);
   if (!plan) {
-    state.Report->AddNotScored(Stage, "the plan's executions", why);
+    state.Report->AddNotScored(ExecutionsStage, "the plan's executions", why);
     return;
   }
   std::vector<const TrajectorySnapshot*> trajectories;

@@ -40,7 +40,7 @@ namespace fs = std::filesystem;
 namespace rp {
 namespace {
 
-const std::string Stage = "Plan";
+const std::string PlanStage = "Plan";
 constexpr double TunnelDiameter = 4.0;     // the 4 mm pilot of an 8–10 mm reamed tunnel
 constexpr double ScrewDiameter = 6.5;      // cancellous screw
 constexpr double ScrewPilotDiameter = 3.2; // its drill
@@ -167,18 +167,18 @@ std::string PointText(const Vec3& p) { return "(" + Mm(p.x) + ", " + Mm(p.y) + "
 void ReportFigures(DemoState& state, const std::string& plan, const TrajectoryFigures& f) {
   std::string bone;
   for (const DepthInterval& i : f.Bone) bone += (bone.empty() ? "" : ", ") + Mm(i.FromMm) + "–" + Mm(i.ToMm);
-  state.Report->AddFigure(Stage, plan + ": length", f.LengthMm, "mm",
+  state.Report->AddFigure(PlanStage, plan + ": length", f.LengthMm, "mm",
                           "tool " + Mm(f.ToolDiameterMm) + " mm; entry to target " + Mm(f.TrajectoryLengthMm) + " mm");
-  state.Report->AddFigure(Stage, plan + ": length in bone", f.LengthInBoneMm, "mm", "in bone at depths " + bone + " mm");
+  state.Report->AddFigure(PlanStage, plan + ": length in bone", f.LengthInBoneMm, "mm", "in bone at depths " + bone + " mm");
   if (f.CorticalSurfaceShare >= 0)
-    state.Report->AddFigure(Stage, plan + ": share of the tool's surface in cortical bone", 100 * f.CorticalSurfaceShare, "%",
+    state.Report->AddFigure(PlanStage, plan + ": share of the tool's surface in cortical bone", 100 * f.CorticalSurfaceShare, "%",
                             "≥ the cortical CT number of materials.json");
-  state.Report->AddFigureBelow(Stage, plan + ": cortical breach", f.Breach.Found ? f.Breach.BreachMm : 0.0, "mm", 2.0,
+  state.Report->AddFigureBelow(PlanStage, plan + ": cortical breach", f.Breach.Found ? f.Breach.BreachMm : 0.0, "mm", 2.0,
                                f.Breach.Found ? "Gertzbein–Robbins grade " + std::to_string(f.Breach.Grade) + " at " +
                                                     Mm(f.Breach.DepthMm) + " mm deep (target: grade 0–1)"
                                               : "none: Gertzbein–Robbins grade 0");
   for (const ClearanceFigure& c : f.Clearances)
-    state.Report->AddFigureAbove(Stage, plan + ": clearance from " + c.Name, c.ClearanceMm, "mm", c.SafetyMarginMm,
+    state.Report->AddFigureAbove(PlanStage, plan + ": clearance from " + c.Name, c.ClearanceMm, "mm", c.SafetyMarginMm,
                                  "closest at " + Mm(c.DepthMm) + " mm deep; the margin is " + Mm(c.SafetyMarginMm) + " mm");
 }
 
@@ -190,11 +190,11 @@ nlohmann::json PlanRecord(DemoState& state, vtkRPPlanningLogic* logic, vtkRPTraj
   nlohmann::json record = {{"name", node->GetName()}, {"nodeID", node->GetID()},
                            {"plan", TrajectoryJson(snapshot, node->GetIntendedTissue())},
                            {"figures", FiguresJson(figures, logic->GetInputs().Tissue())}};
-  if (!CanDrawPicturesOrWarn(state, Stage, node->GetName() + " profile chart")) return record;
+  if (!CanDrawPicturesOrWarn(state, PlanStage, node->GetName() + " profile chart")) return record;
   std::string error;
   state.Report->AddPictureIf(
       WriteProfileChart((fs::path(state.Output) / file).string(), figures, logic->GetInputs().Tissue(), node->GetName(), error),
-      Stage, file,
+      PlanStage, file,
       node->GetName() + ": the CT numbers along the axis (and their range over the tool's cross-section) against depth "
                         "from the entry, with the cortical and cancellous ranges of materials.json.",
       error);
@@ -203,14 +203,14 @@ nlohmann::json PlanRecord(DemoState& state, vtkRPPlanningLogic* logic, vtkRPTraj
 
 void RiskMapPicture(DemoState& state, vtkRPPlanningLogic* logic, const ProposalResult& result, const Vec3& target,
                     const std::string& file, const std::string& caption) {
-  if (!CanDrawPicturesOrWarn(state, Stage, file)) return;
+  if (!CanDrawPicturesOrWarn(state, PlanStage, file)) return;
   std::vector<StructureAtRiskSnapshot> structures;
   std::string error;
   const double t[3] = {target.x, target.y, target.z};
   const bool drawn = logic->GetStructuresAtRiskSnapshot(structures, error) &&
                      WriteRiskMapPicture((fs::path(state.Output) / file).string(), logic->RiskMapPolyData(result), structures,
                                          t, logic->GetCandidates(), result, error);
-  state.Report->AddPictureIf(drawn, Stage, file, caption, error);
+  state.Report->AddPictureIf(drawn, PlanStage, file, caption, error);
 }
 
 vtkRPTrajectoryNode* AddTrajectory(DemoState& state, vtkSmartPointer<vtkRPTrajectoryNode> node, const std::string& name,
@@ -252,11 +252,11 @@ vtkRPTrajectoryNode* PlanTunnel(DemoState& state, vtkRPPlanningLogic* logic, vtk
   for (size_t k = 0; k < result.Best.size(); ++k) {
     const CandidateScore& s = result.Scores[size_t(result.Best[k])];
     const std::string closest = s.Structure >= 0 && size_t(s.Structure) < structures.size() ? structures[size_t(s.Structure)].Name : "";
-    state.Report->AddFigure(Stage, "tibial tunnel: proposed entry " + std::to_string(k + 1) + ", clearance", s.ClearanceMm, "mm",
+    state.Report->AddFigure(PlanStage, "tibial tunnel: proposed entry " + std::to_string(k + 1) + ", clearance", s.ClearanceMm, "mm",
                             PointText(logic->GetCandidates()[size_t(result.Best[k])]) + "; from " + closest + ", " +
                                 Mm(s.SlackMm) + " mm beyond its margin" + (k == 0 ? " (planned)" : ""));
   }
-  state.Report->AddFigure(Stage, "tibial tunnel: entries scored", double(result.Scores.size()), "",
+  state.Report->AddFigure(PlanStage, "tibial tunnel: entries scored", double(result.Scores.size()), "",
                           "candidates " + Mm(result.SpacingMm, 2) + " mm apart on the anteromedial patch, scored in " +
                               Mm(1000 * result.Seconds) + " ms; entries of equal clearance: the shortest tunnel first");
   const double colour[3] = {0.1, 0.75, 0.2};
@@ -372,10 +372,10 @@ vtkRPScrewNode* PlanScrew(DemoState& state, vtkRPPlanningLogic* logic, const Tri
   TrajectoryFigures figures;
   std::string error;
   if (!logic->ComputeFigures(node, figures, error)) throw std::runtime_error("the screw: " + error);
-  state.Report->AddFigure(Stage, "screw: 6.5 mm cancellous screw, length", length, "mm",
+  state.Report->AddFigure(PlanStage, "screw: 6.5 mm cancellous screw, length", length, "mm",
                           "medial to lateral, 20 mm below the ACL footprint, parallel to the joint, tip " +
                               Mm(Norm(c.Tip - tip) + 5.0) + " mm short of the lateral surface; pilot drill 3.2 mm");
-  state.Report->AddFigureAbove(Stage, "screw: bone between the screw and the tunnel", c.TunnelGapMm, "mm", 2.0,
+  state.Report->AddFigureAbove(PlanStage, "screw: bone between the screw and the tunnel", c.TunnelGapMm, "mm", 2.0,
                                "closest distance between the screw's and the tunnel's surfaces");
   ReportFigures(state, "screw", figures);
   nlohmann::json record = PlanRecord(state, logic, node, figures, "plan-screw-profile.png");
@@ -414,7 +414,7 @@ void FlagStructuresAtRisk(DemoState& state, const TriangleMesh& tibia, const Vec
   state.Segmentation->SetSegment(fibula);
   double vesselClearance = 0;
   AddVesselStandIn(state, tibia, footprint, f, vesselClearance);
-  state.Report->AddFigure(Stage, "popliteal vessels' stand-in: clear of the tibia", vesselClearance, "mm",
+  state.Report->AddFigure(PlanStage, "popliteal vessels' stand-in: clear of the tibia", vesselClearance, "mm",
                           "a tube of 8 mm diameter behind the posterior cortex, from the joint line down 60 mm");
   const vtkSmartPointer<vtkPolyData> pcl = state.Phantom->Model->Surface(KneeStructure::PCL);
   if (!pcl) throw std::runtime_error("the phantom's anatomy has no PCL surface");
@@ -426,7 +426,7 @@ void FlagStructuresAtRisk(DemoState& state, const TriangleMesh& tibia, const Vec
 
 void PlanTunnelAndScrew(DemoState& state) {
   if (!state.HasGroundTruth()) {
-    state.Report->AddNotScored(Stage, "tibial tunnel and screw plan",
+    state.Report->AddNotScored(PlanStage, "tibial tunnel and screw plan",
                                "the tunnel's target is the ACL's tibial footprint, which a user's CT does not show (no "
                                "ligament is segmented); plan it with `roboplan plan propose` or the Planning panel");
     return;
@@ -438,7 +438,7 @@ void PlanTunnelAndScrew(DemoState& state) {
                          ? nullptr
                          : vtkRPModelNode::SafeDownCast(state.Scene->GetNodeByID(model->second));
   if (!tibiaSegment || !fibulaSegment || !tibiaModel) {
-    state.Report->AddNotScored(Stage, "tibial tunnel and screw plan", "the tibia and the fibula were not both segmented and meshed");
+    state.Report->AddNotScored(PlanStage, "tibial tunnel and screw plan", "the tibia and the fibula were not both segmented and meshed");
     return;
   }
   TriangleMesh tibia;

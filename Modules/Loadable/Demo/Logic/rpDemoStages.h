@@ -64,6 +64,8 @@ void MeasureSpeedAgainstAccuracy(DemoState& state);
 void PlanTunnelAndScrew(DemoState& state);
 void DrillTibialTunnel(DemoState& state);
 void ExecutePlans(DemoState& state);
+/// The tibia's drillable voxels (mm): the tunnel is drilled and the plans are executed on it.
+constexpr double DemoDrillVoxelMm = 0.3;
 /// Whether pictures can be drawn in this run (screenshots on, a display); else why not.
 bool CanDrawPictures(const DemoState& state, std::string& error);
 /// CanDrawPictures for a group of pictures (`what`, e.g. "haptics charts"): when they cannot be

@@ -2,7 +2,6 @@
 
 #include <chrono>
 #include <cmath>
-#include <cstdarg>
 #include <cstdio>
 #include <map>
 #include <memory>
@@ -13,6 +12,7 @@
 
 #include "rpArgParser.h"
 #include "rpDeviceProfiles.h"
+#include "rpFormat.h"
 #include "rpPolyDataTriangleMesh.h"
 #include "rpProgress.h"
 #include "rpSceneIO.h"
@@ -113,15 +113,6 @@ std::shared_ptr<rp::WaypointTrajectory> MakeTrajectory(const std::string& name, 
 nlohmann::json StatsJson(const rp::TimingStats& s) {
   return {{"count", s.Count}, {"meanUs", s.MeanUs}, {"p50Us", s.P50Us}, {"p99Us", s.P99Us},
           {"p999Us", s.P999Us}, {"maxUs", s.MaxUs}};
-}
-
-std::string Format(const char* format, ...) {
-  char text[512];
-  va_list args;
-  va_start(args, format);
-  std::vsnprintf(text, sizeof(text), format, args);
-  va_end(args);
-  return text;
 }
 
 // What `roboplan haptics` was asked to do, read from its options (types and ranges checked by the parser).

@@ -17,10 +17,13 @@
 #include "vtkRPFiducialListNode.h"
 #include "vtkRPLandmarkRegistrationLogic.h"
 #include "vtkRPLinearTransformNode.h"
+#include "rpStrings.h"
 
 namespace rp {
 
 namespace {
+// A figure to `digits` decimals, "n/a" when there is none (a degenerate fit's TRE).
+std::string FixedOrNA(double value, int digits) { return std::isfinite(value) ? Fixed(value, digits) : "n/a"; }
 
 const char* const Summary =
     "Paired-point registration of two fiducial lists (Slicer .mrk.json or .fcsv, paired by index; "
@@ -36,13 +39,6 @@ const char* const Summary =
     "Optional refinement: --icp-points (points digitized on the patient's surface, same space as <from>) "
     "and --icp-model (the surface, e.g. the bone model, in the <to> space) run a trimmed rigid ICP from "
     "the accepted landmark result; its residual is a surface distance, reported apart from FRE.";
-
-std::string Fixed(double value, int digits = 3) {
-  if (!std::isfinite(value)) return "n/a";
-  char buffer[64];
-  std::snprintf(buffer, sizeof(buffer), "%.*f", digits, value);
-  return buffer;
-}
 
 nlohmann::json NumberOrNull(double value) { return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(); }
 
@@ -223,29 +219,29 @@ void WriteResultText(const RegisterRequest& request, const RegisterRun& run, std
   const SurfaceICPResult& icpResult = run.Logic->GetLastICPResult();
   out << "registration (" << request.Mode << ", " << a.Solution.Residuals.size() << " pairs): " << a.Reason << "\n";
   if (a.Solution.Ok) {
-    out << "  FRE " << Fixed(a.Solution.FRE) << " mm (how well the fiducials fit; not the accuracy)";
+    out << "  FRE " << FixedOrNA(a.Solution.FRE, 3) << " mm (how well the fiducials fit; not the accuracy)";
     if (std::isfinite(a.ExpectedFRE))
-      out << ", expected " << Fixed(a.ExpectedFRE) << " mm from FLE " << Fixed(request.FLE) << " mm";
+      out << ", expected " << FixedOrNA(a.ExpectedFRE, 3) << " mm from FLE " << FixedOrNA(request.FLE, 3) << " mm";
     out << "\n";
     const std::vector<double>& target = request.Target;
     if (!target.empty())
       out << "  predicted TRE at the target (" << target[0] << ", " << target[1] << ", " << target[2]
-          << "): " << Fixed(a.PredictedTREAtTarget) << " mm RMS\n";
-    out << "  predicted TRE at the fiducials' centroid " << Fixed(a.PredictedTREAtCentroid)
-        << " mm, at the worst fiducial " << Fixed(a.MaxPredictedTREAtFiducials) << " mm RMS\n";
+          << "): " << FixedOrNA(a.PredictedTREAtTarget, 3) << " mm RMS\n";
+    out << "  predicted TRE at the fiducials' centroid " << FixedOrNA(a.PredictedTREAtCentroid, 3)
+        << " mm, at the worst fiducial " << FixedOrNA(a.MaxPredictedTREAtFiducials, 3) << " mm RMS\n";
     out << "  fiducial          residual  leave-one-out (mm)\n";
     for (size_t i = 0; i < a.Solution.Residuals.size(); ++i) {
       char line[160];
       std::snprintf(line, sizeof(line), "  %-16s %9s %14s\n", PairLabel(run, i).c_str(),
-                    Fixed(a.Solution.Residuals[i]).c_str(), Fixed(a.LeaveOneOut[i]).c_str());
+                    FixedOrNA(a.Solution.Residuals[i], 3).c_str(), FixedOrNA(a.LeaveOneOut[i], 3).c_str());
       out << line;
     }
   }
   for (const auto& w : a.Warnings) out << "  warning: " << w << "\n";
   if (request.ICP() && icpResult.Ok) {
     out << "  ICP refinement: " << icpResult.Iterations << " iterations, surface distance RMS "
-        << Fixed(icpResult.InlierRMS) << " mm over the " << icpResult.Inliers << " kept of "
-        << run.SurfacePoints->GetNumberOfControlPoints() << " points (" << Fixed(icpResult.AllRMS)
+        << FixedOrNA(icpResult.InlierRMS, 3) << " mm over the " << icpResult.Inliers << " kept of "
+        << run.SurfacePoints->GetNumberOfControlPoints() << " points (" << FixedOrNA(icpResult.AllRMS, 3)
         << " mm over all; a surface fit, not FRE)\n";
   }
   if (run.Written) out << "wrote " << request.Out << "\n";

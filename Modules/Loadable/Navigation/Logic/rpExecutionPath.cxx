@@ -14,6 +14,7 @@
 #include "rpPlusSequenceFile.h"
 #include "rpPlusTracking.h"
 #include "rpTransformRepository.h"
+#include "rpStrings.h"
 
 namespace rp {
 
@@ -23,13 +24,6 @@ bool StartsWithMagic(const std::string& file, const std::string& magic) {
   std::ifstream in(file);
   std::string line;
   return in && std::getline(in, line) && line.rfind(magic, 0) == 0;
-}
-
-std::string Trim(const std::string& s) {
-  size_t a = 0, b = s.size();
-  while (a < b && std::isspace(static_cast<unsigned char>(s[a]))) ++a;
-  while (b > a && std::isspace(static_cast<unsigned char>(s[b - 1]))) --b;
-  return s.substr(a, b - a);
 }
 
 bool ReadDrillRecordingPath(const std::string& file, ExecutionPath& path, std::string& error) {

@@ -23,6 +23,7 @@
 #include "vtkRPScrewNode.h"
 #include "vtkRPSegmentationNode.h"
 #include "vtkRPTrajectoryNode.h"
+#include "rpStrings.h"
 
 namespace rp {
 namespace {
@@ -154,12 +155,6 @@ bool WriteOut(PlanSession& s, vtkRPNode* node, const std::string& path, std::str
   return false;
 }
 
-std::string Fixed(double v, int digits = 1) {
-  char text[32];
-  std::snprintf(text, sizeof(text), "%.*f", digits, v);
-  return text;
-}
-
 }  // namespace
 
 // ---------------------------------------------------------------- trajectory and screw
@@ -231,19 +226,19 @@ vtkRPTrajectoryNode* MakeTrajectory(const ArgParser& parser, PlanSession& s, boo
 }
 
 void ReportTrajectoryText(const TrajectoryFigures& f, std::ostream& out) {
-  out << "length " << Fixed(f.LengthMm) << " mm, in bone " << Fixed(f.LengthInBoneMm) << " mm";
-  for (const auto& b : f.Bone) out << " [" << Fixed(b.FromMm) << "-" << Fixed(b.ToMm) << "]";
+  out << "length " << Fixed(f.LengthMm, 1) << " mm, in bone " << Fixed(f.LengthInBoneMm, 1) << " mm";
+  for (const auto& b : f.Bone) out << " [" << Fixed(b.FromMm, 1) << "-" << Fixed(b.ToMm, 1) << "]";
   out << "\n";
-  for (const auto& t : f.Tissues) out << "  " << t.Name << ": " << Fixed(t.LengthMm) << " mm\n";
-  if (f.CorticalSurfaceShare >= 0) out << "cortical share of the tool's surface " << Fixed(100 * f.CorticalSurfaceShare) << " %\n";
+  for (const auto& t : f.Tissues) out << "  " << t.Name << ": " << Fixed(t.LengthMm, 1) << " mm\n";
+  if (f.CorticalSurfaceShare >= 0) out << "cortical share of the tool's surface " << Fixed(100 * f.CorticalSurfaceShare, 1) << " %\n";
   if (f.Breach.Found)
-    out << "breach " << Fixed(f.Breach.BreachMm) << " mm at " << Fixed(f.Breach.DepthMm) << " mm deep: Gertzbein-Robbins grade "
+    out << "breach " << Fixed(f.Breach.BreachMm, 1) << " mm at " << Fixed(f.Breach.DepthMm, 1) << " mm deep: Gertzbein-Robbins grade "
         << f.Breach.Grade << "\n";
   else
     out << "no breach\n";
   for (const auto& c : f.Clearances)
-    out << "clearance from " << c.Name << " " << Fixed(c.ClearanceMm) << " mm at " << Fixed(c.DepthMm) << " mm deep"
-        << (c.UnderMargin ? "  UNDER THE " + Fixed(c.SafetyMarginMm) + " mm MARGIN" : "") << "\n";
+    out << "clearance from " << c.Name << " " << Fixed(c.ClearanceMm, 1) << " mm at " << Fixed(c.DepthMm, 1) << " mm deep"
+        << (c.UnderMargin ? "  UNDER THE " + Fixed(c.SafetyMarginMm, 1) + " mm MARGIN" : "") << "\n";
 }
 
 int RunTrajectory(const std::vector<std::string>& args, bool screw, std::ostream& out, std::ostream& err) {
@@ -401,12 +396,12 @@ int RunPropose(const std::vector<std::string>& args, std::ostream& out, std::ost
     out << doc.dump(2) << "\n";
   } else {
     out << request.Candidates.size() << " candidate entries (spacing " << Fixed(result.SpacingMm, 2) << " mm) scored in "
-        << Fixed(1000 * result.Seconds) << " ms\n";
+        << Fixed(1000 * result.Seconds, 1) << " ms\n";
     for (size_t k = 0; k < result.Best.size(); ++k) {
       const auto& score = result.Scores[static_cast<size_t>(result.Best[k])];
       const Vec3& p = request.Candidates[static_cast<size_t>(result.Best[k])];
-      out << k + 1 << ". entry " << Fixed(p.x) << "," << Fixed(p.y) << "," << Fixed(p.z) << "  clearance "
-          << Fixed(score.ClearanceMm) << " mm (" << Fixed(score.SlackMm) << " mm beyond the margin)\n";
+      out << k + 1 << ". entry " << Fixed(p.x, 1) << "," << Fixed(p.y, 1) << "," << Fixed(p.z, 1) << "  clearance "
+          << Fixed(score.ClearanceMm, 1) << " mm (" << Fixed(score.SlackMm, 1) << " mm beyond the margin)\n";
     }
   }
   return 0;
@@ -470,8 +465,8 @@ int RunPlane(const std::vector<std::string>& args, std::ostream& out, std::ostre
         << "\n";
   } else {
     for (const auto& c : cuts)
-      out << c.Bone << ": " << Fixed(c.Figures.PositiveVolumeMm3 / 1000) << " cm3 on the normal's side, "
-          << Fixed(c.Figures.NegativeVolumeMm3 / 1000) << " cm3 on the other, cut " << Fixed(c.Figures.CutAreaMm2 / 100)
+      out << c.Bone << ": " << Fixed(c.Figures.PositiveVolumeMm3 / 1000, 1) << " cm3 on the normal's side, "
+          << Fixed(c.Figures.NegativeVolumeMm3 / 1000, 1) << " cm3 on the other, cut " << Fixed(c.Figures.CutAreaMm2 / 100, 1)
           << " cm2\n";
   }
   return 0;

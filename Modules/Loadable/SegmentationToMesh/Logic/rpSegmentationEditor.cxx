@@ -62,7 +62,7 @@ namespace {
 using MaskImage = itk::Image<unsigned char, 3>;
 
 // A binary mask over a box of the labelmap (start + size in voxels).
-struct Box {
+struct MaskBox {
   int Start[3] = {0, 0, 0};
   int Size[3] = {0, 0, 0};
   size_t Count() const { return static_cast<size_t>(Size[0]) * Size[1] * Size[2]; }
@@ -169,7 +169,7 @@ double LabelMax(vtkImageData* labelmap) { return labelmap->GetScalarTypeMax(); }
 // Returns the segment's voxel count afterwards. One pass over the box (parallel over slices),
 // plus clearing the label outside the box when the box is not the whole image.
 template <typename L>
-long WriteLabels(L* labels, const int dims[3], const Box& box, const unsigned char* mask, L label, bool overwrite) {
+long WriteLabels(L* labels, const int dims[3], const MaskBox& box, const unsigned char* mask, L label, bool overwrite) {
   const bool whole = box.Start[0] == 0 && box.Start[1] == 0 && box.Start[2] == 0 && box.Size[0] == dims[0] &&
                      box.Size[1] == dims[1] && box.Size[2] == dims[2];
   if (!whole) {
@@ -208,7 +208,7 @@ long WriteLabels(L* labels, const int dims[3], const Box& box, const unsigned ch
   return count;
 }
 
-bool WriteSegment(vtkRPSegmentationNode* segmentation, const SegmentTarget& target, const Box& box,
+bool WriteSegment(vtkRPSegmentationNode* segmentation, const SegmentTarget& target, const MaskBox& box,
                   const unsigned char* mask, EditResult& result, std::string& error) {
   if (target.ID.empty()) {
     error = "the segment needs an ID";
@@ -260,15 +260,15 @@ bool WriteSegment(vtkRPSegmentationNode* segmentation, const SegmentTarget& targ
   return true;
 }
 
-Box WholeBox(vtkImageData* image) {
-  Box box;
+MaskBox WholeBox(vtkImageData* image) {
+  MaskBox box;
   Dimensions(image, box.Size);
   return box;
 }
 
 // Mask of an existing segment over its bounding box padded by `pad` voxels (clamped).
 template <typename L>
-void ExtractSegment(const L* labels, const int dims[3], L label, int pad, Box& box, std::vector<unsigned char>& mask) {
+void ExtractSegment(const L* labels, const int dims[3], L label, int pad, MaskBox& box, std::vector<unsigned char>& mask) {
   int lo[3] = {dims[0], dims[1], dims[2]}, hi[3] = {-1, -1, -1};
   for (int k = 0; k < dims[2]; ++k)
     for (int j = 0; j < dims[1]; ++j) {
@@ -281,7 +281,7 @@ void ExtractSegment(const L* labels, const int dims[3], L label, int pad, Box& b
       }
     }
   if (hi[0] < 0) {
-    box = Box();
+    box = MaskBox();
     mask.clear();
     return;
   }
@@ -299,7 +299,7 @@ void ExtractSegment(const L* labels, const int dims[3], L label, int pad, Box& b
 }
 
 bool SegmentMask(vtkRPSegmentationNode* segmentation, const std::string& segmentID, int pad, SegmentTarget& target,
-                 Box& box, std::vector<unsigned char>& mask, std::string& error) {
+                 MaskBox& box, std::vector<unsigned char>& mask, std::string& error) {
   if (!segmentation || !HasImage(segmentation)) {
     error = "the segmentation has no labelmap";
     return false;
@@ -515,7 +515,7 @@ bool SegmentationEditor::ApplyMorphology(vtkRPSegmentationNode* segmentation, co
     return false;
   }
   SegmentTarget target;
-  Box box;
+  MaskBox box;
   std::vector<unsigned char> mask;
   if (!SegmentMask(segmentation, segmentID, maxRadius + 1, target, box, mask, error)) return false;
   try {
@@ -583,7 +583,7 @@ ComponentImage::Pointer Components(MaskImage::Pointer mask, std::vector<itk::Siz
 bool KeepComponent(vtkRPSegmentationNode* segmentation, const std::string& segmentID,
                    const std::array<double, 3>* seedRAS, EditResult& result, std::string& error) {
   SegmentTarget target;
-  Box box;
+  MaskBox box;
   std::vector<unsigned char> mask;
   if (!SegmentMask(segmentation, segmentID, 0, target, box, mask, error)) return false;
   try {
@@ -627,7 +627,7 @@ bool SegmentationEditor::KeepComponentAtSeed(vtkRPSegmentationNode* segmentation
 bool SegmentationEditor::SplitComponents(vtkRPSegmentationNode* segmentation, const std::string& segmentID,
                                          int maxSegments, long minVoxels, EditResult& result, std::string& error) {
   SegmentTarget target;
-  Box box;
+  MaskBox box;
   std::vector<unsigned char> mask;
   if (maxSegments < 1) {
     error = "split needs at least one segment";

@@ -2,16 +2,11 @@
 
 #include <cctype>
 
+#include "rpStrings.h"
+
 namespace rp {
 
 namespace {
-std::string Trim(const std::string& s) {
-  size_t b = 0, e = s.size();
-  while (b < e && std::isspace(static_cast<unsigned char>(s[b]))) ++b;
-  while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1]))) --e;
-  return s.substr(b, e - b);
-}
-
 // A decimal number of at most `digits` digits, no sign, no leading '+'; false otherwise.
 bool ParseSmallNumber(const std::string& text, size_t digits, unsigned& value) {
   if (text.empty() || text.size() > digits) return false;

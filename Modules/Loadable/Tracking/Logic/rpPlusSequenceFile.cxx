@@ -12,6 +12,7 @@
 #include "rpPlusSequenceWriter.h"
 #include "rpTrackingRecording.h"
 #include "rpTransformNames.h"
+#include "rpStrings.h"
 
 namespace rp {
 
@@ -46,20 +47,8 @@ const ElementTypeInfo* FindElementType(const std::string& name) {
   return nullptr;
 }
 
-std::string Trim(const std::string& s) {
-  size_t b = 0, e = s.size();
-  while (b < e && std::isspace(static_cast<unsigned char>(s[b]))) ++b;
-  while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1]))) --e;
-  return s.substr(b, e - b);
-}
-
 bool EndsWith(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
-std::string Lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
 }
 
 bool IsLayoutKey(const std::string& key) {

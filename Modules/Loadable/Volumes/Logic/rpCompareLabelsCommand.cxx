@@ -12,15 +12,10 @@
 #include "rpVolumesCommands.h"
 #include "vtkRPScene.h"
 #include "vtkRPVolumesLogic.h"
+#include "rpStrings.h"
 
 namespace rp {
 namespace {
-
-std::string Fixed(double v) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.3f", v);
-  return buffer;
-}
 
 nlohmann::json Distance(double mm) { return mm < 0 ? nlohmann::json() : nlohmann::json(mm); }
 
@@ -94,9 +89,9 @@ int RunCompareLabelsCommand(const std::vector<std::string>& arguments, std::ostr
       out << ": overlaps no truth label\n";
       continue;
     }
-    out << " vs truth " << s.TruthLabel << ": Dice " << Fixed(s.Dice) << ", surface distance mean "
-        << Fixed(s.MeanSurfaceDistanceMm) << " mm, 95% " << Fixed(s.Hausdorff95Mm) << " mm, max "
-        << Fixed(s.HausdorffMm) << " mm\n";
+    out << " vs truth " << s.TruthLabel << ": Dice " << Fixed(s.Dice, 3) << ", surface distance mean "
+        << Fixed(s.MeanSurfaceDistanceMm, 3) << " mm, 95% " << Fixed(s.Hausdorff95Mm, 3) << " mm, max "
+        << Fixed(s.HausdorffMm, 3) << " mm\n";
   }
   for (int t : comparison.UnmatchedTruth) out << "truth label " << t << ": no segment matched it\n";
   return 0;

@@ -27,17 +27,12 @@
 #include "vtkRPScalarVolumeNode.h"
 #include "vtkRPScene.h"
 #include "vtkRPVolumesLogic.h"
+#include "rpStrings.h"
 
 namespace fs = std::filesystem;
 
 namespace rp {
 namespace {
-
-std::string Fixed(double v, int digits = 3) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.*f", digits, v);
-  return buffer;
-}
 
 nlohmann::json MatrixJson(const vtkMatrix4x4* m) {
   nlohmann::json rows = nlohmann::json::array();
@@ -72,7 +67,7 @@ std::string SizeText(const ImageVolume& v) {
   double spacing[3];
   v.GetSpacing(spacing);
   return std::to_string(dims[0]) + "x" + std::to_string(dims[1]) + "x" + std::to_string(dims[2]) + " voxels, " +
-         Fixed(spacing[0]) + " x " + Fixed(spacing[1]) + " x " + Fixed(spacing[2]) + " mm";
+         Fixed(spacing[0], 3) + " x " + Fixed(spacing[1], 3) + " x " + Fixed(spacing[2], 3) + " mm";
 }
 
 // Registration progress lines without the per-iteration metric (one line per percent).
@@ -153,7 +148,7 @@ void ReportScanText(const DicomScanResult& scan, const std::string& folder, std:
   for (const auto& s : scan.Series) {
     out << "  " << index++ << ". " << (s.Modality.empty() ? "??" : s.Modality) << "  \"" << s.SeriesDescription
         << "\"  " << s.OrientationName << "  " << s.Columns << "x" << s.Rows << "x" << s.Slices << "  "
-        << Fixed(s.PixelSpacing[1]) << " x " << Fixed(s.PixelSpacing[0]) << " x " << Fixed(s.SliceSpacing) << " mm\n     "
+        << Fixed(s.PixelSpacing[1], 3) << " x " << Fixed(s.PixelSpacing[0], 3) << " x " << Fixed(s.SliceSpacing, 3) << " mm\n     "
         << s.StackID
         << (s.StackCount > 1 ? "  (stack " + std::to_string(s.StackIndex) + " of " + std::to_string(s.StackCount) +
                                    " in this series)"
@@ -581,7 +576,7 @@ void ReportRegisterVolumes(const RegisterVolumesRequest& request, const Register
     out << "converged in " << result.Iterations << " iterations, " << Fixed(result.Seconds, 2) << " s, MI "
         << Fixed(result.FinalMetric, 4) << (run.Written ? "; wrote " + request.Out : std::string()) << "\n";
     if (haveTruth)
-      out << "RMS difference to the truth (central region of the fixed volume): " << Fixed(run.TruthRMS) << " mm\n";
+      out << "RMS difference to the truth (central region of the fixed volume): " << Fixed(run.TruthRMS, 3) << " mm\n";
   }
 }
 
