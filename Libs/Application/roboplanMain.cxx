@@ -34,9 +34,10 @@ void ReportFailures(const rp::ModuleManager& manager) {
   }
 }
 
-int ListModules(const rp::ModuleManager& manager, const std::vector<std::string>& args) {
+int ListModules(rp::ModuleManager& manager, vtkRPScene* scene, const std::vector<std::string>& args) {
   rp::ArgParser parser("modules", "List the loaded modules, their commands and any module that failed to load.");
   if (const auto exitCode = parser.ParseCommand(args, std::cout, std::cerr)) return *exitCode;
+  manager.LoadAll(scene);  // what loads and what fails, not what the manifests say (after --help and bad arguments)
   if (parser.Json()) {
     nlohmann::json doc;
     doc["modules"] = nlohmann::json::array();
@@ -119,10 +120,7 @@ int main(int argc, char* argv[]) {
     PrintUsage(manager);
     return 0;
   }
-  if (name == "modules") {
-    manager.LoadAll(scene);  // what loads and what fails, not what the manifests say
-    return ListModules(manager, rest);
-  }
+  if (name == "modules") return ListModules(manager, scene, rest);
   const rp::Command* command = manager.LoadCommand(name, scene);
   if (!command) {
     ReportFailures(manager);

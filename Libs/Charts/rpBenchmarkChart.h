@@ -31,6 +31,9 @@ struct ChartOptions {
   std::string Title, XLabel, YLabel;
   bool LogX = false, LogY = false;
   int Width = 900, Height = 600;
+  /// Bar charts: bars along X, one category a row down the left axis (the first at the top), for
+  /// many or long category names; YLabel then titles the values' axis, at the bottom.
+  bool HorizontalBars = false;
 };
 
 /// Draws the series into a PNG. Returns false and sets `error` on failure.
@@ -44,9 +47,9 @@ std::array<unsigned char, 3> SeriesColor(size_t index);
 bool WriteHistogramPNG(const std::string& path, const std::vector<double>& binCenters,
                        const std::vector<double>& counts, const ChartOptions& options, std::string& error);
 
-/// Grouped bars: one group per category (labelled on the X axis), one bar per series in each
-/// group (each series' Y holds one value per category; X is not used), e.g. requested against
-/// rendered stiffness per tissue.
+/// Grouped bars: one group per category (labelled on the X axis, or down the left one with
+/// ChartOptions::HorizontalBars), one bar per series in each group (each series' Y holds one value
+/// per category; X is not used), e.g. requested against rendered stiffness per tissue.
 bool WriteBarChartPNG(const std::string& path, const std::vector<std::string>& categories,
                       const std::vector<Series>& series, const ChartOptions& options, std::string& error);
 

@@ -18,6 +18,7 @@
 #include <vtkStringArray.h>
 #include <vtkPen.h>
 #include <vtkPlot.h>
+#include <vtkPlotBar.h>
 #include <vtkPlotPoints.h>
 #include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
@@ -155,10 +156,15 @@ bool DrawBars(const std::string& path, const std::vector<std::string>& categorie
       return false;
     }
   }
+  const bool horizontal = options.HorizontalBars;
   vtkNew<vtkContextView> view;
   vtkNew<vtkChartXY> chart;
   view->GetScene()->AddItem(chart);
   StyleChart(chart, options);
+  if (horizontal) {  // the values along the bottom, the categories down the left
+    chart->GetAxis(vtkAxis::BOTTOM)->SetTitle(options.YLabel);
+    chart->GetAxis(vtkAxis::LEFT)->SetTitle(options.XLabel);
+  }
   chart->SetBarWidthFraction(0.8f);  // vtkChartXY puts bar plots of the same X side by side
   vtkNew<vtkTable> table;
   vtkNew<vtkDoubleArray> x;
@@ -171,8 +177,11 @@ bool DrawBars(const std::string& path, const std::vector<std::string>& categorie
   }
   table->SetNumberOfRows(static_cast<vtkIdType>(categories.size()));
   double top = 0;
-  for (size_t i = 0; i < categories.size(); ++i) {
-    table->SetValue(static_cast<vtkIdType>(i), 0, static_cast<double>(i));
+  const size_t n = categories.size();
+  // A category's place on its axis: left to right, or top to bottom (the axis grows upwards).
+  auto place = [&](size_t i) { return static_cast<double>(horizontal ? n - 1 - i : i); };
+  for (size_t i = 0; i < n; ++i) {
+    table->SetValue(static_cast<vtkIdType>(i), 0, place(i));
     for (size_t j = 0; j < series.size(); ++j) {
       table->SetValue(static_cast<vtkIdType>(i), static_cast<vtkIdType>(j + 1), series[j].Y[i]);
       top = std::max(top, series[j].Y[i]);
@@ -180,27 +189,30 @@ bool DrawBars(const std::string& path, const std::vector<std::string>& categorie
   }
   for (size_t j = 0; j < series.size(); ++j) {
     vtkPlot* bars = chart->AddPlot(vtkChart::BAR);
+    if (horizontal) vtkPlotBar::SafeDownCast(bars)->SetOrientation(vtkPlotBar::HORIZONTAL);
     bars->SetInputData(table, 0, static_cast<vtkIdType>(j + 1));
     const auto c = SeriesColor(j);
     bars->SetColor(c[0], c[1], c[2], 255);
   }
   vtkNew<vtkDoubleArray> ticks;
   vtkNew<vtkStringArray> labels;
-  for (size_t i = 0; i < categories.size(); ++i) {
-    ticks->InsertNextValue(static_cast<double>(i));
+  for (size_t i = 0; i < n; ++i) {
+    ticks->InsertNextValue(place(i));
     labels->InsertNextValue(categories[i]);
   }
-  vtkAxis* bottom = chart->GetAxis(vtkAxis::BOTTOM);
-  bottom->SetCustomTickPositions(ticks, labels);
-  bottom->SetBehavior(vtkAxis::FIXED);
-  bottom->SetRange(-0.6, static_cast<double>(categories.size()) - 0.4);
-  vtkAxis* left = chart->GetAxis(vtkAxis::LEFT);
-  left->SetBehavior(vtkAxis::FIXED);
-  // The legend sits at the top right, over the plot: leave the tallest bar room below it (about
-  // 18 px a series plus its frame, of a plot area some 80 px shorter than the picture).
+  vtkAxis* categoryAxis = chart->GetAxis(horizontal ? vtkAxis::LEFT : vtkAxis::BOTTOM);
+  categoryAxis->SetCustomTickPositions(ticks, labels);
+  categoryAxis->SetBehavior(vtkAxis::FIXED);
+  vtkAxis* valueAxis = chart->GetAxis(horizontal ? vtkAxis::BOTTOM : vtkAxis::LEFT);
+  valueAxis->SetBehavior(vtkAxis::FIXED);
+  // The legend sits at the top right, over the plot (about 18 px a series plus its frame, of a plot
+  // area some 80 px shorter than the picture): vertical bars leave the tallest room below it,
+  // horizontal ones leave a free row band above the first category.
   const double legendShare = std::min(0.5, (18.0 * static_cast<double>(series.size()) + 24.0) /
                                                std::max(1.0, options.Height - 80.0));
-  left->SetRange(0, top > 0 ? 1.05 * top / (1.0 - legendShare) : 1.0);
+  const double span = static_cast<double>(n) + 0.2;
+  categoryAxis->SetRange(-0.6, static_cast<double>(n) - 0.4 + (horizontal ? span * legendShare / (1.0 - legendShare) : 0.0));
+  valueAxis->SetRange(0, top > 0 ? 1.05 * top / (horizontal ? 1.0 : 1.0 - legendShare) : 1.0);
   return Render(view, path, options, error);
 }
 

@@ -1,6 +1,6 @@
-// The entries of libRoboPlanDicom.so that RoboPlanImaging resolves on its first DICOM read or
-// write (names and types: rpDicomEntries.h): the loader's DICOM reads as nodes, and the volume
-// read and write of rpVolumeFiles.h.
+// The entries of libRoboPlanDicom.so that code without the DICOM library resolves on its first
+// DICOM read or write (names and types: rpDicomEntries.h): the loader's DICOM reads as nodes, the
+// volume read and write of rpVolumeFiles.h, a folder's scan, DICOM SEG / RTSTRUCT in and out.
 #include "rpDicomEntries.h"
 
 #include <filesystem>
@@ -10,6 +10,7 @@
 #include "rpDicomReferenceSeries.h"
 #include "rpDicomRtStruct.h"
 #include "rpDicomSegmentation.h"
+#include "rpDicomSeries.h"
 #include "rpDicomStudy.h"
 #include "rpDicomWriter.h"
 #include "vtkRPScalarVolumeNode.h"
@@ -107,9 +108,36 @@ RP_DICOM_ENTRY bool roboplan_dicom_write_series(const rp::ImageVolume& volume, c
   return rp::WriteDicomSeries(volume, folder, options, error, result, progress);
 }
 
+RP_DICOM_ENTRY bool roboplan_dicom_scan(const std::string& path, rp::DicomScanResult& result, std::string& error,
+                                        const rp::ProgressCallback& progress) {
+  return rp::ScanDicom(path, result, error, progress);
+}
+
+RP_DICOM_ENTRY bool roboplan_dicom_read_segmentation(const std::string& path, vtkRPSegmentationNode* node,
+                                                     std::string& error, const std::string& referencePath,
+                                                     std::vector<std::string>* warnings) {
+  return rp::ReadDicomSegmentation(path, node, error, referencePath, warnings);
+}
+
+RP_DICOM_ENTRY bool roboplan_dicom_read_rtstruct(const std::string& path, vtkRPSegmentationNode* node,
+                                                 std::string& error, const std::string& referencePath,
+                                                 std::vector<std::string>* warnings) {
+  return rp::ReadDicomRtStruct(path, node, error, referencePath, warnings);
+}
+
+RP_DICOM_ENTRY bool roboplan_dicom_write_segmentation(vtkRPSegmentationNode* node, const std::string& referencePath,
+                                                      const std::string& outputFile, std::string& error,
+                                                      const rp::DicomSegmentationWriteOptions& options) {
+  return rp::WriteDicomSegmentation(node, referencePath, outputFile, error, options);
+}
+
 // The entries' types are the header's (a compile error here when one side changes).
 static_assert(std::is_same_v<decltype(&roboplan_dicom_read_study), rp::dicom::ReadStudyFunction>);
 static_assert(std::is_same_v<decltype(&roboplan_dicom_object_kind), rp::dicom::ObjectKindFunction>);
 static_assert(std::is_same_v<decltype(&roboplan_dicom_read_object), rp::dicom::ReadObjectFunction>);
 static_assert(std::is_same_v<decltype(&roboplan_dicom_read_volume), rp::dicom::ReadVolumeFunction>);
 static_assert(std::is_same_v<decltype(&roboplan_dicom_write_series), rp::dicom::WriteSeriesFunction>);
+static_assert(std::is_same_v<decltype(&roboplan_dicom_scan), rp::dicom::ScanFunction>);
+static_assert(std::is_same_v<decltype(&roboplan_dicom_read_segmentation), rp::dicom::ReadSegmentationFunction>);
+static_assert(std::is_same_v<decltype(&roboplan_dicom_read_rtstruct), rp::dicom::ReadSegmentationFunction>);
+static_assert(std::is_same_v<decltype(&roboplan_dicom_write_segmentation), rp::dicom::WriteSegmentationFunction>);

@@ -1,11 +1,12 @@
 #pragma once
-// The entries of libRoboPlanDicom.so (rpDicomEntries.cxx) that RoboPlanImaging reaches when it
-// meets DICOM: the loader's DICOM and DICOM SEG / RTSTRUCT readers (rpDicomDataReader.cxx,
-// rpDicomSegmentationDataReader.cxx) and ReadVolume / WriteVolume (rpVolumeFiles.cxx). Their
-// names and types, in one place for both sides. RoboPlanImaging does not link the DICOM library
-// (DCMTK, CharLS: 9 libraries and about a tenth of the symbol bindings of a command's start-up);
-// it loads it on the first DICOM read or write. Code that calls the DICOM API itself (the Volumes
-// logic, the demo, the viewer, tests) links RoboPlanDicom.
+// The entries of libRoboPlanDicom.so (rpDicomEntries.cxx) that code which does not link the DICOM
+// library reaches when it meets DICOM: the loader's DICOM and DICOM SEG / RTSTRUCT readers
+// (rpDicomDataReader.cxx, rpDicomSegmentationDataReader.cxx), ReadVolume / WriteVolume
+// (rpVolumeFiles.cxx), and the Volumes logic, the demo and the viewer (a folder's scan, DICOM SEG /
+// RTSTRUCT conversion, a series written with its UIDs). Their names and types, in one place for
+// both sides. None of those links the DICOM library (DCMTK, CharLS: 10 libraries and about a tenth
+// of the symbol bindings of a command's start-up); it is loaded on the first DICOM read or write.
+// Tests and benchmarks that call the DICOM API itself link RoboPlanDicom.
 #include <string>
 #include <vector>
 
@@ -14,8 +15,12 @@
 
 #define RP_DICOM_ENTRY extern "C" __attribute__((visibility("default")))
 
+class vtkRPSegmentationNode;
+
 namespace rp {
 struct DicomReadOptions;
+struct DicomScanResult;
+struct DicomSegmentationWriteOptions;
 struct DicomWriteOptions;
 struct DicomWriteResult;
 struct LoadResult;
@@ -50,6 +55,25 @@ using WriteSeriesFunction = bool (*)(const ImageVolume& volume, const std::strin
                                      const DicomWriteOptions& options, std::string& error, DicomWriteResult* result,
                                      const ProgressCallback& progress);
 constexpr const char* WriteSeriesEntry = "roboplan_dicom_write_series";
+
+/// roboplan_dicom_scan: rp::ScanDicom (rpDicomSeries.h), what `roboplan dicom` and the viewer's
+/// DICOM browser list.
+using ScanFunction = bool (*)(const std::string& path, DicomScanResult& result, std::string& error,
+                              const ProgressCallback& progress);
+constexpr const char* ScanEntry = "roboplan_dicom_scan";
+
+/// roboplan_dicom_read_segmentation / roboplan_dicom_read_rtstruct: rp::ReadDicomSegmentation and
+/// rp::ReadDicomRtStruct from a path, on the grid of the series `referencePath` ("": their own).
+using ReadSegmentationFunction = bool (*)(const std::string& path, vtkRPSegmentationNode* node, std::string& error,
+                                          const std::string& referencePath, std::vector<std::string>* warnings);
+constexpr const char* ReadSegmentationEntry = "roboplan_dicom_read_segmentation";
+constexpr const char* ReadRtStructEntry = "roboplan_dicom_read_rtstruct";
+
+/// roboplan_dicom_write_segmentation: rp::WriteDicomSegmentation (rpDicomSegmentation.h).
+using WriteSegmentationFunction = bool (*)(vtkRPSegmentationNode* node, const std::string& referencePath,
+                                           const std::string& outputFile, std::string& error,
+                                           const DicomSegmentationWriteOptions& options);
+constexpr const char* WriteSegmentationEntry = "roboplan_dicom_write_segmentation";
 
 /// The entry `symbol` of libRoboPlanDicom.so beside RoboPlanImaging, loaded on first use
 /// (rpDicomDataReader.cxx). nullptr with `error` = "<path>: DICOM is not available: cannot load

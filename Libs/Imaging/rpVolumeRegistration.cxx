@@ -1,5 +1,9 @@
-// All ITK registration templates of RoboPlanImaging live in this file (they compile slowly).
-#include "rpVolumeRegistration.h"
+// libRoboPlanVolumeRegistration.so: the ITK side of rp::RegisterVolumesRigid (rpVolumeRegistration.h),
+// loaded by its forwarder in RoboPlanImaging (rpVolumeRegistrationLoader.cxx) on the first
+// registration. All ITK registration templates live in this file (they compile slowly).
+#include <type_traits>
+
+#include "rpVolumeRegistrationEntry.h"
 
 #include <algorithm>
 #include <chrono>
@@ -135,11 +139,9 @@ class LevelObserver : public itk::Command {
   }
 };
 
-}  // namespace
-
-bool RegisterVolumesRigid(const ImageVolume& fixed, const ImageVolume& moving, const RigidRegistrationOptions& options,
-                          RigidRegistrationResult& result, std::string& error, const ProgressCallback& progress,
-                          const std::atomic<bool>* cancel) {
+bool RegisterRigid(const ImageVolume& fixed, const ImageVolume& moving, const RigidRegistrationOptions& options,
+                   RigidRegistrationResult& result, std::string& error, const ProgressCallback& progress,
+                   const std::atomic<bool>* cancel) {
   const auto start = std::chrono::steady_clock::now();
   if (fixed.Empty() || moving.Empty()) {
     error = "registration: the fixed or the moving volume is empty";
@@ -282,18 +284,16 @@ bool RegisterVolumesRigid(const ImageVolume& fixed, const ImageVolume& moving, c
   return false;
 }
 
-double TransformRMSDifference(const vtkMatrix4x4* a, const vtkMatrix4x4* b,
-                              const std::vector<std::array<double, 3>>& points) {
-  if (points.empty()) return 0.0;
-  double sum = 0.0;
-  for (const auto& p : points) {
-    const double in[4] = {p[0], p[1], p[2], 1.0};
-    double pa[4], pb[4];
-    const_cast<vtkMatrix4x4*>(a)->MultiplyPoint(in, pa);
-    const_cast<vtkMatrix4x4*>(b)->MultiplyPoint(in, pb);
-    sum += (pa[0] - pb[0]) * (pa[0] - pb[0]) + (pa[1] - pb[1]) * (pa[1] - pb[1]) + (pa[2] - pb[2]) * (pa[2] - pb[2]);
-  }
-  return std::sqrt(sum / points.size());
+}  // namespace
+}  // namespace rp
+
+RP_REGISTRATION_ENTRY bool roboplan_register_volumes_rigid(const rp::ImageVolume& fixed, const rp::ImageVolume& moving,
+                                                           const rp::RigidRegistrationOptions& options,
+                                                           rp::RigidRegistrationResult& result, std::string& error,
+                                                           const rp::ProgressCallback& progress,
+                                                           const std::atomic<bool>* cancel) {
+  return rp::RegisterRigid(fixed, moving, options, result, error, progress, cancel);
 }
 
-}  // namespace rp
+// The entry's type is the C++ function's (a compile error here when one side changes).
+static_assert(std::is_same_v<decltype(&roboplan_register_volumes_rigid), rp::registration::RigidFunction>);

@@ -8,6 +8,9 @@
 // moving volume's RAS (ITK's "from parent" resampling transform, what a .tfm file holds, in
 // RAS), MovingToFixed is its inverse = the "to parent" matrix of a transform node that puts
 // the moving volume onto the fixed one (e.g. "MRToCT").
+//
+// Declared here, in RoboPlanImaging; the ITK work is libRoboPlanVolumeRegistration.so beside it,
+// loaded on the first registration (rpVolumeRegistrationEntry.h): a caller links RoboPlanImaging only.
 #include <array>
 #include <atomic>
 #include <string>
@@ -50,8 +53,9 @@ struct RigidRegistrationResult {
 };
 
 /// Registers `moving` to `fixed`. Returns false with `error` on bad input, cancel or an ITK
-/// exception; returns true with `Converged == false` (and the reason) when the optimizer ran
-/// out of iterations at the finest level: callers must not silently accept that result.
+/// exception, or when the registration library cannot be loaded (`error` names the file and why);
+/// returns true with `Converged == false` (and the reason) when the optimizer ran out of
+/// iterations at the finest level: callers must not silently accept that result.
 bool RegisterVolumesRigid(const ImageVolume& fixed, const ImageVolume& moving, const RigidRegistrationOptions& options,
                           RigidRegistrationResult& result, std::string& error,
                           const ProgressCallback& progress = nullptr, const std::atomic<bool>* cancel = nullptr);

@@ -52,6 +52,7 @@
 #include "vtkRPViewState.h"
 
 #ifdef ROBOPLAN_VIEWER_HAVE_DICOM
+#include "rpDicomEntries.h"
 #include "rpDicomSeries.h"
 #endif
 
@@ -534,7 +535,9 @@ std::vector<std::pair<QString, QString>> qRPViewerMainWindow::DicomFolderChoices
   const BackgroundReadResult scanned = RunBackgroundRead(
       this, "Scanning " + QFileInfo(folder).fileName(),
       [scan, folderPath](BackgroundReadResult& result, const ProgressCallback& progress) {
-        return ScanDicom(folderPath, *scan, result.Error, progress);
+        // DCMTK loads on this first scan (rpDicomEntries.h), not with the window.
+        const auto scanDicom = dicom::Entry<dicom::ScanFunction>(dicom::ScanEntry, folderPath, result.Error);
+        return scanDicom && scanDicom(folderPath, *scan, result.Error, progress);
       });
   if (!scanned.Ok || (scan->Series.empty() && scan->Segmentations.empty())) {
     if (error)

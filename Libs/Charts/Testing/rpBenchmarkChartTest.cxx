@@ -8,8 +8,36 @@
 #include <vtkImageData.h>
 #include <vtkNew.h>
 #include <vtkPNGReader.h>
+#include <vtkSmartPointer.h>
 
 #include "rpBenchmarkChart.h"
+
+namespace {
+vtkSmartPointer<vtkImageData> ReadPNG(const std::string& path) {
+  vtkNew<vtkPNGReader> reader;
+  reader->SetFileName(path.c_str());
+  reader->Update();
+  return reader->GetOutput();
+}
+
+// The longest run of the first series' blue along X (rows y in [from, to)) or along Y (columns x
+// in [from, to)) of a chart read back (the PNG's y grows upwards).
+int LongestBlueRun(vtkImageData* image, bool alongX, int from, int to) {
+  int dims[3];
+  image->GetDimensions(dims);
+  const int length = alongX ? dims[0] : dims[1];
+  int longest = 0;
+  for (int line = from; line < to; ++line) {
+    int run = 0;
+    for (int i = 0; i < length; ++i) {
+      auto* p = static_cast<unsigned char*>(image->GetScalarPointer(alongX ? i : line, alongX ? line : i, 0));
+      run = (p[0] < 60 && p[1] > 100 && p[1] < 140 && p[2] > 160) ? run + 1 : 0;
+      longest = std::max(longest, run);
+    }
+  }
+  return longest;
+}
+}  // namespace
 
 TEST(BenchmarkChart, WritesAPNGWithTheSeriesColours) {
   std::filesystem::create_directories(ROBOPLAN_TEST_OUTPUT_DIR);
@@ -72,27 +100,35 @@ TEST(BenchmarkChart, TheLegendLeavesTheTallestBarWhole) {
                                         {"fourth", {}, {0.1, 0.1, 0.1, 0.1}}};
   rp::bench::ChartOptions options{"Legend over the bars", "", "value"};
   ASSERT_TRUE(rp::bench::WriteBarChartPNG(path, {"a", "b", "c", "d"}, series, options, error)) << error;
-  vtkNew<vtkPNGReader> reader;
-  reader->SetFileName(path.c_str());
-  reader->Update();
-  vtkImageData* image = reader->GetOutput();
+  const vtkSmartPointer<vtkImageData> image = ReadPNG(path);
   int dims[3];
   image->GetDimensions(dims);
   // The longest vertical run of the first series' blue in each half of the picture: the 0.5 bar
   // on the left, the 1.0 bar (under the legend) on the right.
-  auto longestBlueRun = [&](int x0, int x1) {
-    int longest = 0;
-    for (int x = x0; x < x1; ++x) {
-      int run = 0;
-      for (int y = 0; y < dims[1]; ++y) {
-        auto* p = static_cast<unsigned char*>(image->GetScalarPointer(x, y, 0));
-        run = (p[0] < 60 && p[1] > 100 && p[1] < 140 && p[2] > 160) ? run + 1 : 0;
-        longest = std::max(longest, run);
-      }
-    }
-    return longest;
-  };
-  const int half = longestBlueRun(0, dims[0] / 2), whole = longestBlueRun(dims[0] / 2, dims[0]);
+  const int half = LongestBlueRun(image, false, 0, dims[0] / 2), whole = LongestBlueRun(image, false, dims[0] / 2, dims[0]);
   ASSERT_GT(half, 100);
   EXPECT_NEAR(whole, 2 * half, 4) << "the 1.0 bar shows " << whole << " px against " << half << " px for 0.5";
+}
+
+// Horizontal bars (ChartOptions::HorizontalBars, for many or long category names): the first
+// category is the top row, a bar's length is its value, and the legend (top right) hides none of
+// the first bar, the longest.
+TEST(BenchmarkChart, HorizontalBarsListTheFirstCategoryOnTopAndRunAlongX) {
+  std::filesystem::create_directories(ROBOPLAN_TEST_OUTPUT_DIR);
+  const std::string path = std::string(ROBOPLAN_TEST_OUTPUT_DIR) + "/bars-horizontal.png";
+  std::string error;
+  std::vector<rp::bench::Series> series{{"first, blue", {}, {1.0, 0.1, 0.1, 0.5}},
+                                        {"second, with a name as long as benchmarks give theirs", {}, {0.1, 0.1, 0.1, 0.1}}};
+  rp::bench::ChartOptions options{"Horizontal bars", "", "value"};
+  options.HorizontalBars = true;
+  ASSERT_TRUE(rp::bench::WriteBarChartPNG(path, {"register-volumes", "phantom-registration", "b", "c"}, series, options,
+                                          error))
+      << error;
+  const vtkSmartPointer<vtkImageData> image = ReadPNG(path);
+  int dims[3];
+  image->GetDimensions(dims);
+  const int bottom = LongestBlueRun(image, true, 0, dims[1] / 2), top = LongestBlueRun(image, true, dims[1] / 2, dims[1]);
+  ASSERT_GT(bottom, 100);
+  EXPECT_NEAR(top, 2 * bottom, 4) << "the first category's 1.0 bar (top) shows " << top << " px against " << bottom
+                                  << " px for the last one's 0.5 (bottom)";
 }

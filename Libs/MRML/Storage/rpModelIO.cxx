@@ -9,16 +9,12 @@
 #include <vtkTypeInt64Array.h>
 #include <vtkFieldData.h>
 #include <vtkNew.h>
-#include <vtkOBJReader.h>
-#include <vtkOBJWriter.h>
 #include <vtkPLYReader.h>
 #include <vtkPLYWriter.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkPolyDataReader.h>
 #include <vtkPolyDataWriter.h>
-#include <vtkSTLReader.h>
-#include <vtkSTLWriter.h>
 #include <vtkSmartPointer.h>
 #include <vtkStringArray.h>
 #include <vtkTransform.h>
@@ -32,7 +28,9 @@
 #include "rpAtomicFile.h"
 #include "rpLPSRAS.h"
 #include "rpNodeStorage.h"
+#include "rpSiblingLibrary.h"
 #include "rpStorageFormats.h"
+#include "rpVtkGeometryIOEntries.h"
 #include "vtkRPDeflateDataCompressor.h"
 #include "vtkRPModelNode.h"
 
@@ -73,6 +71,19 @@ std::string ReadFirstBytes(const std::string& path, size_t count) {
   head.resize(static_cast<size_t>(in.gcount()));
   return head;
 }
+
+// STL and OBJ are VTK's IOGeometry's, in a library of its own loaded on the first such file
+// (rpVtkGeometryIOEntries.h). nullptr with `error` naming the file that did not load.
+template <typename Function>
+Function GeometryIO(const char* symbol, const std::string& path, std::string& error) {
+  std::string why;
+  const auto function = SiblingLibraryFunction<Function>(reinterpret_cast<const void*>(&ReadFirstBytes),
+                                                         geometryio::Library, symbol, why);
+  if (!function) error = "'" + path + "': STL and OBJ are not available: " + why;
+  return function;
+}
+
+bool IsVtkGeometryFile(const std::string& path) { return HasExtension(path, ".stl") || HasExtension(path, ".obj"); }
 
 }  // namespace
 
@@ -121,28 +132,17 @@ bool ReadModelFile(const std::string& path, vtkPolyData* output, std::string& er
     reader->Update();
     mesh = reader->GetOutput();
     if (reader->GetHeader()) space = SpaceFromText(reader->GetHeader());
-  } else if (HasExtension(path, ".stl")) {
-    vtkNew<vtkSTLReader> reader;
-    reader->SetFileName(path.c_str());
-    reader->Update();
-    if (reader->GetErrorCode() != 0) {
-      error = "'" + path + "' is not a readable STL file";
-      return false;
-    }
-    mesh = reader->GetOutput();
-    space = SpaceFromText(ReadFirstBytes(path, 80));
+  } else if (IsVtkGeometryFile(path)) {
+    const auto read = GeometryIO<geometryio::ReadFunction>(geometryio::ReadEntry, path, error);
+    mesh = vtkSmartPointer<vtkPolyData>::New();
+    if (!read || !read(path, mesh, error)) return false;
+    space = SpaceFromText(ReadFirstBytes(path, HasExtension(path, ".stl") ? 80 : 1024));
   } else if (HasExtension(path, ".ply")) {
     vtkNew<vtkPLYReader> reader;
     if (!reader->CanReadFile(path.c_str())) {
       error = "'" + path + "' is not a PLY file";
       return false;
     }
-    reader->SetFileName(path.c_str());
-    reader->Update();
-    mesh = reader->GetOutput();
-    space = SpaceFromText(ReadFirstBytes(path, 1024));
-  } else if (HasExtension(path, ".obj")) {
-    vtkNew<vtkOBJReader> reader;
     reader->SetFileName(path.c_str());
     reader->Update();
     mesh = reader->GetOutput();
@@ -197,6 +197,10 @@ bool WriteModelFile(const std::string& path, vtkPolyData* polyData, std::string&
   }
   vtkSmartPointer<vtkPolyData> lps = FlipLPSRAS(polyData);
   const std::string header = "RoboPlan output. SPACE=LPS";
+  const auto writeGeometry = IsVtkGeometryFile(path)
+                                 ? GeometryIO<geometryio::WriteFunction>(geometryio::WriteEntry, path, error)
+                                 : nullptr;
+  if (IsVtkGeometryFile(path) && !writeGeometry) return false;
   auto writeTo = [&](const std::string& target, std::string& err) -> bool {
     int ok = 0;
     if (HasExtension(path, ".vtp")) {
@@ -225,37 +229,17 @@ bool WriteModelFile(const std::string& path, vtkPolyData* polyData, std::string&
       writer->SetFileTypeToBinary();
       writer->SetHeader(header.c_str());
       ok = writer->Write();
-    } else if (HasExtension(path, ".stl") || HasExtension(path, ".ply")) {
+    } else if (HasExtension(path, ".ply")) {
       vtkNew<vtkTriangleFilter> triangles;
       triangles->SetInputData(lps);
-      if (HasExtension(path, ".stl")) {
-        vtkNew<vtkSTLWriter> writer;
-        writer->SetInputConnection(triangles->GetOutputPort());
-        writer->SetFileName(target.c_str());
-        writer->SetFileTypeToBinary();
-        writer->SetHeader(header.c_str());
-        ok = writer->Write();
-      } else {
-        vtkNew<vtkPLYWriter> writer;
-        writer->SetInputConnection(triangles->GetOutputPort());
-        writer->SetFileName(target.c_str());
-        writer->SetFileTypeToBinary();
-        writer->AddComment("SPACE=LPS");
-        ok = writer->Write();
-      }
-    } else if (HasExtension(path, ".obj")) {
-      vtkNew<vtkOBJWriter> writer;
-      writer->SetInputData(lps);
+      vtkNew<vtkPLYWriter> writer;
+      writer->SetInputConnection(triangles->GetOutputPort());
       writer->SetFileName(target.c_str());
+      writer->SetFileTypeToBinary();
+      writer->AddComment("SPACE=LPS");
       ok = writer->Write();
-      if (ok) {
-        // vtkOBJWriter has no comment option: prepend the coordinate system line.
-        std::string contents, readError;
-        if (!ReadFile(target, contents, readError)) return false;
-        std::ofstream out(target, std::ios::binary | std::ios::trunc);
-        out << "# " << header << "\n" << contents;
-        ok = out.good();
-      }
+    } else if (writeGeometry) {
+      return writeGeometry(path, target, lps, header, err);
     } else {
       err = "unknown model extension (use " + ModelFileExtensionsText() + ")";
       return false;

@@ -1,16 +1,17 @@
-#include "rpMrmlBundle.h"
-
+// libRoboPlanMrmlBundle.so: the zip side of .mrb bundles through libarchive (rpMrmlBundle.h), loaded
+// by the forwarders in RoboPlanMRMLStorage (rpMrmlBundleLoader.cxx) on the first bundle read or
+// written: libarchive brings libxml2, ICU, nettle and five compressors, about 8 libraries.
 #include <algorithm>
-#include <cstdlib>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
-#include <unistd.h>
+#include <type_traits>
 
 #include <archive.h>
 #include <archive_entry.h>
 
 #include "rpMemoryBudget.h"
+#include "rpMrmlBundleEntries.h"
 
 namespace fs = std::filesystem;
 
@@ -118,10 +119,8 @@ bool CopyEntryData(archive* a, const fs::path& target, uint64_t& written, uint64
   return static_cast<bool>(out);
 }
 
-}  // namespace
-
-bool UnpackBundle(const std::string& zipPath, const std::string& folder, uint64_t maxBytes,
-                  std::vector<std::string>& entries, std::string& error) {
+bool Unpack(const std::string& zipPath, const std::string& folder, uint64_t maxBytes, std::vector<std::string>& entries,
+            std::string& error) {
   entries.clear();
   if (!CheckEntries(zipPath, maxBytes, error)) return false;
   ReadArchive reader;
@@ -152,22 +151,7 @@ bool UnpackBundle(const std::string& zipPath, const std::string& folder, uint64_
   return true;
 }
 
-std::string FindMainScene(const std::vector<std::string>& entries) {
-  std::string best;
-  long bestDepth = 0;
-  for (const std::string& name : entries) {
-    if (name.size() < 5 || name.substr(name.size() - 5) != ".mrml") continue;
-    const long depth = std::count(name.begin(), name.end(), '/');
-    if (best.empty() || depth < bestDepth || (depth == bestDepth && name < best)) {
-      best = name;
-      bestDepth = depth;
-    }
-  }
-  return best;
-}
-
-bool PackBundle(const std::string& folder, const std::string& rootName, const std::string& zipPath,
-                std::string& error) {
+bool Pack(const std::string& folder, const std::string& rootName, const std::string& zipPath, std::string& error) {
   std::vector<fs::path> files;
   std::error_code ec;
   for (auto it = fs::recursive_directory_iterator(folder, ec); !ec && it != fs::recursive_directory_iterator(); ++it)
@@ -200,15 +184,19 @@ bool PackBundle(const std::string& folder, const std::string& rootName, const st
   return ok;
 }
 
-TemporaryFolder::TemporaryFolder(const std::string& prefix, const std::string& parent) {
-  std::error_code ec;
-  std::string pattern = ((parent.empty() ? fs::temp_directory_path(ec) : fs::path(parent)) / (prefix + "-XXXXXX")).string();
-  if (mkdtemp(pattern.data())) this->Folder = pattern;
-}
-
-TemporaryFolder::~TemporaryFolder() {
-  std::error_code ec;
-  if (!this->Folder.empty()) fs::remove_all(this->Folder, ec);
-}
-
+}  // namespace
 }  // namespace rp
+
+RP_BUNDLE_ENTRY bool roboplan_unpack_bundle(const std::string& zipPath, const std::string& folder, uint64_t maxBytes,
+                                            std::vector<std::string>& entries, std::string& error) {
+  return rp::Unpack(zipPath, folder, maxBytes, entries, error);
+}
+
+RP_BUNDLE_ENTRY bool roboplan_pack_bundle(const std::string& folder, const std::string& rootName,
+                                          const std::string& zipPath, std::string& error) {
+  return rp::Pack(folder, rootName, zipPath, error);
+}
+
+// The entries' types are the C++ functions' (a compile error here when one side changes).
+static_assert(std::is_same_v<decltype(&roboplan_unpack_bundle), rp::bundle::UnpackFunction>);
+static_assert(std::is_same_v<decltype(&roboplan_pack_bundle), rp::bundle::PackFunction>);

@@ -10,8 +10,6 @@
 #include <sstream>
 #include <vector>
 
-#include <itkMetaDataObject.h>
-#include <itkNrrdImageIO.h>
 #include <vtkDataArray.h>
 #include <vtkImageData.h>
 #include <vtkMatrix4x4.h>
@@ -20,6 +18,7 @@
 #include <vtkSmartPointer.h>
 
 #include "rpDataLoader.h"
+#include "rpItkImageIOEntries.h"
 #include "rpLPSRAS.h"
 #include "rpMemoryBudget.h"
 #include "rpNodeStorage.h"
@@ -78,86 +77,6 @@ void ComputeExtents(const T* voxels, const int dims[3], std::map<long, std::arra
       }
     }
   }
-}
-
-// Reads a 4-D multi-layer file (ITK sees the "list" axis as pixel components) into one labelmap
-// per layer.
-bool ReadLayers(const std::string& path, std::vector<vtkSmartPointer<vtkImageData>>& layers, vtkMatrix4x4* ijkToRAS,
-                std::map<std::string, std::string>& metadata, std::string& error) {
-  try {
-    auto io = itk::NrrdImageIO::New();
-    if (!io->CanReadFile(path.c_str())) {
-      error = "'" + path + "': cannot be read as NRRD";
-      return false;
-    }
-    io->SetFileName(path);
-    io->ReadImageInformation();
-    const unsigned int dimension = io->GetNumberOfDimensions();
-    const unsigned int components = io->GetNumberOfComponents();
-    if (dimension != 3 || components < 1) {
-      error = "'" + path + "': a segmentation must be a 3-D labelmap or a 4-D list of labelmaps";
-      return false;
-    }
-    int vtkType = -1;
-    switch (io->GetComponentType()) {
-      case itk::IOComponentEnum::UCHAR: vtkType = VTK_UNSIGNED_CHAR; break;
-      case itk::IOComponentEnum::CHAR: vtkType = VTK_SIGNED_CHAR; break;
-      case itk::IOComponentEnum::USHORT: vtkType = VTK_UNSIGNED_SHORT; break;
-      case itk::IOComponentEnum::SHORT: vtkType = VTK_SHORT; break;
-      case itk::IOComponentEnum::UINT: vtkType = VTK_UNSIGNED_INT; break;
-      case itk::IOComponentEnum::INT: vtkType = VTK_INT; break;
-      default:
-        error = "'" + path + "': labelmap voxels must be 8-, 16- or 32-bit integers, not " +
-                io->GetComponentTypeAsString(io->GetComponentType());
-        return false;
-    }
-    int dims[3];
-    vtkNew<vtkMatrix4x4> ijkToLPS;
-    for (unsigned int axis = 0; axis < 3; ++axis) {
-      dims[axis] = static_cast<int>(io->GetDimensions(axis));
-      const std::vector<double> direction = io->GetDirection(axis);
-      for (unsigned int row = 0; row < 3; ++row) {
-        ijkToLPS->SetElement(static_cast<int>(row), static_cast<int>(axis),
-                             direction.at(row) * io->GetSpacing(axis));
-      }
-      ijkToLPS->SetElement(static_cast<int>(axis), 3, io->GetOrigin(axis));
-    }
-    // The interleaved file and its layers are both held while splitting: refuse what cannot fit
-    // from the header alone, rather than as std::bad_alloc inside VTK.
-    const int64_t size[3] = {int64_t(io->GetDimensions(0)), int64_t(io->GetDimensions(1)), int64_t(io->GetDimensions(2))};
-    if (!CheckImageFitsInMemory(size, double(io->GetComponentSize()) * components, "'" + path + "'", error, 2.0))
-      return false;
-    vtkNew<vtkImageData> interleaved;
-    interleaved->SetDimensions(dims);
-    interleaved->AllocateScalars(vtkType, static_cast<int>(components));
-    itk::ImageIORegion region(3);
-    for (unsigned int axis = 0; axis < 3; ++axis) {
-      region.SetIndex(axis, 0);
-      region.SetSize(axis, static_cast<itk::SizeValueType>(dims[axis]));
-    }
-    io->SetIORegion(region);
-    io->Read(interleaved->GetScalarPointer());
-    layers.clear();
-    const vtkIdType count = interleaved->GetNumberOfPoints();
-    vtkDataArray* source = interleaved->GetPointData()->GetScalars();
-    for (unsigned int c = 0; c < components; ++c) {
-      auto layer = vtkSmartPointer<vtkImageData>::New();
-      layer->SetDimensions(dims);
-      layer->AllocateScalars(vtkType, 1);
-      vtkDataArray* target = layer->GetPointData()->GetScalars();
-      for (vtkIdType n = 0; n < count; ++n) target->SetComponent(n, 0, source->GetComponent(n, static_cast<int>(c)));
-      layers.push_back(layer);
-    }
-    metadata = StringMetadata(io->GetMetaDataDictionary());
-    FlipLPSRASIndexToSpace(ijkToLPS->GetData());
-    ijkToRAS->DeepCopy(ijkToLPS);
-    return true;
-  } catch (const itk::ExceptionObject& e) {
-    error = "'" + path + "': " + e.GetDescription();
-  } catch (const std::exception& e) {
-    error = "'" + path + "': " + e.what();
-  }
-  return false;
 }
 
 // The extent written for every segment: all segments are in layer 0, and every segment of a layer
@@ -255,7 +174,8 @@ bool ReadSegmentationFile(const std::string& path, vtkRPSegmentationNode* node, 
     metadata = data.Metadata;
   } else if (volumeError.find("components per voxel") != std::string::npos ||
              volumeError.find("4-D") != std::string::npos) {
-    if (!ReadLayers(path, layers, ijkToRAS, metadata, error)) return false;
+    const auto readLayers = itkimageio::Entry<itkimageio::ReadLayersFunction>(itkimageio::ReadLayersEntry, path, error);
+    if (!readLayers || !readLayers(path, layers, ijkToRAS, metadata, error)) return false;
   } else {
     error = volumeError;
     return false;

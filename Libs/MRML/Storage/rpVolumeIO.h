@@ -1,15 +1,14 @@
 #pragma once
-// Volume files through ITK's ImageIO (NRRD .nrrd/.nhdr, NIfTI .nii/.nii.gz, MetaImage .mha/.mhd).
-// Files are LPS; the node is RAS: the conversion happens here, once.
+// Volume files through ITK's ImageIO (NRRD .nrrd/.nhdr, NIfTI .nii/.nii.gz, MetaImage .mha/.mhd),
+// which lives in libRoboPlanItkImageIO.so beside this library, loaded on the first volume file read
+// or written (rpItkImageIOEntries.h; without it the error names the file). Files are LPS; the node
+// is RAS: the conversion happens there, once.
 #include <map>
 #include <string>
 
 class vtkImageData;
 class vtkMatrix4x4;
 class vtkRPImageNode;
-namespace itk {
-class MetaDataDictionary;
-}
 
 namespace rp {
 
@@ -19,10 +18,6 @@ struct VolumeFileData {
   vtkMatrix4x4* IJKToRAS = nullptr;  // caller-owned output
   std::map<std::string, std::string> Metadata;
 };
-
-/// The string entries of an ITK image IO's dictionary (NRRD `key:=value`), as files carry them
-/// (VolumeFileData::Metadata; the segmentation reader's layers).
-std::map<std::string, std::string> StringMetadata(const itk::MetaDataDictionary& dictionary);
 
 /// Reads a 3D scalar volume (2D images load as one slice). Multi-component images are refused.
 bool ReadVolumeFile(const std::string& path, VolumeFileData& data, std::string& error);

@@ -1,6 +1,6 @@
-// Whether the demo can draw, and its pictures that render the scene: drawn by
+// Whether the demo can draw, and its pictures (the scene rendered, an image slice): drawn by
 // libRoboPlanDemoPictures.so (Pictures/, rpDemoPictures.h), loaded on the first one, so that the
-// demo's logic maps no Qt and no VTK rendering until it draws.
+// demo's logic maps no Qt, no VTK rendering and no image codecs until it draws.
 #include <filesystem>
 
 #include "rpBenchmarkChart.h"
@@ -52,7 +52,7 @@ bool CanDrawPicturesOrWarn(DemoState& state, const std::string& stage, const std
 bool DemoScreenshot(DemoState& state, const double slicePointRAS[3], const std::string& followNodeID,
                     const std::string& file, std::string& error) {
   if (!CanDrawPictures(state, error)) return false;
-  const auto draw = PicturesEntry<demo_pictures::FourUpFunction>("roboplan_demo_four_up", file, error);
+  const auto draw = PicturesEntry<demo_pictures::FourUpFunction>(demo_pictures::FourUpEntry, file, error);
   if (!draw) return false;
   demo_pictures::FourUp picture;
   picture.Scene = state.Scene;
@@ -68,7 +68,7 @@ bool DemoScreenshot(DemoState& state, const double slicePointRAS[3], const std::
 bool DemoBoneViews(DemoState& state, const std::vector<std::string>& modelIDs, const std::string& file,
                    std::string& error) {
   if (!CanDrawPictures(state, error)) return false;
-  const auto draw = PicturesEntry<demo_pictures::BoneViewsFunction>("roboplan_demo_bone_views", file, error);
+  const auto draw = PicturesEntry<demo_pictures::BoneViewsFunction>(demo_pictures::BoneViewsEntry, file, error);
   if (!draw) return false;
   demo_pictures::BoneViews picture;
   picture.Scene = state.Scene;
@@ -76,6 +76,17 @@ bool DemoBoneViews(DemoState& state, const std::vector<std::string>& modelIDs, c
   picture.Lateral = state.KneeLateral;
   picture.Anterior = state.KneeAnterior;
   picture.AxesKnown = state.KneeAxesKnown;
+  return draw(picture, (fs::path(state.Output) / file).string(), error);
+}
+
+bool DemoSlicePicture(DemoState& state, vtkImageData* slice, double window, double level, const std::string& file,
+                      std::string& error) {
+  const auto draw = PicturesEntry<demo_pictures::SliceFunction>(demo_pictures::SliceEntry, file, error);
+  if (!draw) return false;
+  demo_pictures::Slice picture;
+  picture.Image = slice;
+  picture.Window = window;
+  picture.Level = level;
   return draw(picture, (fs::path(state.Output) / file).string(), error);
 }
 

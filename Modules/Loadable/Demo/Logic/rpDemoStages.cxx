@@ -14,6 +14,7 @@
 #include <vtkMatrix4x4.h>
 #include <vtkNew.h>
 
+#include "rpDicomEntries.h"
 #include "rpDicomSeries.h"
 #include "rpDicomWriter.h"
 #include "rpImageVolume.h"
@@ -145,19 +146,22 @@ void DicomRoundTrip(DemoState& state) {
   DicomWriteResult written;
   const std::string ctFolder = (fs::path(state.Output) / "dicom" / "CT").string();
   const std::string mrFolder = (fs::path(state.Output) / "dicom" / "MR").string();
-  if (!WriteDicomSeries(state.Phantom->CT, ctFolder, options, error, &written, StageProgress(state))) {
+  // The writer with its result (the study's UID), loaded here with DCMTK (rpDicomEntries.h).
+  const auto writeSeries = dicom::Entry<dicom::WriteSeriesFunction>(dicom::WriteSeriesEntry, ctFolder, error);
+  if (!writeSeries) throw std::runtime_error("writing the CT series: " + error);
+  if (!writeSeries(state.Phantom->CT, ctFolder, options, error, &written, StageProgress(state))) {
     throw std::runtime_error("writing the CT series: " + error);
   }
   options.Modality = "MR";
   options.SeriesDescription = "RoboPlan knee phantom PD MR";
   options.SeriesNumber = 2;
   options.StudyInstanceUID = written.StudyInstanceUID;  // one study, two series
-  if (!WriteDicomSeries(state.Phantom->MR, mrFolder, options, error, nullptr, StageProgress(state))) {
+  if (!writeSeries(state.Phantom->MR, mrFolder, options, error, nullptr, StageProgress(state))) {
     throw std::runtime_error("writing the MR series: " + error);
   }
   ImageVolume ct, mr;
-  if (!ReadDicomVolume(ctFolder, ct, error)) throw std::runtime_error("reading the CT series back: " + error);
-  if (!ReadDicomVolume(mrFolder, mr, error)) throw std::runtime_error("reading the MR series back: " + error);
+  if (!ReadVolume(ctFolder, ct, error)) throw std::runtime_error("reading the CT series back: " + error);
+  if (!ReadVolume(mrFolder, mr, error)) throw std::runtime_error("reading the MR series back: " + error);
   const double ctVoxels = MaxVoxelDifference(ct.Image, state.Phantom->CT.Image);
   const double mrVoxels = MaxVoxelDifference(mr.Image, state.Phantom->MR.Image);
   state.Report->AddFigureBelow(stage, "CT voxels changed by the DICOM round trip (max |Δ|)", ctVoxels, "HU", 0.5);

@@ -17,6 +17,7 @@
 class vtkRPScene;
 class vtkRPScalarVolumeNode;
 class vtkRPSegmentationNode;
+class vtkImageData;
 class vtkMatrix4x4;
 
 namespace rp {
@@ -78,6 +79,10 @@ bool DemoScreenshot(DemoState& state, const double slicePointRAS[3], const std::
 /// on the bones, into the output folder. False with `error` when it cannot be drawn here.
 bool DemoBoneViews(DemoState& state, const std::vector<std::string>& modelIDs, const std::string& file,
                    std::string& error);
+/// An image slice (a CT re-sliced, one component) windowed to grey levels into the PNG `file` of the
+/// output folder; needs no display. False with `error` when it cannot be written.
+bool DemoSlicePicture(DemoState& state, vtkImageData* slice, double window, double level, const std::string& file,
+                      std::string& error);
 
 /// The stages in order.
 std::vector<DemoStage> DemoStages();

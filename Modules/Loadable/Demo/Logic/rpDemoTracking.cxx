@@ -21,8 +21,6 @@
 #include <vtkImageData.h>
 #include <vtkMatrix4x4.h>
 #include <vtkNew.h>
-#include <vtkPNGWriter.h>
-#include <vtkImageMapToWindowLevelColors.h>
 #include <vtkPolyData.h>
 
 #include "rpBenchmarkChart.h"
@@ -169,18 +167,6 @@ std::vector<std::pair<std::string, Eigen::Vector3d>> PickBoneLandmarks(DemoState
           {"tibial tuberosity", extreme({0, 1, 0}, 0.2, 0.4)},
           {"anterior femur", extreme({0, 1, 0.3}, 0.75, 0.85)},
           {"posterior tibia", extreme({0, -1, 0}, 0.15, 0.35)}};
-}
-
-void WriteSlicePNG(vtkImageData* slice, double window, double level, const std::string& path) {
-  vtkNew<vtkImageMapToWindowLevelColors> map;
-  map->SetInputData(slice);
-  map->SetWindow(window);
-  map->SetLevel(level);
-  map->SetOutputFormatToLuminance();
-  vtkNew<vtkPNGWriter> writer;
-  writer->SetInputConnection(map->GetOutputPort());
-  writer->SetFileName(path.c_str());
-  writer->Write();
 }
 
 }  // namespace
@@ -383,10 +369,13 @@ void Navigate(DemoState& state) {
         }
         auto slice = ResliceVolume(state.CT, sliceToRAS, options);
         const std::string file = "navigation-" + std::to_string(pictures) + "-" + names[o] + ".png";
-        WriteSlicePNG(slice, state.CT->GetWindow(), state.CT->GetLevel(), (fs::path(state.Output) / file).string());
+        std::string why;
+        const bool drawn = DemoSlicePicture(state, slice, state.CT->GetWindow(), state.CT->GetLevel(), file, why);
         if (pictures == 0) {
-          state.Report->AddPicture(stage, file, std::string("CT re-sliced at the tracked tip: ") + names[o] +
-                                                    (o == 3 ? " (the plane of the stylus shaft)" : "") + ", 120 mm field of view.");
+          state.Report->AddPictureIf(drawn, stage, file,
+                                     std::string("CT re-sliced at the tracked tip: ") + names[o] +
+                                         (o == 3 ? " (the plane of the stylus shaft)" : "") + ", 120 mm field of view.",
+                                     why);
         }
       }
       ++pictures;

@@ -9,8 +9,8 @@
 #include <vtkSmartPointer.h>
 
 #include "rpDataLoader.h"
-#include "rpDicomReferenceSeries.h"
-#include "rpDicomRtStruct.h"
+#include "rpDicomEntries.h"
+#include "rpDicomMagic.h"
 #include "rpDicomSegmentation.h"
 #include "rpImageVolume.h"
 #include "rpLabelmapInput.h"
@@ -46,15 +46,19 @@ bool Fail(Failure& failure, int code, const std::string& message) {
   return false;
 }
 
-// A DICOM SEG or RTSTRUCT (a file, or the folder's only one) on the grid of --reference.
+// A DICOM SEG or RTSTRUCT (a file, or the folder's only one) on the grid of --reference. The DICOM
+// library loads here (rpDicomEntries.h); without it, the error names it.
 bool ReadOnReference(const std::string& in, const std::string& reference, SegmentationInput& input, Failure& failure) {
+  const auto objectKind = dicom::Entry<dicom::ObjectKindFunction>(dicom::ObjectKindEntry, in, failure.Message);
+  if (!objectKind) return false;
   std::string object;
-  const int kind = DicomSegmentationObjectKind(in, &object, &failure.Message);
+  const int kind = objectKind(in, &object, &failure.Message);
   if (kind < 0) return false;
   if (kind == 0) return Fail(failure, 2, "--reference goes with a DICOM SEG or RTSTRUCT input; '" + in + "' holds none");
+  const auto read = dicom::Entry<dicom::ReadSegmentationFunction>(
+      kind == 1 ? dicom::ReadSegmentationEntry : dicom::ReadRtStructEntry, in, failure.Message);
   input.Node = vtkSmartPointer<vtkRPSegmentationNode>::New();
-  return kind == 1 ? ReadDicomSegmentation(object, input.Node, failure.Message, reference, &input.Warnings)
-                   : ReadDicomRtStruct(object, input.Node, failure.Message, reference, &input.Warnings);
+  return read && read(object, input.Node, failure.Message, reference, &input.Warnings);
 }
 
 // A labelmap volume as a segmentation: one segment per label value (--input-kind, --labels).
@@ -145,8 +149,12 @@ void WriteDicomSeg(const SegmentationConversionRequest& request, SegmentationCon
     file = (fs::path(request.Out) / "segmentation.dcm").string();
   }
   vtkNew<vtkRPSegmentationNode> node;
-  if (!ReadSegmentationFile(request.In, node, result.Error) ||
-      !WriteDicomSegmentation(node, request.Reference, file, result.Error)) {
+  if (!ReadSegmentationFile(request.In, node, result.Error)) {
+    result.FailureCode = 1;
+    return;
+  }
+  const auto write = dicom::Entry<dicom::WriteSegmentationFunction>(dicom::WriteSegmentationEntry, file, result.Error);
+  if (!write || !write(node, request.Reference, file, result.Error, DicomSegmentationWriteOptions{})) {
     result.FailureCode = 1;
     return;
   }
@@ -164,9 +172,15 @@ SegmentationConversion ConvertSegmentation(const SegmentationConversionRequest& 
     return result;
   }
   if (!HasExtension(request.Out, ".seg.nrrd")) {
-    // A volume output: a SEG or RTSTRUCT file has no image to give (a folder has its series).
+    // A volume output: a SEG or RTSTRUCT file has no image to give (a folder has its series). Only
+    // a file that may be DICOM loads the DICOM library to be told apart; without that library the
+    // volume read below names it.
     std::error_code ec;
-    const int kind = fs::is_regular_file(in, ec) ? DicomSegmentationObjectKind(in) : 0;
+    std::string unused;
+    const auto objectKind = fs::is_regular_file(in, ec) && MaybeDicomFile(in)
+                                ? dicom::Entry<dicom::ObjectKindFunction>(dicom::ObjectKindEntry, in, unused)
+                                : nullptr;
+    const int kind = objectKind ? objectKind(in, nullptr, nullptr) : 0;
     if (kind <= 0) return result;
     result.Applies = true;
     result.FailureCode = 2;

@@ -8,6 +8,7 @@
 #include <vtkPolyData.h>
 
 #include "rpDataLoader.h"
+#include "rpDicomEntries.h"
 #include "rpModelIO.h"
 #include "rpTransformIO.h"
 #include "rpVolumeIO.h"
@@ -197,7 +198,9 @@ bool vtkRPVolumesLogic::WriteKneePhantom(const rp::KneePhantomOptions& options, 
 
 bool vtkRPVolumesLogic::ScanDicomFolder(const std::string& path, rp::DicomScanResult& scan, std::string& error,
                                         const rp::ProgressCallback& progress) {
-  return rp::ScanDicom(path, scan, error, progress);
+  // DCMTK loads here, on the first scan (rpDicomEntries.h), not with the module.
+  const auto scanDicom = rp::dicom::Entry<rp::dicom::ScanFunction>(rp::dicom::ScanEntry, path, error);
+  return scanDicom && scanDicom(path, scan, error, progress);
 }
 
 rp::SceneConversion vtkRPVolumesLogic::ConvertScene(const std::string& in, const std::string& out) {
