@@ -140,12 +140,30 @@ macro(roboplan_setup_sanitizer)
   endif()
 endmacro()
 
+# The longest tests, with their seconds in a full `ctest -j2` on 2 cores (a build tree's
+# Testing/Temporary/CTestCostData.txt): their COST, so that `ctest -j` starts them first. A fresh
+# build tree has no cost data; ctest then started them in the order they were added, the longest
+# among the last, and one core sat idle while they finished.
+set(ROBOPLAN_LONG_TESTS
+  rpPictureSoakTest 96  rpDemoSystemTest 71  rpCohortMemoryTest 29  rpSlicerOracle_roboplan_to_slicer_Test 28
+  rpWorkflow_slurm_Test 25  rpBenchmarkSmokeTest_rpGuidanceBenchmark 20  rpOpenDataArgumentTest 16
+  rpBenchmarkSmokeTest_rpVolumesBenchmark 15  rpNdiDriverTest 15  rpDicomSegmentationTest 13
+  rpBenchmarkChartHeadlessTest 11  rpBenchmarkSmokeTest_rpMeshWholeProcessBenchmark 11
+  vtkRPTrackingLogicTest 11  rpBenchmarkSmokeTest_rpTrackingBenchmark 10  rpBoneSplitTest 10)
+
 # roboplan_set_test_run(<test> <timeout s> [<VAR=value>...]): the test's timeout (scaled by the
-# sanitizer's factor) and environment (with the sanitizer's), for every test, ours or plain add_test.
-# The factor also reaches the tests' own waits (ROBOPLAN_TEST_TIME_FACTOR, Testing/Support/rpTestTime.h).
+# sanitizer's factor), environment (with the sanitizer's) and, for the long ones, COST: for every
+# test, ours or plain add_test. The factor also reaches the tests' own waits
+# (ROBOPLAN_TEST_TIME_FACTOR, Testing/Support/rpTestTime.h).
 function(roboplan_set_test_run name timeout)
   math(EXPR timeout "${timeout} * ${ROBOPLAN_SANITIZER_TIMEOUT_FACTOR}")
   set_tests_properties(${name} PROPERTIES TIMEOUT ${timeout})
+  list(FIND ROBOPLAN_LONG_TESTS ${name} at)
+  if(at GREATER -1)
+    math(EXPR at "${at} + 1")
+    list(GET ROBOPLAN_LONG_TESTS ${at} seconds)
+    set_tests_properties(${name} PROPERTIES COST ${seconds})
+  endif()
   set(environment ${ARGN} ${ROBOPLAN_SANITIZER_TEST_ENVIRONMENT})
   if(ROBOPLAN_SANITIZER_TIMEOUT_FACTOR GREATER 1)
     list(APPEND environment "ROBOPLAN_TEST_TIME_FACTOR=${ROBOPLAN_SANITIZER_TIMEOUT_FACTOR}")
@@ -217,6 +235,9 @@ function(roboplan_add_test_executable name)
   # Testing/Support: helpers every test may use (rpSharedData.h: skip without ../shared/data).
   target_include_directories(${name} PRIVATE ${PROJECT_SOURCE_DIR}/Testing/Support)
   target_link_libraries(${name} PRIVATE roboplan_warnings ${A_LIBS} GTest::gtest)
+  # The test's own sources at -O1 after the build type's -O3 (-O2): they set up and check, the code
+  # under test is in the libraries, which keep the build type's flags.
+  target_compile_options(${name} PRIVATE $<$<CONFIG:Release,RelWithDebInfo>:-O1>)
   if(NOT A_OWN_MAIN)
     target_link_libraries(${name} PRIVATE GTest::gtest_main)
   endif()

@@ -23,12 +23,6 @@ if(ROBOPLAN_SANITIZER_FLAGS)  # the same sanitizers as our code (RoboPlanMacros.
   list(JOIN ROBOPLAN_SANITIZER_FLAGS " " sanitizer_flags)
   string(APPEND slicer_mrml_flags " ${sanitizer_flags}")
 endif()
-set(slicer_mrml_launchers)
-foreach(lang C CXX)
-  if(CMAKE_${lang}_COMPILER_LAUNCHER)
-    list(APPEND slicer_mrml_launchers -DCMAKE_${lang}_COMPILER_LAUNCHER=${CMAKE_${lang}_COMPILER_LAUNCHER})
-  endif()
-endforeach()
 set(slicer_mrml_program ${CMAKE_CURRENT_LIST_DIR}/rpSlicerMrmlOracle.cxx)
 ExternalProject_Add(rpSlicerMRMLBuild
   SOURCE_DIR ${CMAKE_CURRENT_LIST_DIR}/Build
@@ -38,7 +32,7 @@ ExternalProject_Add(rpSlicerMRMLBuild
   CMAKE_ARGS
     -DCMAKE_BUILD_TYPE=Release
     -DCMAKE_C_COMPILER=${CMAKE_C_COMPILER} -DCMAKE_CXX_COMPILER=${CMAKE_CXX_COMPILER}
-    ${slicer_mrml_launchers}
+    ${ROBOPLAN_SUBBUILD_CMAKE_ARGS}  # ccache and the fast linker
     "-DCMAKE_C_FLAGS=${slicer_mrml_flags}" "-DCMAKE_CXX_FLAGS=${slicer_mrml_flags}"
     -DSLICER_MRML_ORACLE_DIR=${ROBOPLAN_SLICER_MRML_SOURCE}
     -DRP_ORACLE_PROGRAM_SOURCE=${slicer_mrml_program}
