@@ -145,7 +145,7 @@ endmacro()
 # build tree has no cost data; ctest then started them in the order they were added, the longest
 # among the last, and one core sat idle while they finished.
 set(ROBOPLAN_LONG_TESTS
-  rpPictureSoakTest 96  rpDemoSystemTest 71  rpCohortMemoryTest 29  rpSlicerOracle_roboplan_to_slicer_Test 28
+  rpPictureSoakTest 96  rpDemoSystemTest 71  rpCohortMemoryTest 29 
   rpWorkflow_slurm_Test 25  rpBenchmarkSmokeTest_rpGuidanceBenchmark 20  rpOpenDataArgumentTest 16
   rpBenchmarkSmokeTest_rpVolumesBenchmark 15  rpNdiDriverTest 15  rpDicomSegmentationTest 13
   rpBenchmarkChartHeadlessTest 11  rpBenchmarkSmokeTest_rpMeshWholeProcessBenchmark 11
