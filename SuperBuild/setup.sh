@@ -38,10 +38,6 @@ if [ "$action" = test ]; then packages=(--test); fi  # the tests' own tools only
 
 export CCACHE_DIR="${CCACHE_DIR:-$HOME/.cache/ccache}"
 export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$src_dir}"
-# ccache's depend mode: a miss compiles at once, keyed by the compiler's own -MD list of headers,
-# instead of running the preprocessor first to hash its output (1.2-1.6 s of a 16-20 s test
-# source); objects cached without it are still hit. CCACHE_NODEPEND=1 turns it off.
-if [ -z "${CCACHE_NODEPEND:-}" ]; then export CCACHE_DEPEND=1; fi
 jobs=$(nproc 2>/dev/null || echo 2)
 # Tests wait on X servers, sockets, serial ports and child processes: half as many tests again as
 # cores keeps the cores busy (the whole suite on 2 cores: 378 s at -j2, 293 s at -j3, 6 % idle).
