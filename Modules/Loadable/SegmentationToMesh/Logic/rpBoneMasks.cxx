@@ -5,13 +5,10 @@
 #include <cmath>
 #include <map>
 
-#include <itkBinaryBallStructuringElement.h>
-#include <itkBinaryMorphologicalClosingImageFilter.h>
-#include <itkBinaryMorphologicalOpeningImageFilter.h>
-#include <itkImage.h>
-#include <itkSignedMaurerDistanceMapImageFilter.h>
 #include <vtkImageData.h>
 #include <vtkSMPTools.h>
+
+#include "rpSegmentationItkEntries.h"
 
 namespace rp::bonesplit {
 
@@ -96,20 +93,17 @@ namespace {
 // attachments (a table shell, cables) fall off, holes filled, pieces smaller than a fifth of the
 // largest dropped. inside[i] for every CT voxel of `box`.
 template <typename T>
-void BodyOutlineOf(const T* ct, const int dims[3], const double spacing[3], const Box& box,
-                   const BoneSplitOptions& options, std::vector<uint8_t>& inside) {
+bool BodyOutlineOf(const T* ct, const int dims[3], const double spacing[3], const Box& box,
+                   const BoneSplitOptions& options, std::vector<uint8_t>& inside, std::string& error) {
   int f[3], low[3];
   for (int a = 0; a < 3; ++a) {
     f[a] = std::max(1, static_cast<int>(std::lround(2.0 / spacing[a])));
     low[a] = (dims[a] + f[a] - 1) / f[a];
   }
-  using Mask = itk::Image<unsigned char, 3>;
-  auto body = Mask::New();
-  Mask::RegionType region;
-  for (unsigned a = 0; a < 3; ++a) region.SetSize(a, static_cast<itk::SizeValueType>(low[a]));
-  body->SetRegions(region);
-  body->Allocate();
-  unsigned char* b = body->GetBufferPointer();
+  Box lowBox;
+  for (int a = 0; a < 3; ++a) lowBox.Size[a] = low[a];
+  std::vector<uint8_t> lowMask(lowBox.Count());
+  uint8_t* b = lowMask.data();
   vtkSMPTools::For(0, low[2], [&](vtkIdType k0, vtkIdType k1) {
     for (vtkIdType lk = k0; lk < k1; ++lk)
       for (int lj = 0; lj < low[1]; ++lj)
@@ -123,25 +117,10 @@ void BodyOutlineOf(const T* ct, const int dims[3], const double spacing[3], cons
           b[(static_cast<size_t>(lk) * low[1] + lj) * low[0] + li] = count && sum / count > options.BodyLowerHU;
         }
   });
-  Mask::Pointer opened = body;
   const double lowSpacing = 2.0;
   const int radius = static_cast<int>(std::lround(options.BodyOpeningMm / lowSpacing));
-  if (radius > 0) {
-    using Ball = itk::BinaryBallStructuringElement<unsigned char, 3>;
-    Ball ball;
-    ball.SetRadius(static_cast<itk::SizeValueType>(radius));
-    ball.CreateStructuringElement();
-    auto open = itk::BinaryMorphologicalOpeningImageFilter<Mask, Mask, Ball>::New();
-    open->SetInput(body);
-    open->SetKernel(ball);
-    open->SetForegroundValue(1);
-    open->SetBackgroundValue(0);
-    open->Update();
-    opened = open->GetOutput();
-  }
-  Box lowBox;
-  for (int a = 0; a < 3; ++a) lowBox.Size[a] = low[a];
-  std::vector<uint8_t> lowMask(opened->GetBufferPointer(), opened->GetBufferPointer() + lowBox.Count());
+  const int ball[3] = {radius, radius, radius};
+  if (radius > 0 && !MaskMorphology(lowMask, lowBox, Morphology::Opening, ball, error)) return false;
   FillHoles(lowMask, lowBox, -1);
   std::vector<int32_t> labels;
   std::vector<long> sizes;
@@ -157,6 +136,7 @@ void BodyOutlineOf(const T* ct, const int dims[3], const double spacing[3], cons
           inside[box.Index(ii, jj, static_cast<int>(kk))] = l > 0 && sizes[static_cast<size_t>(l)] * 5 >= largest;
         }
   });
+  return true;
 }
 
 // The edge of each bone where the CT says it is: a surface voxel (a face neighbour outside the
@@ -224,17 +204,20 @@ void PeelEdgesOf(const T* ct, const int dims[3], const double spacing[3], const 
 
 }  // namespace
 
-void BodyOutline(vtkImageData* ct, const double spacing[3], const Box& box, const BoneSplitOptions& options,
-                 std::vector<uint8_t>& inside) {
+bool BodyOutline(vtkImageData* ct, const double spacing[3], const Box& box, const BoneSplitOptions& options,
+                 std::vector<uint8_t>& inside, std::string& error) {
   int dims[3];
   ct->GetDimensions(dims);
   switch (ct->GetScalarType()) {
-    vtkTemplateMacro(BodyOutlineOf(static_cast<const VTK_TT*>(ct->GetScalarPointer()), dims, spacing, box, options,
-                                   inside));
+    vtkTemplateMacro(return BodyOutlineOf(static_cast<const VTK_TT*>(ct->GetScalarPointer()), dims, spacing, box,
+                                          options, inside, error));
   }
+  error = "the CT's voxel type is not supported";
+  return false;
 }
 
-void SolidifyBones(std::vector<int32_t>& group, const Box& box, const double spacing[3], double radiusMm) {
+bool SolidifyBones(std::vector<int32_t>& group, const Box& box, const double spacing[3], double radiusMm,
+                   std::string& error) {
   std::map<int32_t, std::array<int, 6>> extents;
   const int* n = box.Size;
   for (int k = 0; k < n[2]; ++k)
@@ -251,13 +234,6 @@ void SolidifyBones(std::vector<int32_t>& group, const Box& box, const double spa
   int radius[3];
   for (int a = 0; a < 3; ++a) radius[a] = std::max(1, static_cast<int>(std::lround(radiusMm / spacing[a])));
   std::vector<int32_t> claim(group.size(), 0);  // bone, or -1 when two bones claim the voxel
-  using Mask = itk::Image<unsigned char, 3>;
-  using Ball = itk::BinaryBallStructuringElement<unsigned char, 3>;
-  Ball ball;
-  Ball::SizeType ballSize;
-  for (unsigned a = 0; a < 3; ++a) ballSize[a] = static_cast<itk::SizeValueType>(radius[a]);
-  ball.SetRadius(ballSize);
-  ball.CreateStructuringElement();
   for (const auto& [g, e] : extents) {
     Box sub;
     for (int a = 0; a < 3; ++a) {
@@ -269,18 +245,8 @@ void SolidifyBones(std::vector<int32_t>& group, const Box& box, const double spa
       for (int j = 0; j < sub.Size[1]; ++j)
         for (int i = 0; i < sub.Size[0]; ++i)
           mine[sub.Index(i, j, k)] = group[box.Index(sub.Lo[0] + i, sub.Lo[1] + j, sub.Lo[2] + k)] == g;
-    auto image = Mask::New();
-    Mask::RegionType region;
-    for (unsigned a = 0; a < 3; ++a) region.SetSize(a, static_cast<itk::SizeValueType>(sub.Size[a]));
-    image->SetRegions(region);
-    image->GetPixelContainer()->SetImportPointer(mine.data(), mine.size(), false);
-    auto close = itk::BinaryMorphologicalClosingImageFilter<Mask, Mask, Ball>::New();
-    close->SetInput(image);
-    close->SetKernel(ball);
-    close->SetForegroundValue(1);
-    close->SafeBorderOn();
-    close->Update();
-    std::vector<uint8_t> solid(close->GetOutput()->GetBufferPointer(), close->GetOutput()->GetBufferPointer() + sub.Count());
+    std::vector<uint8_t> solid = mine;
+    if (!MaskMorphology(solid, sub, Morphology::Closing, radius, error)) return false;
     for (size_t i = 0; i < solid.size(); ++i) solid[i] |= mine[i];
     FillHoles(solid, sub, -1);
     for (int axis = 0; axis < 3; ++axis) FillHoles(solid, sub, axis);
@@ -295,6 +261,7 @@ void SolidifyBones(std::vector<int32_t>& group, const Box& box, const double spa
   }
   for (size_t i = 0; i < group.size(); ++i)
     if (claim[i] > 0) group[i] = claim[i];
+  return true;
 }
 
 void PeelEdges(vtkImageData* ct, const double spacing[3], const Box& box, std::vector<int32_t>& group, double fixedHU,
@@ -307,32 +274,15 @@ void PeelEdges(vtkImageData* ct, const double spacing[3], const Box& box, std::v
   }
 }
 
+bool MaskMorphology(std::vector<uint8_t>& mask, const Box& box, Morphology op, const int radius[3], std::string& error) {
+  return segmentationitk::Call<segmentationitk::MaskMorphologyFunction>(segmentationitk::MaskMorphologyEntry, error,
+                                                                        mask, box, op, radius, error);
+}
+
 bool DistanceInsideBone(std::vector<uint8_t>& mask, const Box& box, const double spacing[3],
                         std::vector<float>& distance, std::string& error) {
-  distance.assign(mask.size(), 0.0f);
-  using Mask = itk::Image<unsigned char, 3>;
-  auto itkMask = Mask::New();
-  Mask::RegionType region;
-  for (unsigned a = 0; a < 3; ++a) region.SetSize(a, static_cast<itk::SizeValueType>(box.Size[a]));
-  itkMask->SetRegions(region);
-  itkMask->GetPixelContainer()->SetImportPointer(mask.data(), mask.size(), false);
-  const double itkSpacing[3] = {spacing[0], spacing[1], spacing[2]};
-  itkMask->SetSpacing(itkSpacing);
-  auto map = itk::SignedMaurerDistanceMapImageFilter<Mask, itk::Image<float, 3>>::New();
-  map->SetInput(itkMask);
-  map->SetInsideIsPositive(true);
-  map->SetUseImageSpacing(true);
-  map->SetSquaredDistance(false);
-  map->SetBackgroundValue(0);
-  try {
-    map->Update();
-  } catch (const itk::ExceptionObject& e) {
-    error = std::string("distance map: ") + e.GetDescription();
-    return false;
-  }
-  const float* d = map->GetOutput()->GetBufferPointer();
-  for (size_t i = 0; i < mask.size(); ++i) distance[i] = mask[i] ? std::max(0.0f, d[i]) : 0.0f;
-  return true;
+  return segmentationitk::Call<segmentationitk::DistanceInsideBoneFunction>(
+      segmentationitk::DistanceInsideBoneEntry, error, mask, box, spacing, distance, error);
 }
 
 }  // namespace rp::bonesplit

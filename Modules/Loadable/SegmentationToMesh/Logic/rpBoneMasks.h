@@ -2,12 +2,16 @@
 // Masks over the box that holds a CT's bone (the steps of rpBoneSplit.cxx): hole filling,
 // connected components, the body outline, each bone made solid, its edge put where the CT says
 // it is, and the distance to the bone surface. Internal to SplitBones (namespace rp::bonesplit).
+// The morphology and the distance map run ITK in libRoboPlanSegmentationItk.so, loaded on their
+// first call (rpSegmentationItkEntries.h): the functions that use them return false with an error
+// when it cannot load.
 #include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
 
 #include "rpBoneSplit.h"
+#include "rpSegmentationEditor.h"
 
 class vtkImageData;
 
@@ -51,20 +55,25 @@ int Components(const std::vector<uint8_t>& mask, const Box& box, std::vector<int
 
 /// Body outline on a coarse grid (about 2 mm): mean HU above the threshold, opened so thin
 /// attachments (a table shell, cables) fall off, holes filled, pieces smaller than a fifth of the
-/// largest dropped. inside[i] for every CT voxel of `box`.
-void BodyOutline(vtkImageData* ct, const double spacing[3], const Box& box, const BoneSplitOptions& options,
-                 std::vector<uint8_t>& inside);
+/// largest dropped. inside[i] for every CT voxel of `box`. False with `error`.
+bool BodyOutline(vtkImageData* ct, const double spacing[3], const Box& box, const BoneSplitOptions& options,
+                 std::vector<uint8_t>& inside, std::string& error);
 
 /// Each bone (group) made solid on its own (so no gap between two bones is filled): closed with a
 /// ball of `radiusMm`, holes filled in 3-D and slice by slice along every axis. Background voxels
-/// claimed by exactly one bone join it; voxels two bones claim stay background.
-void SolidifyBones(std::vector<int32_t>& group, const Box& box, const double spacing[3], double radiusMm);
+/// claimed by exactly one bone join it; voxels two bones claim stay background. False with `error`.
+bool SolidifyBones(std::vector<int32_t>& group, const Box& box, const double spacing[3], double radiusMm,
+                   std::string& error);
 
 /// The edge of each bone where the CT says it is: surface voxels below the local half maximum
 /// between the bone's peak within `peakMm` and the soft tissue beside it are peeled, `layers`
 /// passes (`fixedHU` > 0: a fixed edge instead); why: PeelEdgesOf in rpBoneMasks.cxx.
 void PeelEdges(vtkImageData* ct, const double spacing[3], const Box& box, std::vector<int32_t>& group, double fixedHU,
                double lowerHU, double peakMm, int layers);
+
+/// `op` on a 0/1 mask over `box`, in place, with a ball of `radius` voxels per axis (at least 1); a
+/// closing keeps a safe border (the box's edge does not erode the mask). False with `error`.
+bool MaskMorphology(std::vector<uint8_t>& mask, const Box& box, Morphology op, const int radius[3], std::string& error);
 
 /// Distance to the bone surface (mm) inside the bone, 0 outside. False with `error`.
 bool DistanceInsideBone(std::vector<uint8_t>& mask, const Box& box, const double spacing[3],

@@ -104,7 +104,7 @@ bool KeepBonePieces(vtkImageData* image, const double spacing[3], double voxelMl
                     const BoneSplitOptions& options, std::vector<uint8_t>& mask, BoneSplitResult& result,
                     std::string& error) {
   std::vector<uint8_t> body;
-  BodyOutline(image, spacing, box, options, body);
+  if (!BodyOutline(image, spacing, box, options, body, error)) return false;
   std::vector<int32_t> pieces;
   std::vector<long> sizes;
   const int pieceCount = Components(mask, box, pieces, sizes);
@@ -320,7 +320,7 @@ bool SplitBones(vtkRPImageNode* ct, vtkRPSegmentationNode* segmentation, const B
   report(0.8, "naming bones");
   MergeSmallGroups(group, box, std::max(1L, static_cast<long>(std::ceil(options.MinBoneMl / voxelMl))));
   report(0.85, "filling bones");
-  SolidifyBones(group, box, spacing, options.FillRadiusMm);
+  if (!SolidifyBones(group, box, spacing, options.FillRadiusMm, error)) return false;
   if (options.EdgeLayers > 0)
     PeelEdges(image, spacing, box, group, options.EdgeHU, options.LowerHU, options.EdgePeakMm, options.EdgeLayers);
   std::map<int32_t, int> labelOf;
