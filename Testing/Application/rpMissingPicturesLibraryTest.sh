@@ -6,7 +6,8 @@
 # without the DICOM library (libRoboPlanDicom.so, Libs/Imaging/rpDicomEntries.h): `roboplan plan`
 # and `roboplan mesh` on a DICOM file (the loader), `roboplan dicom` (the Volumes logic's scan),
 # `roboplan convert` into a DICOM series and into a DICOM SEG (the logic's writes);
-# `roboplan register-volumes` without the registration (libRoboPlanVolumeRegistration.so); and the
+# `roboplan register-volumes` without the registration (libRoboPlanVolumeRegistration.so); `roboplan
+# mesh` thresholding or splitting bones without segmentation's ITK (libRoboPlanSegmentationItk.so); and the
 # storage's formats: a NRRD without ITK's image IO (libRoboPlanItkImageIO.so), an STL without VTK's
 # geometry IO (libRoboPlanVtkGeometryIO.so), a Slicer .mrb without its zip (libRoboPlanMrmlBundle.so).
 # Runs from a copy of the build's layout (bin/roboplan copied, lib/ and lib/roboplan-modules/ as
@@ -69,6 +70,13 @@ check libRoboPlanVolumeRegistration.so "registration is not available: cannot lo
   "$work/t.tfm" register-volumes "$work/v.nrrd" "$work/v.nrrd" --out "$work/t.tfm"
 check libRoboPlanItkImageIO.so "v.nrrd': NRRD, NIfTI and MetaImage are not available: cannot load .*libRoboPlanItkImageIO.so" \
   "$work/meshes" mesh "$work/v.nrrd" --out "$work/meshes"
+# Segmentation's ITK filters (libRoboPlanSegmentationItk.so): a threshold, and the bone split's
+# body outline (a morphological opening).
+segmentationError="segmentation with ITK is not available: cannot load .*libRoboPlanSegmentationItk.so"
+check libRoboPlanSegmentationItk.so "$segmentationError" "$work/meshes" mesh "$work/v.nrrd" --lower 1 --upper 7 \
+  --out "$work/meshes"
+check libRoboPlanSegmentationItk.so "$segmentationError" "$work/meshes" mesh "$work/v.nrrd" --split-bones --lower 1 \
+  --out "$work/meshes"
 # Three fiducials (Slicer's .fcsv) and an ASCII STL for the ICP of `roboplan register`.
 printf '# Markups fiducial file version = 4.11\n# CoordinateSystem = LPS\n1,0,0,0,0,0,0,1,1,1,0,A,,\n2,10,0,0,0,0,0,1,1,1,0,B,,\n3,0,10,0,0,0,0,1,1,1,0,C,,\n' >"$work/f.fcsv"
 printf 'solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid s\n' >"$work/s.stl"

@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <random>
+#include <set>
 
 #include <vtkImageData.h>
 #include <vtkNew.h>
@@ -61,7 +63,53 @@ SegmentTarget Target(const std::string& id, const std::string& tissue = "bone") 
   return t;
 }
 
+// The file names of the shared objects mapped into this process that start with `prefix`
+// (case-insensitive: ITK's are libITK* and libitk*), from /proc/self/maps.
+std::set<std::string> MappedLibraries(const std::string& prefix) {
+  auto lower = [](std::string text) {
+    for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return text;
+  };
+  std::set<std::string> mapped;
+  std::ifstream maps("/proc/self/maps");
+  for (std::string line; std::getline(maps, line);) {
+    const size_t slash = line.rfind('/');
+    if (slash == std::string::npos) continue;
+    const std::string file = line.substr(slash + 1);
+    if (lower(file).rfind(lower(prefix), 0) == 0) mapped.insert(file);
+  }
+  return mapped;
+}
+
 }  // namespace
+
+// The logic maps no ITK until an edit runs an ITK filter: ITK (9 libraries, v3p_netlib running
+// code as it loads) is libRoboPlanSegmentationItk.so's, loaded by the first such edit, so `mesh
+// --help`, `demo --help` and every command of a module that depends on this one start without it.
+// Registered as a process of its own (no edit before it; Testing/CMakeLists.txt).
+TEST(SegmentationEditorLoading, ItkIsMappedFromTheFirstEditOnly) {
+  ASSERT_FALSE(MappedLibraries("libRoboPlanSegmentationToMeshLogic").empty()) << "the test links the logic";
+  EXPECT_EQ(MappedLibraries("libitk"), std::set<std::string>{}) << "ITK is mapped before any edit";
+  EXPECT_TRUE(MappedLibraries("libRoboPlanSegmentationItk").empty());
+  // What needs no ITK does not load it.
+  ASSERT_NE(FindThresholdPreset("bone"), nullptr);
+  const AnalyticSolid bone = Sphere({10.2, 9.9, 10.1}, 5.0);
+  SyntheticCT ct = MakeCT({{bone, 1000}}, {21, 21, 21}, 0, 0);
+  vtkNew<vtkRPSegmentationNode> seg;
+  std::string error;
+  ASSERT_TRUE(SegmentationEditor::InitializeFromVolume(ct.Volume, seg, error)) << error;
+  EXPECT_EQ(MappedLibraries("libitk"), std::set<std::string>{});
+
+  EditResult result;
+  ASSERT_TRUE(SegmentationEditor::Threshold(ct.Volume, seg, Target("bone"), 500, 3000, result, error)) << error;
+  const long thresholded = result.Voxels;
+  EXPECT_EQ(thresholded, CountLabel(seg, 1));
+  EXPECT_EQ(MappedLibraries("libRoboPlanSegmentationItk").size(), 1u);
+  EXPECT_EQ(MappedLibraries("libITKCommon").size(), 1u);
+  EXPECT_EQ(MappedLibraries("libitkv3p_netlib").size(), 1u);
+  ASSERT_TRUE(SegmentationEditor::ApplyMorphology(seg, "bone", Morphology::Dilate, 1.0, result, error)) << error;
+  EXPECT_GT(result.Voxels, thresholded);
+}
 
 TEST(SegmentationEditor, ThresholdPresetMatchesTheTruthAndCarriesTheTissueClass) {
   const AnalyticSolid bone = Sphere({20.3, 19.6, 20.2}, 10.0);
