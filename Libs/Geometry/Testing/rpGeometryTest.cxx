@@ -1,4 +1,4 @@
-// BVH queries against brute force and closed forms; queries must not allocate.
+// BVH and triangle-grid queries against brute force and closed forms; queries must not allocate.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -7,6 +7,7 @@
 
 #include "rpAllocationCounter.h"
 #include "rpBVH.h"
+#include "rpTriangleGrid.h"
 
 namespace {
 rp::ClosestPointHit BruteClosest(const rp::TriangleMesh& m, const rp::Vec3& p) {
@@ -288,4 +289,93 @@ TEST(BVH, LargeMeshBuiltOnThreadsMatchesBruteForce) {
     EXPECT_NEAR(hit.Distance2, brute.Distance2, 1e-9 * (1 + brute.Distance2));
     ASSERT_LT(hit.Triangle, valid);
   }
+}
+
+// The triangle grid (the level-of-detail deviation check's structure for a large surface) gives
+// the brute-force answer everywhere: on and near a sphere, inside it, far outside the grid's box
+// (rings of empty cells), within a distance bound, on a soup of uneven and overlapping triangles.
+TEST(TriangleGrid, ClosestPointMatchesBruteForceOnASphereAndFarAway) {
+  const rp::TriangleMesh m = rp::shapes::Sphere({5, -3, 2}, 20, 4);
+  rp::TriangleGrid grid;
+  grid.Build(m);
+  ASSERT_FALSE(grid.Empty());
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> near(-25, 25), far(-400, 400);
+  for (int i = 0; i < 600; ++i) {
+    const bool isFar = i % 3 == 0;
+    const rp::Vec3 p = rp::Vec3{5, -3, 2} + (isFar ? rp::Vec3{far(rng), far(rng), far(rng)}
+                                                   : rp::Vec3{near(rng), near(rng), near(rng)});
+    rp::ClosestPointHit hit;
+    ASSERT_TRUE(grid.ClosestPoint(p, HUGE_VAL, hit));
+    const rp::ClosestPointHit brute = BruteClosest(m, p);
+    ASSERT_NEAR(hit.Distance2, brute.Distance2, 1e-9 * (1 + brute.Distance2)) << "query " << i;
+    const auto& t = m.Triangles[hit.Triangle];
+    const rp::Vec3 q = m.Points[t[0]] * hit.Barycentric[0] + m.Points[t[1]] * hit.Barycentric[1] +
+                       m.Points[t[2]] * hit.Barycentric[2];
+    EXPECT_NEAR(rp::Norm(q - hit.Point), 0.0, 1e-9);
+    // Any triangle within a distance: just above and just below the exact one.
+    const double d = std::sqrt(brute.Distance2);
+    EXPECT_TRUE(grid.AnyWithin(p, d * (1 + 1e-9) + 1e-12)) << "query " << i;
+    EXPECT_FALSE(grid.AnyWithin(p, d * (1 - 1e-6) - 1e-9)) << "query " << i;
+  }
+  rp::ClosestPointHit hit;
+  EXPECT_FALSE(grid.ClosestPoint({5, -3, 2 + 40}, 5.0, hit));  // the surface is 20 mm away
+  EXPECT_TRUE(grid.ClosestPoint({5, -3, 2 + 24}, 5.0, hit));
+  EXPECT_NEAR(std::sqrt(hit.Distance2), 4.0, 0.05);
+}
+
+TEST(TriangleGrid, RandomSoupAndDegenerateTrianglesMatchBruteForce) {
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> u(-50, 50), s(0.01, 30);
+  rp::TriangleMesh m;
+  for (int i = 0; i < 2000; ++i) {  // sizes from 0.01 to 30 mm: the cell size fits none of them
+    const rp::Vec3 c{u(rng), u(rng), i % 7 == 0 ? 0.0 : u(rng)};
+    const double size = s(rng);
+    const int32_t base = static_cast<int32_t>(m.Points.size());
+    for (int k = 0; k < 3; ++k) m.Points.push_back(c + rp::Vec3{u(rng), u(rng), u(rng)} * (size / 50));
+    m.Triangles.push_back({base, base + 1, base + 2});
+  }
+  m.Triangles.push_back({0, 0, 1});  // zero area: skipped, never the answer
+  rp::TriangleGrid grid;
+  grid.Build(m);
+  for (int q = 0; q < 400; ++q) {
+    const rp::Vec3 p{u(rng) * 2, u(rng) * 2, u(rng) * 2};
+    rp::ClosestPointHit hit;
+    ASSERT_TRUE(grid.ClosestPoint(p, HUGE_VAL, hit));
+    EXPECT_NEAR(hit.Distance2, BruteClosest(m, p).Distance2, 1e-9) << "query " << q;
+    EXPECT_LT(hit.Triangle, m.Triangles.size() - 1);
+  }
+}
+
+TEST(TriangleGrid, EmptyFlatAndAllocationFree) {
+  rp::TriangleGrid grid;
+  rp::TriangleMesh empty;
+  grid.Build(empty);
+  rp::ClosestPointHit hit;
+  EXPECT_FALSE(grid.ClosestPoint({0, 0, 0}, HUGE_VAL, hit));
+  rp::TriangleMesh line;  // only zero-area triangles
+  line.Points = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}};
+  line.Triangles = {{0, 1, 2}};
+  grid.Build(line);
+  EXPECT_TRUE(grid.Empty());
+  EXPECT_FALSE(grid.ClosestPoint({0, 0, 0}, HUGE_VAL, hit));
+  // A flat square (a grid one cell thick along z) queried from above and below.
+  rp::TriangleMesh square;
+  square.Points = {{0, 0, 0}, {10, 0, 0}, {10, 10, 0}, {0, 10, 0}};
+  square.Triangles = {{0, 1, 2}, {0, 2, 3}};
+  grid.Build(square);
+  ASSERT_TRUE(grid.ClosestPoint({3, 4, 7}, HUGE_VAL, hit));
+  EXPECT_NEAR(hit.Distance2, 49.0, 1e-12);
+  ASSERT_TRUE(grid.ClosestPoint({13, 14, -2}, HUGE_VAL, hit));
+  EXPECT_NEAR(hit.Distance2, 9 + 16 + 4, 1e-12);
+  const rp::TriangleMesh sphere = rp::shapes::Sphere({0, 0, 0}, 10, 5);
+  grid.Build(sphere);
+  const uint64_t before = rp::alloc::ThreadAllocations();
+  int hits = 0;
+  for (int i = 0; i < 1000; ++i) {
+    const double a = 0.01 * i;
+    hits += grid.ClosestPoint({15 * std::cos(a), 15 * std::sin(a), 0.01 * i - 5}, HUGE_VAL, hit);
+  }
+  EXPECT_EQ(rp::alloc::ThreadAllocations(), before);
+  EXPECT_EQ(hits, 1000);
 }

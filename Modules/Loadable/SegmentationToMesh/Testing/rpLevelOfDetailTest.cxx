@@ -21,8 +21,10 @@
 #include <vtkTriangleFilter.h>
 
 #include "rpLabelmapToMesh.h"
+#include "rpBVH.h"
 #include "rpManifoldDecimation.h"
 #include "rpMeshLevelOfDetail.h"
+#include "rpPolyDataTriangleMesh.h"
 #include "rpSegmentationToModels.h"
 #include "vtkRPModelNode.h"
 #include "vtkRPSegmentationNode.h"
@@ -292,4 +294,34 @@ TEST(Topology, OnePassCountsMatchKnownAnswersAndTheEdgeSort) {
   EXPECT_EQ(topology.BoundaryEdges, boundary);
   EXPECT_EQ(topology.NonManifoldEdges, nonManifold);
   EXPECT_EQ(topology.NonManifoldVertices, 0);
+}
+
+// The deviation a level of detail reports is the largest vertex-to-surface distance both ways
+// (every vertex when there are fewer than MaxDeviationSamples): the same number as a scan of every
+// triangle, in either order of the two surfaces, and near the closed form of two offset spheres
+// (radii 20 and 21 mm, centres 1.5 mm apart: 2.5 mm, less the coarse sphere's facet sagitta).
+TEST(LevelOfDetail, MaxSurfaceDeviationIsTheBruteForceDistanceBothWays) {
+  const TriangleMesh fine = shapes::Sphere({3, -2, 5}, 20, 4), coarse = shapes::Sphere({4.5, -2, 5}, 21, 2);
+  auto oneWay = [](const TriangleMesh& from, const TriangleMesh& to) {
+    double worst = 0;
+    for (const Vec3& p : from.Points) {
+      double best = HUGE_VAL;
+      for (const auto& t : to.Triangles) {
+        double bary[3];
+        const Vec3 q = BVH::ClosestPointOnTriangle(p, to.Points[static_cast<size_t>(t[0])], to.Points[static_cast<size_t>(t[1])],
+                                                   to.Points[static_cast<size_t>(t[2])], bary);
+        best = std::min(best, Norm2(q - p));
+      }
+      worst = std::max(worst, best);
+    }
+    return std::sqrt(worst);
+  };
+  const double brute = std::max(oneWay(fine, coarse), oneWay(coarse, fine));
+  const auto finePoly = TriangleMeshToPolyData(fine), coarsePoly = TriangleMeshToPolyData(coarse);
+  EXPECT_NEAR(MaxSurfaceDeviation(finePoly, coarsePoly), brute, 1e-9);
+  EXPECT_NEAR(MaxSurfaceDeviation(coarsePoly, finePoly), brute, 1e-9);
+  EXPECT_NEAR(brute, 2.5, 0.5);
+  EXPECT_NEAR(MaxSurfaceDeviation(finePoly, finePoly), 0.0, 1e-12);
+  vtkNew<vtkPolyData> empty;
+  EXPECT_EQ(MaxSurfaceDeviation(finePoly, empty), -1.0);
 }
