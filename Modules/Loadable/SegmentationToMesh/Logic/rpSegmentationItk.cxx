@@ -366,6 +366,8 @@ bool ValidRange(double lower, double upper, std::string& error) {
 
 }  // namespace
 
+// The entries are the operations themselves: extern "C" names (no namespace in the symbol),
+// defined inside namespace rp so that they read the helpers above as the editor's methods did.
 RP_SEGMENTATION_ITK_ENTRY bool roboplan_segmentation_threshold(
     vtkRPImageNode* volume, vtkRPSegmentationNode* segmentation, const SegmentTarget& target,
     double lower, double upper, EditResult& result, std::string& error) {
