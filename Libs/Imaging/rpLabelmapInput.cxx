@@ -16,9 +16,9 @@
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkSMPThreadLocal.h>
-#include <vtkSMPTools.h>
 
 #include "rpDicomSegmentation.h"
+#include "rpParallelFor.h"
 #include "vtkRPSegmentationNode.h"
 
 namespace rp {
@@ -43,7 +43,7 @@ void SmallTypeValues(const T* v, vtkIdType n, ImageValues& out) {
   constexpr size_t bins = static_cast<size_t>(std::numeric_limits<T>::max()) + offset + 1;
   constexpr int lanes = 4;
   vtkSMPThreadLocal<std::vector<long>> local(std::vector<long>(lanes * bins, 0));
-  vtkSMPTools::For(0, n, [&](vtkIdType b, vtkIdType e) {
+  ParallelFor(0, n, [&](vtkIdType b, vtkIdType e) {
     long* h = local.Local().data();
     auto bin = [&](vtkIdType i) { return static_cast<size_t>(static_cast<long>(v[i]) + offset); };
     constexpr int block = static_cast<int>(16 / sizeof(T));
@@ -88,7 +88,7 @@ void GeneralValues(const T* v, vtkIdType n, size_t limit, ImageValues& out) {
     double Min = std::numeric_limits<double>::max(), Max = std::numeric_limits<double>::lowest();
   };
   vtkSMPThreadLocal<Local> locals;
-  vtkSMPTools::For(0, n, [&](vtkIdType b, vtkIdType e) {
+  ParallelFor(0, n, [&](vtkIdType b, vtkIdType e) {
     Local& l = locals.Local();
     for (vtkIdType i = b; i < e; ++i) {
       const double x = static_cast<double>(v[i]);
@@ -137,7 +137,7 @@ std::string Plural(size_t n, const std::string& word) {
 template <typename T>
 void ConvertLabels(vtkImageData* from, T* to) {
   vtkDataArray* scalars = from->GetPointData()->GetScalars();
-  vtkSMPTools::For(0, from->GetNumberOfPoints(), [&](vtkIdType b, vtkIdType e) {
+  ParallelFor(0, from->GetNumberOfPoints(), [&](vtkIdType b, vtkIdType e) {
     for (vtkIdType i = b; i < e; ++i) to[i] = static_cast<T>(scalars->GetComponent(i, 0));
   });
 }

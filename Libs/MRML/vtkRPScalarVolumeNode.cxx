@@ -33,21 +33,31 @@ namespace {
 // Integer voxels: the smallest and largest in a loop the compiler vectorizes, in parallel.
 // vtkDataArray::GetRange stores both ends to memory for every voxel: several times slower
 // (0.035-0.055 s against 0.005-0.015 s for a 512x512x300 labelmap, on 2 cores).
+// The loop is typed, the parallel For around it is not: instantiated once rather than for each
+// of the ten integer types (VTK's SMP back-ends made this file 20 s of a sanitized compile).
 template <typename T>
-void IntegerRange(const T* values, vtkIdType count, double range[2]) {
+void ChunkRange(const void* data, vtkIdType begin, vtkIdType end, double& lo, double& hi) {
+  const T* values = static_cast<const T*>(data);
+  T chunkLo = std::numeric_limits<T>::max(), chunkHi = std::numeric_limits<T>::lowest();
+  for (vtkIdType i = begin; i < end; ++i) chunkLo = std::min(chunkLo, values[i]), chunkHi = std::max(chunkHi, values[i]);
+  // Converting to double is monotone: the extremes of the converted ends are those of all values.
+  lo = std::min(lo, static_cast<double>(chunkLo)), hi = std::max(hi, static_cast<double>(chunkHi));
+}
+
+using ChunkRangeFunction = void (*)(const void*, vtkIdType, vtkIdType, double&, double&);
+
+void IntegerRange(ChunkRangeFunction chunkRange, const void* values, vtkIdType count, double range[2]) {
   struct MinMax {
-    T Lo = std::numeric_limits<T>::max(), Hi = std::numeric_limits<T>::lowest();
+    double Lo = std::numeric_limits<double>::infinity(), Hi = -std::numeric_limits<double>::infinity();
   };
   vtkSMPThreadLocal<MinMax> locals;
   vtkSMPTools::For(0, count, 1 << 20, [&](vtkIdType b, vtkIdType e) {
-    T lo = std::numeric_limits<T>::max(), hi = std::numeric_limits<T>::lowest();
-    for (vtkIdType i = b; i < e; ++i) lo = std::min(lo, values[i]), hi = std::max(hi, values[i]);
     MinMax& local = locals.Local();
-    local.Lo = std::min(local.Lo, lo), local.Hi = std::max(local.Hi, hi);
+    chunkRange(values, b, e, local.Lo, local.Hi);
   });
   MinMax all;
   for (const MinMax& local : locals) all.Lo = std::min(all.Lo, local.Lo), all.Hi = std::max(all.Hi, local.Hi);
-  range[0] = static_cast<double>(all.Lo), range[1] = static_cast<double>(all.Hi);
+  range[0] = all.Lo, range[1] = all.Hi;
 }
 
 void ScalarRange(vtkDataArray* scalars, double range[2]) {
@@ -59,7 +69,7 @@ void ScalarRange(vtkDataArray* scalars, double range[2]) {
   void* values = scalars->GetVoidPointer(0);
   switch (scalars->GetDataType()) {
     vtkTemplateMacro(if constexpr (std::is_integral<VTK_TT>::value) {
-      IntegerRange(static_cast<const VTK_TT*>(values), count, range);
+      IntegerRange(&ChunkRange<VTK_TT>, values, count, range);
     } else {
       scalars->GetRange(range, 0);  // floating point: VTK's, which skips NaN and infinities
     });

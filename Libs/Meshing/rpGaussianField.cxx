@@ -9,7 +9,8 @@
 #include <vector>
 
 #include <vtkSMPThreadLocal.h>
-#include <vtkSMPTools.h>
+
+#include "rpParallelFor.h"
 
 namespace rp {
 
@@ -94,7 +95,7 @@ void ConstrainAtVoxelCentres(const T* voxels, const int dims[3], T value, const 
     }
   }
   const float high = 0.5f + GaussianConstraintMargin, low = 0.5f - GaussianConstraintMargin;
-  vtkSMPTools::For(0, outDims[2], [&](vtkIdType z0, vtkIdType z1) {
+  ParallelFor(0, outDims[2], [&](vtkIdType z0, vtkIdType z1) {
     for (vtkIdType oz = z0; oz < z1; ++oz) {
       const int k = centre[2][static_cast<size_t>(oz)];
       if (k == NotCentre) continue;
@@ -151,7 +152,7 @@ void GaussianResample(const T* voxels, const int dims[3], long label, const Labe
     std::vector<Span> SpanA;  // A's row jj
   };
   vtkSMPThreadLocal<SliceScratch> scratch;
-  vtkSMPTools::For(0, inDims[2], [&](vtkIdType k0, vtkIdType k1) {
+  ParallelFor(0, inDims[2], [&](vtkIdType k0, vtkIdType k1) {
     SliceScratch& local = scratch.Local();
     std::vector<float>& A = local.A;
     A.resize(nxo * static_cast<size_t>(inDims[1]));
@@ -222,7 +223,7 @@ void GaussianResample(const T* voxels, const int dims[3], long label, const Labe
   });
   // Pass z: B → field[outX x outY x outZ].
   const size_t plane = nxo * nyo;
-  vtkSMPTools::For(0, outDims[2], [&](vtkIdType z0, vtkIdType z1) {
+  ParallelFor(0, outDims[2], [&](vtkIdType z0, vtkIdType z1) {
     for (vtkIdType oz = z0; oz < z1; ++oz) {
       float* out = field + static_cast<size_t>(oz) * plane;
       std::fill(out, out + plane, 0.0f);

@@ -9,7 +9,8 @@
 #include <vtkDataArray.h>
 #include <vtkPointData.h>
 #include <vtkSMPThreadLocal.h>
-#include <vtkSMPTools.h>
+
+#include "rpParallelFor.h"
 
 namespace rp {
 
@@ -19,7 +20,7 @@ namespace {
 // threads, each with its thread's `locals` entry.
 template <typename T, typename Local, typename Visit>
 void ForEachRow(const T* voxels, const int dims[3], vtkSMPThreadLocal<Local>& locals, Visit&& visit) {
-  vtkSMPTools::For(0, dims[2], [&](vtkIdType k0, vtkIdType k1) {
+  ParallelFor(0, dims[2], [&](vtkIdType k0, vtkIdType k1) {
     Local& l = locals.Local();
     for (vtkIdType kk = k0; kk < k1; ++kk) {
       const int k = static_cast<int>(kk);
@@ -125,7 +126,7 @@ template <typename T>
 void ExtractMask(const T* voxels, const int dims[3], long label, const int start[3], const int size[3],
                  unsigned char* mask) {
   const T value = static_cast<T>(label);
-  vtkSMPTools::For(0, size[2], [&](vtkIdType k0, vtkIdType k1) {
+  ParallelFor(0, size[2], [&](vtkIdType k0, vtkIdType k1) {
     for (vtkIdType kk = k0; kk < k1; ++kk) {
       const int k = start[2] + static_cast<int>(kk);
       for (int jj = 0; jj < size[1]; ++jj) {

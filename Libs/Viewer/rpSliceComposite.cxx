@@ -14,9 +14,9 @@
 #include <vtkDataArray.h>
 #include <vtkImageData.h>
 #include <vtkPointData.h>
-#include <vtkSMPTools.h>
 #include <vtkTemplateAliasMacro.h>
 
+#include "rpParallelFor.h"
 #include "rpRGBA8.h"
 
 namespace rp {
@@ -308,7 +308,7 @@ void CopyWithAxisFastest(const unsigned char* in, const vtkIdType from[3], const
   to[a] = 1;
   to[b] = size[a];
   to[c] = static_cast<vtkIdType>(size[a]) * size[b];
-  vtkSMPTools::For(0, size[c], [&](int first, int end) {
+  ParallelFor(0, size[c], [&](int first, int end) {
     for (int z = first; z < end; ++z)
       for (int y = 0; y < size[b]; ++y) {
         const unsigned char* source = in + Bytes * (z * from[c] + y * from[b]);
@@ -445,7 +445,7 @@ void CompositeSlice(const SliceLayer* layers, int count, int width, int height, 
       }
   };
   if (parallel) {
-    vtkSMPTools::For(0, bands, 1, composite);
+    ParallelFor(0, bands, 1, composite);
   } else {
     composite(0, bands);
   }

@@ -245,6 +245,15 @@ TEST(Volume, WindowLevelSpansTheVoxelRange) {
   volume->SetWindowLevelFromScalarRange();
   EXPECT_DOUBLE_EQ(volume->GetWindow(), 4095);
   EXPECT_DOUBLE_EQ(volume->GetLevel(), 1023.5);
+  vtkNew<vtkImageData> labels;  // unsigned: the ends are not the type's
+  labels->SetDimensions(5, 1, 1);
+  labels->AllocateScalars(VTK_UNSIGNED_CHAR, 1);
+  auto* l = static_cast<unsigned char*>(labels->GetScalarPointer());
+  l[0] = 3, l[1] = 7, l[2] = 250, l[3] = 2, l[4] = 9;
+  volume->SetImageData(labels);
+  volume->SetWindowLevelFromScalarRange();
+  EXPECT_DOUBLE_EQ(volume->GetWindow(), 248);
+  EXPECT_DOUBLE_EQ(volume->GetLevel(), 126);
   vtkNew<vtkImageData> dose;
   dose->SetDimensions(4, 1, 1);
   dose->AllocateScalars(VTK_FLOAT, 1);

@@ -6,8 +6,8 @@
 #include <map>
 
 #include <vtkImageData.h>
-#include <vtkSMPTools.h>
 
+#include "rpParallelFor.h"
 #include "rpSegmentationItkEntries.h"
 
 namespace rp::bonesplit {
@@ -46,7 +46,7 @@ void FillHoles(std::vector<uint8_t>& mask, const Box& box, int sliceAxis) {
     seedBorder(lo, hi, stack);
     flood(stack, lo, hi);
   } else {
-    vtkSMPTools::For(0, n[sliceAxis], [&](vtkIdType s0, vtkIdType s1) {
+    ParallelFor(0, n[sliceAxis], [&](vtkIdType s0, vtkIdType s1) {
       std::vector<size_t> stack;
       for (vtkIdType s = s0; s < s1; ++s) {
         int lo[3] = {0, 0, 0}, hi[3] = {n[0] - 1, n[1] - 1, n[2] - 1};
@@ -104,7 +104,7 @@ bool BodyOutlineOf(const T* ct, const int dims[3], const double spacing[3], cons
   for (int a = 0; a < 3; ++a) lowBox.Size[a] = low[a];
   std::vector<uint8_t> lowMask(lowBox.Count());
   uint8_t* b = lowMask.data();
-  vtkSMPTools::For(0, low[2], [&](vtkIdType k0, vtkIdType k1) {
+  ParallelFor(0, low[2], [&](vtkIdType k0, vtkIdType k1) {
     for (vtkIdType lk = k0; lk < k1; ++lk)
       for (int lj = 0; lj < low[1]; ++lj)
         for (int li = 0; li < low[0]; ++li) {
@@ -127,7 +127,7 @@ bool BodyOutlineOf(const T* ct, const int dims[3], const double spacing[3], cons
   Components(lowMask, lowBox, labels, sizes);
   const long largest = sizes.size() > 1 ? *std::max_element(sizes.begin() + 1, sizes.end()) : 0;
   inside.assign(box.Count(), 0);
-  vtkSMPTools::For(0, box.Size[2], [&](vtkIdType k0, vtkIdType k1) {
+  ParallelFor(0, box.Size[2], [&](vtkIdType k0, vtkIdType k1) {
     for (vtkIdType kk = k0; kk < k1; ++kk)
       for (int jj = 0; jj < box.Size[1]; ++jj)
         for (int ii = 0; ii < box.Size[0]; ++ii) {

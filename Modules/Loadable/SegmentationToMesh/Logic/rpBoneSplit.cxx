@@ -14,11 +14,11 @@
 #include <vtkMatrix4x4.h>
 #include <vtkPointData.h>
 #include <vtkSmartPointer.h>
-#include <vtkSMPTools.h>
 
 #include "rpBoneMasks.h"
 #include "rpBoneWatershed.h"
 #include "rpKneeBoneNames.h"
+#include "rpParallelFor.h"
 #include "vtkRPImageNode.h"
 #include "vtkRPSegmentationNode.h"
 
@@ -55,7 +55,7 @@ using namespace bonesplit;
 template <typename T>
 void ThresholdVolume(const T* v, size_t n, double lower, double upper, std::vector<uint8_t>& mask) {
   mask.assign(n, 0);
-  vtkSMPTools::For(0, static_cast<vtkIdType>(n), [&](vtkIdType b, vtkIdType e) {
+  ParallelFor(0, static_cast<vtkIdType>(n), [&](vtkIdType b, vtkIdType e) {
     for (vtkIdType i = b; i < e; ++i) {
       const double x = static_cast<double>(v[i]);
       mask[static_cast<size_t>(i)] = x >= lower && x <= upper;

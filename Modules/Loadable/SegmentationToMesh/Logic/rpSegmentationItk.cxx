@@ -28,9 +28,9 @@
 #include <vtkMatrix4x4.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
-#include <vtkSMPTools.h>
 #include <vtkSmartPointer.h>
 
+#include "rpParallelFor.h"
 #include "vtkRPImageNode.h"
 #include "vtkRPSegmentationNode.h"
 
@@ -147,7 +147,7 @@ long WriteLabels(L* labels, const int dims[3], const MaskBox& box, const unsigne
   const bool whole = box.Start[0] == 0 && box.Start[1] == 0 && box.Start[2] == 0 && box.Size[0] == dims[0] &&
                      box.Size[1] == dims[1] && box.Size[2] == dims[2];
   if (!whole) {
-    vtkSMPTools::For(0, dims[2], [&](vtkIdType k0, vtkIdType k1) {
+    ParallelFor(0, dims[2], [&](vtkIdType k0, vtkIdType k1) {
       for (vtkIdType k = k0; k < k1; ++k)
         for (int j = 0; j < dims[1]; ++j) {
           L* row = labels + (static_cast<size_t>(k) * dims[1] + j) * dims[0];
@@ -162,7 +162,7 @@ long WriteLabels(L* labels, const int dims[3], const MaskBox& box, const unsigne
     });
   }
   std::atomic<long> count{0};
-  vtkSMPTools::For(0, box.Size[2], [&](vtkIdType k0, vtkIdType k1) {
+  ParallelFor(0, box.Size[2], [&](vtkIdType k0, vtkIdType k1) {
     long local = 0;
     for (vtkIdType k = k0; k < k1; ++k)
       for (int j = 0; j < box.Size[1]; ++j) {
@@ -193,7 +193,7 @@ bool WriteSegment(vtkRPSegmentationNode* segmentation, const SegmentTarget& targ
   Dimensions(labelmap, dims);
   const size_t total = static_cast<size_t>(dims[0]) * dims[1] * dims[2];
   std::atomic<long> selectedCount{0};
-  vtkSMPTools::For(0, static_cast<vtkIdType>(box.Count()), [&](vtkIdType n0, vtkIdType n1) {
+  ParallelFor(0, static_cast<vtkIdType>(box.Count()), [&](vtkIdType n0, vtkIdType n1) {
     long local = 0;
     for (vtkIdType n = n0; n < n1; ++n) local += mask[n] != 0;
     selectedCount += local;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <vector>
@@ -20,6 +21,7 @@
 #include "rpGaussianField.h"
 #include "rpLabelScan.h"
 #include "rpLabelmapToMesh.h"
+#include "rpParallelFor.h"
 #include "rpSegmentationToModels.h"
 #include "rpSurfaceError.h"
 #include "vtkRPModelNode.h"
@@ -415,6 +417,29 @@ void ExpectBounds(const LabelBounds& b, std::array<int, 3> lo, std::array<int, 3
 // Every label's bounds of a one-byte labelmap come from one pass that reads runs a word at a
 // time: runs across word edges, a label at the row's last voxel (rows of 37, not a multiple of
 // 8), label 255, a label that is absent, the background, signed labels, and a changed image.
+TEST(ParallelFor, EveryIndexOnceWithAndWithoutAGrain) {
+  // The labelmap passes' loops go through rp::ParallelFor (one functor type for VTK's SMP back-ends).
+  const vtkIdType first = 3, last = 100003;
+  for (vtkIdType grain : {0, 1, 7, 4096}) {
+    std::vector<std::atomic<int>> visits(last);
+    for (auto& v : visits) v = 0;
+    const auto body = [&](vtkIdType b, vtkIdType e) {
+      for (vtkIdType i = b; i < e; ++i) ++visits[static_cast<size_t>(i)];
+    };
+    if (grain > 0) {
+      ParallelFor(first, last, grain, body);
+    } else {
+      ParallelFor(first, last, body);
+    }
+    int wrong = 0;
+    for (vtkIdType i = 0; i < last; ++i) wrong += visits[static_cast<size_t>(i)] != (i < first ? 0 : 1);
+    EXPECT_EQ(wrong, 0) << "grain " << grain;
+  }
+  std::atomic<int> count{0};  // a body taking int, as the slice compositor's
+  ParallelFor(0, 5, [&](int b, int e) { count += e - b; });
+  EXPECT_EQ(count, 5);
+}
+
 TEST(LabelScan, EveryLabelsBoundsFromOnePass) {
   const int dims[3] = {37, 6, 5};
   auto label = [](int i, int j, int k) {
