@@ -79,14 +79,18 @@ void SmallTypeValues(const T* v, vtkIdType n, ImageValues& out) {
   }
 }
 
+// A thread's values of an image of another type (outside GeneralValues: vtkSMPThreadLocal of a
+// type local to a function templated on the voxel type compiles its SMP back-ends once per type).
+struct ValuesLocal {
+  std::unordered_map<long, long> Counts;
+  bool TooMany = false, Fractional = false;
+  double Min = std::numeric_limits<double>::max(), Max = std::numeric_limits<double>::lowest();
+};
+
 // Other types: a map per thread, abandoned past the limit (the range is still scanned).
 template <typename T>
 void GeneralValues(const T* v, vtkIdType n, size_t limit, ImageValues& out) {
-  struct Local {
-    std::unordered_map<long, long> Counts;
-    bool TooMany = false, Fractional = false;
-    double Min = std::numeric_limits<double>::max(), Max = std::numeric_limits<double>::lowest();
-  };
+  using Local = ValuesLocal;
   vtkSMPThreadLocal<Local> locals;
   ParallelFor(0, n, [&](vtkIdType b, vtkIdType e) {
     Local& l = locals.Local();

@@ -116,6 +116,20 @@ void ConstrainAtVoxelCentres(const T* voxels, const int dims[3], T value, const 
   });
 }
 
+// Outputs [Lo, Hi) of a row may be non-zero; the rest are 0.
+struct Span {
+  int Lo = 0, Hi = 0;
+  bool Empty() const { return this->Lo >= this->Hi; }
+};
+
+// A thread's buffers for the x and y passes. Outside GaussianResample: vtkSMPThreadLocal of a
+// type local to a function templated on the voxel type compiles its SMP back-ends once per type.
+struct SliceScratch {
+  std::vector<float> A;
+  std::vector<int> Runs;   // the row's runs of the label: start, end (exclusive), ...
+  std::vector<Span> SpanA;  // A's row jj
+};
+
 // Separable Gaussian resampling of the bounding box of `label` onto the contour grid.
 // Input range per axis = the label's bounds (the mask is zero elsewhere).
 template <typename T>
@@ -140,17 +154,8 @@ void GaussianResample(const T* voxels, const int dims[3], long label, const Labe
   const size_t nxo = static_cast<size_t>(outDims[0]);
   const size_t nyo = static_cast<size_t>(outDims[1]);
   std::unique_ptr<float[]> B(new float[nxo * nyo * static_cast<size_t>(inDims[2])]);
-  struct Span {
-    int Lo = 0, Hi = 0;  // outputs [Lo, Hi) may be non-zero; the rest are 0
-    bool Empty() const { return this->Lo >= this->Hi; }
-  };
   std::vector<char> sliceEmpty(static_cast<size_t>(inDims[2]));  // B's slice kk is all 0
   std::vector<Span> spanB(static_cast<size_t>(inDims[2]) * nyo);  // B's row (kk, oy)
-  struct SliceScratch {
-    std::vector<float> A;
-    std::vector<int> Runs;   // the row's runs of the label: start, end (exclusive), ...
-    std::vector<Span> SpanA;  // A's row jj
-  };
   vtkSMPThreadLocal<SliceScratch> scratch;
   ParallelFor(0, inDims[2], [&](vtkIdType k0, vtkIdType k1) {
     SliceScratch& local = scratch.Local();

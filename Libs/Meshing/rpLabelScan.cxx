@@ -29,14 +29,19 @@ void ForEachRow(const T* voxels, const int dims[3], vtkSMPThreadLocal<Local>& lo
   });
 }
 
+// A thread's share of one label's bounds. Outside the templates below, as the other per-thread
+// records here: vtkSMPThreadLocal of a type local to a function templated on the voxel type is
+// compiled, with its three SMP back-ends, once per type.
+struct BoundsLocal {
+  int Lo[3] = {std::numeric_limits<int>::max(), std::numeric_limits<int>::max(), std::numeric_limits<int>::max()};
+  int Hi[3] = {-1, -1, -1};
+  long Count = 0;
+};
+
 template <typename T>
 void FindBounds(const T* voxels, const int dims[3], long label, LabelBounds& b) {
   const T value = static_cast<T>(label);
-  struct Local {
-    int Lo[3] = {std::numeric_limits<int>::max(), std::numeric_limits<int>::max(), std::numeric_limits<int>::max()};
-    int Hi[3] = {-1, -1, -1};
-    long Count = 0;
-  };
+  using Local = BoundsLocal;
   vtkSMPThreadLocal<Local> locals;
   ForEachRow(voxels, dims, locals, [&](Local& l, const T* row, int j, int k) {
     // Count first (a branch-free loop the compiler vectorizes), then find the ends only in
@@ -68,17 +73,20 @@ struct AllBounds {
   std::array<LabelBounds, 256> ByByte;  // indexed by the voxel's byte
 };
 
+// A thread's share of every one-byte label's bounds.
+struct AllBoundsLocal {
+  std::array<std::array<int, 3>, 256> Lo, Hi;
+  std::array<long, 256> Count{};
+  AllBoundsLocal() {
+    for (auto& lo : Lo) lo.fill(std::numeric_limits<int>::max());
+    for (auto& hi : Hi) hi.fill(-1);
+  }
+};
+
 template <typename T>
 void FindAllBounds(const T* voxels, const int dims[3], AllBounds& all) {
   static_assert(sizeof(T) == 1, "one-byte labels");
-  struct Local {
-    std::array<std::array<int, 3>, 256> Lo, Hi;
-    std::array<long, 256> Count{};
-    Local() {
-      for (auto& lo : Lo) lo.fill(std::numeric_limits<int>::max());
-      for (auto& hi : Hi) hi.fill(-1);
-    }
-  };
+  using Local = AllBoundsLocal;
   vtkSMPThreadLocal<Local> locals;
   ForEachRow(voxels, dims, locals, [&](Local& l, const T* voxelRow, int j, int k) {
     // Runs of one value, eight voxels at a time while a whole word holds it.
